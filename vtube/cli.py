@@ -1,0 +1,81 @@
+"""The ``vtube`` command line.
+
+Every command is a plain function returning an exit code: 0 on success, 2 on bad input (after printing one
+``error: ...`` line to stderr, never a traceback).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from vtube_planning.errors import VtubeError
+
+EXIT_OK = 0
+EXIT_BAD_INPUT = 2
+
+
+def scene_list() -> int:
+    """Print the shipped scenes, one per line: name, length, title."""
+    from vtube_planning.scene import list_scenes, load_scene
+
+    for name in list_scenes():
+        scene = load_scene(name)
+        print(f'{name:<22} {scene.tube.length_m:7.2f} m  {scene.title}')
+    return EXIT_OK
+
+
+def scene_show(name_or_path: str, out: Path | None) -> int:
+    """Load a scene (shipped name or .toml file), print its summary, and draw it to ``out`` when given."""
+    from vtube_planning.scene import load_scene
+
+    scene = load_scene(name_or_path)
+    summary = scene.tube.summary()
+    swarm = scene.swarm
+    print(f'scene {scene.name}: {scene.title}')
+    print(f'  source                {scene.source}')
+    print(f'  length                {summary["length_m"]:.3f} m')
+    print(f'  half-width            {summary["half_width_min_m"]:.3f} .. {summary["half_width_max_m"]:.3f} m')
+    print(f'  min curvature radius  {summary["curvature_radius_min_m"]:.3f} m')
+    print(f'  max lambda |kappa|    {summary["lambda_kappa_max"]:.3f}  (regular below 1)')
+    print(f'  area                  {summary["area_m2"]:.3f} m^2')
+    print(
+        f'  swarm                 N = {swarm.n_robots}, v in [{swarm.v_min_mps:g}, {swarm.v_max_mps:g}] m/s, '
+        f'r_p/r_s/r_a = {swarm.r_p_m:g}/{swarm.r_s_m:g}/{swarm.r_a_m:g} m, rho_d = {swarm.rho_d_per_m2:g}, '
+        f'rho_max = {swarm.rho_max_per_m2:g} /m^2, a_rho = {swarm.a_rho:.4g} /m^2/s'
+    )
+    if out is not None:
+        from vtube_planning.plots import save_figure, scene_figure
+
+        path = save_figure(scene_figure(scene), out)
+        print(f'  figure                {path}')
+    return EXIT_OK
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog='vtube',
+        description='Speed and density planning for a speed-constrained robot swarm through a virtual tube.',
+    )
+    commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
+    scene = commands.add_parser('scene', help='list and draw scenes')
+    scene_commands = scene.add_subparsers(dest='scene_command', required=True, metavar='SUBCOMMAND')
+    scene_commands.add_parser('list', help='list the shipped scenes')
+    show = scene_commands.add_parser('show', help="print a scene's summary and draw it")
+    show.add_argument('scene', help='a shipped scene name (see `vtube scene list`) or a .toml file')
+    show.add_argument('--out', type=Path, default=None, help='write the figure here (e.g. scene.png)')
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``vtube`` console script; returns the exit code."""
+    args = _parser().parse_args(argv)
+    try:
+        if args.command == 'scene' and args.scene_command == 'list':
+            return scene_list()
+        return scene_show(args.scene, args.out)
+    except (VtubeError, OSError) as err:
+        print('error: ' + ' '.join(str(err).split()), file=sys.stderr)
+        return EXIT_BAD_INPUT

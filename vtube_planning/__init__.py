@@ -1,0 +1,35 @@
+"""Speed and density planning for a speed-constrained robot swarm through a virtual tube.
+
+Implements Song, Gao, Quan, *Speed and Density Planning for a Speed-Constrained Robot Swarm Through a Virtual
+Tube* (arXiv:2310.00623). This package knows nothing of the Robotarium: it holds the tube geometry, the scenes,
+the swarm parameters and (in later modules) the planner, the controller and the simulator.
+"""
+
+from vtube_planning.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
+from vtube_planning.errors import ParamsError, SceneError, ShapeError, TubeError, VtubeError
+from vtube_planning.params import PlanningOptions, SwarmParams
+from vtube_planning.scene import Scene, Workspace, list_scenes, load_scene
+from vtube_planning.tube import Projection, VirtualTube
+from vtube_planning.width import WidthPart, WidthProfile
+
+__all__ = [
+    'ArcPath',
+    'ArcPiece',
+    'CenterCurve',
+    'ParamsError',
+    'PlanningOptions',
+    'Projection',
+    'Scene',
+    'SceneError',
+    'ShapeError',
+    'SplineCurve',
+    'SwarmParams',
+    'TubeError',
+    'VirtualTube',
+    'VtubeError',
+    'WidthPart',
+    'WidthProfile',
+    'Workspace',
+    'list_scenes',
+    'load_scene',
+]

@@ -1,0 +1,27 @@
+"""Exceptions of :mod:`vtube_planning`.
+
+Every exception derives from :class:`VtubeError` and from the builtin that describes it best, so callers can catch
+either ``VtubeError`` (everything from this package) or ``ValueError`` (bad input of any origin).
+"""
+
+from __future__ import annotations
+
+
+class VtubeError(Exception):
+    """Base class of every error raised by :mod:`vtube_planning`."""
+
+
+class ParamsError(VtubeError, ValueError):
+    """Swarm or planning parameters out of their valid range."""
+
+
+class TubeError(VtubeError, ValueError):
+    """A virtual tube that is malformed or violates a regularity condition."""
+
+
+class SceneError(VtubeError, ValueError):
+    """A scene file that cannot be read, or that names unknown or missing fields."""
+
+
+class ShapeError(VtubeError, ValueError):
+    """An array argument of the wrong shape or with non-finite entries."""

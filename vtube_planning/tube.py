@@ -1,0 +1,363 @@
+"""The virtual tube of the paper: a symmetric corridor around an arc-length parameterised centre curve.
+
+A point of the plane is written ``p = gamma(l) + y n(l)`` with arc length l, unit tangent t, left normal n
+(t rotated by +90 degrees) and signed lateral offset y; the tube is ``|y| <= lambda(l)``, ``0 <= l <= L``
+(``theory.md`` §3.1). Conventions:
+
+* functions of arc length follow the path convention: scalar l -> (2,) or float, array (k,) -> (k, 2) or (k,);
+* functions of robots follow the Robotarium convention: points (2, N), one robot per column.
+
+Construction checks the regularity conditions of ``theory.md`` §3.2 and raises :class:`TubeError` naming the arc
+length of the first violation: lambda > 0, lambda |kappa| < 1 (R2), no two distant cross-sections intersect (R3),
+lambda is C^1 (R4).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import overload
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial import cKDTree
+
+from vtube_planning._roots import bracketed_newton
+from vtube_planning.centerline import CenterCurve
+from vtube_planning.errors import ShapeError, TubeError
+from vtube_planning.width import WidthProfile
+
+FloatArray = NDArray[np.float64]
+
+_LENGTH_RTOL = 1e-9
+"""Relative tolerance between the centre line's length and the width profile's."""
+_SLOPE_JUMP_TOL = 1e-9
+"""Largest jump of d lambda / dl at a breakpoint still accepted as C^1."""
+_PROJECTION_XTOL = 1e-12
+"""Absolute tolerance (m) of the arc length found by the projection's Newton iteration."""
+
+
+@dataclass(frozen=True)
+class Projection:
+    """Points of the plane in the tube's curvilinear coordinates (arrays over robots, one per column).
+
+    Attributes
+    ----------
+    l_m
+        Arc length of the closest centre-line point, (N,). Below 0 or above L for points before the entrance or
+        past the exit (projected onto the straight extensions).
+    y_m
+        Signed lateral offset along the left normal, (N,).
+    foot_m
+        Closest centre-line point gamma(l), (2, N).
+    tangent, normal
+        Unit tangent t and left normal n at the foot, (2, N) each.
+    half_width_m
+        lambda(l) at the foot, (N,).
+    """
+
+    l_m: FloatArray
+    y_m: FloatArray
+    foot_m: FloatArray
+    tangent: FloatArray
+    normal: FloatArray
+    half_width_m: FloatArray
+    length_m: float
+
+    @property
+    def clearance_m(self) -> FloatArray:
+        """Distance to the boundary measured across the tube, ``lambda(l) - |y|`` (negative outside), (N,)."""
+        return self.half_width_m - np.abs(self.y_m)
+
+    @property
+    def inside(self) -> NDArray[np.bool_]:
+        """True where the point lies in the tube: ``0 <= l <= L`` and ``|y| <= lambda(l)``, (N,)."""
+        return (self.l_m >= 0.0) & (self.l_m <= self.length_m) & (self.clearance_m >= 0.0)
+
+
+@dataclass(frozen=True)
+class VirtualTube:
+    """A symmetric virtual tube: centre curve gamma(l), half-width lambda(l), l in [0, L].
+
+    Parameters
+    ----------
+    center
+        The centre curve, parameterised by arc length.
+    width
+        The half-width profile; it must cover exactly the centre curve's length.
+    name
+        Human-readable name (scene name), used in messages and figures.
+
+    Raises
+    ------
+    TubeError
+        If the lengths disagree or a regularity condition fails; the message names the arc length.
+    """
+
+    center: CenterCurve
+    width: WidthProfile
+    name: str = ''
+    _samples: FloatArray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        length = self.center.length_m
+        if abs(self.width.length_m - length) > _LENGTH_RTOL * max(1.0, length):
+            msg = (
+                f'tube {self.name!r}: the width parts cover {self.width.length_m:.6f} m but the centre line is '
+                f'{length:.6f} m long; make the part lengths add up to the centre line length (omit length_m in '
+                'the last part of a scene file to fill the rest).'
+            )
+            raise TubeError(msg)
+        object.__setattr__(self, '_samples', _sample_grid(self))
+        _check_regularity(self)
+
+    # ------------------------------------------------------------------ evaluation along the arc length
+
+    @property
+    def length_m(self) -> float:
+        """Arc length L of the centre curve in m."""
+        return self.center.length_m
+
+    @overload
+    def center_at(self, l_m: float) -> FloatArray: ...
+    @overload
+    def center_at(self, l_m: ArrayLike) -> FloatArray: ...
+    def center_at(self, l_m: ArrayLike) -> FloatArray:
+        """Centre point gamma(l): scalar -> (2,), (k,) -> (k, 2)."""
+        arr, scalar = _arc_lengths(l_m)
+        return _shape(self.center.frame(arr)[0], scalar)
+
+    def tangent(self, l_m: ArrayLike) -> FloatArray:
+        """Unit tangent t(l): scalar -> (2,), (k,) -> (k, 2)."""
+        arr, scalar = _arc_lengths(l_m)
+        return _shape(self.center.frame(arr)[1], scalar)
+
+    def normal(self, l_m: ArrayLike) -> FloatArray:
+        """Left unit normal n(l) (t rotated by +90 degrees): scalar -> (2,), (k,) -> (k, 2)."""
+        arr, scalar = _arc_lengths(l_m)
+        return _shape(_left(self.center.frame(arr)[1]), scalar)
+
+    def curvature(self, l_m: ArrayLike) -> FloatArray | float:
+        """Signed curvature kappa(l) in 1/m (positive turning left): scalar -> float, (k,) -> (k,)."""
+        arr, scalar = _arc_lengths(l_m)
+        return _shape(self.center.frame(arr)[2], scalar)
+
+    def curvature_radius(self, l_m: ArrayLike) -> FloatArray | float:
+        """Curvature radius r_t = 1/|kappa| in m (inf on straight parts): scalar -> float, (k,) -> (k,)."""
+        arr, scalar = _arc_lengths(l_m)
+        kappa = np.abs(self.center.frame(arr)[2])
+        with np.errstate(divide='ignore'):
+            return _shape(np.where(kappa > 0.0, 1.0 / kappa, np.inf), scalar)
+
+    def half_width(self, l_m: ArrayLike) -> FloatArray | float:
+        """Half-width lambda(l) in m: scalar -> float, (k,) -> (k,)."""
+        arr, scalar = _arc_lengths(l_m)
+        return _shape(self.width.value(arr), scalar)
+
+    def half_width_slope(self, l_m: ArrayLike) -> FloatArray | float:
+        """d lambda / dl (dimensionless): scalar -> float, (k,) -> (k,)."""
+        arr, scalar = _arc_lengths(l_m)
+        return _shape(self.width.slope(arr), scalar)
+
+    def boundaries(self, l_m: ArrayLike) -> tuple[FloatArray, FloatArray]:
+        """Left and right boundary points gamma +/- lambda n: each scalar -> (2,), (k,) -> (k, 2)."""
+        arr, scalar = _arc_lengths(l_m)
+        pos, tan, _ = self.center.frame(arr)
+        offset = self.width.value(arr)[:, None] * _left(tan)
+        return _shape(pos + offset, scalar), _shape(pos - offset, scalar)
+
+    def area(self, l_m: ArrayLike) -> FloatArray | float:
+        """Cumulative area A(l) = integral_0^l 2 lambda in m^2 (exact for a symmetric tube, ``theory.md`` §3.1)."""
+        arr, scalar = _arc_lengths(l_m)
+        return _shape(self.width.area(arr), scalar)
+
+    def area_inverse(self, a_m2: ArrayLike) -> FloatArray | float:
+        """Arc length l with A(l) = a (the inverse of :meth:`area`): scalar -> float, (k,) -> (k,)."""
+        arr, scalar = _arc_lengths(a_m2, what='area')
+        return _shape(self.width.area_inverse(arr), scalar)
+
+    # ------------------------------------------------------------------ points of the plane
+
+    def project(self, points_m: ArrayLike) -> Projection:
+        """Project points onto the centre curve: closest point, arc length, lateral offset.
+
+        Parameters
+        ----------
+        points_m
+            Points, shape (2, N) (one per column; a single point may be given as (2,)).
+
+        Returns
+        -------
+        Projection
+            Arc lengths, offsets and frames, arrays over the N points.
+
+        Notes
+        -----
+        A k-d tree over a dense sampling of the curve gives the nearest sample, which brackets the closest point;
+        a safeguarded Newton iteration on ``g(l) = (p - gamma(l)) . t(l) = 0`` (``g' = -(1 - kappa y)``) then
+        converges to 1e-12 m. The result is the exact closest point wherever ``1 - kappa y > 0`` near it, which
+        holds for every point of a regular tube and for all points closer to the curve than its curvature radius.
+        """
+        pts = np.asarray(points_m, dtype=float)
+        if pts.shape == (2,):
+            pts = pts[:, None]
+        if pts.ndim != 2 or pts.shape[0] != 2:
+            msg = f'points must have shape (2, N), one point per column; got {pts.shape}.'
+            raise ShapeError(msg)
+        if not np.all(np.isfinite(pts)):
+            bad = np.flatnonzero(~np.all(np.isfinite(pts), axis=0))
+            msg = f'points must be finite; columns {bad[:5].tolist()} contain NaN or inf.'
+            raise ShapeError(msg)
+        xy = pts.T
+        samples = self._samples
+        _, k = self._sample_tree.query(xy)
+        reach = 1e6 * max(1.0, self.length_m)  # the straight extensions: Newton is exact there in one step
+        lo = np.where(k > 0, samples[np.maximum(k - 1, 0)], -reach)
+        hi = np.where(k < samples.size - 1, samples[np.minimum(k + 1, samples.size - 1)], self.length_m + reach)
+
+        def residual(l_m: FloatArray, idx: NDArray[np.intp]) -> tuple[FloatArray, FloatArray]:
+            pos, tan, kappa = self.center.frame(l_m)
+            d = xy[idx] - pos
+            y = tan[:, 0] * d[:, 1] - tan[:, 1] * d[:, 0]
+            return -np.einsum('ij,ij->i', d, tan), 1.0 - kappa * y
+
+        l_m = bracketed_newton(residual, lo, hi, samples[k], xtol=_PROJECTION_XTOL)
+        pos, tan, _ = self.center.frame(l_m)
+        nrm = _left(tan)
+        y = np.einsum('ij,ij->i', xy - pos, nrm)
+        return Projection(
+            l_m=l_m,
+            y_m=y,
+            foot_m=pos.T.copy(),
+            tangent=tan.T.copy(),
+            normal=nrm.T.copy(),
+            half_width_m=self.width.value(l_m),
+            length_m=self.length_m,
+        )
+
+    @cached_property
+    def _sample_tree(self) -> cKDTree:
+        return cKDTree(self.center.frame(self._samples)[0])
+
+    # ------------------------------------------------------------------ summary
+
+    def summary(self) -> dict[str, float]:
+        """Length, half-width range, smallest curvature radius, largest lambda |kappa| and area (SI units)."""
+        grid = _check_grid(self)
+        lam = self.width.value(grid)
+        kappa = np.abs(self.center.frame(grid)[2])
+        kmax = float(kappa.max())
+        return {
+            'length_m': self.length_m,
+            'half_width_min_m': float(lam.min()),
+            'half_width_max_m': float(lam.max()),
+            'curvature_radius_min_m': math.inf if kmax == 0.0 else 1.0 / kmax,
+            'lambda_kappa_max': float((lam * kappa).max()),
+            'area_m2': float(self.width.area(np.array([self.length_m]))[0]),
+        }
+
+
+# ---------------------------------------------------------------------- helpers
+
+
+def _arc_lengths(values: ArrayLike, what: str = 'arc length') -> tuple[FloatArray, bool]:
+    arr = np.asarray(values, dtype=float)
+    if arr.ndim > 1:
+        msg = f'{what} must be a scalar or a 1-D array of shape (k,); got shape {arr.shape}.'
+        raise ShapeError(msg)
+    if not np.all(np.isfinite(arr)):
+        msg = f'{what} must be finite; got {arr[~np.isfinite(arr)][:3].tolist()}.'
+        raise ShapeError(msg)
+    return np.atleast_1d(arr), arr.ndim == 0
+
+
+def _shape(values: FloatArray, scalar: bool) -> FloatArray | float:
+    if not scalar:
+        return values
+    return values[0] if values.ndim > 1 else float(values[0])
+
+
+def _left(tangent: FloatArray) -> FloatArray:
+    """Rotate (k, 2) unit vectors by +90 degrees."""
+    return np.stack([-tangent[:, 1], tangent[:, 0]], axis=-1)
+
+
+def _sample_grid(tube: VirtualTube) -> FloatArray:
+    """Arc lengths of the projection's k-d tree: finer than a quarter of the half-width and of r_t."""
+    length = tube.length_m
+    coarse = np.linspace(0.0, length, 2001)
+    lam_min = float(tube.width.value(coarse).min())
+    kappa_max = float(np.abs(tube.center.frame(coarse)[2]).max())
+    spacing = min(0.25 * lam_min, length / 16.0)
+    if kappa_max > 0.0:
+        spacing = min(spacing, 0.125 / kappa_max)
+    spacing = max(spacing, length / 200_000)
+    n = int(math.ceil(length / spacing)) + 1
+    return np.unique(np.concatenate([np.linspace(0.0, length, n), tube.center.breakpoints]))
+
+
+def _check_grid(tube: VirtualTube) -> FloatArray:
+    """Dense arc lengths for the regularity checks: 4x the sample density, and both sides of every breakpoint."""
+    samples = tube._samples
+    fine = np.linspace(0.0, tube.length_m, 4 * (samples.size - 1) + 1)
+    breaks = np.concatenate([tube.center.breakpoints, tube.width.breakpoints])
+    eps = 1e-9 * max(1.0, tube.length_m)
+    grid = np.concatenate([fine, breaks, breaks - eps, breaks + eps])
+    return np.unique(np.clip(grid, 0.0, tube.length_m))
+
+
+def _check_regularity(tube: VirtualTube) -> None:
+    name = f'tube {tube.name!r}' if tube.name else 'tube'
+    for l_knot, jump_value, jump_slope in tube.width.continuity_defects():
+        if abs(jump_value) > _SLOPE_JUMP_TOL * max(1.0, tube.length_m) or abs(jump_slope) > _SLOPE_JUMP_TOL:
+            msg = (
+                f'{name}: the half-width is not C^1 at l = {l_knot:.3f} m (slope jumps by {jump_slope:+.4g}); '
+                'use a smooth part or give the linear part a corner blend corner_m > 0.'
+            )
+            raise TubeError(msg)
+    grid = _check_grid(tube)
+    lam = tube.width.value(grid)
+    if np.any(lam <= 0.0):
+        k = int(np.argmax(lam <= 0.0))
+        msg = f'{name}: the half-width is {lam[k]:.4g} m <= 0 at l = {grid[k]:.3f} m; every part must stay > 0.'
+        raise TubeError(msg)
+    kappa = tube.center.frame(grid)[2]
+    fold = lam * np.abs(kappa)
+    if np.any(fold >= 1.0):
+        k = int(np.argmax(fold >= 1.0))
+        msg = (
+            f'{name} is over-curved at l = {grid[k]:.3f} m: half-width {lam[k]:.4g} m is not below the curvature '
+            f'radius {1.0 / abs(kappa[k]):.4g} m (lambda |kappa| = {fold[k]:.3f} >= 1), so cross-sections fold; '
+            'narrow the tube there or increase the turn radius.'
+        )
+        raise TubeError(msg)
+    _check_cross_sections(tube, name)
+
+
+def _check_cross_sections(tube: VirtualTube, name: str) -> None:
+    """R3: no two cross-sections (segments gamma -/+ lambda n) intersect."""
+    grid = tube._samples
+    pos, tan, _ = tube.center.frame(grid)
+    lam = tube.width.value(grid)
+    ends_a = pos - lam[:, None] * _left(tan)
+    ends_b = pos + lam[:, None] * _left(tan)
+    pairs = cKDTree(pos).query_pairs(2.0 * float(lam.max()), output_type='ndarray')
+    if pairs.size == 0:
+        return
+    i, j = pairs[:, 0], pairs[:, 1]
+
+    def side(a: FloatArray, b: FloatArray, c: FloatArray) -> FloatArray:
+        return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+
+    crossing = (side(ends_a[i], ends_b[i], ends_a[j]) * side(ends_a[i], ends_b[i], ends_b[j]) < 0.0) & (
+        side(ends_a[j], ends_b[j], ends_a[i]) * side(ends_a[j], ends_b[j], ends_b[i]) < 0.0
+    )
+    if np.any(crossing):
+        k = int(np.argmax(crossing))
+        la, lb = sorted((grid[i[k]], grid[j[k]]))
+        msg = (
+            f'{name} overlaps itself: the cross-sections at l = {la:.3f} m and l = {lb:.3f} m intersect; '
+            'move these parts of the centre line apart or make the tube narrower there.'
+        )
+        raise TubeError(msg)

@@ -1,0 +1,216 @@
+"""Half-width profile lambda(l) of a virtual tube, as an exact piecewise polynomial.
+
+A profile starts at a half-width and is a sequence of parts along the arc length:
+
+* ``constant``: lambda keeps its value;
+* ``smooth``: lambda moves to ``to_m`` along the C^1 cubic smoothstep of ``theory.md`` §2.3
+  (lambda = (lambda_a - lambda_b) sigma(l, l_a, l_b) + lambda_b), flat at both ends;
+* ``linear``: a trapezoidal ramp to ``to_m`` whose two corners are rounded by parabolic blends of length
+  ``corner_m`` each, so that the profile stays C^1 (regularity condition R4, ``theory.md`` §3.2). With
+  ``corner_m = 0`` the ramp has kinks, which the tube's regularity check rejects.
+
+Because every part is a polynomial, lambda'(l) and the cumulative area A(l) = integral of 2 lambda are exact.
+Outside [0, L] the profile continues with its end values (the tube's straight extensions).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.interpolate import PPoly
+
+from vtube_planning._roots import bracketed_newton
+from vtube_planning._validate import is_positive, is_real
+from vtube_planning.errors import TubeError
+
+FloatArray = NDArray[np.float64]
+
+PART_KINDS = ('constant', 'smooth', 'linear')
+DEFAULT_CORNER_FRACTION = 0.1
+"""Corner blend of a ``linear`` part, as a fraction of its length, when ``corner_m`` is not given."""
+
+
+@dataclass(frozen=True)
+class WidthPart:
+    """One part of a width profile.
+
+    Parameters
+    ----------
+    kind
+        ``'constant'``, ``'smooth'`` or ``'linear'``.
+    length_m
+        Arc length covered by the part, > 0.
+    to_m
+        Half-width at the end of the part (``smooth`` and ``linear`` only), > 0.
+    corner_m
+        Length of each rounded corner of a ``linear`` part, ``0 <= 2 corner_m <= length_m``. Defaults to
+        ``DEFAULT_CORNER_FRACTION * length_m``.
+    """
+
+    kind: str
+    length_m: float
+    to_m: float | None = None
+    corner_m: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind not in PART_KINDS:
+            msg = f'width part kind must be one of {PART_KINDS}; got {self.kind!r}.'
+            raise TubeError(msg)
+        if not is_positive(self.length_m):
+            msg = f'width part length_m must be finite and > 0; got {self.length_m!r}.'
+            raise TubeError(msg)
+        if self.kind == 'constant':
+            if self.to_m is not None or self.corner_m is not None:
+                msg = "a 'constant' width part takes only length_m; remove to_m / corner_m or use 'smooth'/'linear'."
+                raise TubeError(msg)
+            return
+        if self.to_m is None or not is_positive(self.to_m):
+            msg = (
+                f'a {self.kind!r} width part needs to_m, the half-width it ends at, finite and > 0; '
+                f'got {self.to_m!r}. A tube cannot have a zero or negative width.'
+            )
+            raise TubeError(msg)
+        if self.kind == 'smooth' and self.corner_m is not None:
+            msg = "corner_m applies to 'linear' width parts only; remove it from the 'smooth' part."
+            raise TubeError(msg)
+        if self.kind == 'linear' and self.corner_m is not None:
+            ok = is_real(self.corner_m) and 0.0 <= self.corner_m <= 0.5 * self.length_m
+            if not ok:
+                msg = (
+                    f'corner_m of a linear width part must lie in [0, length_m/2] = [0, {0.5 * self.length_m:g}]; '
+                    f'got {self.corner_m!r}.'
+                )
+                raise TubeError(msg)
+
+
+@dataclass(frozen=True)
+class WidthProfile:
+    """Half-width lambda(l) on [0, L], built from a start value and parts.
+
+    Parameters
+    ----------
+    start_m
+        Half-width at l = 0, > 0.
+    parts
+        The parts in order along the tube; their lengths add up to the tube length.
+    """
+
+    start_m: float
+    parts: tuple[WidthPart, ...]
+    _poly: PPoly = field(init=False, repr=False, compare=False)
+    _area: PPoly = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        if not is_positive(self.start_m):
+            msg = f'width start_m (half-width at l = 0) must be finite and > 0; got {self.start_m!r}.'
+            raise TubeError(msg)
+        if not self.parts:
+            msg = 'a width profile needs at least one part; add e.g. {kind = "constant", length_m = 10.0}.'
+            raise TubeError(msg)
+        object.__setattr__(self, 'parts', tuple(self.parts))
+        breaks, coefs = _polynomial_pieces(self.start_m, self.parts)
+        poly = PPoly(np.array(coefs).T, np.array(breaks), extrapolate=False)
+        object.__setattr__(self, '_poly', poly)
+        object.__setattr__(self, '_area', poly.antiderivative())
+
+    @property
+    def length_m(self) -> float:
+        """Total arc length covered by the parts."""
+        return float(self._poly.x[-1])
+
+    @property
+    def breakpoints(self) -> FloatArray:
+        """Arc lengths where the polynomial pieces meet (including 0 and L)."""
+        return np.array(self._poly.x, dtype=float)
+
+    def value(self, l_m: FloatArray) -> FloatArray:
+        """lambda(l) in m for a 1-D array of arc lengths (end values continue outside [0, L])."""
+        return np.asarray(self._poly(np.clip(l_m, 0.0, self.length_m)), dtype=float)
+
+    def slope(self, l_m: FloatArray) -> FloatArray:
+        """d lambda / dl (dimensionless) for a 1-D array of arc lengths (0 outside [0, L])."""
+        l_m = np.asarray(l_m, dtype=float)
+        inside = (l_m >= 0.0) & (l_m <= self.length_m)
+        return np.where(inside, self._poly(np.clip(l_m, 0.0, self.length_m), 1), 0.0)
+
+    def area(self, l_m: FloatArray) -> FloatArray:
+        """Cumulative area A(l) = integral_0^l 2 lambda in m^2 (negative for l < 0, as the extension's area)."""
+        l_m = np.asarray(l_m, dtype=float)
+        length = self.length_m
+        inner = 2.0 * self._area(np.clip(l_m, 0.0, length))
+        before = 2.0 * self.start_m * np.minimum(l_m, 0.0)
+        after = 2.0 * self.end_m * np.maximum(l_m - length, 0.0)
+        return inner + before + after
+
+    def area_inverse(self, a_m2: FloatArray) -> FloatArray:
+        """The arc length l with A(l) = a, for a 1-D array of areas (any real a: A is a bijection of the line)."""
+        a_m2 = np.asarray(a_m2, dtype=float)
+        length, total = self.length_m, float(2.0 * self._area(self.length_m))
+        out = np.where(a_m2 < 0.0, a_m2 / (2.0 * self.start_m), length + (a_m2 - total) / (2.0 * self.end_m))
+        inner = np.flatnonzero((a_m2 >= 0.0) & (a_m2 <= total))
+        if inner.size:
+            knots = self._poly.x
+            knot_area = 2.0 * self._area(knots)
+            k = np.clip(np.searchsorted(knot_area, a_m2[inner], side='right') - 1, 0, knots.size - 2)
+            target = a_m2[inner]
+
+            def residual(x: FloatArray, idx: NDArray[np.intp]) -> tuple[FloatArray, FloatArray]:
+                return 2.0 * self._area(x) - target[idx], 2.0 * self._poly(x)
+
+            lo, hi = knots[k], knots[k + 1]
+            guess = lo + (target - knot_area[k]) / (knot_area[k + 1] - knot_area[k]) * (hi - lo)
+            out[inner] = bracketed_newton(residual, lo, hi, guess, xtol=1e-13 * max(1.0, length))
+        return out
+
+    @property
+    def end_m(self) -> float:
+        """Half-width at l = L."""
+        return float(self._poly(self.length_m))
+
+    def continuity_defects(self) -> list[tuple[float, float, float]]:
+        """Jumps of lambda and lambda' at interior breakpoints, as ``(l, value jump, slope jump)``.
+
+        Computed exactly from the coefficients of the pieces on either side.
+        """
+        coefs, knots = self._poly.c, self._poly.x
+        defects = []
+        for i in range(knots.size - 2):
+            h = knots[i + 1] - knots[i]
+            left_value = np.polyval(coefs[:, i], h)
+            left_slope = np.polyval(np.polyder(coefs[:, i]), h)
+            defects.append((float(knots[i + 1]), coefs[-1, i + 1] - left_value, coefs[-2, i + 1] - left_slope))
+        return defects
+
+
+def _polynomial_pieces(start_m: float, parts: tuple[WidthPart, ...]) -> tuple[list[float], list[list[float]]]:
+    """Breakpoints and cubic coefficients (highest power first, local variable x = l - l_k) of the profile."""
+    breaks = [0.0]
+    coefs: list[list[float]] = []
+    value = float(start_m)
+
+    def add(length: float, c: list[float]) -> None:
+        breaks.append(breaks[-1] + length)
+        coefs.append(c)
+
+    for part in parts:
+        h = float(part.length_m)
+        if part.kind == 'constant':
+            add(h, [0.0, 0.0, 0.0, value])
+            continue
+        to = float(part.to_m)  # type: ignore[arg-type]
+        delta = to - value
+        if part.kind == 'smooth':
+            add(h, [-2.0 * delta / h**3, 3.0 * delta / h**2, 0.0, value])
+        else:
+            corner = DEFAULT_CORNER_FRACTION * h if part.corner_m is None else float(part.corner_m)
+            slope = delta / (h - corner)
+            if corner > 0.0:
+                add(corner, [0.0, slope / (2.0 * corner), 0.0, value])
+            if h - 2.0 * corner > 0.0:
+                add(h - 2.0 * corner, [0.0, 0.0, slope, value + 0.5 * slope * corner])
+            if corner > 0.0:
+                add(corner, [0.0, -slope / (2.0 * corner), slope, to - 0.5 * slope * corner])
+        value = to
+    return breaks, coefs
