@@ -8,8 +8,9 @@ A point of the plane is written ``p = gamma(l) + y n(l)`` with arc length l, uni
 * functions of robots follow the Robotarium convention: points (2, N), one robot per column.
 
 Construction checks the regularity conditions of ``theory.md`` §3.2 and raises :class:`TubeError` naming the arc
-length of the first violation: lambda > 0, lambda |kappa| < 1 (R2), no two distant cross-sections intersect (R3),
-lambda is C^1 (R4).
+length of the first violation: lambda |kappa| < 1 (R2), no two distant cross-sections intersect (R3), lambda is
+C^1 (R4). lambda > 0 holds by construction: every width part is monotone between positive values, which
+:class:`~vtube_planning.width.WidthProfile` checks with the arc length of the offending part.
 """
 
 from __future__ import annotations
@@ -318,10 +319,6 @@ def _check_regularity(tube: VirtualTube) -> None:
             raise TubeError(msg)
     grid = _check_grid(tube)
     lam = tube.width.value(grid)
-    if np.any(lam <= 0.0):
-        k = int(np.argmax(lam <= 0.0))
-        msg = f'{name}: the half-width is {lam[k]:.4g} m <= 0 at l = {grid[k]:.3f} m; every part must stay > 0.'
-        raise TubeError(msg)
     kappa = tube.center.frame(grid)[2]
     fold = lam * np.abs(kappa)
     if np.any(fold >= 1.0):

@@ -66,11 +66,8 @@ class WidthPart:
                 msg = "a 'constant' width part takes only length_m; remove to_m / corner_m or use 'smooth'/'linear'."
                 raise TubeError(msg)
             return
-        if self.to_m is None or not is_positive(self.to_m):
-            msg = (
-                f'a {self.kind!r} width part needs to_m, the half-width it ends at, finite and > 0; '
-                f'got {self.to_m!r}. A tube cannot have a zero or negative width.'
-            )
+        if not is_real(self.to_m):
+            msg = f'a {self.kind!r} width part needs to_m, the half-width it ends at, a finite number; got {self.to_m!r}.'
             raise TubeError(msg)
         if self.kind == 'smooth' and self.corner_m is not None:
             msg = "corner_m applies to 'linear' width parts only; remove it from the 'smooth' part."
@@ -110,6 +107,15 @@ class WidthProfile:
             msg = 'a width profile needs at least one part; add e.g. {kind = "constant", length_m = 10.0}.'
             raise TubeError(msg)
         object.__setattr__(self, 'parts', tuple(self.parts))
+        end = 0.0
+        for k, part in enumerate(self.parts):
+            end += part.length_m
+            if part.to_m is not None and part.to_m <= 0.0:
+                msg = (
+                    f'the half-width must stay > 0, but width part {k} ends at to_m = {part.to_m!r} m at '
+                    f'l = {end:.3f} m; give every part a positive to_m.'
+                )
+                raise TubeError(msg)
         breaks, coefs = _polynomial_pieces(self.start_m, self.parts)
         poly = PPoly(np.array(coefs).T, np.array(breaks), extrapolate=False)
         object.__setattr__(self, '_poly', poly)

@@ -1,0 +1,89 @@
+"""The vtube command line: outputs, exit codes, one-line errors."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from vtube.cli import main
+from vtube_planning import list_scenes
+
+GOOD = """
+[tube.center]
+pieces = [{ kind = "line", length_m = 10.0 }]
+[tube.width]
+start_m = 2.0
+parts = [{ kind = "constant" }]
+"""
+
+BAD = {
+    'missing_field': GOOD.replace('start_m = 2.0\n', ''),
+    'negative_width': GOOD.replace('start_m = 2.0', 'start_m = -2.0'),
+    'self_intersecting': GOOD.replace(
+        '{ kind = "line", length_m = 10.0 }',
+        '{ kind = "line", length_m = 10.0 }, { kind = "arc", radius_m = 3.0, angle_deg = 300.0 }, '
+        '{ kind = "line", length_m = 10.0 }',
+    ),
+    'over_curved': GOOD.replace('{ kind = "line", length_m = 10.0 }', '{ kind = "arc", radius_m = 1.0, angle_deg = 90.0 }'),
+    'unknown_key': GOOD + '[swarm]\nspeed = 3\n',
+    'not_toml': GOOD + '[swarm\n',
+}
+BAD_MESSAGES = {
+    'missing_field': "missing field 'start_m'",
+    'negative_width': 'must be finite and > 0; got -2.0',
+    'self_intersecting': 'overlaps itself',
+    'over_curved': 'over-curved at l = 0.000 m',
+    'unknown_key': "unknown key 'speed' in [swarm]",
+    'not_toml': 'not valid TOML',
+}
+
+
+def test_scene_list_prints_every_shipped_scene(capsys) -> None:
+    assert main(['scene', 'list']) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert [line.split()[0] for line in lines] == list_scenes()
+
+
+def test_scene_show_prints_summary_and_writes_figure(tmp_path, capsys) -> None:
+    out = tmp_path / 'figs' / 'A.png'
+    assert main(['scene', 'show', 'A', '--out', str(out)]) == 0
+    text = capsys.readouterr().out
+    assert 'length                60.000 m' in text and 'a_rho = 0.5524' in text
+    data = out.read_bytes()
+    assert data[:8] == b'\x89PNG\r\n\x1a\n' and len(data) > 20_000
+
+
+def test_scene_show_accepts_a_user_file(tmp_path, capsys) -> None:
+    path = tmp_path / 'mine.toml'
+    path.write_text(GOOD)
+    assert main(['scene', 'show', str(path)]) == 0
+    assert 'half-width            2.000 .. 2.000 m' in capsys.readouterr().out
+
+
+@pytest.mark.parametrize('case', sorted(BAD))
+def test_bad_scene_gives_exit_2_and_one_error_line(case: str, tmp_path, capsys) -> None:
+    path = tmp_path / f'{case}.toml'
+    path.write_text(BAD[case])
+    assert main(['scene', 'show', str(path), '--out', str(tmp_path / 'x.png')]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.splitlines()
+    assert len(lines) == 1 and lines[0].startswith('error: ') and BAD_MESSAGES[case] in lines[0]
+    assert str(path) in lines[0]  # the message names the file
+    assert not (tmp_path / 'x.png').exists()
+
+
+def test_unknown_scene_gives_exit_2(capsys) -> None:
+    assert main(['scene', 'show', 'nowhere']) == 2
+    assert capsys.readouterr().err.startswith("error: unknown scene 'nowhere'")
+
+
+def test_console_entry_point_prints_no_traceback(tmp_path) -> None:
+    path = tmp_path / 'bad.toml'
+    path.write_text(BAD['self_intersecting'])
+    result = subprocess.run([sys.executable, '-m', 'vtube', 'scene', 'show', str(path)],
+                            capture_output=True, text=True, check=False)
+    assert result.returncode == 2
+    assert result.stderr.startswith('error: ') and 'Traceback' not in result.stderr
+    assert len(result.stderr.splitlines()) == 1

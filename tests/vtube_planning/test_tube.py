@@ -1,0 +1,343 @@
+"""Virtual tube geometry against analytic oracles, quadrature and finite differences."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+from scipy.interpolate import CubicSpline
+
+from vtube_planning import (
+    ArcPath,
+    ArcPiece,
+    ShapeError,
+    SplineCurve,
+    TubeError,
+    VirtualTube,
+    WidthPart,
+    WidthProfile,
+    list_scenes,
+    load_scene,
+)
+
+EXACT = 1e-9  # m: the issue's bound for analytic tubes
+WAYPOINTS = ((0.0, 0.0), (10.0, 1.0), (20.0, -1.0), (30.0, 0.0), (50.0, 0.0), (60.0, 1.0), (70.0, 0.0))
+
+
+def constant(length_m: float, half_width_m: float = 1.0) -> WidthProfile:
+    return WidthProfile(half_width_m, (WidthPart('constant', length_m),))
+
+
+def straight_tube(length_m: float = 10.0, start=(1.0, -2.0), heading_deg: float = 30.0) -> VirtualTube:
+    center = ArcPath((ArcPiece(length_m),), start, math.radians(heading_deg))
+    return VirtualTube(center, constant(length_m, 1.5))
+
+
+def arc_tube(radius_m: float = 5.0, angle_deg: float = 120.0, left: bool = True) -> VirtualTube:
+    length = radius_m * math.radians(angle_deg)
+    center = ArcPath((ArcPiece(length, radius_m=radius_m, left=left),))
+    return VirtualTube(center, constant(length, 0.4 * radius_m))
+
+
+def spline_tube() -> VirtualTube:
+    center = SplineCurve(WAYPOINTS)
+    width = WidthProfile(3.0, (WidthPart('smooth', 15.0, to_m=1.0), WidthPart('constant', center.length_m - 15.0)))
+    return VirtualTube(center, width)
+
+
+def sigma(x: np.ndarray, d1: float, d2: float) -> np.ndarray:
+    """The cubic smooth step of theory.md §2.3 with its published coefficients (independent of width.py)."""
+    den = (d1 - d2) ** 3
+    a, b, c = -2.0 / den, 3.0 * (d1 + d2) / den, -6.0 * d1 * d2 / den
+    d = d2**2 * (3.0 * d1 - d2) / den
+    return np.where(x <= d1, 1.0, np.where(x >= d2, 0.0, a * x**3 + b * x**2 + c * x + d))
+
+
+# ---------------------------------------------------------------------- analytic curves
+
+
+@pytest.mark.parametrize('left', [True, False])
+def test_circle_arc_curvature_is_one_over_radius(left: bool) -> None:
+    radius = 7.0
+    tube = arc_tube(radius, 150.0, left)
+    l = np.linspace(0.0, tube.length_m, 101)
+    sign = 1.0 if left else -1.0
+    np.testing.assert_allclose(tube.curvature(l), sign / radius, rtol=1e-14)
+    np.testing.assert_allclose(tube.curvature_radius(l), radius, rtol=1e-14)
+    center_of_circle = np.array([0.0, sign * radius])  # start at the origin heading +x
+    np.testing.assert_allclose(np.linalg.norm(tube.center_at(l) - center_of_circle, axis=1), radius, atol=1e-12)
+    # the tangent is perpendicular to the radius, the left normal points to the centre for a left turn
+    to_centre = center_of_circle - tube.center_at(l)
+    np.testing.assert_allclose(np.einsum('ij,ij->i', tube.tangent(l), to_centre), 0.0, atol=1e-12)
+    np.testing.assert_allclose(np.einsum('ij,ij->i', tube.normal(l), to_centre) / radius, sign, atol=1e-12)
+
+
+def test_straight_tube_projection_is_exact() -> None:
+    tube = straight_tube()
+    rng = np.random.default_rng(1)
+    l_true = rng.uniform(-3.0, 13.0, 500)  # including points before the entrance and past the exit
+    y_true = rng.uniform(-3.0, 3.0, 500)
+    t = np.array([math.cos(math.radians(30.0)), math.sin(math.radians(30.0))])
+    n = np.array([-t[1], t[0]])
+    points = (np.array([1.0, -2.0]) + l_true[:, None] * t + y_true[:, None] * n).T
+    proj = tube.project(points)
+    np.testing.assert_allclose(proj.l_m, l_true, atol=EXACT)
+    np.testing.assert_allclose(proj.y_m, y_true, atol=EXACT)
+    np.testing.assert_allclose(proj.tangent, np.repeat(t[:, None], 500, axis=1), atol=1e-15)
+    expected_inside = (l_true >= 0) & (l_true <= 10) & (np.abs(y_true) <= 1.5)
+    np.testing.assert_array_equal(proj.inside, expected_inside)
+    np.testing.assert_allclose(proj.clearance_m, 1.5 - np.abs(y_true), atol=EXACT)
+
+
+@pytest.mark.parametrize('left', [True, False])
+def test_circle_arc_projection_is_exact(left: bool) -> None:
+    radius = 5.0
+    tube = arc_tube(radius, 120.0, left)
+    sign = 1.0 if left else -1.0
+    rng = np.random.default_rng(2)
+    phi = rng.uniform(0.0, math.radians(120.0), 400)
+    r = rng.uniform(radius - 2.0, radius + 2.0, 400)
+    # polar coordinates about the circle's centre (0, sign R); the curve starts at angle -pi/2 (left turn)
+    base = -sign * math.pi / 2 + sign * phi
+    points = np.vstack([r * np.cos(base), sign * radius + r * np.sin(base)])
+    proj = tube.project(points)
+    np.testing.assert_allclose(proj.l_m, radius * phi, atol=EXACT)
+    np.testing.assert_allclose(proj.y_m, sign * (radius - r), atol=EXACT)
+
+
+def test_analytic_path_pieces_join_with_continuous_tangent() -> None:
+    path = ArcPath((ArcPiece(3.0), ArcPiece(4.0, radius_m=2.0), ArcPiece(2.0), ArcPiece(5.0, 3.0, left=False)))
+    for b in path.breakpoints[1:-1]:
+        before, after = path.frame(np.array([b - 1e-9, b]))[:2]
+        np.testing.assert_allclose(before[0], before[1], atol=1e-8)
+        np.testing.assert_allclose(after[0], after[1], atol=1e-8)
+    # the heading after all pieces is the sum of the turns
+    end_tangent = path.frame(np.array([path.length_m]))[1][0]
+    heading = 4.0 / 2.0 - 5.0 / 3.0
+    np.testing.assert_allclose(end_tangent, [math.cos(heading), math.sin(heading)], atol=1e-14)
+
+
+@pytest.mark.parametrize('make', [arc_tube, spline_tube, lambda: load_scene('B').tube], ids=['arc', 'spline', 'B'])
+def test_tangent_and_curvature_match_finite_differences(make) -> None:
+    tube = make()
+    h = 1e-5
+    l = np.linspace(2 * h, tube.length_m - 2 * h, 301)
+    l = l[np.min(np.abs(l[:, None] - tube.center.breakpoints[None, :]), axis=1) > 2 * h]  # curvature jumps at joints
+    d_gamma = (tube.center_at(l + h) - tube.center_at(l - h)) / (2 * h)
+    np.testing.assert_allclose(d_gamma, tube.tangent(l), atol=1e-8)  # also |gamma'| = 1: true arc length
+    d_tangent = (tube.tangent(l + h) - tube.tangent(l - h)) / (2 * h)
+    np.testing.assert_allclose(d_tangent, tube.curvature(l)[:, None] * tube.normal(l), atol=1e-6)
+
+
+# ---------------------------------------------------------------------- spline curves
+
+
+def test_spline_arc_length_matches_dense_numerical_integral() -> None:
+    pts = np.array(WAYPOINTS)
+    u = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+    spline = CubicSpline(u, pts, bc_type='natural')  # the documented construction, rebuilt independently
+    speed = lambda s: float(np.hypot(*spline(s, 1)))  # noqa: E731
+    length = sum(quad(speed, a, b, epsabs=1e-13, epsrel=1e-13, limit=200)[0] for a, b in zip(u[:-1], u[1:]))
+    tube = spline_tube()
+    assert abs(tube.length_m - length) <= 1e-6 * length
+    # and the curve passes through every waypoint, at increasing arc length
+    np.testing.assert_allclose(tube.center_at(tube.center.breakpoints), pts, atol=1e-9)
+    assert np.all(np.diff(tube.center.breakpoints) > 0)
+
+
+def test_spline_through_circle_points_has_curvature_close_to_one_over_radius() -> None:
+    radius = 10.0
+    phi = np.linspace(0.0, math.pi / 2, 40)
+    curve = SplineCurve(tuple(zip(radius * np.sin(phi), radius * (1 - np.cos(phi)), strict=True)))
+    l = np.linspace(0.2 * curve.length_m, 0.8 * curve.length_m, 50)  # away from the natural (kappa = 0) ends
+    np.testing.assert_allclose(curve.frame(l)[2], 1.0 / radius, rtol=1e-3)
+    assert abs(curve.length_m - radius * math.pi / 2) < 1e-4
+
+
+def test_spline_projection_recovers_curvilinear_coordinates() -> None:
+    tube = spline_tube()
+    rng = np.random.default_rng(3)
+    l_true = rng.uniform(0.0, tube.length_m, 2000)
+    y_true = rng.uniform(-1.0, 1.0, 2000) * tube.half_width(l_true)
+    points = (tube.center_at(l_true) + y_true[:, None] * tube.normal(l_true)).T
+    proj = tube.project(points)
+    np.testing.assert_allclose(proj.l_m, l_true, atol=1e-9)
+    np.testing.assert_allclose(proj.y_m, y_true, atol=1e-9)
+    assert proj.inside.all()
+
+
+@pytest.mark.parametrize('name', list_scenes())
+def test_projection_of_shipped_scenes_is_the_closest_point(name: str) -> None:
+    """Random points in and around every shipped tube: the foot is orthogonal and beats a dense search."""
+    tube = load_scene(name).tube
+    rng = np.random.default_rng(4)
+    l = rng.uniform(0.0, tube.length_m, 300)
+    y = rng.uniform(-1.2, 1.2, 300) * tube.half_width(l)
+    points = (tube.center_at(l) + y[:, None] * tube.normal(l)).T
+    proj = tube.project(points)
+    residual = points - proj.foot_m
+    np.testing.assert_allclose(np.einsum('ij,ij->j', residual, proj.tangent), 0.0, atol=1e-9)
+    dense = tube.center_at(np.linspace(0.0, tube.length_m, 20001))
+    brute = np.min(np.linalg.norm(points.T[:, None, :] - dense[None, :, :], axis=2), axis=1)
+    found = np.linalg.norm(residual, axis=0)
+    assert np.all(found <= brute + 1e-12)
+    assert np.all(brute - found <= 0.5 * tube.length_m / 20000)  # dense search loses at most half its spacing
+
+
+# ---------------------------------------------------------------------- width and area
+
+
+def test_smooth_width_part_is_the_sigma_smoothstep() -> None:
+    width = WidthProfile(4.0, (WidthPart('constant', 5.0), WidthPart('smooth', 6.0, to_m=1.5), WidthPart('constant', 4.0)))
+    l = np.linspace(0.0, 15.0, 1001)
+    expected = (4.0 - 1.5) * sigma(l, 5.0, 11.0) + 1.5
+    np.testing.assert_allclose(width.value(l), expected, atol=1e-12)
+
+
+def test_linear_width_part_is_a_rounded_trapezoid() -> None:
+    width = WidthProfile(4.0, (WidthPart('constant', 5.0), WidthPart('linear', 10.0, to_m=1.0, corner_m=1.0),
+                               WidthPart('constant', 5.0)))
+    slope = (1.0 - 4.0) / (10.0 - 1.0)
+    np.testing.assert_allclose(width.slope(np.linspace(6.0, 14.0, 50)), slope, atol=1e-12)  # straight middle
+    np.testing.assert_allclose(width.value(np.array([5.0, 15.0])), [4.0, 1.0], atol=1e-12)
+    # C^1: one-sided difference quotients agree at every breakpoint
+    h = 1e-7
+    for b in width.breakpoints[1:-1]:
+        left = (width.value(b) - width.value(b - h)) / h
+        right = (width.value(b + h) - width.value(b)) / h
+        assert abs(left - right) < 1e-5
+    assert all(abs(jv) < 1e-12 and abs(js) < 1e-12 for _, jv, js in width.continuity_defects())
+
+
+@pytest.mark.parametrize('name', list_scenes())
+def test_cumulative_area_matches_quadrature_and_inverts(name: str) -> None:
+    tube = load_scene(name).tube
+    breaks = tube.width.breakpoints
+    for l_end in np.linspace(0.0, tube.length_m, 7):
+        pts = breaks[(breaks > 0) & (breaks < l_end)]
+        integral = quad(lambda s: 2.0 * tube.half_width(s), 0.0, l_end, points=pts if pts.size else None,
+                        epsabs=1e-12, epsrel=1e-12, limit=200)[0]
+        assert tube.area(l_end) == pytest.approx(integral, rel=1e-10, abs=1e-12)
+    l = np.linspace(-2.0, tube.length_m + 2.0, 501)  # the straight extensions keep their end widths
+    np.testing.assert_allclose(tube.area_inverse(tube.area(l)), l, atol=1e-9 * tube.length_m)
+    assert np.all(np.diff(tube.area(l)) > 0)
+
+
+# ---------------------------------------------------------------------- regularity
+
+
+def test_over_curved_tube_names_the_arc_length() -> None:
+    center = ArcPath((ArcPiece(4.0), ArcPiece(3.0, radius_m=2.0), ArcPiece(4.0)))
+    with pytest.raises(TubeError, match=r'over-curved at l = 4\.000 m.*radius 2 m'):
+        VirtualTube(center, constant(11.0, 2.5))
+
+
+def test_self_intersecting_tube_names_both_arc_lengths() -> None:
+    loop = ArcPath((ArcPiece(10.0), ArcPiece(3.0 * 1.5 * math.pi, radius_m=3.0), ArcPiece(10.0)))
+    with pytest.raises(TubeError, match=r'overlaps itself: the cross-sections at l = \d+\.\d{3} m and l = \d+\.\d{3} m'):
+        VirtualTube(loop, constant(loop.length_m, 1.0))
+
+
+def test_parallel_legs_overlap_only_when_over_curved() -> None:
+    # a U-turn of radius 1.5 m: parallel legs 3 m apart overlap exactly when lambda > R, caught as folding
+    hairpin = ArcPath((ArcPiece(10.0), ArcPiece(1.5 * math.pi, radius_m=1.5), ArcPiece(10.0)))
+    with pytest.raises(TubeError, match=r'over-curved at l = 10\.000 m'):
+        VirtualTube(hairpin, constant(hairpin.length_m, 1.6))
+    VirtualTube(hairpin, constant(hairpin.length_m, 1.4))  # 2.8 m of tube in 3 m: regular
+
+
+def test_converging_legs_overlap_although_locally_regular() -> None:
+    # a 190 degree turn of radius 3 m: the legs converge to 4.2 m apart, lambda kappa stays below 1
+    turn = ArcPath((ArcPiece(10.0), ArcPiece(3.0 * math.radians(190.0), radius_m=3.0), ArcPiece(10.0)))
+    with pytest.raises(TubeError, match='overlaps itself'):
+        VirtualTube(turn, constant(turn.length_m, 2.9))  # lambda kappa = 0.97, 5.8 m of tube in 4.2 m
+    VirtualTube(turn, constant(turn.length_m, 1.5))  # 3 m of tube in 4.2 m: regular
+
+
+def test_width_with_kinks_is_not_c1_and_names_the_arc_length() -> None:
+    width = WidthProfile(3.0, (WidthPart('constant', 5.0), WidthPart('linear', 4.0, to_m=1.0, corner_m=0.0),
+                               WidthPart('constant', 1.0)))
+    with pytest.raises(TubeError, match=r'not C\^1 at l = 5\.000 m'):
+        VirtualTube(ArcPath((ArcPiece(10.0),)), width)
+
+
+def test_negative_width_names_the_arc_length() -> None:
+    with pytest.raises(TubeError, match=r'to_m = -1.0 m at l = 9\.000 m'):
+        WidthProfile(3.0, (WidthPart('constant', 5.0), WidthPart('smooth', 4.0, to_m=-1.0)))
+
+
+def test_width_and_centre_line_must_have_the_same_length() -> None:
+    with pytest.raises(TubeError, match=r'cover 9\.000000 m but the centre line is 10\.000000 m'):
+        VirtualTube(ArcPath((ArcPiece(10.0),)), constant(9.0))
+
+
+@pytest.mark.parametrize(
+    ('build', 'match'),
+    [
+        (lambda: WidthPart('wavy', 1.0), 'kind must be one of'),
+        (lambda: WidthPart('constant', 0.0), 'length_m must be finite and > 0'),
+        (lambda: WidthPart('linear', 2.0, to_m=1.0, corner_m=1.5), r'corner_m .* \[0, 1\]'),
+        (lambda: WidthPart('smooth', 2.0), 'needs to_m'),
+        (lambda: ArcPiece(1.0, radius_m=-2.0), 'radius_m finite and > 0'),
+        (lambda: SplineCurve(((0.0, 0.0), (0.0, 0.0), (1.0, 0.0))), 'waypoints 0 and 1 coincide'),
+        (lambda: SplineCurve(((0.0, 0.0),)), r'shape \(M, 2\); got shape \(1, 2\)'),
+    ],
+)
+def test_bad_construction_raises_tube_error(build, match: str) -> None:
+    with pytest.raises(TubeError, match=match):
+        build()
+
+
+# ---------------------------------------------------------------------- shape contracts
+
+
+def test_shape_contract_of_arc_length_functions() -> None:
+    tube = spline_tube()
+    for fun in (tube.center_at, tube.tangent, tube.normal):
+        assert fun(1.0).shape == (2,)
+        assert fun(np.array([1.0, 2.0, 3.0])).shape == (3, 2)
+        assert fun(np.array([])).shape == (0, 2)
+    for fun in (tube.curvature, tube.curvature_radius, tube.half_width, tube.half_width_slope, tube.area,
+                tube.area_inverse):
+        assert isinstance(fun(1.0), float)
+        assert fun(np.array([1.0, 2.0, 3.0])).shape == (3,)
+    left, right = tube.boundaries(1.0)
+    assert left.shape == right.shape == (2,)
+    left, right = tube.boundaries([1.0, 2.0])
+    assert left.shape == right.shape == (2, 2)
+    np.testing.assert_allclose(np.linalg.norm(left - right, axis=1), 2.0 * tube.half_width(np.array([1.0, 2.0])))
+
+
+def test_shape_contract_of_projection() -> None:
+    tube = straight_tube()
+    proj = tube.project(np.zeros((2, 7)))
+    assert proj.l_m.shape == proj.y_m.shape == proj.half_width_m.shape == proj.clearance_m.shape == (7,)
+    assert proj.foot_m.shape == proj.tangent.shape == proj.normal.shape == (2, 7)
+    assert proj.inside.shape == (7,) and proj.inside.dtype == bool
+    assert tube.project(np.array([1.0, 2.0])).l_m.shape == (1,)
+    assert tube.project(np.zeros((2, 0))).l_m.shape == (0,)
+
+
+@pytest.mark.parametrize(
+    ('points', 'match'),
+    [
+        (np.zeros((3, 4)), r'shape \(2, N\).*got \(3, 4\)'),
+        (np.zeros((4, 2, 1)), r'got \(4, 2, 1\)'),
+        (np.array([[0.0, np.nan], [1.0, 1.0]]), r'columns \[1\] contain NaN'),
+    ],
+)
+def test_projection_rejects_bad_points(points: np.ndarray, match: str) -> None:
+    with pytest.raises(ShapeError, match=match):
+        straight_tube().project(points)
+
+
+def test_arc_length_functions_reject_bad_input() -> None:
+    tube = straight_tube()
+    with pytest.raises(ShapeError, match=r'1-D array of shape \(k,\); got shape \(2, 2\)'):
+        tube.center_at(np.zeros((2, 2)))
+    with pytest.raises(ShapeError, match='must be finite'):
+        tube.half_width(np.array([1.0, np.inf]))
+    with pytest.raises(ValueError, match='finite'):  # ShapeError is a ValueError
+        tube.curvature(float('nan'))
