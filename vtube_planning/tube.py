@@ -18,7 +18,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -120,10 +119,6 @@ class VirtualTube:
         """Arc length L of the centre curve in m."""
         return self.center.length_m
 
-    @overload
-    def center_at(self, l_m: float) -> FloatArray: ...
-    @overload
-    def center_at(self, l_m: ArrayLike) -> FloatArray: ...
     def center_at(self, l_m: ArrayLike) -> FloatArray:
         """Centre point gamma(l): scalar -> (2,), (k,) -> (k, 2)."""
         arr, scalar = _arc_lengths(l_m)
@@ -294,7 +289,7 @@ def _sample_grid(tube: VirtualTube) -> FloatArray:
     if kappa_max > 0.0:
         spacing = min(spacing, 0.125 / kappa_max)
     spacing = max(spacing, length / 200_000)
-    n = int(math.ceil(length / spacing)) + 1
+    n = math.ceil(length / spacing) + 1
     return np.unique(np.concatenate([np.linspace(0.0, length, n), tube.center.breakpoints]))
 
 

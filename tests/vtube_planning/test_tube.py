@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -139,7 +140,7 @@ def test_spline_arc_length_matches_dense_numerical_integral() -> None:
     u = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
     spline = CubicSpline(u, pts, bc_type='natural')  # the documented construction, rebuilt independently
     speed = lambda s: float(np.hypot(*spline(s, 1)))  # noqa: E731
-    length = sum(quad(speed, a, b, epsabs=1e-13, epsrel=1e-13, limit=200)[0] for a, b in zip(u[:-1], u[1:]))
+    length = sum(quad(speed, a, b, epsabs=1e-13, epsrel=1e-13, limit=200)[0] for a, b in itertools.pairwise(u))
     tube = spline_tube()
     assert abs(tube.length_m - length) <= 1e-6 * length
     # and the curve passes through every waypoint, at increasing arc length
