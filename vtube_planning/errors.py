@@ -25,3 +25,11 @@ class SceneError(VtubeError, ValueError):
 
 class ShapeError(VtubeError, ValueError):
     """An array argument of the wrong shape or with non-finite entries."""
+
+
+class PlanError(VtubeError, ValueError):
+    """A planning problem that is infeasible or malformed, or a plan file that cannot be read."""
+
+
+class SolverError(VtubeError, RuntimeError):
+    """The optimisation solver failed on a problem that was shown feasible before it ran."""

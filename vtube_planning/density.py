@@ -1,0 +1,72 @@
+"""The swarm's density along a virtual tube (``DESIGN.md``, ``theory.md`` §1.5, §7 A6-A8, §8.3).
+
+The swarm occupies the part of the tube between the projections of its last and its front robot, padded by one
+avoidance radius at both ends so that a line-abreast swarm still has a finite area (resolution A7):
+``S = A(l_front + pad) - A(l_back - pad)`` with the tube's cumulative area A, and ``rho = N / S``.
+
+For planning, a swarm of density rho centred at l occupies ``[l_e, l_s]`` with
+``A(l_s) - A(l) = A(l) - A(l_e) = N / (2 rho)``. Advancing it rigidly by ``dl`` (Assumption 3) predicts the density
+``rho_f`` of (p7), in one of two readings (A6):
+
+* ``local_width``: the swarm is short against the tube's variation, ``rho_f = rho lambda(l) / lambda(l + dl)``;
+* ``rigid_shift``: the whole footprint advances, ``rho_f = N / (A(l_s + dl) - A(l_e + dl))``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from vtube_planning.errors import ParamsError
+from vtube_planning.params import PREDICTIVE_MODELS
+from vtube_planning.tube import VirtualTube
+
+FloatArray = NDArray[np.float64]
+
+
+def swarm_area(tube: VirtualTube, l_back_m: ArrayLike, l_front_m: ArrayLike, pad_m: float) -> FloatArray:
+    """Area (m^2) of the tube between ``l_back - pad`` and ``l_front + pad``, element-wise."""
+    back = np.asarray(l_back_m, dtype=float) - pad_m
+    front = np.asarray(l_front_m, dtype=float) + pad_m
+    return np.asarray(tube.area(np.atleast_1d(front)), dtype=float) - np.asarray(tube.area(np.atleast_1d(back)))
+
+
+def measured_density(tube: VirtualTube, points_m: ArrayLike, pad_m: float) -> float:
+    """Density N / S (robots/m^2) of robots at ``points_m`` (2, N), from their projections (global, A8)."""
+    l_m = tube.project(points_m).l_m
+    if l_m.size == 0:
+        msg = 'measured_density needs at least one robot; got points of shape (2, 0).'
+        raise ParamsError(msg)
+    return float(l_m.size / swarm_area(tube, l_m.min(), l_m.max(), pad_m)[0])
+
+
+def footprint(tube: VirtualTube, l_center_m: ArrayLike, rho_per_m2: ArrayLike, n_robots: int) -> tuple[FloatArray, FloatArray]:
+    """Back and front arc lengths ``(l_e, l_s)`` of a swarm of N robots at density rho centred at l (area-wise)."""
+    center_area = np.asarray(tube.area(np.atleast_1d(np.asarray(l_center_m, dtype=float))))
+    half = 0.5 * n_robots / np.asarray(rho_per_m2, dtype=float)
+    back = np.asarray(tube.area_inverse(np.atleast_1d(center_area - half)))
+    front = np.asarray(tube.area_inverse(np.atleast_1d(center_area + half)))
+    return back, front
+
+
+def predicted_density(
+    tube: VirtualTube, l_m: ArrayLike, rho_per_m2: ArrayLike, n_robots: int, lookahead_m: float, model: str
+) -> FloatArray:
+    """Density rho_f (robots/m^2) after a rigid advance by ``lookahead_m`` of a swarm at l with density rho.
+
+    Parameters
+    ----------
+    l_m, rho_per_m2
+        Arc lengths of the swarm's centre and its densities, broadcast together.
+    model
+        ``'local_width'`` or ``'rigid_shift'`` (see the module docstring).
+    """
+    l_m = np.atleast_1d(np.asarray(l_m, dtype=float))
+    rho = np.broadcast_to(np.asarray(rho_per_m2, dtype=float), l_m.shape)
+    if model == 'local_width':
+        return rho * np.asarray(tube.half_width(l_m)) / np.asarray(tube.half_width(l_m + lookahead_m))
+    if model == 'rigid_shift':
+        back, front = footprint(tube, l_m, rho, n_robots)
+        return n_robots / swarm_area(tube, back + lookahead_m, front + lookahead_m, 0.0)
+    msg = f'predictive model must be one of {PREDICTIVE_MODELS}; got {model!r}.'
+    raise ParamsError(msg)

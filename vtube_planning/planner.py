@@ -1,0 +1,301 @@
+"""Speed and density planning (paper (p1)-(p8)) in the convex slowness form of ``theory.md`` §8.1.
+
+Unknowns on an arc-length grid l_0..l_K: the slowness w = 1/v and the density rho, both interpolated linearly
+between grid points (:class:`~vtube_planning.plan.Plan`). Each constraint is imposed so that it holds on every
+interval, not only at the grid points:
+
+* (p2), (p5): bounds at the grid points (linear interpolation stays between them);
+* (p4): w_k >= 1 / min sqrt(a_n r_t) over the two intervals around l_k;
+* (p6): |rho_{k+1} - rho_k| <= a_rho dl min(w_k, w_{k+1})  (the interval's largest speed);
+* (p7), local width: c_k rho_i <= a_rho dl_p w_j for i, j in {k, k+1}, with c_k the largest
+  |lambda(l) / lambda(l + dl_p) - 1| on the interval; rigid shift: the convex form of ``theory.md`` §8.3 at the
+  grid points, with the footprint frozen at the previous iterate;
+* (p3): |v v'| = |w'| / w^3, so |w_{k+1} - w_k| <= a_v dl min(w_k, w_{k+1})^3. The right side is convex in w:
+  the convex-concave procedure replaces w^3 by its tangent at the previous iterate (an under-estimate), so every
+  iterate is feasible for the true (p3) and the objective decreases monotonically (Lipp and Boyd 2016).
+
+The objective is exact for the interpolated plan: integral of w plus mu times the integral of (rho - rho_d)^2.
+Every subproblem is a QP, built once with cvxpy parameters and re-solved (DPP) with Clarabel.
+Before the solver runs, infeasibility that can be known is reported with the constraint and the arc length.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import cvxpy as cp
+import numpy as np
+from numpy.typing import NDArray
+
+from vtube_planning.density import footprint, swarm_area
+from vtube_planning.errors import PlanError, SolverError
+from vtube_planning.params import PlanningOptions, SwarmParams
+from vtube_planning.plan import (
+    RHO_EPSILON,
+    Plan,
+    certify,
+    curvature_speed_limit,
+    initial_conditions,
+    objective_terms,
+)
+from vtube_planning.tube import VirtualTube
+
+FloatArray = NDArray[np.float64]
+
+SUBSAMPLES = 20
+"""Samples per grid interval used to bound curvature and width ratios over the interval."""
+SOLVER_OPTIONS: dict[str, float] = {}
+"""Clarabel options (its defaults suffice: the constraints are normalised to order one)."""
+
+
+@dataclass(frozen=True)
+class Problem:
+    """The discretised planning problem: grid, interval-wise data, boundary values, a feasible start."""
+
+    tube: VirtualTube
+    swarm: SwarmParams
+    options: PlanningOptions
+    l_m: FloatArray
+    speed_cap_mps: FloatArray
+    width_ratio: FloatArray
+    v0_mps: float
+    rho0_per_m2: float
+    w_start: FloatArray
+    rho_start: FloatArray
+
+    @property
+    def step_m(self) -> float:
+        return float(self.l_m[1] - self.l_m[0])
+
+
+def discretise(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions) -> Problem:
+    """Build the grid and the interval-wise data, and prove feasibility (or raise :class:`PlanError`).
+
+    The slowest admissible speed profile (decelerate at a_v from v_0 down to v_min) and the fastest admissible
+    expansion along it (density falling at a_rho until rho_epsilon) are the most permissive choices for every
+    other constraint; if they violate one, the problem is infeasible there, and the message says where.
+    """
+    length = tube.length_m
+    n_int = max(2, math.ceil(length / options.grid_step_m - 1e-9))
+    l_m = np.linspace(0.0, length, n_int + 1)
+    sub = np.linspace(l_m[:-1], l_m[1:], SUBSAMPLES + 1, axis=1)  # (K, S+1) samples of each interval
+    inside = tube.center.breakpoints[(tube.center.breakpoints > 0) & (tube.center.breakpoints < length)]
+    limit_sub = curvature_speed_limit(tube, swarm, sub.ravel()).reshape(sub.shape).min(axis=1)
+    if inside.size:  # curvature jumps at the joints of arcs: include both sides
+        k = np.clip(np.searchsorted(l_m, inside) - 1, 0, n_int - 1)
+        eps = 1e-9 * max(1.0, length)
+        joint = np.minimum(curvature_speed_limit(tube, swarm, inside - eps), curvature_speed_limit(tube, swarm, inside + eps))
+        np.minimum.at(limit_sub, k, joint)
+    interval_cap = np.minimum(limit_sub, swarm.v_max_mps)
+    speed_cap = np.minimum(np.concatenate([interval_cap, [np.inf]]), np.concatenate([[np.inf], interval_cap]))
+    lam = tube.half_width(sub.ravel())
+    lam_ahead = tube.half_width(sub.ravel() + options.lookahead_m)
+    width_ratio = np.abs(lam / lam_ahead - 1.0).reshape(sub.shape).max(axis=1)
+
+    v0, rho0 = initial_conditions(swarm, options)
+    _check_boundary_values(swarm, v0, rho0, float(speed_cap[0]))
+    low = np.flatnonzero(speed_cap < swarm.v_min_mps * (1 - 1e-12))
+    if low.size:
+        k = int(low[0])
+        msg = (
+            f'(p4) is incompatible with (p2) at l = {l_m[k]:.3f} m: the curvature limit sqrt(a_n r_t) = '
+            f'{speed_cap[k]:.4g} m/s is below v_min = {swarm.v_min_mps:g} m/s (r_t = {speed_cap[k] ** 2 / swarm.a_n_mps2:.4g} m); '
+            f'widen the turn to r_t >= v_min^2 / a_n = {swarm.v_min_mps**2 / swarm.a_n_mps2:.4g} m or lower v_min.'
+        )
+        raise PlanError(msg)
+    dl = l_m[1] - l_m[0]
+    w_start = np.empty_like(l_m)
+    w_start[0] = 1.0 / v0
+    for k in range(n_int):  # decelerate as hard as (p3) allows, |dw| <= a_v dl w_k^3 while w increases
+        w_start[k + 1] = min(1.0 / swarm.v_min_mps, w_start[k] + swarm.a_v_mps2 * dl * w_start[k] ** 3)
+    too_fast = np.flatnonzero(w_start * speed_cap < 1.0 - 1e-12)
+    if too_fast.size:
+        k = int(too_fast[0])
+        msg = (
+            f'(p3) and (p4) conflict at l = {l_m[k]:.3f} m: starting at v_0 = {v0:g} m/s and braking at '
+            f'a_v = {swarm.a_v_mps2:g} m/s^2 the swarm still moves at {1 / w_start[k]:.4g} m/s where the curvature '
+            f'allows {speed_cap[k]:.4g} m/s; start slower (planning v0_mps) or move the turn further in.'
+        )
+        raise PlanError(msg)
+    rho_start = _fastest_expansion(swarm, rho0, w_start, dl)
+    problem = Problem(tube, swarm, options, l_m, speed_cap, width_ratio, v0, rho0, w_start, rho_start)
+    if options.predictive_model == 'local_width':
+        _check_local_width(problem)
+    return problem
+
+
+def _check_boundary_values(swarm: SwarmParams, v0: float, rho0: float, cap0: float) -> None:
+    if not swarm.v_min_mps <= v0 <= swarm.v_max_mps:
+        msg = f'(p2) fails at l = 0: v0_mps = {v0:g} lies outside [v_min, v_max] = [{swarm.v_min_mps:g}, {swarm.v_max_mps:g}].'
+        raise PlanError(msg)
+    if v0 > cap0 * (1 + 1e-12):
+        msg = f'(p4) fails at l = 0: v0_mps = {v0:g} exceeds the curvature limit {cap0:.4g} m/s at the entrance.'
+        raise PlanError(msg)
+    if not RHO_EPSILON <= rho0 <= swarm.rho_max_per_m2:
+        msg = (
+            f'(p5) fails at l = 0: the initial density {rho0:g} robots/m^2 lies outside [{RHO_EPSILON:g}, '
+            f'rho_max = {swarm.rho_max_per_m2:g}]; set planning rho0_per_m2 or raise rho_max_per_m2.'
+        )
+        raise PlanError(msg)
+
+
+def _fastest_expansion(swarm: SwarmParams, rho0: float, w: FloatArray, dl: float) -> FloatArray:
+    """Density falling as fast as (p6) allows along the slowness profile w, down to rho_epsilon."""
+    rho = np.empty_like(w)
+    rho[0] = rho0
+    step = swarm.a_rho * dl * np.minimum(w[:-1], w[1:])
+    for k in range(w.size - 1):
+        rho[k + 1] = max(RHO_EPSILON, rho[k] - step[k])
+    return rho
+
+
+def _check_local_width(problem: Problem) -> None:
+    swarm, options = problem.swarm, problem.options
+    budget = swarm.a_rho * options.lookahead_m * np.minimum(problem.w_start[:-1], problem.w_start[1:])
+    need = problem.width_ratio * np.maximum(problem.rho_start[:-1], problem.rho_start[1:])
+    bad = np.flatnonzero(need > budget * (1 + 1e-12))
+    if bad.size:
+        k = int(bad[0])
+        msg = (
+            f'(p7) cannot hold at l = {problem.l_m[k]:.3f} m: even at v_min, expanding as fast as (p6) allows, the '
+            f'density {max(problem.rho_start[k], problem.rho_start[k + 1]):.4g} robots/m^2 meets a width ratio '
+            f'{problem.width_ratio[k]:.3g} over the look-ahead {options.lookahead_m:g} m; start at a lower density, '
+            'make the narrowing start later or more gradual, or lengthen lookahead_m.'
+        )
+        raise PlanError(msg)
+
+
+class ConvexPlanner:
+    """The slowness-form QP of one convex-concave iteration, built once and re-solved with new tangents."""
+
+    def __init__(self, problem: Problem) -> None:
+        self.problem = problem
+        swarm, options = problem.swarm, problem.options
+        n = problem.l_m.size
+        dl = problem.step_m
+        self.w = cp.Variable(n, name='w')
+        self.rho = cp.Variable(n, name='rho')
+        # tangent of w^3 at the previous iterate, normalised: dw / (a_v dl wbar^3) <= 3 w / wbar - 2
+        self.inv_scale = cp.Parameter(n, nonneg=True, name='inv_scale')
+        self.slope = cp.Parameter(n, nonneg=True, name='slope')
+        w, rho = self.w, self.rho
+        dw = w[1:] - w[:-1]
+        cons = [
+            w >= 1.0 / problem.speed_cap_mps,
+            w <= 1.0 / swarm.v_min_mps,
+            rho >= RHO_EPSILON,
+            rho <= swarm.rho_max_per_m2,
+            w[0] == 1.0 / problem.v0_mps,
+            rho[0] == problem.rho0_per_m2,
+        ]
+        for j in (slice(None, -1), slice(1, None)):  # both ends of every interval
+            tangent = cp.multiply(self.slope[j], w[j]) - 2.0
+            cons += [cp.multiply(self.inv_scale[j], dw) <= tangent, -cp.multiply(self.inv_scale[j], dw) <= tangent]
+            cons += [cp.abs(rho[1:] - rho[:-1]) <= swarm.a_rho * dl * w[j]]  # (p6)
+        self.footprint_gap = None
+        if options.predictive_model == 'local_width':
+            ratio = problem.width_ratio
+            budget = swarm.a_rho * options.lookahead_m
+            for i in (slice(None, -1), slice(1, None)):
+                for j in (slice(None, -1), slice(1, None)):
+                    cons.append(cp.multiply(ratio, rho[i]) <= budget * w[j])
+        else:
+            # rho^2 |D| / (N + D rho) <= a_rho dl_p w, with the footprint change D frozen (theory.md §8.3)
+            self.footprint_gap = cp.Parameter(n, name='footprint_gap')
+            self.footprint_root = cp.Parameter(n, nonneg=True, name='footprint_root')
+            x = cp.multiply(self.footprint_root, rho)
+            y = swarm.n_robots + cp.multiply(self.footprint_gap, rho)
+            t = swarm.a_rho * options.lookahead_m * w
+            cons.append(cp.SOC(y + t, cp.vstack([2.0 * x, y - t]), axis=0))
+        e = rho - swarm.rho_d_per_m2
+        time_term = dl * (cp.sum(w) - 0.5 * (w[0] + w[-1]))
+        density_term = options.density_weight * dl * (
+            0.25 * cp.sum_squares(e[:-1] + e[1:]) + cp.sum_squares(e[1:] - e[:-1]) / 12.0
+        )
+        self.cvx = cp.Problem(cp.Minimize(time_term + density_term), cons)
+
+    def set_tangent(self, w_bar: FloatArray, rho_bar: FloatArray) -> None:
+        swarm, options = self.problem.swarm, self.problem.options
+        self.inv_scale.value = 1.0 / (swarm.a_v_mps2 * self.problem.step_m * w_bar**3)
+        self.slope.value = 3.0 / w_bar
+        if self.footprint_gap is not None:
+            back, front = footprint(self.problem.tube, self.problem.l_m, rho_bar, swarm.n_robots)
+            shifted = swarm_area(self.problem.tube, back + options.lookahead_m, front + options.lookahead_m, 0.0)
+            gap = shifted - swarm_area(self.problem.tube, back, front, 0.0)
+            self.footprint_gap.value = gap
+            self.footprint_root.value = np.sqrt(np.abs(gap))
+
+    def solve(self) -> tuple[FloatArray, FloatArray]:
+        try:
+            self.cvx.solve(solver=cp.CLARABEL, **SOLVER_OPTIONS)
+        except cp.error.SolverError as err:
+            msg = f'Clarabel failed on a planning subproblem shown feasible beforehand: {err}'
+            raise SolverError(msg) from err
+        if self.cvx.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
+            msg = f'Clarabel returned status {self.cvx.status!r} on a planning subproblem shown feasible beforehand.'
+            raise SolverError(msg)
+        return np.asarray(self.w.value, dtype=float), np.asarray(self.rho.value, dtype=float)
+
+
+def plan_convex(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, *, scene: str = '',
+                max_iterations: int = 60, rtol: float = 1e-9) -> Plan:
+    """Plan speed and density by the convex-concave procedure on the slowness form.
+
+    Parameters
+    ----------
+    max_iterations
+        Upper bound on convex-concave iterations.
+    rtol
+        Stop when the objective improves by less than this, relative.
+
+    Raises
+    ------
+    PlanError
+        When the problem is infeasible; the message names the constraint and the arc length.
+    SolverError
+        When the solver fails on a subproblem known to be feasible.
+    """
+    started = time.perf_counter()
+    problem = discretise(tube, swarm, options)
+    planner = ConvexPlanner(problem)
+    w_bar, rho_bar = problem.w_start, problem.rho_start
+    previous = math.inf
+    status = 'iteration limit'
+    iterations = 0
+    for iterations in range(1, max_iterations + 1):  # noqa: B007 - reported below
+        planner.set_tangent(w_bar, rho_bar)
+        w_bar, rho_bar = planner.solve()
+        value = float(planner.cvx.value)
+        if previous - value <= rtol * max(1.0, abs(value)):
+            status = 'converged'
+            break
+        previous = value
+    return _make_plan(problem, 1.0 / w_bar, rho_bar, method='convex', status=status, iterations=iterations,
+                      solve_time_s=time.perf_counter() - started, scene=scene)
+
+
+def _make_plan(problem: Problem, speed: FloatArray, density: FloatArray, *, method: str, status: str,
+               iterations: int, solve_time_s: float, scene: str) -> Plan:
+    tube, swarm, options, l_m = problem.tube, problem.swarm, problem.options, problem.l_m
+    certificate, active = certify(tube, swarm, options, l_m, speed, density)
+    objective = objective_terms(l_m, speed, density, swarm, options)
+    return Plan(
+        l_m=l_m,
+        speed_mps=speed,
+        density_per_m2=density,
+        half_width_m=np.asarray(tube.half_width(l_m)),
+        speed_limit_mps=curvature_speed_limit(tube, swarm, l_m),
+        time_s=objective['time_s'],
+        objective=objective,
+        certificate=certificate,
+        active=active,
+        method=method,
+        status=status,
+        iterations=iterations,
+        solve_time_s=solve_time_s,
+        scene=scene,
+        swarm=swarm,
+        options=options,
+    )
