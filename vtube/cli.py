@@ -54,6 +54,37 @@ def scene_show(name_or_path: str, out: Path | None) -> int:
     return EXIT_OK
 
 
+def plan(name_or_path: str, out: Path, method: str = 'convex', grid_step_m: float | None = None) -> int:
+    """Plan speed and density for a scene; print the summary, write ``plan_<scene>.npz`` and its figure to ``out``."""
+    from dataclasses import replace
+
+    from vtube_planning.plots import plan_figure, save_figure
+    from vtube_planning.polynomial import plan_polynomial
+    from vtube_planning.planner import plan_convex
+    from vtube_planning.scene import load_scene
+
+    scene = load_scene(name_or_path)
+    options = scene.planning if grid_step_m is None else replace(scene.planning, grid_step_m=grid_step_m)
+    solve = {'convex': plan_convex, 'polynomial': plan_polynomial}[method]
+    result = solve(scene.tube, scene.swarm, options, scene=scene.name)
+    print(f'plan for scene {scene.name} ({method}, {result.l_m.size} grid points, {result.status} after '
+          f'{result.iterations} iterations, {result.solve_time_s:.3f} s)')
+    print(f'  traversal time        {result.time_s:.4f} s')
+    print(f'  objective J           {result.objective["total"]:.6f}  (time {result.objective["time_s"]:.6f} + '
+          f'density {result.objective["density"]:.6f})')
+    print(f'  speed                 {result.speed_mps.min():.4g} .. {result.speed_mps.max():.4g} m/s')
+    k = int(result.density_per_m2.argmin())
+    print(f'  density               min {result.density_per_m2[k]:.4g} at l = {result.l_m[k]:.3f} m, '
+          f'rho_d = {scene.swarm.rho_d_per_m2:g} /m^2')
+    worst = ', '.join(f'{name} {value:.1e}' for name, value in result.certificate.items())
+    verdict = 'certified' if result.is_certified() else 'NOT certified (violation above 1e-6)'
+    print(f'  certificate           {verdict}: {worst}')
+    plan_path = result.save(out / f'plan_{scene.name}.npz')
+    figure_path = save_figure(plan_figure(result), out / f'plan_{scene.name}.png')
+    print(f'  written               {plan_path}, {figure_path}')
+    return EXIT_OK
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog='vtube',
@@ -66,6 +97,13 @@ def _parser() -> argparse.ArgumentParser:
     show = scene_commands.add_parser('show', help="print a scene's summary and draw it")
     show.add_argument('scene', help='a shipped scene name (see `vtube scene list`) or a .toml file')
     show.add_argument('--out', type=Path, default=None, help='write the figure here (e.g. scene.png)')
+    planner = commands.add_parser('plan', help='plan speed and density along a scene\'s tube')
+    planner.add_argument('scene', help='a shipped scene name (see `vtube scene list`) or a .toml file')
+    planner.add_argument('--out', type=Path, required=True, help='folder for the plan file and its figure')
+    planner.add_argument('--method', choices=('convex', 'polynomial'), default='convex',
+                         help='convex: slowness form (default); polynomial: the paper\'s cubic segments')
+    planner.add_argument('--grid-step', type=float, default=None, dest='grid_step_m',
+                         help='planning grid step in m (default: the scene\'s)')
     return parser
 
 
@@ -73,7 +111,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``vtube`` console script; returns the exit code."""
     args = _parser().parse_args(argv)
     try:
-        if args.command == 'scene' and args.scene_command == 'list':
+        if args.command == 'plan':
+            return plan(args.scene, args.out, args.method, args.grid_step_m)
+        if args.scene_command == 'list':
             return scene_list()
         return scene_show(args.scene, args.out)
     except (VtubeError, OSError) as err:

@@ -6,7 +6,7 @@ the swarm parameters and (in later modules) the planner, the controller and the 
 """
 
 from vtube_planning.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
-from vtube_planning.errors import ParamsError, SceneError, ShapeError, TubeError, VtubeError
+from vtube_planning.errors import ParamsError, PlanError, SceneError, ShapeError, SolverError, TubeError, VtubeError
 from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.scene import Scene, Workspace, list_scenes, load_scene
 from vtube_planning.tube import Projection, VirtualTube
@@ -17,10 +17,12 @@ __all__ = [
     'ArcPiece',
     'CenterCurve',
     'ParamsError',
+    'PlanError',
     'PlanningOptions',
     'Projection',
     'Scene',
     'SceneError',
+    'SolverError',
     'ShapeError',
     'SplineCurve',
     'SwarmParams',

@@ -12,6 +12,7 @@ Plans are saved as ``.npz`` files of plain arrays plus one JSON string (loaded w
 from __future__ import annotations
 
 import json
+import zipfile
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -135,10 +136,10 @@ class Plan:
         """Read a plan written by :meth:`save`."""
         path = Path(path)
         try:
-            with np.load(path, allow_pickle=False) as data:
+            with path.open('rb') as fh, np.load(fh, allow_pickle=False) as data:
                 arrays = {k: data[k] for k in data.files}
             meta = json.loads(str(arrays.pop('meta')))
-        except (OSError, ValueError, KeyError) as err:
+        except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as err:
             msg = f'cannot read plan file {str(path)!r}: {err}. Write it with `vtube plan` or Plan.save.'
             raise PlanError(msg) from err
         if meta.get('format_version') != FORMAT_VERSION:

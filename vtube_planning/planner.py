@@ -272,13 +272,14 @@ def plan_convex(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions,
             status = 'converged'
             break
         previous = value
-    return _make_plan(problem, 1.0 / w_bar, rho_bar, method='convex', status=status, iterations=iterations,
-                      solve_time_s=time.perf_counter() - started, scene=scene)
+    return make_plan(tube, swarm, options, problem.l_m, 1.0 / w_bar, rho_bar, method='convex', status=status,
+                     iterations=iterations, solve_time_s=time.perf_counter() - started, scene=scene)
 
 
-def _make_plan(problem: Problem, speed: FloatArray, density: FloatArray, *, method: str, status: str,
-               iterations: int, solve_time_s: float, scene: str) -> Plan:
-    tube, swarm, options, l_m = problem.tube, problem.swarm, problem.options, problem.l_m
+def make_plan(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, l_m: FloatArray, speed: FloatArray,
+              density: FloatArray, *, method: str, status: str, iterations: int, solve_time_s: float,
+              scene: str) -> Plan:
+    """Wrap planned samples into a :class:`Plan` with its certificate, active sets and objective terms."""
     certificate, active = certify(tube, swarm, options, l_m, speed, density)
     objective = objective_terms(l_m, speed, density, swarm, options)
     return Plan(

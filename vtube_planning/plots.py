@@ -11,6 +11,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from vtube_planning.plan import Plan
     from vtube_planning.scene import Scene
     from vtube_planning.tube import VirtualTube
 
@@ -81,6 +82,48 @@ def scene_figure(scene: Scene) -> Figure:
         for b in breaks:
             ax.axvline(b, color='0.85', lw=0.6, zorder=0)
         ax.set_xlim(0.0, tube.length_m)
+    return fig
+
+
+def plan_figure(plan: Plan) -> Figure:
+    """v*(l) with its limits, rho*(l) with rho_d, the tube's half-width, and where each constraint binds."""
+    from matplotlib.figure import Figure
+
+    swarm = plan.swarm
+    l = plan.l_m
+    fine = np.linspace(0.0, plan.length_m, 10 * (l.size - 1) + 1)
+    fig = Figure(figsize=(9.0, 8.0), layout='constrained')
+    ax_v, ax_rho, ax_w, ax_act = fig.subplots(4, 1, sharex=True, height_ratios=[3, 3, 2, 1.4])
+    ax_v.plot(fine, plan.speed(fine), color='tab:blue', lw=2, label='planned speed v*')
+    ax_v.plot(l, np.minimum(plan.speed_limit_mps, 1.5 * swarm.v_max_mps), color='tab:orange', ls='--',
+              label='curvature limit sqrt(a_n r_t)')
+    for value, name in ((swarm.v_min_mps, 'v_min'), (swarm.v_max_mps, 'v_max')):
+        ax_v.axhline(value, color='0.5', lw=0.8, ls=':')
+        ax_v.annotate(name, (plan.length_m, value), xytext=(2, 0), textcoords='offset points', fontsize=8,
+                      va='center')
+    ax_v.set_ylim(0.0, 1.15 * swarm.v_max_mps)
+    ax_v.set_ylabel('speed [m/s]')
+    ax_v.legend(loc='lower right', fontsize=8)
+    ax_v.set_title(f'plan for scene {plan.scene or "?"} ({plan.method}): time {plan.time_s:.3f} s, '
+                   f'J = {plan.objective["total"]:.4f}, max violation {plan.max_violation:.1e}')
+    ax_rho.plot(fine, plan.density(fine), color='tab:green', lw=2, label='planned density rho*')
+    ax_rho.axhline(swarm.rho_d_per_m2, color='tab:green', lw=0.8, ls=':', label='rho_d')
+    ax_rho.set_ylim(0.0, 1.15 * float(plan.density_per_m2.max()))
+    ax_rho.set_ylabel('density [1/m^2]')
+    ax_rho.legend(loc='upper right', fontsize=8)
+    ax_w.fill_between(l, -plan.half_width_m, plan.half_width_m, color='tab:blue', alpha=0.15)
+    ax_w.plot(l, plan.half_width_m, color='tab:blue')
+    ax_w.plot(l, -plan.half_width_m, color='tab:blue')
+    ax_w.set_ylabel('half-width [m]')
+    names = [k for k in ('v_max', 'v_min', 'p3', 'p4', 'p6', 'p7') if k in plan.active]
+    for row, name in enumerate(names):
+        mask = plan.active[name]
+        ax_act.scatter(l[mask], np.full(int(mask.sum()), row), s=4, marker='s', color=f'C{row}')
+    ax_act.set_yticks(range(len(names)), names, fontsize=8)
+    ax_act.set_ylim(-0.7, len(names) - 0.3)
+    ax_act.set_ylabel('active')
+    ax_act.set_xlabel('arc length l [m]')
+    ax_act.set_xlim(0.0, plan.length_m)
     return fig
 
 
