@@ -87,3 +87,29 @@ def test_console_entry_point_prints_no_traceback(tmp_path) -> None:
     assert result.returncode == 2
     assert result.stderr.startswith('error: ') and 'Traceback' not in result.stderr
     assert len(result.stderr.splitlines()) == 1
+
+
+def test_plan_writes_plan_file_and_figure(tmp_path, capsys) -> None:
+    from vtube_planning.plan import Plan
+
+    assert main(['plan', 'C', '--out', str(tmp_path), '--grid-step', '0.5']) == 0
+    text = capsys.readouterr().out
+    assert 'certificate           certified' in text and 'min 0.1' in text
+    plan = Plan.load(tmp_path / 'plan_C.npz')
+    assert plan.scene == 'C' and plan.options.grid_step_m == 0.5 and plan.l_m.size == 121
+    assert (tmp_path / 'plan_C.png').read_bytes()[:4] == b'\x89PNG'
+
+
+def test_plan_reports_uncertified_polynomial_plans(tmp_path, capsys) -> None:
+    assert main(['plan', 'A', '--out', str(tmp_path), '--method', 'polynomial']) == 0
+    assert 'NOT certified' in capsys.readouterr().out
+
+
+def test_infeasible_plan_gives_exit_2_naming_constraint_and_arc_length(tmp_path, capsys) -> None:
+    path = tmp_path / 'tight.toml'
+    path.write_text(GOOD.replace('{ kind = "line", length_m = 10.0 }',
+                                 '{ kind = "line", length_m = 5.0 }, { kind = "arc", radius_m = 3.0, angle_deg = 60.0 }'))
+    assert main(['plan', str(path), '--out', str(tmp_path)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith('error: (p4) is incompatible with (p2) at l = 4.')
+    assert not (tmp_path / 'plan_tight.npz').exists()

@@ -1,0 +1,58 @@
+"""The density model: swarm area, measured density, footprint and the two predictive readings of (p7)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from vtube_planning import ArcPath, ArcPiece, ParamsError, VirtualTube, WidthPart, WidthProfile
+from vtube_planning.density import footprint, measured_density, predicted_density, swarm_area
+
+
+def step_tube() -> VirtualTube:
+    """Straight, half-width 2 m for 10 m, then 1 m (smooth over 1 m) for the remaining 19 m."""
+    width = WidthProfile(2.0, (WidthPart('constant', 10.0), WidthPart('smooth', 1.0, to_m=1.0), WidthPart('constant', 19.0)))
+    return VirtualTube(ArcPath((ArcPiece(30.0),)), width)
+
+
+def test_line_abreast_swarm_has_the_padded_area() -> None:
+    tube = step_tube()
+    points = np.vstack([np.full(4, 3.0), np.linspace(-1.5, 1.5, 4)])  # four robots side by side at l = 3
+    pad = 0.8
+    assert measured_density(tube, points, pad) == pytest.approx(4 / (2 * 2.0 * 2 * pad))
+    assert swarm_area(tube, 2.0, 5.0, 0.0)[0] == pytest.approx(12.0)
+
+
+def test_measured_density_is_global_n_over_s_and_needs_robots() -> None:
+    tube = step_tube()
+    points = np.array([[1.0, 4.0, 12.0], [0.0, 1.0, -0.5]])
+    area = 2 * 2.0 * (10.0 - 0.5) + tube.width.area(np.array([11.0]))[0] - tube.width.area(np.array([10.0]))[0] + 2.0 * 1.5
+    assert measured_density(tube, points, 0.5) == pytest.approx(3 / area)
+    with pytest.raises(ParamsError, match='at least one robot'):
+        measured_density(tube, np.zeros((2, 0)), 0.5)
+
+
+def test_footprint_holds_n_over_rho_centred_by_area() -> None:
+    tube = step_tube()
+    back, front = footprint(tube, np.array([5.0, 22.0]), np.array([0.5, 0.25]), 10)
+    np.testing.assert_allclose(back, [5.0 - 2.5, 22.0 - 10.0])  # 20 m^2 / 4 m wide, 40 m^2 / 2 m wide
+    np.testing.assert_allclose(front, [5.0 + 2.5, 22.0 + 10.0])  # past L, on the straight extension
+    np.testing.assert_allclose(swarm_area(tube, back, front, 0.0), [20.0, 40.0])
+
+
+def test_local_width_prediction_scales_with_the_width_ratio() -> None:
+    tube = step_tube()
+    rho = predicted_density(tube, np.array([2.0, 9.5, 15.0]), 0.3, 20, 3.0, 'local_width')
+    np.testing.assert_allclose(rho, [0.3, 0.6, 0.3])
+
+
+def test_rigid_shift_prediction_of_a_swarm_moving_into_the_narrow_part() -> None:
+    tube = step_tube()
+    # 8 robots at 1 robot/m^2 centred at l = 5 occupy [4, 6] (8 m^2 at 4 m wide); shifted by 8 m to [12, 14]
+    rho = predicted_density(tube, np.array([5.0]), 1.0, 8, 8.0, 'rigid_shift')
+    assert rho[0] == pytest.approx(8 / (2 * 1.0 * 2.0))
+    # in a constant part nothing changes, whatever the reading
+    for model in ('local_width', 'rigid_shift'):
+        assert predicted_density(tube, np.array([20.0]), 0.4, 8, 2.0, model)[0] == pytest.approx(0.4)
+    with pytest.raises(ParamsError, match='predictive model must be one of'):
+        predicted_density(tube, np.array([1.0]), 0.4, 8, 2.0, 'psychic')
