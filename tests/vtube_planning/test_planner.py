@@ -241,3 +241,16 @@ def test_corrupt_plan_file_gives_plan_error(tmp_path) -> None:
     bad.write_bytes(b'PK\x03\x04 not really a zip')
     with pytest.raises(PlanError, match="cannot read plan file .*bad.npz"):
         Plan.load(bad)
+
+
+def test_weighting_density_makes_the_swarm_slow_down_where_p7_binds() -> None:
+    scene = load_scene('C')
+    faithful = plan_convex(scene.tube, scene.swarm, scene.planning)
+    weighted = plan_convex(scene.tube, scene.swarm, replace(scene.planning, density_weight=100.0))
+    near = (faithful.l_m > 12.0) & (faithful.l_m < 26.0)
+    assert faithful.speed_mps[near].min() == pytest.approx(faithful.swarm.v_max_mps)  # mu = 1: density is cheap
+    k = np.flatnonzero(near)[np.argmin(weighted.speed_mps[near])]
+    assert weighted.speed_mps[k] < faithful.swarm.v_max_mps - 0.5  # mu = 100: time is traded for density
+    assert np.abs(weighted.l_m[weighted.active['p7']] - weighted.l_m[k]).min() < 1.0  # where (p7) binds
+    assert weighted.density_per_m2[near].min() > faithful.density_per_m2[near].min()
+    assert weighted.is_certified(CERTIFIED)
