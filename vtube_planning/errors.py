@@ -33,3 +33,7 @@ class PlanError(VtubeError, ValueError):
 
 class SolverError(VtubeError, RuntimeError):
     """The optimisation solver failed on a problem that was shown feasible before it ran."""
+
+
+class LogError(VtubeError, ValueError):
+    """A trajectory log that cannot be read."""

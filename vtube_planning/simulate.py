@@ -1,0 +1,265 @@
+"""The paper's numerical study: a speed-constrained single-integrator swarm flying through a virtual tube.
+
+Each robot integrates p' = v_c (eq. 1), its command saturated into [v_min, v_max] (eq. 2) by the controller: the
+paper's model. Optionally (``acceleration_limits``) every robot also obeys the tangential and normal acceleration
+limits (3), (4): its speed changes by at most a_v per second and its heading turns at most at a_n / |v|. With
+Table 1 that is a turning radius of 4 m at v_min and 25 m at v_max, too wide for the robots to follow their
+avoidance commands in the paper's tubes: planned or not, robots then leave the tube (measured on scenes A-D), so
+the paper's study cannot have applied (3), (4) per robot; the planner applies them to the swarm's average motion.
+
+The swarm starts in a grid before the entrance (spacing 2 r_a, as many columns as fit the entrance with r_a to
+spare, rows behind), moving along the tube at the plan's initial speed; the run ends when every robot has passed
+l = L, or at the time limit.
+
+*With planning* the forward term follows the plan and the avoidance radius follows (a3); *without planning* the
+forward speed is a constant and r_a keeps its initial value: the paper's comparison. The constant defaults to
+the middle of the speed range, (v_min + v_max) / 2, the convention of the group's code (``theory.md`` §2.7-2.8:
+TCNS 2 m/s in [0.5, 3.5], Robotarium k1 = v_max / 2).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from vtube_planning._validate import is_positive
+from vtube_planning.control import (
+    ControlParams,
+    avoidance_radius_rate,
+    feedforward_radius,
+    velocity_command,
+)
+from vtube_planning.density import swarm_area
+from vtube_planning.errors import ParamsError, PlanError
+from vtube_planning.metrics import swarm_metrics
+from vtube_planning.params import SwarmParams
+from vtube_planning.plan import Plan
+from vtube_planning.simlog import LogWriter
+from vtube_planning.tube import VirtualTube
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    """How a simulation runs.
+
+    Parameters
+    ----------
+    dt_s
+        Integration and control step, > 0.
+    time_limit_s
+        Stop here if some robot has not passed the exit; None means 4 (L + formation length) / v_min.
+    seed
+        Seed of the jitter of the initial formation (the only randomness).
+    jitter_m
+        Standard deviation of the initial positions around the grid, m (0 for a perfect grid).
+    log_every
+        Steps between rewrites of the log file.
+    acceleration_limits
+        Make every robot obey the tangential and normal acceleration limits (3), (4). Off by default: each robot
+        moves at its saturated command, as in the paper's model.
+    """
+
+    dt_s: float = 0.02
+    time_limit_s: float | None = None
+    seed: int = 0
+    jitter_m: float = 0.05
+    log_every: int = 100
+    acceleration_limits: bool = False
+
+    def __post_init__(self) -> None:
+        if not is_positive(self.dt_s):
+            msg = f'simulation dt_s must be a finite number > 0; got {self.dt_s!r}.'
+            raise ParamsError(msg)
+        if self.time_limit_s is not None and not is_positive(self.time_limit_s):
+            msg = f'simulation time_limit_s must be > 0 or omitted; got {self.time_limit_s!r}.'
+            raise ParamsError(msg)
+        if not (isinstance(self.jitter_m, (int, float)) and self.jitter_m >= 0):
+            msg = f'simulation jitter_m must be >= 0; got {self.jitter_m!r}.'
+            raise ParamsError(msg)
+
+
+@dataclass(frozen=True)
+class SimResult:
+    """A simulated passage: per-step arrays and the metrics computed from them.
+
+    Arrays have T rows (steps): ``t_s`` (T,), ``positions_m``, ``velocities_mps``, ``commands_mps`` (T, 2, N),
+    ``r_a_m``, ``l_m``, ``clearance_m``, ``forward_speed_mps`` (T, N), ``density_per_m2`` (T,).
+    """
+
+    t_s: FloatArray
+    positions_m: FloatArray
+    velocities_mps: FloatArray
+    commands_mps: FloatArray
+    r_a_m: FloatArray
+    l_m: FloatArray
+    clearance_m: FloatArray
+    forward_speed_mps: FloatArray
+    density_per_m2: FloatArray
+    metrics: dict[str, Any]
+    planned: bool
+    meta: dict[str, Any] = field(default_factory=dict)
+
+
+def initial_formation(tube: VirtualTube, swarm: SwarmParams, rng: np.random.Generator, jitter_m: float) -> FloatArray:
+    """Grid of N robots before the entrance, (2, N): spacing 2 r_a, front row r_a before l = 0."""
+    spacing = 2.0 * swarm.r_a_m
+    lam0 = float(tube.half_width(0.0))
+    fit = int(math.floor(2.0 * (lam0 - swarm.r_a_m) / spacing)) + 1
+    if fit < 1:
+        msg = (
+            f'the entrance (half-width {lam0:g} m) is too narrow for one robot with its avoidance radius '
+            f'r_a = {swarm.r_a_m:g} m; widen the tube or lower r_a_m.'
+        )
+        raise ParamsError(msg)
+    cols = max(1, min(swarm.n_side, fit))
+    rows = math.ceil(swarm.n_robots / cols)
+    points = []
+    for row in range(rows):
+        in_row = min(cols, swarm.n_robots - row * cols)
+        l_row = -swarm.r_a_m - spacing * row
+        for c in range(in_row):
+            y = (c - 0.5 * (in_row - 1)) * spacing
+            points.append(tube.center_at(l_row) + y * tube.normal(l_row))
+    positions = np.array(points).T
+    return positions + jitter_m * rng.standard_normal(positions.shape)
+
+
+def default_constant_speed(swarm: SwarmParams) -> float:
+    """The forward speed of a swarm without planning: the middle of its speed range, m/s."""
+    return 0.5 * (swarm.v_min_mps + swarm.v_max_mps)
+
+
+def limit_acceleration(velocity: FloatArray, command: FloatArray, a_v: float, a_n: float, dt_s: float) -> FloatArray:
+    """The velocity after one step of following ``command`` with |d|v|/dt| <= a_v and |v| |dtheta/dt| <= a_n."""
+    speed = np.hypot(velocity[0], velocity[1])
+    target = np.hypot(command[0], command[1])
+    new_speed = speed + np.clip(target - speed, -a_v * dt_s, a_v * dt_s)
+    heading = np.arctan2(velocity[1], velocity[0])
+    turn = np.angle(np.exp(1j * (np.arctan2(command[1], command[0]) - heading)))
+    max_turn = a_n * dt_s / np.maximum(new_speed, 1e-12)
+    heading = heading + np.clip(turn, -max_turn, max_turn)
+    return new_speed * np.vstack([np.cos(heading), np.sin(heading)])
+
+
+def simulate(
+    tube: VirtualTube,
+    swarm: SwarmParams,
+    control: ControlParams,
+    *,
+    plan: Plan | None,
+    config: SimConfig | None = None,
+    constant_speed_mps: float | None = None,
+    initial_speed_mps: float | None = None,
+    log_path: str | Path | None = None,
+    meta: dict[str, Any] | None = None,
+) -> SimResult:
+    """Fly the swarm through the tube.
+
+    Parameters
+    ----------
+    plan
+        The plan to track; None flies *without planning* (constant speed and avoidance radius).
+    constant_speed_mps
+        The forward speed without planning; defaults to (v_min + v_max) / 2.
+    initial_speed_mps
+        Speed of every robot at t = 0 (along the tube); defaults to the plan's v*(0), else v_min.
+    log_path
+        Write the trajectory here as it is computed (``.npz``, rewritten every ``config.log_every`` steps).
+    meta
+        Extra description stored in the log and the result (scene name, ...).
+    """
+    config = config or SimConfig()
+    if swarm.r_a_m <= swarm.r_s_m:
+        msg = (
+            f'the controller needs r_a_m > r_s_m (its interaction bands run from r_s to r_a); got '
+            f'r_s_m = {swarm.r_s_m}, r_a_m = {swarm.r_a_m}.'
+        )
+        raise ParamsError(msg)
+    if plan is not None:
+        _check_plan(plan, tube, swarm)
+    forward_const = default_constant_speed(swarm) if constant_speed_mps is None else float(constant_speed_mps)
+    if plan is None and not swarm.v_min_mps <= forward_const <= swarm.v_max_mps:
+        msg = f'constant_speed_mps = {forward_const} lies outside [v_min, v_max] = [{swarm.v_min_mps}, {swarm.v_max_mps}].'
+        raise ParamsError(msg)
+    rng = np.random.default_rng(config.seed)
+    positions = initial_formation(tube, swarm, rng, config.jitter_m)
+    n = positions.shape[1]
+    start_speed = initial_speed_mps
+    if start_speed is None:
+        start_speed = float(plan.speed_mps[0]) if plan is not None else swarm.v_min_mps
+    velocity = start_speed * tube.project(positions).tangent
+    r_a = np.full(n, swarm.r_a_m)
+    cap = control.radius_cap(swarm)
+    extent = float(np.ptp(tube.project(positions).l_m))
+    limit = config.time_limit_s or 4.0 * (tube.length_m + extent + 2 * swarm.r_a_m) / swarm.v_min_mps
+    steps = int(math.ceil(limit / config.dt_s))
+    description = dict(meta or {}, planned=plan is not None, n_robots=n, dt_s=config.dt_s, seed=config.seed,
+                       swarm=asdict(swarm), control=asdict(control), length_m=tube.length_m)
+    writer = LogWriter(log_path, description, flush_every=config.log_every) if log_path is not None else None
+    rows: dict[str, list[FloatArray]] = {k: [] for k in (
+        't_s', 'positions_m', 'velocities_mps', 'commands_mps', 'r_a_m', 'l_m', 'clearance_m', 'forward_speed_mps',
+        'density_per_m2')}
+    for step in range(steps + 1):
+        projection = tube.project(positions)
+        l_m = projection.l_m
+        density = float(n / swarm_area(tube, l_m.min(), l_m.max(), swarm.r_a_m)[0])
+        forward = plan.speed(l_m) if plan is not None else np.full(n, forward_const)
+        command = velocity_command(positions, r_a, forward, tube, swarm, control, projection)
+        row = {
+            't_s': np.float64(step * config.dt_s),
+            'positions_m': positions,
+            'velocities_mps': velocity,
+            'commands_mps': command.velocity,
+            'r_a_m': r_a,
+            'l_m': l_m,
+            'clearance_m': projection.clearance_m,
+            'forward_speed_mps': np.einsum('ij,ij->j', velocity, projection.tangent),
+            'density_per_m2': np.float64(density),
+        }
+        for key, value in row.items():
+            rows[key].append(np.array(value))
+        if writer is not None:
+            writer.append(**row)
+        if np.all(l_m > tube.length_m) or step == steps:
+            break
+        if config.acceleration_limits:
+            velocity = limit_acceleration(velocity, command.velocity, swarm.a_v_mps2, swarm.a_n_mps2, config.dt_s)
+        else:
+            velocity = command.velocity
+        positions = positions + config.dt_s * velocity
+        if plan is not None:
+            planned_density = plan.density(l_m)
+            r_a = np.minimum(cap, r_a + config.dt_s * avoidance_radius_rate(density, planned_density, control))
+            if control.feedforward:
+                r_a = np.maximum(r_a, np.minimum(cap, feedforward_radius(planned_density, swarm)))
+    arrays = {key: np.stack(values) for key, values in rows.items()}
+    metrics = swarm_metrics(
+        arrays['t_s'], arrays['positions_m'], arrays['l_m'], arrays['clearance_m'], tube.length_m, swarm,
+        commands_mps=arrays['commands_mps'], forward_speed_mps=arrays['forward_speed_mps'],
+        density_per_m2=arrays['density_per_m2'], plan=plan,
+    )
+    if writer is not None:
+        writer.flush(metrics=metrics, finished=True)
+    return SimResult(**arrays, metrics=metrics, planned=plan is not None, meta=description)
+
+
+def _check_plan(plan: Plan, tube: VirtualTube, swarm: SwarmParams) -> None:
+    if abs(plan.length_m - tube.length_m) > 1e-6 * max(1.0, tube.length_m):
+        msg = (
+            f'the plan covers {plan.length_m:.6f} m but the tube is {tube.length_m:.6f} m long: it was made for a '
+            f'different tube (scene {plan.scene!r}); plan this tube first.'
+        )
+        raise PlanError(msg)
+    if not np.allclose(plan.half_width_m, tube.half_width(plan.l_m), rtol=1e-9, atol=1e-12):
+        msg = f'the plan (scene {plan.scene!r}) was made for a tube of different widths; plan this tube first.'
+        raise PlanError(msg)
+    if plan.swarm != swarm:
+        msg = f'the plan was made for other swarm parameters ({plan.swarm}); plan with these ({swarm}) first.'
+        raise PlanError(msg)
