@@ -85,6 +85,79 @@ def plan(name_or_path: str, out: Path, method: str = 'convex', grid_step_m: floa
     return EXIT_OK
 
 
+def simulate(name_or_path: str, out: Path, *, planning: bool = True, n_robots: int | None = None, seed: int = 0,
+             acceleration_limits: bool = False, animate: bool = False) -> int:
+    """Fly the scene's swarm through its tube; print the metrics, write the log, figures and (optionally) a GIF."""
+    from dataclasses import replace
+
+    from vtube_planning import plots
+    from vtube_planning.planner import plan_convex
+    from vtube_planning.scene import load_scene
+    from vtube_planning.simulate import SimConfig
+    from vtube_planning.simulate import simulate as run
+
+    scene = load_scene(name_or_path)
+    swarm = scene.swarm if n_robots is None else replace(scene.swarm, n_robots=n_robots)
+    plan = plan_convex(scene.tube, swarm, scene.planning, scene=scene.name) if planning else None
+    mode = 'planned' if planning else 'unplanned'
+    config = SimConfig(seed=seed, acceleration_limits=acceleration_limits)
+    log = out / f'sim_{scene.name}_{mode}.npz'
+    result = run(scene.tube, swarm, scene.control, plan=plan, config=config, log_path=log,
+                 meta={'scene': scene.name, 'source': scene.source})
+    m = result.metrics
+    print(f'simulation of scene {scene.name} {"with" if planning else "without"} planning: N = {swarm.n_robots}, '
+          f'seed {seed}, {result.t_s.size} steps of {config.dt_s} s')
+    rows = [
+        ('passing time', f'{m["passing_time_s"]:.3f} s' + ('' if m['completed'] else ' (not every robot exited)')),
+        ('minimum distance', f'{m["min_distance_m"]:.4f} m at t = {m["min_distance_time_s"]:.2f} s'),
+        ('collisions', f'{m["collision_pairs"]} pairs closer than 2 r_p = {m["collision_radius_m"]:g} m'),
+        ('tube violations', f'{m["tube_violation_steps"]} robot-steps, {m["robots_outside"]} robots, '
+                            f'up to {m["max_outside_m"]:.3f} m outside'),
+        ('speed violations', f'{m["speed_violations"]} commands outside [v_min, v_max]'),
+    ]
+    if 'speed_tracking_mean_mps' in m:
+        rows += [
+            ('speed tracking', f'mean {m["speed_tracking_mean_mps"]:.3f}, max {m["speed_tracking_max_mps"]:.3f} m/s'),
+            ('density tracking', f'mean {m["density_tracking_mean_per_m2"]:.4f}, '
+                                 f'max {m["density_tracking_max_per_m2"]:.4f} /m^2'),
+        ]
+    for name, value in rows:
+        print(f'  {name:<18} {value}')
+    stem = out / f'sim_{scene.name}_{mode}'
+    written = [log, plots.save_figure(plots.snapshots_figure(result, scene.tube), f'{stem}_snapshots.png'),
+               plots.save_figure(plots.distance_figure({mode: result}), f'{stem}_distance.png')]
+    if plan is not None:
+        written.append(plots.save_figure(plots.tracking_figure(result, plan), f'{stem}_tracking.png'))
+    if animate:
+        written.append(plots.animate(result, scene.tube, f'{stem}.gif'))
+    print(f'  {"written":<18} {", ".join(map(str, written))}')
+    return EXIT_OK
+
+
+def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: bool = False) -> int:
+    """The paper's comparison with and without planning; writes study.md, study.json and study.png."""
+    import json
+
+    from vtube_planning import plots
+    from vtube_planning.params import SwarmParams
+    from vtube_planning.simulate import SimConfig
+    from vtube_planning.study import run_study, study_markdown, summarise
+
+    config = SimConfig(acceleration_limits=acceleration_limits)
+    seed_list = list(range(seeds))
+    rows = run_study(scenes, seed_list, config=config, progress=print)
+    summary = summarise(rows)
+    text = study_markdown(summary, seed_list, config)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / 'study.md').write_text(text, encoding='utf-8')
+    (out / 'study.json').write_text(json.dumps({'rows': rows, 'summary': summary}, indent=1), encoding='utf-8')
+    figure = plots.save_figure(plots.study_figure(summary, 2 * SwarmParams().r_p_m), out / 'study.png')
+    print()
+    print(text)
+    print(f'written {out / "study.md"}, {out / "study.json"}, {figure}')
+    return EXIT_OK if all(e['claim_on_means'] for e in summary) else 1
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog='vtube',
@@ -104,6 +177,20 @@ def _parser() -> argparse.ArgumentParser:
                          help='convex: slowness form (default); polynomial: the paper\'s cubic segments')
     planner.add_argument('--grid-step', type=float, default=None, dest='grid_step_m',
                          help='planning grid step in m (default: the scene\'s)')
+    sim = commands.add_parser('simulate', help='fly the swarm through a scene, with or without planning')
+    sim.add_argument('scene', help='a shipped scene name or a .toml file')
+    sim.add_argument('--out', type=Path, required=True, help='folder for the log, figures and GIF')
+    sim.add_argument('--no-planning', action='store_true', help='constant mid-range speed and constant r_a')
+    sim.add_argument('--n', type=int, default=None, dest='n_robots', help="swarm size (default: the scene's)")
+    sim.add_argument('--seed', type=int, default=0, help='seed of the initial formation jitter')
+    sim.add_argument('--acceleration-limits', action='store_true',
+                     help='make every robot obey the acceleration limits (3), (4), not only the plan')
+    sim.add_argument('--animate', action='store_true', help='also write an animated GIF')
+    stu = commands.add_parser('study', help="the paper's comparison on scenes A-D with and without planning")
+    stu.add_argument('--out', type=Path, required=True, help='folder for study.md, study.json, study.png')
+    stu.add_argument('--seeds', type=int, default=5, help='number of seeds (0..n-1)')
+    stu.add_argument('--scenes', default='A,B,C,D', help='comma-separated scene names')
+    stu.add_argument('--acceleration-limits', action='store_true', help='apply (3), (4) to every robot')
     return parser
 
 
@@ -113,6 +200,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args.command == 'plan':
             return plan(args.scene, args.out, args.method, args.grid_step_m)
+        if args.command == 'simulate':
+            return simulate(args.scene, args.out, planning=not args.no_planning, n_robots=args.n_robots,
+                            seed=args.seed, acceleration_limits=args.acceleration_limits, animate=args.animate)
+        if args.command == 'study':
+            return study(args.out, scenes=args.scenes.split(','), seeds=args.seeds,
+                         acceleration_limits=args.acceleration_limits)
         if args.scene_command == 'list':
             return scene_list()
         return scene_show(args.scene, args.out)

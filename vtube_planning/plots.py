@@ -13,6 +13,7 @@ if TYPE_CHECKING:
 
     from vtube_planning.plan import Plan
     from vtube_planning.scene import Scene
+    from vtube_planning.simulate import SimResult
     from vtube_planning.tube import VirtualTube
 
 
@@ -124,6 +125,133 @@ def plan_figure(plan: Plan) -> Figure:
     ax_act.set_ylabel('active')
     ax_act.set_xlabel('arc length l [m]')
     ax_act.set_xlim(0.0, plan.length_m)
+    return fig
+
+
+def snapshot_times(result: SimResult, count: int = 7) -> list[int]:
+    """Indices of ``count`` steps evenly spread over the run."""
+    return sorted({int(k) for k in np.linspace(0, result.t_s.size - 1, count)})
+
+
+def snapshots_figure(result: SimResult, tube: VirtualTube, *, title: str = '') -> Figure:
+    """The swarm at several instants over the tube, colour = time (the paper's kind of figure)."""
+    from matplotlib import colormaps
+    from matplotlib.collections import EllipseCollection
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10.0, 4.8), layout='constrained')
+    ax = fig.add_subplot()
+    draw_tube(ax, tube)
+    cmap = colormaps['viridis']
+    steps = snapshot_times(result)
+    t_end = float(result.t_s[-1]) or 1.0
+    r_p = float(result.meta['swarm']['r_p_m'])
+    for k in steps:
+        xy = result.positions_m[k].T
+        color = cmap(float(result.t_s[k]) / t_end)
+        ax.add_collection(EllipseCollection(np.full(len(xy), 2 * r_p), np.full(len(xy), 2 * r_p), 0.0, units='xy',
+                                            offsets=xy, offset_transform=ax.transData, facecolors=[color],
+                                            edgecolors='k', linewidths=0.3))
+        ax.annotate(f'{result.t_s[k]:.1f} s', xy.mean(axis=0), xytext=(0, 14), textcoords='offset points',
+                    ha='center', fontsize=7, color=color)
+    ax.autoscale_view()
+    mode = 'with planning' if result.planned else 'without planning'
+    ax.set_title(title or f'swarm {mode}: passing time {result.metrics["passing_time_s"]:.2f} s, '
+                 f'min distance {result.metrics["min_distance_m"]:.3f} m')
+    return fig
+
+
+def tracking_figure(result: SimResult, plan: Plan) -> Figure:
+    """Average forward speed v_a against v* and measured density rho_r against rho*, along the swarm centre."""
+    from matplotlib.figure import Figure
+
+    center = result.l_m.mean(axis=1)
+    inside = (center >= 0.0) & (center <= plan.length_m)
+    fig = Figure(figsize=(9.0, 6.5), layout='constrained')
+    ax_v, ax_rho, ax_ra = fig.subplots(3, 1, sharex=True, height_ratios=[3, 3, 2])
+    grid = np.linspace(0.0, plan.length_m, 2000)
+    ax_v.plot(grid, plan.speed(grid), color='tab:blue', ls='--', label='planned v*')
+    ax_v.plot(center[inside], result.forward_speed_mps.mean(axis=1)[inside], color='tab:blue', label='swarm v_a')
+    ax_v.set_ylabel('speed [m/s]')
+    ax_v.legend(fontsize=8)
+    ax_rho.plot(grid, plan.density(grid), color='tab:green', ls='--', label='planned rho*')
+    ax_rho.plot(center[inside], result.density_per_m2[inside], color='tab:green', label='measured rho_r')
+    ax_rho.set_ylabel('density [1/m^2]')
+    ax_rho.legend(fontsize=8)
+    ax_ra.plot(center[inside], result.r_a_m.mean(axis=1)[inside], color='tab:purple', label='mean r_a')
+    ax_ra.fill_between(center[inside], result.r_a_m.min(axis=1)[inside], result.r_a_m.max(axis=1)[inside],
+                       color='tab:purple', alpha=0.2, label='range')
+    ax_ra.set_ylabel('r_a [m]')
+    ax_ra.set_xlabel('arc length of the swarm centre [m]')
+    ax_ra.legend(fontsize=8)
+    ax_ra.set_xlim(0.0, plan.length_m)
+    return fig
+
+
+def distance_figure(results: dict[str, SimResult]) -> Figure:
+    """Minimum inter-robot distance over time for one or more runs, with 2 r_p (collision) and 2 r_s marked."""
+    from matplotlib.figure import Figure
+
+    from vtube_planning.metrics import min_distance_over_time
+
+    fig = Figure(figsize=(8.0, 3.8), layout='constrained')
+    ax = fig.add_subplot()
+    swarm = next(iter(results.values())).meta['swarm']
+    for label, result in results.items():
+        ax.plot(result.t_s, min_distance_over_time(result.positions_m), label=label)
+    ax.axhline(2 * swarm['r_p_m'], color='tab:red', ls='--', label='2 r_p (collision)')
+    ax.axhline(2 * swarm['r_s_m'], color='0.5', ls=':', label='2 r_s (safety)')
+    ax.set_xlabel('time [s]')
+    ax.set_ylabel('minimum distance [m]')
+    ax.set_ylim(bottom=0.0)
+    ax.legend(fontsize=8)
+    return fig
+
+
+def animate(result: SimResult, tube: VirtualTube, path: str | Path, *, frames: int = 120, fps: int = 15) -> Path:
+    """Write an animated GIF of the run (matplotlib's Pillow writer, no external encoder)."""
+    from matplotlib.animation import FuncAnimation, PillowWriter
+    from matplotlib.figure import Figure
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig = Figure(figsize=(8.0, 3.6), layout='constrained')
+    ax = fig.add_subplot()
+    draw_tube(ax, tube)
+    steps = np.unique(np.linspace(0, result.t_s.size - 1, frames).astype(int))
+    dots = ax.scatter(*result.positions_m[0], s=12, color='tab:red', zorder=3)
+    label = ax.set_title('')
+
+    def update(k: int) -> tuple:
+        dots.set_offsets(result.positions_m[k].T)
+        label.set_text(f't = {result.t_s[k]:.1f} s')
+        return dots, label
+
+    FuncAnimation(fig, update, frames=steps, blit=False).save(path, writer=PillowWriter(fps=fps))
+    return path
+
+
+def study_figure(summary: list[dict], collision_distance_m: float) -> Figure:
+    """Bars of passing time and minimum distance per scene, with and without planning (range over seeds)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(9.0, 3.8), layout='constrained')
+    ax_t, ax_d = fig.subplots(1, 2)
+    scenes = [e['scene'] for e in summary]
+    x = np.arange(len(scenes))
+    for offset, mode, color in ((-0.2, 'no planning', 'tab:gray'), (0.2, 'planning', 'tab:blue')):
+        for ax, key, span in ((ax_t, 'passing_time_s', 'passing_time_range_s'),
+                              (ax_d, 'min_distance_m', 'min_distance_range_m')):
+            mean = np.array([e[mode][key] for e in summary])
+            lo = mean - np.array([e[mode][span][0] for e in summary])
+            hi = np.array([e[mode][span][1] for e in summary]) - mean
+            ax.bar(x + offset, mean, 0.4, yerr=[lo, hi], capsize=3, color=color, label=mode)
+    ax_d.axhline(collision_distance_m, color='tab:red', ls='--', label='2 r_p (collision)')
+    for ax, label in ((ax_t, 'passing time [s]'), (ax_d, 'minimum distance [m]')):
+        ax.set_xticks(x, scenes)
+        ax.set_xlabel('scene')
+        ax.set_ylabel(label)
+    ax_d.legend(fontsize=8, loc='lower right')
     return fig
 
 

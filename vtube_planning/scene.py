@@ -23,6 +23,7 @@ value of the wrong type raises :class:`SceneError` naming the file, the table an
 
     [swarm]                             # optional; any SwarmParams field, Table 1 defaults otherwise
     [planning]                          # optional; any PlanningOptions field
+    [control]                           # optional; any ControlParams field (controller gains and options)
     [workspace]                         # optional; x_min_m, x_max_m, y_min_m, y_max_m, margin_m: the tube
                                         # boundaries must stay inside the rectangle by at least margin_m
 """
@@ -45,6 +46,7 @@ else:  # Python 3.10 (ROS 2 Humble on Ubuntu 22.04)
 
 from vtube_planning._validate import is_real
 from vtube_planning.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
+from vtube_planning.control import ControlParams
 from vtube_planning.errors import SceneError, VtubeError
 from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.tube import VirtualTube
@@ -94,6 +96,8 @@ class Scene:
         The swarm's parameters.
     planning
         The planner's options.
+    control
+        The controller's gains and options.
     workspace
         Optional rectangle the tube fits in.
     source
@@ -106,6 +110,7 @@ class Scene:
     tube: VirtualTube
     swarm: SwarmParams
     planning: PlanningOptions
+    control: ControlParams
     workspace: Workspace | None
     source: str
 
@@ -157,7 +162,7 @@ def scene_from_text(text: str, *, name: str, source: str) -> Scene:
 
 def _build(data: dict[str, Any], *, name: str, source: str) -> Scene:
     where = _Where(source)
-    where.keys(data, '', required=('tube',), optional=('title', 'description', 'swarm', 'planning', 'workspace'))
+    where.keys(data, '', required=('tube',), optional=('title', 'description', 'swarm', 'planning', 'control', 'workspace'))
     tube_table = where.table(data, 'tube')
     where.keys(tube_table, 'tube', required=('center', 'width'))
     center = _center(where.table(tube_table, 'center', 'tube'), where)
@@ -165,6 +170,7 @@ def _build(data: dict[str, Any], *, name: str, source: str) -> Scene:
     tube = VirtualTube(center, width, name=name)
     swarm = SwarmParams(**_options(data, 'swarm', SwarmParams, where))
     planning = PlanningOptions(**_options(data, 'planning', PlanningOptions, where))
+    control = ControlParams(**_options(data, 'control', ControlParams, where))
     workspace = None
     if 'workspace' in data:
         workspace = Workspace(**_options(data, 'workspace', Workspace, where))
@@ -176,6 +182,7 @@ def _build(data: dict[str, Any], *, name: str, source: str) -> Scene:
         tube=tube,
         swarm=swarm,
         planning=planning,
+        control=control,
         workspace=workspace,
         source=source,
     )

@@ -1,0 +1,107 @@
+"""The paper's comparison: the same swarm through scenes A-D with and without planning, over several seeds.
+
+For every scene and seed the swarm flies once with the plan (planned speed, r_a following (a3)) and once without
+(constant mid-range speed, constant r_a), from the same jittered initial formation. The paper's claim, checked
+per scene on the means over seeds and per seed: with planning the passing time is shorter, the minimum distance
+larger, and no two robots collide.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+
+from vtube_planning.planner import plan_convex
+from vtube_planning.scene import load_scene
+from vtube_planning.simulate import SimConfig, simulate
+
+MODES = ('planning', 'no planning')
+COLUMNS = ('passing_time_s', 'min_distance_m', 'collision_pairs', 'tube_violation_steps', 'completed')
+
+
+def run_study(scenes: Iterable[str], seeds: Iterable[int], *, config: SimConfig | None = None,
+              progress: Callable[[str], None] | None = None) -> list[dict[str, Any]]:
+    """One row per scene, mode and seed with the passage's metrics."""
+    config = config or SimConfig()
+    rows = []
+    for name in scenes:
+        scene = load_scene(name)
+        plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+        for seed in seeds:
+            for mode in MODES:
+                result = simulate(scene.tube, scene.swarm, scene.control, plan=plan if mode == 'planning' else None,
+                                  config=replace(config, seed=seed))
+                rows.append({'scene': scene.name, 'mode': mode, 'seed': seed,
+                             **{k: result.metrics[k] for k in COLUMNS}})
+                if progress is not None:
+                    m = result.metrics
+                    progress(f'{scene.name} seed {seed} {mode:<11}: passing {m["passing_time_s"]:.2f} s, '
+                             f'min distance {m["min_distance_m"]:.3f} m, collisions {m["collision_pairs"]}')
+    return rows
+
+
+def summarise(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Per scene: means and ranges per mode, and whether the paper's claim holds (on means and per seed)."""
+    out = []
+    for name in dict.fromkeys(r['scene'] for r in rows):
+        entry: dict[str, Any] = {'scene': name}
+        per_mode = {}
+        for mode in MODES:
+            sel = [r for r in rows if r['scene'] == name and r['mode'] == mode]
+            passing = np.array([r['passing_time_s'] for r in sel])
+            distance = np.array([r['min_distance_m'] for r in sel])
+            per_mode[mode] = sel
+            entry[mode] = {
+                'passing_time_s': float(passing.mean()),
+                'passing_time_range_s': [float(passing.min()), float(passing.max())],
+                'min_distance_m': float(distance.mean()),
+                'min_distance_range_m': [float(distance.min()), float(distance.max())],
+                'collision_pairs': int(sum(r['collision_pairs'] for r in sel)),
+                'tube_violation_steps': int(sum(r['tube_violation_steps'] for r in sel)),
+                'completed': all(r['completed'] for r in sel),
+            }
+        planned, unplanned = entry['planning'], entry['no planning']
+        entry['claim_on_means'] = (planned['passing_time_s'] < unplanned['passing_time_s']
+                                   and planned['min_distance_m'] > unplanned['min_distance_m']
+                                   and planned['collision_pairs'] == 0)
+        pairs = zip(per_mode['planning'], per_mode['no planning'], strict=True)
+        entry['claim_per_seed'] = [
+            {'seed': p['seed'], 'holds': p['passing_time_s'] < u['passing_time_s']
+             and p['min_distance_m'] > u['min_distance_m'] and p['collision_pairs'] == 0}
+            for p, u in pairs
+        ]
+        out.append(entry)
+    return out
+
+
+def study_markdown(summary: list[dict[str, Any]], seeds: list[int], config: SimConfig) -> str:
+    """The comparison as a Markdown table, with the claim's verdict per scene."""
+    model = 'with the acceleration limits (3), (4) per robot' if config.acceleration_limits else "the paper's model"
+    lines = [
+        f'Scenes with and without planning, Table 1 swarm (N = 20), {model}, dt = {config.dt_s} s, '
+        f'seeds {seeds[0]}..{seeds[-1]} (initial jitter {config.jitter_m} m). Means over seeds, [min, max].',
+        '',
+        '| scene | mode | passing time [s] | min distance [m] | collisions (pairs) | tube violations (robot-steps) |',
+        '|---|---|---|---|---|---|',
+    ]
+    for entry in summary:
+        for mode in MODES:
+            e = entry[mode]
+            lo, hi = e['passing_time_range_s']
+            dlo, dhi = e['min_distance_range_m']
+            lines.append(f'| {entry["scene"]} | {mode} | {e["passing_time_s"]:.2f} [{lo:.2f}, {hi:.2f}] | '
+                         f'{e["min_distance_m"]:.3f} [{dlo:.3f}, {dhi:.3f}] | {e["collision_pairs"]} | '
+                         f'{e["tube_violation_steps"]} |')
+    lines += ['', 'The paper\'s claim (with planning: shorter passing time, larger minimum distance, no collision):', '']
+    for entry in summary:
+        held = [c['seed'] for c in entry['claim_per_seed'] if c['holds']]
+        failed = [c['seed'] for c in entry['claim_per_seed'] if not c['holds']]
+        verdict = 'holds' if entry['claim_on_means'] else 'does not hold'
+        detail = f'; per seed it holds for {len(held)} of {len(held) + len(failed)}'
+        if failed:
+            detail += f' (not for seed {", ".join(map(str, failed))})'
+        lines.append(f'- scene {entry["scene"]}: {verdict} on the means{detail}.')
+    return '\n'.join(lines) + '\n'
