@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import subprocess
+from dataclasses import replace
 import sys
 
 import pytest
@@ -113,3 +114,45 @@ def test_infeasible_plan_gives_exit_2_naming_constraint_and_arc_length(tmp_path,
     err = capsys.readouterr().err.splitlines()
     assert len(err) == 1 and err[0].startswith('error: (p4) is incompatible with (p2) at l = 4.')
     assert not (tmp_path / 'plan_tight.npz').exists()
+
+
+def test_simulate_prints_metrics_and_writes_log_and_figures(tmp_path, capsys) -> None:
+    from vtube_planning.simlog import read_log
+
+    assert main(['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--seed', '3']) == 0
+    text = capsys.readouterr().out
+    assert 'N = 8, seed 3' in text and 'passing time' in text and 'density tracking' in text
+    arrays, meta = read_log(tmp_path / 'sim_C_planned.npz')
+    assert arrays['positions_m'].shape[1:] == (2, 8) and meta['finished'] and meta['scene'] == 'C'
+    for suffix in ('snapshots', 'distance', 'tracking'):
+        assert (tmp_path / f'sim_C_planned_{suffix}.png').read_bytes()[:4] == b'\x89PNG'
+
+
+def test_simulate_without_planning(tmp_path, capsys) -> None:
+    assert main(['simulate', 'A', '--out', str(tmp_path), '--no-planning', '--n', '6']) == 0
+    assert 'without planning' in capsys.readouterr().out
+    assert (tmp_path / 'sim_A_unplanned.npz').exists() and not (tmp_path / 'sim_A_unplanned_tracking.png').exists()
+
+
+def test_animation_is_a_gif(tmp_path) -> None:
+    from vtube_planning.control import ControlParams
+    from vtube_planning.plots import animate
+    from vtube_planning.scene import load_scene
+    from vtube_planning.simulate import SimConfig, simulate
+
+    scene = load_scene('A')
+    result = simulate(scene.tube, replace(scene.swarm, n_robots=4), ControlParams(), plan=None,
+                      config=SimConfig(time_limit_s=1.0))
+    path = animate(result, scene.tube, tmp_path / 'run.gif', frames=4)
+    assert path.read_bytes()[:6] == b'GIF89a'
+
+
+def test_study_writes_table_json_and_figure(tmp_path, capsys) -> None:
+    import json
+
+    assert main(['study', '--out', str(tmp_path), '--scenes', 'A', '--seeds', '1']) == 0
+    text = (tmp_path / 'study.md').read_text()
+    assert '| A | planning |' in text and 'scene A: holds on the means' in text
+    data = json.loads((tmp_path / 'study.json').read_text())
+    assert len(data['rows']) == 2 and data['summary'][0]['claim_on_means'] is True
+    assert (tmp_path / 'study.png').read_bytes()[:4] == b'\x89PNG'

@@ -139,7 +139,10 @@ def snapshots_figure(result: SimResult, tube: VirtualTube, *, title: str = '') -
     from matplotlib.collections import EllipseCollection
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(10.0, 4.8), layout='constrained')
+    left, right = tube.boundaries(np.linspace(0.0, tube.length_m, 400))
+    points = np.vstack([left, right, result.positions_m[snapshot_times(result)].transpose(0, 2, 1).reshape(-1, 2)])
+    span = np.ptp(points, axis=0) + 1e-9
+    fig = Figure(figsize=(10.0, float(np.clip(10.0 * span[1] / span[0] + 1.2, 2.8, 7.5))), layout='constrained')
     ax = fig.add_subplot()
     draw_tube(ax, tube)
     cmap = colormaps['viridis']

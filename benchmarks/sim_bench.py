@@ -1,0 +1,105 @@
+"""Time of one control step of the swarm controller against N, beside a dense all-pairs evaluation of the same law.
+
+A control step is what the simulator does per robot per step: project every robot onto the tube, evaluate the
+command (forward term, avoidance with a k-d tree, tube keeping, saturation), measure the density and advance r_a
+by (a3). The dense reference computes the same avoidance term from all N^2 distances (in row blocks, to bound
+memory). Robots sit on a jittered grid at about one robot per m^2 in a straight tube sized to hold them, so each
+has a few neighbours, as in a flying swarm. Prints median milliseconds per step, the ratio, and the growth
+exponent of the k-d tree step (slope of log time against log N).
+
+    python -m benchmarks.sim_bench [--sizes 20 200 1000 2000 10000] [--repeats 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from vtube_planning import ArcPath, ArcPiece, SwarmParams, VirtualTube, WidthPart, WidthProfile
+from vtube_planning.control import (
+    ControlParams,
+    avoidance_radius_rate,
+    avoidance_velocity,
+    barrier_gain,
+    velocity_command,
+)
+from vtube_planning.density import swarm_area
+
+
+def crowd(n: int, rng: np.random.Generator) -> tuple[VirtualTube, np.ndarray]:
+    half_width = 0.5 * np.sqrt(n) + 2.0
+    length = n / (2 * half_width - 2.0) + 10.0
+    tube = VirtualTube(ArcPath((ArcPiece(length),)), WidthProfile(half_width, (WidthPart('constant', length),)))
+    cols = int(2 * half_width - 2.0)
+    k = np.arange(n)
+    positions = np.vstack([5.0 + k // cols, -half_width + 1.5 + k % cols]).astype(float)
+    return tube, positions + 0.2 * rng.standard_normal(positions.shape)
+
+
+def control_step(tube, swarm, params, positions, r_a, speed):
+    projection = tube.project(positions)
+    l_m = projection.l_m
+    density = positions.shape[1] / swarm_area(tube, l_m.min(), l_m.max(), swarm.r_a_m)[0]
+    command = velocity_command(positions, r_a, speed, tube, swarm, params, projection)
+    return command.velocity, r_a + 0.02 * avoidance_radius_rate(density, np.full(r_a.size, 0.2), params)
+
+
+def dense_avoidance(positions: np.ndarray, r_a: np.ndarray, swarm: SwarmParams, params: ControlParams) -> np.ndarray:
+    """The barrier avoidance term from every pair, in blocks of rows."""
+    n = positions.shape[1]
+    out = np.zeros_like(positions)
+    r_s = swarm.r_s_m
+    for start in range(0, n, 512):
+        rows = slice(start, min(n, start + 512))
+        dx = positions[0, rows, None] - positions[0, None, :]
+        dy = positions[1, rows, None] - positions[1, None, :]
+        dist = np.hypot(dx, dy)
+        np.fill_diagonal(dist[:, start:start + dist.shape[0]], np.inf)
+        band = r_s + r_a[rows, None] * np.ones((1, n))
+        gain = np.where(dist < band, barrier_gain(np.minimum(dist, 1e3), 2 * r_s, 2 * r_s, band, params.avoidance_gain), 0.0)
+        out[0, rows] = np.sum(gain * dx / dist, axis=1)
+        out[1, rows] = np.sum(gain * dy / dist, axis=1)
+    return out
+
+
+def median_ms(fun, repeats: int) -> float:
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fun()
+        times.append(time.perf_counter() - t0)
+    return 1e3 * float(np.median(times))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--sizes', type=int, nargs='+', default=[20, 200, 1000, 2000, 10000])
+    parser.add_argument('--repeats', type=int, default=5)
+    args = parser.parse_args()
+    rng = np.random.default_rng(0)
+    swarm_base = SwarmParams()
+    params = ControlParams()
+    print(f'{"N":>6} {"step [ms]":>10} {"dense avoidance [ms]":>21} {"ratio":>7} {"max |diff| [m/s]":>17}')
+    sizes, times = [], []
+    for n in args.sizes:
+        swarm = SwarmParams(n_robots=n, r_a_m=swarm_base.r_a_m)
+        tube, positions = crowd(n, rng)
+        r_a = np.full(n, swarm.r_a_m) + rng.uniform(0.0, 0.4, n)
+        speed = np.full(n, 3.0)
+        control_step(tube, swarm, params, positions, r_a, speed)  # warm-up: build the tube's k-d tree
+        t_step = median_ms(lambda: control_step(tube, swarm, params, positions, r_a, speed), args.repeats)
+        t_dense = median_ms(lambda: dense_avoidance(positions, r_a, swarm, params), max(1, args.repeats // 2))
+        diff = np.abs(avoidance_velocity(positions, r_a, swarm, params) - dense_avoidance(positions, r_a, swarm, params))
+        print(f'{n:>6} {t_step:>10.2f} {t_dense:>21.2f} {t_dense / t_step:>6.1f}x {diff.max():>17.1e}')
+        sizes.append(n)
+        times.append(t_step)
+    big = np.array(sizes) >= 200
+    if big.sum() >= 2:
+        slope = np.polyfit(np.log(np.array(sizes)[big]), np.log(np.array(times)[big]), 1)[0]
+        print(f'growth exponent of the step time for N >= 200: {slope:.2f} (N log N gives about 1.1)')
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,183 @@
+"""The swarm controller against hand-computed values, theory.md's published numbers and finite differences."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from vtube_planning import ArcPath, ArcPiece, ParamsError, ShapeError, SwarmParams, VirtualTube, WidthPart, WidthProfile
+from vtube_planning.control import (
+    ControlParams,
+    avoidance_radius_rate,
+    avoidance_velocity,
+    barrier_gain,
+    feedforward_radius,
+    neighbour_pairs,
+    saturate,
+    sigma,
+    smooth_saturation,
+    velocity_command,
+)
+
+SWARM = SwarmParams()  # r_s = 0.4, r_a = 0.8, v in [2, 5]
+PRACTICAL = ControlParams(law='practical', avoidance_gain=2.0, keeping_gain=3.0)
+
+
+def wide_tube(half_width_m: float = 10.0) -> VirtualTube:
+    return VirtualTube(ArcPath((ArcPiece(50.0),)), WidthProfile(half_width_m, (WidthPart('constant', 50.0),)))
+
+
+def sigma_published(x: float, d1: float, d2: float) -> float:
+    """theory.md §2.3 with its coefficients A, B, C, D."""
+    den = (d1 - d2) ** 3
+    if x <= d1:
+        return 1.0
+    if x >= d2:
+        return 0.0
+    return (-2 * x**3 + 3 * (d1 + d2) * x**2 - 6 * d1 * d2 * x + d2**2 * (3 * d1 - d2)) / den
+
+
+def barrier_potential(x: float, offset: float, d1: float, d2: float, k: float, eps: float = 1e-6) -> float:
+    """V = k sigma / ((1 + eps) x - offset s(x / offset)) written out from theory.md §2.3-2.4."""
+    x2 = 1 + eps / math.tan(math.radians(67.5))
+    x1 = x2 - eps * math.sin(math.radians(45))
+    u = x / offset
+    s = u if u <= x1 else (1.0 if u >= x2 else (1 - eps) + math.sqrt(eps**2 - (u - x2) ** 2))
+    return k * sigma_published(x, d1, d2) / ((1 + eps) * x - offset * s)
+
+
+# ---------------------------------------------------------------------- building blocks
+
+
+def test_sigma_matches_the_published_polynomial_and_its_band_edges() -> None:
+    x = np.linspace(0.5, 1.5, 401)
+    value, slope = sigma(x, 0.8, 1.2)
+    np.testing.assert_allclose(value, [sigma_published(v, 0.8, 1.2) for v in x], atol=1e-12)
+    edges, edge_slopes = sigma(np.array([0.8, 1.2]), 0.8, 1.2)
+    np.testing.assert_allclose(edges, [1.0, 0.0])
+    np.testing.assert_allclose(edge_slopes, [0.0, 0.0])
+    h = 1e-6
+    inner = x[(x > 0.81) & (x < 1.19)]
+    fd = (sigma(inner + h, 0.8, 1.2)[0] - sigma(inner - h, 0.8, 1.2)[0]) / (2 * h)
+    np.testing.assert_allclose(sigma(inner, 0.8, 1.2)[1], fd, atol=1e-7)
+    assert np.all(np.diff(value) <= 0)  # monotone
+
+
+@pytest.mark.parametrize('eps', [1e-6, 0.1, 0.3])
+def test_smooth_saturation_is_c1_at_both_corners(eps: float) -> None:
+    x2 = 1 + eps / math.tan(math.radians(67.5))
+    x1 = x2 - eps * math.sin(math.radians(45))
+    h = 1e-5 * eps  # small against the arc, which is about eps wide
+    value, slope = smooth_saturation(np.array([x1 - h, x1 + h, x2 - h, x2 + h]), eps)
+    np.testing.assert_allclose(value, [x1, x1, 1.0, 1.0], atol=2 * h)  # continuous: values differ by the step
+    np.testing.assert_allclose(slope[[0, 1]], 1.0, atol=1e-3)
+    np.testing.assert_allclose(slope[[2, 3]], 0.0, atol=2e-3)
+    x = np.linspace(0.2, 1.6, 200)
+    fd = (smooth_saturation(x + 1e-7, eps)[0] - smooth_saturation(x - 1e-7, eps)[0]) / 2e-7
+    np.testing.assert_allclose(smooth_saturation(x, eps)[1], fd, atol=1e-5)
+
+
+def test_barrier_potential_reproduces_theory_values() -> None:
+    # theory.md §2.4: r_s = 0.4, r_a = 0.8, k2 = 1, eps = 1e-6
+    for x, expected in ((0.81, 99.8), (0.9, 8.4), (1.0, 2.5)):
+        assert barrier_potential(x, 0.8, 0.8, 1.2, 1.0) == pytest.approx(expected, rel=0.01)
+    assert barrier_potential(0.79, 0.8, 0.8, 1.2, 1.0) == pytest.approx(1.27e6, rel=0.01)
+    assert barrier_potential(1.2, 0.8, 0.8, 1.2, 1.0) == 0.0
+
+
+def test_barrier_gain_is_minus_the_potential_derivative() -> None:
+    x = np.linspace(0.82, 1.25, 60)
+    h = 1e-7
+    fd = np.array([-(barrier_potential(v + h, 0.8, 0.8, 1.2, 1.0) - barrier_potential(v - h, 0.8, 0.8, 1.2, 1.0))
+                   / (2 * h) for v in x])
+    np.testing.assert_allclose(barrier_gain(x, 0.8, 0.8, np.full(x.shape, 1.2), 1.0), fd, rtol=1e-5, atol=1e-6)
+    assert np.all(barrier_gain(np.array([1.2, 2.0]), 0.8, 0.8, np.full(2, 1.2), 1.0) == 0.0)
+    assert barrier_gain(np.array([0.5]), 0.8, 0.8, np.array([1.2]), 1.0)[0] > 1e6  # inside the safety distance
+
+
+def test_saturate_rescales_radially_into_the_speed_band() -> None:
+    u = np.array([[0.5, 3.0, 30.0, 0.0], [0.0, 4.0, 40.0, 0.0]])
+    fallback = np.array([[1.0] * 4, [0.0] * 4])
+    v = saturate(u, 2.0, 5.0, fallback)
+    np.testing.assert_allclose(v.T, [[2.0, 0.0], [3.0, 4.0], [3.0, 4.0], [2.0, 0.0]])
+
+
+# ---------------------------------------------------------------------- the law, by hand
+
+
+def test_two_robots_practical_law_by_hand() -> None:
+    tube = wide_tube()
+    positions = np.array([[10.0, 11.0], [0.0, 0.0]])  # 1 m apart along the tube, on the centre line
+    command = velocity_command(positions, np.full(2, 0.8), np.full(2, 3.0), tube, SWARM, PRACTICAL)
+    push = 2.0 * 0.5  # k_m sigma(1.0; 0.8, 1.2): the middle of the band
+    np.testing.assert_allclose(command.avoidance.T, [[-push, 0.0], [push, 0.0]], atol=1e-12)
+    np.testing.assert_allclose(command.tube_keeping, 0.0, atol=1e-12)  # 10 m from both walls
+    np.testing.assert_allclose(command.velocity.T, [[3.0 - push, 0.0], [3.0 + push, 0.0]], atol=1e-12)
+
+
+def test_three_robots_sum_their_pushes_and_use_their_own_radius() -> None:
+    tube = wide_tube()
+    positions = np.array([[10.0, 11.0, 10.0], [0.0, 0.0, 0.9]])
+    r_a = np.array([0.8, 0.8, 0.3 + 0.4])  # the third robot's band ends at r_s + r_a = 1.1 m
+    command = velocity_command(positions, r_a, np.full(3, 3.0), tube, SWARM, PRACTICAL)
+    s_10 = sigma_published(1.0, 0.8, 1.2)
+    s_09 = sigma_published(0.9, 0.8, 1.2)
+    d = math.hypot(1.0, 0.9)  # robots 2 and 3
+    s_23 = sigma_published(d, 0.8, 1.2)  # zero: 1.345 m is beyond the band of robots 1 and 2
+    expected_0 = 2.0 * (s_10 * np.array([-1.0, 0.0]) + s_09 * np.array([0.0, -1.0]))
+    expected_1 = 2.0 * (s_10 * np.array([1.0, 0.0]) + s_23 * np.array([1.0, -0.9]) / d)
+    expected_2 = 2.0 * sigma_published(0.9, 0.8, 1.1) * np.array([0.0, 1.0])  # its own, narrower band
+    np.testing.assert_allclose(command.avoidance.T, [expected_0, expected_1, expected_2], atol=1e-12)
+
+
+def test_tube_keeping_pushes_towards_the_centre_line() -> None:
+    tube = wide_tube(2.0)
+    positions = np.array([[5.0, 5.0, 5.0], [1.4, -1.4, 0.0]])  # 0.6 m from the left / right wall, centre
+    command = velocity_command(positions, np.full(3, 0.8), np.full(3, 3.0), tube, SWARM, PRACTICAL)
+    push = 3.0 * sigma_published(0.6, 0.4, 0.8)
+    np.testing.assert_allclose(command.tube_keeping.T, [[0.0, -push], [0.0, push], [0.0, 0.0]], atol=1e-12)
+
+
+def test_commands_always_lie_in_the_speed_band() -> None:
+    rng = np.random.default_rng(0)
+    tube = wide_tube(3.0)
+    for law in ('practical', 'barrier'):
+        positions = np.vstack([rng.uniform(0, 20, 300), rng.uniform(-3.5, 3.5, 300)])
+        command = velocity_command(positions, rng.uniform(0.8, 2.0, 300), rng.uniform(2, 5, 300), tube, SWARM,
+                                   ControlParams(law=law))
+        speed = np.hypot(*command.velocity)
+        assert np.all(speed >= 2.0 - 1e-9) and np.all(speed <= 5.0 + 1e-9)
+
+
+def test_kd_tree_and_all_pairs_give_the_same_law() -> None:
+    rng = np.random.default_rng(1)
+    positions = np.vstack([rng.uniform(0, 15, 400), rng.uniform(-3, 3, 400)])
+    r_a = rng.uniform(0.8, 1.6, 400)
+    dense = avoidance_velocity(positions, r_a, SWARM, ControlParams(kdtree_above=10_000))
+    tree = avoidance_velocity(positions, r_a, SWARM, ControlParams(kdtree_above=0))
+    np.testing.assert_allclose(tree, dense, rtol=1e-12, atol=1e-9)
+    i, j, _ = neighbour_pairs(positions, 1.5, use_tree=True)
+    k, m, _ = neighbour_pairs(positions, 1.5, use_tree=False)
+    assert sorted(zip(i.tolist(), j.tolist())) == sorted(zip(k.tolist(), m.tolist()))
+
+
+def test_avoidance_radius_law_only_expands() -> None:
+    params = ControlParams(k_ra_m3ps=4.0)
+    rate = avoidance_radius_rate(0.3, np.array([0.2, 0.3, 0.5]), params)
+    np.testing.assert_allclose(rate, [0.4, 0.0, 0.0])
+    np.testing.assert_allclose(feedforward_radius(np.array([0.25]), SWARM), [2.0 - 0.4])  # 1/sqrt(rho) - r_s
+
+
+def test_bad_controller_input_raises() -> None:
+    tube = wide_tube()
+    with pytest.raises(ShapeError, match=r'robots \[1\] have NaN'):
+        velocity_command(np.array([[0.0, np.nan], [0.0, 1.0]]), np.full(2, 0.8), np.full(2, 3.0), tube, SWARM,
+                         PRACTICAL)
+    with pytest.raises(ShapeError, match=r'shape \(2, N\) with N >= 1; got \(2, 0\)'):
+        velocity_command(np.zeros((2, 0)), np.zeros(0), np.zeros(0), tube, SWARM, PRACTICAL)
+    with pytest.raises(ParamsError, match="control law must be one of \\('practical', 'barrier'\\)"):
+        ControlParams(law='magic')
+    with pytest.raises(ParamsError, match='r_a_max_m .* below the initial avoidance radius'):
+        ControlParams(r_a_max_m=0.5).radius_cap(SWARM)
