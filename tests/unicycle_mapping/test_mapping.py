@@ -99,7 +99,7 @@ def test_wheel_speeds_by_hand_and_the_testbed_limit() -> None:
                                                        (0.05, 0.105, 0.138), (0.03, 0.105, 0.099)])
 def test_realisable_speed_matches_the_robotarium_table_and_is_tight(d: float, length: float, expected: float) -> None:
     bound = max_realisable_si_speed(d, length, R_WHEEL, PHI_MAX)
-    assert bound == pytest.approx(expected, abs=5e-4)
+    assert bound == pytest.approx(expected, abs=1e-3)  # the table prints three digits (0.1345 as 0.134)
     alpha = np.linspace(-np.pi, np.pi, 3601)
     for speed, ok in ((bound, True), (1.01 * bound, False)):
         u = speed * np.vstack([np.cos(alpha), np.sin(alpha)])
