@@ -1,0 +1,1 @@
+"""``rps.utilities``: transformations, barrier certificates, controllers, misc."""

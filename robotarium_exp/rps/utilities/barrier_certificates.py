@@ -1,0 +1,262 @@
+"""Barrier certificates of both ``rps`` generations on one exact, vectorised QP core.
+
+Every certificate solves ``min ||u - u_hat||^2`` subject to the pairwise barrier rows
+``-2 (x_i - x_j)^T (u_i - u_j) <= gamma h_ij^3`` with ``h_ij = ||x_i - x_j||^2 - R^2``, optionally the boundary rows
+``+/- u <= 0.4 gamma (distance to the wall - R/2)^3`` and (V2) the 8-sided speed polygon. The rows are built with
+numpy at once; with the speed polygon, pairs too far apart to ever bind are dropped (exactly: a row cannot be
+active once gamma h^3 >= 2 d u_max, ``ecosystem.md`` §2). The QP is solved exactly by DAQP, a dual active-set
+solver (the package's one dependency beyond the scientific stack: about ten times faster than the testbed's
+cvxopt certificate, and it reports infeasibility instead of returning an approximate point).
+
+An infeasible or failed solve does what ``rps`` does (zero velocities, a warning) but is never silent: every
+certificate counts its solves and failures in ``certificate.stats``.
+
+Names and keyword defaults of both generations:
+
+* V2: ``create_si_barrier_certificate``, ``create_si_barrier_certificate_with_boundary``,
+  ``create_uni_barrier_certificate``, ``create_uni_barrier_certificate_with_boundary``;
+* classic: ``create_single_integrator_barrier_certificate``, ``..._with_boundary``,
+  ``create_unicycle_barrier_certificate``, ``..._with_boundary``.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+import daqp
+
+from robotarium_exp.errors import RobotariumError
+from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
+
+FloatArray = NDArray[np.float64]
+
+ARENA = (-1.6, 1.6, -1.0, 1.0)
+POLYGON_SIDES = 8
+
+
+@dataclass
+class BarrierStats:
+    """Counters of one certificate: solves, infeasible or failed solves (zero velocities commanded), rows."""
+
+    solves: int = 0
+    failures: int = 0
+    rows_last: int = 0
+    messages: list[str] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class BarrierSpec:
+    """The QP's data: safety radius R, gain gamma, speed limit, boundary [xmin, xmax, ymin, ymax], polygon."""
+
+    safety_radius: float
+    barrier_gain: float
+    magnitude_limit: float
+    boundary: tuple[float, float, float, float] | None
+    speed_polygon: bool
+
+
+def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArray]:
+    """Constraint rows A u <= b (u stacked robot by robot: [u_0x, u_0y, u_1x, ...]) for positions x (2, N)."""
+    n = x.shape[1]
+    i, j = np.triu_indices(n, k=1)
+    diff = x[:, i] - x[:, j]
+    dist2 = np.einsum('ij,ij->j', diff, diff)
+    h = dist2 - spec.safety_radius**2
+    b_pair = spec.barrier_gain * h**3
+    if spec.speed_polygon:  # exact pruning: |2 e.(u_i - u_j)| <= 2 d 2 u_max / cos(pi/8) < gamma h^3 never binds
+        reach = 4.0 * np.sqrt(dist2) * spec.magnitude_limit / math.cos(math.pi / POLYGON_SIDES)
+        keep = b_pair < reach
+        i, j, diff, b_pair = i[keep], j[keep], diff[:, keep], b_pair[keep]
+    rows = [np.zeros((i.size, 2 * n))]
+    k = np.arange(i.size)
+    rows[0][k, 2 * i], rows[0][k, 2 * i + 1] = -2 * diff[0], -2 * diff[1]
+    rows[0][k, 2 * j], rows[0][k, 2 * j + 1] = 2 * diff[0], 2 * diff[1]
+    rhs = [b_pair]
+    robots = np.arange(n)
+    if spec.boundary is not None:
+        xmin, xmax, ymin, ymax = spec.boundary
+        half = spec.safety_radius / 2
+        gain = 0.4 * spec.barrier_gain
+        for axis, sign, room in ((1, 1.0, ymax - half - x[1]), (1, -1.0, -ymin - half + x[1]),
+                                 (0, 1.0, xmax - half - x[0]), (0, -1.0, -xmin - half + x[0])):
+            block = np.zeros((n, 2 * n))
+            block[robots, 2 * robots + axis] = sign
+            rows.append(block)
+            rhs.append(gain * room**3)
+    if spec.speed_polygon:  # rps V2: the first side at the limit, the other seven at limit cos(pi/8)
+        angles = 2 * np.pi * np.arange(POLYGON_SIDES) / POLYGON_SIDES
+        limits = np.full(POLYGON_SIDES, spec.magnitude_limit * math.cos(math.pi / POLYGON_SIDES))
+        limits[0] = spec.magnitude_limit
+        for angle, limit in zip(angles, limits, strict=True):
+            block = np.zeros((n, 2 * n))
+            block[robots, 2 * robots] = math.cos(angle)
+            block[robots, 2 * robots + 1] = math.sin(angle)
+            rows.append(block)
+            rhs.append(np.full(n, limit))
+    return np.vstack(rows), np.concatenate(rhs)
+
+
+DAQP_OPTIMAL = (1, 2)
+"""DAQP exit flags of a solution (optimal, soft-optimal); negative flags are infeasible, cycling, limits."""
+
+
+def least_distance(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
+    """argmin ||u - u_hat||^2 subject to a u <= b, exactly; None if the QP is infeasible or the solver fails."""
+    if a.shape[0] == 0 or np.all(a @ u_hat <= b):
+        return u_hat.copy()
+    scale = np.maximum(np.abs(a).max(axis=1), 1e-300)  # unit rows: the right sides span many orders of magnitude
+    rows = np.ascontiguousarray(a / scale[:, None])
+    upper = b / scale
+    lower = np.full(upper.shape, -1e30)
+    sense = np.zeros(upper.shape, dtype=np.int32)
+    u, _, flag, _ = daqp.solve(np.eye(u_hat.size), -u_hat, rows, upper, lower, sense, primal_tol=1e-12)
+    if flag not in DAQP_OPTIMAL:
+        return None
+    return np.asarray(u, dtype=float)
+
+
+class Certificate:
+    """A barrier certificate: ``certificate(dxi, x) -> dxi`` for single integrators, with ``stats``."""
+
+    def __init__(self, spec: BarrierSpec) -> None:
+        self.spec = spec
+        self.stats = BarrierStats()
+
+    def __call__(self, dxi: FloatArray, x: FloatArray) -> FloatArray:
+        dxi, x = _check_pair(dxi, x, 'dxi', 'x')
+        n = dxi.shape[1]
+        if n < 2 and self.spec.boundary is None:
+            return dxi.copy()
+        norms = np.hypot(dxi[0], dxi[1])
+        over = norms > self.spec.magnitude_limit
+        dxi = dxi.copy()
+        dxi[:, over] *= self.spec.magnitude_limit / norms[over]
+        a, b = barrier_rows(x[:2], self.spec)
+        self.stats.solves += 1
+        self.stats.rows_last = a.shape[0]
+        u = least_distance(dxi.reshape(-1, order='F'), a, b)
+        if u is None:
+            self.stats.failures += 1
+            message = f'barrier QP infeasible at solve {self.stats.solves}; commanding zero velocities'
+            self.stats.messages.append(message)
+            warnings.warn(f'QP failed. Commanding zero velocities. ({message})', RuntimeWarning, stacklevel=2)
+            return np.zeros_like(dxi)
+        return u.reshape(2, n, order='F')
+
+
+class UnicycleCertificate:
+    """The certificate applied at projection points: ``certificate(dxu, poses) -> dxu``, with ``stats``."""
+
+    def __init__(self, spec: BarrierSpec, projection_distance: float) -> None:
+        self.inner = Certificate(spec)
+        self.d = projection_distance
+
+    @property
+    def stats(self) -> BarrierStats:
+        return self.inner.stats
+
+    def __call__(self, dxu: FloatArray, x: FloatArray) -> FloatArray:
+        dxu, x = _check_pair(dxu, x, 'dxu', 'x', state_rows=3)
+        dxi = uni_to_si(dxu, x, self.d)
+        safe = self.inner(dxi, uni_to_si_states(x, self.d))
+        return si_to_uni(safe, x, self.d)
+
+
+def _check_pair(u: object, x: object, u_name: str, x_name: str, state_rows: int = 2) -> tuple[FloatArray, FloatArray]:
+    if not isinstance(u, np.ndarray) or not isinstance(x, np.ndarray):
+        msg = f'{u_name} and {x_name} must be numpy arrays; got {type(u).__name__} and {type(x).__name__}.'
+        raise RobotariumError(msg)
+    if u.ndim != 2 or u.shape[0] != 2 or x.ndim != 2 or x.shape[0] < state_rows or x.shape[1] != u.shape[1]:
+        msg = (f'{u_name} must be 2xN and {x_name} {state_rows}xN with the same N; got {u_name} {u.shape} and '
+               f'{x_name} {x.shape}.')
+        raise RobotariumError(msg)
+    if not (np.all(np.isfinite(u)) and np.all(np.isfinite(x))):
+        msg = f'{u_name} and {x_name} must be finite.'
+        raise RobotariumError(msg)
+    return u.astype(float), x.astype(float)
+
+
+def _spec(safety_radius: float, barrier_gain: float, magnitude_limit: float, boundary: object,
+          polygon: bool) -> BarrierSpec:
+    for name, value in (('safety_radius', safety_radius), ('barrier_gain', barrier_gain),
+                        ('magnitude_limit', magnitude_limit)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
+            msg = f'{name} must be a positive number; got {value!r}.'
+            raise RobotariumError(msg)
+    bounds = None if boundary is None else tuple(float(v) for v in np.asarray(boundary, dtype=float).ravel())
+    if bounds is not None and len(bounds) != 4:
+        msg = f'boundary_points must be [x_min, x_max, y_min, y_max]; got {boundary!r}.'
+        raise RobotariumError(msg)
+    return BarrierSpec(float(safety_radius), float(barrier_gain), float(magnitude_limit), bounds, polygon)
+
+
+# ---------------------------------------------------------------------- V2 names and defaults
+
+
+def create_si_barrier_certificate(safety_radius: float = 0.15, barrier_gain: float = 100.0,
+                                  magnitude_limit: float = 0.2) -> Certificate:
+    """V2: pairwise barriers and the speed polygon."""
+    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, None, True))
+
+
+def create_si_barrier_certificate_with_boundary(safety_radius: float = 0.15, barrier_gain: float = 100.0,
+                                                magnitude_limit: float = 0.2,
+                                                boundary_points: object = None) -> Certificate:
+    """V2: pairwise and boundary barriers (default boundary [-1.7, 1.7, -1.1, 1.1], as V2) and the speed polygon."""
+    boundary = (-1.7, 1.7, -1.1, 1.1) if boundary_points is None else boundary_points
+    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, boundary, True))
+
+
+def create_uni_barrier_certificate(barrier_gain: float = 100.0, safety_radius: float = 0.15,
+                                   projection_distance: float = 0.05,
+                                   velocity_magnitude_limit: float = 0.2) -> UnicycleCertificate:
+    """V2: the SI certificate at projection points, radius safety_radius + 2 d."""
+    spec = _spec(safety_radius + 2 * projection_distance, barrier_gain, velocity_magnitude_limit, None, True)
+    return UnicycleCertificate(spec, projection_distance)
+
+
+def create_uni_barrier_certificate_with_boundary(safety_radius: float = 0.12, barrier_gain: float = 150.0,
+                                                 projection_distance: float = 0.03,
+                                                 velocity_magnitude_limit: float = 0.2,
+                                                 boundary_points: object = None) -> UnicycleCertificate:
+    """V2: as above with the arena boundary (default [-1.6, 1.6, -1, 1])."""
+    boundary = ARENA if boundary_points is None else boundary_points
+    spec = _spec(safety_radius + 2 * projection_distance, barrier_gain, velocity_magnitude_limit, boundary, True)
+    return UnicycleCertificate(spec, projection_distance)
+
+
+# ---------------------------------------------------------------------- classic names and defaults
+
+
+def create_single_integrator_barrier_certificate(barrier_gain: float = 100, safety_radius: float = 0.17,
+                                                 magnitude_limit: float = 0.2) -> Certificate:
+    """Classic: pairwise barriers, no speed polygon (the input is pre-scaled to the limit)."""
+    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, None, False))
+
+
+def create_single_integrator_barrier_certificate_with_boundary(barrier_gain: float = 100, safety_radius: float = 0.17,
+                                                               magnitude_limit: float = 0.2,
+                                                               boundary_points: object = ARENA) -> Certificate:
+    """Classic: pairwise and boundary barriers."""
+    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, boundary_points, False))
+
+
+def create_unicycle_barrier_certificate(barrier_gain: float = 100, safety_radius: float = 0.12,
+                                        projection_distance: float = 0.05,
+                                        magnitude_limit: float = 0.2) -> UnicycleCertificate:
+    """Classic: the SI certificate at projection points, radius safety_radius + d."""
+    spec = _spec(safety_radius + projection_distance, barrier_gain, magnitude_limit, None, False)
+    return UnicycleCertificate(spec, projection_distance)
+
+
+def create_unicycle_barrier_certificate_with_boundary(barrier_gain: float = 100, safety_radius: float = 0.12,
+                                                      projection_distance: float = 0.05,
+                                                      magnitude_limit: float = 0.2,
+                                                      boundary_points: object = ARENA) -> UnicycleCertificate:
+    """Classic: as above with the arena boundary."""
+    spec = _spec(safety_radius + projection_distance, barrier_gain, magnitude_limit, boundary_points, False)
+    return UnicycleCertificate(spec, projection_distance)
