@@ -87,21 +87,29 @@ class ExperimentResult:
 
 
 def initial_conditions(scene: Scene) -> FloatArray:
-    """Entry formation (3xN): rows across the tube IC_SPACING_M apart, headings along the tube, inside the box."""
+    """Entry formation (3xN): rows across the tube, headings along it, every pair at least IC_SPACING_M apart.
+
+    Rows and columns start IC_SPACING_M apart along and across the tube; on a bend the inner side converges, so the
+    spacing grows until every pair keeps IC_SPACING_M.
+    """
     tube, n = scene.tube, scene.swarm.n_robots
     lam0 = float(tube.half_width(0.0))
     cols = max(1, int(math.floor(2 * (lam0 - 0.1) / IC_SPACING_M)) + 1)
     l_first = _first_inside_box(scene)
-    poses = []
-    for k in range(n):
-        row, col = divmod(k, cols)
-        in_row = min(cols, n - row * cols)
-        l_k = l_first + IC_SPACING_M * (math.ceil(n / cols) - 1 - row)
-        y = (col - 0.5 * (in_row - 1)) * IC_SPACING_M
-        point = tube.center_at(l_k) + y * tube.normal(l_k)
-        tangent = tube.tangent(l_k)
-        poses.append([point[0], point[1], math.atan2(tangent[1], tangent[0])])
-    ic = np.array(poses).T
+    for spacing in IC_SPACING_M * (1.0 + 0.02 * np.arange(50)):
+        poses = []
+        for k in range(n):
+            row, col = divmod(k, cols)
+            in_row = min(cols, n - row * cols)
+            l_k = l_first + spacing * (math.ceil(n / cols) - 1 - row)
+            y = (col - 0.5 * (in_row - 1)) * IC_SPACING_M
+            point = tube.center_at(l_k) + y * tube.normal(l_k)
+            tangent = tube.tangent(l_k)
+            poses.append([point[0], point[1], math.atan2(tangent[1], tangent[0])])
+        ic = np.array(poses).T
+        gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))[np.triu_indices(n, 1)]
+        if gaps.size == 0 or gaps.min() >= IC_SPACING_M - 1e-12:
+            break
     if np.any(np.abs(ic[0]) > IC_BOX[0]) or np.any(np.abs(ic[1]) > IC_BOX[1]):
         msg = (f'scene {scene.name!r}: the entry formation leaves the box |x| <= {IC_BOX[0]}, |y| <= {IC_BOX[1]} '
                'the testbed initializes robots in; move the tube entrance inwards or use fewer robots.')
@@ -121,7 +129,7 @@ def _first_inside_box(scene: Scene) -> float:
 
 
 def parking_slots(scene: Scene) -> FloatArray:
-    """Slots (2xN) beyond the exit, 0.3 m apart, filled farthest first."""
+    """Slots (2xN) beyond the exit, 0.25 m apart (the barrier keeps 0.2 m), filled farthest first."""
     tube, n = scene.tube, scene.swarm.n_robots
     end, tangent = tube.center_at(tube.length_m), tube.tangent(tube.length_m)
     normal = np.array([-tangent[1], tangent[0]])
@@ -129,7 +137,7 @@ def parking_slots(scene: Scene) -> FloatArray:
     slots = []
     for k in range(n):
         depth, lane = divmod(k, rows)
-        slots.append(end + (0.45 - 0.25 * depth) * tangent + (lane - 0.5 * (rows - 1)) * 0.3 * normal)
+        slots.append(end + (0.45 - 0.25 * depth) * tangent + (lane - 0.5 * (rows - 1)) * 0.25 * normal)
     return np.array(slots).T
 
 

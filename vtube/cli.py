@@ -11,6 +11,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from robotarium_exp.errors import ExperimentError, RobotariumError
 from vtube_planning.errors import VtubeError
 
 EXIT_OK = 0
@@ -158,6 +159,45 @@ def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: 
     return EXIT_OK if all(e['claim_on_means'] for e in summary) else 1
 
 
+def robotarium_run(name_or_path: str, out: Path, *, planning: bool = True, barrier: bool = True,
+                   initialization: bool = True, seed: int = 0) -> int:
+    """Run the tube experiment on the bundled Robotarium simulator; print the verdict and metrics, write log and figure."""
+    from robotarium_exp.experiment import ExperimentConfig, run_experiment
+    from robotarium_exp.plots import experiment_figure
+    from robotarium_exp.rps.robotarium import Robotarium
+    from vtube_planning.planner import plan_convex
+    from vtube_planning.plots import save_figure
+    from vtube_planning.scene import load_scene
+
+    import numpy as np
+
+    scene = load_scene(name_or_path)
+    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name) if planning else None
+    mode = 'planned' if planning else 'unplanned'
+    log = out / f'experiment_{scene.name}_{mode}.npz'
+    result = run_experiment(Robotarium, scene, plan, ExperimentConfig(planning=planning, barrier=barrier),
+                            log_path=log, robotarium_kwargs={'skip_initialization': not initialization,
+                                                             'rng': np.random.default_rng(seed)})
+    e, m = result.errors, result.metrics
+    hard = e['robots_too_close'] + e['robots_outside_boundaries']
+    verdict = 'would run on the Robotarium' if hard == 0 else 'would NOT run on the Robotarium'
+    print(f'Robotarium experiment, scene {scene.name}, {"with" if planning else "without"} planning, '
+          f'barrier {"on" if barrier else "off"}: {verdict}')
+    print(f'  too close (pair-steps) {e["robots_too_close"]}')
+    print(f'  outside boundaries     {e["robots_outside_boundaries"]}')
+    print(f'  actuator-limit steps   {e["exceeded_actuator_limits"]}')
+    print(f'  duration               {m["duration_s"]:.1f} s (initialization included: declare at least '
+          f'{1.5 * m["duration_s"]:.0f} s)')
+    print(f'  passing time           {m["passing_time_s"]:.2f} s; parked: {"yes" if result.completed else "no"}')
+    print(f'  minimum distance       {m["min_distance_m"]:.3f} m between centres')
+    print(f'  tube violations        {m["tube_violation_steps"]} robot-steps')
+    print(f'  barrier correction     mean {m["barrier_correction_mean_mps"]:.4f}, max {m["barrier_correction_max_mps"]:.4f} '
+          f'm/s, failures {m["barrier_failures"]}')
+    figure = save_figure(experiment_figure(result, scene, plan), out / f'experiment_{scene.name}_{mode}.png')
+    print(f'  written                {log}, {figure}')
+    return EXIT_OK if hard == 0 else 1
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog='vtube',
@@ -191,6 +231,15 @@ def _parser() -> argparse.ArgumentParser:
     stu.add_argument('--seeds', type=int, default=5, help='number of seeds (0..n-1)')
     stu.add_argument('--scenes', default='A,B,C,D', help='comma-separated scene names')
     stu.add_argument('--acceleration-limits', action='store_true', help='apply (3), (4) to every robot')
+    robo = commands.add_parser('robotarium', help='the tube experiment on the bundled Robotarium simulator')
+    robo_commands = robo.add_subparsers(dest='robotarium_command', required=True, metavar='SUBCOMMAND')
+    run = robo_commands.add_parser('run', help='run the experiment, print the testbed verdict and metrics')
+    run.add_argument('scene', help='a Robotarium scene (robotarium_trapezoid, robotarium_curve) or a .toml file')
+    run.add_argument('--out', type=Path, required=True, help='folder for the log and the figure')
+    run.add_argument('--no-planning', action='store_true', help='constant mid-range speed and constant r_a')
+    run.add_argument('--no-barrier', action='store_true', help='send the swarm commands without the certificate')
+    run.add_argument('--no-initialization', action='store_true', help='start at the initial conditions directly')
+    run.add_argument('--seed', type=int, default=0, help='seed of the initialization (charger slots, escapes)')
     return parser
 
 
@@ -203,12 +252,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == 'simulate':
             return simulate(args.scene, args.out, planning=not args.no_planning, n_robots=args.n_robots,
                             seed=args.seed, acceleration_limits=args.acceleration_limits, animate=args.animate)
+        if args.command == 'robotarium':
+            return robotarium_run(args.scene, args.out, planning=not args.no_planning, barrier=not args.no_barrier,
+                                  initialization=not args.no_initialization, seed=args.seed)
         if args.command == 'study':
             return study(args.out, scenes=args.scenes.split(','), seeds=args.seeds,
                          acceleration_limits=args.acceleration_limits)
         if args.scene_command == 'list':
             return scene_list()
         return scene_show(args.scene, args.out)
-    except (VtubeError, OSError) as err:
+    except (VtubeError, OSError, RobotariumError, ExperimentError) as err:
         print('error: ' + ' '.join(str(err).split()), file=sys.stderr)
         return EXIT_BAD_INPUT

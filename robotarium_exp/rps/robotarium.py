@@ -321,3 +321,12 @@ class Robotarium:
         self._robots.set_offsets(self.poses[:2].T)
         self._figure.canvas.draw_idle()
         self._figure.canvas.flush_events()
+
+
+class ClassicRobotarium(Robotarium):
+    """The classic generation's behaviour: robots start exactly at the initial conditions (no charger drive)."""
+
+    def __init__(self, number_of_robots: int = -1, show_figure: bool = False, sim_in_real_time: bool = True,
+                 initial_conditions: FloatArray | None = None, *, rng: np.random.Generator | None = None) -> None:
+        super().__init__(number_of_robots, show_figure, sim_in_real_time, initial_conditions,
+                         skip_initialization=True, rng=rng)

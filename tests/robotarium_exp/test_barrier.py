@@ -1,0 +1,108 @@
+"""Barrier certificates: constraints hold, the solution equals an independent QP, failures are counted."""
+
+from __future__ import annotations
+
+import cvxpy as cp
+import numpy as np
+import pytest
+
+from robotarium_exp.rps.utilities import barrier_certificates as bc
+from unicycle_mapping import uni_to_si_states
+
+TIGHT = {'tol_gap_abs': 1e-12, 'tol_gap_rel': 1e-12, 'tol_feas': 1e-12, 'tol_ktratio': 1e-10}
+
+
+def tight_configuration(rng: np.random.Generator, n: int) -> tuple[np.ndarray, np.ndarray]:
+    side = int(np.ceil(np.sqrt(n)))
+    k = np.arange(n)
+    x = np.vstack([(k % side) * 0.19 - 0.9, (k // side) * 0.19 - 0.6]) + 0.02 * rng.standard_normal((2, n))
+    return x, rng.normal(0.0, 0.15, (2, n))
+
+
+def reference(u_hat: np.ndarray, x: np.ndarray, spec: bc.BarrierSpec) -> np.ndarray | None:
+    """The same QP with every row (no pruning), written with cvxpy and solved by Clarabel to 1e-12."""
+    a, b = bc.barrier_rows(x, bc.BarrierSpec(spec.safety_radius, spec.barrier_gain, 1e9, spec.boundary, False))
+    norms = np.hypot(*u_hat)
+    scaled = u_hat * np.minimum(1.0, spec.magnitude_limit / np.maximum(norms, 1e-300))
+    rows, rhs = [a], [b]
+    if spec.speed_polygon:
+        poly_a, poly_b = bc.barrier_rows(x, bc.BarrierSpec(1e-9, 1e-9, spec.magnitude_limit, None, True))
+        rows.append(poly_a[-8 * x.shape[1]:])
+        rhs.append(poly_b[-8 * x.shape[1]:])
+    u = cp.Variable(u_hat.size)
+    problem = cp.Problem(cp.Minimize(cp.sum_squares(u - scaled.reshape(-1, order='F'))),
+                         [np.vstack(rows) @ u <= np.concatenate(rhs)])
+    problem.solve(solver=cp.CLARABEL, **TIGHT)
+    return None if problem.status != cp.OPTIMAL else u.value.reshape(2, -1, order='F')
+
+
+def test_two_hundred_tight_configurations() -> None:
+    rng = np.random.default_rng(0)
+    certificate = bc.create_si_barrier_certificate_with_boundary()
+    worst_violation = worst_difference = 0.0
+    checked = 0
+    for _ in range(200):
+        n = int(rng.integers(6, 51))
+        x, u_hat = tight_configuration(rng, n)
+        safe = certificate(u_hat, x)
+        expected = reference(u_hat, x, certificate.spec)
+        if expected is None:
+            continue
+        all_rows, all_rhs = bc.barrier_rows(x, bc.BarrierSpec(0.15, 100.0, 1e9, (-1.7, 1.7, -1.1, 1.1), False))
+        worst_violation = max(worst_violation, float((all_rows @ safe.reshape(-1, order='F') - all_rhs).max()))
+        worst_difference = max(worst_difference, float(np.abs(safe - expected).max()))
+        checked += 1
+    assert checked >= 190 and certificate.stats.failures == 200 - checked
+    assert worst_violation <= 1e-9  # every pairwise and boundary row, pruned or not
+    assert worst_difference <= 1e-6
+
+
+def test_feasible_commands_pass_unchanged_and_far_pairs_are_pruned() -> None:
+    x = np.array([[0.0, 1.0, -1.0], [0.0, 0.5, -0.5]])
+    u = np.array([[0.05, -0.05, 0.0], [0.0, 0.02, 0.1]])
+    certificate = bc.create_si_barrier_certificate()
+    np.testing.assert_array_equal(certificate(u, x), u)
+    a, _ = bc.barrier_rows(x, certificate.spec)
+    assert a.shape[0] == 8 * 3  # no pair row: all farther than the distance at which a row can bind
+
+
+def test_infeasible_state_is_counted_warned_and_zeroed() -> None:
+    certificate = bc.create_single_integrator_barrier_certificate_with_boundary()
+    x = np.array([[1.59], [0.0]])  # inside the wall band: a command towards the wall is turned back
+    u = certificate(np.array([[0.2], [0.0]]), x)
+    assert u[0, 0] < 0.0
+    impossible = bc.create_si_barrier_certificate(magnitude_limit=0.01)
+    x2 = np.array([[0.0, 0.01], [0.0, 0.0]])  # 1 cm apart: separating needs 0.056 m/s, the limit allows 0.02
+    with pytest.warns(RuntimeWarning, match='QP failed. Commanding zero velocities'):
+        zeros = impossible(np.zeros((2, 2)), x2)
+    np.testing.assert_array_equal(zeros, 0.0)
+    assert impossible.stats.failures == 1 and impossible.stats.solves == 1
+
+
+def test_generation_names_and_defaults() -> None:
+    assert bc.create_si_barrier_certificate().spec.safety_radius == 0.15
+    assert bc.create_single_integrator_barrier_certificate().spec.safety_radius == 0.17
+    assert not bc.create_single_integrator_barrier_certificate().spec.speed_polygon
+    uni_v2 = bc.create_uni_barrier_certificate_with_boundary()
+    assert uni_v2.inner.spec.safety_radius == pytest.approx(0.12 + 2 * 0.03)
+    assert bc.create_unicycle_barrier_certificate().inner.spec.safety_radius == pytest.approx(0.12 + 0.05)
+
+
+def test_unicycle_certificate_keeps_projection_points_apart() -> None:
+    rng = np.random.default_rng(5)
+    certificate = bc.create_uni_barrier_certificate()
+    poses = np.array([[0.0, 0.3], [0.0, 0.0], [0.0, np.pi]])  # facing each other
+    dxu = np.array([[0.2, 0.2], [0.0, 0.0]])
+    for _ in range(200):
+        safe = certificate(dxu + 0.01 * rng.standard_normal((2, 2)), poses)
+        poses = poses + 0.033 * np.vstack([safe[0] * np.cos(poses[2]), safe[0] * np.sin(poses[2]), safe[1]])
+    points = uni_to_si_states(poses, 0.05)
+    assert np.hypot(*(points[:, 0] - points[:, 1])) >= 0.25 - 1e-3
+
+
+def test_bad_certificate_input() -> None:
+    certificate = bc.create_si_barrier_certificate()
+    with pytest.raises(AssertionError, match=r'dxi must be 2xN and x 2xN .* got dxi \(2, 3\) and x \(2, 2\)'):
+        certificate(np.zeros((2, 3)), np.zeros((2, 2)))
+    with pytest.raises(AssertionError, match='safety_radius must be a positive number'):
+        bc.create_si_barrier_certificate(safety_radius=-1)

@@ -1,0 +1,73 @@
+"""The tube experiment on both Robotarium scenes, on the bundled simulator."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from robotarium_exp.errors import ExperimentError
+from robotarium_exp.experiment import ExperimentConfig, initial_conditions, parking_slots, run_experiment
+from robotarium_exp.rps.robotarium import Robotarium
+from vtube_planning import load_scene
+from vtube_planning.planner import plan_convex
+from vtube_planning.simlog import read_log
+
+NO_INIT = {'skip_initialization': True, 'rng': np.random.default_rng(0)}
+
+
+@pytest.fixture(scope='module', params=['robotarium_trapezoid', 'robotarium_curve'])
+def runs(request):
+    scene = load_scene(request.param)
+    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+    planned = run_experiment(Robotarium, scene, plan, ExperimentConfig(), robotarium_kwargs=NO_INIT)
+    unplanned = run_experiment(Robotarium, scene, None, ExperimentConfig(planning=False), robotarium_kwargs=NO_INIT)
+    return scene, plan, planned, unplanned
+
+
+def test_zero_collisions_boundary_and_actuator_counts(runs) -> None:
+    _, _, planned, unplanned = runs
+    for result in (planned, unplanned):
+        assert result.completed
+        assert result.errors == {'robots_outside_boundaries': 0, 'robots_too_close': 0, 'exceeded_actuator_limits': 0}
+        assert result.metrics['barrier_failures'] == 0
+        assert result.metrics['barrier_correction_mean_mps'] < 0.05  # small against v_max = 0.12 m/s
+
+
+def test_the_swarm_expands_before_the_narrowing(runs) -> None:
+    scene, plan, planned, unplanned = runs
+    narrowing = 1.4  # where both Robotarium scenes start to narrow
+    for result, expanded in ((planned, True), (unplanned, False)):
+        l = result.arrays['l_m']
+        k = int(np.argmax(l.max(axis=1) >= narrowing))  # the front reaches the narrowing
+        r_a = result.arrays['r_a_m'][k]
+        assert (r_a.mean() >= 1.5 * scene.swarm.r_a_m) == expanded
+        assert np.ptp(l[k]) > np.ptp(l[0])  # longer along the tube than at the start
+    assert planned.metrics['passing_time_s'] < unplanned.metrics['passing_time_s']
+
+
+def test_initial_conditions_are_spread_for_the_testbed() -> None:
+    for name in ('robotarium_trapezoid', 'robotarium_curve'):
+        scene = load_scene(name)
+        ic = initial_conditions(scene)
+        gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))[np.triu_indices(ic.shape[1], 1)]
+        assert ic.shape == (3, 6) and gaps.min() >= 0.4 - 1e-12
+        assert np.all(np.abs(ic[0]) <= 1.375) and np.all(np.abs(ic[1]) <= 0.875)
+        assert scene.tube.project(ic[:2]).inside.all()
+        slots = parking_slots(scene)
+        assert np.all(np.abs(slots[0]) <= 1.5) and np.all(np.abs(slots[1]) <= 0.85)
+
+
+def test_full_run_with_initialization_logs_every_step(tmp_path) -> None:
+    scene = load_scene('robotarium_curve')
+    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+    log = tmp_path / 'run.npz'
+    result = run_experiment(Robotarium, scene, plan, ExperimentConfig(), log_path=log,
+                            robotarium_kwargs={'rng': np.random.default_rng(1)})
+    arrays, meta = read_log(log)
+    assert arrays['poses'].shape == result.arrays['poses'].shape and meta['finished'] and meta['completed']
+    assert meta['errors']['robots_too_close'] == 0 and meta['metrics']['duration_s'] > arrays['t_s'][-1]
+
+
+def test_planning_without_a_plan_is_refused() -> None:
+    with pytest.raises(ExperimentError, match='no plan was given'):
+        run_experiment(Robotarium, load_scene('robotarium_curve'), None, ExperimentConfig())

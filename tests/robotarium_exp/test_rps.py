@@ -1,0 +1,133 @@
+"""The bundled Robotarium simulator against the PyPI simulator and the rps contract."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from robotarium_exp.errors import RobotariumError
+from robotarium_exp.rps.robotarium import Robotarium
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def ours(n: int = 2, ic: np.ndarray | None = None, **kwargs) -> Robotarium:
+    ic = np.array([[0.0, 0.5], [0.0, 0.0], [0.0, 0.0]])[:, :n] if ic is None else ic
+    return Robotarium(number_of_robots=n, show_figure=False, sim_in_real_time=False, initial_conditions=ic,
+                      skip_initialization=True, **kwargs)
+
+
+def test_the_same_script_runs_on_both_simulators_and_agrees(tmp_path) -> None:
+    pytest.importorskip('rps.robotarium')  # the PyPI robotarium-python-simulator (test extra)
+    script = ROOT / 'examples' / 'wander.py'
+    env_plot = {'MPLBACKEND': 'Agg'}
+    import os
+
+    env = dict(os.environ, **env_plot)
+    pypi = subprocess.run([sys.executable, str(script), str(tmp_path / 'pypi.npy')], capture_output=True, text=True,
+                          env=env, check=True)
+    bundled = subprocess.run([sys.executable, '-m', 'robotarium_exp.rps_alias', '--classic', str(script),
+                              str(tmp_path / 'ours.npy')],
+                             capture_output=True, text=True, env=env, check=True, cwd=ROOT)
+    a, b = np.load(tmp_path / 'pypi.npy'), np.load(tmp_path / 'ours.npy')
+    assert a.shape == b.shape == (300, 3, 6)
+    np.testing.assert_allclose(b, a, atol=1e-9)  # step by step
+    assert 'No errors in your simulation' in pypi.stdout and 'No errors in your simulation' in bundled.stdout
+
+
+def test_documented_difference_per_wheel_clipping() -> None:
+    """The testbed clips each wheel (ours too); the PyPI simulator only clips v and omega separately."""
+    r = ours(1, np.zeros((3, 1)))
+    r.get_poses()
+    r.set_velocities(np.arange(1), np.array([[0.2], [2.0]]))  # wheels (0.4 -/+ 0.22) / 0.032 = 5.6, 19.4 rad/s
+    r.step()
+    wheels = np.clip([(0.4 - 0.22) / 0.032, (0.4 + 0.22) / 0.032], -12.5, 12.5)
+    v, omega = 0.016 * wheels.sum() / 2, 0.016 / 0.11 * (wheels[1] - wheels[0])
+    np.testing.assert_allclose(r.get_poses()[:, 0], [0.033 * v, 0.0, 0.033 * omega], atol=1e-15)
+    assert r.errors['exceeded_actuator_limits'] == 1
+    rps_robotarium = pytest.importorskip('rps.robotarium')
+    pypi = rps_robotarium.Robotarium(number_of_robots=1, show_figure=False, sim_in_real_time=False,
+                                     initial_conditions=np.zeros((3, 1)))
+    pypi.get_poses()
+    pypi.set_velocities(np.arange(1), np.array([[0.2], [2.0]]))
+    pypi.step()
+    np.testing.assert_allclose(pypi.get_poses()[:, 0], [0.033 * 0.2, 0.0, 0.033 * 2.0], atol=1e-15)  # unclipped
+
+
+def test_validation_counts_like_v2(capsys) -> None:
+    # two robots 0.13 m apart facing each other: shifted centres 0.08 m apart -> too close, once per pair-step
+    r = ours(2, np.array([[0.0, 0.13], [0.0, 0.0], [0.0, np.pi]]))
+    for _ in range(2):
+        r.get_poses()
+        r.step()
+    assert r.errors == {'robots_outside_boundaries': 0, 'robots_too_close': 2, 'exceeded_actuator_limits': 0}
+    r.debug()
+    out = capsys.readouterr().out
+    assert 'took approximately 0.07 real seconds' in out and 'Errors detected, your script will NOT run' in out
+    outside = ours(1, np.array([[1.65], [0.0], [0.0]]))
+    outside.get_poses()
+    outside.step()
+    assert outside.errors['robots_outside_boundaries'] == 1
+    clean = ours(1, np.zeros((3, 1)))
+    clean.get_poses()
+    clean.step()
+    clean.debug()
+    assert 'No errors or warnings' in capsys.readouterr().out
+    clean.call_at_scripts_end()
+    assert 'No errors in your simulation! Acceptance of your experiment is likely!' in capsys.readouterr().out
+
+
+def test_constants_in_both_spellings() -> None:
+    r = ours(1, np.zeros((3, 1)))
+    assert r.TIME_STEP == r.time_step == 0.033
+    assert list(r.BOUNDARIES) == [-1.6, 1.6, -1.0, 1.0] and r.boundaries == [-1.6, -1.0, 3.2, 2.0]
+    assert r.MAX_WHEEL_VELOCITY == pytest.approx(12.5) and r.max_angular_velocity == pytest.approx(3.636, abs=1e-3)
+
+
+@pytest.mark.parametrize(
+    ('make', 'match'),
+    [
+        (lambda: Robotarium(number_of_robots=np.int64(3), sim_in_real_time=False), 'must be an integer type'),
+        (lambda: Robotarium(number_of_robots=51, sim_in_real_time=False), 'must be between 0 and 50'),
+        (lambda: Robotarium(number_of_robots=2, sim_in_real_time=False, initial_conditions=np.zeros((2, 2)),
+                            skip_initialization=True), 'must of size 3xN'),
+        (lambda: Robotarium(number_of_robots=2, show_figure='yes'), 'show_figure must be a bool'),
+        (lambda: Robotarium(number_of_robots=30, sim_in_real_time=False,
+                            initial_conditions=np.vstack([np.mgrid[-1:1:6j, -0.8:0.8:5j].reshape(2, -1),
+                                                          np.zeros(30)])), '22 charger slots'),
+    ],
+)
+def test_bad_construction_raises_what_rps_users_know(make, match: str) -> None:
+    with pytest.raises(AssertionError, match=match):
+        make()
+
+
+def test_call_order_is_enforced() -> None:
+    r = ours()
+    r.get_poses()
+    with pytest.raises(RobotariumError, match=r'Can only call get_poses\(\) once per call of step\(\)!'):
+        r.get_poses()
+    r.step()
+    with pytest.raises(RobotariumError, match=r'Make sure you call get_poses before calling step\(\)!'):
+        r.step()
+    with pytest.raises(RobotariumError, match=r'2xk array .* got \(3, 2\)'):
+        r.set_velocities(np.arange(2), np.zeros((3, 2)))
+    with pytest.raises(RobotariumError, match='must be finite'):
+        r.set_velocities(np.arange(2), np.array([[0.1, np.nan], [0.0, 0.0]]))
+    poses = r.get_poses()
+    poses[0] += 5.0  # a copy: changing it does not move the robots (V2)
+    assert r.poses[0, 0] == 0.0
+
+
+def test_initialization_drives_robots_from_the_chargers_to_the_initial_conditions() -> None:
+    ic = np.array([[-1.0, -0.6, -0.2, 0.2, 0.6, 1.0], [0.0] * 6, [0.0] * 6])
+    r = Robotarium(number_of_robots=6, sim_in_real_time=False, initial_conditions=ic, rng=np.random.default_rng(3))
+    poses = r.get_poses()
+    assert np.hypot(*(poses[:2] - ic[:2])).max() <= 0.05
+    assert np.abs(np.angle(np.exp(1j * (poses[2] - ic[2])))).max() <= 0.2
+    assert r.iterations == r.initialization_steps > 100  # they count towards the duration
+    assert r.errors['robots_too_close'] == 0  # and are not validated
