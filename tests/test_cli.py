@@ -156,3 +156,14 @@ def test_study_writes_table_json_and_figure(tmp_path, capsys) -> None:
     data = json.loads((tmp_path / 'study.json').read_text())
     assert len(data['rows']) == 2 and data['summary'][0]['claim_on_means'] is True
     assert (tmp_path / 'study.png').read_bytes()[:4] == b'\x89PNG'
+
+
+def test_robotarium_run_prints_the_testbed_verdict(tmp_path, capsys) -> None:
+    from vtube_planning.simlog import read_log
+
+    assert main(['robotarium', 'run', 'robotarium_trapezoid', '--out', str(tmp_path), '--no-initialization']) == 0
+    text = capsys.readouterr().out
+    assert 'would run on the Robotarium' in text and 'too close (pair-steps) 0' in text
+    arrays, meta = read_log(tmp_path / 'experiment_robotarium_trapezoid_planned.npz')
+    assert arrays['poses'].shape[1:] == (3, 6) and meta['completed']
+    assert (tmp_path / 'experiment_robotarium_trapezoid_planned.png').read_bytes()[:4] == b'\x89PNG'

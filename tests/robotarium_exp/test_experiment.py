@@ -71,3 +71,12 @@ def test_full_run_with_initialization_logs_every_step(tmp_path) -> None:
 def test_planning_without_a_plan_is_refused() -> None:
     with pytest.raises(ExperimentError, match='no plan was given'):
         run_experiment(Robotarium, load_scene('robotarium_curve'), None, ExperimentConfig())
+
+
+def test_the_experiment_runs_on_the_pypi_robotarium_class() -> None:
+    rps_robotarium = pytest.importorskip('rps.robotarium')
+    scene = load_scene('robotarium_trapezoid')
+    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+    result = run_experiment(rps_robotarium.Robotarium, scene, plan, ExperimentConfig())
+    assert result.completed and result.metrics['min_distance_m'] > 0.135
+    assert not result.errors  # the PyPI simulator records nothing: no robot left the arena or came too close

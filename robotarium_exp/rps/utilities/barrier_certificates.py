@@ -65,39 +65,38 @@ def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArr
     i, j = np.triu_indices(n, k=1)
     diff = x[:, i] - x[:, j]
     dist2 = np.einsum('ij,ij->j', diff, diff)
-    h = dist2 - spec.safety_radius**2
-    b_pair = spec.barrier_gain * h**3
+    b_pair = spec.barrier_gain * (dist2 - spec.safety_radius**2) ** 3
     if spec.speed_polygon:  # exact pruning: |2 e.(u_i - u_j)| <= 2 d 2 u_max / cos(pi/8) < gamma h^3 never binds
         reach = 4.0 * np.sqrt(dist2) * spec.magnitude_limit / math.cos(math.pi / POLYGON_SIDES)
         keep = b_pair < reach
         i, j, diff, b_pair = i[keep], j[keep], diff[:, keep], b_pair[keep]
-    rows = [np.zeros((i.size, 2 * n))]
-    k = np.arange(i.size)
-    rows[0][k, 2 * i], rows[0][k, 2 * i + 1] = -2 * diff[0], -2 * diff[1]
-    rows[0][k, 2 * j], rows[0][k, 2 * j + 1] = 2 * diff[0], 2 * diff[1]
-    rhs = [b_pair]
+    n_pairs = i.size
+    n_walls = 4 * n if spec.boundary is not None else 0
+    n_sides = POLYGON_SIDES * n if spec.speed_polygon else 0
+    a = np.zeros((n_pairs + n_walls + n_sides, 2 * n))
+    b = np.empty(a.shape[0])
+    k = np.arange(n_pairs)
+    a[k, 2 * i], a[k, 2 * i + 1] = -2 * diff[0], -2 * diff[1]
+    a[k, 2 * j], a[k, 2 * j + 1] = 2 * diff[0], 2 * diff[1]
+    b[:n_pairs] = b_pair
     robots = np.arange(n)
+    row = n_pairs
     if spec.boundary is not None:
         xmin, xmax, ymin, ymax = spec.boundary
-        half = spec.safety_radius / 2
-        gain = 0.4 * spec.barrier_gain
+        half, gain = spec.safety_radius / 2, 0.4 * spec.barrier_gain
         for axis, sign, room in ((1, 1.0, ymax - half - x[1]), (1, -1.0, -ymin - half + x[1]),
                                  (0, 1.0, xmax - half - x[0]), (0, -1.0, -xmin - half + x[0])):
-            block = np.zeros((n, 2 * n))
-            block[robots, 2 * robots + axis] = sign
-            rows.append(block)
-            rhs.append(gain * room**3)
+            a[row + robots, 2 * robots + axis] = sign
+            b[row:row + n] = gain * room**3
+            row += n
     if spec.speed_polygon:  # rps V2: the first side at the limit, the other seven at limit cos(pi/8)
-        angles = 2 * np.pi * np.arange(POLYGON_SIDES) / POLYGON_SIDES
-        limits = np.full(POLYGON_SIDES, spec.magnitude_limit * math.cos(math.pi / POLYGON_SIDES))
-        limits[0] = spec.magnitude_limit
-        for angle, limit in zip(angles, limits, strict=True):
-            block = np.zeros((n, 2 * n))
-            block[robots, 2 * robots] = math.cos(angle)
-            block[robots, 2 * robots + 1] = math.sin(angle)
-            rows.append(block)
-            rhs.append(np.full(n, limit))
-    return np.vstack(rows), np.concatenate(rhs)
+        for side in range(POLYGON_SIDES):
+            angle = 2 * math.pi * side / POLYGON_SIDES
+            a[row + robots, 2 * robots] = math.cos(angle)
+            a[row + robots, 2 * robots + 1] = math.sin(angle)
+            b[row:row + n] = spec.magnitude_limit * (1.0 if side == 0 else math.cos(math.pi / POLYGON_SIDES))
+            row += n
+    return a, b
 
 
 DAQP_OPTIMAL = (1, 2)
