@@ -3,16 +3,16 @@
 Both run in this process on the same points; the script prints the time per call (median of repeats), the
 worst arc-length error of each against the points' true coordinates, and the speed ratio.
 
-    python benchmarks/bench_projection.py [--points 10000] [--repeats 7] [--spacing-m 0.01]
+    python -m benchmarks.bench_projection [--points 10000] [--repeats 7] [--spacing-m 0.01]
 """
 
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 
+from benchmarks._timing import timed
 from vtube_planning import VirtualTube, load_scene
 
 
@@ -27,15 +27,6 @@ def dense_nearest_sample(tube: VirtualTube, points: np.ndarray, spacing_m: float
         d2 = ((xy[start : start + chunk, None, :] - samples[None, :, :]) ** 2).sum(axis=2)
         best[start : start + chunk] = d2.argmin(axis=1)
     return samples_l[best]
-
-
-def timed(fun, repeats: int) -> tuple[float, object]:
-    times, result = [], None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        result = fun()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times)), result
 
 
 def main() -> None:

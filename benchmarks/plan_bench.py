@@ -13,25 +13,14 @@ Times are medians over repeats, in one process; J is (p1) of the plan as used.
 from __future__ import annotations
 
 import argparse
-import time
 from dataclasses import replace
 
-import numpy as np
-
+from benchmarks._timing import timed
 from tests.vtube_planning.slsqp_reference import slsqp_plan
 from vtube_planning import list_scenes, load_scene
 from vtube_planning.plan import initial_conditions
 from vtube_planning.planner import plan_convex
 from vtube_planning.polynomial import plan_polynomial
-
-
-def median_time(fun, repeats: int):
-    times, result = [], None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        result = fun()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times)), result
 
 
 def main() -> None:
@@ -47,13 +36,13 @@ def main() -> None:
         tube, swarm = scene.tube, scene.swarm
         step = 0.1 * tube.length_m / 60.0 if tube.length_m < 10.0 else 0.1
         fine = replace(scene.planning, grid_step_m=step)
-        t_convex, convex = median_time(lambda: plan_convex(tube, swarm, fine), args.repeats)
-        t_poly, poly = median_time(lambda: plan_polynomial(tube, swarm, scene.planning), args.repeats)
+        t_convex, convex = timed(lambda: plan_convex(tube, swarm, fine), args.repeats)
+        t_poly, poly = timed(lambda: plan_polynomial(tube, swarm, scene.planning), args.repeats)
         v0, rho0 = initial_conditions(swarm, scene.planning)
-        t_slsqp, (_, _, _, j_slsqp) = median_time(
+        t_slsqp, (_, _, _, j_slsqp) = timed(
             lambda: slsqp_plan(tube, swarm, scene.planning, k, v0=v0, rho0=rho0), 1)
         coarse = replace(scene.planning, grid_step_m=tube.length_m / k)
-        t_coarse, same = median_time(lambda: plan_convex(tube, swarm, coarse), args.repeats)
+        t_coarse, same = timed(lambda: plan_convex(tube, swarm, coarse), args.repeats)
         print(f'{name:<21} {step:>6.4f} {t_convex:>9.3f} {convex.objective["total"]:>10.5f} {t_poly:>7.3f} '
               f'{poly.objective["total"]:>10.5f} {t_slsqp:>10.3f} {j_slsqp:>10.5f} {t_coarse:>11.3f} '
               f'{same.objective["total"]:>11.5f} {t_slsqp / t_coarse:>8.1f}x')

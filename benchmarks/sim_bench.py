@@ -13,10 +13,10 @@ exponent of the k-d tree step (slope of log time against log N).
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 
+from benchmarks._timing import timed
 from vtube_planning import ArcPath, ArcPiece, SwarmParams, VirtualTube, WidthPart, WidthProfile
 from vtube_planning.control import (
     ControlParams,
@@ -64,15 +64,6 @@ def dense_avoidance(positions: np.ndarray, r_a: np.ndarray, swarm: SwarmParams, 
     return out
 
 
-def median_ms(fun, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fun()
-        times.append(time.perf_counter() - t0)
-    return 1e3 * float(np.median(times))
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--sizes', type=int, nargs='+', default=[20, 200, 1000, 2000, 10000])
@@ -89,8 +80,8 @@ def main() -> None:
         r_a = np.full(n, swarm.r_a_m) + rng.uniform(0.0, 0.4, n)
         speed = np.full(n, 3.0)
         control_step(tube, swarm, params, positions, r_a, speed)  # warm-up: build the tube's k-d tree
-        t_step = median_ms(lambda: control_step(tube, swarm, params, positions, r_a, speed), args.repeats)
-        t_dense = median_ms(lambda: dense_avoidance(positions, r_a, swarm, params), max(1, args.repeats // 2))
+        t_step = 1e3 * timed(lambda: control_step(tube, swarm, params, positions, r_a, speed), args.repeats)[0]
+        t_dense = 1e3 * timed(lambda: dense_avoidance(positions, r_a, swarm, params), args.repeats // 2)[0]
         diff = np.abs(avoidance_velocity(positions, r_a, swarm, params) - dense_avoidance(positions, r_a, swarm, params))
         print(f'{n:>6} {t_step:>10.2f} {t_dense:>21.2f} {t_dense / t_step:>6.1f}x {diff.max():>17.1e}')
         sizes.append(n)

@@ -29,8 +29,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from vtube_planning._validate import is_positive
-from vtube_planning.errors import ParamsError, ShapeError
+from vtube_planning._validate import as_points, is_positive
+from vtube_planning.errors import ParamsError
 from vtube_planning.params import SwarmParams
 from vtube_planning.tube import Projection, VirtualTube
 
@@ -249,10 +249,4 @@ def feedforward_radius(rho_planned: FloatArray, swarm: SwarmParams) -> FloatArra
 
 def check_positions(positions: FloatArray) -> None:
     """Raise :class:`ShapeError` unless positions are finite and (2, N) with N >= 1."""
-    if positions.ndim != 2 or positions.shape[0] != 2 or positions.shape[1] < 1:
-        msg = f'positions must have shape (2, N) with N >= 1; got {positions.shape}.'
-        raise ShapeError(msg)
-    if not np.all(np.isfinite(positions)):
-        bad = np.flatnonzero(~np.all(np.isfinite(positions), axis=0))
-        msg = f'positions must be finite; robots {bad[:5].tolist()} have NaN or inf coordinates.'
-        raise ShapeError(msg)
+    as_points(positions, name='positions', item='robots', min_count=1)

@@ -11,8 +11,6 @@ Plans are saved as ``.npz`` files of plain arrays plus one JSON string (loaded w
 
 from __future__ import annotations
 
-import json
-import zipfile
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -22,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from vtube_planning.density import predicted_density
 from vtube_planning.errors import PlanError
+from vtube_planning.npzfile import read_npz, write_npz
 from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.tube import VirtualTube
 
@@ -34,6 +33,7 @@ FINE_FACTOR = 10
 ACTIVE_RTOL = 1e-3
 """A constraint is reported active at a grid point when its relative slack is below this."""
 CONSTRAINTS = ('p2', 'p3', 'p4', 'p5', 'p6', 'p7', 'initial')
+ARRAYS = ('l_m', 'speed_mps', 'density_per_m2', 'half_width_m', 'speed_limit_mps')
 FORMAT_VERSION = 1
 
 
@@ -108,8 +108,6 @@ class Plan:
 
     def save(self, path: str | Path) -> Path:
         """Write the plan to an ``.npz`` file (arrays and one JSON string; no pickle)."""
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
         meta = {
             'format_version': FORMAT_VERSION,
             'time_s': self.time_s,
@@ -124,24 +122,14 @@ class Plan:
             'options': asdict(self.options),
             'extra': self.extra,
         }
-        arrays = {f'active_{k}': v for k, v in self.active.items()}
-        with path.open('wb') as fh:
-            np.savez(fh, l_m=self.l_m, speed_mps=self.speed_mps, density_per_m2=self.density_per_m2,
-                     half_width_m=self.half_width_m, speed_limit_mps=self.speed_limit_mps,
-                     meta=np.array(json.dumps(meta)), **arrays)
-        return path
+        arrays = {name: getattr(self, name) for name in ARRAYS}
+        arrays.update({f'active_{k}': v for k, v in self.active.items()})
+        return write_npz(path, arrays, meta)
 
     @classmethod
     def load(cls, path: str | Path) -> Plan:
         """Read a plan written by :meth:`save`."""
-        path = Path(path)
-        try:
-            with path.open('rb') as fh, np.load(fh, allow_pickle=False) as data:
-                arrays = {k: data[k] for k in data.files}
-            meta = json.loads(str(arrays.pop('meta')))
-        except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as err:
-            msg = f'cannot read plan file {str(path)!r}: {err}. Write it with `vtube plan` or Plan.save.'
-            raise PlanError(msg) from err
+        arrays, meta = read_npz(path, PlanError, 'plan file')
         if meta.get('format_version') != FORMAT_VERSION:
             msg = f'plan file {str(path)!r} has format {meta.get("format_version")!r}; expected {FORMAT_VERSION}.'
             raise PlanError(msg)

@@ -246,9 +246,9 @@ def study_figure(summary: list[dict], collision_distance_m: float) -> Figure:
         for ax, key, span in ((ax_t, 'passing_time_s', 'passing_time_range_s'),
                               (ax_d, 'min_distance_m', 'min_distance_range_m')):
             mean = np.array([e[mode][key] for e in summary])
-            lo = mean - np.array([e[mode][span][0] for e in summary])
-            hi = np.array([e[mode][span][1] for e in summary]) - mean
-            ax.bar(x + offset, mean, 0.4, yerr=[lo, hi], capsize=3, color=color, label=mode)
+            ax.bar(x + offset, mean, 0.4, color=color, label=mode)
+            ax.vlines(x + offset, [e[mode][span][0] for e in summary], [e[mode][span][1] for e in summary],
+                      color='k', lw=1.2)  # the range over seeds
     ax_d.axhline(collision_distance_m, color='tab:red', ls='--', label='2 r_p (collision)')
     for ax, label in ((ax_t, 'passing time [s]'), (ax_d, 'minimum distance [m]')):
         ax.set_xticks(x, scenes)

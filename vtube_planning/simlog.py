@@ -1,15 +1,12 @@
-"""Trajectory logs: ``.npz`` files of plain arrays plus one JSON string, written so that a crash loses little.
+"""Trajectory logs, written so that a crash loses little (format: :mod:`vtube_planning.npzfile`).
 
 A :class:`LogWriter` keeps the rows it has been given and rewrites the whole file every ``flush_every`` rows,
-into a temporary file that then replaces the log atomically. The log on disk is therefore always a complete,
-readable ``.npz``: an interrupted run leaves every row up to its last flush. Files load without pickle.
+atomically. The log on disk is therefore always a complete, readable ``.npz``: an interrupted run leaves every
+row up to its last flush.
 """
 
 from __future__ import annotations
 
-import json
-import os
-import zipfile
 from pathlib import Path
 from typing import Any
 
@@ -17,6 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning.errors import LogError
+from vtube_planning.npzfile import read_npz, write_npz
 
 LOG_FORMAT = 'vtube-trajectory-1'
 
@@ -36,7 +34,6 @@ class LogWriter:
 
     def __init__(self, path: str | Path, meta: dict[str, Any], *, flush_every: int = 100) -> None:
         self.path = Path(path)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
         self.meta = dict(meta, format=LOG_FORMAT)
         self.flush_every = max(1, int(flush_every))
         self._rows: dict[str, list[NDArray[Any]]] = {}
@@ -53,25 +50,14 @@ class LogWriter:
     def flush(self, **extra_meta: Any) -> Path:
         """Rewrite the log with every row so far (and extra metadata, e.g. final metrics)."""
         self.meta.update(extra_meta)
-        arrays = {key: np.stack(values) for key, values in self._rows.items()}
-        tmp = self.path.with_name(self.path.name + '.tmp')
-        with tmp.open('wb') as fh:
-            np.savez(fh, meta=np.array(json.dumps(self.meta)), **arrays)
-        os.replace(tmp, self.path)
+        write_npz(self.path, {key: np.stack(values) for key, values in self._rows.items()}, self.meta)
         self._pending = 0
         return self.path
 
 
 def read_log(path: str | Path) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
     """Arrays and metadata of a log written by :class:`LogWriter`."""
-    path = Path(path)
-    try:
-        with path.open('rb') as fh, np.load(fh, allow_pickle=False) as data:
-            arrays = {key: data[key] for key in data.files}
-        meta = json.loads(str(arrays.pop('meta')))
-    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as err:
-        msg = f'cannot read trajectory log {str(path)!r}: {err}.'
-        raise LogError(msg) from err
+    arrays, meta = read_npz(path, LogError, 'trajectory log')
     if meta.get('format') != LOG_FORMAT:
         msg = f'{str(path)!r} is not a vtube trajectory log (format {meta.get("format")!r}, expected {LOG_FORMAT!r}).'
         raise LogError(msg)

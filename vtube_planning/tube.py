@@ -25,6 +25,7 @@ from scipy.spatial import cKDTree
 
 from vtube_planning._roots import bracketed_newton
 from vtube_planning.centerline import CenterCurve
+from vtube_planning._validate import as_points
 from vtube_planning.errors import ShapeError, TubeError
 from vtube_planning.width import WidthProfile
 
@@ -195,16 +196,7 @@ class VirtualTube:
         converges to 1e-12 m. The result is the exact closest point wherever ``1 - kappa y > 0`` near it, which
         holds for every point of a regular tube and for all points closer to the curve than its curvature radius.
         """
-        pts = np.asarray(points_m, dtype=float)
-        if pts.shape == (2,):
-            pts = pts[:, None]
-        if pts.ndim != 2 or pts.shape[0] != 2:
-            msg = f'points must have shape (2, N), one point per column; got {pts.shape}.'
-            raise ShapeError(msg)
-        if not np.all(np.isfinite(pts)):
-            bad = np.flatnonzero(~np.all(np.isfinite(pts), axis=0))
-            msg = f'points must be finite; columns {bad[:5].tolist()} contain NaN or inf.'
-            raise ShapeError(msg)
+        pts = as_points(points_m, allow_single=True)
         xy = pts.T
         samples = self._samples
         _, k = self._sample_tree.query(xy)

@@ -172,10 +172,10 @@ def test_avoidance_radius_law_only_expands() -> None:
 
 def test_bad_controller_input_raises() -> None:
     tube = wide_tube()
-    with pytest.raises(ShapeError, match=r'robots \[1\] have NaN'):
+    with pytest.raises(ShapeError, match=r'robots \[1\] contain NaN'):
         velocity_command(np.array([[0.0, np.nan], [0.0, 1.0]]), np.full(2, 0.8), np.full(2, 3.0), tube, SWARM,
                          PRACTICAL)
-    with pytest.raises(ShapeError, match=r'shape \(2, N\) with N >= 1; got \(2, 0\)'):
+    with pytest.raises(ShapeError, match=r'shape \(2, N\) with N >= 1 .*; got \(2, 0\)'):
         velocity_command(np.zeros((2, 0)), np.zeros(0), np.zeros(0), tube, SWARM, PRACTICAL)
     with pytest.raises(ParamsError, match="control law must be one of \\('practical', 'barrier'\\)"):
         ControlParams(law='magic')

@@ -1,0 +1,42 @@
+"""The package's file format: an ``.npz`` of plain arrays plus one JSON string, written atomically, read without pickle.
+
+Plans and trajectory logs are stored this way. Writing goes to a temporary file that then replaces the target, so
+the file on disk is always complete; reading never unpickles (a returned data file cannot run code).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import zipfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+META_KEY = 'meta'
+
+
+def write_npz(path: str | Path, arrays: dict[str, NDArray[Any]], meta: dict[str, Any]) -> Path:
+    """Write arrays and JSON metadata to ``path`` atomically; creates the folder."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + '.tmp')
+    with tmp.open('wb') as fh:
+        np.savez(fh, **{META_KEY: np.array(json.dumps(meta))}, **arrays)
+    os.replace(tmp, path)
+    return path
+
+
+def read_npz(path: str | Path, error: type[Exception], what: str) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
+    """Arrays and metadata of a file written by :func:`write_npz`; ``error`` (naming ``what``) if unreadable."""
+    path = Path(path)
+    try:
+        with path.open('rb') as fh, np.load(fh, allow_pickle=False) as data:
+            arrays = {key: data[key] for key in data.files}
+        meta = json.loads(str(arrays.pop(META_KEY)))
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as err:
+        msg = f'cannot read {what} {str(path)!r}: {err}.'
+        raise error(msg) from err
+    return arrays, meta
