@@ -198,6 +198,45 @@ def robotarium_run(name_or_path: str, out: Path, *, planning: bool = True, barri
     return EXIT_OK if hard == 0 else 1
 
 
+def submission_build(name_or_path: str, out: Path, *, planning: bool = True) -> int:
+    """Write the single-file submission for a Robotarium scene."""
+    from submission.builder import build, write
+
+    submission = build(name_or_path, planning=planning)
+    path = write(submission, out)
+    print(f'submission for scene {submission.scene} ({submission.n_robots} robots, '
+          f'{"with" if planning else "without"} planning): {path}')
+    print(f'  check it before uploading:  vtube submission check {path}')
+    return EXIT_OK
+
+
+def submission_check(path: Path, *, seeds: int = 3) -> int:
+    """Preflight a submission file; prints the report and returns 0 when it passes, 1 when not."""
+    from submission.check import COUNTS, check
+
+    report = check(path, seeds=seeds)
+    print(f'submission {report.path}')
+    if report.disallowed_imports:
+        print(f'  FAIL: imports missing on the Robotarium server: {", ".join(report.disallowed_imports)}')
+        return 1
+    print('  imports                only the standard library, numpy/scipy/matplotlib/cvxopt and rps: ok')
+    print(f'  {"run":<16} {"done":>5} {"too close":>10} {"outside":>8} {"actuator":>9} {"min dist [m]":>13} '
+          f'{"duration [s]":>13}')
+    for run in report.runs:
+        label = f'{run.backend}' + (f' seed {run.seed}' if run.seed is not None else '')
+        if run.summary is None:
+            print(f'  {label:<16} crashed (exit {run.returncode}): {run.stderr_tail.strip().splitlines()[-1:]}')
+            continue
+        counts = [run.count(key) for key in COUNTS]
+        print(f'  {label:<16} {"yes" if run.summary["completed"] else "no":>5} {counts[0]:>10} {counts[1]:>8} '
+              f'{counts[2]:>9} {run.summary["min_center_distance_m"]:>13.3f} '
+              f'{run.summary["iterations"] * 0.033:>13.1f}')
+    print(f'  declare                {report.robots} robots, {report.declare_duration_s} s '
+          '(longest run, initialization included, times the verifier\'s 1.5)')
+    print(f'  verdict                {"PASS" if report.passed else "FAIL"}')
+    return EXIT_OK if report.passed else 1
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog='vtube',
@@ -240,6 +279,15 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument('--no-barrier', action='store_true', help='send the swarm commands without the certificate')
     run.add_argument('--no-initialization', action='store_true', help='start at the initial conditions directly')
     run.add_argument('--seed', type=int, default=0, help='seed of the initialization (charger slots, escapes)')
+    sub = commands.add_parser('submission', help='build and check the single file for the remote Robotarium')
+    sub_commands = sub.add_subparsers(dest='submission_command', required=True, metavar='SUBCOMMAND')
+    build_cmd = sub_commands.add_parser('build', help='write the submission file for a Robotarium scene')
+    build_cmd.add_argument('scene', help='robotarium_trapezoid, robotarium_curve or a .toml file')
+    build_cmd.add_argument('--out', type=Path, required=True, help='the .py file to write')
+    build_cmd.add_argument('--no-planning', action='store_true', help='constant speed and r_a (the comparison)')
+    check_cmd = sub_commands.add_parser('check', help='preflight a submission on the simulators')
+    check_cmd.add_argument('file', type=Path, help='the submission .py file')
+    check_cmd.add_argument('--seeds', type=int, default=3, help='runs on the bundled simulator (seeds 0..n-1)')
     return parser
 
 
@@ -252,6 +300,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == 'simulate':
             return simulate(args.scene, args.out, planning=not args.no_planning, n_robots=args.n_robots,
                             seed=args.seed, acceleration_limits=args.acceleration_limits, animate=args.animate)
+        if args.command == 'submission' and args.submission_command == 'build':
+            return submission_build(args.scene, args.out, planning=not args.no_planning)
+        if args.command == 'submission':
+            return submission_check(args.file, seeds=args.seeds)
         if args.command == 'robotarium':
             return robotarium_run(args.scene, args.out, planning=not args.no_planning, barrier=not args.no_barrier,
                                   initialization=not args.no_initialization, seed=args.seed)
