@@ -167,3 +167,18 @@ def test_robotarium_run_prints_the_testbed_verdict(tmp_path, capsys) -> None:
     arrays, meta = read_log(tmp_path / 'experiment_robotarium_trapezoid_planned.npz')
     assert arrays['poses'].shape[1:] == (3, 6) and meta['completed']
     assert (tmp_path / 'experiment_robotarium_trapezoid_planned.png').read_bytes()[:4] == b'\x89PNG'
+
+
+def test_submission_build_and_check(tmp_path, capsys) -> None:
+    out = tmp_path / 'experiment.py'
+    assert main(['submission', 'build', 'robotarium_trapezoid', '--out', str(out)]) == 0
+    assert out.read_text().startswith('"""vtube: a speed- and density-planned robot swarm')
+    assert main(['submission', 'check', str(out), '--seeds', '1']) == 0
+    text = capsys.readouterr().out
+    assert 'verdict                PASS' in text and 'declare                6 robots' in text
+
+
+def test_submission_build_refuses_a_scene_that_does_not_fit(tmp_path, capsys) -> None:
+    assert main(['submission', 'build', 'C', '--out', str(tmp_path / 'x.py')]) == 2
+    assert 'does not fit the Robotarium arena' in capsys.readouterr().err
+    assert main(['submission', 'check', str(tmp_path / 'missing.py')]) == 2

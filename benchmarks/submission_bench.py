@@ -1,0 +1,73 @@
+"""Per-step compute of the submission's control loop at N = 6 (target: under 5 ms on a 2-core machine).
+
+    python -m benchmarks.submission_bench [--steps 300]
+
+Runs the committed robotarium_curve submission's loop on the bundled simulator and times, per step, what the file
+computes between get_poses and set_velocities: control points, the swarm law on the sampled tube, the barrier
+certificate (the PyPI simulator's cvxopt one, which is what the testbed's rps runs, and the bundled DAQP one),
+the near-identity map and wheel scaling. The simulator's own step is not timed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from benchmarks._timing import timed
+from robotarium_exp.rps.robotarium import ClassicRobotarium
+from submission import runtime
+from submission.builder import build
+
+
+def loop_times(data: dict, certificate, steps: int) -> list[float]:
+    n = int(data['swarm']['n_robots'])
+    r = ClassicRobotarium(number_of_robots=n, sim_in_real_time=False,
+                          initial_conditions=np.array(data['initial_conditions']))
+    controller = runtime.TubeController(data)
+    d = float(data['projection_distance_m'])
+    times = []
+    for _ in range(steps):
+        poses = r.get_poses()
+        start = time.perf_counter()
+        points = poses[:2] + d * np.vstack([np.cos(poses[2]), np.sin(poses[2])])
+        nominal, _ = controller.step(points, 0.033)
+        safe = certificate(nominal.copy(), points)
+        dxu, _ = runtime.scale_to_wheel_limits(runtime.si_to_uni(safe, poses, d), runtime.BASE_LENGTH,
+                                               runtime.WHEEL_RADIUS, runtime.MAX_WHEEL_SPEED)
+        times.append(time.perf_counter() - start)
+        r.set_velocities(np.arange(n), dxu)
+        r.step()
+    return times
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--steps', type=int, default=300)
+    args = parser.parse_args()
+    namespace: dict = {}
+    exec(compile(build('robotarium_curve').source, 'submission', 'exec'), namespace)
+    data = namespace['DATA']
+    boundary = np.array([-1.6, 1.6, -1.0, 1.0])
+    radius, limit = data['barrier']['safety_radius_m'], data['swarm']['v_max_mps']
+    from robotarium_exp.rps.utilities.barrier_certificates import create_si_barrier_certificate_with_boundary
+
+    certificates = {'bundled (DAQP)': create_si_barrier_certificate_with_boundary(
+        safety_radius=radius, magnitude_limit=limit, boundary_points=boundary)}
+    try:
+        from rps.utilities.barrier_certificates import create_single_integrator_barrier_certificate_with_boundary
+    except ImportError:
+        print('PyPI robotarium-python-simulator not installed: cvxopt certificate skipped')
+    else:
+        certificates['testbed rps (cvxopt)'] = create_single_integrator_barrier_certificate_with_boundary(
+            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary)
+    print(f'{"certificate":<22} {"median [ms]":>12} {"95th pct [ms]":>14} {"max [ms]":>10}')
+    for name, certificate in certificates.items():
+        _, times = timed(lambda: loop_times(data, certificate, args.steps), 1)
+        ms = 1e3 * np.array(times)
+        print(f'{name:<22} {np.median(ms):>12.3f} {np.percentile(ms, 95):>14.3f} {ms.max():>10.3f}')
+
+
+if __name__ == '__main__':
+    main()
