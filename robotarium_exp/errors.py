@@ -13,3 +13,7 @@ class RobotariumError(AssertionError):
 
 class ExperimentError(ValueError):
     """An experiment that cannot be set up: initial conditions, scene, plan."""
+
+
+class AnalysisError(ValueError):
+    """Trajectory data that cannot be read or analysed: missing topic, wrong format, truncated file, NaN poses."""

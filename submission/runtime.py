@@ -178,7 +178,7 @@ def run(data: dict, robotarium_module, *, max_steps: int | None = None) -> dict:
     controller = TubeController(data)
     barrier = make_barrier(data)
     d = float(data['projection_distance_m'])
-    log: dict = {name: [] for name in ('t', 'poses', 'dxu', 'r_a', 'l', 'density', 'barrier_correction')}
+    log: dict = {name: [] for name in ('t', 'wall', 'poses', 'dxu', 'r_a', 'l', 'density', 'barrier_correction')}
     min_distance = np.inf
     started = time.time()
     done = False
@@ -191,7 +191,8 @@ def run(data: dict, robotarium_module, *, max_steps: int | None = None) -> dict:
         dxu, _ = scale_to_wheel_limits(si_to_uni(safe, poses, d), BASE_LENGTH, WHEEL_RADIUS, MAX_WHEEL_SPEED)
         gaps = np.hypot(*(poses[:2, :, None] - poses[:2, None, :])) + np.eye(n) * 1e9
         min_distance = min(min_distance, float(gaps.min()))
-        for name, value in (('t', time.time() - started), ('poses', poses), ('dxu', dxu), ('r_a', controller.r_a),
+        for name, value in (('t', step * dt), ('wall', time.time() - started), ('poses', poses), ('dxu', dxu),
+                            ('r_a', controller.r_a),
                             ('l', info['l']), ('density', info['density']),
                             ('barrier_correction', np.hypot(*(safe - nominal)))):
             log[name].append(np.array(value, copy=True))
@@ -205,7 +206,7 @@ def run(data: dict, robotarium_module, *, max_steps: int | None = None) -> dict:
     save_log(log)
     iterations = getattr(r, 'iterations', None) or getattr(r, '_iteration', None) or getattr(r, '_iterations', 0)
     errors = dict(getattr(r, 'errors', None) or getattr(r, '_errors', None) or {})
-    summary = {'vtube_summary': 1, 'scene': data['scene'], 'planned': data['planned'], 'robots': n,
+    summary = {'vtube_summary': 1, 'scene': data['scene'], 'planned': data['planned'], 'robots': n, 'dt_s': dt,
                'steps': step + 1, 'completed': done, 'iterations': int(iterations),
                'min_center_distance_m': round(min_distance, 4),
                'barrier_correction_max_mps': round(float(np.max(log['barrier_correction'])), 4),

@@ -29,6 +29,7 @@ from robotarium_exp.errors import RobotariumError
 from robotarium_exp.rps.utilities.barrier_certificates import create_uni_barrier_certificate
 from robotarium_exp.rps.utilities.controllers import create_pose_controller_hybrid
 from robotarium_exp.rps.utilities.misc import create_at_pose, generate_initial_poses, generate_random_poses
+from vtube_planning.simlog import LogWriter
 
 FloatArray = NDArray[np.float64]
 
@@ -53,7 +54,7 @@ class Robotarium:
 
     def __init__(self, number_of_robots: int = -1, show_figure: bool = False, sim_in_real_time: bool = True,
                  initial_conditions: FloatArray | None = None, *, skip_initialization: bool = False,
-                 rng: np.random.Generator | None = None) -> None:
+                 rng: np.random.Generator | None = None, log_path: str | None = None) -> None:
         if isinstance(number_of_robots, bool) or not isinstance(number_of_robots, int):
             msg = (f'The number of robots used argument (number_of_robots) provided to create the Robotarium object '
                    f'must be an integer type. Recieved type {type(number_of_robots).__name__!r}. Pass int(N).')
@@ -93,6 +94,8 @@ class Robotarium:
         self._called_step_already = True
         self._last_step_wall = time.perf_counter()
         self._figure: Any = None
+        self._log = LogWriter(log_path, {'kind': 'bundled robotarium', 'n_robots': number_of_robots,
+                                         'dt_s': self.TIME_STEP}) if log_path else None
         if skip_initialization or number_of_robots == 0:
             self.poses = self.initial_conditions.copy()
         else:
@@ -160,6 +163,8 @@ class Robotarium:
             raise RobotariumError(msg)
         self._checked_poses_already = True
         self._called_step_already = False
+        if self._log is not None:
+            self._log.append(t_s=(self._iteration - self.initialization_steps) * self.TIME_STEP, poses=self.poses)
         return self.poses.copy()
 
     def set_velocities(self, ids: Any, velocities: FloatArray) -> None:
@@ -199,6 +204,7 @@ class Robotarium:
 
     def debug(self) -> dict[str, int]:
         """Print V2's summary and verdict; returns the counts."""
+        self._finish_log()
         print(f'Your simulation took approximately {self._iteration * self.TIME_STEP:.2f} real seconds to execute.')
         e = self._errors
         if e['robots_outside_boundaries'] or e['robots_too_close']:
@@ -218,6 +224,7 @@ class Robotarium:
 
     def call_at_scripts_end(self) -> dict[str, int]:
         """Print the classic report; returns the counts."""
+        self._finish_log()
         print('##### DEBUG OUTPUT #####')
         print(f'Your simulation will take approximately {math.ceil(self._iteration * self.TIME_STEP)} real seconds '
               'when deployed on the Robotarium. \n')
@@ -236,6 +243,10 @@ class Robotarium:
         return self.errors
 
     # ------------------------------------------------------------------ internals
+
+    def _finish_log(self) -> None:
+        if self._log is not None:
+            self._log.flush(errors=self.errors, iterations=self._iteration, finished=True)
 
     def wheel_speeds(self, dxu: FloatArray) -> FloatArray:
         """(2v -/+ L omega) / (2 r), 2xN."""
@@ -327,6 +338,7 @@ class ClassicRobotarium(Robotarium):
     """The classic generation's behaviour: robots start exactly at the initial conditions (no charger drive)."""
 
     def __init__(self, number_of_robots: int = -1, show_figure: bool = False, sim_in_real_time: bool = True,
-                 initial_conditions: FloatArray | None = None, *, rng: np.random.Generator | None = None) -> None:
+                 initial_conditions: FloatArray | None = None, *, rng: np.random.Generator | None = None,
+                 log_path: str | None = None) -> None:
         super().__init__(number_of_robots, show_figure, sim_in_real_time, initial_conditions,
-                         skip_initialization=True, rng=rng)
+                         skip_initialization=True, rng=rng, log_path=log_path)
