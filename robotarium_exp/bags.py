@@ -40,8 +40,9 @@ def yaw(q: Any) -> float:
     return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
-def stamp_s(header: Any) -> float:
-    return header.stamp.sec + 1e-9 * header.stamp.nanosec
+def stamp_ns(header: Any) -> int:
+    """A header's stamp in integer nanoseconds (seconds since 1970 would lose 0.2 us as a float)."""
+    return int(header.stamp.sec) * 1_000_000_000 + int(header.stamp.nanosec)
 
 
 def read_bag(paths: list[Path], *, topic_pattern: str | None = None, frame_pattern: str | None = None,
@@ -58,7 +59,7 @@ def read_bag(paths: list[Path], *, topic_pattern: str | None = None, frame_patte
     store = Stores.ROS1_NOETIC if all(p.suffix == '.bag' for p in paths) else Stores.ROS2_HUMBLE
     topic_res = [re.compile(topic_pattern)] if topic_pattern else [re.compile(p) for p in DEFAULT_TOPIC_PATTERNS]
     frame_re = re.compile(frame_pattern or DEFAULT_FRAME_PATTERN)
-    samples: dict[str, list[tuple[float, float, float, float]]] = defaultdict(list)
+    samples: dict[str, list[tuple[int, float, float, float]]] = defaultdict(list)
     try:
         with AnyReader(paths, default_typestore=get_typestore(store)) as reader:
             available = {c.topic: c.msgtype for c in reader.connections}
@@ -86,23 +87,26 @@ def read_bag(paths: list[Path], *, topic_pattern: str | None = None, frame_patte
                         match = frame_re.match(tr.child_frame_id)
                         if match:
                             tl = tr.transform.translation
-                            samples[match.group('robot')].append((stamp_s(tr.header), tl.x, tl.y,
+                            samples[match.group('robot')].append((stamp_ns(tr.header), tl.x, tl.y,
                                                                    yaw(tr.transform.rotation)))
                     continue
                 robot = robot_of[connection.topic]
                 if msg_type == POSE_2D:
-                    samples[robot].append((t_ns * 1e-9, m.x, m.y, m.theta))
+                    samples[robot].append((int(t_ns), m.x, m.y, m.theta))
                 else:
                     pose = m.pose.pose if msg_type == ODOMETRY else m.pose
-                    samples[robot].append((stamp_s(m.header), pose.position.x, pose.position.y, yaw(pose.orientation)))
+                    samples[robot].append((stamp_ns(m.header), pose.position.x, pose.position.y, yaw(pose.orientation)))
     except AnyReaderError as err:
         msg = f'cannot read {paths[0]} as a ROS bag: {err}. ROS1 bags end in .bag; ROS2 bags are folders.'
         raise AnalysisError(msg) from err
+    origin = min((min(r[0] for r in rows) for rows in samples.values()), default=0)
     per_robot = {}
     for robot, rows in samples.items():
-        arr = np.array(sorted(rows))
-        keep = np.concatenate([[True], np.diff(arr[:, 0]) > 0])  # duplicate stamps (e.g. /tf and a pose topic)
-        arr = arr[keep]
-        per_robot[robot] = (arr[:, 0], arr[:, 1:3], arr[:, 3])
+        rows.sort()
+        stamps = np.array([r[0] for r in rows], dtype=np.int64)
+        values = np.array([r[1:] for r in rows], dtype=float)
+        keep = np.concatenate([[True], np.diff(stamps) > 0])  # duplicate stamps (e.g. /tf and a pose topic)
+        seconds = (stamps[keep] - origin) * 1e-9  # the one conversion of bag nanoseconds to seconds
+        per_robot[robot] = (seconds, values[keep, :2], values[keep, 2])
     return on_common_stamps(per_robot, source={'kind': 'ros bag', 'path': str(paths[0]),
                                               'topics': sorted({c.topic for c in chosen})})

@@ -109,8 +109,12 @@ def on_common_stamps(samples: dict[str, tuple[FloatArray, FloatArray, FloatArray
     if stop <= start:
         msg = f'the robots in {source.get("path", "?")} have no time span in common.'
         raise AnalysisError(msg)
-    t = np.arange(start, stop + 0.5 * period, period)
-    t = t[t <= stop]
+    shared = samples[ids[0]][0]
+    if all(samples[rid][0].shape == shared.shape and np.array_equal(samples[rid][0], shared) for rid in ids):
+        t = shared  # every robot sampled at the same instants: nothing to resample
+    else:
+        t = np.arange(start, stop + 0.5 * period, period)
+        t = t[t <= stop]
     positions = np.full((t.size, 2, len(ids)), np.nan)
     headings = np.full((t.size, len(ids)), np.nan) if all(samples[r][2] is not None for r in ids) else None
     gaps = []

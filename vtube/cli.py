@@ -11,7 +11,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from robotarium_exp.errors import ExperimentError, RobotariumError
+from robotarium_exp.errors import AnalysisError, ExperimentError, RobotariumError
 from vtube_planning.errors import VtubeError
 
 EXIT_OK = 0
@@ -237,6 +237,67 @@ def submission_check(path: Path, *, seeds: int = 3) -> int:
     return EXIT_OK if report.passed else 1
 
 
+def analyze(inputs: list[Path], scene_name: str, out: Path, *, plan_path: Path | None = None,
+            compare: Path | None = None, topic_pattern: str | None = None, frame_pattern: str | None = None,
+            topics: list[str] | None = None) -> int:
+    """Analyse returned data (testbed folder, our logs, ROS bags) in a scene; write metrics, report and figures."""
+    from robotarium_exp.analysis import analyse, write_report
+    from robotarium_exp.loaders import load_trajectory
+    from vtube_planning.plan import Plan
+    from vtube_planning.scene import load_scene
+
+    scene = load_scene(scene_name)
+    plan = Plan.load(plan_path) if plan_path is not None else None
+    trajectory = load_trajectory(list(inputs), topic_pattern=topic_pattern, frame_pattern=frame_pattern,
+                                 topics=topics)
+    results = {'data': (trajectory, analyse(trajectory, scene, plan))}
+    if compare is not None:
+        simulated = load_trajectory([compare])
+        results['comparison'] = (simulated, analyse(simulated, scene, plan))
+    report = write_report(out, results, scene, plan)
+    m = results['data'][1]
+    print(f'analysis of {trajectory.source.get("kind")} {trajectory.source.get("path")} in scene {scene.name}: '
+          f'{trajectory.n_robots} robots, {m["frames"]} frames ({m["dropped_frames"]} dropped, {len(m["gaps"])} gaps)')
+    print(f'  passing time {m["passing_time_s"]:.2f} s, minimum distance {m["min_distance_m"]:.3f} m, '
+          f'{m["collision_pairs"]} collision pairs, {m["tube_violation_steps"]} tube violations')
+    print(f'  written {report}, {out / "metrics.json"}')
+    return EXIT_OK
+
+
+def demo(out: Path) -> int:
+    """The whole pipeline on the default Robotarium scene with the bundled simulator, into one report."""
+    import os
+    import subprocess
+    import sys
+
+    scene = 'robotarium_curve'
+    steps = [
+        ('plan', lambda: plan(scene, out / 'plan')),
+        ('simulate with planning', lambda: simulate(scene, out / 'simulation')),
+        ('simulate without planning', lambda: simulate(scene, out / 'simulation', planning=False)),
+        ('build the submission', lambda: submission_build(scene, out / 'submission' / 'experiment.py')),
+        ('check the submission', lambda: submission_check(out / 'submission' / 'experiment.py', seeds=2)),
+    ]
+    for title, step in steps:
+        print(f'\n== {title} ==')
+        if step() != EXIT_OK:
+            print(f'error: the demo stopped at "{title}"', file=sys.stderr)
+            return 1
+    print('\n== run the submission on the bundled simulator, as the testbed would, and analyse what it returns ==')
+    returned = out / 'returned'
+    returned.mkdir(parents=True, exist_ok=True)
+    env = dict(os.environ, VTUBE_HEADLESS='1', MPLBACKEND='Agg')
+    run = subprocess.run([sys.executable, '-m', 'robotarium_exp.rps_alias', '--seed', '0',
+                          str((out / 'submission' / 'experiment.py').resolve())], cwd=returned, env=env,
+                         capture_output=True, text=True, check=False)
+    (returned / 'log.txt').write_text(run.stdout + run.stderr, encoding='utf-8')
+    if run.returncode != 0:
+        print(f'error: the submission failed on the bundled simulator; see {returned / "log.txt"}', file=sys.stderr)
+        return 1
+    return analyze([returned], scene, out / 'report', plan_path=out / 'plan' / f'plan_{scene}.npz',
+                   compare=out / 'simulation' / f'sim_{scene}_planned.npz')
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog='vtube',
@@ -288,6 +349,17 @@ def _parser() -> argparse.ArgumentParser:
     check_cmd = sub_commands.add_parser('check', help='preflight a submission on the simulators')
     check_cmd.add_argument('file', type=Path, help='the submission .py file')
     check_cmd.add_argument('--seeds', type=int, default=3, help='runs on the bundled simulator (seeds 0..n-1)')
+    ana = commands.add_parser('analyze', help='metrics, figures and a report of returned or recorded data')
+    ana.add_argument('inputs', type=Path, nargs='+', help='a folder of vtube_*.npy, a .npz log, .bag files or a bag folder')
+    ana.add_argument('--scene', required=True, help='the scene the data was recorded in')
+    ana.add_argument('--out', type=Path, required=True, help='folder for metrics.json, report.md and figures')
+    ana.add_argument('--plan', type=Path, default=None, help='a plan file (vtube plan) to track against')
+    ana.add_argument('--compare', type=Path, default=None, help='a simulation log to show side by side')
+    ana.add_argument('--topic', action='append', default=None, dest='topics', help='bag topic(s) to read')
+    ana.add_argument('--topic-pattern', default=None, help='regex with a (?P<robot>...) group for bag topics')
+    ana.add_argument('--frame-pattern', default=None, help='regex with a (?P<robot>...) group for /tf child frames')
+    dem = commands.add_parser('demo', help='the whole pipeline on the bundled simulator, into one report')
+    dem.add_argument('--out', type=Path, required=True, help='folder for everything the demo writes')
     return parser
 
 
@@ -300,6 +372,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == 'simulate':
             return simulate(args.scene, args.out, planning=not args.no_planning, n_robots=args.n_robots,
                             seed=args.seed, acceleration_limits=args.acceleration_limits, animate=args.animate)
+        if args.command == 'analyze':
+            return analyze(args.inputs, args.scene, args.out, plan_path=args.plan, compare=args.compare,
+                           topic_pattern=args.topic_pattern, frame_pattern=args.frame_pattern, topics=args.topics)
+        if args.command == 'demo':
+            return demo(args.out)
         if args.command == 'submission' and args.submission_command == 'build':
             return submission_build(args.scene, args.out, planning=not args.no_planning)
         if args.command == 'submission':
@@ -313,6 +390,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.scene_command == 'list':
             return scene_list()
         return scene_show(args.scene, args.out)
-    except (VtubeError, OSError, RobotariumError, ExperimentError) as err:
+    except (VtubeError, OSError, RobotariumError, ExperimentError, AnalysisError) as err:
         print('error: ' + ' '.join(str(err).split()), file=sys.stderr)
         return EXIT_BAD_INPUT
