@@ -182,3 +182,19 @@ def test_submission_build_refuses_a_scene_that_does_not_fit(tmp_path, capsys) ->
     assert main(['submission', 'build', 'C', '--out', str(tmp_path / 'x.py')]) == 2
     assert 'does not fit the Robotarium arena' in capsys.readouterr().err
     assert main(['submission', 'check', str(tmp_path / 'missing.py')]) == 2
+
+
+def test_analyze_a_bag_and_the_demo(tmp_path, capsys) -> None:
+    import json
+
+    from tests.robotarium_exp.test_analysis import write_bag
+
+    bag = write_bag(tmp_path / 'mocap', 'mcap', 'pose')
+    assert main(['analyze', str(bag), '--scene', 'robotarium_trapezoid', '--out', str(tmp_path / 'a')]) == 0
+    assert 'analysis of ros bag' in capsys.readouterr().out
+    assert json.loads((tmp_path / 'a' / 'metrics.json').read_text())['data']['robots'] == 3
+    assert main(['analyze', str(tmp_path / 'nothing'), '--scene', 'robotarium_trapezoid', '--out', str(tmp_path)]) == 2
+    assert capsys.readouterr().err.startswith('error: ')
+    assert main(['demo', '--out', str(tmp_path / 'demo')]) == 0
+    report = (tmp_path / 'demo' / 'report' / 'report.md').read_text()
+    assert '| collision pairs (< 2 r_p) | 0 |' in report and 'paths.png' in report
