@@ -44,10 +44,18 @@ def narrowing_start(scene: Scene) -> float:
     return float(grid[np.argmax(narrower)]) if narrower.any() else scene.tube.length_m
 
 
-def analyse(trajectory: Trajectory, scene: Scene, plan: Plan | None = None) -> dict[str, Any]:
-    """The metrics of :func:`vtube_planning.metrics.swarm_metrics` plus expansion, data quality and source."""
+def analyse(trajectory: Trajectory, scene: Scene, plan: Plan | None = None, *,
+            collision_distance_m: float | None = None) -> dict[str, Any]:
+    """The metrics of :func:`vtube_planning.metrics.swarm_metrics` plus expansion, data quality and source.
+
+    ``collision_distance_m`` overrides the scene's 2 r_p as the distance below which two robots collide.
+    """
     data = along_tube(trajectory, scene)
     scene_swarm = replace(scene.swarm, n_robots=trajectory.n_robots)
+    if collision_distance_m is not None:
+        half = 0.5 * collision_distance_m
+        scene_swarm = replace(scene_swarm, r_p_m=half, r_s_m=max(half, scene_swarm.r_s_m),
+                              r_a_m=max(half, scene_swarm.r_a_m))
     metrics = swarm_metrics(data['t_s'], data['positions_m'], data['l_m'], data['clearance_m'], scene.tube.length_m,
                             scene_swarm, forward_speed_mps=data['forward_speed_mps'],
                             density_per_m2=data['density_per_m2'], plan=plan)

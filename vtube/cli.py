@@ -239,7 +239,7 @@ def submission_check(path: Path, *, seeds: int = 3) -> int:
 
 def analyze(inputs: list[Path], scene_name: str, out: Path, *, plan_path: Path | None = None,
             compare: Path | None = None, topic_pattern: str | None = None, frame_pattern: str | None = None,
-            topics: list[str] | None = None) -> int:
+            topics: list[str] | None = None, collision_distance_m: float | None = None) -> int:
     """Analyse returned data (testbed folder, our logs, ROS bags) in a scene; write metrics, report and figures."""
     from robotarium_exp.analysis import analyse, write_report
     from robotarium_exp.loaders import load_trajectory
@@ -250,10 +250,10 @@ def analyze(inputs: list[Path], scene_name: str, out: Path, *, plan_path: Path |
     plan = Plan.load(plan_path) if plan_path is not None else None
     trajectory = load_trajectory(list(inputs), topic_pattern=topic_pattern, frame_pattern=frame_pattern,
                                  topics=topics)
-    results = {'data': (trajectory, analyse(trajectory, scene, plan))}
+    results = {'data': (trajectory, analyse(trajectory, scene, plan, collision_distance_m=collision_distance_m))}
     if compare is not None:
         simulated = load_trajectory([compare])
-        results['comparison'] = (simulated, analyse(simulated, scene, plan))
+        results['comparison'] = (simulated, analyse(simulated, scene, plan, collision_distance_m=collision_distance_m))
     report = write_report(out, results, scene, plan)
     m = results['data'][1]
     print(f'analysis of {trajectory.source.get("kind")} {trajectory.source.get("path")} in scene {scene.name}: '
@@ -358,6 +358,8 @@ def _parser() -> argparse.ArgumentParser:
     ana.add_argument('--topic', action='append', default=None, dest='topics', help='bag topic(s) to read')
     ana.add_argument('--topic-pattern', default=None, help='regex with a (?P<robot>...) group for bag topics')
     ana.add_argument('--frame-pattern', default=None, help='regex with a (?P<robot>...) group for /tf child frames')
+    ana.add_argument('--collision-distance', type=float, default=None, dest='collision_distance_m',
+                     help="centre distance counted as a collision (default: the scene's 2 r_p)")
     dem = commands.add_parser('demo', help='the whole pipeline on the bundled simulator, into one report')
     dem.add_argument('--out', type=Path, required=True, help='folder for everything the demo writes')
     return parser
@@ -374,7 +376,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                             seed=args.seed, acceleration_limits=args.acceleration_limits, animate=args.animate)
         if args.command == 'analyze':
             return analyze(args.inputs, args.scene, args.out, plan_path=args.plan, compare=args.compare,
-                           topic_pattern=args.topic_pattern, frame_pattern=args.frame_pattern, topics=args.topics)
+                           topic_pattern=args.topic_pattern, frame_pattern=args.frame_pattern, topics=args.topics,
+                           collision_distance_m=args.collision_distance_m)
         if args.command == 'demo':
             return demo(args.out)
         if args.command == 'submission' and args.submission_command == 'build':
