@@ -30,7 +30,7 @@ def load_trajectory(inputs: list[str | Path], **bag_options: Any) -> Trajectory:
         msg = 'no input given; pass a folder of .npy files, a .npz log, or ROS bags.'
         raise AnalysisError(msg)
     first = paths[0]
-    if first.is_dir() and (first / 'metadata.yaml').exists() or first.suffix == '.bag':
+    if (first.is_dir() and (first / 'metadata.yaml').exists()) or first.suffix == '.bag':
         return read_bag(paths, **bag_options)
     if first.is_dir():
         return load_submission_folder(first)

@@ -9,7 +9,6 @@ import pytest
 
 from vtube_planning import ParamsError, PlanError, SwarmParams, load_scene
 from vtube_planning import simulate as simulate_module
-from vtube_planning.control import ControlParams
 from vtube_planning.metrics import swarm_metrics
 from vtube_planning.planner import plan_convex
 from vtube_planning.simlog import read_log
