@@ -135,7 +135,8 @@ def simulate(name_or_path: str, out: Path, *, planning: bool = True, n_robots: i
     return EXIT_OK
 
 
-def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: bool = False) -> int:
+def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: bool = False,
+          baselines: bool = False) -> int:
     """The paper's comparison with and without planning; writes study.md, study.json and study.png."""
     import json
 
@@ -146,7 +147,7 @@ def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: 
 
     config = SimConfig(acceleration_limits=acceleration_limits)
     seed_list = list(range(seeds))
-    rows = run_study(scenes, seed_list, config=config, progress=print)
+    rows = run_study(scenes, seed_list, config=config, progress=print, baselines=baselines)
     summary = summarise(rows)
     text = study_markdown(summary, seed_list, config)
     out.mkdir(parents=True, exist_ok=True)
@@ -331,6 +332,7 @@ def _parser() -> argparse.ArgumentParser:
     stu.add_argument('--seeds', type=int, default=5, help='number of seeds (0..n-1)')
     stu.add_argument('--scenes', default='A,B,C,D', help='comma-separated scene names')
     stu.add_argument('--acceleration-limits', action='store_true', help='apply (3), (4) to every robot')
+    stu.add_argument('--baselines', action='store_true', help='add optimized flocking on scenes C and D')
     robo = commands.add_parser('robotarium', help='the tube experiment on the bundled Robotarium simulator')
     robo_commands = robo.add_subparsers(dest='robotarium_command', required=True, metavar='SUBCOMMAND')
     run = robo_commands.add_parser('run', help='run the experiment, print the testbed verdict and metrics')
@@ -389,7 +391,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                                   initialization=not args.no_initialization, seed=args.seed)
         if args.command == 'study':
             return study(args.out, scenes=args.scenes.split(','), seeds=args.seeds,
-                         acceleration_limits=args.acceleration_limits)
+                         acceleration_limits=args.acceleration_limits, baselines=args.baselines)
         if args.scene_command == 'list':
             return scene_list()
         return scene_show(args.scene, args.out)

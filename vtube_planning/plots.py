@@ -242,13 +242,19 @@ def study_figure(summary: list[dict], collision_distance_m: float) -> Figure:
     ax_t, ax_d = fig.subplots(1, 2)
     scenes = [e['scene'] for e in summary]
     x = np.arange(len(scenes))
-    for offset, mode, color in ((-0.2, 'no planning', 'tab:gray'), (0.2, 'planning', 'tab:blue')):
+    modes = list(dict.fromkeys(m for e in summary for m in e['modes']))
+    colors = {'no planning': 'tab:gray', 'planning': 'tab:blue', 'flocking': 'tab:orange',
+              'flocking (v_min)': 'tab:brown'}
+    width = 0.8 / len(modes)
+    for k, mode in enumerate(sorted(modes, key=lambda m: (m != 'no planning', m != 'planning', m))):
+        offset = (k - 0.5 * (len(modes) - 1)) * width
+        present = [i for i, e in enumerate(summary) if mode in e['modes']]
         for ax, key, span in ((ax_t, 'passing_time_s', 'passing_time_range_s'),
                               (ax_d, 'min_distance_m', 'min_distance_range_m')):
-            mean = np.array([e[mode][key] for e in summary])
-            ax.bar(x + offset, mean, 0.4, color=color, label=mode)
-            ax.vlines(x + offset, [e[mode][span][0] for e in summary], [e[mode][span][1] for e in summary],
-                      color='k', lw=1.2)  # the range over seeds
+            mean = np.array([summary[i][mode][key] for i in present])
+            ax.bar(x[present] + offset, mean, width, color=colors.get(mode, f'C{k}'), label=mode)
+            ax.vlines(x[present] + offset, [summary[i][mode][span][0] for i in present],
+                      [summary[i][mode][span][1] for i in present], color='k', lw=1.2)  # the range over seeds
     ax_d.axhline(collision_distance_m, color='tab:red', ls='--', label='2 r_p (collision)')
     for ax, label in ((ax_t, 'passing time [s]'), (ax_d, 'minimum distance [m]')):
         ax.set_xticks(x, scenes)

@@ -20,6 +20,7 @@ TCNS 2 m/s in [0.5, 3.5], Robotarium k1 = v_max / 2).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -40,7 +41,7 @@ from vtube_planning.metrics import swarm_metrics
 from vtube_planning.params import SwarmParams
 from vtube_planning.plan import Plan
 from vtube_planning.simlog import LogWriter
-from vtube_planning.tube import VirtualTube
+from vtube_planning.tube import Projection, VirtualTube
 
 FloatArray = NDArray[np.float64]
 
@@ -159,6 +160,7 @@ def simulate(
     initial_speed_mps: float | None = None,
     log_path: str | Path | None = None,
     meta: dict[str, Any] | None = None,
+    baseline: Callable[[FloatArray, FloatArray, Projection], FloatArray] | None = None,
 ) -> SimResult:
     """Fly the swarm through the tube.
 
@@ -174,6 +176,9 @@ def simulate(
         Write the trajectory here as it is computed (``.npz``, rewritten every ``config.log_every`` steps).
     meta
         Extra description stored in the log and the result (scene name, ...).
+    baseline
+        Another swarm law, ``baseline(positions, velocities, projection) -> commands`` (the paper's baselines,
+        :mod:`vtube_planning.baselines`); with it, ``plan`` must be None and r_a stays constant.
     """
     config = config or SimConfig()
     if swarm.r_a_m <= swarm.r_s_m:
@@ -181,6 +186,9 @@ def simulate(
             f'the controller needs r_a_m > r_s_m (its interaction bands run from r_s to r_a); got '
             f'r_s_m = {swarm.r_s_m}, r_a_m = {swarm.r_a_m}.'
         )
+        raise ParamsError(msg)
+    if plan is not None and baseline is not None:
+        msg = 'a baseline flies without a plan; pass plan=None with baseline.'
         raise ParamsError(msg)
     if plan is not None:
         _check_plan(plan, tube, swarm)
@@ -210,13 +218,16 @@ def simulate(
         projection = tube.project(positions)
         l_m = projection.l_m
         density = float(n / swarm_area(tube, l_m.min(), l_m.max(), swarm.r_a_m)[0])
-        forward = plan.speed(l_m) if plan is not None else np.full(n, forward_const)
-        command = velocity_command(positions, r_a, forward, tube, swarm, control, projection)
+        if baseline is not None:
+            commanded = baseline(positions, velocity, projection)
+        else:
+            forward = plan.speed(l_m) if plan is not None else np.full(n, forward_const)
+            commanded = velocity_command(positions, r_a, forward, tube, swarm, control, projection).velocity
         row = {
             't_s': np.float64(step * config.dt_s),
             'positions_m': positions,
             'velocities_mps': velocity,
-            'commands_mps': command.velocity,
+            'commands_mps': commanded,
             'r_a_m': r_a,
             'l_m': l_m,
             'clearance_m': projection.clearance_m,
@@ -230,9 +241,9 @@ def simulate(
         if np.all(l_m > tube.length_m) or step == steps:
             break
         if config.acceleration_limits:
-            velocity = limit_acceleration(velocity, command.velocity, swarm.a_v_mps2, swarm.a_n_mps2, config.dt_s)
+            velocity = limit_acceleration(velocity, commanded, swarm.a_v_mps2, swarm.a_n_mps2, config.dt_s)
         else:
-            velocity = command.velocity
+            velocity = commanded
         positions = positions + config.dt_s * velocity
         if plan is not None:
             planned_density = plan.density(l_m)
