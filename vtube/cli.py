@@ -143,11 +143,12 @@ def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: 
     from vtube_planning import plots
     from vtube_planning.params import SwarmParams
     from vtube_planning.simulate import SimConfig
-    from vtube_planning.study import run_study, study_markdown, summarise
+    from vtube_planning.study import BASELINE_MODES, run_study, study_markdown, summarise
 
     config = SimConfig(acceleration_limits=acceleration_limits)
     seed_list = list(range(seeds))
-    rows = run_study(scenes, seed_list, config=config, progress=print, baselines=baselines)
+    rows = run_study(scenes, seed_list, config=config, progress=print,
+                     baselines=BASELINE_MODES if baselines else ())
     summary = summarise(rows)
     text = study_markdown(summary, seed_list, config)
     out.mkdir(parents=True, exist_ok=True)
@@ -332,7 +333,8 @@ def _parser() -> argparse.ArgumentParser:
     stu.add_argument('--seeds', type=int, default=5, help='number of seeds (0..n-1)')
     stu.add_argument('--scenes', default='A,B,C,D', help='comma-separated scene names')
     stu.add_argument('--acceleration-limits', action='store_true', help='apply (3), (4) to every robot')
-    stu.add_argument('--baselines', action='store_true', help='add optimized flocking on scenes C and D')
+    stu.add_argument('--baselines', action='store_true',
+                     help='add optimized flocking and NMPC on scenes C and D (NMPC: about a minute per run)')
     robo = commands.add_parser('robotarium', help='the tube experiment on the bundled Robotarium simulator')
     robo_commands = robo.add_subparsers(dest='robotarium_command', required=True, metavar='SUBCOMMAND')
     run = robo_commands.add_parser('run', help='run the experiment, print the testbed verdict and metrics')

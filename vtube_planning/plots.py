@@ -244,7 +244,7 @@ def study_figure(summary: list[dict], collision_distance_m: float) -> Figure:
     x = np.arange(len(scenes))
     modes = list(dict.fromkeys(m for e in summary for m in e['modes']))
     colors = {'no planning': 'tab:gray', 'planning': 'tab:blue', 'flocking': 'tab:orange',
-              'flocking (v_min)': 'tab:brown'}
+              'flocking (v_min)': 'tab:brown', 'nmpc': 'tab:red'}
     width = 0.8 / len(modes)
     for k, mode in enumerate(sorted(modes, key=lambda m: (m != 'no planning', m != 'planning', m))):
         offset = (k - 0.5 * (len(modes) - 1)) * width

@@ -68,3 +68,66 @@ def test_scaled_parameters_follow_the_seed_geometry() -> None:
     assert scaled.v_min == 0.0 and FlockingParams.scaled(swarm, speed_constrained=True).v_min == swarm.v_min_mps
     with pytest.raises(ParamsError, match='flocking parameter p_rep must be a finite number >= 0'):
         FlockingParams(**{**vars(SIMPLE), 'p_rep': -1.0})
+
+
+# ---------------------------------------------------------------------- NMPC
+
+from scipy.optimize import approx_fprime  # noqa: E402
+
+from vtube_planning.nmpc import NmpcParams, NmpcSwarm, cost_gradients, rollout, rollout_maps, stage_costs  # noqa: E402
+
+
+def test_rollout_is_the_exact_double_integrator() -> None:
+    u = np.tile([0.5, -0.2], (4, 1))
+    p, v = rollout(np.array([1.0, 2.0]), np.array([3.0, 0.0]), u, 0.25)
+    t = 0.25 * np.arange(1, 5)[:, None]
+    np.testing.assert_allclose(p, [1.0, 2.0] + [3.0, 0.0] * t + 0.5 * np.array([0.5, -0.2]) * t**2, atol=1e-12)
+    np.testing.assert_allclose(v, [3.0, 0.0] + np.array([0.5, -0.2]) * t, atol=1e-12)
+
+
+def test_cost_terms_for_two_robots_by_hand() -> None:
+    params = NmpcParams(horizon=1, dt_s=1.0, v_ref=5.0, d_ref=1.0)
+    p, v = rollout(np.zeros(2), np.array([3.0, 4.0]), np.zeros((1, 2)), 1.0)  # at (3, 4) moving at (3, 4)
+    other = np.array([[[3.0, 5.5]]])  # the neighbour's prediction, 1.5 m away
+    costs = stage_costs(p, v, np.zeros((1, 2)), other, np.array([1.0, 0.0]), params)
+    assert costs['separation'] == pytest.approx((1.5**2 - 1.0) ** 2)  # W_sep 1, one neighbour
+    assert costs['direction'] == pytest.approx((1 - 9 / 25) ** 2)  # 3 of |v| = 5 along the tangent
+    assert costs['navigation'] == pytest.approx(2.0**2 * (25 - 25) ** 2)
+    assert costs['effort'] == 0.0
+
+
+def test_cost_gradient_matches_finite_differences() -> None:
+    params = NmpcParams()
+    rng = np.random.default_rng(0)
+    h = params.horizon
+    a_p, a_v = rollout_maps(h, params.dt_s)
+    p0, v0 = rng.normal(size=2), rng.normal(size=2) + [2.0, 0.0]
+    others, tangent = rng.normal(size=(3, h, 2)), np.array([0.6, 0.8])
+
+    def total(x: np.ndarray) -> float:
+        u = x.reshape(h, 2)
+        p, v = rollout(p0, v0, u, params.dt_s)
+        return sum(stage_costs(p, v, u, others, tangent, params).values())
+
+    x = rng.normal(size=2 * h)
+    u = x.reshape(h, 2)
+    p, v = rollout(p0, v0, u, params.dt_s)
+    d_p, d_v, d_u = cost_gradients(p, v, u, others, tangent, params)
+    exact = (a_p.T @ d_p + a_v.T @ d_v + d_u).ravel()
+    numeric = approx_fprime(x, total, 1e-6)
+    assert np.abs(exact - numeric).max() <= 1e-6 * np.abs(numeric).max()
+
+
+def test_nmpc_respects_the_linearised_wall_and_drives_along_the_tube() -> None:
+    tube = straight(1.0)
+    swarm = NmpcSwarm(tube, NmpcParams(v_max=2.0, v_ref=2.0, wall_margin=0.3))
+    positions = np.array([[2.0, 2.0], [0.6, -0.6]])  # 0.4 m from the walls, inside the margin band's reach
+    velocities = np.array([[1.0, 1.0], [0.5, -0.5]])  # heading out, towards the walls
+    for _ in range(40):
+        command = swarm.command(positions, velocities, tube.project(positions), 0.05)
+        velocities = command
+        positions = positions + 0.05 * command
+    assert np.all(np.abs(positions[1]) <= 1.0)  # still inside the tube
+    assert np.all(velocities[0] > 1.0)  # moving along it
+    assert np.all(np.hypot(*velocities) <= 2.0 + 1e-9)  # capped at v_max
+    assert swarm.solves == 2 * 20  # every 0.1 s, each agent

@@ -127,7 +127,7 @@ def test_bad_simulation_input_is_refused(scene_a) -> None:
 
 def test_reduced_study_reproduces_the_papers_claim() -> None:
     """The full study (scenes A-D, 5 seeds, flocking on C and D) runs in `vtube study --baselines`; here A and D, seed 0."""
-    summary = summarise(run_study(['A', 'D'], [0], baselines=True))
+    summary = summarise(run_study(['A', 'D'], [0], baselines=('flocking', 'flocking (v_min)')))
     assert summary[0]['modes'] == ['planning', 'no planning']  # baselines only on the rapid scenes
     assert summary[1]['modes'] == ['planning', 'no planning', 'flocking', 'flocking (v_min)']
     assert summary[1]['flocking']['collision_pairs'] > 0 and summary[1]['safer_than']['flocking']
