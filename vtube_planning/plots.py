@@ -260,7 +260,8 @@ def study_figure(summary: list[dict], collision_distance_m: float) -> Figure:
         ax.set_xticks(x, scenes)
         ax.set_xlabel('scene')
         ax.set_ylabel(label)
-    ax_d.legend(fontsize=8, loc='lower right')
+    handles, labels = ax_d.get_legend_handles_labels()
+    fig.legend(handles, labels, loc='outside lower center', ncols=len(labels), fontsize=8)
     return fig
 
 
