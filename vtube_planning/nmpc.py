@@ -18,6 +18,7 @@ d_safe = 2 r_s, v_min = 0.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -151,8 +152,6 @@ class NmpcSwarm:
         return command * np.minimum(1.0, self.params.v_max / np.maximum(speed, 1e-12))
 
     def _update(self, positions: FloatArray, velocities: FloatArray, projection: Projection) -> None:
-        import time
-
         started = time.perf_counter()
         params, n = self.params, positions.shape[1]
         others_all = self.predictions.copy()
