@@ -140,7 +140,8 @@ def _plain(value: Any) -> Any:
 
 
 def _header(scene: Scene, plan: Any, planning: bool) -> str:
-    certificate = max(plan.certificate.values())
+    certified = 'every constraint holds within 1e-6 (relative)' if plan.is_certified() else (
+        f'NOT certified, largest relative violation {max(plan.certificate.values()):.1e}')
     return '\n'.join([
         '"""vtube: a speed- and density-planned robot swarm through a virtual tube, for the Robotarium.',
         '',
@@ -148,8 +149,8 @@ def _header(scene: Scene, plan: Any, planning: bool) -> str:
         f'{"with" if planning else "without"} speed and density planning.',
         '',
         'Declare on the web form: the robot count above, and the duration that `vtube submission check` reports.',
-        f'Plan: convex slowness method, {plan.l_m.size} grid points, traversal time {plan.time_s:.2f} s, certificate',
-        f'(largest relative constraint violation) {certificate:.1e}; arrays rounded to six significant digits.',
+        f'Plan: convex slowness method, {plan.l_m.size} grid points, traversal time {plan.time_s:.2f} s; certificate:',
+        f'{certified}. Arrays rounded to six significant digits.',
         'Method: Song, Gao, Quan, "Speed and Density Planning for a Speed-Constrained Robot Swarm Through a Virtual',
         'Tube" (arXiv:2310.00623), as implemented by the vtube package.',
         '',

@@ -3,8 +3,8 @@
 Scene 'robotarium_trapezoid': Robotarium: narrowing trapezoidal tube. 6 robots, with speed and density planning.
 
 Declare on the web form: the robot count above, and the duration that `vtube submission check` reports.
-Plan: convex slowness method, 246 grid points, traversal time 21.86 s, certificate
-(largest relative constraint violation) 6.5e-10; arrays rounded to six significant digits.
+Plan: convex slowness method, 246 grid points, traversal time 21.86 s; certificate:
+every constraint holds within 1e-6 (relative). Arrays rounded to six significant digits.
 Method: Song, Gao, Quan, "Speed and Density Planning for a Speed-Constrained Robot Swarm Through a Virtual
 Tube" (arXiv:2310.00623), as implemented by the vtube package.
 
