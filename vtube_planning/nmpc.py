@@ -120,6 +120,12 @@ def stage_costs(p: FloatArray, v: FloatArray, u: FloatArray, others: FloatArray,
     return {'separation': sep, 'direction': direction, 'navigation': navigation, 'effort': effort}
 
 
+def wall_slack(p: FloatArray, foot: FloatArray, normal: FloatArray, room: FloatArray) -> FloatArray:
+    """The linearised wall constraints (>= 0 inside): room -/+ (p - foot) . n for each of the H positions, (2H,)."""
+    offset = np.sum((p - foot) * normal, axis=1)
+    return np.concatenate([room - offset, room + offset])
+
+
 @dataclass
 class NmpcSwarm:
     """Every agent's MPC, solved in turn each update against the others' last predictions (distributed)."""
@@ -202,9 +208,7 @@ class NmpcSwarm:
             return jac.reshape(others.shape[0] * h, 2 * h)
 
         def wall(x: FloatArray) -> FloatArray:
-            _, p, _ = unpack(x)
-            offset = np.sum((p - foot) * normal, axis=1)
-            return np.concatenate([room - offset, room + offset])
+            return wall_slack(unpack(x)[1], foot, normal, room)
 
         constraints = [{'type': 'ineq', 'fun': wall, 'jac': lambda x: np.vstack([-wall_jac, wall_jac])}]
         if others.shape[0]:

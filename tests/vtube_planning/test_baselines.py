@@ -74,7 +74,15 @@ def test_scaled_parameters_follow_the_seed_geometry() -> None:
 
 from scipy.optimize import approx_fprime  # noqa: E402
 
-from vtube_planning.nmpc import NmpcParams, NmpcSwarm, cost_gradients, rollout, rollout_maps, stage_costs  # noqa: E402
+from vtube_planning.nmpc import (  # noqa: E402
+    NmpcParams,
+    NmpcSwarm,
+    cost_gradients,
+    rollout,
+    rollout_maps,
+    stage_costs,
+    wall_slack,
+)
 
 
 def test_rollout_is_the_exact_double_integrator() -> None:
@@ -94,6 +102,15 @@ def test_cost_terms_for_two_robots_by_hand() -> None:
     assert costs['direction'] == pytest.approx((1 - 9 / 25) ** 2)  # 3 of |v| = 5 along the tangent
     assert costs['navigation'] == pytest.approx(2.0**2 * (25 - 25) ** 2)
     assert costs['effort'] == 0.0
+
+
+def test_wall_constraint_by_hand() -> None:
+    # a straight tube of half-width 1 along x, margin 0.4: room 0.6 on each side of the centre line
+    p = np.array([[3.0, 0.8], [4.0, -0.1]])
+    foot = np.array([[3.0, 0.0], [4.0, 0.0]])
+    normal = np.array([[0.0, 1.0], [0.0, 1.0]])
+    slack = wall_slack(p, foot, normal, np.array([0.6, 0.6]))
+    np.testing.assert_allclose(slack, [0.6 - 0.8, 0.6 + 0.1, 0.6 + 0.8, 0.6 - 0.1])  # the first is violated
 
 
 def test_cost_gradient_matches_finite_differences() -> None:
