@@ -15,11 +15,11 @@ import numpy as np
 
 from benchmarks._timing import timed
 from vtube_planning import load_scene
-from vtube_planning.baselines import FlockingParams, flocking_command
-from vtube_planning.control import velocity_command
-from vtube_planning.nmpc import NmpcParams, NmpcSwarm
-from vtube_planning.planner import plan_convex
-from vtube_planning.simulate import initial_formation
+from vtube_planning.baselines.flocking import FlockingParams, flocking_command
+from vtube_planning.swarm.control import velocity_command
+from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
+from vtube_planning.planning.planner import plan_convex
+from vtube_planning.swarm.simulate import initial_formation
 
 
 def main() -> None:

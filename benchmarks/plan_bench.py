@@ -18,9 +18,9 @@ from dataclasses import replace
 from benchmarks._timing import timed
 from tests.vtube_planning.slsqp_reference import slsqp_plan
 from vtube_planning import list_scenes, load_scene
-from vtube_planning.plan import initial_conditions
-from vtube_planning.planner import plan_convex
-from vtube_planning.polynomial import plan_polynomial
+from vtube_planning.planning.plan import initial_conditions
+from vtube_planning.planning.planner import plan_convex
+from vtube_planning.planning.polynomial import plan_polynomial
 
 
 def main() -> None:

@@ -21,7 +21,7 @@ from robotarium_exp.experiment import ExperimentConfig, run_experiment
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.rps.utilities.barrier_certificates import create_si_barrier_certificate_with_boundary
 from vtube_planning import load_scene
-from vtube_planning.planner import plan_convex
+from vtube_planning.planning.planner import plan_convex
 
 
 def states(n: int, count: int, rng: np.random.Generator) -> list[tuple[np.ndarray, np.ndarray]]:

@@ -18,14 +18,14 @@ import numpy as np
 
 from benchmarks._timing import timed
 from vtube_planning import ArcPath, ArcPiece, SwarmParams, VirtualTube, WidthPart, WidthProfile
-from vtube_planning.control import (
+from vtube_planning.swarm.control import (
     ControlParams,
     avoidance_radius_rate,
     avoidance_velocity,
     barrier_gain,
     velocity_command,
 )
-from vtube_planning.density import swarm_area
+from vtube_planning.planning.density import swarm_area
 
 
 def crowd(n: int, rng: np.random.Generator) -> tuple[VirtualTube, np.ndarray]:

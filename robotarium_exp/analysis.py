@@ -14,10 +14,10 @@ from typing import Any
 import numpy as np
 
 from robotarium_exp.trajectory import Trajectory
-from vtube_planning.density import swarm_area
-from vtube_planning.metrics import swarm_metrics
-from vtube_planning.plan import Plan
-from vtube_planning.scene import Scene
+from vtube_planning.planning.density import swarm_area
+from vtube_planning.swarm.metrics import swarm_metrics
+from vtube_planning.planning.plan import Plan
+from vtube_planning.geometry.scene import Scene
 
 
 def along_tube(trajectory: Trajectory, scene: Scene) -> dict[str, np.ndarray]:
@@ -46,7 +46,7 @@ def narrowing_start(scene: Scene) -> float:
 
 def analyse(trajectory: Trajectory, scene: Scene, plan: Plan | None = None, *,
             collision_distance_m: float | None = None) -> dict[str, Any]:
-    """The metrics of :func:`vtube_planning.metrics.swarm_metrics` plus expansion, data quality and source.
+    """The metrics of :func:`vtube_planning.swarm.metrics.swarm_metrics` plus expansion, data quality and source.
 
     ``collision_distance_m`` overrides the scene's 2 r_p as the distance below which two robots collide.
     """

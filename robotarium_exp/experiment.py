@@ -4,14 +4,14 @@ Any ``Robotarium`` class can be passed in (ours, the PyPI simulator, the testbed
 keywords both generations accept and used only through ``get_poses``, ``set_velocities`` and ``step``. Each step:
 
 1. poses -> control points p + d e_theta (:mod:`unicycle_mapping`);
-2. the swarm controller of :mod:`vtube_planning.control` on the control points, with the plan (or without:
+2. the swarm controller of :mod:`vtube_planning.swarm.control` on the control points, with the plan (or without:
    constant mid-range speed, constant r_a); robots that have left the tube drive to parking slots beyond the exit;
 3. the single-integrator barrier certificate with the arena boundary (optional), its correction logged per robot;
 4. the near-identity map to [v; omega] and uniform wheel scaling (curvature kept, no per-wheel clipping left for
    the testbed to do);
 5. ``set_velocities`` and ``step``; r_a advances by (a3) when planning.
 
-Every step is logged (``vtube_planning.simlog``: rewritten atomically, so an interrupted run leaves a readable
+Every step is logged (``vtube_planning.swarm.log``: rewritten atomically, so an interrupted run leaves a readable
 file). The run ends when every robot has parked past the exit, or at the step limit.
 """
 
@@ -28,13 +28,13 @@ from numpy.typing import NDArray
 from robotarium_exp.errors import ExperimentError
 from robotarium_exp.rps.utilities.barrier_certificates import create_si_barrier_certificate_with_boundary
 from unicycle_mapping import scale_to_wheel_limits, si_to_uni, uni_to_si_states
-from vtube_planning.control import avoidance_radius_rate, velocity_command
-from vtube_planning.density import swarm_area
-from vtube_planning.metrics import swarm_metrics
-from vtube_planning.plan import Plan
-from vtube_planning.scene import Scene
-from vtube_planning.simlog import LogWriter
-from vtube_planning.simulate import default_constant_speed
+from vtube_planning.swarm.control import avoidance_radius_rate, velocity_command
+from vtube_planning.planning.density import swarm_area
+from vtube_planning.swarm.metrics import swarm_metrics
+from vtube_planning.planning.plan import Plan
+from vtube_planning.geometry.scene import Scene
+from vtube_planning.swarm.log import LogWriter
+from vtube_planning.swarm.simulate import default_constant_speed
 
 FloatArray = NDArray[np.float64]
 

@@ -18,7 +18,7 @@ from robotarium_exp.bags import read_bag
 from robotarium_exp.errors import AnalysisError
 from robotarium_exp.trajectory import Trajectory
 from vtube_planning.errors import LogError
-from vtube_planning.simlog import read_log
+from vtube_planning.swarm.log import read_log
 
 SUBMISSION_PREFIX = 'vtube_'
 

@@ -12,8 +12,8 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from robotarium_exp.experiment import ExperimentResult
-    from vtube_planning.plan import Plan
-    from vtube_planning.scene import Scene
+    from vtube_planning.planning.plan import Plan
+    from vtube_planning.geometry.scene import Scene
 
 
 def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None = None) -> Figure:
@@ -65,7 +65,7 @@ def analysis_figures(results: dict, scene: Scene, plan: Plan | None) -> dict[str
     from matplotlib.figure import Figure
 
     from robotarium_exp.analysis import along_tube
-    from vtube_planning.metrics import min_distance_over_time
+    from vtube_planning.swarm.metrics import min_distance_over_time
 
     data = {label: along_tube(traj, scene) for label, (traj, _) in results.items()}
     paths = Figure(figsize=(8.0, 3.6 * len(data)), layout='constrained')

@@ -21,8 +21,8 @@ import numpy as np
 from robotarium_exp.experiment import ARENA, ExperimentConfig, initial_conditions, parking_slots
 from submission import runtime
 from vtube_planning.errors import VtubeError
-from vtube_planning.planner import plan_convex
-from vtube_planning.scene import Scene, load_scene
+from vtube_planning.planning.planner import plan_convex
+from vtube_planning.geometry.scene import Scene, load_scene
 
 MAX_ROBOTS = 20
 """Robots on the hardware testbed."""

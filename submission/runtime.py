@@ -18,13 +18,13 @@ from __future__ import annotations
 from unicycle_mapping.errors import MappingError, as_columns, positive  # noqa: F401
 from unicycle_mapping.mapping import si_to_uni
 from unicycle_mapping.wheels import scale_to_wheel_limits, wheel_speeds  # noqa: F401
-from vtube_planning.control import BARRIER_EPS, barrier_gain, saturate, sigma, smooth_saturation  # noqa: F401
+from vtube_planning.swarm.control import BARRIER_EPS, barrier_gain, saturate, sigma, smooth_saturation  # noqa: F401
 
 INLINED = (
     ('unicycle_mapping.errors', ('MappingError', 'as_columns', 'positive')),
     ('unicycle_mapping.mapping', ('si_to_uni',)),
     ('unicycle_mapping.wheels', ('wheel_speeds', 'scale_to_wheel_limits')),
-    ('vtube_planning.control', ('BARRIER_EPS', 'sigma', 'smooth_saturation', 'barrier_gain', 'saturate')),
+    ('vtube_planning.swarm.control', ('BARRIER_EPS', 'sigma', 'smooth_saturation', 'barrier_gain', 'saturate')),
 )
 # ---- runtime ----
 import json

@@ -91,7 +91,7 @@ def test_console_entry_point_prints_no_traceback(tmp_path) -> None:
 
 
 def test_plan_writes_plan_file_and_figure(tmp_path, capsys) -> None:
-    from vtube_planning.plan import Plan
+    from vtube_planning.planning.plan import Plan
 
     assert main(['plan', 'C', '--out', str(tmp_path), '--grid-step', '0.5']) == 0
     text = capsys.readouterr().out
@@ -117,7 +117,7 @@ def test_infeasible_plan_gives_exit_2_naming_constraint_and_arc_length(tmp_path,
 
 
 def test_simulate_prints_metrics_and_writes_log_and_figures(tmp_path, capsys) -> None:
-    from vtube_planning.simlog import read_log
+    from vtube_planning.swarm.log import read_log
 
     assert main(['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--seed', '3']) == 0
     text = capsys.readouterr().out
@@ -135,10 +135,10 @@ def test_simulate_without_planning(tmp_path, capsys) -> None:
 
 
 def test_animation_is_a_gif(tmp_path) -> None:
-    from vtube_planning.control import ControlParams
+    from vtube_planning.swarm.control import ControlParams
     from vtube_planning.plots import animate
-    from vtube_planning.scene import load_scene
-    from vtube_planning.simulate import SimConfig, simulate
+    from vtube_planning.geometry.scene import load_scene
+    from vtube_planning.swarm.simulate import SimConfig, simulate
 
     scene = load_scene('A')
     result = simulate(scene.tube, replace(scene.swarm, n_robots=4), ControlParams(), plan=None,
@@ -159,7 +159,7 @@ def test_study_writes_table_json_and_figure(tmp_path, capsys) -> None:
 
 
 def test_robotarium_run_prints_the_testbed_verdict(tmp_path, capsys) -> None:
-    from vtube_planning.simlog import read_log
+    from vtube_planning.swarm.log import read_log
 
     assert main(['robotarium', 'run', 'robotarium_trapezoid', '--out', str(tmp_path), '--no-initialization']) == 0
     text = capsys.readouterr().out

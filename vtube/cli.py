@@ -20,7 +20,7 @@ EXIT_BAD_INPUT = 2
 
 def scene_list() -> int:
     """Print the shipped scenes, one per line: name, length, title."""
-    from vtube_planning.scene import list_scenes, load_scene
+    from vtube_planning.geometry.scene import list_scenes, load_scene
 
     for name in list_scenes():
         scene = load_scene(name)
@@ -30,7 +30,7 @@ def scene_list() -> int:
 
 def scene_show(name_or_path: str, out: Path | None) -> int:
     """Load a scene (shipped name or .toml file), print its summary, and draw it to ``out`` when given."""
-    from vtube_planning.scene import load_scene
+    from vtube_planning.geometry.scene import load_scene
 
     scene = load_scene(name_or_path)
     summary = scene.tube.summary()
@@ -60,9 +60,9 @@ def plan(name_or_path: str, out: Path, method: str = 'convex', grid_step_m: floa
     from dataclasses import replace
 
     from vtube_planning.plots import plan_figure, save_figure
-    from vtube_planning.polynomial import plan_polynomial
-    from vtube_planning.planner import plan_convex
-    from vtube_planning.scene import load_scene
+    from vtube_planning.planning.polynomial import plan_polynomial
+    from vtube_planning.planning.planner import plan_convex
+    from vtube_planning.geometry.scene import load_scene
 
     scene = load_scene(name_or_path)
     options = scene.planning if grid_step_m is None else replace(scene.planning, grid_step_m=grid_step_m)
@@ -92,10 +92,10 @@ def simulate(name_or_path: str, out: Path, *, planning: bool = True, n_robots: i
     from dataclasses import replace
 
     from vtube_planning import plots
-    from vtube_planning.planner import plan_convex
-    from vtube_planning.scene import load_scene
-    from vtube_planning.simulate import SimConfig
-    from vtube_planning.simulate import simulate as run
+    from vtube_planning.planning.planner import plan_convex
+    from vtube_planning.geometry.scene import load_scene
+    from vtube_planning.swarm.simulate import SimConfig
+    from vtube_planning.swarm.simulate import simulate as run
 
     scene = load_scene(name_or_path)
     swarm = scene.swarm if n_robots is None else replace(scene.swarm, n_robots=n_robots)
@@ -142,7 +142,7 @@ def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: 
 
     from vtube_planning import plots
     from vtube_planning.params import SwarmParams
-    from vtube_planning.simulate import SimConfig
+    from vtube_planning.swarm.simulate import SimConfig
     from vtube_planning.study import BASELINE_MODES, run_study, study_markdown, summarise
 
     config = SimConfig(acceleration_limits=acceleration_limits)
@@ -167,9 +167,9 @@ def robotarium_run(name_or_path: str, out: Path, *, planning: bool = True, barri
     from robotarium_exp.experiment import ExperimentConfig, run_experiment
     from robotarium_exp.plots import experiment_figure
     from robotarium_exp.rps.robotarium import Robotarium
-    from vtube_planning.planner import plan_convex
+    from vtube_planning.planning.planner import plan_convex
     from vtube_planning.plots import save_figure
-    from vtube_planning.scene import load_scene
+    from vtube_planning.geometry.scene import load_scene
 
     import numpy as np
 
@@ -245,8 +245,8 @@ def analyze(inputs: list[Path], scene_name: str, out: Path, *, plan_path: Path |
     """Analyse returned data (testbed folder, our logs, ROS bags) in a scene; write metrics, report and figures."""
     from robotarium_exp.analysis import analyse, write_report
     from robotarium_exp.loaders import load_trajectory
-    from vtube_planning.plan import Plan
-    from vtube_planning.scene import load_scene
+    from vtube_planning.planning.plan import Plan
+    from vtube_planning.geometry.scene import load_scene
 
     scene = load_scene(scene_name)
     plan = Plan.load(plan_path) if plan_path is not None else None

@@ -11,10 +11,10 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from vtube_planning.plan import Plan
-    from vtube_planning.scene import Scene
-    from vtube_planning.simulate import SimResult
-    from vtube_planning.tube import VirtualTube
+    from vtube_planning.planning.plan import Plan
+    from vtube_planning.geometry.scene import Scene
+    from vtube_planning.swarm.simulate import SimResult
+    from vtube_planning.geometry.tube import VirtualTube
 
 
 def draw_tube(ax: Axes, tube: VirtualTube, *, n_sections: int = 12) -> None:
@@ -195,7 +195,7 @@ def distance_figure(results: dict[str, SimResult]) -> Figure:
     """Minimum inter-robot distance over time for one or more runs, with 2 r_p (collision) and 2 r_s marked."""
     from matplotlib.figure import Figure
 
-    from vtube_planning.metrics import min_distance_over_time
+    from vtube_planning.swarm.metrics import min_distance_over_time
 
     fig = Figure(figsize=(8.0, 3.8), layout='constrained')
     ax = fig.add_subplot()

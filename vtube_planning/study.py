@@ -16,11 +16,11 @@ from typing import Any
 
 import numpy as np
 
-from vtube_planning.baselines import FlockingParams, flocking_command
-from vtube_planning.nmpc import NmpcParams, NmpcSwarm
-from vtube_planning.planner import plan_convex
-from vtube_planning.scene import load_scene
-from vtube_planning.simulate import SimConfig, simulate
+from vtube_planning.baselines.flocking import FlockingParams, flocking_command
+from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
+from vtube_planning.planning.planner import plan_convex
+from vtube_planning.geometry.scene import load_scene
+from vtube_planning.swarm.simulate import SimConfig, simulate
 
 MODES = ('planning', 'no planning')
 BASELINE_MODES = ('flocking', 'flocking (v_min)', 'nmpc')

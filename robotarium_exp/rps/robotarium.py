@@ -29,7 +29,7 @@ from robotarium_exp.errors import RobotariumError
 from robotarium_exp.rps.utilities.barrier_certificates import create_uni_barrier_certificate
 from robotarium_exp.rps.utilities.controllers import create_pose_controller_hybrid
 from robotarium_exp.rps.utilities.misc import create_at_pose, generate_initial_poses, generate_random_poses
-from vtube_planning.simlog import LogWriter
+from vtube_planning.swarm.log import LogWriter
 
 FloatArray = NDArray[np.float64]
 

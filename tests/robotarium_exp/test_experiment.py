@@ -9,8 +9,8 @@ from robotarium_exp.errors import ExperimentError
 from robotarium_exp.experiment import ExperimentConfig, initial_conditions, parking_slots, run_experiment
 from robotarium_exp.rps.robotarium import Robotarium
 from vtube_planning import load_scene
-from vtube_planning.planner import plan_convex
-from vtube_planning.simlog import read_log
+from vtube_planning.planning.planner import plan_convex
+from vtube_planning.swarm.log import read_log
 
 NO_INIT = {'skip_initialization': True, 'rng': np.random.default_rng(0)}
 

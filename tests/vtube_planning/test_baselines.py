@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from vtube_planning import ArcPath, ArcPiece, ParamsError, SwarmParams, VirtualTube, WidthPart, WidthProfile
-from vtube_planning.baselines import FlockingParams, braking_curve, flocking_command
+from vtube_planning.baselines.flocking import FlockingParams, braking_curve, flocking_command
 
 SIMPLE = FlockingParams(v_flock=1.0, v_max=10.0, v_min=0.0, r0_rep=1.0, p_rep=2.0, v_rep=5.0, r0_frict=0.5,
                         c_frict=0.1, v_frict=0.2, p_frict=1.0, a_frict=1.0, r0_shill=0.0, v_shill=1.0, p_shill=1.0,
@@ -74,7 +74,7 @@ def test_scaled_parameters_follow_the_seed_geometry() -> None:
 
 from scipy.optimize import approx_fprime  # noqa: E402
 
-from vtube_planning.nmpc import (  # noqa: E402
+from vtube_planning.baselines.nmpc import (  # noqa: E402
     NmpcParams,
     NmpcSwarm,
     cost_gradients,

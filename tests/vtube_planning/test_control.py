@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from vtube_planning import ArcPath, ArcPiece, ParamsError, ShapeError, SwarmParams, VirtualTube, WidthPart, WidthProfile
-from vtube_planning.control import (
+from vtube_planning.swarm.control import (
     ControlParams,
     avoidance_radius_rate,
     avoidance_velocity,

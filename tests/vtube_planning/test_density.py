@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from vtube_planning import ArcPath, ArcPiece, ParamsError, VirtualTube, WidthPart, WidthProfile
-from vtube_planning.density import footprint, measured_density, predicted_density, swarm_area
+from vtube_planning.planning.density import footprint, measured_density, predicted_density, swarm_area
 
 
 def step_tube() -> VirtualTube:

@@ -20,10 +20,10 @@ from vtube_planning import (
     list_scenes,
     load_scene,
 )
-from vtube_planning import planner as planner_module
-from vtube_planning.plan import Plan, initial_conditions
-from vtube_planning.planner import ConvexPlanner, discretise, plan_convex
-from vtube_planning.polynomial import plan_polynomial
+from vtube_planning.planning import planner as planner_module
+from vtube_planning.planning.plan import Plan, initial_conditions
+from vtube_planning.planning.planner import ConvexPlanner, discretise, plan_convex
+from vtube_planning.planning.polynomial import plan_polynomial
 
 from .slsqp_reference import slsqp_plan
 

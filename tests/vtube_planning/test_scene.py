@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from vtube_planning import SceneError, SwarmParams, list_scenes, load_scene
-from vtube_planning.scene import scene_from_text
+from vtube_planning.geometry.scene import scene_from_text
 
 ARENA = (-1.6, 1.6, -1.0, 1.0)  # Robotarium arena, DESIGN.md
 PAPER_SCENES = ('A', 'B', 'C', 'D')

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from vtube_planning import ParamsError, PlanError, SwarmParams, load_scene
-from vtube_planning import simulate as simulate_module
-from vtube_planning.metrics import swarm_metrics
-from vtube_planning.planner import plan_convex
-from vtube_planning.simlog import read_log
-from vtube_planning.simulate import SimConfig, default_constant_speed, simulate
+from vtube_planning.swarm import simulate as simulate_module
+from vtube_planning.swarm.metrics import swarm_metrics
+from vtube_planning.planning.planner import plan_convex
+from vtube_planning.swarm.log import read_log
+from vtube_planning.swarm.simulate import SimConfig, default_constant_speed, simulate
 from vtube_planning.study import run_study, summarise
 
 SHORT = SimConfig(time_limit_s=4.0)

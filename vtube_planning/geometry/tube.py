@@ -10,7 +10,7 @@ A point of the plane is written ``p = gamma(l) + y n(l)`` with arc length l, uni
 Construction checks the regularity conditions of ``theory.md`` §3.2 and raises :class:`TubeError` naming the arc
 length of the first violation: lambda |kappa| < 1 (R2), no two distant cross-sections intersect (R3), lambda is
 C^1 (R4). lambda > 0 holds by construction: every width part is monotone between positive values, which
-:class:`~vtube_planning.width.WidthProfile` checks with the arc length of the offending part.
+:class:`~vtube_planning.geometry.width.WidthProfile` checks with the arc length of the offending part.
 """
 
 from __future__ import annotations
@@ -23,11 +23,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
-from vtube_planning._roots import bracketed_newton
-from vtube_planning.centerline import CenterCurve
+from vtube_planning.geometry._roots import bracketed_newton
+from vtube_planning.geometry.centerline import CenterCurve
 from vtube_planning._validate import as_points
 from vtube_planning.errors import ShapeError, TubeError
-from vtube_planning.width import WidthProfile
+from vtube_planning.geometry.width import WidthProfile
 
 FloatArray = NDArray[np.float64]
 

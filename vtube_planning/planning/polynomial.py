@@ -10,7 +10,7 @@ width and curvature and are at most L/12 long; both polynomials are C^1 across s
   always follow the feasible start exactly; the slack vanishes in a few iterations.
 
 The segments are solved jointly. The objective (integral of w plus mu times the integral of (rho - rho_d)^2) is
-exact for the polynomials (Bernstein Gram matrices). The returned :class:`~vtube_planning.plan.Plan` samples the
+exact for the polynomials (Bernstein Gram matrices). The returned :class:`~vtube_planning.planning.plan.Plan` samples the
 polynomials at a quarter of the planning grid step; its certificate is evaluated like every plan's.
 """
 
@@ -26,9 +26,9 @@ from numpy.typing import NDArray
 
 from vtube_planning.errors import PlanError, SolverError
 from vtube_planning.params import PlanningOptions, SwarmParams
-from vtube_planning.plan import RHO_EPSILON, Plan, curvature_speed_limit
-from vtube_planning.planner import SUBSAMPLES, discretise, make_plan
-from vtube_planning.tube import VirtualTube
+from vtube_planning.planning.plan import RHO_EPSILON, Plan, curvature_speed_limit
+from vtube_planning.planning.planner import SUBSAMPLES, discretise, make_plan
+from vtube_planning.geometry.tube import VirtualTube
 
 FloatArray = NDArray[np.float64]
 

@@ -1,7 +1,7 @@
 """Speed and density planning (paper (p1)-(p8)) in the convex slowness form of ``theory.md`` §8.1.
 
 Unknowns on an arc-length grid l_0..l_K: the slowness w = 1/v and the density rho, both interpolated linearly
-between grid points (:class:`~vtube_planning.plan.Plan`). Each constraint is imposed so that it holds on every
+between grid points (:class:`~vtube_planning.planning.plan.Plan`). Each constraint is imposed so that it holds on every
 interval, not only at the grid points:
 
 * (p2), (p5): bounds at the grid points (linear interpolation stays between them);
@@ -29,10 +29,10 @@ import cvxpy as cp
 import numpy as np
 from numpy.typing import NDArray
 
-from vtube_planning.density import footprint, swarm_area
+from vtube_planning.planning.density import footprint, swarm_area
 from vtube_planning.errors import PlanError, SolverError
 from vtube_planning.params import PlanningOptions, SwarmParams
-from vtube_planning.plan import (
+from vtube_planning.planning.plan import (
     RHO_EPSILON,
     Plan,
     certify,
@@ -40,7 +40,7 @@ from vtube_planning.plan import (
     initial_conditions,
     objective_terms,
 )
-from vtube_planning.tube import VirtualTube
+from vtube_planning.geometry.tube import VirtualTube
 
 FloatArray = NDArray[np.float64]
 

@@ -32,7 +32,7 @@ from scipy.spatial import cKDTree
 from vtube_planning._validate import as_points, is_positive
 from vtube_planning.errors import ParamsError
 from vtube_planning.params import SwarmParams
-from vtube_planning.tube import Projection, VirtualTube
+from vtube_planning.geometry.tube import Projection, VirtualTube
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from vtube_planning.errors import ParamsError
 from vtube_planning.params import PREDICTIVE_MODELS
-from vtube_planning.tube import VirtualTube
+from vtube_planning.geometry.tube import VirtualTube
 
 FloatArray = NDArray[np.float64]
 

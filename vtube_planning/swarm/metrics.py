@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from vtube_planning.params import SwarmParams
-from vtube_planning.plan import Plan
+from vtube_planning.planning.plan import Plan
 
 FloatArray = NDArray[np.float64]
 

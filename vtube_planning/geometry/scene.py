@@ -45,12 +45,12 @@ else:  # Python 3.10 (ROS 2 Humble on Ubuntu 22.04)
     import tomli as tomllib
 
 from vtube_planning._validate import is_real
-from vtube_planning.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
-from vtube_planning.control import ControlParams
+from vtube_planning.geometry.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
+from vtube_planning.swarm.control import ControlParams
 from vtube_planning.errors import SceneError, VtubeError
 from vtube_planning.params import PlanningOptions, SwarmParams
-from vtube_planning.tube import VirtualTube
-from vtube_planning.width import WidthPart, WidthProfile
+from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.geometry.width import WidthPart, WidthProfile
 
 _SCENE_PACKAGE = 'vtube_planning.scenes'
 
@@ -206,7 +206,7 @@ class _Where:
             raise self.fail(msg)
         missing = [k for k in required if k not in table]
         if missing:
-            msg = f'missing field {missing[0]!r} in {label}; add it (see the format in vtube_planning.scene).'
+            msg = f'missing field {missing[0]!r} in {label}; add it (see the format in vtube_planning.geometry.scene).'
             raise self.fail(msg)
 
     def table(self, parent: dict[str, Any], key: str, parent_path: str = '') -> dict[str, Any]:

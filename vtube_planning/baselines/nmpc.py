@@ -27,7 +27,7 @@ from scipy.optimize import minimize
 
 from vtube_planning.errors import ParamsError
 from vtube_planning.params import SwarmParams
-from vtube_planning.tube import Projection, VirtualTube
+from vtube_planning.geometry.tube import Projection, VirtualTube
 
 FloatArray = NDArray[np.float64]
 

@@ -29,19 +29,19 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning._validate import is_positive
-from vtube_planning.control import (
+from vtube_planning.swarm.control import (
     ControlParams,
     avoidance_radius_rate,
     feedforward_radius,
     velocity_command,
 )
-from vtube_planning.density import swarm_area
+from vtube_planning.planning.density import swarm_area
 from vtube_planning.errors import ParamsError, PlanError
-from vtube_planning.metrics import swarm_metrics
+from vtube_planning.swarm.metrics import swarm_metrics
 from vtube_planning.params import SwarmParams
-from vtube_planning.plan import Plan
-from vtube_planning.simlog import LogWriter
-from vtube_planning.tube import Projection, VirtualTube
+from vtube_planning.planning.plan import Plan
+from vtube_planning.swarm.log import LogWriter
+from vtube_planning.geometry.tube import Projection, VirtualTube
 
 FloatArray = NDArray[np.float64]
 
@@ -178,7 +178,7 @@ def simulate(
         Extra description stored in the log and the result (scene name, ...).
     baseline
         Another swarm law, ``baseline(positions, velocities, projection) -> commands`` (the paper's baselines,
-        :mod:`vtube_planning.baselines`); with it, ``plan`` must be None and r_a stays constant.
+        :mod:`vtube_planning.baselines.flocking`); with it, ``plan`` must be None and r_a stays constant.
     """
     config = config or SimConfig()
     if swarm.r_a_m <= swarm.r_s_m:

@@ -1,0 +1,1 @@
+"""The paper's baselines: optimized flocking and distributed NMPC."""

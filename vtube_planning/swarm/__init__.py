@@ -1,0 +1,1 @@
+"""The swarm: one control step (numpy and scipy only), its parameters, the simulator, metrics, trajectory logs."""
