@@ -1,18 +1,14 @@
 """The tube experiment on a Robotarium, written against the ``rps`` API only.
 
 Any ``Robotarium`` class can be passed in (ours, the PyPI simulator, the testbed's): it is constructed with the
-keywords both generations accept and used only through ``get_poses``, ``set_velocities`` and ``step``. Each step:
+keywords both generations accept and used only through ``get_poses``, ``set_velocities`` and ``step``.
 
-1. poses -> control points p + d e_theta (:mod:`unicycle_mapping`);
-2. the swarm controller of :mod:`vtube_planning.swarm.control` on the control points, with the plan (or without:
-   constant mid-range speed, constant r_a); robots that have left the tube drive to parking slots beyond the exit;
-3. the single-integrator barrier certificate with the arena boundary (optional), its correction logged per robot;
-4. the near-identity map to [v; omega] and uniform wheel scaling (curvature kept, no per-wheel clipping left for
-   the testbed to do);
-5. ``set_velocities`` and ``step``; r_a advances by (a3) when planning.
-
-Every step is logged (``vtube_planning.swarm.log``: rewritten atomically, so an interrupted run leaves a readable
-file). The run ends when every robot has parked past the exit, or at the step limit.
+The experiment is the submission without the file: :func:`flight_data` turns a scene, a plan and the options into
+the plain data a submission embeds (the tube sampled every centimetre, the plan's slowness and density, the step's
+parameters, initial conditions, parking slots, barrier and wheel limits), and both this module and the submitted
+file fly it with :func:`robotarium_exp.flight.build_flight` and :func:`robotarium_exp.flight.fly`. Every period
+is logged (:mod:`vtube_planning.swarm.log`: rewritten atomically, so an interrupted run leaves a readable file).
+The run ends when every robot has parked past the exit, or at the step limit.
 """
 
 from __future__ import annotations
@@ -26,24 +22,20 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.errors import ExperimentError
+from robotarium_exp.flight import Period, Wheels, build_flight, fly
 from robotarium_exp.rps.utilities.barrier_certificates import create_si_barrier_certificate_with_boundary
-from unicycle_mapping import scale_to_wheel_limits, si_to_uni, uni_to_si_states
-from vtube_planning.swarm.control import avoidance_radius_rate, velocity_command
-from vtube_planning.planning.density import swarm_area
-from vtube_planning.swarm.metrics import swarm_metrics
-from vtube_planning.planning.plan import Plan
+from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.scene import Scene
+from vtube_planning.planning.plan import Plan
 from vtube_planning.swarm.log import LogWriter
+from vtube_planning.swarm.metrics import swarm_metrics
 from vtube_planning.swarm.simulate import default_constant_speed
+from vtube_planning.swarm.step import parking_slots as slots_beyond
 
 FloatArray = NDArray[np.float64]
 
-ARENA = (-1.6, 1.6, -1.0, 1.0)
-IC_SPACING_M = 0.4
-"""Initial conditions at least this far apart: what the V2 initialization reaches reliably (robotarium.md §2.6)."""
-IC_BOX = (1.375, 0.875)
-"""|x|, |y| bounds of initial conditions (the box the V2 simulator samples from)."""
-WHEEL_RADIUS, BASE_LENGTH, MAX_WHEEL_SPEED = 0.016, 0.11, 12.5
+TUBE_SAMPLE_SPACING_M = 0.01
+"""The submission's tube is sampled this finely: arc lengths within 0.1 mm of the exact tube's."""
 
 
 @dataclass(frozen=True)
@@ -87,32 +79,33 @@ class ExperimentResult:
 
 
 def initial_conditions(scene: Scene) -> FloatArray:
-    """Entry formation (3xN): rows across the tube, headings along it, every pair at least IC_SPACING_M apart.
+    """Entry formation (3xN): rows across the tube, headings along it, every pair at least the spec's spacing apart.
 
-    Rows and columns start IC_SPACING_M apart along and across the tube; on a bend the inner side converges, so the
-    spacing grows until every pair keeps IC_SPACING_M.
+    Rows and columns start ``ROBOTARIUM.ic_spacing_m`` (0.4 m) apart along and across the tube; on a bend the inner
+    side converges, so the spacing grows until every pair keeps it.
     """
     tube, n = scene.tube, scene.swarm.n_robots
     lam0 = float(tube.half_width(0.0))
-    cols = max(1, int(math.floor(2 * (lam0 - 0.1) / IC_SPACING_M)) + 1)
+    cols = max(1, int(math.floor(2 * (lam0 - 0.1) / ROBOTARIUM.ic_spacing_m)) + 1)
     l_first = _first_inside_box(scene)
-    for spacing in IC_SPACING_M * (1.0 + 0.02 * np.arange(50)):
+    for spacing in ROBOTARIUM.ic_spacing_m * (1.0 + 0.02 * np.arange(50)):
         poses = []
         for k in range(n):
             row, col = divmod(k, cols)
             in_row = min(cols, n - row * cols)
             l_k = l_first + spacing * (math.ceil(n / cols) - 1 - row)
-            y = (col - 0.5 * (in_row - 1)) * IC_SPACING_M
+            y = (col - 0.5 * (in_row - 1)) * ROBOTARIUM.ic_spacing_m
             point = tube.center_at(l_k) + y * tube.normal(l_k)
             tangent = tube.tangent(l_k)
             poses.append([point[0], point[1], math.atan2(tangent[1], tangent[0])])
         ic = np.array(poses).T
         gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))[np.triu_indices(n, 1)]
-        if gaps.size == 0 or gaps.min() >= IC_SPACING_M - 1e-12:
+        if gaps.size == 0 or gaps.min() >= ROBOTARIUM.ic_spacing_m - 1e-12:
             break
-    if np.any(np.abs(ic[0]) > IC_BOX[0]) or np.any(np.abs(ic[1]) > IC_BOX[1]):
-        msg = (f'scene {scene.name!r}: the entry formation leaves the box |x| <= {IC_BOX[0]}, |y| <= {IC_BOX[1]} '
-               'the testbed initializes robots in; move the tube entrance inwards or use fewer robots.')
+    if np.any(np.abs(ic[0]) > ROBOTARIUM.ic_box_m[0]) or np.any(np.abs(ic[1]) > ROBOTARIUM.ic_box_m[1]):
+        box_x, box_y = ROBOTARIUM.ic_box_m
+        msg = (f'scene {scene.name!r}: the entry formation leaves the box |x| <= {box_x}, |y| <= {box_y} the testbed '
+               'initializes robots in; move the tube entrance inwards or use fewer robots.')
         raise ExperimentError(msg)
     return ic
 
@@ -122,23 +115,62 @@ def _first_inside_box(scene: Scene) -> float:
     tube = scene.tube
     for l_m in np.linspace(0.0, tube.length_m, 2001):
         left, right = tube.boundaries(float(l_m))
-        if np.all(np.abs(np.vstack([left, right])) <= np.array(IC_BOX)):
+        if np.all(np.abs(np.vstack([left, right])) <= np.array(ROBOTARIUM.ic_box_m)):
             return float(l_m) + 0.02
     msg = f'scene {scene.name!r}: no cross-section of the tube lies inside the initialization box.'
     raise ExperimentError(msg)
 
 
 def parking_slots(scene: Scene) -> FloatArray:
-    """Slots (2xN) beyond the exit, 0.25 m apart (the barrier keeps 0.2 m), filled farthest first."""
-    tube, n = scene.tube, scene.swarm.n_robots
-    end, tangent = tube.center_at(tube.length_m), tube.tangent(tube.length_m)
-    normal = np.array([-tangent[1], tangent[0]])
-    rows = max(1, min(n, 5))
-    slots = []
-    for k in range(n):
-        depth, lane = divmod(k, rows)
-        slots.append(end + (0.45 - 0.25 * depth) * tangent + (lane - 0.5 * (rows - 1)) * 0.25 * normal)
-    return np.array(slots).T
+    """Slots (2xN) beyond the scene's exit, 0.25 m apart (the barrier keeps 0.2 m), filled farthest first."""
+    tube = scene.tube
+    return slots_beyond(tube.center_at(tube.length_m), tube.tangent(tube.length_m), scene.swarm.n_robots)
+
+
+def plain_data(value: Any) -> Any:
+    """Arrays as nested lists of floats rounded to six significant digits; dicts and scalars as they are."""
+    if isinstance(value, dict):
+        return {k: plain_data(v) for k, v in value.items()}
+    if isinstance(value, np.ndarray):
+        return plain_data(value.tolist())
+    if isinstance(value, (list, tuple)):
+        return [plain_data(v) for v in value]
+    if isinstance(value, float):
+        return float(f'{value:.6g}')
+    return value
+
+
+def flight_data(scene: Scene, plan: Plan | None, config: ExperimentConfig) -> dict[str, Any]:
+    """Everything the flight needs as plain lists and numbers (six significant digits): what a submission embeds
+    (``DATA``), so that the bundled experiment flies exactly the numbers the testbed will.
+    """
+    if config.planning and plan is None:
+        msg = 'planning is on but no plan was given; plan the scene first (vtube plan) or set planning=False.'
+        raise ExperimentError(msg)
+    if plan is not None:
+        plan.check_matches(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+    tube, swarm = scene.tube, scene.swarm
+    samples = tube.sampled(TUBE_SAMPLE_SPACING_M)
+    profile = plan.profile if plan is not None else None
+    return plain_data({
+        'scene': scene.name,
+        'planned': config.planning,
+        'n_robots': swarm.n_robots,
+        'time_step_s': ROBOTARIUM.time_step_s,
+        'step': asdict(scene.control.step_params(swarm)),
+        'constant_speed_mps': default_constant_speed(swarm),
+        'plan': asdict(profile) if profile is not None else None,
+        'tube': {'l_m': samples.l_m, 'xy_m': samples.xy_m, 'half_width_m': samples.half_width_m,
+                 'area_m2': samples.area_m2},
+        'initial_conditions': initial_conditions(scene),
+        'parking_slots': parking_slots(scene),
+        'projection_distance_m': config.projection_distance_m,
+        'barrier': {'safety_radius_m': config.safety_radius_m, 'magnitude_limit_mps': swarm.v_max_mps,
+                    'arena_m': list(ROBOTARIUM.arena_m)} if config.barrier else None,
+        'wheels': asdict(Wheels(ROBOTARIUM.base_length_m, ROBOTARIUM.wheel_radius_m,
+                                ROBOTARIUM.max_wheel_speed_radps)),
+        'max_steps': config.max_steps,
+    })
 
 
 def run_experiment(robotarium_class: Any, scene: Scene, plan: Plan | None, config: ExperimentConfig | None = None,
@@ -146,67 +178,44 @@ def run_experiment(robotarium_class: Any, scene: Scene, plan: Plan | None, confi
                    ) -> ExperimentResult:
     """Fly the scene's swarm through its tube on a Robotarium and park it beyond the exit."""
     config = config or ExperimentConfig()
-    if config.planning and plan is None:
-        msg = 'planning is on but no plan was given; plan the scene first (vtube plan) or set planning=False.'
-        raise ExperimentError(msg)
-    tube, swarm, control = scene.tube, scene.swarm, scene.control
-    n = swarm.n_robots
-    ic = initial_conditions(scene)
-    r = robotarium_class(number_of_robots=int(n), show_figure=False, sim_in_real_time=False, initial_conditions=ic,
-                         **(robotarium_kwargs or {}))
-    d = config.projection_distance_m
-    barrier = create_si_barrier_certificate_with_boundary(safety_radius=config.safety_radius_m,
-                                                          magnitude_limit=swarm.v_max_mps, boundary_points=ARENA)
-    slots = parking_slots(scene)
-    slot_of = np.full(n, -1)
-    r_a = np.full(n, swarm.r_a_m)
-    cap = control.radius_cap(swarm)
-    speed = default_constant_speed(swarm)
-    meta = {'scene': scene.name, 'planned': config.planning, 'barrier': config.barrier, 'n_robots': n,
-            'dt_s': 0.033, 'config': asdict(config), 'swarm': asdict(swarm), 'control': asdict(control),
-            'length_m': tube.length_m, 'initial_conditions': ic.tolist()}
+    data = flight_data(scene, plan, config)
+    tube, swarm, n = scene.tube, scene.swarm, scene.swarm.n_robots
+    dt = ROBOTARIUM.time_step_s
+    r = robotarium_class(number_of_robots=int(n), show_figure=False, sim_in_real_time=False,
+                         initial_conditions=np.array(data['initial_conditions']), **(robotarium_kwargs or {}))
+    barrier = None
+    if config.barrier:
+        barrier = create_si_barrier_certificate_with_boundary(
+            safety_radius=config.safety_radius_m, magnitude_limit=swarm.v_max_mps, boundary_points=ROBOTARIUM.arena_m)
+    flight = build_flight(data, barrier)
+    meta = {'kind': 'robotarium experiment', 'scene': scene.name, 'planned': config.planning,
+            'barrier': config.barrier, 'n_robots': n, 'dt_s': dt, 'config': asdict(config), 'swarm': asdict(swarm),
+            'control': asdict(scene.control), 'length_m': tube.length_m,
+            'initial_conditions': data['initial_conditions']}
     writer = LogWriter(log_path, meta, flush_every=config.log_every) if log_path is not None else None
     rows: dict[str, list[FloatArray]] = {}
-    completed = False
-    for step in range(config.max_steps):
-        poses = r.get_poses()
-        points = uni_to_si_states(poses, d)
-        projection = tube.project(points)
-        l_m = projection.l_m
-        in_tube = l_m <= tube.length_m
-        density = float(n / swarm_area(tube, l_m.min(), l_m.max(), swarm.r_a_m)[0])
-        forward = plan.speed(l_m) if config.planning and plan is not None else np.full(n, speed)
-        nominal = velocity_command(points, r_a, forward, tube, swarm, control, projection).velocity
-        for k in np.flatnonzero(~in_tube & (slot_of < 0)):
-            slot_of[k] = int((slot_of >= 0).sum())
-        parked = slot_of >= 0
-        to_slot = slots[:, slot_of[parked]] - points[:, parked]
-        nominal[:, parked] = to_slot * np.minimum(1.0, swarm.v_max_mps / np.maximum(np.hypot(*to_slot), 1e-9))
-        safe = barrier(nominal, points) if config.barrier else nominal
-        dxu, _ = scale_to_wheel_limits(si_to_uni(safe, poses, d), BASE_LENGTH, WHEEL_RADIUS, MAX_WHEEL_SPEED)
-        row = {'t_s': np.float64(step * 0.033), 'poses': poses, 'points_m': points, 'si_nominal_mps': nominal,
-               'si_safe_mps': safe, 'dxu': dxu, 'barrier_correction_mps': np.hypot(*(safe - nominal)),
-               'r_a_m': r_a.copy(), 'l_m': l_m, 'clearance_m': projection.clearance_m,
-               'density_per_m2': np.float64(density)}
+
+    def record(step: int, period: Period) -> None:
+        robots = tube.project(period.poses[:2])  # the robots' centres on the exact tube, as the analysis measures
+        row = {'t_s': np.float64(step * dt), 'poses': period.poses, 'points_m': period.points_m,
+               'si_nominal_mps': period.step.velocity, 'si_safe_mps': period.safe_mps, 'dxu': period.dxu,
+               'barrier_correction_mps': period.barrier_correction_mps, 'r_a_m': period.step.r_a_m,
+               'l_m': robots.l_m, 'clearance_m': robots.clearance_m,
+               'density_per_m2': np.float64(period.step.density_per_m2)}
         for key, value in row.items():
-            rows.setdefault(key, []).append(np.asarray(value))
+            rows.setdefault(key, []).append(np.array(value, copy=True))
         if writer is not None:
             writer.append(**row)
-        if parked.all() and np.all(np.hypot(*(slots[:, slot_of] - points)) < 0.03):
-            completed = True
-            break
-        r.set_velocities(np.arange(n), dxu)
-        r.step()
-        if config.planning and plan is not None:
-            r_a = np.minimum(cap, r_a + 0.033 * avoidance_radius_rate(density, plan.density(l_m), control))
+
+    completed, periods = fly(r, flight, dt, config.max_steps, record)
     arrays = {key: np.stack(values) for key, values in rows.items()}
     errors = dict(getattr(r, 'errors', None) or getattr(r, '_errors', {}) or {})
     metrics = swarm_metrics(arrays['t_s'], arrays['poses'][:, :2], arrays['l_m'], arrays['clearance_m'],
                             tube.length_m, swarm)
     metrics['barrier_correction_mean_mps'] = float(arrays['barrier_correction_mps'].mean())
     metrics['barrier_correction_max_mps'] = float(arrays['barrier_correction_mps'].max())
-    metrics['barrier_failures'] = barrier.stats.failures if config.barrier else 0
-    metrics['duration_s'] = float(getattr(r, 'iterations', step + 1) * 0.033)
+    metrics['barrier_failures'] = barrier.stats.failures if barrier is not None else 0
+    metrics['duration_s'] = float(getattr(r, 'iterations', periods) * dt)
     if writer is not None:
         writer.flush(metrics=metrics, errors=errors, completed=completed, finished=True)
     return ExperimentResult(arrays=arrays, errors=errors, metrics=metrics, completed=completed, meta=meta)

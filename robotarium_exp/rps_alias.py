@@ -16,8 +16,11 @@ import importlib
 import runpy
 import sys
 import types
+from typing import Any
 
 import numpy as np
+
+from vtube_planning.swarm.log import LogWriter
 
 MODULES = ('', '.robotarium', '.utilities', '.utilities.barrier_certificates', '.utilities.controllers',
            '.utilities.misc', '.utilities.transformations')
@@ -29,18 +32,41 @@ def install(*, classic: bool = False, seed: int | None = None, log_path: str | N
         sys.modules['rps' + suffix] = importlib.import_module('robotarium_exp.rps' + suffix)
     original = sys.modules['rps.robotarium']
     cls = original.ClassicRobotarium if classic else original.Robotarium
-    defaults = {}
     if seed is not None:
-        defaults['rng'] = np.random.default_rng(seed)
+        cls = type(cls.__name__, (cls,), {'__init__': functools.partialmethod(cls.__init__, rng=np.random.default_rng(seed))})
     if log_path is not None:
-        defaults['log_path'] = log_path
-    if defaults:
-        cls = type(cls.__name__, (cls,), {'__init__': functools.partialmethod(cls.__init__, **defaults)})
+        cls = recording(cls, log_path)
     module = types.ModuleType('rps.robotarium', original.__doc__)
     module.__dict__.update({k: v for k, v in vars(original).items() if not k.startswith('__')})
     module.Robotarium = cls
     sys.modules['rps.robotarium'] = module
     sys.modules['rps'].robotarium = module
+
+
+def recording(cls: type, log_path: str) -> type:
+    """``cls`` that also writes every pose it hands out to a vtube trajectory log (completed at the script's end)."""
+
+    class Recording(cls):  # type: ignore[misc,valid-type]
+        def __init__(self, *args: Any, **kwargs: Any) -> None:
+            super().__init__(*args, **kwargs)
+            self._log = LogWriter(log_path, {'kind': 'bundled robotarium', 'n_robots': self.number_of_robots,
+                                             'dt_s': self.TIME_STEP})
+
+        def get_poses(self) -> Any:
+            poses = super().get_poses()
+            self._log.append(t_s=(self.iterations - self.initialization_steps) * self.TIME_STEP, poses=poses)
+            return poses
+
+        def debug(self) -> Any:
+            self._log.flush(errors=self.errors, iterations=self.iterations, finished=True)
+            return super().debug()
+
+        def call_at_scripts_end(self) -> Any:
+            self._log.flush(errors=self.errors, iterations=self.iterations, finished=True)
+            return super().call_at_scripts_end()
+
+    Recording.__name__ = cls.__name__
+    return Recording
 
 
 def main() -> None:

@@ -9,30 +9,27 @@ significant digits), so a committed submission can be checked against a fresh bu
 
 from __future__ import annotations
 
+import ast
 import importlib
 import inspect
 import pprint
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from robotarium_exp.experiment import ARENA, ExperimentConfig, initial_conditions, parking_slots
+from robotarium_exp.experiment import ExperimentConfig, flight_data, plain_data
+from robotarium_exp.spec import ROBOTARIUM
 from submission import runtime
-from vtube_planning.errors import VtubeError
-from vtube_planning.planning.planner import plan_convex
+from submission.errors import SubmissionError
 from vtube_planning.geometry.scene import Scene, load_scene
+from vtube_planning.planning.plan import Plan
+from vtube_planning.planning.planner import plan_convex
 
-MAX_ROBOTS = 20
-"""Robots on the hardware testbed."""
-ARENA_MARGIN_M = 0.05
 RUNTIME_MARKER = '# ---- runtime ----'
 PACKAGE_VERSION = '0.1.0'
-
-
-class SubmissionError(VtubeError, ValueError):
-    """A scene that cannot become a valid submission."""
+OUR_PACKAGES = ('vtube_planning', 'unicycle_mapping', 'robotarium_exp', 'submission')
 
 
 @dataclass(frozen=True)
@@ -45,43 +42,25 @@ class Submission:
     n_robots: int
 
 
-def build(name_or_path: str | Path, *, planning: bool = True) -> Submission:
-    """The submission's source for a Robotarium scene (shipped name or .toml file)."""
-    scene = load_scene(name_or_path)
+def build(name_or_path: str | Path | Scene, *, planning: bool = True, plan: Plan | None = None) -> Submission:
+    """The submission's source for a Robotarium scene (shipped name, .toml file or Scene); plans unless given one."""
+    scene = name_or_path if isinstance(name_or_path, Scene) else load_scene(name_or_path)
     _check_scene(scene)
-    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
-    config = ExperimentConfig(planning=planning)
-    tube = scene.tube
-    samples = np.linspace(0.0, tube.length_m, max(2, int(np.ceil(tube.length_m / 0.01)) + 1))
-    coarse = np.linspace(0.0, tube.length_m, 120)
-    left, right = tube.boundaries(coarse)
-    ic, slots = initial_conditions(scene), parking_slots(scene)
-    for name, points in (('initial conditions', ic[:2]), ('parking slots', slots)):
-        _inside_arena(scene, name, points.T)
-    data = {
-        'scene': scene.name,
-        'planned': planning,
-        'swarm': asdict(scene.swarm),
-        'control': {**asdict(scene.control), 'r_a_max_m': scene.control.radius_cap(scene.swarm)},
-        'projection_distance_m': config.projection_distance_m,
-        'barrier': {'safety_radius_m': config.safety_radius_m},
-        'max_steps': config.max_steps,
-        'initial_conditions': ic,
-        'parking_slots': slots,
-        'tube': {'l': samples, 'xy': tube.center_at(samples).T, 'half_width': tube.half_width(samples),
-                 'area': tube.area(samples), 'edges': np.stack([left.T, right.T])},
-        'plan': {'l': plan.l_m, 'speed': plan.speed_mps, 'density': plan.density_per_m2},
-    }
+    if plan is None:
+        plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+    data = flight_data(scene, plan, ExperimentConfig(planning=planning))
+    for name, points in (('initial conditions', data['initial_conditions'][:2]), ('parking slots', data['parking_slots'])):
+        _inside_arena(scene, name, np.asarray(points))
+    left, right = scene.tube.boundaries(np.linspace(0.0, scene.tube.length_m, 120))
+    data['tube_edges'] = np.stack([left.T, right.T])
+    if not planning:
+        data['plan'] = None
     header = _header(scene, plan, planning)
     source = '\n'.join([
         header,
         'from __future__ import annotations',
         '',
-        'import math',
-        '',
-        'import numpy as np',
-        '',
-        f'DATA = {pprint.pformat(_plain(data), width=118, compact=True, sort_dicts=False)}',
+        f'DATA = {pprint.pformat(plain_data(data), width=118, compact=True, sort_dicts=False)}',
         '',
         '# ---- from the vtube package (inlined so that the testbed needs nothing of ours) ----',
         _inlined_sources(),
@@ -106,37 +85,24 @@ def write(submission: Submission, path: str | Path) -> Path:
 
 def _check_scene(scene: Scene) -> None:
     n = scene.swarm.n_robots
-    if n > MAX_ROBOTS:
-        msg = f'scene {scene.name!r} has {n} robots; the Robotarium runs at most {MAX_ROBOTS}. Lower n_robots.'
+    if n > ROBOTARIUM.max_robots:
+        msg = f'scene {scene.name!r} has {n} robots; the Robotarium runs at most {ROBOTARIUM.max_robots}. Lower n_robots.'
         raise SubmissionError(msg)
     grid = np.linspace(0.0, scene.tube.length_m, 400)
     for side in scene.tube.boundaries(grid):
-        _inside_arena(scene, 'tube boundary', side)
+        _inside_arena(scene, 'tube boundary', side.T)
 
 
 def _inside_arena(scene: Scene, what: str, points: np.ndarray) -> None:
-    xmin, xmax, ymin, ymax = ARENA
-    m = ARENA_MARGIN_M
-    outside = (points[:, 0] < xmin + m) | (points[:, 0] > xmax - m) | (points[:, 1] < ymin + m) | (points[:, 1] > ymax - m)
+    """Refuse (2, N) points outside the arena less the spec's margin."""
+    m = ROBOTARIUM.arena_margin_m
+    outside = ROBOTARIUM.outside_arena(points, m)
     if outside.any():
         k = int(np.argmax(outside))
         msg = (f'scene {scene.name!r} does not fit the Robotarium arena: its {what} reaches '
-               f'({points[k, 0]:.3f}, {points[k, 1]:.3f}), outside [-1.6, 1.6] x [-1, 1] less {m} m; move or shorten '
-               'the tube (a Robotarium scene needs a [workspace] with the arena).')
+               f'({points[0, k]:.3f}, {points[1, k]:.3f}), outside {ROBOTARIUM.arena_text} less {m} m; move or '
+               'shorten the tube (a Robotarium scene needs a [workspace] with the arena).')
         raise SubmissionError(msg)
-
-
-def _plain(value: Any) -> Any:
-    """Arrays as nested lists of floats rounded to six significant digits; dicts and scalars as they are."""
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, np.ndarray):
-        return _plain(value.tolist())
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, float):
-        return float(f'{value:.6g}')
-    return value
 
 
 def _header(scene: Scene, plan: Any, planning: bool) -> str:
@@ -164,18 +130,32 @@ def _header(scene: Scene, plan: Any, planning: bool) -> str:
 
 
 def _inlined_sources() -> str:
-    parts = []
-    for module_name, names in runtime.INLINED:
+    """The modules of ``runtime.INLINED_MODULES`` whole, then the functions of ``runtime.INLINED_FUNCTIONS``."""
+    parts = [_module_body(name) for name in runtime.INLINED_MODULES]
+    for module_name, names in runtime.INLINED_FUNCTIONS:
         module = importlib.import_module(module_name)
         for name in names:
             value = getattr(module, name)
-            if isinstance(value, (int, float)):
-                parts.append(f'{name} = {value!r}')
-            else:
-                parts.append(inspect.getsource(value).rstrip())
-                for helper in _private_helpers(value, module):
-                    parts.insert(-1, inspect.getsource(helper).rstrip())
+            for helper in _private_helpers(value, module):
+                parts.append(inspect.getsource(helper).rstrip())
+            parts.append(inspect.getsource(value).rstrip())
     return '\n\n\n'.join(dict.fromkeys(parts)) + '\n\n'
+
+
+def _module_body(module_name: str) -> str:
+    """A module's source without its docstring, ``__future__`` import and imports from our packages."""
+    source = inspect.getsource(importlib.import_module(module_name))
+    lines = source.splitlines()
+    tree = ast.parse(source)
+    drop = set()
+    for k, node in enumerate(tree.body):
+        docstring = k == 0 and isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant)
+        ours = isinstance(node, ast.ImportFrom) and (node.module == '__future__' or (node.module or '').split('.')[0]
+                                                     in OUR_PACKAGES)
+        if docstring or ours:
+            drop.update(range(node.lineno - 1, node.end_lineno or node.lineno))
+    kept = '\n'.join(line for k, line in enumerate(lines) if k not in drop).strip()
+    return f'# ---- {module_name} ----\n' + kept
 
 
 def _private_helpers(func: Any, module: Any) -> list[Any]:

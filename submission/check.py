@@ -25,16 +25,12 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from vtube_planning.errors import VtubeError
+from robotarium_exp.spec import ROBOTARIUM
+from submission.errors import CheckError
 
-TIME_STEP_S = 0.033
 VERIFIER_MARGIN = 1.5
 COUNTS = {'too_close': ('robots_too_close', 'collision'), 'outside': ('robots_outside_boundaries', 'boundary'),
           'actuator': ('exceeded_actuator_limits', 'actuator')}
-
-
-class CheckError(VtubeError, ValueError):
-    """A file that cannot be checked (missing, not Python)."""
 
 
 @dataclass
@@ -75,7 +71,7 @@ class CheckReport:
         iterations = [run.summary['iterations'] for run in self.runs if run.summary]
         if not iterations:
             return None
-        return int(math.ceil(max(iterations) * TIME_STEP_S * VERIFIER_MARGIN / 10.0) * 10)
+        return int(math.ceil(max(iterations) * ROBOTARIUM.time_step_s * VERIFIER_MARGIN / 10.0) * 10)
 
 
 def server_libraries() -> set[str]:

@@ -29,7 +29,7 @@ from robotarium_exp.errors import RobotariumError
 from robotarium_exp.rps.utilities.barrier_certificates import create_uni_barrier_certificate
 from robotarium_exp.rps.utilities.controllers import create_pose_controller_hybrid
 from robotarium_exp.rps.utilities.misc import create_at_pose, generate_initial_poses, generate_random_poses
-from vtube_planning.swarm.log import LogWriter
+from robotarium_exp.spec import ROBOTARIUM
 
 FloatArray = NDArray[np.float64]
 
@@ -41,20 +41,20 @@ INITIALIZATION_STEP_LIMIT = 9000
 class Robotarium:
     """A simulated Robotarium. See the module docstring for the contract."""
 
-    TIME_STEP = 0.033
-    MAX_LINEAR_VELOCITY = 0.2
-    ROBOT_DIAMETER = 0.11
-    WHEEL_RADIUS = 0.016
-    BASE_LENGTH = 0.11
-    MAX_WHEEL_VELOCITY = MAX_LINEAR_VELOCITY / WHEEL_RADIUS
+    TIME_STEP = ROBOTARIUM.time_step_s
+    MAX_LINEAR_VELOCITY = ROBOTARIUM.max_linear_speed_mps
+    ROBOT_DIAMETER = ROBOTARIUM.robot_diameter_m
+    WHEEL_RADIUS = ROBOTARIUM.wheel_radius_m
+    BASE_LENGTH = ROBOTARIUM.base_length_m
+    MAX_WHEEL_VELOCITY = ROBOTARIUM.max_wheel_speed_radps
     MAX_ANGULAR_VELOCITY = 2 * (WHEEL_RADIUS / ROBOT_DIAMETER) * (MAX_LINEAR_VELOCITY / WHEEL_RADIUS)
-    COLLISION_DIAMETER = 0.135
-    COLLISION_OFFSET = 0.025
-    BOUNDARIES = (-1.6, 1.6, -1.0, 1.0)
+    COLLISION_DIAMETER = ROBOTARIUM.collision_diameter_m
+    COLLISION_OFFSET = ROBOTARIUM.collision_offset_m
+    BOUNDARIES = ROBOTARIUM.arena_m
 
     def __init__(self, number_of_robots: int = -1, show_figure: bool = False, sim_in_real_time: bool = True,
                  initial_conditions: FloatArray | None = None, *, skip_initialization: bool = False,
-                 rng: np.random.Generator | None = None, log_path: str | None = None) -> None:
+                 rng: np.random.Generator | None = None) -> None:
         if isinstance(number_of_robots, bool) or not isinstance(number_of_robots, int):
             msg = (f'The number of robots used argument (number_of_robots) provided to create the Robotarium object '
                    f'must be an integer type. Recieved type {type(number_of_robots).__name__!r}. Pass int(N).')
@@ -94,8 +94,6 @@ class Robotarium:
         self._called_step_already = True
         self._last_step_wall = time.perf_counter()
         self._figure: Any = None
-        self._log = LogWriter(log_path, {'kind': 'bundled robotarium', 'n_robots': number_of_robots,
-                                         'dt_s': self.TIME_STEP}) if log_path else None
         if skip_initialization or number_of_robots == 0:
             self.poses = self.initial_conditions.copy()
         else:
@@ -163,8 +161,6 @@ class Robotarium:
             raise RobotariumError(msg)
         self._checked_poses_already = True
         self._called_step_already = False
-        if self._log is not None:
-            self._log.append(t_s=(self._iteration - self.initialization_steps) * self.TIME_STEP, poses=self.poses)
         return self.poses.copy()
 
     def set_velocities(self, ids: Any, velocities: FloatArray) -> None:
@@ -204,7 +200,6 @@ class Robotarium:
 
     def debug(self) -> dict[str, int]:
         """Print V2's summary and verdict; returns the counts."""
-        self._finish_log()
         print(f'Your simulation took approximately {self._iteration * self.TIME_STEP:.2f} real seconds to execute.')
         e = self._errors
         if e['robots_outside_boundaries'] or e['robots_too_close']:
@@ -224,7 +219,6 @@ class Robotarium:
 
     def call_at_scripts_end(self) -> dict[str, int]:
         """Print the classic report; returns the counts."""
-        self._finish_log()
         print('##### DEBUG OUTPUT #####')
         print(f'Your simulation will take approximately {math.ceil(self._iteration * self.TIME_STEP)} real seconds '
               'when deployed on the Robotarium. \n')
@@ -244,10 +238,6 @@ class Robotarium:
 
     # ------------------------------------------------------------------ internals
 
-    def _finish_log(self) -> None:
-        if self._log is not None:
-            self._log.flush(errors=self.errors, iterations=self._iteration, finished=True)
-
     def wheel_speeds(self, dxu: FloatArray) -> FloatArray:
         """(2v -/+ L omega) / (2 r), 2xN."""
         return np.vstack([2 * dxu[0] - self.BASE_LENGTH * dxu[1], 2 * dxu[0] + self.BASE_LENGTH * dxu[1]]) / (
@@ -261,8 +251,7 @@ class Robotarium:
 
     def _validate(self) -> None:
         p = self.poses
-        xmin, xmax, ymin, ymax = self.BOUNDARIES
-        outside = (p[0] < xmin) | (p[0] > xmax) | (p[1] < ymin) | (p[1] > ymax)
+        outside = ROBOTARIUM.outside_arena(p[:2])
         self._errors['robots_outside_boundaries'] += int(outside.any())
         if self.number_of_robots > 1:
             shifted = p[:2] + self.COLLISION_OFFSET * np.vstack([np.cos(p[2]), np.sin(p[2])])
@@ -338,7 +327,6 @@ class ClassicRobotarium(Robotarium):
     """The classic generation's behaviour: robots start exactly at the initial conditions (no charger drive)."""
 
     def __init__(self, number_of_robots: int = -1, show_figure: bool = False, sim_in_real_time: bool = True,
-                 initial_conditions: FloatArray | None = None, *, rng: np.random.Generator | None = None,
-                 log_path: str | None = None) -> None:
+                 initial_conditions: FloatArray | None = None, *, rng: np.random.Generator | None = None) -> None:
         super().__init__(number_of_robots, show_figure, sim_in_real_time, initial_conditions,
-                         skip_initialization=True, rng=rng, log_path=log_path)
+                         skip_initialization=True, rng=rng)

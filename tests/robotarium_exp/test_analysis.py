@@ -153,7 +153,7 @@ def test_gaps_are_reported_not_interpolated() -> None:
 
 def test_submission_files_analyse_like_the_simulator_log_of_the_same_run(tmp_path) -> None:
     run = subprocess.run([sys.executable, '-m', 'robotarium_exp.rps_alias', '--classic', '--seed', '0', '--log',
-                          str(tmp_path / 'sim.npz'), str(ROOT / 'submission' / 'vtube_robotarium_trapezoid.py')],
+                          str(tmp_path / 'sim.npz'), str(ROOT / 'submissions' / 'vtube_robotarium_trapezoid.py')],
                          cwd=tmp_path, env={**__import__('os').environ, 'VTUBE_HEADLESS': '1', 'MPLBACKEND': 'Agg'},
                          capture_output=True, text=True, check=True)
     assert '"completed": true' in run.stdout

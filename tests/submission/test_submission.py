@@ -3,45 +3,120 @@
 from __future__ import annotations
 
 import ast
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from robotarium_exp.experiment import ExperimentConfig, run_experiment
+from robotarium_exp.rps.robotarium import Robotarium
 from submission import runtime
-from submission.builder import SubmissionError, build
+from submission.builder import SubmissionError, build, write
 from submission.check import check, imported_modules, static_check
 from vtube_planning import SceneError, load_scene
+from vtube_planning.geometry.projection import SampledTube
+from vtube_planning.planning.planner import plan_convex
+from vtube_planning.swarm.metrics import swarm_metrics
+from vtube_planning.swarm.step import PlanProfile, StepParams, SwarmStep
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ('robotarium_trapezoid', 'robotarium_curve')
 
 
-def data_of(source: str) -> dict:
+def namespace_of(source: str) -> dict:
     namespace: dict = {}
-    exec(compile(source, 'submission', 'exec'), namespace)  # defines DATA and functions; runs nothing
-    return namespace['DATA']
+    exec(compile(source, 'submission', 'exec'), namespace)  # defines DATA, classes and functions; runs nothing
+    return namespace
+
+
+def data_of(source: str) -> dict:
+    return namespace_of(source)['DATA']
+
+
+def variant(tmp_path: Path, scene: str, control_line: str) -> Path:
+    """A copy of a shipped scene with one more line under [control], as a user would write it."""
+    text = (ROOT / 'vtube_planning' / 'scenes' / f'{scene}.toml').read_text(encoding='utf-8')
+    path = tmp_path / f'{scene}_variant.toml'
+    path.write_text(text.replace('[control]\n', f'[control]\n{control_line}\n'), encoding='utf-8')
+    return path
+
+
+@pytest.mark.parametrize('control_line', ['law = "practical"', 'feedforward = true'])
+def test_the_inlined_step_is_the_library_step(tmp_path, control_line: str) -> None:
+    """The submission's own SwarmStep (its inlined source, its rounded data) commands what the package's does."""
+    ns = namespace_of(build(variant(tmp_path, 'robotarium_curve', control_line)).source)
+    data = ns['DATA']
+    assert ns['SwarmStep'] is not SwarmStep  # really the file's copy
+
+    def stepper(module_classes: tuple) -> object:
+        tube_cls, params_cls, plan_cls, step_cls = module_classes
+        plan = plan_cls(**{k: np.asarray(v) for k, v in data['plan'].items()})
+        return step_cls(tube_cls(**data['tube']), params_cls(**data['step']), 6, plan=plan,
+                        constant_speed_mps=data['constant_speed_mps'], parking_slots=np.asarray(data['parking_slots']))
+
+    inlined = stepper((ns['SampledTube'], ns['StepParams'], ns['PlanProfile'], ns['SwarmStep']))
+    library = stepper((SampledTube, StepParams, PlanProfile, SwarmStep))
+    rng = np.random.default_rng(3)
+    tube = load_scene('robotarium_curve').tube
+    for _ in range(40):  # random swarms along the tube, some past the exit (parking), radii evolving by (a3)
+        l = rng.uniform(-0.2, tube.length_m + 0.3, 6)
+        points = (tube.center_at(l) + rng.uniform(-0.3, 0.3, 6)[:, None] * tube.normal(l)).T
+        a, b = inlined(points, 0.033), library(points, 0.033)
+        np.testing.assert_allclose(a.velocity, b.velocity, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(a.r_a_m, b.r_a_m, rtol=0, atol=1e-12)
+        assert a.density_per_m2 == pytest.approx(b.density_per_m2, abs=1e-12) and a.done == b.done
+    assert np.any(library.r_a > data['step']['r_a_m'])  # the radii did move
+
+
+def test_the_submission_flies_the_bundled_experiment(tmp_path) -> None:
+    """Same scene variant, same initial conditions: the experiment and the built file on the classic simulator."""
+    path = variant(tmp_path, 'robotarium_trapezoid', 'law = "practical"')
+    scene = load_scene(path)
+    experiment = run_experiment(Robotarium, scene, plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name),
+                                ExperimentConfig(),
+                                robotarium_kwargs={'skip_initialization': True})
+    work = tmp_path / 'testbed'
+    work.mkdir()
+    file = write(build(path), work / 'submission.py')
+    env = dict(os.environ, VTUBE_HEADLESS='1')
+    done = subprocess.run([sys.executable, '-m', 'robotarium_exp.rps_alias', '--classic', str(file)], cwd=work,
+                          env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    poses, t = np.load(work / 'vtube_poses.npy'), np.load(work / 'vtube_t.npy')
+    robots = [scene.tube.project(p[:2]) for p in poses]
+    returned = swarm_metrics(t, poses[:, :2], np.array([p.l_m for p in robots]),
+                             np.array([p.clearance_m for p in robots]), scene.tube.length_m, scene.swarm)
+    mine = experiment.metrics
+    assert returned['passing_time_s'] == pytest.approx(mine['passing_time_s'], rel=0.01)
+    assert returned['min_distance_m'] == pytest.approx(mine['min_distance_m'], abs=0.005)
+    assert returned['tube_violation_steps'] == pytest.approx(mine['tube_violation_steps'], rel=0.05)
+    assert mine['tube_violation_steps'] > 0  # the practical law leaves the tube here: the variant really flew
+    np.testing.assert_allclose(poses, experiment.arrays['poses'], atol=1e-9)  # in fact, the same trajectory
 
 
 @pytest.mark.parametrize('scene', SCENES)
 def test_committed_submission_equals_a_fresh_build(scene: str) -> None:
-    committed = (ROOT / 'submission' / f'vtube_{scene}.py').read_text(encoding='utf-8')
-    assert build(scene).source == committed, f'rebuild with: vtube submission build {scene} --out submission/vtube_{scene}.py'
+    committed = (ROOT / 'submissions' / f'vtube_{scene}.py').read_text(encoding='utf-8')
+    assert build(scene).source == committed, f'rebuild with: vtube submission build {scene} --out submissions/vtube_{scene}.py'
 
 
 @pytest.mark.parametrize('scene', SCENES)
 def test_submission_imports_only_what_the_server_has_and_parses_as_python_310(scene: str) -> None:
-    source = (ROOT / 'submission' / f'vtube_{scene}.py').read_text(encoding='utf-8')
+    source = (ROOT / 'submissions' / f'vtube_{scene}.py').read_text(encoding='utf-8')
     ast.parse(source, feature_version=(3, 10))
     assert static_check(source) == []
-    assert imported_modules(source) <= {'__future__', 'math', 'numpy', 'json', 'os', 'time', 'rps'}
+    standard = {'__future__', 'collections', 'dataclasses', 'json', 'math', 'os', 'time', 'typing'}
+    assert imported_modules(source) <= standard | {'numpy', 'scipy', 'rps'}
     assert static_check(source + '\nimport cvxpy\nfrom rosbags.highlevel import AnyReader\n') == ['cvxpy', 'rosbags']
 
 
 @pytest.mark.parametrize('scene', SCENES)
 def test_committed_submission_passes_the_preflight_on_both_simulators(scene: str) -> None:
     pytest.importorskip('rps.robotarium')  # the PyPI simulator (test extra)
-    report = check(ROOT / 'submission' / f'vtube_{scene}.py', seeds=2)
+    report = check(ROOT / 'submissions' / f'vtube_{scene}.py', seeds=2)
     assert [run.backend for run in report.runs] == ['bundled', 'bundled', 'pypi']
     for run in report.runs:
         assert run.ok, (run.backend, run.seed, run.summary, run.stderr_tail)
@@ -74,7 +149,7 @@ def test_saved_arrays_load_without_pickle(tmp_path, monkeypatch) -> None:
 def test_sampled_tube_matches_the_exact_projection() -> None:
     for scene_name in SCENES:
         scene = load_scene(scene_name)
-        tube = runtime.SampledTube(data_of(build(scene_name).source)['tube'])
+        tube = SampledTube(**data_of(build(scene_name).source)['tube'])
         rng = np.random.default_rng(0)
         l = rng.uniform(0.0, scene.tube.length_m, 500)
         y = rng.uniform(-1, 1, 500) * scene.tube.half_width(l)
@@ -83,8 +158,11 @@ def test_sampled_tube_matches_the_exact_projection() -> None:
         # a 1 cm polyline: a point at offset y from a bend of curvature kappa lands up to |y| kappa h / 2 away
         # along a chord of length h: 0.5 m x 1.07 / m x 0.01 m / 2 = 2.7 mm at most on these tubes
         worst = 0.5 * float(np.abs(scene.tube.curvature(np.linspace(0, scene.tube.length_m, 2000))).max()) * 0.01 / 2
-        assert np.abs(got['l'] - l).max() <= worst + 2e-5  # + the data's six significant digits
-        assert np.all(np.abs(got['y'] - y) <= 2e-4)
+        assert np.abs(got.l_m - l).max() <= worst + 2e-5  # + the data's six significant digits
+        assert np.all(np.abs(got.y_m - y) <= 2e-4)
+        np.testing.assert_allclose(tube.area(l), scene.tube.area(l), rtol=1e-4)  # linear between 1 cm samples
+        outside = np.array([-0.3, scene.tube.length_m + 0.4])  # the straight extensions keep the end widths
+        np.testing.assert_allclose(tube.area(outside), scene.tube.area(outside), rtol=1e-4)
 
 
 @pytest.mark.parametrize(

@@ -63,7 +63,7 @@ def test_acceleration_limits_bound_speed_change_and_turn_rate(scene_a) -> None:
 
 def test_interrupted_run_leaves_a_readable_log(scene_a, tmp_path, monkeypatch) -> None:
     scene, plan = scene_a
-    real = simulate_module.velocity_command
+    real = simulate_module.SwarmStep.__call__
     calls = {'n': 0}
 
     def failing(*args, **kwargs):
@@ -72,7 +72,7 @@ def test_interrupted_run_leaves_a_readable_log(scene_a, tmp_path, monkeypatch) -
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(simulate_module, 'velocity_command', failing)
+    monkeypatch.setattr(simulate_module.SwarmStep, '__call__', failing)
     log = tmp_path / 'run.npz'
     with pytest.raises(KeyboardInterrupt):
         simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=replace(SHORT, log_every=10),
@@ -80,7 +80,7 @@ def test_interrupted_run_leaves_a_readable_log(scene_a, tmp_path, monkeypatch) -
     arrays, meta = read_log(log)
     assert arrays['positions_m'].shape == (50, 2, 20)  # every row up to the last flush
     assert meta['scene'] == 'A' and meta['planned'] and 'metrics' not in meta
-    monkeypatch.setattr(simulate_module, 'velocity_command', real)
+    monkeypatch.setattr(simulate_module.SwarmStep, '__call__', real)
     done = simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=SHORT, log_path=log)
     arrays, meta = read_log(log)
     np.testing.assert_array_equal(arrays['positions_m'], done.positions_m)
@@ -113,8 +113,10 @@ def test_bad_simulation_input_is_refused(scene_a) -> None:
     with pytest.raises(ParamsError, match='needs r_a_m > r_s_m'):
         simulate(scene.tube, replace(scene.swarm, r_a_m=0.4), scene.control, plan=None, config=SHORT)
     other = load_scene('C')
-    with pytest.raises(PlanError, match='different widths'):
+    with pytest.raises(PlanError, match=r"the plan \(made for scene 'A'\) does not fit this run: .*a different tube"):
         simulate(other.tube, other.swarm, other.control, plan=plan, config=SHORT)
+    with pytest.raises(PlanError, match=r'other swarm parameters \(v_max_mps\)'):
+        simulate(scene.tube, replace(scene.swarm, v_max_mps=4.5), scene.control, plan=plan, config=SHORT)
     robotarium = load_scene('robotarium_trapezoid')
     with pytest.raises(PlanError, match='different tube'):
         simulate(robotarium.tube, robotarium.swarm, robotarium.control, plan=plan, config=SHORT)

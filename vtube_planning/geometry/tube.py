@@ -15,6 +15,7 @@ C^1 (R4). lambda > 0 holds by construction: every width part is monotone between
 
 from __future__ import annotations
 
+import hashlib
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -25,6 +26,7 @@ from scipy.spatial import cKDTree
 
 from vtube_planning.geometry._roots import bracketed_newton
 from vtube_planning.geometry.centerline import CenterCurve
+from vtube_planning.geometry.projection import Projection, SampledTube
 from vtube_planning._validate import as_points
 from vtube_planning.errors import ShapeError, TubeError
 from vtube_planning.geometry.width import WidthProfile
@@ -37,44 +39,6 @@ _SLOPE_JUMP_TOL = 1e-9
 """Largest jump of d lambda / dl at a breakpoint still accepted as C^1."""
 _PROJECTION_XTOL = 1e-12
 """Absolute tolerance (m) of the arc length found by the projection's Newton iteration."""
-
-
-@dataclass(frozen=True)
-class Projection:
-    """Points of the plane in the tube's curvilinear coordinates (arrays over robots, one per column).
-
-    Attributes
-    ----------
-    l_m
-        Arc length of the closest centre-line point, (N,). Below 0 or above L for points before the entrance or
-        past the exit (projected onto the straight extensions).
-    y_m
-        Signed lateral offset along the left normal, (N,).
-    foot_m
-        Closest centre-line point gamma(l), (2, N).
-    tangent, normal
-        Unit tangent t and left normal n at the foot, (2, N) each.
-    half_width_m
-        lambda(l) at the foot, (N,).
-    """
-
-    l_m: FloatArray
-    y_m: FloatArray
-    foot_m: FloatArray
-    tangent: FloatArray
-    normal: FloatArray
-    half_width_m: FloatArray
-    length_m: float
-
-    @property
-    def clearance_m(self) -> FloatArray:
-        """Distance to the boundary measured across the tube, ``lambda(l) - |y|`` (negative outside), (N,)."""
-        return self.half_width_m - np.abs(self.y_m)
-
-    @property
-    def inside(self) -> NDArray[np.bool_]:
-        """True where the point lies in the tube: ``0 <= l <= L`` and ``|y| <= lambda(l)``, (N,)."""
-        return (self.l_m >= 0.0) & (self.l_m <= self.length_m) & (self.clearance_m >= 0.0)
 
 
 @dataclass(frozen=True)
@@ -223,6 +187,27 @@ class VirtualTube:
             half_width_m=self.width.value(l_m),
             length_m=self.length_m,
         )
+
+    def fingerprint(self) -> str:
+        """A hash of the tube's geometry (centre line and half-width at 2001 arc lengths, to 1e-9 m).
+
+        Equal tubes built differently (a copied scene file) share it; plans record it (``Plan.tube_hash``).
+        """
+        return self._fingerprint
+
+    @cached_property
+    def _fingerprint(self) -> str:
+        l_m = np.linspace(0.0, self.length_m, 2001)
+        table = np.vstack([self.center_at(l_m).T, self.width.value(l_m)[None, :]])
+        return hashlib.sha256((np.round(table, 9) + 0.0).tobytes()).hexdigest()[:16]  # + 0.0: no -0.0
+
+    def sampled(self, spacing_m: float = 0.01) -> SampledTube:
+        """The tube as samples at most ``spacing_m`` apart (what a submission carries); see :class:`SampledTube`."""
+        if not spacing_m > 0.0:
+            msg = f'sample spacing must be > 0; got {spacing_m!r}.'
+            raise TubeError(msg)
+        l_m = np.linspace(0.0, self.length_m, max(2, math.ceil(self.length_m / spacing_m) + 1))
+        return SampledTube(l_m, self.center_at(l_m).T, self.width.value(l_m), self.width.area(l_m))
 
     @cached_property
     def _sample_tree(self) -> cKDTree:

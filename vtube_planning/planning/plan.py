@@ -23,6 +23,7 @@ from vtube_planning.errors import PlanError
 from vtube_planning.npzfile import read_npz, write_npz
 from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.swarm.step import PlanProfile
 
 FloatArray = NDArray[np.float64]
 
@@ -34,7 +35,7 @@ ACTIVE_RTOL = 1e-3
 """A constraint is reported active at a grid point when its relative slack is below this."""
 CONSTRAINTS = ('p2', 'p3', 'p4', 'p5', 'p6', 'p7', 'initial')
 ARRAYS = ('l_m', 'speed_mps', 'density_per_m2', 'half_width_m', 'speed_limit_mps')
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
 
 
 @dataclass(frozen=True)
@@ -63,8 +64,9 @@ class Plan:
         Per constraint, where it binds at the grid points, (K+1,) bool arrays.
     method, status, iterations, solve_time_s
         How the plan was found.
-    scene, swarm, options
-        What it was planned for.
+    scene, swarm, options, tube_hash
+        What it was planned for: the scene's name, the swarm, the planning options and the tube's
+        :meth:`~vtube_planning.geometry.tube.VirtualTube.fingerprint`. :meth:`check_matches` refuses other ones.
     """
 
     l_m: FloatArray
@@ -83,6 +85,7 @@ class Plan:
     scene: str
     swarm: SwarmParams
     options: PlanningOptions
+    tube_hash: str
     extra: dict[str, Any] = field(default_factory=dict)
 
     @property
@@ -98,13 +101,40 @@ class Plan:
         """True when every constraint holds on the fine grid to the relative tolerance."""
         return self.max_violation <= rtol
 
+    @property
+    def profile(self) -> PlanProfile:
+        """The plan as the controller uses it (slowness and density, linear between grid points)."""
+        return PlanProfile(self.l_m, 1.0 / self.speed_mps, self.density_per_m2)
+
     def speed(self, l_m: ArrayLike) -> FloatArray:
         """v*(l) as used: 1 / (linear interpolation of the slowness); end values outside [0, L]."""
-        return 1.0 / np.interp(np.asarray(l_m, dtype=float), self.l_m, 1.0 / self.speed_mps)
+        return self.profile.speed(l_m)
 
     def density(self, l_m: ArrayLike) -> FloatArray:
         """rho*(l) as used: linear interpolation; end values outside [0, L]."""
-        return np.interp(np.asarray(l_m, dtype=float), self.l_m, self.density_per_m2)
+        return self.profile.density(l_m)
+
+    def check_matches(self, tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions | None = None,
+                      *, scene: str | None = None) -> None:
+        """Raise :class:`PlanError` unless this plan was made for this tube, swarm (and options, when given).
+
+        The scene's name alone does not decide (a copied scene file plans the same); it is named in the message.
+        """
+        made_for = f'the plan (made for scene {self.scene!r})'
+        here = f'scene {scene!r}' if scene is not None else 'this run'
+        problems = []
+        if self.tube_hash != tube.fingerprint():
+            problems.append('a different tube')
+        if self.swarm != swarm:
+            changed = [k for k, v in asdict(swarm).items() if asdict(self.swarm)[k] != v]
+            problems.append(f'other swarm parameters ({", ".join(changed)})')
+        if options is not None and self.options != options:
+            changed = [k for k, v in asdict(options).items() if asdict(self.options)[k] != v]
+            problems.append(f'other planning options ({", ".join(changed)})')
+        if problems:
+            msg = (f'{made_for} does not fit {here}: it was made for {" and ".join(problems)}. Plan this scene '
+                   'first (vtube plan SCENE --out DIR) and pass that plan.')
+            raise PlanError(msg)
 
     def save(self, path: str | Path) -> Path:
         """Write the plan to an ``.npz`` file (arrays and one JSON string; no pickle)."""
@@ -120,6 +150,7 @@ class Plan:
             'scene': self.scene,
             'swarm': asdict(self.swarm),
             'options': asdict(self.options),
+            'tube_hash': self.tube_hash,
             'extra': self.extra,
         }
         arrays = {name: getattr(self, name) for name in ARRAYS}
@@ -131,7 +162,8 @@ class Plan:
         """Read a plan written by :meth:`save`."""
         arrays, meta = read_npz(path, PlanError, 'plan file')
         if meta.get('format_version') != FORMAT_VERSION:
-            msg = f'plan file {str(path)!r} has format {meta.get("format_version")!r}; expected {FORMAT_VERSION}.'
+            msg = (f'plan file {str(path)!r} has format {meta.get("format_version")!r}; this vtube reads format '
+                   f'{FORMAT_VERSION} (format 1 plans do not record their tube). Plan again with vtube plan.')
             raise PlanError(msg)
         active = {k.removeprefix('active_'): arrays.pop(k) for k in list(arrays) if k.startswith('active_')}
         return cls(
@@ -147,6 +179,7 @@ class Plan:
             scene=meta['scene'],
             swarm=SwarmParams(**meta['swarm']),
             options=PlanningOptions(**meta['options']),
+            tube_hash=meta['tube_hash'],
             extra=meta['extra'],
         )
 

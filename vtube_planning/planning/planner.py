@@ -299,4 +299,5 @@ def make_plan(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, l
         scene=scene,
         swarm=swarm,
         options=options,
+        tube_hash=tube.fingerprint(),
     )

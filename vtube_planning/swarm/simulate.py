@@ -29,19 +29,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning._validate import is_positive
-from vtube_planning.swarm.control import (
-    ControlParams,
-    avoidance_radius_rate,
-    feedforward_radius,
-    velocity_command,
-)
-from vtube_planning.planning.density import swarm_area
-from vtube_planning.errors import ParamsError, PlanError
-from vtube_planning.swarm.metrics import swarm_metrics
+from vtube_planning.errors import ParamsError
+from vtube_planning.geometry.tube import Projection, VirtualTube
 from vtube_planning.params import SwarmParams
 from vtube_planning.planning.plan import Plan
+from vtube_planning.swarm.control import ControlParams
 from vtube_planning.swarm.log import LogWriter
-from vtube_planning.geometry.tube import Projection, VirtualTube
+from vtube_planning.swarm.metrics import swarm_metrics
+from vtube_planning.swarm.step import SwarmStep, swarm_density
 
 FloatArray = NDArray[np.float64]
 
@@ -181,17 +176,12 @@ def simulate(
         :mod:`vtube_planning.baselines.flocking`); with it, ``plan`` must be None and r_a stays constant.
     """
     config = config or SimConfig()
-    if swarm.r_a_m <= swarm.r_s_m:
-        msg = (
-            f'the controller needs r_a_m > r_s_m (its interaction bands run from r_s to r_a); got '
-            f'r_s_m = {swarm.r_s_m}, r_a_m = {swarm.r_a_m}.'
-        )
-        raise ParamsError(msg)
+    step_params = control.step_params(swarm)
     if plan is not None and baseline is not None:
         msg = 'a baseline flies without a plan; pass plan=None with baseline.'
         raise ParamsError(msg)
     if plan is not None:
-        _check_plan(plan, tube, swarm)
+        plan.check_matches(tube, swarm)
     forward_const = default_constant_speed(swarm) if constant_speed_mps is None else float(constant_speed_mps)
     if plan is None and not swarm.v_min_mps <= forward_const <= swarm.v_max_mps:
         msg = f'constant_speed_mps = {forward_const} lies outside [v_min, v_max] = [{swarm.v_min_mps}, {swarm.v_max_mps}].'
@@ -203,33 +193,33 @@ def simulate(
     if start_speed is None:
         start_speed = float(plan.speed_mps[0]) if plan is not None else swarm.v_min_mps
     velocity = start_speed * tube.project(positions).tangent
-    r_a = np.full(n, swarm.r_a_m)
-    cap = control.radius_cap(swarm)
+    stepper = SwarmStep(tube, step_params, n, plan=plan.profile if plan is not None else None,
+                        constant_speed_mps=forward_const)
     extent = float(np.ptp(tube.project(positions).l_m))
     limit = config.time_limit_s or 4.0 * (tube.length_m + extent + 2 * swarm.r_a_m) / swarm.v_min_mps
     steps = int(math.ceil(limit / config.dt_s))
-    description = dict(meta or {}, planned=plan is not None, n_robots=n, dt_s=config.dt_s, seed=config.seed,
-                       swarm=asdict(swarm), control=asdict(control), length_m=tube.length_m)
+    description = dict(meta or {}, kind='simulation', planned=plan is not None, n_robots=n, dt_s=config.dt_s,
+                       seed=config.seed, swarm=asdict(swarm), control=asdict(control), length_m=tube.length_m)
     writer = LogWriter(log_path, description, flush_every=config.log_every) if log_path is not None else None
     rows: dict[str, list[FloatArray]] = {k: [] for k in (
         't_s', 'positions_m', 'velocities_mps', 'commands_mps', 'r_a_m', 'l_m', 'clearance_m', 'forward_speed_mps',
         'density_per_m2')}
     for step in range(steps + 1):
         projection = tube.project(positions)
-        l_m = projection.l_m
-        density = float(n / swarm_area(tube, l_m.min(), l_m.max(), swarm.r_a_m)[0])
         if baseline is not None:
             commanded = baseline(positions, velocity, projection)
+            density, r_a = swarm_density(tube, projection.l_m, swarm.r_a_m), stepper.r_a
+            done = bool(np.all(projection.l_m > tube.length_m))
         else:
-            forward = plan.speed(l_m) if plan is not None else np.full(n, forward_const)
-            commanded = velocity_command(positions, r_a, forward, tube, swarm, control, projection).velocity
+            result = stepper(positions, config.dt_s, projection)
+            commanded, density, r_a, done = result.velocity, result.density_per_m2, result.r_a_m, result.done
         row = {
             't_s': np.float64(step * config.dt_s),
             'positions_m': positions,
             'velocities_mps': velocity,
             'commands_mps': commanded,
             'r_a_m': r_a,
-            'l_m': l_m,
+            'l_m': projection.l_m,
             'clearance_m': projection.clearance_m,
             'forward_speed_mps': np.einsum('ij,ij->j', velocity, projection.tangent),
             'density_per_m2': np.float64(density),
@@ -238,18 +228,13 @@ def simulate(
             rows[key].append(np.array(value))
         if writer is not None:
             writer.append(**row)
-        if np.all(l_m > tube.length_m) or step == steps:
+        if done or step == steps:
             break
         if config.acceleration_limits:
             velocity = limit_acceleration(velocity, commanded, swarm.a_v_mps2, swarm.a_n_mps2, config.dt_s)
         else:
             velocity = commanded
         positions = positions + config.dt_s * velocity
-        if plan is not None:
-            planned_density = plan.density(l_m)
-            r_a = np.minimum(cap, r_a + config.dt_s * avoidance_radius_rate(density, planned_density, control))
-            if control.feedforward:
-                r_a = np.maximum(r_a, np.minimum(cap, feedforward_radius(planned_density, swarm)))
     arrays = {key: np.stack(values) for key, values in rows.items()}
     metrics = swarm_metrics(
         arrays['t_s'], arrays['positions_m'], arrays['l_m'], arrays['clearance_m'], tube.length_m, swarm,
@@ -260,17 +245,3 @@ def simulate(
         writer.flush(metrics=metrics, finished=True)
     return SimResult(**arrays, metrics=metrics, planned=plan is not None, meta=description)
 
-
-def _check_plan(plan: Plan, tube: VirtualTube, swarm: SwarmParams) -> None:
-    if abs(plan.length_m - tube.length_m) > 1e-6 * max(1.0, tube.length_m):
-        msg = (
-            f'the plan covers {plan.length_m:.6f} m but the tube is {tube.length_m:.6f} m long: it was made for a '
-            f'different tube (scene {plan.scene!r}); plan this tube first.'
-        )
-        raise PlanError(msg)
-    if not np.allclose(plan.half_width_m, tube.half_width(plan.l_m), rtol=1e-9, atol=1e-12):
-        msg = f'the plan (scene {plan.scene!r}) was made for a tube of different widths; plan this tube first.'
-        raise PlanError(msg)
-    if plan.swarm != swarm:
-        msg = f'the plan was made for other swarm parameters ({plan.swarm}); plan with these ({swarm}) first.'
-        raise PlanError(msg)

@@ -30,11 +30,12 @@ from numpy.typing import NDArray
 import daqp
 
 from robotarium_exp.errors import RobotariumError
+from robotarium_exp.spec import ROBOTARIUM
 from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
 
 FloatArray = NDArray[np.float64]
 
-ARENA = (-1.6, 1.6, -1.0, 1.0)
+ARENA = ROBOTARIUM.arena_m
 POLYGON_SIDES = 8
 
 
@@ -222,7 +223,7 @@ def create_uni_barrier_certificate_with_boundary(safety_radius: float = 0.12, ba
                                                  projection_distance: float = 0.03,
                                                  velocity_magnitude_limit: float = 0.2,
                                                  boundary_points: object = None) -> UnicycleCertificate:
-    """V2: as above with the arena boundary (default [-1.6, 1.6, -1, 1])."""
+    """V2: as above with the arena boundary (default: the arena of robotarium_exp.spec)."""
     boundary = ARENA if boundary_points is None else boundary_points
     spec = _spec(safety_radius + 2 * projection_distance, barrier_gain, velocity_magnitude_limit, boundary, True)
     return UnicycleCertificate(spec, projection_distance)

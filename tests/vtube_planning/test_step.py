@@ -1,4 +1,5 @@
-"""The swarm controller against hand-computed values, theory.md's published numbers and finite differences."""
+"""The swarm step against hand-computed values, theory.md's published numbers and finite differences; the sampled
+tube against the exact one; the step as the submission inlines it against the library's."""
 
 from __future__ import annotations
 
@@ -7,14 +8,17 @@ import math
 import numpy as np
 import pytest
 
-from vtube_planning import ArcPath, ArcPiece, ParamsError, ShapeError, SwarmParams, VirtualTube, WidthPart, WidthProfile
-from vtube_planning.swarm.control import (
-    ControlParams,
+from vtube_planning import ArcPath, ArcPiece, ParamsError, SwarmParams, VirtualTube, WidthPart, WidthProfile
+from vtube_planning.swarm.control import ControlParams
+from vtube_planning.swarm.step import (
+    Command,
+    SwarmStep,
     avoidance_radius_rate,
     avoidance_velocity,
     barrier_gain,
     feedforward_radius,
     neighbour_pairs,
+    next_radius,
     saturate,
     sigma,
     smooth_saturation,
@@ -23,6 +27,12 @@ from vtube_planning.swarm.control import (
 
 SWARM = SwarmParams()  # r_s = 0.4, r_a = 0.8, v in [2, 5]
 PRACTICAL = ControlParams(law='practical', avoidance_gain=2.0, keeping_gain=3.0)
+
+
+def command_at(positions: np.ndarray, r_a: np.ndarray, forward: np.ndarray, tube: VirtualTube,
+               control: ControlParams) -> Command:
+    """The law at positions with the exact projection."""
+    return velocity_command(positions, r_a, forward, tube.project(positions), control.step_params(SWARM))
 
 
 def wide_tube(half_width_m: float = 10.0) -> VirtualTube:
@@ -110,7 +120,7 @@ def test_saturate_rescales_radially_into_the_speed_band() -> None:
 def test_two_robots_practical_law_by_hand() -> None:
     tube = wide_tube()
     positions = np.array([[10.0, 11.0], [0.0, 0.0]])  # 1 m apart along the tube, on the centre line
-    command = velocity_command(positions, np.full(2, 0.8), np.full(2, 3.0), tube, SWARM, PRACTICAL)
+    command = command_at(positions, np.full(2, 0.8), np.full(2, 3.0), tube, PRACTICAL)
     push = 2.0 * 0.5  # k_m sigma(1.0; 0.8, 1.2): the middle of the band
     np.testing.assert_allclose(command.avoidance.T, [[-push, 0.0], [push, 0.0]], atol=1e-12)
     np.testing.assert_allclose(command.tube_keeping, 0.0, atol=1e-12)  # 10 m from both walls
@@ -121,7 +131,7 @@ def test_three_robots_sum_their_pushes_and_use_their_own_radius() -> None:
     tube = wide_tube()
     positions = np.array([[10.0, 11.0, 10.0], [0.0, 0.0, 0.9]])
     r_a = np.array([0.8, 0.8, 0.3 + 0.4])  # the third robot's band ends at r_s + r_a = 1.1 m
-    command = velocity_command(positions, r_a, np.full(3, 3.0), tube, SWARM, PRACTICAL)
+    command = command_at(positions, r_a, np.full(3, 3.0), tube, PRACTICAL)
     s_10 = sigma_published(1.0, 0.8, 1.2)
     s_09 = sigma_published(0.9, 0.8, 1.2)
     d = math.hypot(1.0, 0.9)  # robots 2 and 3
@@ -135,7 +145,7 @@ def test_three_robots_sum_their_pushes_and_use_their_own_radius() -> None:
 def test_tube_keeping_pushes_towards_the_centre_line() -> None:
     tube = wide_tube(2.0)
     positions = np.array([[5.0, 5.0, 5.0], [1.4, -1.4, 0.0]])  # 0.6 m from the left / right wall, centre
-    command = velocity_command(positions, np.full(3, 0.8), np.full(3, 3.0), tube, SWARM, PRACTICAL)
+    command = command_at(positions, np.full(3, 0.8), np.full(3, 3.0), tube, PRACTICAL)
     push = 3.0 * sigma_published(0.6, 0.4, 0.8)
     np.testing.assert_allclose(command.tube_keeping.T, [[0.0, -push], [0.0, push], [0.0, 0.0]], atol=1e-12)
 
@@ -145,8 +155,8 @@ def test_commands_always_lie_in_the_speed_band() -> None:
     tube = wide_tube(3.0)
     for law in ('practical', 'barrier'):
         positions = np.vstack([rng.uniform(0, 20, 300), rng.uniform(-3.5, 3.5, 300)])
-        command = velocity_command(positions, rng.uniform(0.8, 2.0, 300), rng.uniform(2, 5, 300), tube, SWARM,
-                                   ControlParams(law=law))
+        command = command_at(positions, rng.uniform(0.8, 2.0, 300), rng.uniform(2, 5, 300), tube,
+                             ControlParams(law=law))
         speed = np.hypot(*command.velocity)
         assert np.all(speed >= 2.0 - 1e-9) and np.all(speed <= 5.0 + 1e-9)
 
@@ -155,8 +165,8 @@ def test_kd_tree_and_all_pairs_give_the_same_law() -> None:
     rng = np.random.default_rng(1)
     positions = np.vstack([rng.uniform(0, 15, 400), rng.uniform(-3, 3, 400)])
     r_a = rng.uniform(0.8, 1.6, 400)
-    dense = avoidance_velocity(positions, r_a, SWARM, ControlParams(kdtree_above=10_000))
-    tree = avoidance_velocity(positions, r_a, SWARM, ControlParams(kdtree_above=0))
+    dense = avoidance_velocity(positions, r_a, ControlParams(kdtree_above=10_000).step_params(SWARM))
+    tree = avoidance_velocity(positions, r_a, ControlParams(kdtree_above=0).step_params(SWARM))
     np.testing.assert_allclose(tree, dense, rtol=1e-12, atol=1e-9)
     i, j, _ = neighbour_pairs(positions, 1.5, use_tree=True)
     k, m, _ = neighbour_pairs(positions, 1.5, use_tree=False)
@@ -164,20 +174,31 @@ def test_kd_tree_and_all_pairs_give_the_same_law() -> None:
 
 
 def test_avoidance_radius_law_only_expands() -> None:
-    params = ControlParams(k_ra_m3ps=4.0)
+    params = ControlParams(k_ra_m3ps=4.0).step_params(SWARM)
     rate = avoidance_radius_rate(0.3, np.array([0.2, 0.3, 0.5]), params)
     np.testing.assert_allclose(rate, [0.4, 0.0, 0.0])
-    np.testing.assert_allclose(feedforward_radius(np.array([0.25]), SWARM), [2.0 - 0.4])  # 1/sqrt(rho) - r_s
+    np.testing.assert_allclose(feedforward_radius(np.array([0.25]), params), [2.0 - 0.4])  # 1/sqrt(rho) - r_s
+
+
+def test_avoidance_radius_update_caps_and_feeds_forward() -> None:
+    r_a = np.array([0.8, 1.0, 2.3])
+    plain = ControlParams(k_ra_m3ps=4.0, r_a_max_m=2.4).step_params(SWARM)
+    # rate 4 (0.3 - rho*): 0.4, 0.0, 0.4 m/s over 0.5 s; the third robot stops at the cap
+    np.testing.assert_allclose(next_radius(r_a, 0.3, np.array([0.2, 0.5, 0.2]), plain, 0.5), [1.0, 1.0, 2.4])
+    fed = ControlParams(k_ra_m3ps=4.0, r_a_max_m=2.4, feedforward=True).step_params(SWARM)
+    # rho* = 0.25 -> 1/sqrt(rho*) - r_s = 1.6 m floors the first two; rho* = 0.01 -> 9.6 m, capped at 2.4
+    np.testing.assert_allclose(next_radius(r_a, 0.3, np.array([0.25, 0.25, 0.01]), fed, 0.5), [1.6, 1.6, 2.4])
 
 
 def test_bad_controller_input_raises() -> None:
-    tube = wide_tube()
-    with pytest.raises(ShapeError, match=r'robots \[1\] contain NaN'):
-        velocity_command(np.array([[0.0, np.nan], [0.0, 1.0]]), np.full(2, 0.8), np.full(2, 3.0), tube, SWARM,
-                         PRACTICAL)
-    with pytest.raises(ShapeError, match=r'shape \(2, N\) with N >= 1 .*; got \(2, 0\)'):
-        velocity_command(np.zeros((2, 0)), np.zeros(0), np.zeros(0), tube, SWARM, PRACTICAL)
+    step = SwarmStep(wide_tube(), PRACTICAL.step_params(SWARM), 2, constant_speed_mps=3.0)
+    with pytest.raises(ValueError, match=r'points of robots \[1\] are not finite'):
+        step(np.array([[0.0, np.nan], [0.0, 1.0]]), 0.02)
+    with pytest.raises(ValueError, match=r'points must have shape \(2, 2\), one robot per column; got \(2, 0\)'):
+        step(np.zeros((2, 0)), 0.02)
     with pytest.raises(ParamsError, match="control law must be one of \\('practical', 'barrier'\\)"):
         ControlParams(law='magic')
     with pytest.raises(ParamsError, match='r_a_max_m .* below the initial avoidance radius'):
         ControlParams(r_a_max_m=0.5).radius_cap(SWARM)
+    with pytest.raises(ParamsError, match='needs r_a_m > r_s_m'):
+        ControlParams().step_params(SwarmParams(r_s_m=0.4, r_a_m=0.4))

@@ -1,0 +1,125 @@
+"""Points in the tube's coordinates, and the tube as samples: what a robot needs of the tube at run time.
+
+:class:`Projection` is what projecting points onto a tube gives, whichever tube: the exact
+:class:`~vtube_planning.geometry.tube.VirtualTube` (simulation, analysis) or the :class:`SampledTube` (a polyline
+through centre-line samples, with the half-width and the cumulative area at the samples), which is what the
+Robotarium submission carries. Both continue straight beyond their ends with the end widths, so robots before the
+entrance or past the exit still have an arc length and the swarm's area stays defined (``docs/theory.md`` §1.5).
+
+This module needs numpy only: :mod:`submission.builder` inlines it into the testbed's file.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Projection:
+    """Points of the plane in the tube's curvilinear coordinates (arrays over robots, one per column).
+
+    Attributes
+    ----------
+    l_m
+        Arc length of the closest centre-line point, (N,). Below 0 or above L for points before the entrance or
+        past the exit (projected onto the straight extensions).
+    y_m
+        Signed lateral offset along the left normal, (N,).
+    foot_m
+        Closest centre-line point gamma(l), (2, N).
+    tangent, normal
+        Unit tangent t and left normal n at the foot, (2, N) each.
+    half_width_m
+        lambda(l) at the foot, (N,).
+    length_m
+        The tube's length L.
+    """
+
+    l_m: FloatArray
+    y_m: FloatArray
+    foot_m: FloatArray
+    tangent: FloatArray
+    normal: FloatArray
+    half_width_m: FloatArray
+    length_m: float
+
+    @property
+    def clearance_m(self) -> FloatArray:
+        """Distance to the boundary measured across the tube, ``lambda(l) - |y|`` (negative outside), (N,)."""
+        return self.half_width_m - np.abs(self.y_m)
+
+    @property
+    def inside(self) -> NDArray[np.bool_]:
+        """True where the point lies in the tube: ``0 <= l <= L`` and ``|y| <= lambda(l)``, (N,)."""
+        return (self.l_m >= 0.0) & (self.l_m <= self.length_m) & (self.clearance_m >= 0.0)
+
+
+class SampledTube:
+    """A tube given by samples: centre-line points, half-widths and cumulative areas at arc lengths.
+
+    Between samples the centre line is the polyline through them, and the half-width and the area are linear.
+    With samples 1 cm apart on the Robotarium scenes, arc lengths and offsets agree with the exact tube to
+    well under a millimetre (``tests/vtube_planning/test_step.py``).
+
+    Parameters
+    ----------
+    l_m
+        Increasing arc lengths of the samples, (K,), from 0 to L.
+    xy_m
+        Centre-line points, (2, K).
+    half_width_m, area_m2
+        lambda and the cumulative area A at the samples, (K,).
+    """
+
+    def __init__(self, l_m: ArrayLike, xy_m: ArrayLike, half_width_m: ArrayLike, area_m2: ArrayLike) -> None:
+        self.l_m = np.asarray(l_m, dtype=float)
+        self.xy_m = np.asarray(xy_m, dtype=float)
+        self.half_width_m = np.asarray(half_width_m, dtype=float)
+        self.area_m2 = np.asarray(area_m2, dtype=float)
+        segment = np.diff(self.xy_m, axis=1)
+        self._seg_len = np.hypot(segment[0], segment[1])
+        self._seg_dir = segment / self._seg_len
+
+    @property
+    def length_m(self) -> float:
+        """L, the arc length of the last sample."""
+        return float(self.l_m[-1])
+
+    def project(self, points_m: ArrayLike) -> Projection:
+        """Closest point of the polyline to every column of (2, N) points; beyond the ends, the end segments' lines."""
+        points = np.asarray(points_m, dtype=float)
+        rel = points[:, :, None] - self.xy_m[:, None, :-1]  # (2, N, K-1)
+        along = np.clip(np.einsum('ink,ik->nk', rel, self._seg_dir), 0.0, self._seg_len)
+        foot = self.xy_m[:, None, :-1] + self._seg_dir[:, None, :] * along
+        k = np.argmin(np.hypot(*(points[:, :, None] - foot)), axis=1)
+        s = along[np.arange(points.shape[1]), k]
+        tangent = self._seg_dir[:, k]
+        base = self.xy_m[:, k]
+        before = (k == 0) & (s <= 0.0)
+        after = (k == self._seg_len.size - 1) & (s >= self._seg_len[-1])
+        s = np.where(before | after, np.einsum('in,in->n', points - base, tangent), s)
+        l_m = self.l_m[k] + s
+        foot_m = base + tangent * s
+        normal = np.vstack([-tangent[1], tangent[0]])
+        return Projection(
+            l_m=l_m,
+            y_m=np.einsum('in,in->n', points - foot_m, normal),
+            foot_m=foot_m,
+            tangent=tangent,
+            normal=normal,
+            half_width_m=np.interp(l_m, self.l_m, self.half_width_m),
+            length_m=self.length_m,
+        )
+
+    def area(self, l_m: ArrayLike) -> FloatArray:
+        """Cumulative area A(l), m^2; the straight extensions keep the end widths (negative before l = 0)."""
+        l_m = np.asarray(l_m, dtype=float)
+        inner = np.interp(l_m, self.l_m, self.area_m2)
+        before = 2.0 * self.half_width_m[0] * np.minimum(l_m - self.l_m[0], 0.0)
+        after = 2.0 * self.half_width_m[-1] * np.maximum(l_m - self.length_m, 0.0)
+        return inner + before + after

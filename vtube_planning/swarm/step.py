@@ -1,0 +1,374 @@
+"""One control period of the swarm: everything a robot does, given the swarm's state. One implementation.
+
+The simulator (:mod:`vtube_planning.swarm.simulate`), the bundled Robotarium experiment
+(:mod:`robotarium_exp.experiment`) and the file submitted to the testbed (:mod:`submission.builder` inlines this
+module's source) all call :class:`SwarmStep`. It needs numpy and scipy only, which the testbed has.
+
+Every robot i at p_i, projected onto the tube (arc length l_i, tangent t_c, left normal n, offset y_i), commands
+(eq. s1, ``docs/theory.md`` §2.8)::
+
+    v_c,i = sat(v_f,i + v_m,i(r_a,i) + v_xy,i(r_a,i), v_min, v_max)
+    v_f,i  = v*(l_i) t_c                                        forward term (the plan, or a constant speed)
+    v_m,i  = sum_j phi_m(|p_ij|; r_a,i) p_ij / |p_ij|            inter-robot avoidance, p_ij = p_i - p_j
+    v_xy,i = -phi_t(d_i; r_a,i) sign(y_i) n,  d_i = lambda(l_i) - |y_i|   tube keeping (normal-only gradient)
+
+with the magnitudes of the *barrier* law (default), phi = -dV/dx of the Lyapunov-like barriers V_m, V_t of
+``docs/theory.md`` §2.4 with sigma(x, 2 r_s, r_s + r_a,i) and sigma(d, r_s, r_a,i), or of the *practical* law
+of [b17], phi_m = k_m sigma(x, 2 r_s, r_s + r_a,i) and phi_t = k_t sigma(d, r_s, r_a,i). sat rescales radially
+into [v_min, v_max] (faithful, A10); a zero vector becomes v_min t_c.
+
+The swarm's density is measured once per step (:func:`swarm_density`, the one definition, A7-A8), and with a plan
+the avoidance radius follows (a3), ``r_a,i' = k_ra max(0, rho_r - rho*(l_i))``, capped at ``r_a_max`` (A9),
+optionally floored by the feed-forward ``1/sqrt(rho*) - r_s`` (§2.8). Robots past the exit either keep flying
+the law (the paper's study) or, given parking slots (the Robotarium, where the arena ends), drive to the next
+free slot beyond the exit.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial import cKDTree
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.intp]
+
+LAWS = ('practical', 'barrier')
+BARRIER_EPS = 1e-6
+"""epsilon_m = epsilon_t = epsilon_s of the barrier functions (the group's code, ``docs/theory.md`` §2.5)."""
+PARKED_WITHIN_M = 0.03
+"""A robot is parked when its control point is this close to its slot."""
+
+
+# ---------------------------------------------------------------------- scalar building blocks (theory §2.3)
+
+
+def sigma(x: ArrayLike, d1: ArrayLike, d2: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """The C^1 cubic step sigma(x, d1, d2): 1 for x <= d1, 0 for x >= d2; returns (value, d/dx)."""
+    x = np.asarray(x, dtype=float)
+    d1 = np.broadcast_to(np.asarray(d1, dtype=float), x.shape)
+    d2 = np.broadcast_to(np.asarray(d2, dtype=float), x.shape)
+    t = np.clip((x - d1) / (d2 - d1), 0.0, 1.0)
+    inside = (x > d1) & (x < d2)
+    value = 1.0 - t * t * (3.0 - 2.0 * t)
+    slope = np.where(inside, -6.0 * t * (1.0 - t) / (d2 - d1), 0.0)
+    return value, slope
+
+
+def smooth_saturation(x: ArrayLike, eps: float) -> tuple[FloatArray, FloatArray]:
+    """The C^1 saturation s(x, eps) of ``docs/theory.md`` §2.3 (x below x1, a circular arc, then 1); (value, d/dx)."""
+    x = np.asarray(x, dtype=float)
+    x2 = 1.0 + eps / math.tan(math.radians(67.5))
+    x1 = x2 - eps * math.sin(math.radians(45.0))
+    arc = (x > x1) & (x < x2)
+    root = np.sqrt(np.clip(eps**2 - (x - x2) ** 2, 0.0, None))
+    value = np.where(x <= x1, x, np.where(x >= x2, 1.0, (1.0 - eps) + root))
+    with np.errstate(divide='ignore', invalid='ignore'):
+        slope = np.where(x <= x1, 1.0, np.where(arc, (x2 - x) / root, 0.0))
+    return value, slope
+
+
+def barrier_gain(x: ArrayLike, offset: float, d1: float, d2: ArrayLike, k: float) -> FloatArray:
+    """-dV/dx of the barrier V = k sigma(x, d1, d2) / ((1 + eps) x - offset s(x / offset, eps)), theory §2.4.
+
+    ``offset`` is 2 r_s between robots (d1 = 2 r_s) and r_s at the wall (d1 = r_s). Non-negative; huge (about
+    k / (eps x^2)) inside the safety distance, zero beyond d2.
+    """
+    x = np.maximum(np.asarray(x, dtype=float), 1e-9)
+    s_val, s_slope = smooth_saturation(x / offset, BARRIER_EPS)
+    den = (1.0 + BARRIER_EPS) * x - offset * s_val
+    sig, sig_slope = sigma(x, d1, d2)
+    dv = k * (sig_slope / den - sig * ((1.0 + BARRIER_EPS) - s_slope) / den**2)
+    return np.maximum(-dv, 0.0)
+
+
+def saturate(u: FloatArray, v_min: float, v_max: float, fallback: FloatArray) -> FloatArray:
+    """sat(u, v_min, v_max) column-wise on (2, N): radial rescaling into [v_min, v_max]; u = 0 -> v_min fallback."""
+    speed = np.hypot(u[0], u[1])
+    zero = speed <= 1e-12
+    scale = np.where(zero, 0.0, np.clip(speed, v_min, v_max) / np.where(zero, 1.0, speed))
+    return np.where(zero, v_min * fallback, u * scale)
+
+
+# ---------------------------------------------------------------------- what the step is given
+
+
+@dataclass(frozen=True)
+class StepParams:
+    """The numbers one control period needs (made and validated by ``ControlParams.step_params(swarm)``).
+
+    Attributes
+    ----------
+    r_s_m
+        Safety radius r_s.
+    r_a_m
+        Initial avoidance radius; also the padding of the density measure at both ends of the swarm (A7).
+    r_a_max_m
+        Cap of the avoidance radius (A9).
+    v_min_mps, v_max_mps
+        The speed band of sat.
+    law
+        ``'barrier'`` or ``'practical'``.
+    avoidance_gain, keeping_gain
+        Gains of the avoidance and tube-keeping terms.
+    k_ra_m3ps
+        Gain of (a3).
+    feedforward
+        Floor r_a by ``1/sqrt(rho*) - r_s``.
+    kdtree_above
+        Find neighbours with a k-d tree above this many robots, all pairs below.
+    """
+
+    r_s_m: float
+    r_a_m: float
+    r_a_max_m: float
+    v_min_mps: float
+    v_max_mps: float
+    law: str = 'barrier'
+    avoidance_gain: float = 1.0
+    keeping_gain: float = 1.0
+    k_ra_m3ps: float = 5.0
+    feedforward: bool = False
+    kdtree_above: int = 48
+
+
+@dataclass(frozen=True)
+class PlanProfile:
+    """The plan as the controller uses it: slowness w = 1/v and density rho, both linear between grid points.
+
+    Outside [0, L] the end values hold. ``Plan.speed`` and ``Plan.density`` are these functions.
+    """
+
+    l_m: FloatArray
+    slowness_spm: FloatArray
+    density_per_m2: FloatArray
+
+    def speed(self, l_m: ArrayLike) -> FloatArray:
+        """v*(l) = 1 / (linear interpolation of w), m/s."""
+        return 1.0 / np.interp(np.asarray(l_m, dtype=float), self.l_m, self.slowness_spm)
+
+    def density(self, l_m: ArrayLike) -> FloatArray:
+        """rho*(l), linear interpolation, robots/m^2."""
+        return np.interp(np.asarray(l_m, dtype=float), self.l_m, self.density_per_m2)
+
+
+# ---------------------------------------------------------------------- the density measure (A7, A8)
+
+
+def swarm_area(tube: Any, l_back_m: ArrayLike, l_front_m: ArrayLike, pad_m: float) -> FloatArray:
+    """Area (m^2) of the tube between ``l_back - pad`` and ``l_front + pad``, element-wise (``tube.area``: A(l))."""
+    back = np.atleast_1d(np.asarray(l_back_m, dtype=float)) - pad_m
+    front = np.atleast_1d(np.asarray(l_front_m, dtype=float)) + pad_m
+    return np.asarray(tube.area(front), dtype=float) - np.asarray(tube.area(back), dtype=float)
+
+
+def swarm_density(tube: Any, l_m: ArrayLike, pad_m: float) -> float:
+    """The swarm's density rho = N / S, robots/m^2: S is the tube's area between the last and the front robot's
+    arc lengths ``l_m`` (N,), padded by ``pad_m`` (the initial r_a) at both ends so that a line-abreast swarm has
+    a finite density (A7); one number for the whole swarm (A8).
+    """
+    l_m = np.asarray(l_m, dtype=float)
+    return float(l_m.size / swarm_area(tube, l_m.min(), l_m.max(), pad_m)[0])
+
+
+# ---------------------------------------------------------------------- the law
+
+
+def neighbour_pairs(positions: FloatArray, radius: float, *, use_tree: bool) -> tuple[IntArray, IntArray, FloatArray]:
+    """Pairs (i < j) of columns of (2, N) positions closer than ``radius``, and their distances."""
+    n = positions.shape[1]
+    if use_tree:
+        pairs = cKDTree(positions.T).query_pairs(radius, output_type='ndarray')
+        i, j = pairs[:, 0], pairs[:, 1]
+    else:
+        i, j = np.triu_indices(n, k=1)
+    dist = np.hypot(positions[0, i] - positions[0, j], positions[1, i] - positions[1, j])
+    keep = dist < radius
+    return i[keep], j[keep], dist[keep]
+
+
+def avoidance_velocity(positions: FloatArray, r_a: FloatArray, params: StepParams) -> FloatArray:
+    """v_m of every robot, (2, N): the sum over neighbours closer than r_s + r_a,i of phi_m times the unit p_ij."""
+    n = positions.shape[1]
+    out = np.zeros_like(positions)
+    if n < 2:
+        return out
+    r_s = params.r_s_m
+    i, j, dist = neighbour_pairs(positions, r_s + float(r_a.max()), use_tree=n > params.kdtree_above)
+    if i.size == 0:
+        return out
+    unit = (positions[:, i] - positions[:, j]) / np.maximum(dist, 1e-12)  # from j to i
+    for me, other_sign, radius in ((i, 1.0, r_a[i]), (j, -1.0, r_a[j])):
+        if params.law == 'practical':
+            gain = params.avoidance_gain * sigma(dist, 2.0 * r_s, r_s + radius)[0]
+        else:
+            gain = barrier_gain(dist, 2.0 * r_s, 2.0 * r_s, r_s + radius, params.avoidance_gain)
+        push = other_sign * gain * unit
+        out[0] += np.bincount(me, weights=push[0], minlength=n)
+        out[1] += np.bincount(me, weights=push[1], minlength=n)
+    return out
+
+
+def tube_keeping_velocity(projection: Any, r_a: FloatArray, params: StepParams) -> FloatArray:
+    """v_xy of every robot, (2, N): phi_t(d_i) towards the centre line along the normal."""
+    d = projection.clearance_m
+    r_s = params.r_s_m
+    if params.law == 'practical':
+        gain = params.keeping_gain * sigma(d, r_s, r_a)[0]
+    else:
+        gain = barrier_gain(d, r_s, r_s, r_a, params.keeping_gain)
+    return -gain * np.sign(projection.y_m) * projection.normal
+
+
+@dataclass(frozen=True)
+class Command:
+    """The controller's command and its parts, (2, N) each."""
+
+    velocity: FloatArray
+    forward: FloatArray
+    avoidance: FloatArray
+    tube_keeping: FloatArray
+
+
+def velocity_command(positions: FloatArray, r_a: FloatArray, forward_speed_mps: FloatArray, projection: Any,
+                     params: StepParams) -> Command:
+    """The command v_c of every robot (eq. s1) at (2, N) positions with radii r_a (N,) and forward speeds (N,)."""
+    forward = forward_speed_mps * projection.tangent
+    avoidance = avoidance_velocity(positions, r_a, params)
+    keeping = tube_keeping_velocity(projection, r_a, params)
+    velocity = saturate(forward + avoidance + keeping, params.v_min_mps, params.v_max_mps, projection.tangent)
+    return Command(velocity, forward, avoidance, keeping)
+
+
+def avoidance_radius_rate(rho_measured: float, rho_planned: ArrayLike, params: StepParams) -> FloatArray:
+    """(a3): r_a,i' = k_ra max(0, rho_r - rho*(l_i)), m/s, (N,)."""
+    return params.k_ra_m3ps * np.maximum(0.0, rho_measured - np.asarray(rho_planned, dtype=float))
+
+
+def feedforward_radius(rho_planned: ArrayLike, params: StepParams) -> FloatArray:
+    """1/sqrt(rho*) - r_s: the avoidance radius whose lattice (spacing r_s + r_a) has density rho*, (N,)."""
+    return 1.0 / np.sqrt(np.asarray(rho_planned, dtype=float)) - params.r_s_m
+
+
+def next_radius(r_a: FloatArray, rho_measured: float, rho_planned: FloatArray, params: StepParams,
+                dt_s: float) -> FloatArray:
+    """r_a after one period of (a3), capped at r_a_max, floored by the feed-forward when it is on."""
+    r_a = np.minimum(params.r_a_max_m, r_a + dt_s * avoidance_radius_rate(rho_measured, rho_planned, params))
+    if params.feedforward:
+        r_a = np.maximum(r_a, np.minimum(params.r_a_max_m, feedforward_radius(rho_planned, params)))
+    return r_a
+
+
+# ---------------------------------------------------------------------- exit and parking
+
+
+def parking_slots(end_m: ArrayLike, tangent: ArrayLike, n_robots: int, spacing_m: float = 0.25) -> FloatArray:
+    """Slots (2, N) beyond the exit ``end_m`` (2,), in lanes ``spacing_m`` apart, filled farthest first."""
+    end, tangent = np.asarray(end_m, dtype=float), np.asarray(tangent, dtype=float)
+    normal = np.array([-tangent[1], tangent[0]])
+    lanes = max(1, min(n_robots, 5))
+    slots = []
+    for k in range(n_robots):
+        depth, lane = divmod(k, lanes)
+        slots.append(end + (0.45 - spacing_m * depth) * tangent + (lane - 0.5 * (lanes - 1)) * spacing_m * normal)
+    return np.array(slots).T.reshape(2, n_robots)
+
+
+@dataclass(frozen=True)
+class StepResult:
+    """One control period: the command, what it was computed from, and the swarm's state.
+
+    ``velocity`` is the single-integrator command (2, N) (parked robots: towards their slot); ``command`` its
+    parts; ``r_a_m`` the radii the command used (the step then advanced them by (a3)); ``parked`` the robots that
+    have left the tube and drive to a slot; ``done`` when every robot has exited (no slots) or parked.
+    """
+
+    velocity: FloatArray
+    command: Command
+    projection: Any
+    forward_speed_mps: FloatArray
+    density_per_m2: float
+    r_a_m: FloatArray
+    parked: NDArray[np.bool_]
+    done: bool
+
+
+class SwarmStep:
+    """The swarm controller with its state (avoidance radii, parking assignment), one call per control period.
+
+    Parameters
+    ----------
+    tube
+        Anything with ``project(points) -> Projection``, ``area(l)`` and ``length_m``: the exact
+        :class:`~vtube_planning.geometry.tube.VirtualTube` or the testbed's
+        :class:`~vtube_planning.geometry.projection.SampledTube`.
+    params
+        The step's numbers.
+    n_robots
+        Swarm size.
+    plan
+        The plan to track (forward speed v*(l_i), and r_a by (a3)); None flies *without planning*: constant
+        forward speed, constant r_a.
+    constant_speed_mps
+        The forward speed without a plan.
+    parking_slots
+        Slots (2, N) beyond the exit for robots that leave the tube; None lets them fly on.
+    """
+
+    def __init__(self, tube: Any, params: StepParams, n_robots: int, *, plan: PlanProfile | None = None,
+                 constant_speed_mps: float | None = None, parking_slots: FloatArray | None = None) -> None:
+        self.tube = tube
+        self.params = params
+        self.plan = plan
+        self.constant_speed_mps = constant_speed_mps
+        self.slots = parking_slots
+        self.r_a = np.full(n_robots, float(params.r_a_m))
+        self.slot_of = np.full(n_robots, -1)
+
+    def __call__(self, points: FloatArray, dt_s: float, projection: Any = None) -> StepResult:
+        """The commands for robots at (2, N) ``points``; advances r_a and the parking assignment by ``dt_s``."""
+        p = self.params
+        points = np.asarray(points, dtype=float)
+        if points.shape != (2, self.r_a.size):
+            msg = f'points must have shape (2, {self.r_a.size}), one robot per column; got {points.shape}.'
+            raise ValueError(msg)
+        if not np.all(np.isfinite(points)):
+            msg = f'points of robots {np.flatnonzero(~np.isfinite(points).all(axis=0)).tolist()} are not finite.'
+            raise ValueError(msg)
+        if projection is None:
+            projection = self.tube.project(points)
+        l_m = projection.l_m
+        density = swarm_density(self.tube, l_m, p.r_a_m)
+        if self.plan is not None:
+            forward_speed = self.plan.speed(l_m)
+        else:
+            forward_speed = np.full(l_m.size, float(self.constant_speed_mps))
+        r_a = self.r_a
+        command = velocity_command(points, r_a, forward_speed, projection, p)
+        velocity = command.velocity
+        exited = l_m > self.tube.length_m
+        if self.slots is None:
+            parked, done = np.zeros(l_m.size, dtype=bool), bool(exited.all())
+        else:
+            velocity, parked, done = self._park(points, exited, velocity)
+        if self.plan is not None:
+            self.r_a = next_radius(r_a, density, self.plan.density(l_m), p, dt_s)
+        return StepResult(velocity, command, projection, forward_speed, density, r_a, parked, done)
+
+    def _park(self, points: FloatArray, exited: NDArray[np.bool_],
+              velocity: FloatArray) -> tuple[FloatArray, NDArray[np.bool_], bool]:
+        """Robots past the exit take the next free slot and drive to it at up to v_max."""
+        slots = self.slots
+        for k in np.flatnonzero(exited & (self.slot_of < 0)):
+            self.slot_of[k] = int((self.slot_of >= 0).sum())
+        parked = self.slot_of >= 0
+        to_slot = slots[:, self.slot_of[parked]] - points[:, parked]
+        reach = np.maximum(np.hypot(to_slot[0], to_slot[1]), 1e-9)
+        velocity = velocity.copy()
+        velocity[:, parked] = to_slot * np.minimum(1.0, self.params.v_max_mps / reach)
+        done = bool(parked.all()) and bool(np.all(np.hypot(*(slots[:, self.slot_of] - points)) < PARKED_WITHIN_M))
+        return velocity, parked, done
