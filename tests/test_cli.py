@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import subprocess
+from pathlib import Path
 from dataclasses import replace
 import sys
 
@@ -10,6 +11,8 @@ import pytest
 
 from vtube.cli import main
 from vtube_planning import list_scenes
+
+ROOT = Path(__file__).resolve().parents[1]
 
 GOOD = """
 [tube.center]
@@ -198,3 +201,32 @@ def test_analyze_a_bag_and_the_demo(tmp_path, capsys) -> None:
     assert main(['demo', '--out', str(tmp_path / 'demo')]) == 0
     report = (tmp_path / 'demo' / 'report' / 'report.md').read_text()
     assert '| collision pairs (< 2 r_p) | 0 |' in report and 'paths.png' in report
+
+
+def test_a_plan_file_is_flown_as_given_and_refused_elsewhere(tmp_path, capsys) -> None:
+    import numpy as np
+
+    from vtube_planning.planning.plan import Plan
+
+    assert main(['plan', 'robotarium_trapezoid', '--out', str(tmp_path)]) == 0
+    plan_file = tmp_path / 'plan_robotarium_trapezoid.npz'
+    # a copy of the scene file is the same scene: its plan is accepted, and embedded as it is (not re-planned)
+    copy = tmp_path / 'copy.toml'
+    copy.write_text((ROOT / 'vtube_planning' / 'scenes' / 'robotarium_trapezoid.toml').read_text(), encoding='utf-8')
+    out = tmp_path / 'sub.py'
+    assert main(['submission', 'build', str(copy), '--plan', str(plan_file), '--out', str(out)]) == 0
+    namespace: dict = {}
+    exec(compile(out.read_text(), 'submission', 'exec'), namespace)
+    slowness = np.asarray(namespace['DATA']['plan']['slowness_spm'])
+    np.testing.assert_allclose(slowness, 1.0 / Plan.load(plan_file).speed_mps, rtol=6e-6)  # six digits
+    capsys.readouterr()
+    # another tube, another swarm: refused with the reason, exit 2, nothing written
+    assert main(['simulate', 'robotarium_curve', '--plan', str(plan_file), '--out', str(tmp_path / 's')]) == 2
+    err = capsys.readouterr().err
+    assert "error: the plan (made for scene 'robotarium_trapezoid') does not fit scene 'robotarium_curve'" in err
+    assert 'a different tube' in err and not (tmp_path / 's').exists()
+    assert main(['simulate', 'robotarium_trapezoid', '--n', '5', '--plan', str(plan_file), '--out', str(tmp_path)]) == 2
+    assert 'other swarm parameters (n_robots)' in capsys.readouterr().err
+    assert main(['robotarium', 'run', 'robotarium_curve', '--plan', str(plan_file), '--out', str(tmp_path)]) == 2
+    assert main(['analyze', str(tmp_path), '--scene', 'robotarium_curve', '--plan', str(plan_file),
+                 '--out', str(tmp_path / 'a')]) == 2

@@ -10,9 +10,16 @@ import argparse
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from robotarium_exp.errors import AnalysisError, ExperimentError, RobotariumError
+from robotarium_exp.errors import RobotariumExpError
+from unicycle_mapping.errors import MappingError
 from vtube_planning.errors import VtubeError
+
+if TYPE_CHECKING:
+    from vtube_planning.geometry.scene import Scene
+    from vtube_planning.params import SwarmParams
+    from vtube_planning.planning.plan import Plan
 
 EXIT_OK = 0
 EXIT_BAD_INPUT = 2
@@ -86,20 +93,32 @@ def plan(name_or_path: str, out: Path, method: str = 'convex', grid_step_m: floa
     return EXIT_OK
 
 
+def _plan_for(scene: Scene, swarm: SwarmParams | None = None, plan_path: Path | None = None) -> Plan:
+    """The plan read from ``plan_path`` (refused unless it was made for this scene and swarm), else a new one."""
+    from vtube_planning.planning.plan import Plan
+    from vtube_planning.planning.planner import plan_convex
+
+    swarm = swarm or scene.swarm
+    if plan_path is None:
+        return plan_convex(scene.tube, swarm, scene.planning, scene=scene.name)
+    loaded = Plan.load(plan_path)
+    loaded.check_matches(scene.tube, swarm, scene.planning, scene=scene.name)
+    return loaded
+
+
 def simulate(name_or_path: str, out: Path, *, planning: bool = True, n_robots: int | None = None, seed: int = 0,
-             acceleration_limits: bool = False, animate: bool = False) -> int:
+             acceleration_limits: bool = False, animate: bool = False, plan_path: Path | None = None) -> int:
     """Fly the scene's swarm through its tube; print the metrics, write the log, figures and (optionally) a GIF."""
     from dataclasses import replace
 
     from vtube_planning import plots
-    from vtube_planning.planning.planner import plan_convex
     from vtube_planning.geometry.scene import load_scene
     from vtube_planning.swarm.simulate import SimConfig
     from vtube_planning.swarm.simulate import simulate as run
 
     scene = load_scene(name_or_path)
     swarm = scene.swarm if n_robots is None else replace(scene.swarm, n_robots=n_robots)
-    plan = plan_convex(scene.tube, swarm, scene.planning, scene=scene.name) if planning else None
+    plan = _plan_for(scene, swarm, plan_path) if planning else None
     mode = 'planned' if planning else 'unplanned'
     config = SimConfig(seed=seed, acceleration_limits=acceleration_limits)
     log = out / f'sim_{scene.name}_{mode}.npz'
@@ -162,19 +181,18 @@ def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: 
 
 
 def robotarium_run(name_or_path: str, out: Path, *, planning: bool = True, barrier: bool = True,
-                   initialization: bool = True, seed: int = 0) -> int:
+                   initialization: bool = True, seed: int = 0, plan_path: Path | None = None) -> int:
     """Run the tube experiment on the bundled Robotarium simulator; print the verdict and metrics, write log and figure."""
     from robotarium_exp.experiment import ExperimentConfig, run_experiment
     from robotarium_exp.plots import experiment_figure
     from robotarium_exp.rps.robotarium import Robotarium
-    from vtube_planning.planning.planner import plan_convex
-    from vtube_planning.plots import save_figure
     from vtube_planning.geometry.scene import load_scene
+    from vtube_planning.plots import save_figure
 
     import numpy as np
 
     scene = load_scene(name_or_path)
-    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name) if planning else None
+    plan = _plan_for(scene, plan_path=plan_path) if planning else None
     mode = 'planned' if planning else 'unplanned'
     log = out / f'experiment_{scene.name}_{mode}.npz'
     result = run_experiment(Robotarium, scene, plan, ExperimentConfig(planning=planning, barrier=barrier),
@@ -200,11 +218,13 @@ def robotarium_run(name_or_path: str, out: Path, *, planning: bool = True, barri
     return EXIT_OK if hard == 0 else 1
 
 
-def submission_build(name_or_path: str, out: Path, *, planning: bool = True) -> int:
-    """Write the single-file submission for a Robotarium scene."""
+def submission_build(name_or_path: str, out: Path, *, planning: bool = True, plan_path: Path | None = None) -> int:
+    """Write the single-file submission for a Robotarium scene (planned here, or from ``plan_path``)."""
     from submission.builder import build, write
+    from vtube_planning.geometry.scene import load_scene
 
-    submission = build(name_or_path, planning=planning)
+    scene = load_scene(name_or_path)
+    submission = build(scene, planning=planning, plan=_plan_for(scene, plan_path=plan_path))
     path = write(submission, out)
     print(f'submission for scene {submission.scene} ({submission.n_robots} robots, '
           f'{"with" if planning else "without"} planning): {path}')
@@ -214,6 +234,7 @@ def submission_build(name_or_path: str, out: Path, *, planning: bool = True) -> 
 
 def submission_check(path: Path, *, seeds: int = 3) -> int:
     """Preflight a submission file; prints the report and returns 0 when it passes, 1 when not."""
+    from robotarium_exp.spec import ROBOTARIUM
     from submission.check import COUNTS, check
 
     report = check(path, seeds=seeds)
@@ -232,7 +253,7 @@ def submission_check(path: Path, *, seeds: int = 3) -> int:
         counts = [run.count(key) for key in COUNTS]
         print(f'  {label:<16} {"yes" if run.summary["completed"] else "no":>5} {counts[0]:>10} {counts[1]:>8} '
               f'{counts[2]:>9} {run.summary["min_center_distance_m"]:>13.3f} '
-              f'{run.summary["iterations"] * 0.033:>13.1f}')
+              f'{run.summary["iterations"] * ROBOTARIUM.time_step_s:>13.1f}')
     print(f'  declare                {report.robots} robots, {report.declare_duration_s} s '
           '(longest run, initialization included, times the verifier\'s 1.5)')
     print(f'  verdict                {"PASS" if report.passed else "FAIL"}')
@@ -245,11 +266,10 @@ def analyze(inputs: list[Path], scene_name: str, out: Path, *, plan_path: Path |
     """Analyse returned data (testbed folder, our logs, ROS bags) in a scene; write metrics, report and figures."""
     from robotarium_exp.analysis import analyse, write_report
     from robotarium_exp.loaders import load_trajectory
-    from vtube_planning.planning.plan import Plan
     from vtube_planning.geometry.scene import load_scene
 
     scene = load_scene(scene_name)
-    plan = Plan.load(plan_path) if plan_path is not None else None
+    plan = _plan_for(scene, plan_path=plan_path) if plan_path is not None else None
     trajectory = load_trajectory(list(inputs), topic_pattern=topic_pattern, frame_pattern=frame_pattern,
                                  topics=topics)
     results = {'data': (trajectory, analyse(trajectory, scene, plan, collision_distance_m=collision_distance_m))}
@@ -273,11 +293,13 @@ def demo(out: Path) -> int:
     import sys
 
     scene = 'robotarium_curve'
+    plan_path = out / 'plan' / f'plan_{scene}.npz'  # planned once, by the first step
     steps = [
         ('plan', lambda: plan(scene, out / 'plan')),
-        ('simulate with planning', lambda: simulate(scene, out / 'simulation')),
+        ('simulate with planning', lambda: simulate(scene, out / 'simulation', plan_path=plan_path)),
         ('simulate without planning', lambda: simulate(scene, out / 'simulation', planning=False)),
-        ('build the submission', lambda: submission_build(scene, out / 'submission' / 'experiment.py')),
+        ('build the submission', lambda: submission_build(scene, out / 'submission' / 'experiment.py',
+                                                          plan_path=plan_path)),
         ('check the submission', lambda: submission_check(out / 'submission' / 'experiment.py', seeds=2)),
     ]
     for title, step in steps:
@@ -296,7 +318,7 @@ def demo(out: Path) -> int:
     if run.returncode != 0:
         print(f'error: the submission failed on the bundled simulator; see {returned / "log.txt"}', file=sys.stderr)
         return 1
-    return analyze([returned], scene, out / 'report', plan_path=out / 'plan' / f'plan_{scene}.npz',
+    return analyze([returned], scene, out / 'report', plan_path=plan_path,
                    compare=out / 'simulation' / f'sim_{scene}_planned.npz')
 
 
@@ -328,6 +350,7 @@ def _parser() -> argparse.ArgumentParser:
     sim.add_argument('--acceleration-limits', action='store_true',
                      help='make every robot obey the acceleration limits (3), (4), not only the plan')
     sim.add_argument('--animate', action='store_true', help='also write an animated GIF')
+    sim.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
     stu = commands.add_parser('study', help="the paper's comparison on scenes A-D with and without planning")
     stu.add_argument('--out', type=Path, required=True, help='folder for study.md, study.json, study.png')
     stu.add_argument('--seeds', type=int, default=5, help='number of seeds (0..n-1)')
@@ -344,12 +367,14 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument('--no-barrier', action='store_true', help='send the swarm commands without the certificate')
     run.add_argument('--no-initialization', action='store_true', help='start at the initial conditions directly')
     run.add_argument('--seed', type=int, default=0, help='seed of the initialization (charger slots, escapes)')
+    run.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
     sub = commands.add_parser('submission', help='build and check the single file for the remote Robotarium')
     sub_commands = sub.add_subparsers(dest='submission_command', required=True, metavar='SUBCOMMAND')
     build_cmd = sub_commands.add_parser('build', help='write the submission file for a Robotarium scene')
     build_cmd.add_argument('scene', help='robotarium_trapezoid, robotarium_curve or a .toml file')
     build_cmd.add_argument('--out', type=Path, required=True, help='the .py file to write')
     build_cmd.add_argument('--no-planning', action='store_true', help='constant speed and r_a (the comparison)')
+    build_cmd.add_argument('--plan', type=Path, default=None, help='embed this plan file (vtube plan) instead of planning')
     check_cmd = sub_commands.add_parser('check', help='preflight a submission on the simulators')
     check_cmd.add_argument('file', type=Path, help='the submission .py file')
     check_cmd.add_argument('--seeds', type=int, default=3, help='runs on the bundled simulator (seeds 0..n-1)')
@@ -377,7 +402,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return plan(args.scene, args.out, args.method, args.grid_step_m)
         if args.command == 'simulate':
             return simulate(args.scene, args.out, planning=not args.no_planning, n_robots=args.n_robots,
-                            seed=args.seed, acceleration_limits=args.acceleration_limits, animate=args.animate)
+                            seed=args.seed, acceleration_limits=args.acceleration_limits, animate=args.animate,
+                            plan_path=args.plan)
         if args.command == 'analyze':
             return analyze(args.inputs, args.scene, args.out, plan_path=args.plan, compare=args.compare,
                            topic_pattern=args.topic_pattern, frame_pattern=args.frame_pattern, topics=args.topics,
@@ -385,18 +411,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == 'demo':
             return demo(args.out)
         if args.command == 'submission' and args.submission_command == 'build':
-            return submission_build(args.scene, args.out, planning=not args.no_planning)
+            return submission_build(args.scene, args.out, planning=not args.no_planning, plan_path=args.plan)
         if args.command == 'submission':
             return submission_check(args.file, seeds=args.seeds)
         if args.command == 'robotarium':
             return robotarium_run(args.scene, args.out, planning=not args.no_planning, barrier=not args.no_barrier,
-                                  initialization=not args.no_initialization, seed=args.seed)
+                                  initialization=not args.no_initialization, seed=args.seed, plan_path=args.plan)
         if args.command == 'study':
             return study(args.out, scenes=args.scenes.split(','), seeds=args.seeds,
                          acceleration_limits=args.acceleration_limits, baselines=args.baselines)
         if args.scene_command == 'list':
             return scene_list()
         return scene_show(args.scene, args.out)
-    except (VtubeError, OSError, RobotariumError, ExperimentError, AnalysisError) as err:
+    except (VtubeError, RobotariumExpError, MappingError, OSError) as err:
         print('error: ' + ' '.join(str(err).split()), file=sys.stderr)
         return EXIT_BAD_INPUT

@@ -1,4 +1,4 @@
-"""The density model: swarm area, measured density, footprint and the two predictive readings of (p7)."""
+"""The density model: swarm area, the measured density, footprint and the two predictive readings of (p7)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from vtube_planning import ArcPath, ArcPiece, ParamsError, VirtualTube, WidthPart, WidthProfile
-from vtube_planning.planning.density import footprint, measured_density, predicted_density, swarm_area
+from vtube_planning.planning.density import footprint, predicted_density
+from vtube_planning.swarm.step import swarm_area, swarm_density
 
 
 def step_tube() -> VirtualTube:
@@ -19,7 +20,7 @@ def test_line_abreast_swarm_has_the_padded_area() -> None:
     tube = step_tube()
     points = np.vstack([np.full(4, 3.0), np.linspace(-1.5, 1.5, 4)])  # four robots side by side at l = 3
     pad = 0.8
-    assert measured_density(tube, points, pad) == pytest.approx(4 / (2 * 2.0 * 2 * pad))
+    assert swarm_density(tube, tube.project(points).l_m, pad) == pytest.approx(4 / (2 * 2.0 * 2 * pad))
     assert swarm_area(tube, 2.0, 5.0, 0.0)[0] == pytest.approx(12.0)
 
 
@@ -27,9 +28,9 @@ def test_measured_density_is_global_n_over_s_and_needs_robots() -> None:
     tube = step_tube()
     points = np.array([[1.0, 4.0, 12.0], [0.0, 1.0, -0.5]])
     area = 2 * 2.0 * (10.0 - 0.5) + tube.width.area(np.array([11.0]))[0] - tube.width.area(np.array([10.0]))[0] + 2.0 * 1.5
-    assert measured_density(tube, points, 0.5) == pytest.approx(3 / area)
-    with pytest.raises(ParamsError, match='at least one robot'):
-        measured_density(tube, np.zeros((2, 0)), 0.5)
+    assert swarm_density(tube, tube.project(points).l_m, 0.5) == pytest.approx(3 / area)
+    with pytest.raises(ValueError, match='at least one robot'):
+        swarm_density(tube, np.zeros(0), 0.5)
 
 
 def test_footprint_holds_n_over_rho_centred_by_area() -> None:

@@ -1,8 +1,10 @@
-"""The swarm's density along a virtual tube (``DESIGN.md``, ``theory.md`` §1.5, §7 A6-A8, §8.3).
+"""The swarm's density along a virtual tube, as the planner models it (``theory.md`` §1.5, §7 A6-A8, §8.3).
 
-The swarm occupies the part of the tube between the projections of its last and its front robot, padded by one
-avoidance radius at both ends so that a line-abreast swarm still has a finite area (resolution A7):
-``S = A(l_front + pad) - A(l_back - pad)`` with the tube's cumulative area A, and ``rho = N / S``.
+The density of a flying swarm is measured by :func:`vtube_planning.swarm.step.swarm_density`, the one definition
+that the controller, the logs and the analysis share: the swarm occupies the part of the tube between the
+projections of its last and its front robot, padded by one avoidance radius at both ends so that a line-abreast
+swarm still has a finite area (resolution A7), ``S = A(l_front + pad) - A(l_back - pad)`` with the tube's
+cumulative area A, and ``rho = N / S``.
 
 For planning, a swarm of density rho centred at l occupies ``[l_e, l_s]`` with
 ``A(l_s) - A(l) = A(l) - A(l_e) = N / (2 rho)``. Advancing it rigidly by ``dl`` (Assumption 3) predicts the density
@@ -20,24 +22,9 @@ from numpy.typing import ArrayLike, NDArray
 from vtube_planning.errors import ParamsError
 from vtube_planning.params import PREDICTIVE_MODELS
 from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.swarm.step import swarm_area
 
 FloatArray = NDArray[np.float64]
-
-
-def swarm_area(tube: VirtualTube, l_back_m: ArrayLike, l_front_m: ArrayLike, pad_m: float) -> FloatArray:
-    """Area (m^2) of the tube between ``l_back - pad`` and ``l_front + pad``, element-wise."""
-    back = np.asarray(l_back_m, dtype=float) - pad_m
-    front = np.asarray(l_front_m, dtype=float) + pad_m
-    return np.asarray(tube.area(np.atleast_1d(front)), dtype=float) - np.asarray(tube.area(np.atleast_1d(back)))
-
-
-def measured_density(tube: VirtualTube, points_m: ArrayLike, pad_m: float) -> float:
-    """Density N / S (robots/m^2) of robots at ``points_m`` (2, N), from their projections (global, A8)."""
-    l_m = tube.project(points_m).l_m
-    if l_m.size == 0:
-        msg = 'measured_density needs at least one robot; got points of shape (2, 0).'
-        raise ParamsError(msg)
-    return float(l_m.size / swarm_area(tube, l_m.min(), l_m.max(), pad_m)[0])
 
 
 def footprint(tube: VirtualTube, l_center_m: ArrayLike, rho_per_m2: ArrayLike, n_robots: int) -> tuple[FloatArray, FloatArray]:

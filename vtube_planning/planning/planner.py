@@ -29,7 +29,8 @@ import cvxpy as cp
 import numpy as np
 from numpy.typing import NDArray
 
-from vtube_planning.planning.density import footprint, swarm_area
+from vtube_planning.planning.density import footprint
+from vtube_planning.swarm.step import swarm_area
 from vtube_planning.errors import PlanError, SolverError
 from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.planning.plan import (
