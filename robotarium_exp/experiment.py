@@ -192,30 +192,26 @@ def run_experiment(robotarium_class: Any, scene: Scene, plan: Plan | None, confi
             'barrier': config.barrier, 'n_robots': n, 'dt_s': dt, 'config': asdict(config), 'swarm': asdict(swarm),
             'control': asdict(scene.control), 'length_m': tube.length_m,
             'initial_conditions': data['initial_conditions']}
-    writer = LogWriter(log_path, meta, flush_every=config.log_every) if log_path is not None else None
-    rows: dict[str, list[FloatArray]] = {}
+    log = LogWriter(log_path, meta, flush_every=config.log_every)
 
     def record(step: int, period: Period) -> None:
         robots = tube.project(period.poses[:2])  # the robots' centres on the exact tube, as the analysis measures
-        row = {'t_s': np.float64(step * dt), 'poses': period.poses, 'points_m': period.points_m,
+        row = {'t_s': np.float64(step * dt), 'positions_m': period.poses[:2], 'headings_rad': period.poses[2],
+               'points_m': period.points_m,
                'si_nominal_mps': period.step.velocity, 'si_safe_mps': period.safe_mps, 'dxu': period.dxu,
                'barrier_correction_mps': period.barrier_correction_mps, 'r_a_m': period.step.r_a_m,
                'l_m': robots.l_m, 'clearance_m': robots.clearance_m,
                'density_per_m2': np.float64(period.step.density_per_m2)}
-        for key, value in row.items():
-            rows.setdefault(key, []).append(np.array(value, copy=True))
-        if writer is not None:
-            writer.append(**row)
+        log.append(**row)
 
     completed, periods = fly(r, flight, dt, config.max_steps, record)
-    arrays = {key: np.stack(values) for key, values in rows.items()}
+    arrays = log.arrays()
     errors = dict(getattr(r, 'errors', None) or getattr(r, '_errors', {}) or {})
-    metrics = swarm_metrics(arrays['t_s'], arrays['poses'][:, :2], arrays['l_m'], arrays['clearance_m'],
+    metrics = swarm_metrics(arrays['t_s'], arrays['positions_m'], arrays['l_m'], arrays['clearance_m'],
                             tube.length_m, swarm)
     metrics['barrier_correction_mean_mps'] = float(arrays['barrier_correction_mps'].mean())
     metrics['barrier_correction_max_mps'] = float(arrays['barrier_correction_mps'].max())
     metrics['barrier_failures'] = barrier.stats.failures if barrier is not None else 0
     metrics['duration_s'] = float(getattr(r, 'iterations', periods) * dt)
-    if writer is not None:
-        writer.flush(metrics=metrics, errors=errors, completed=completed, finished=True)
+    log.flush(metrics=metrics, errors=errors, completed=completed, finished=True)
     return ExperimentResult(arrays=arrays, errors=errors, metrics=metrics, completed=completed, meta=meta)

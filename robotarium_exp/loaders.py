@@ -70,19 +70,13 @@ def load_submission_folder(folder: Path) -> Trajectory:
 
 
 def load_npz_log(path: Path) -> Trajectory:
-    """Our logs: a simulation (positions_m), a Robotarium experiment or the bundled simulator's log (poses)."""
+    """Our logs (:mod:`vtube_planning.swarm.log`): simulations, Robotarium experiments, the bundled simulator's."""
     try:
         arrays, meta = read_log(path)
     except LogError as err:
         raise AnalysisError(str(err)) from err
-    if 'poses' in arrays:
-        positions, headings = arrays['poses'][:, :2], arrays['poses'][:, 2]
-    elif 'positions_m' in arrays:
-        positions, headings = arrays['positions_m'], None
-    else:
-        msg = f'{str(path)!r} is a vtube log without positions (it has {sorted(arrays)}).'
-        raise AnalysisError(msg)
-    return Trajectory(np.asarray(arrays['t_s'], dtype=float), positions, headings,
+    positions = arrays['positions_m']
+    return Trajectory(np.asarray(arrays['t_s'], dtype=float), positions, arrays.get('headings_rad'),
                       tuple(f'robot_{k}' for k in range(positions.shape[2])),
                       {'kind': 'vtube log', 'path': str(path), 'scene': meta.get('scene'),
                        'planned': meta.get('planned')})

@@ -6,6 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.plots import draw_tube
 
 if TYPE_CHECKING:
@@ -27,9 +28,10 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
     fig = Figure(figsize=(9.0, 8.0), layout='constrained')
     ax, ax_ra = fig.subplots(2, 1, height_ratios=[2.2, 1])
     draw_tube(ax, scene.tube, n_sections=8)
-    ax.add_patch(Rectangle((-1.6, -1.0), 3.2, 2.0, fill=False, ec='k', lw=1.2))
+    xmin, xmax, ymin, ymax = ROBOTARIUM.arena_m
+    ax.add_patch(Rectangle((xmin, ymin), xmax - xmin, ymax - ymin, fill=False, ec='k', lw=1.2))
     cmap = colormaps['viridis']
-    poses = arrays['poses']
+    poses = arrays['positions_m']
     for k in range(poses.shape[2]):
         ax.plot(poses[:, 0, k], poses[:, 1, k], color='0.6', lw=0.6)
     for step in np.unique(np.linspace(0, t.size - 1, 7).astype(int)):
@@ -38,8 +40,8 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
             ax.add_patch(Circle(poses[step, :2, k], 0.055, fc=color, ec='k', lw=0.4, zorder=3))
         ax.annotate(f'{t[step]:.0f} s', poses[step, :2].mean(axis=1), xytext=(0, 16), textcoords='offset points',
                     ha='center', fontsize=7, color=color)
-    ax.set_xlim(-1.7, 1.7)
-    ax.set_ylim(-1.1, 1.1)
+    ax.set_xlim(xmin - 0.1, xmax + 0.1)
+    ax.set_ylim(ymin - 0.1, ymax + 0.1)
     e, m = result.errors, result.metrics
     ax.set_title(f'{scene.name}, {"with" if result.meta["planned"] else "without"} planning: '
                  f'{e.get("robots_too_close", 0)} too close, {e.get("robots_outside_boundaries", 0)} outside, '

@@ -54,7 +54,8 @@ def recording(cls: type, log_path: str) -> type:
 
         def get_poses(self) -> Any:
             poses = super().get_poses()
-            self._log.append(t_s=(self.iterations - self.initialization_steps) * self.TIME_STEP, poses=poses)
+            self._log.append(t_s=(self.iterations - self.initialization_steps) * self.TIME_STEP,
+                             positions_m=poses[:2], headings_rad=poses[2])
             return poses
 
         def debug(self) -> Any:

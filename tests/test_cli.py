@@ -168,7 +168,7 @@ def test_robotarium_run_prints_the_testbed_verdict(tmp_path, capsys) -> None:
     text = capsys.readouterr().out
     assert 'would run on the Robotarium' in text and 'too close (pair-steps) 0' in text
     arrays, meta = read_log(tmp_path / 'experiment_robotarium_trapezoid_planned.npz')
-    assert arrays['poses'].shape[1:] == (3, 6) and meta['completed']
+    assert arrays['positions_m'].shape[1:] == (2, 6) and arrays['headings_rad'].shape[1:] == (6,) and meta['completed']
     assert (tmp_path / 'experiment_robotarium_trapezoid_planned.png').read_bytes()[:4] == b'\x89PNG'
 
 

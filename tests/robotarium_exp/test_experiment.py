@@ -64,7 +64,7 @@ def test_full_run_with_initialization_logs_every_step(tmp_path) -> None:
     result = run_experiment(Robotarium, scene, plan, ExperimentConfig(), log_path=log,
                             robotarium_kwargs={'rng': np.random.default_rng(1)})
     arrays, meta = read_log(log)
-    assert arrays['poses'].shape == result.arrays['poses'].shape and meta['finished'] and meta['completed']
+    assert arrays['positions_m'].shape == result.arrays['positions_m'].shape and meta['finished'] and meta['completed']
     assert meta['errors']['robots_too_close'] == 0 and meta['metrics']['duration_s'] > arrays['t_s'][-1]
 
 

@@ -1,8 +1,17 @@
-"""Trajectory logs, written so that a crash loses little (format: :mod:`vtube_planning.npzfile`).
+"""The one trajectory log of vtube, written so that a crash loses little (format: :mod:`vtube_planning.npzfile`).
+
+Simulations (:mod:`vtube_planning.swarm.simulate`), Robotarium experiments (:mod:`robotarium_exp.experiment`) and
+the bundled simulator's pose recording (``python -m robotarium_exp.rps_alias --log``) all write this schema:
+
+* arrays, one row per step: ``t_s`` (T,) and ``positions_m`` (T, 2, N), the robots' centres, always;
+  ``headings_rad`` (T, N) for unicycles; whatever else the writer measured (commands, ``r_a_m``, ``l_m``, ...);
+* metadata: ``format`` (``'vtube-trajectory'``), ``version`` (:data:`LOG_VERSION`), ``kind`` (who wrote it),
+  ``n_robots``, ``dt_s``, and at the end ``finished`` with the run's results.
 
 A :class:`LogWriter` keeps the rows it has been given and rewrites the whole file every ``flush_every`` rows,
-atomically. The log on disk is therefore always a complete, readable ``.npz``: an interrupted run leaves every
-row up to its last flush.
+atomically: the log on disk is always a complete, readable ``.npz``, and an interrupted run leaves every row up
+to its last flush. :func:`read_log` reads this version and the earlier ones (version 1 logs held ``poses``
+(T, 3, N) instead of positions and headings), and names any other version it is given.
 """
 
 from __future__ import annotations
@@ -16,7 +25,10 @@ from numpy.typing import NDArray
 from vtube_planning.errors import LogError
 from vtube_planning.npzfile import read_npz, write_npz
 
-LOG_FORMAT = 'vtube-trajectory-1'
+LOG_FORMAT = 'vtube-trajectory'
+LOG_VERSION = 2
+REQUIRED = ('t_s', 'positions_m')
+_V1_FORMAT = 'vtube-trajectory-1'
 
 
 class LogWriter:
@@ -25,40 +37,63 @@ class LogWriter:
     Parameters
     ----------
     path
-        The log file (``.npz``); its folder is created.
+        The log file (``.npz``); its folder is created. None keeps the rows in memory only (:meth:`arrays`).
     meta
-        JSON-serialisable description of the run, stored with every flush.
+        JSON-serialisable description of the run (``kind`` at least), stored with every flush.
     flush_every
         Steps between rewrites (>= 1).
     """
 
-    def __init__(self, path: str | Path, meta: dict[str, Any], *, flush_every: int = 100) -> None:
-        self.path = Path(path)
-        self.meta = dict(meta, format=LOG_FORMAT)
+    def __init__(self, path: str | Path | None, meta: dict[str, Any], *, flush_every: int = 100) -> None:
+        self.path = Path(path) if path is not None else None
+        self.meta = dict(meta, format=LOG_FORMAT, version=LOG_VERSION)
         self.flush_every = max(1, int(flush_every))
         self._rows: dict[str, list[NDArray[Any]]] = {}
         self._pending = 0
 
     def append(self, **row: NDArray[Any] | float) -> None:
-        """Add one step (every call must give the same keys)."""
+        """Add one step (every call gives the same keys, ``t_s`` and ``positions_m`` among them)."""
+        if not self._rows:
+            missing = [key for key in REQUIRED if key not in row]
+            if missing:
+                msg = f'a vtube trajectory log needs {list(REQUIRED)} in every row; this one lacks {missing}.'
+                raise LogError(msg)
         for key, value in row.items():
-            self._rows.setdefault(key, []).append(np.asarray(value))
+            self._rows.setdefault(key, []).append(np.array(value, copy=True))
         self._pending += 1
         if self._pending >= self.flush_every:
             self.flush()
 
-    def flush(self, **extra_meta: Any) -> Path:
+    def arrays(self) -> dict[str, NDArray[Any]]:
+        """Every row so far, stacked: (T, ...) per key."""
+        return {key: np.stack(values) for key, values in self._rows.items()}
+
+    def flush(self, **extra_meta: Any) -> Path | None:
         """Rewrite the log with every row so far (and extra metadata, e.g. final metrics)."""
         self.meta.update(extra_meta)
-        write_npz(self.path, {key: np.stack(values) for key, values in self._rows.items()}, self.meta)
+        if self.path is not None:
+            write_npz(self.path, self.arrays(), self.meta)
         self._pending = 0
         return self.path
 
 
 def read_log(path: str | Path) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
-    """Arrays and metadata of a log written by :class:`LogWriter`."""
+    """Arrays and metadata of a vtube trajectory log, in the current schema (older versions are upgraded)."""
     arrays, meta = read_npz(path, LogError, 'trajectory log')
-    if meta.get('format') != LOG_FORMAT:
+    if meta.get('format') == _V1_FORMAT:
+        if 'poses' in arrays:
+            poses = arrays.pop('poses')
+            arrays['positions_m'], arrays['headings_rad'] = poses[:, :2], poses[:, 2]
+        meta = dict(meta, format=LOG_FORMAT, version=1)
+    elif meta.get('format') != LOG_FORMAT:
         msg = f'{str(path)!r} is not a vtube trajectory log (format {meta.get("format")!r}, expected {LOG_FORMAT!r}).'
+        raise LogError(msg)
+    elif meta.get('version') != LOG_VERSION:
+        msg = (f'{str(path)!r} is a vtube trajectory log of version {meta.get("version")!r}; this vtube reads '
+               f'versions 1 to {LOG_VERSION}. Read it with the vtube that wrote it, or upgrade vtube.')
+        raise LogError(msg)
+    missing = [key for key in REQUIRED if key not in arrays]
+    if missing:
+        msg = f'{str(path)!r} is a vtube trajectory log without {missing} (it has {sorted(arrays)}).'
         raise LogError(msg)
     return arrays, meta

@@ -200,10 +200,7 @@ def simulate(
     steps = int(math.ceil(limit / config.dt_s))
     description = dict(meta or {}, kind='simulation', planned=plan is not None, n_robots=n, dt_s=config.dt_s,
                        seed=config.seed, swarm=asdict(swarm), control=asdict(control), length_m=tube.length_m)
-    writer = LogWriter(log_path, description, flush_every=config.log_every) if log_path is not None else None
-    rows: dict[str, list[FloatArray]] = {k: [] for k in (
-        't_s', 'positions_m', 'velocities_mps', 'commands_mps', 'r_a_m', 'l_m', 'clearance_m', 'forward_speed_mps',
-        'density_per_m2')}
+    log = LogWriter(log_path, description, flush_every=config.log_every)
     for step in range(steps + 1):
         projection = tube.project(positions)
         if baseline is not None:
@@ -213,21 +210,17 @@ def simulate(
         else:
             result = stepper(positions, config.dt_s, projection)
             commanded, density, r_a, done = result.velocity, result.density_per_m2, result.r_a_m, result.done
-        row = {
-            't_s': np.float64(step * config.dt_s),
-            'positions_m': positions,
-            'velocities_mps': velocity,
-            'commands_mps': commanded,
-            'r_a_m': r_a,
-            'l_m': projection.l_m,
-            'clearance_m': projection.clearance_m,
-            'forward_speed_mps': np.einsum('ij,ij->j', velocity, projection.tangent),
-            'density_per_m2': np.float64(density),
-        }
-        for key, value in row.items():
-            rows[key].append(np.array(value))
-        if writer is not None:
-            writer.append(**row)
+        log.append(
+            t_s=np.float64(step * config.dt_s),
+            positions_m=positions,
+            velocities_mps=velocity,
+            commands_mps=commanded,
+            r_a_m=r_a,
+            l_m=projection.l_m,
+            clearance_m=projection.clearance_m,
+            forward_speed_mps=np.einsum('ij,ij->j', velocity, projection.tangent),
+            density_per_m2=np.float64(density),
+        )
         if done or step == steps:
             break
         if config.acceleration_limits:
@@ -235,13 +228,12 @@ def simulate(
         else:
             velocity = commanded
         positions = positions + config.dt_s * velocity
-    arrays = {key: np.stack(values) for key, values in rows.items()}
+    arrays = log.arrays()
     metrics = swarm_metrics(
         arrays['t_s'], arrays['positions_m'], arrays['l_m'], arrays['clearance_m'], tube.length_m, swarm,
         commands_mps=arrays['commands_mps'], forward_speed_mps=arrays['forward_speed_mps'],
         density_per_m2=arrays['density_per_m2'], plan=plan,
     )
-    if writer is not None:
-        writer.flush(metrics=metrics, finished=True)
+    log.flush(metrics=metrics, finished=True)
     return SimResult(**arrays, metrics=metrics, planned=plan is not None, meta=description)
 
