@@ -482,6 +482,9 @@ def swarm_density(tube: Any, l_m: ArrayLike, pad_m: float) -> float:
     a finite density (A7); one number for the whole swarm (A8).
     """
     l_m = np.asarray(l_m, dtype=float)
+    if l_m.size == 0:
+        msg = 'the swarm density needs at least one robot; got no arc lengths.'
+        raise ValueError(msg)
     return float(l_m.size / swarm_area(tube, l_m.min(), l_m.max(), pad_m)[0])
 
 
