@@ -7,17 +7,16 @@ the frames where every robot has a position; dropped frames and reported gaps ar
 from __future__ import annotations
 
 import json
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from robotarium_exp.trajectory import Trajectory
-from vtube_planning.planning.density import swarm_area
-from vtube_planning.swarm.metrics import swarm_metrics
+from vtube_planning.swarm.metrics import passage_metrics, strict_json
 from vtube_planning.planning.plan import Plan
 from vtube_planning.geometry.scene import Scene
+from vtube_planning.swarm.step import swarm_density
 
 
 def along_tube(trajectory: Trajectory, scene: Scene) -> dict[str, np.ndarray]:
@@ -32,7 +31,7 @@ def along_tube(trajectory: Trajectory, scene: Scene) -> dict[str, np.ndarray]:
     tangent = projection.tangent.reshape(2, steps, n)
     velocity = np.gradient(positions, t, axis=0) if steps > 1 else np.zeros_like(positions)
     forward = np.einsum('tin,itn->tn', velocity, tangent)
-    density = n / np.array([swarm_area(scene.tube, row.min(), row.max(), scene.swarm.r_a_m)[0] for row in l_m])
+    density = np.array([swarm_density(scene.tube, row, scene.swarm.r_a_m) for row in l_m])
     return {'t_s': t, 'positions_m': positions, 'l_m': l_m, 'clearance_m': clearance, 'forward_speed_mps': forward,
             'density_per_m2': density, 'dropped_frames': int((~frames).sum())}
 
@@ -46,19 +45,16 @@ def narrowing_start(scene: Scene) -> float:
 
 def analyse(trajectory: Trajectory, scene: Scene, plan: Plan | None = None, *,
             collision_distance_m: float | None = None) -> dict[str, Any]:
-    """The metrics of :func:`vtube_planning.swarm.metrics.swarm_metrics` plus expansion, data quality and source.
+    """The measures of :func:`vtube_planning.swarm.metrics.passage_metrics` plus expansion, data quality and
+    source, as strict JSON values (no NaN).
 
     ``collision_distance_m`` overrides the scene's 2 r_p as the distance below which two robots collide.
     """
     data = along_tube(trajectory, scene)
-    scene_swarm = replace(scene.swarm, n_robots=trajectory.n_robots)
-    if collision_distance_m is not None:
-        half = 0.5 * collision_distance_m
-        scene_swarm = replace(scene_swarm, r_p_m=half, r_s_m=max(half, scene_swarm.r_s_m),
-                              r_a_m=max(half, scene_swarm.r_a_m))
-    metrics = swarm_metrics(data['t_s'], data['positions_m'], data['l_m'], data['clearance_m'], scene.tube.length_m,
-                            scene_swarm, forward_speed_mps=data['forward_speed_mps'],
-                            density_per_m2=data['density_per_m2'], plan=plan)
+    collision = 2.0 * scene.swarm.r_p_m if collision_distance_m is None else collision_distance_m
+    metrics = passage_metrics(data['t_s'], data['positions_m'], data['l_m'], data['clearance_m'], scene.tube.length_m,
+                              collision_distance_m=collision, forward_speed_mps=data['forward_speed_mps'],
+                              density_per_m2=data['density_per_m2'], plan=plan).to_json()
     start = narrowing_start(scene)
     extent = np.ptp(data['l_m'], axis=1)
     k = int(np.argmax(data['l_m'].max(axis=1) >= start)) if np.any(data['l_m'].max(axis=1) >= start) else -1
@@ -72,7 +68,7 @@ def analyse(trajectory: Trajectory, scene: Scene, plan: Plan | None = None, *,
         'extent_at_narrowing_m': float(extent[k]) if k >= 0 else float('nan'),
         'source': trajectory.source,
     })
-    return metrics
+    return strict_json(metrics)
 
 
 def write_report(out: Path, results: dict[str, tuple[Trajectory, dict[str, Any]]], scene: Scene,
@@ -82,7 +78,7 @@ def write_report(out: Path, results: dict[str, tuple[Trajectory, dict[str, Any]]
     from vtube_planning.plots import save_figure
 
     out.mkdir(parents=True, exist_ok=True)
-    (out / 'metrics.json').write_text(json.dumps({k: m for k, (_, m) in results.items()}, indent=1, default=str),
+    (out / 'metrics.json').write_text(json.dumps({k: m for k, (_, m) in results.items()}, indent=1, allow_nan=False),
                                       encoding='utf-8')
     figures = {name: save_figure(fig, out / f'{name}.png').name
                for name, fig in analysis_figures(results, scene, plan).items()}

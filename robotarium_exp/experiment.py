@@ -28,7 +28,7 @@ from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.swarm.log import LogWriter
-from vtube_planning.swarm.metrics import swarm_metrics
+from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics, strict_json
 from vtube_planning.swarm.simulate import default_constant_speed
 from vtube_planning.swarm.step import parking_slots as slots_beyond
 
@@ -69,11 +69,29 @@ class ExperimentConfig:
 
 @dataclass(frozen=True)
 class ExperimentResult:
-    """What a run produced: per-step arrays, the simulator's validation counts, metrics, parking time."""
+    """What a run produced.
+
+    Attributes
+    ----------
+    arrays
+        The logged rows (the trajectory log's arrays).
+    errors
+        The simulator's validation counts (too close, outside, actuator).
+    metrics
+        The passage's measures, on the robots' centres; collisions closer than 2 r_p.
+    barrier
+        The certificate's correction of the swarm's commands (mean and max, m/s) and its failures.
+    duration_s
+        Simulated time, initialization included: what the testbed counts.
+    completed
+        Every robot parked.
+    """
 
     arrays: dict[str, FloatArray]
     errors: dict[str, int]
-    metrics: dict[str, Any]
+    metrics: PassageMetrics
+    barrier: dict[str, float]
+    duration_s: float
     completed: bool
     meta: dict[str, Any] = field(default_factory=dict)
 
@@ -207,11 +225,13 @@ def run_experiment(robotarium_class: Any, scene: Scene, plan: Plan | None, confi
     completed, periods = fly(r, flight, dt, config.max_steps, record)
     arrays = log.arrays()
     errors = dict(getattr(r, 'errors', None) or getattr(r, '_errors', {}) or {})
-    metrics = swarm_metrics(arrays['t_s'], arrays['positions_m'], arrays['l_m'], arrays['clearance_m'],
-                            tube.length_m, swarm)
-    metrics['barrier_correction_mean_mps'] = float(arrays['barrier_correction_mps'].mean())
-    metrics['barrier_correction_max_mps'] = float(arrays['barrier_correction_mps'].max())
-    metrics['barrier_failures'] = barrier.stats.failures if barrier is not None else 0
-    metrics['duration_s'] = float(getattr(r, 'iterations', periods) * dt)
-    log.flush(metrics=metrics, errors=errors, completed=completed, finished=True)
-    return ExperimentResult(arrays=arrays, errors=errors, metrics=metrics, completed=completed, meta=meta)
+    metrics = passage_metrics(arrays['t_s'], arrays['positions_m'], arrays['l_m'], arrays['clearance_m'],
+                              tube.length_m, collision_distance_m=2.0 * swarm.r_p_m)
+    correction = arrays['barrier_correction_mps']
+    barrier_stats = {'correction_mean_mps': float(correction.mean()), 'correction_max_mps': float(correction.max()),
+                     'failures': barrier.stats.failures if barrier is not None else 0}
+    duration = float(getattr(r, 'iterations', periods) * dt)
+    log.flush(metrics=metrics.to_json(), barrier=barrier_stats, duration_s=duration, errors=strict_json(errors),
+              completed=completed, finished=True)
+    return ExperimentResult(arrays=arrays, errors=errors, metrics=metrics, barrier=barrier_stats, duration_s=duration,
+                            completed=completed, meta=meta)

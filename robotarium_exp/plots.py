@@ -45,7 +45,7 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
     e, m = result.errors, result.metrics
     ax.set_title(f'{scene.name}, {"with" if result.meta["planned"] else "without"} planning: '
                  f'{e.get("robots_too_close", 0)} too close, {e.get("robots_outside_boundaries", 0)} outside, '
-                 f'{e.get("exceeded_actuator_limits", 0)} actuator; min distance {m["min_distance_m"]:.3f} m')
+                 f'{e.get("exceeded_actuator_limits", 0)} actuator; min distance {m.min_distance_m:.3f} m')
     ra = arrays['r_a_m']
     ax_ra.plot(t, ra.mean(axis=1), color='tab:purple', label='mean r_a [m]')
     ax_ra.fill_between(t, ra.min(axis=1), ra.max(axis=1), color='tab:purple', alpha=0.2)

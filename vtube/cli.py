@@ -128,18 +128,18 @@ def simulate(name_or_path: str, out: Path, *, planning: bool = True, n_robots: i
     print(f'simulation of scene {scene.name} {"with" if planning else "without"} planning: N = {swarm.n_robots}, '
           f'seed {seed}, {result.t_s.size} steps of {config.dt_s} s')
     rows = [
-        ('passing time', f'{m["passing_time_s"]:.3f} s' + ('' if m['completed'] else ' (not every robot exited)')),
-        ('minimum distance', f'{m["min_distance_m"]:.4f} m at t = {m["min_distance_time_s"]:.2f} s'),
-        ('collisions', f'{m["collision_pairs"]} pairs closer than 2 r_p = {m["collision_radius_m"]:g} m'),
-        ('tube violations', f'{m["tube_violation_steps"]} robot-steps, {m["robots_outside"]} robots, '
-                            f'up to {m["max_outside_m"]:.3f} m outside'),
-        ('speed violations', f'{m["speed_violations"]} commands outside [v_min, v_max]'),
+        ('passing time', f'{m.passing_time_s:.3f} s' + ('' if m.completed else ' (not every robot exited)')),
+        ('minimum distance', f'{m.min_distance_m:.4f} m at t = {m.min_distance_time_s:.2f} s'),
+        ('collisions', f'{m.collision_pairs} pairs closer than 2 r_p = {m.collision_distance_m:g} m'),
+        ('tube violations', f'{m.tube_violation_steps} robot-steps, {m.robots_outside} robots, '
+                            f'up to {m.max_outside_m:.3f} m outside'),
+        ('speed violations', f'{m.speed_violations} commands outside [v_min, v_max]'),
     ]
-    if 'speed_tracking_mean_mps' in m:
+    if m.speed_tracking_mean_mps is not None:
         rows += [
-            ('speed tracking', f'mean {m["speed_tracking_mean_mps"]:.3f}, max {m["speed_tracking_max_mps"]:.3f} m/s'),
-            ('density tracking', f'mean {m["density_tracking_mean_per_m2"]:.4f}, '
-                                 f'max {m["density_tracking_max_per_m2"]:.4f} /m^2'),
+            ('speed tracking', f'mean {m.speed_tracking_mean_mps:.3f}, max {m.speed_tracking_max_mps:.3f} m/s'),
+            ('density tracking', f'mean {m.density_tracking_mean_per_m2:.4f}, '
+                                 f'max {m.density_tracking_max_per_m2:.4f} /m^2'),
         ]
     for name, value in rows:
         print(f'  {name:<18} {value}')
@@ -163,6 +163,7 @@ def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: 
     from vtube_planning.params import SwarmParams
     from vtube_planning.swarm.simulate import SimConfig
     from vtube_planning.study import BASELINE_MODES, run_study, study_markdown, summarise
+    from vtube_planning.swarm.metrics import strict_json
 
     config = SimConfig(acceleration_limits=acceleration_limits)
     seed_list = list(range(seeds))
@@ -172,7 +173,8 @@ def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: 
     text = study_markdown(summary, seed_list, config)
     out.mkdir(parents=True, exist_ok=True)
     (out / 'study.md').write_text(text, encoding='utf-8')
-    (out / 'study.json').write_text(json.dumps({'rows': rows, 'summary': summary}, indent=1), encoding='utf-8')
+    (out / 'study.json').write_text(json.dumps(strict_json({'rows': rows, 'summary': summary}), indent=1, allow_nan=False),
+                                    encoding='utf-8')
     figure = plots.save_figure(plots.study_figure(summary, 2 * SwarmParams().r_p_m), out / 'study.png')
     print()
     print(text)
@@ -198,7 +200,7 @@ def robotarium_run(name_or_path: str, out: Path, *, planning: bool = True, barri
     result = run_experiment(Robotarium, scene, plan, ExperimentConfig(planning=planning, barrier=barrier),
                             log_path=log, robotarium_kwargs={'skip_initialization': not initialization,
                                                              'rng': np.random.default_rng(seed)})
-    e, m = result.errors, result.metrics
+    e, m, b = result.errors, result.metrics, result.barrier
     hard = e['robots_too_close'] + e['robots_outside_boundaries']
     verdict = 'would run on the Robotarium' if hard == 0 else 'would NOT run on the Robotarium'
     print(f'Robotarium experiment, scene {scene.name}, {"with" if planning else "without"} planning, '
@@ -206,13 +208,13 @@ def robotarium_run(name_or_path: str, out: Path, *, planning: bool = True, barri
     print(f'  too close (pair-steps) {e["robots_too_close"]}')
     print(f'  outside boundaries     {e["robots_outside_boundaries"]}')
     print(f'  actuator-limit steps   {e["exceeded_actuator_limits"]}')
-    print(f'  duration               {m["duration_s"]:.1f} s (initialization included: declare at least '
-          f'{1.5 * m["duration_s"]:.0f} s)')
-    print(f'  passing time           {m["passing_time_s"]:.2f} s; parked: {"yes" if result.completed else "no"}')
-    print(f'  minimum distance       {m["min_distance_m"]:.3f} m between centres')
-    print(f'  tube violations        {m["tube_violation_steps"]} robot-steps')
-    print(f'  barrier correction     mean {m["barrier_correction_mean_mps"]:.4f}, max {m["barrier_correction_max_mps"]:.4f} '
-          f'm/s, failures {m["barrier_failures"]}')
+    print(f'  duration               {result.duration_s:.1f} s (initialization included: declare at least '
+          f'{1.5 * result.duration_s:.0f} s)')
+    print(f'  passing time           {m.passing_time_s:.2f} s; parked: {"yes" if result.completed else "no"}')
+    print(f'  minimum distance       {m.min_distance_m:.3f} m between centres')
+    print(f'  tube violations        {m.tube_violation_steps} robot-steps')
+    print(f'  barrier correction     mean {b["correction_mean_mps"]:.4f}, max {b["correction_max_mps"]:.4f} '
+          f'm/s, failures {b["failures"]}')
     figure = save_figure(experiment_figure(result, scene, plan), out / f'experiment_{scene.name}_{mode}.png')
     print(f'  written                {log}, {figure}')
     return EXIT_OK if hard == 0 else 1
@@ -280,7 +282,8 @@ def analyze(inputs: list[Path], scene_name: str, out: Path, *, plan_path: Path |
     m = results['data'][1]
     print(f'analysis of {trajectory.source.get("kind")} {trajectory.source.get("path")} in scene {scene.name}: '
           f'{trajectory.n_robots} robots, {m["frames"]} frames ({m["dropped_frames"]} dropped, {len(m["gaps"])} gaps)')
-    print(f'  passing time {m["passing_time_s"]:.2f} s, minimum distance {m["min_distance_m"]:.3f} m, '
+    passing = 'not every robot passed' if m['passing_time_s'] is None else f'passing time {m["passing_time_s"]:.2f} s'
+    print(f'  {passing}, minimum distance {m["min_distance_m"]:.3f} m, '
           f'{m["collision_pairs"]} collision pairs, {m["tube_violation_steps"]} tube violations')
     print(f'  written {report}, {out / "metrics.json"}')
     return EXIT_OK

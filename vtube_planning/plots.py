@@ -159,8 +159,8 @@ def snapshots_figure(result: SimResult, tube: VirtualTube, *, title: str = '') -
                     ha='center', fontsize=7, color=color)
     ax.autoscale_view()
     mode = 'with planning' if result.planned else 'without planning'
-    ax.set_title(title or f'swarm {mode}: passing time {result.metrics["passing_time_s"]:.2f} s, '
-                 f'min distance {result.metrics["min_distance_m"]:.3f} m')
+    ax.set_title(title or f'swarm {mode}: passing time {result.metrics.passing_time_s:.2f} s, '
+                 f'min distance {result.metrics.min_distance_m:.3f} m')
     return fig
 
 

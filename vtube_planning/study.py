@@ -43,11 +43,11 @@ def run_study(scenes: Iterable[str], seeds: Iterable[int], *, config: SimConfig 
                 result = simulate(scene.tube, scene.swarm, scene.control, plan=plan if mode == 'planning' else None,
                                   config=replace(config, seed=seed), baseline=law)
                 rows.append({'scene': scene.name, 'mode': mode, 'seed': seed,
-                             **{k: result.metrics[k] for k in COLUMNS}})
+                             **{k: getattr(result.metrics, k) for k in COLUMNS}})
                 if progress is not None:
                     m = result.metrics
-                    progress(f'{scene.name} seed {seed} {mode:<11}: passing {m["passing_time_s"]:.2f} s, '
-                             f'min distance {m["min_distance_m"]:.3f} m, collisions {m["collision_pairs"]}')
+                    progress(f'{scene.name} seed {seed} {mode:<11}: passing {m.passing_time_s:.2f} s, '
+                             f'min distance {m.min_distance_m:.3f} m, collisions {m.collision_pairs}')
     return rows
 
 

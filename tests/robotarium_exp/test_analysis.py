@@ -165,7 +165,7 @@ def test_submission_files_analyse_like_the_simulator_log_of_the_same_run(tmp_pat
         assert from_files[key] == pytest.approx(from_log[key], abs=1e-12)
     assert from_files['collision_pairs'] == 0 and from_files['tube_violation_steps'] == 0
     strict = analyse(load_trajectory([tmp_path]), scene, collision_distance_m=1.0)  # a chosen, larger radius
-    assert strict['collision_radius_m'] == 1.0 and strict['collision_pairs'] > 0
+    assert strict['collision_distance_m'] == 1.0 and strict['collision_pairs'] > 0
 
 
 def test_bad_input_gives_clear_errors(tmp_path) -> None:

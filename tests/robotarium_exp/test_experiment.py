@@ -29,8 +29,8 @@ def test_zero_collisions_boundary_and_actuator_counts(runs) -> None:
     for result in (planned, unplanned):
         assert result.completed
         assert result.errors == {'robots_outside_boundaries': 0, 'robots_too_close': 0, 'exceeded_actuator_limits': 0}
-        assert result.metrics['barrier_failures'] == 0
-        assert result.metrics['barrier_correction_mean_mps'] < 0.05  # small against v_max = 0.12 m/s
+        assert result.barrier['failures'] == 0
+        assert result.barrier['correction_mean_mps'] < 0.05  # small against v_max = 0.12 m/s
 
 
 def test_the_swarm_expands_before_the_narrowing(runs) -> None:
@@ -42,7 +42,7 @@ def test_the_swarm_expands_before_the_narrowing(runs) -> None:
         r_a = result.arrays['r_a_m'][k]
         assert (r_a.mean() >= 1.5 * scene.swarm.r_a_m) == expanded
         assert np.ptp(l[k]) > np.ptp(l[0])  # longer along the tube than at the start
-    assert planned.metrics['passing_time_s'] < unplanned.metrics['passing_time_s']
+    assert planned.metrics.passing_time_s < unplanned.metrics.passing_time_s
 
 
 def test_initial_conditions_are_spread_for_the_testbed() -> None:
@@ -65,7 +65,7 @@ def test_full_run_with_initialization_logs_every_step(tmp_path) -> None:
                             robotarium_kwargs={'rng': np.random.default_rng(1)})
     arrays, meta = read_log(log)
     assert arrays['positions_m'].shape == result.arrays['positions_m'].shape and meta['finished'] and meta['completed']
-    assert meta['errors']['robots_too_close'] == 0 and meta['metrics']['duration_s'] > arrays['t_s'][-1]
+    assert meta['errors']['robots_too_close'] == 0 and meta['duration_s'] > arrays['t_s'][-1]
 
 
 def test_planning_without_a_plan_is_refused() -> None:
@@ -78,5 +78,5 @@ def test_the_experiment_runs_on_the_pypi_robotarium_class() -> None:
     scene = load_scene('robotarium_trapezoid')
     plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
     result = run_experiment(rps_robotarium.Robotarium, scene, plan, ExperimentConfig())
-    assert result.completed and result.metrics['min_distance_m'] > 0.135
+    assert result.completed and result.metrics.min_distance_m > 0.135
     assert not result.errors  # the PyPI simulator records nothing: no robot left the arena or came too close

@@ -19,7 +19,7 @@ from submission.check import check, imported_modules, static_check
 from vtube_planning import SceneError, load_scene
 from vtube_planning.geometry.projection import SampledTube
 from vtube_planning.planning.planner import plan_convex
-from vtube_planning.swarm.metrics import swarm_metrics
+from vtube_planning.swarm.metrics import passage_metrics
 from vtube_planning.swarm.step import PlanProfile, StepParams, SwarmStep
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -87,13 +87,14 @@ def test_the_submission_flies_the_bundled_experiment(tmp_path) -> None:
     assert done.returncode == 0, done.stderr[-2000:]
     poses, t = np.load(work / 'vtube_poses.npy'), np.load(work / 'vtube_t.npy')
     robots = [scene.tube.project(p[:2]) for p in poses]
-    returned = swarm_metrics(t, poses[:, :2], np.array([p.l_m for p in robots]),
-                             np.array([p.clearance_m for p in robots]), scene.tube.length_m, scene.swarm)
+    returned = passage_metrics(t, poses[:, :2], np.array([p.l_m for p in robots]),
+                               np.array([p.clearance_m for p in robots]), scene.tube.length_m,
+                               collision_distance_m=2 * scene.swarm.r_p_m)
     mine = experiment.metrics
-    assert returned['passing_time_s'] == pytest.approx(mine['passing_time_s'], rel=0.01)
-    assert returned['min_distance_m'] == pytest.approx(mine['min_distance_m'], abs=0.005)
-    assert returned['tube_violation_steps'] == pytest.approx(mine['tube_violation_steps'], rel=0.05)
-    assert mine['tube_violation_steps'] > 0  # the practical law leaves the tube here: the variant really flew
+    assert returned.passing_time_s == pytest.approx(mine.passing_time_s, rel=0.01)
+    assert returned.min_distance_m == pytest.approx(mine.min_distance_m, abs=0.005)
+    assert returned.tube_violation_steps == pytest.approx(mine.tube_violation_steps, rel=0.05)
+    assert mine.tube_violation_steps > 0  # the practical law leaves the tube here: the variant really flew
     np.testing.assert_allclose(poses[:, :2], experiment.arrays['positions_m'], atol=1e-9)  # in fact, the same trajectory
 
 

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import json
+import math
+
 from dataclasses import replace
 
 import numpy as np
@@ -9,7 +12,7 @@ import pytest
 
 from vtube_planning import ParamsError, PlanError, SwarmParams, load_scene
 from vtube_planning.swarm import simulate as simulate_module
-from vtube_planning.swarm.metrics import swarm_metrics
+from vtube_planning.swarm.metrics import passage_metrics
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.swarm.log import read_log
 from vtube_planning.swarm.simulate import SimConfig, default_constant_speed, simulate
@@ -42,7 +45,7 @@ def test_every_command_respects_the_speed_band(scene_a, planned: bool, limits: b
                       config=replace(SHORT, acceleration_limits=limits))
     speed = np.hypot(result.commands_mps[:, 0], result.commands_mps[:, 1])
     assert speed.min() >= scene.swarm.v_min_mps - 1e-9 and speed.max() <= scene.swarm.v_max_mps + 1e-9
-    assert result.metrics['speed_violations'] == 0
+    assert result.metrics.speed_violations == 0
     if not planned:
         assert np.all(result.r_a_m == scene.swarm.r_a_m)  # constant without planning
 
@@ -84,11 +87,10 @@ def test_interrupted_run_leaves_a_readable_log(scene_a, tmp_path, monkeypatch) -
     done = simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=SHORT, log_path=log)
     arrays, meta = read_log(log)
     np.testing.assert_array_equal(arrays['positions_m'], done.positions_m)
-    assert meta['finished'] and meta['metrics']['min_distance_m'] == done.metrics['min_distance_m']
+    assert meta['finished'] and meta['metrics']['min_distance_m'] == done.metrics.min_distance_m
 
 
 def test_metrics_of_a_constructed_passage() -> None:
-    swarm = SwarmParams(n_robots=2, r_p_m=0.3)
     t = np.arange(0.0, 11.0)
     # two robots along a 10 m tube at 2 m/s, the second 1 m behind, 0.5 m apart laterally from t = 4 to 6
     l = np.stack([2.0 * t - 1.0, 2.0 * t - 2.0], axis=1)
@@ -99,11 +101,26 @@ def test_metrics_of_a_constructed_passage() -> None:
     clearance = 1.0 - np.abs(y)
     clearance[3, 0] = -0.2  # robot 0 pokes out once, inside the span (l = 5 m)
     clearance[8, 0] = -0.5  # and once past the exit (l = 15 m), which does not count
-    m = swarm_metrics(t, positions, l, clearance, 10.0, swarm)
-    assert m['completed'] and m['passing_time_s'] == pytest.approx(6.0 - 1.0)  # enters at t=1 (l=1), last exits t=6
-    assert m['min_distance_m'] == pytest.approx(0.5) and m['min_distance_time_s'] == 4.0
-    assert m['collision_pairs'] == 1 and m['collision_steps'] == 3
-    assert m['tube_violation_steps'] == 1 and m['robots_outside'] == 1 and m['max_outside_m'] == pytest.approx(0.2)
+    m = passage_metrics(t, positions, l, clearance, 10.0, collision_distance_m=0.6)
+    assert m.completed and m.passing_time_s == pytest.approx(6.0 - 1.0)  # enters at t=1 (l=1), last exits t=6
+    assert m.min_distance_m == pytest.approx(0.5) and m.min_distance_time_s == 4.0
+    assert m.collision_pairs == 1 and m.collision_steps == 3
+    assert m.tube_violation_steps == 1 and m.robots_outside == 1 and m.max_outside_m == pytest.approx(0.2)
+    assert passage_metrics(t, positions, l, clearance, 10.0, collision_distance_m=0.4).collision_pairs == 0
+    commands = np.stack([np.full((11, 2), 2.0), np.zeros((11, 2))], axis=1)  # speed 2 m/s
+    assert passage_metrics(t, positions, l, clearance, 10.0, collision_distance_m=0.6, speed_band_mps=(2.5, 5.0),
+                           commands_mps=commands).speed_violations == 22
+    assert m.speed_violations is None and m.speed_tracking_mean_mps is None
+
+
+def test_metrics_json_is_strict() -> None:
+    t = np.arange(0.0, 4.0)
+    l = np.stack([t, t - 0.5], axis=1)  # a 10 m tube that nobody leaves: no passing time
+    positions = np.stack([l, np.zeros_like(l)], axis=1)
+    m = passage_metrics(t, positions, l, np.ones_like(l), 10.0, collision_distance_m=0.6)
+    assert math.isnan(m.passing_time_s) and not m.completed
+    text = json.dumps(m.to_json(), allow_nan=False)  # would raise on NaN
+    assert json.loads(text)['passing_time_s'] is None and json.loads(text)['min_distance_m'] == 0.5
 
 
 def test_bad_simulation_input_is_refused(scene_a) -> None:
@@ -149,4 +166,4 @@ def test_planned_swarm_expands_before_the_narrowing(scene_a) -> None:
     before = (center > 5.0) & (center < 20.0)
     assert result.r_a_m[before].mean() > 1.2 * scene.swarm.r_a_m  # (a3) grew r_a
     assert result.density_per_m2[before].min() < plan.density(10.0) * 1.05  # density reached the plan
-    assert result.metrics['density_tracking_mean_per_m2'] < 0.15
+    assert result.metrics.density_tracking_mean_per_m2 < 0.15

@@ -1,18 +1,21 @@
 """Metrics of a swarm passing through a tube, from any trajectory (simulated, testbed or motion capture).
 
 Inputs are arrays over time steps and robots: time stamps (T,), positions (T, 2, N), and what the tube says of
-them (arc length and clearance, (T, N)). Everything returned is a plain float, int or bool, ready for JSON.
+them (arc length and clearance, (T, N)). The result is a frozen :class:`PassageMetrics`; ``to_json()`` gives strict
+JSON (no NaN, no Infinity). The collision distance and the speed band are given explicitly, so that recorded data
+can be measured with the testbed's numbers rather than the swarm model's.
 """
 
 from __future__ import annotations
 
+import math
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from vtube_planning.params import SwarmParams
 from vtube_planning.planning.plan import Plan
 
 FloatArray = NDArray[np.float64]
@@ -48,80 +51,142 @@ def crossing_times(t_s: FloatArray, l_m: FloatArray, at_m: float) -> FloatArray:
     return np.where(reached.any(axis=0), t_s[first], np.nan)
 
 
-def swarm_metrics(
+@dataclass(frozen=True)
+class PassageMetrics:
+    """The paper's measures of a passage through a tube, and tracking errors against a plan.
+
+    Attributes
+    ----------
+    passing_time_s
+        First robot enters (l = 0) to last robot exits (l = L); NaN if some robot never exits.
+    completed
+        Every robot exited.
+    first_entry_s, last_exit_s
+        When the first robot entered and the last one exited (NaN when it did not happen).
+    min_distance_m, min_distance_time_s
+        The smallest distance between two robots, and when.
+    collision_distance_m
+        Robots closer than this collide (2 r_p in the paper).
+    collision_pairs, collision_steps
+        Distinct pairs that ever collided; steps with at least one collision.
+    tube_violation_steps, robots_outside, max_outside_m
+        Robot-steps outside the tube while 0 <= l <= L; robots that ever were; how far out at most.
+    speed_violations
+        Commands whose speed left the speed band (None when no commands or band were given).
+    speed_tracking_mean_mps, speed_tracking_max_mps, density_tracking_mean_per_m2, density_tracking_max_per_m2
+        |mean forward speed - v*(l_c)| and |density - rho*(l_c)| at the swarm centre's arc length l_c, over the
+        steps with the centre inside the tube (None without a plan).
+    """
+
+    passing_time_s: float
+    completed: bool
+    first_entry_s: float
+    last_exit_s: float
+    min_distance_m: float
+    min_distance_time_s: float
+    collision_distance_m: float
+    collision_pairs: int
+    collision_steps: int
+    tube_violation_steps: int
+    robots_outside: int
+    max_outside_m: float
+    speed_violations: int | None = None
+    speed_tracking_mean_mps: float | None = None
+    speed_tracking_max_mps: float | None = None
+    density_tracking_mean_per_m2: float | None = None
+    density_tracking_max_per_m2: float | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        """The measures as strict JSON values: NaN and infinities become None."""
+        return strict_json(asdict(self))
+
+
+def strict_json(value: Any) -> Any:
+    """``value`` with numpy scalars as Python numbers and NaN or infinite floats as None, recursively."""
+    if isinstance(value, dict):
+        return {str(k): strict_json(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [strict_json(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return strict_json(value.tolist())
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        return float(value) if math.isfinite(value) else None
+    return value
+
+
+def passage_metrics(
     t_s: FloatArray,
     positions_m: FloatArray,
     l_m: FloatArray,
     clearance_m: FloatArray,
     length_m: float,
-    swarm: SwarmParams,
     *,
+    collision_distance_m: float,
+    speed_band_mps: tuple[float, float] | None = None,
     commands_mps: FloatArray | None = None,
     forward_speed_mps: FloatArray | None = None,
     density_per_m2: FloatArray | None = None,
     plan: Plan | None = None,
-) -> dict[str, Any]:
-    """The paper's measures of a passage, and tracking errors against a plan when one is given.
+) -> PassageMetrics:
+    """The measures of a passage (see :class:`PassageMetrics`).
 
     Parameters
     ----------
     t_s, positions_m, l_m, clearance_m
         Time (T,), positions (T, 2, N), arc lengths and clearances lambda - |y| (T, N).
-    commands_mps
-        Commanded velocities (T, 2, N): their speeds are checked against [v_min, v_max].
-    forward_speed_mps, density_per_m2
-        Each robot's speed along the tube (T, N) and the measured density (T,), for tracking errors.
-    plan
-        The plan tracked (speed and density along the swarm centre's arc length).
-
-    Returns
-    -------
-    dict
-        ``passing_time_s`` (first robot enters to last robot exits; NaN if some robot never exits),
-        ``completed``, ``min_distance_m`` and ``min_distance_time_s``, ``collision_pairs`` (distinct pairs closer
-        than 2 r_p) and ``collision_steps``, ``tube_violation_steps`` (robot-steps outside the tube while
-        0 <= l <= L), ``robots_outside``, ``max_outside_m``, ``speed_violations`` and, with a plan, the mean and
-        largest speed and density tracking errors over the steps with the swarm's centre inside the tube.
+    length_m
+        The tube's length L.
+    collision_distance_m
+        Centre distance below which two robots collide.
+    speed_band_mps, commands_mps
+        [v_min, v_max] and the commanded velocities (T, 2, N): their speeds are checked against the band.
+    forward_speed_mps, density_per_m2, plan
+        Each robot's speed along the tube (T, N), the measured density (T,) and the plan they track.
     """
     entry = crossing_times(t_s, l_m, 0.0)
     exits = crossing_times(t_s, l_m, length_m)
     completed = bool(np.all(np.isfinite(exits)))
-    passing = float(np.nanmax(exits) - np.nanmin(entry)) if completed and np.isfinite(entry).any() else float('nan')
+    entered = bool(np.isfinite(entry).any())
     min_dist = min_distance_over_time(positions_m)
     k_min = int(np.argmin(min_dist))
-    collision_radius = 2.0 * swarm.r_p_m
-    pairs = close_pairs(positions_m, collision_radius) if positions_m.shape[2] > 1 else set()
+    pairs = close_pairs(positions_m, collision_distance_m) if positions_m.shape[2] > 1 else set()
     in_span = (l_m >= 0.0) & (l_m <= length_m)
     outside = in_span & (clearance_m < 0.0)
-    metrics: dict[str, Any] = {
-        'passing_time_s': passing,
-        'completed': completed,
-        'first_entry_s': float(np.nanmin(entry)) if np.isfinite(entry).any() else float('nan'),
-        'last_exit_s': float(np.nanmax(exits)) if completed else float('nan'),
-        'min_distance_m': float(min_dist[k_min]),
-        'min_distance_time_s': float(t_s[k_min]),
-        'collision_radius_m': collision_radius,
-        'collision_pairs': len(pairs),
-        'collision_steps': int(np.sum(min_dist < collision_radius)),
-        'tube_violation_steps': int(outside.sum()),
-        'robots_outside': int(outside.any(axis=0).sum()),
-        'max_outside_m': float(max(0.0, -clearance_m[in_span].min())) if in_span.any() else 0.0,
-    }
-    if commands_mps is not None:
+    speed_violations = None
+    if commands_mps is not None and speed_band_mps is not None:
         speed = np.hypot(commands_mps[:, 0], commands_mps[:, 1])
-        low = speed < swarm.v_min_mps - SPEED_TOLERANCE
-        high = speed > swarm.v_max_mps + SPEED_TOLERANCE
-        metrics['speed_violations'] = int(np.sum(low | high))
+        low, high = speed_band_mps
+        speed_violations = int(np.sum((speed < low - SPEED_TOLERANCE) | (speed > high + SPEED_TOLERANCE)))
+    tracking: dict[str, float] = {}
     if plan is not None and forward_speed_mps is not None and density_per_m2 is not None:
         center = l_m.mean(axis=1)
         inside = (center >= 0.0) & (center <= length_m)
         if inside.any():
             speed_err = np.abs(forward_speed_mps.mean(axis=1) - plan.speed(center))[inside]
             density_err = np.abs(density_per_m2 - plan.density(center))[inside]
-            metrics.update({
+            tracking = {
                 'speed_tracking_mean_mps': float(speed_err.mean()),
                 'speed_tracking_max_mps': float(speed_err.max()),
                 'density_tracking_mean_per_m2': float(density_err.mean()),
                 'density_tracking_max_per_m2': float(density_err.max()),
-            })
-    return metrics
+            }
+    return PassageMetrics(
+        passing_time_s=float(np.nanmax(exits) - np.nanmin(entry)) if completed and entered else math.nan,
+        completed=completed,
+        first_entry_s=float(np.nanmin(entry)) if entered else math.nan,
+        last_exit_s=float(np.nanmax(exits)) if completed else math.nan,
+        min_distance_m=float(min_dist[k_min]),
+        min_distance_time_s=float(t_s[k_min]),
+        collision_distance_m=float(collision_distance_m),
+        collision_pairs=len(pairs),
+        collision_steps=int(np.sum(min_dist < collision_distance_m)),
+        tube_violation_steps=int(outside.sum()),
+        robots_outside=int(outside.any(axis=0).sum()),
+        max_outside_m=float(max(0.0, -clearance_m[in_span].min())) if in_span.any() else 0.0,
+        speed_violations=speed_violations,
+        **tracking,
+    )

@@ -35,7 +35,7 @@ from vtube_planning.params import SwarmParams
 from vtube_planning.planning.plan import Plan
 from vtube_planning.swarm.control import ControlParams
 from vtube_planning.swarm.log import LogWriter
-from vtube_planning.swarm.metrics import swarm_metrics
+from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics
 from vtube_planning.swarm.step import SwarmStep, swarm_density
 
 FloatArray = NDArray[np.float64]
@@ -98,7 +98,7 @@ class SimResult:
     clearance_m: FloatArray
     forward_speed_mps: FloatArray
     density_per_m2: FloatArray
-    metrics: dict[str, Any]
+    metrics: PassageMetrics
     planned: bool
     meta: dict[str, Any] = field(default_factory=dict)
 
@@ -229,11 +229,12 @@ def simulate(
             velocity = commanded
         positions = positions + config.dt_s * velocity
     arrays = log.arrays()
-    metrics = swarm_metrics(
-        arrays['t_s'], arrays['positions_m'], arrays['l_m'], arrays['clearance_m'], tube.length_m, swarm,
+    metrics = passage_metrics(
+        arrays['t_s'], arrays['positions_m'], arrays['l_m'], arrays['clearance_m'], tube.length_m,
+        collision_distance_m=2.0 * swarm.r_p_m, speed_band_mps=(swarm.v_min_mps, swarm.v_max_mps),
         commands_mps=arrays['commands_mps'], forward_speed_mps=arrays['forward_speed_mps'],
         density_per_m2=arrays['density_per_m2'], plan=plan,
     )
-    log.flush(metrics=metrics, finished=True)
+    log.flush(metrics=metrics.to_json(), finished=True)
     return SimResult(**arrays, metrics=metrics, planned=plan is not None, meta=description)
 
