@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks._timing import timed
-from robotarium_exp.loaders import load_trajectory
+from robotarium_exp.analysis.loaders import load_trajectory
 
 
 def write_bag(path: Path, bodies: int, rate: float, seconds: float) -> int:

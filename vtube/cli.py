@@ -266,8 +266,8 @@ def analyze(inputs: list[Path], scene_name: str, out: Path, *, plan_path: Path |
             compare: Path | None = None, topic_pattern: str | None = None, frame_pattern: str | None = None,
             topics: list[str] | None = None, collision_distance_m: float | None = None) -> int:
     """Analyse returned data (testbed folder, our logs, ROS bags) in a scene; write metrics, report and figures."""
-    from robotarium_exp.analysis import analyse, write_report
-    from robotarium_exp.loaders import load_trajectory
+    from robotarium_exp.analysis.report import analyse, write_report
+    from robotarium_exp.analysis.loaders import load_trajectory
     from vtube_planning.geometry.scene import load_scene
 
     scene = load_scene(scene_name)

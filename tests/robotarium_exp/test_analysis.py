@@ -14,9 +14,9 @@ from rosbags.rosbag2 import StoragePlugin
 from rosbags.rosbag2 import Writer as Writer2
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
-from robotarium_exp.analysis import analyse
+from robotarium_exp.analysis.report import analyse
 from robotarium_exp.errors import AnalysisError
-from robotarium_exp.loaders import load_trajectory
+from robotarium_exp.analysis.loaders import load_trajectory
 from vtube_planning import load_scene
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -140,7 +140,7 @@ def test_frame_pattern_selects_robots_on_tf(tmp_path) -> None:
 
 
 def test_gaps_are_reported_not_interpolated() -> None:
-    from robotarium_exp.trajectory import on_common_stamps
+    from robotarium_exp.analysis.trajectory import on_common_stamps
 
     t = np.arange(100) * 0.01
     keep = (t < 0.3) | (t > 0.5)

@@ -1,8 +1,8 @@
-"""Load a :class:`~robotarium_exp.trajectory.Trajectory` from whatever an experiment returned.
+"""Load a :class:`~robotarium_exp.analysis.trajectory.Trajectory` from whatever an experiment returned.
 
 * a folder as downloaded from the Robotarium: the submission's ``vtube_t.npy`` and ``vtube_poses.npy``;
 * our own ``.npz`` logs (``vtube simulate``, ``vtube robotarium run``, the bundled simulator's pose log);
-* ROS1 ``.bag`` files and ROS2 bag folders (:mod:`robotarium_exp.bags`).
+* ROS1 ``.bag`` files and ROS2 bag folders (:mod:`robotarium_exp.analysis.bags`).
 
 Arrays load without pickle. A truncated or corrupt file is reported by name, with what else could be read.
 """
@@ -14,9 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from robotarium_exp.bags import read_bag
+from robotarium_exp.analysis.bags import read_bag
 from robotarium_exp.errors import AnalysisError
-from robotarium_exp.trajectory import Trajectory
+from robotarium_exp.analysis.trajectory import Trajectory
 from vtube_planning.errors import LogError
 from vtube_planning.swarm.log import read_log
 

@@ -1,6 +1,6 @@
 """Metrics and reports of a trajectory in a scene: the paper's measures, tracking against a plan, expansion.
 
-Works on any :class:`~robotarium_exp.trajectory.Trajectory` (testbed files, our logs, motion-capture bags), on
+Works on any :class:`~robotarium_exp.analysis.trajectory.Trajectory` (testbed files, our logs, motion-capture bags), on
 the frames where every robot has a position; dropped frames and reported gaps are part of the result.
 """
 
@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from robotarium_exp.trajectory import Trajectory
+from robotarium_exp.analysis.trajectory import Trajectory
 from vtube_planning.swarm.metrics import passage_metrics, strict_json
 from vtube_planning.planning.plan import Plan
 from vtube_planning.geometry.scene import Scene
@@ -74,7 +74,7 @@ def analyse(trajectory: Trajectory, scene: Scene, plan: Plan | None = None, *,
 def write_report(out: Path, results: dict[str, tuple[Trajectory, dict[str, Any]]], scene: Scene,
                  plan: Plan | None) -> Path:
     """metrics.json, report.md and the figures for one or more analysed trajectories (label -> result)."""
-    from robotarium_exp.plots import analysis_figures
+    from robotarium_exp.analysis.plots import analysis_figures
     from vtube_planning.plots import save_figure
 
     out.mkdir(parents=True, exist_ok=True)

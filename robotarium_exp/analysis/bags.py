@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from robotarium_exp.errors import AnalysisError
-from robotarium_exp.trajectory import Trajectory, on_common_stamps
+from robotarium_exp.analysis.trajectory import Trajectory, on_common_stamps
 
 POSE_STAMPED = 'geometry_msgs/msg/PoseStamped'
 ODOMETRY = 'nav_msgs/msg/Odometry'
