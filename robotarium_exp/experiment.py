@@ -104,7 +104,7 @@ def initial_conditions(scene: Scene) -> FloatArray:
     """
     tube, n = scene.tube, scene.swarm.n_robots
     lam0 = float(tube.half_width(0.0))
-    cols = max(1, int(math.floor(2 * (lam0 - 0.1) / ROBOTARIUM.ic_spacing_m)) + 1)
+    cols = max(1, math.floor(2 * (lam0 - 0.1) / ROBOTARIUM.ic_spacing_m) + 1)
     l_first = _first_inside_box(scene)
     for spacing in ROBOTARIUM.ic_spacing_m * (1.0 + 0.02 * np.arange(50)):
         poses = []

@@ -38,15 +38,15 @@ def install(*, classic: bool = False, seed: int | None = None, log_path: str | N
         cls = recording(cls, log_path)
     module = types.ModuleType('rps.robotarium', original.__doc__)
     module.__dict__.update({k: v for k, v in vars(original).items() if not k.startswith('__')})
-    module.Robotarium = cls
+    module.__dict__['Robotarium'] = cls
     sys.modules['rps.robotarium'] = module
-    sys.modules['rps'].robotarium = module
+    vars(sys.modules['rps'])['robotarium'] = module
 
 
 def recording(cls: type, log_path: str) -> type:
     """``cls`` that also writes every pose it hands out to a vtube trajectory log (completed at the script's end)."""
 
-    class Recording(cls):  # type: ignore[misc,valid-type]
+    class Recording(cls):  # a subclass of the class chosen at run time
         def __init__(self, *args: Any, **kwargs: Any) -> None:
             super().__init__(*args, **kwargs)
             self._log = LogWriter(log_path, {'kind': 'bundled robotarium', 'n_robots': self.number_of_robots,

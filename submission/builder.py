@@ -111,8 +111,8 @@ def _header(scene: Scene, plan: Any, planning: bool) -> str:
     return '\n'.join([
         '"""vtube: a speed- and density-planned robot swarm through a virtual tube, for the Robotarium.',
         '',
-        f'Scene {scene.name!r}: {scene.title}. {scene.swarm.n_robots} robots, '
-        f'{"with" if planning else "without"} speed and density planning.',
+        (f'Scene {scene.name!r}: {scene.title}. {scene.swarm.n_robots} robots, '
+         f'{"with" if planning else "without"} speed and density planning.'),
         '',
         'Declare on the web form: the robot count above, and the duration that `vtube submission check` reports.',
         f'Plan: convex slowness method, {plan.l_m.size} grid points, traversal time {plan.time_s:.2f} s; certificate:',
@@ -147,7 +147,7 @@ def _module_body(module_name: str) -> str:
     source = inspect.getsource(importlib.import_module(module_name))
     lines = source.splitlines()
     tree = ast.parse(source)
-    drop = set()
+    drop: set[int] = set()
     for k, node in enumerate(tree.body):
         docstring = k == 0 and isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant)
         ours = isinstance(node, ast.ImportFrom) and (node.module == '__future__' or (node.module or '').split('.')[0]

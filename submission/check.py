@@ -85,7 +85,7 @@ def server_libraries() -> set[str]:
 
 def imported_modules(source: str) -> set[str]:
     """Top-level names of every module the source imports (anywhere in it)."""
-    found = set()
+    found: set[str] = set()
     for node in ast.walk(ast.parse(source, feature_version=(3, 10))):
         if isinstance(node, ast.Import):
             found.update(alias.name.split('.')[0] for alias in node.names)

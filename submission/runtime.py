@@ -99,7 +99,7 @@ def run(data: dict, robotarium_module: Any, *, max_steps: int | None = None) -> 
     iterations = getattr(r, 'iterations', None) or getattr(r, '_iteration', None) or getattr(r, '_iterations', 0)
     errors = dict(getattr(r, 'errors', None) or getattr(r, '_errors', None) or {})
     summary = {'vtube_summary': 1, 'scene': data['scene'], 'planned': data['planned'], 'robots': n, 'dt_s': dt,
-               'steps': steps, 'completed': completed, 'iterations': int(iterations),
+               'steps': steps, 'completed': completed, 'iterations': int(iterations or 0),
                'min_center_distance_m': round(closest[0], 4),
                'barrier_correction_max_mps': round(float(np.max(log['barrier_correction'])), 4),
                'errors': {k: v for k, v in errors.items() if isinstance(v, int)}}

@@ -388,10 +388,10 @@ def barrier_gain(x: ArrayLike, offset: float, d1: float, d2: ArrayLike, k: float
     ``offset`` is 2 r_s between robots (d1 = 2 r_s) and r_s at the wall (d1 = r_s). Non-negative; huge (about
     k / (eps x^2)) inside the safety distance, zero beyond d2.
     """
-    x = np.maximum(np.asarray(x, dtype=float), 1e-9)
-    s_val, s_slope = smooth_saturation(x / offset, BARRIER_EPS)
-    den = (1.0 + BARRIER_EPS) * x - offset * s_val
-    sig, sig_slope = sigma(x, d1, d2)
+    xs = np.maximum(np.asarray(x, dtype=float), 1e-9)
+    s_val, s_slope = smooth_saturation(xs / offset, BARRIER_EPS)
+    den = (1.0 + BARRIER_EPS) * xs - offset * s_val
+    sig, sig_slope = sigma(xs, d1, d2)
     dv = k * (sig_slope / den - sig * ((1.0 + BARRIER_EPS) - s_slope) / den**2)
     return np.maximum(-dv, 0.0)
 
@@ -634,10 +634,13 @@ class SwarmStep:
 
     def __init__(self, tube: Any, params: StepParams, n_robots: int, *, plan: PlanProfile | None = None,
                  constant_speed_mps: float | None = None, parking_slots: FloatArray | None = None) -> None:
+        if plan is None and constant_speed_mps is None:
+            msg = 'a swarm step without a plan needs constant_speed_mps, the forward speed to fly.'
+            raise ValueError(msg)
         self.tube = tube
         self.params = params
         self.plan = plan
-        self.constant_speed_mps = constant_speed_mps
+        self.constant_speed_mps = float(constant_speed_mps) if constant_speed_mps is not None else math.nan
         self.slots = parking_slots
         self.r_a = np.full(n_robots, float(params.r_a_m))
         self.slot_of = np.full(n_robots, -1)
@@ -659,7 +662,7 @@ class SwarmStep:
         if self.plan is not None:
             forward_speed = self.plan.speed(l_m)
         else:
-            forward_speed = np.full(l_m.size, float(self.constant_speed_mps))
+            forward_speed = np.full(l_m.size, self.constant_speed_mps)
         r_a = self.r_a
         command = velocity_command(points, r_a, forward_speed, projection, p)
         velocity = command.velocity
@@ -667,15 +670,14 @@ class SwarmStep:
         if self.slots is None:
             parked, done = np.zeros(l_m.size, dtype=bool), bool(exited.all())
         else:
-            velocity, parked, done = self._park(points, exited, velocity)
+            velocity, parked, done = self._park(self.slots, points, exited, velocity)
         if self.plan is not None:
             self.r_a = next_radius(r_a, density, self.plan.density(l_m), p, dt_s)
         return StepResult(velocity, command, projection, forward_speed, density, r_a, parked, done)
 
-    def _park(self, points: FloatArray, exited: NDArray[np.bool_],
+    def _park(self, slots: FloatArray, points: FloatArray, exited: NDArray[np.bool_],
               velocity: FloatArray) -> tuple[FloatArray, NDArray[np.bool_], bool]:
         """Robots past the exit take the next free slot and drive to it at up to v_max."""
-        slots = self.slots
         for k in np.flatnonzero(exited & (self.slot_of < 0)):
             self.slot_of[k] = int((self.slot_of >= 0).sum())
         parked = self.slot_of >= 0
@@ -936,7 +938,7 @@ def run(data: dict, robotarium_module: Any, *, max_steps: int | None = None) -> 
     iterations = getattr(r, 'iterations', None) or getattr(r, '_iteration', None) or getattr(r, '_iterations', 0)
     errors = dict(getattr(r, 'errors', None) or getattr(r, '_errors', None) or {})
     summary = {'vtube_summary': 1, 'scene': data['scene'], 'planned': data['planned'], 'robots': n, 'dt_s': dt,
-               'steps': steps, 'completed': completed, 'iterations': int(iterations),
+               'steps': steps, 'completed': completed, 'iterations': int(iterations or 0),
                'min_center_distance_m': round(closest[0], 4),
                'barrier_correction_max_mps': round(float(np.max(log['barrier_correction'])), 4),
                'errors': {k: v for k, v in errors.items() if isinstance(v, int)}}

@@ -216,7 +216,7 @@ def test_a_plan_file_is_flown_as_given_and_refused_elsewhere(tmp_path, capsys) -
     out = tmp_path / 'sub.py'
     assert main(['submission', 'build', str(copy), '--plan', str(plan_file), '--out', str(out)]) == 0
     namespace: dict = {}
-    exec(compile(out.read_text(), 'submission', 'exec'), namespace)
+    exec(compile(out.read_text(), 'submission', 'exec'), namespace)  # noqa: S102 -- the file just built
     slowness = np.asarray(namespace['DATA']['plan']['slowness_spm'])
     np.testing.assert_allclose(slowness, 1.0 / Plan.load(plan_file).speed_mps, rtol=6e-6)  # six digits
     capsys.readouterr()

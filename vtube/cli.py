@@ -131,15 +131,15 @@ def simulate(name_or_path: str, out: Path, *, planning: bool = True, n_robots: i
         ('passing time', f'{m.passing_time_s:.3f} s' + ('' if m.completed else ' (not every robot exited)')),
         ('minimum distance', f'{m.min_distance_m:.4f} m at t = {m.min_distance_time_s:.2f} s'),
         ('collisions', f'{m.collision_pairs} pairs closer than 2 r_p = {m.collision_distance_m:g} m'),
-        ('tube violations', f'{m.tube_violation_steps} robot-steps, {m.robots_outside} robots, '
-                            f'up to {m.max_outside_m:.3f} m outside'),
+        ('tube violations', (f'{m.tube_violation_steps} robot-steps, {m.robots_outside} robots, '
+                             f'up to {m.max_outside_m:.3f} m outside')),
         ('speed violations', f'{m.speed_violations} commands outside [v_min, v_max]'),
     ]
     if m.speed_tracking_mean_mps is not None:
         rows += [
             ('speed tracking', f'mean {m.speed_tracking_mean_mps:.3f}, max {m.speed_tracking_max_mps:.3f} m/s'),
-            ('density tracking', f'mean {m.density_tracking_mean_per_m2:.4f}, '
-                                 f'max {m.density_tracking_max_per_m2:.4f} /m^2'),
+            ('density tracking', (f'mean {m.density_tracking_mean_per_m2:.4f}, '
+                                  f'max {m.density_tracking_max_per_m2:.4f} /m^2')),
         ]
     for name, value in rows:
         print(f'  {name:<18} {value}')

@@ -126,8 +126,8 @@ def on_common_stamps(samples: dict[str, tuple[FloatArray, FloatArray, FloatArray
             raise AnalysisError(msg)
         positions[:, 0, k] = np.interp(t, stamps, xy[:, 0])
         positions[:, 1, k] = np.interp(t, stamps, xy[:, 1])
-        if headings is not None:
-            headings[:, k] = np.angle(np.interp(t, stamps, np.cos(theta)) + 1j * np.interp(t, stamps, np.sin(theta)))
+        if headings is not None and theta is not None:
+            headings[:, k] = np.arctan2(np.interp(t, stamps, np.sin(theta)), np.interp(t, stamps, np.cos(theta)))
         jumps = np.flatnonzero(np.diff(stamps) > gap_factor * own_period)
         for j in jumps:
             gaps.append(Gap(rid, float(stamps[j] - start), float(stamps[j + 1] - start)))

@@ -313,7 +313,7 @@ class Robotarium:
         self._axes.set_ylim(ymin - 0.1, ymax + 0.1)
         self._axes.set_aspect('equal')
         self._axes.set_axis_off()
-        self._robots = self._axes.scatter(*self.poses[:2], s=60, color='gold', edgecolors='k', zorder=3)
+        self._robots = self._axes.scatter(self.poses[0], self.poses[1], s=60, color='gold', edgecolors='k', zorder=3)
         self.figure, self.axes = self._figure, self._axes  # classic names
         self._fig, self._axes_handle = self._figure, self._axes  # V2 names
 

@@ -34,7 +34,7 @@ def test_zero_collisions_boundary_and_actuator_counts(runs) -> None:
 
 
 def test_the_swarm_expands_before_the_narrowing(runs) -> None:
-    scene, plan, planned, unplanned = runs
+    scene, _, planned, unplanned = runs
     narrowing = 1.4  # where both Robotarium scenes start to narrow
     for result, expanded in ((planned, True), (unplanned, False)):
         l = result.arrays['l_m']

@@ -28,7 +28,7 @@ SCENES = ('robotarium_trapezoid', 'robotarium_curve')
 
 def namespace_of(source: str) -> dict:
     namespace: dict = {}
-    exec(compile(source, 'submission', 'exec'), namespace)  # defines DATA, classes and functions; runs nothing
+    exec(compile(source, 'submission', 'exec'), namespace)  # noqa: S102 -- our generated file: defines, runs nothing
     return namespace
 
 
@@ -83,7 +83,7 @@ def test_the_submission_flies_the_bundled_experiment(tmp_path) -> None:
     file = write(build(path), work / 'submission.py')
     env = dict(os.environ, VTUBE_HEADLESS='1')
     done = subprocess.run([sys.executable, '-m', 'robotarium_exp.rps_alias', '--classic', str(file)], cwd=work,
-                          env=env, capture_output=True, text=True, timeout=600)
+                          env=env, capture_output=True, text=True, timeout=600, check=False)
     assert done.returncode == 0, done.stderr[-2000:]
     poses, t = np.load(work / 'vtube_poses.npy'), np.load(work / 'vtube_t.npy')
     robots = [scene.tube.project(p[:2]) for p in poses]

@@ -63,7 +63,7 @@ def barrier_potential(x: float, offset: float, d1: float, d2: float, k: float, e
 
 def test_sigma_matches_the_published_polynomial_and_its_band_edges() -> None:
     x = np.linspace(0.5, 1.5, 401)
-    value, slope = sigma(x, 0.8, 1.2)
+    value, _ = sigma(x, 0.8, 1.2)
     np.testing.assert_allclose(value, [sigma_published(v, 0.8, 1.2) for v in x], atol=1e-12)
     edges, edge_slopes = sigma(np.array([0.8, 1.2]), 0.8, 1.2)
     np.testing.assert_allclose(edges, [1.0, 0.0])

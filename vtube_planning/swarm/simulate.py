@@ -107,7 +107,7 @@ def initial_formation(tube: VirtualTube, swarm: SwarmParams, rng: np.random.Gene
     """Grid of N robots before the entrance, (2, N): spacing 2 r_a, front row r_a before l = 0."""
     spacing = 2.0 * swarm.r_a_m
     lam0 = float(tube.half_width(0.0))
-    fit = int(math.floor(2.0 * (lam0 - swarm.r_a_m) / spacing)) + 1
+    fit = math.floor(2.0 * (lam0 - swarm.r_a_m) / spacing) + 1
     if fit < 1:
         msg = (
             f'the entrance (half-width {lam0:g} m) is too narrow for one robot with its avoidance radius '
@@ -197,7 +197,7 @@ def simulate(
                         constant_speed_mps=forward_const)
     extent = float(np.ptp(tube.project(positions).l_m))
     limit = config.time_limit_s or 4.0 * (tube.length_m + extent + 2 * swarm.r_a_m) / swarm.v_min_mps
-    steps = int(math.ceil(limit / config.dt_s))
+    steps = math.ceil(limit / config.dt_s)
     description = dict(meta or {}, kind='simulation', planned=plan is not None, n_robots=n, dt_s=config.dt_s,
                        seed=config.seed, swarm=asdict(swarm), control=asdict(control), length_m=tube.length_m)
     log = LogWriter(log_path, description, flush_every=config.log_every)
