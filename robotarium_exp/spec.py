@@ -40,6 +40,8 @@ class RobotariumSpec:
         ``(|x|, |y|)`` bounds of initial conditions (the box the V2 simulator samples from).
     arena_margin_m
         What a submission keeps between the tube, its initial conditions and parking slots and the arena's edge.
+    duration_factor
+        The testbed stops a run that takes longer than this many times the duration the user declared.
     """
 
     time_step_s: float = 0.033
@@ -54,6 +56,7 @@ class RobotariumSpec:
     ic_spacing_m: float = 0.4
     ic_box_m: tuple[float, float] = (1.375, 0.875)
     arena_margin_m: float = 0.05
+    duration_factor: float = 1.5
 
     def __post_init__(self) -> None:
         xmin, xmax, ymin, ymax = self.arena_m

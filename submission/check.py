@@ -28,7 +28,6 @@ from typing import Any
 from robotarium_exp.spec import ROBOTARIUM
 from submission.errors import CheckError
 
-VERIFIER_MARGIN = 1.5
 COUNTS = {'too_close': ('robots_too_close', 'collision'), 'outside': ('robots_outside_boundaries', 'boundary'),
           'actuator': ('exceeded_actuator_limits', 'actuator')}
 
@@ -71,7 +70,7 @@ class CheckReport:
         iterations = [run.summary['iterations'] for run in self.runs if run.summary]
         if not iterations:
             return None
-        return int(math.ceil(max(iterations) * ROBOTARIUM.time_step_s * VERIFIER_MARGIN / 10.0) * 10)
+        return int(math.ceil(max(iterations) * ROBOTARIUM.time_step_s * ROBOTARIUM.duration_factor / 10.0) * 10)
 
 
 def server_libraries() -> set[str]:

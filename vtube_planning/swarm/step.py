@@ -356,7 +356,7 @@ class SwarmStep:
         r_a = self.r_a
         command = velocity_command(points, r_a, forward_speed, projection, p)
         velocity = command.velocity
-        exited = l_m > self.tube.length_m
+        exited = l_m > self.tube.length_m  # past the exit: the swarm's passage is over for this robot
         if self.slots is None:
             parked, done = np.zeros(l_m.size, dtype=bool), bool(exited.all())
         else:
