@@ -202,3 +202,15 @@ def test_bad_controller_input_raises() -> None:
         ControlParams(r_a_max_m=0.5).radius_cap(SWARM)
     with pytest.raises(ParamsError, match='needs r_a_m > r_s_m'):
         ControlParams().step_params(SwarmParams(r_s_m=0.4, r_a_m=0.4))
+
+
+def test_every_control_option_reaches_the_step() -> None:
+    """What the step is given is all the submission carries: a control option missing here would be dropped."""
+    from dataclasses import fields, replace
+
+    base = ControlParams(r_a_max_m=2.0)
+    changed = {'avoidance_gain': 2.0, 'keeping_gain': 3.0, 'k_ra_m3ps': 4.0, 'r_a_max_m': 2.5, 'feedforward': True,
+               'law': 'practical', 'kdtree_above': 7}
+    assert {f.name for f in fields(ControlParams)} == set(changed)
+    for name, value in changed.items():
+        assert replace(base, **{name: value}).step_params(SWARM) != base.step_params(SWARM), name
