@@ -9,6 +9,7 @@ worst arc-length error of each against the points' true coordinates, and the spe
 from __future__ import annotations
 
 import argparse
+from functools import partial
 
 import numpy as np
 
@@ -46,8 +47,8 @@ def main() -> None:
         points = (tube.center_at(l_true) + y_true[:, None] * tube.normal(l_true)).T
         spacing = args.spacing_m or tube.length_m / 6000
         tube.project(points[:, :10])  # build the k-d tree once, as every later call finds it built
-        t_ours, proj = timed(lambda: tube.project(points), args.repeats)
-        t_dense, l_dense = timed(lambda: dense_nearest_sample(tube, points, spacing), max(1, args.repeats // 3))
+        t_ours, proj = timed(partial(tube.project, points), args.repeats)
+        t_dense, l_dense = timed(partial(dense_nearest_sample, tube, points, spacing), max(1, args.repeats // 3))
         err_ours = float(np.abs(proj.l_m - l_true).max())
         err_dense = float(np.abs(l_dense - l_true).max())
         samples = int(np.ceil(tube.length_m / spacing)) + 1

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 from dataclasses import replace
+from functools import partial
 
 from benchmarks._timing import timed
 from tests.vtube_planning.slsqp_reference import slsqp_plan
@@ -36,17 +37,17 @@ def main() -> None:
         tube, swarm = scene.tube, scene.swarm
         step = 0.1 * tube.length_m / 60.0 if tube.length_m < 10.0 else 0.1
         fine = replace(scene.planning, grid_step_m=step)
-        t_convex, convex = timed(lambda: plan_convex(tube, swarm, fine), args.repeats)
-        t_poly, poly = timed(lambda: plan_polynomial(tube, swarm, scene.planning), args.repeats)
+        t_convex, convex = timed(partial(plan_convex, tube, swarm, fine), args.repeats)
+        t_poly, poly = timed(partial(plan_polynomial, tube, swarm, scene.planning), args.repeats)
         v0, rho0 = initial_conditions(swarm, scene.planning)
         try:
             t_slsqp, (_, _, _, j_slsqp) = timed(
-                lambda: slsqp_plan(tube, swarm, scene.planning, k, v0=v0, rho0=rho0), 1)
+                partial(slsqp_plan, tube, swarm, scene.planning, k, v0=v0, rho0=rho0), 1)
         except RuntimeError as err:  # SLSQP's own failures are part of the comparison
             print(f'{name:<21} SLSQP reference failed at K = {k}: {err}')
             t_slsqp, j_slsqp = float('nan'), float('nan')
         coarse = replace(scene.planning, grid_step_m=tube.length_m / k)
-        t_coarse, same = timed(lambda: plan_convex(tube, swarm, coarse), args.repeats)
+        t_coarse, same = timed(partial(plan_convex, tube, swarm, coarse), args.repeats)
         print(f'{name:<21} {step:>6.4f} {t_convex:>9.3f} {convex.objective["total"]:>10.5f} {t_poly:>7.3f} '
               f'{poly.objective["total"]:>10.5f} {t_slsqp:>10.3f} {j_slsqp:>10.5f} {t_coarse:>11.3f} '
               f'{same.objective["total"]:>11.5f} {t_slsqp / t_coarse:>8.1f}x')

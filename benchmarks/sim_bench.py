@@ -13,11 +13,13 @@ exponent of the k-d tree step (slope of log time against log N).
 from __future__ import annotations
 
 import argparse
+from functools import partial
 
 import numpy as np
 
 from benchmarks._timing import timed
 from vtube_planning import ArcPath, ArcPiece, SwarmParams, VirtualTube, WidthPart, WidthProfile
+from vtube_planning.planning.density import swarm_area
 from vtube_planning.swarm.control import (
     ControlParams,
     avoidance_radius_rate,
@@ -25,7 +27,6 @@ from vtube_planning.swarm.control import (
     barrier_gain,
     velocity_command,
 )
-from vtube_planning.planning.density import swarm_area
 
 
 def crowd(n: int, rng: np.random.Generator) -> tuple[VirtualTube, np.ndarray]:
@@ -80,8 +81,8 @@ def main() -> None:
         r_a = np.full(n, swarm.r_a_m) + rng.uniform(0.0, 0.4, n)
         speed = np.full(n, 3.0)
         control_step(tube, swarm, params, positions, r_a, speed)  # warm-up: build the tube's k-d tree
-        t_step = 1e3 * timed(lambda: control_step(tube, swarm, params, positions, r_a, speed), args.repeats)[0]
-        t_dense = 1e3 * timed(lambda: dense_avoidance(positions, r_a, swarm, params), args.repeats // 2)[0]
+        t_step = 1e3 * timed(partial(control_step, tube, swarm, params, positions, r_a, speed), args.repeats)[0]
+        t_dense = 1e3 * timed(partial(dense_avoidance, positions, r_a, swarm, params), args.repeats // 2)[0]
         diff = np.abs(avoidance_velocity(positions, r_a, swarm, params) - dense_avoidance(positions, r_a, swarm, params))
         print(f'{n:>6} {t_step:>10.2f} {t_dense:>21.2f} {t_dense / t_step:>6.1f}x {diff.max():>17.1e}')
         sizes.append(n)

@@ -12,7 +12,7 @@ The commands stay inside both simulators' actuator models (|v| + (L/2)|omega| < 
 import sys
 
 import numpy as np
-import rps.robotarium as robotarium
+from rps import robotarium
 
 N = 6
 STEPS = 300

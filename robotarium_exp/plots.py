@@ -13,8 +13,8 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from robotarium_exp.experiment import ExperimentResult
-    from vtube_planning.planning.plan import Plan
     from vtube_planning.geometry.scene import Scene
+    from vtube_planning.planning.plan import Plan
 
 
 def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None = None) -> Figure:
@@ -37,7 +37,8 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
     for step in np.unique(np.linspace(0, t.size - 1, 7).astype(int)):
         color = cmap(step / max(1, t.size - 1))
         for k in range(poses.shape[2]):
-            ax.add_patch(Circle(poses[step, :2, k], 0.055, fc=color, ec='k', lw=0.4, zorder=3))
+            center = (float(poses[step, 0, k]), float(poses[step, 1, k]))
+            ax.add_patch(Circle(center, 0.055, fc=color, ec='k', lw=0.4, zorder=3))
         ax.annotate(f'{t[step]:.0f} s', poses[step, :2].mean(axis=1), xytext=(0, 16), textcoords='offset points',
                     ha='center', fontsize=7, color=color)
     ax.set_xlim(xmin - 0.1, xmax + 0.1)

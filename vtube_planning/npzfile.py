@@ -24,7 +24,10 @@ def write_npz(path: str | Path, arrays: dict[str, NDArray[Any]], meta: dict[str,
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + '.tmp')
     with tmp.open('wb') as fh:
-        np.savez(fh, **{META_KEY: np.array(json.dumps(meta))}, **arrays)
+        # the ** dicts are typed loosely because mypy also matches them against savez's allow_pickle: bool
+        meta_member: dict[str, Any] = {META_KEY: np.array(json.dumps(meta))}
+        array_members: dict[str, Any] = arrays
+        np.savez(fh, **meta_member, **array_members)
     os.replace(tmp, path)
     return path
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -11,10 +11,10 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from vtube_planning.planning.plan import Plan
     from vtube_planning.geometry.scene import Scene
-    from vtube_planning.swarm.simulate import SimResult
     from vtube_planning.geometry.tube import VirtualTube
+    from vtube_planning.planning.plan import Plan
+    from vtube_planning.swarm.simulate import SimResult
 
 
 def draw_tube(ax: Axes, tube: VirtualTube, *, n_sections: int = 12) -> None:
@@ -63,7 +63,7 @@ def scene_figure(scene: Scene) -> Figure:
     ax_plane.set_title(scene.title)
 
     grid = np.linspace(0.0, tube.length_m, 2000)
-    lam = tube.half_width(grid)
+    lam = np.asarray(tube.half_width(grid))  # an array for an array of arc lengths
     breaks = np.unique(np.concatenate([tube.width.breakpoints, tube.center.breakpoints]))
     ax_width = fig.add_subplot(grid_spec[1, 0])
     ax_width.plot(grid, lam, color='tab:blue')
@@ -222,10 +222,11 @@ def animate(result: SimResult, tube: VirtualTube, path: str | Path, *, frames: i
     ax = fig.add_subplot()
     draw_tube(ax, tube)
     steps = np.unique(np.linspace(0, result.t_s.size - 1, frames).astype(int))
-    dots = ax.scatter(*result.positions_m[0], s=12, color='tab:red', zorder=3)
+    x0, y0 = result.positions_m[0]
+    dots = ax.scatter(x0, y0, s=12, color='tab:red', zorder=3)
     label = ax.set_title('')
 
-    def update(k: int) -> tuple:
+    def update(k: int) -> tuple[Any, ...]:
         dots.set_offsets(result.positions_m[k].T)
         label.set_text(f't = {result.t_s[k]:.1f} s')
         return dots, label
@@ -234,7 +235,7 @@ def animate(result: SimResult, tube: VirtualTube, path: str | Path, *, frames: i
     return path
 
 
-def study_figure(summary: list[dict], collision_distance_m: float) -> Figure:
+def study_figure(summary: list[dict[str, Any]], collision_distance_m: float) -> Figure:
     """Bars of passing time and minimum distance per scene, with and without planning (range over seeds)."""
     from matplotlib.figure import Figure
 

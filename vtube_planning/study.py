@@ -18,8 +18,8 @@ import numpy as np
 
 from vtube_planning.baselines.flocking import FlockingParams, flocking_command
 from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
-from vtube_planning.planning.planner import plan_convex
 from vtube_planning.geometry.scene import load_scene
+from vtube_planning.planning.planner import plan_convex
 from vtube_planning.swarm.simulate import SimConfig, simulate
 
 MODES = ('planning', 'no planning')
@@ -106,8 +106,10 @@ def study_markdown(summary: list[dict[str, Any]], seeds: list[int], config: SimC
     """The comparison as a Markdown table, with the claim's verdict per scene."""
     model = 'with the acceleration limits (3), (4) per robot' if config.acceleration_limits else "the paper's model"
     lines = [
-        f'Scenes with and without planning, Table 1 swarm (N = 20), {model}, dt = {config.dt_s} s, '
-        f'seeds {seeds[0]}..{seeds[-1]} (initial jitter {config.jitter_m} m). Means over seeds, [min, max].',
+        (
+            f'Scenes with and without planning, Table 1 swarm (N = 20), {model}, dt = {config.dt_s} s, '
+            f'seeds {seeds[0]}..{seeds[-1]} (initial jitter {config.jitter_m} m). Means over seeds, [min, max].'
+        ),
         '',
         '| scene | mode | passing time [s] | min distance [m] | collisions (pairs) | tube violations (robot-steps) |',
         '|---|---|---|---|---|---|',
@@ -131,8 +133,8 @@ def study_markdown(summary: list[dict[str, Any]], seeds: list[int], config: SimC
         lines.append(f'- scene {entry["scene"]}: {verdict} on the means{detail}.')
     compared = [entry for entry in summary if entry['safer_than']]
     if compared:
-        lines += ['', 'Against the baselines (planning safer: fewer collisions, or none on either side and a '
-                  'larger minimum distance):', '']
+        lines += ['', ('Against the baselines (planning safer: fewer collisions, or none on either side and a '
+                       'larger minimum distance):'), '']
         for entry in compared:
             for mode, safer in entry['safer_than'].items():
                 lines.append(f'- scene {entry["scene"]}, {mode}: {"holds" if safer else "does not hold"} '

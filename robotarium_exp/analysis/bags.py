@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from robotarium_exp.errors import AnalysisError
 from robotarium_exp.analysis.trajectory import Trajectory, on_common_stamps
+from robotarium_exp.errors import AnalysisError
 
 POSE_STAMPED = 'geometry_msgs/msg/PoseStamped'
 ODOMETRY = 'nav_msgs/msg/Odometry'
@@ -81,7 +81,7 @@ def read_bag(paths: list[Path], *, topic_pattern: str | None = None, frame_patte
                     robot_of[c.topic] = match.group('robot') if match and 'robot' in match.groupdict() else c.topic
             for connection, t_ns, raw in reader.messages(connections=chosen):
                 msg_type = connection.msgtype
-                m = reader.deserialize(raw, msg_type)
+                m: Any = reader.deserialize(raw, msg_type)  # a message class of msg_type, known only at run time
                 if msg_type == TF_MESSAGE:
                     for tr in m.transforms:
                         match = frame_re.match(tr.child_frame_id)

@@ -33,7 +33,10 @@ def reference(u_hat: np.ndarray, x: np.ndarray, spec: bc.BarrierSpec) -> np.ndar
     problem = cp.Problem(cp.Minimize(cp.sum_squares(u - scaled.reshape(-1, order='F'))),
                          [np.vstack(rows) @ u <= np.concatenate(rhs)])
     problem.solve(solver=cp.CLARABEL, **TIGHT)
-    return None if problem.status != cp.OPTIMAL else u.value.reshape(2, -1, order='F')
+    if problem.status != cp.OPTIMAL:
+        return None
+    assert u.value is not None  # an optimal solve sets the variable
+    return u.value.reshape(2, -1, order='F')
 
 
 def test_two_hundred_tight_configurations() -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -13,6 +14,7 @@ from robotarium_exp.errors import RobotariumError
 from robotarium_exp.rps.robotarium import Robotarium
 
 ROOT = Path(__file__).resolve().parents[2]
+NOT_A_BOOL: Any = 'yes'  # a wrong argument type, passed on purpose (Any, so mypy lets it through)
 
 
 def ours(n: int = 2, ic: np.ndarray | None = None, **kwargs) -> Robotarium:
@@ -95,7 +97,7 @@ def test_constants_in_both_spellings() -> None:
         (lambda: Robotarium(number_of_robots=51, sim_in_real_time=False), 'must be between 0 and 50'),
         (lambda: Robotarium(number_of_robots=2, sim_in_real_time=False, initial_conditions=np.zeros((2, 2)),
                             skip_initialization=True), 'must of size 3xN'),
-        (lambda: Robotarium(number_of_robots=2, show_figure='yes'), 'show_figure must be a bool'),
+        (lambda: Robotarium(number_of_robots=2, show_figure=NOT_A_BOOL), 'show_figure must be a bool'),
         (lambda: Robotarium(number_of_robots=30, sim_in_real_time=False,
                             initial_conditions=np.vstack([np.mgrid[-1:1:6j, -0.8:0.8:5j].reshape(2, -1),
                                                           np.zeros(30)])), '22 charger slots'),

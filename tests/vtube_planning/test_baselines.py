@@ -6,9 +6,19 @@ import math
 
 import numpy as np
 import pytest
+from scipy.optimize import approx_fprime
 
 from vtube_planning import ArcPath, ArcPiece, ParamsError, SwarmParams, VirtualTube, WidthPart, WidthProfile
 from vtube_planning.baselines.flocking import FlockingParams, braking_curve, flocking_command
+from vtube_planning.baselines.nmpc import (
+    NmpcParams,
+    NmpcSwarm,
+    cost_gradients,
+    rollout,
+    rollout_maps,
+    stage_costs,
+    wall_slack,
+)
 
 SIMPLE = FlockingParams(v_flock=1.0, v_max=10.0, v_min=0.0, r0_rep=1.0, p_rep=2.0, v_rep=5.0, r0_frict=0.5,
                         c_frict=0.1, v_frict=0.2, p_frict=1.0, a_frict=1.0, r0_shill=0.0, v_shill=1.0, p_shill=1.0,
@@ -71,18 +81,6 @@ def test_scaled_parameters_follow_the_seed_geometry() -> None:
 
 
 # ---------------------------------------------------------------------- NMPC
-
-from scipy.optimize import approx_fprime  # noqa: E402
-
-from vtube_planning.baselines.nmpc import (  # noqa: E402
-    NmpcParams,
-    NmpcSwarm,
-    cost_gradients,
-    rollout,
-    rollout_maps,
-    stage_costs,
-    wall_slack,
-)
 
 
 def test_rollout_is_the_exact_double_integrator() -> None:

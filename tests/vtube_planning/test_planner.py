@@ -92,7 +92,7 @@ def test_first_convex_concave_iterate_is_already_feasible() -> None:
 def test_subproblem_is_built_once_and_parameterised() -> None:
     scene = load_scene('C')
     planner = ConvexPlanner(discretise(scene.tube, scene.swarm, scene.planning))
-    assert planner.cvx.is_dcp(dpp=True)
+    assert planner.cvx.is_dcp(dpp=True)  # type: ignore[call-arg]  # cvxpy's compute_once decorator hides dpp
     assert planner.cvx.is_qp()
 
 
@@ -148,7 +148,7 @@ def test_convex_beats_polynomial_and_slsqp_on_scene_a() -> None:
     polynomial = plan_polynomial(scene.tube, scene.swarm, scene.planning)
     assert convex.objective['total'] <= polynomial.objective['total']
     v0, rho0 = initial_conditions(scene.swarm, scene.planning)
-    l, v, rho, j_slsqp = slsqp_plan(scene.tube, scene.swarm, scene.planning, 40, v0=v0, rho0=rho0)
+    _, _, _, j_slsqp = slsqp_plan(scene.tube, scene.swarm, scene.planning, 40, v0=v0, rho0=rho0)
     assert convex.objective['total'] <= j_slsqp
     # same grid, same formulation: the convex-concave procedure reaches SLSQP's optimum
     same = plan_convex(scene.tube, scene.swarm, replace(scene.planning, grid_step_m=scene.tube.length_m / 40))

@@ -139,7 +139,10 @@ def test_spline_arc_length_matches_dense_numerical_integral() -> None:
     pts = np.array(WAYPOINTS)
     u = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
     spline = CubicSpline(u, pts, bc_type='natural')  # the documented construction, rebuilt independently
-    speed = lambda s: float(np.hypot(*spline(s, 1)))  # noqa: E731
+
+    def speed(s: float) -> float:
+        return float(np.hypot(*spline(s, 1)))
+
     length = sum(quad(speed, a, b, epsabs=1e-13, epsrel=1e-13, limit=200)[0] for a, b in itertools.pairwise(u))
     tube = spline_tube()
     assert abs(tube.length_m - length) <= 1e-6 * length
@@ -300,10 +303,10 @@ def test_shape_contract_of_arc_length_functions() -> None:
         assert fun(1.0).shape == (2,)
         assert fun(np.array([1.0, 2.0, 3.0])).shape == (3, 2)
         assert fun(np.array([])).shape == (0, 2)
-    for fun in (tube.curvature, tube.curvature_radius, tube.half_width, tube.half_width_slope, tube.area,
-                tube.area_inverse):
-        assert isinstance(fun(1.0), float)
-        assert fun(np.array([1.0, 2.0, 3.0])).shape == (3,)
+    for scalar_fun in (tube.curvature, tube.curvature_radius, tube.half_width, tube.half_width_slope, tube.area,
+                       tube.area_inverse):
+        assert isinstance(scalar_fun(1.0), float)
+        assert np.shape(scalar_fun(np.array([1.0, 2.0, 3.0]))) == (3,)
     left, right = tube.boundaries(1.0)
     assert left.shape == right.shape == (2,)
     left, right = tube.boundaries([1.0, 2.0])

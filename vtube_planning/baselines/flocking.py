@@ -25,8 +25,8 @@ from numpy.typing import NDArray
 
 from vtube_planning._validate import is_real
 from vtube_planning.errors import ParamsError
-from vtube_planning.params import SwarmParams
 from vtube_planning.geometry.tube import Projection
+from vtube_planning.params import SwarmParams
 
 FloatArray = NDArray[np.float64]
 

@@ -26,8 +26,8 @@ from numpy.typing import NDArray
 from scipy.optimize import minimize
 
 from vtube_planning.errors import ParamsError
-from vtube_planning.params import SwarmParams
 from vtube_planning.geometry.tube import Projection, VirtualTube
+from vtube_planning.params import SwarmParams
 
 FloatArray = NDArray[np.float64]
 
@@ -153,6 +153,7 @@ class NmpcSwarm:
             self._update(positions, velocities, projection)
             self.next_update_s += self.params.update_s
         self.time_s += dt_s
+        assert self.held is not None  # set with the plans on the first call
         command = velocities + dt_s * self.held
         speed = np.hypot(command[0], command[1])
         return command * np.minimum(1.0, self.params.v_max / np.maximum(speed, 1e-12))
@@ -160,17 +161,19 @@ class NmpcSwarm:
     def _update(self, positions: FloatArray, velocities: FloatArray, projection: Projection) -> None:
         started = time.perf_counter()
         params, n = self.params, positions.shape[1]
-        others_all = self.predictions.copy()
+        plans, predictions, held = self.plans, self.predictions, self.held
+        assert plans is not None and predictions is not None and held is not None  # set by command() first
+        others_all = predictions.copy()
         for i in range(n):
             dist = np.hypot(*(positions - positions[:, [i]]))
             dist[i] = np.inf
             near = np.argsort(dist)[: min(params.neighbours, n - 1)]
             others = others_all[near]
             u, pred = self._solve(positions[:, i], velocities[:, i], projection.tangent[:, i], others,
-                                  self.plans[i], self.predictions[i])
-            self.plans[i] = np.vstack([u[1:], u[-1:]])  # shifted warm start
-            self.predictions[i] = pred
-            self.held[:, i] = u[0]
+                                  plans[i], predictions[i])
+            plans[i] = np.vstack([u[1:], u[-1:]])  # shifted warm start
+            predictions[i] = pred
+            held[:, i] = u[0]
         self.solve_time_s += time.perf_counter() - started
 
     def _solve(self, p0: FloatArray, v0: FloatArray, tangent: FloatArray, others: FloatArray, guess: FloatArray,

@@ -45,12 +45,12 @@ else:  # Python 3.10 (ROS 2 Humble on Ubuntu 22.04)
     import tomli as tomllib
 
 from vtube_planning._validate import is_real
-from vtube_planning.geometry.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
-from vtube_planning.swarm.control import ControlParams
 from vtube_planning.errors import SceneError, VtubeError
-from vtube_planning.params import PlanningOptions, SwarmParams
+from vtube_planning.geometry.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
+from vtube_planning.params import PlanningOptions, SwarmParams
+from vtube_planning.swarm.control import ControlParams
 
 _SCENE_PACKAGE = 'vtube_planning.scenes'
 
@@ -273,7 +273,7 @@ def _width(table: dict[str, Any], length_m: float, where: _Where) -> WidthProfil
     if not isinstance(parts, list) or not parts:
         msg = f'parts in [{path}] must be a non-empty list of tables.'
         raise where.fail(msg)
-    built = []
+    built: list[WidthPart] = []
     for k, part in enumerate(parts):
         part_path = f'{path}.parts[{k}]'
         if not isinstance(part, dict):

@@ -24,11 +24,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
+from vtube_planning._validate import as_points
+from vtube_planning.errors import ShapeError, TubeError
 from vtube_planning.geometry._roots import bracketed_newton
 from vtube_planning.geometry.centerline import CenterCurve
 from vtube_planning.geometry.projection import Projection, SampledTube
-from vtube_planning._validate import as_points
-from vtube_planning.errors import ShapeError, TubeError
 from vtube_planning.geometry.width import WidthProfile
 
 FloatArray = NDArray[np.float64]
@@ -87,17 +87,17 @@ class VirtualTube:
     def center_at(self, l_m: ArrayLike) -> FloatArray:
         """Centre point gamma(l): scalar -> (2,), (k,) -> (k, 2)."""
         arr, scalar = _arc_lengths(l_m)
-        return _shape(self.center.frame(arr)[0], scalar)
+        return _shape_points(self.center.frame(arr)[0], scalar)
 
     def tangent(self, l_m: ArrayLike) -> FloatArray:
         """Unit tangent t(l): scalar -> (2,), (k,) -> (k, 2)."""
         arr, scalar = _arc_lengths(l_m)
-        return _shape(self.center.frame(arr)[1], scalar)
+        return _shape_points(self.center.frame(arr)[1], scalar)
 
     def normal(self, l_m: ArrayLike) -> FloatArray:
         """Left unit normal n(l) (t rotated by +90 degrees): scalar -> (2,), (k,) -> (k, 2)."""
         arr, scalar = _arc_lengths(l_m)
-        return _shape(_left(self.center.frame(arr)[1]), scalar)
+        return _shape_points(_left(self.center.frame(arr)[1]), scalar)
 
     def curvature(self, l_m: ArrayLike) -> FloatArray | float:
         """Signed curvature kappa(l) in 1/m (positive turning left): scalar -> float, (k,) -> (k,)."""
@@ -126,7 +126,7 @@ class VirtualTube:
         arr, scalar = _arc_lengths(l_m)
         pos, tan, _ = self.center.frame(arr)
         offset = self.width.value(arr)[:, None] * _left(tan)
-        return _shape(pos + offset, scalar), _shape(pos - offset, scalar)
+        return _shape_points(pos + offset, scalar), _shape_points(pos - offset, scalar)
 
     def area(self, l_m: ArrayLike) -> FloatArray | float:
         """Cumulative area A(l) = integral_0^l 2 lambda in m^2 (exact for a symmetric tube, ``theory.md`` §3.1)."""
@@ -249,6 +249,11 @@ def _shape(values: FloatArray, scalar: bool) -> FloatArray | float:
     if not scalar:
         return values
     return values[0] if values.ndim > 1 else float(values[0])
+
+
+def _shape_points(points: FloatArray, scalar: bool) -> FloatArray:
+    """(k, 2) points as returned: the single point (2,) for a scalar arc length, else all of them."""
+    return points[0] if scalar else points
 
 
 def _left(tangent: FloatArray) -> FloatArray:

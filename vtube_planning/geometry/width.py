@@ -21,9 +21,9 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import PPoly
 
-from vtube_planning.geometry._roots import bracketed_newton
 from vtube_planning._validate import is_positive, is_real
 from vtube_planning.errors import TubeError
+from vtube_planning.geometry._roots import bracketed_newton
 
 FloatArray = NDArray[np.float64]
 

@@ -29,10 +29,10 @@ import cvxpy as cp
 import numpy as np
 from numpy.typing import NDArray
 
-from vtube_planning.planning.density import footprint
-from vtube_planning.swarm.step import swarm_area
 from vtube_planning.errors import PlanError, SolverError
+from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import PlanningOptions, SwarmParams
+from vtube_planning.planning.density import footprint
 from vtube_planning.planning.plan import (
     RHO_EPSILON,
     Plan,
@@ -41,7 +41,7 @@ from vtube_planning.planning.plan import (
     initial_conditions,
     objective_terms,
 )
-from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.swarm.step import swarm_area
 
 FloatArray = NDArray[np.float64]
 
@@ -85,10 +85,10 @@ def discretise(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions) 
     inside = tube.center.breakpoints[(tube.center.breakpoints > 0) & (tube.center.breakpoints < length)]
     limit_sub = curvature_speed_limit(tube, swarm, sub.ravel()).reshape(sub.shape).min(axis=1)
     if inside.size:  # curvature jumps at the joints of arcs: include both sides
-        k = np.clip(np.searchsorted(l_m, inside) - 1, 0, n_int - 1)
+        joint_k = np.clip(np.searchsorted(l_m, inside) - 1, 0, n_int - 1)
         eps = 1e-9 * max(1.0, length)
         joint = np.minimum(curvature_speed_limit(tube, swarm, inside - eps), curvature_speed_limit(tube, swarm, inside + eps))
-        np.minimum.at(limit_sub, k, joint)
+        np.minimum.at(limit_sub, joint_k, joint)
     interval_cap = np.minimum(limit_sub, swarm.v_max_mps)
     speed_cap = np.minimum(np.concatenate([interval_cap, [np.inf]]), np.concatenate([[np.inf], interval_cap]))
     lam = tube.half_width(sub.ravel())
@@ -265,7 +265,7 @@ def plan_convex(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions,
     previous = math.inf
     status = 'iteration limit'
     iterations = 0
-    for iterations in range(1, max_iterations + 1):  # noqa: B007 - reported below
+    for iterations in range(1, max_iterations + 1):  # the final count is reported below
         planner.set_tangent(w_bar, rho_bar)
         w_bar, rho_bar = planner.solve()
         value = float(planner.cvx.value)

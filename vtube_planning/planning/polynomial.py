@@ -16,6 +16,7 @@ polynomials at a quarter of the planning grid step; its certificate is evaluated
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 from math import comb
@@ -25,10 +26,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning.errors import PlanError, SolverError
+from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.planning.plan import RHO_EPSILON, Plan, curvature_speed_limit
 from vtube_planning.planning.planner import SUBSAMPLES, discretise, make_plan
-from vtube_planning.geometry.tube import VirtualTube
 
 FloatArray = NDArray[np.float64]
 
@@ -53,7 +54,7 @@ def segment_knots(tube: VirtualTube) -> FloatArray:
     raw = np.unique(np.concatenate([[0.0, length], tube.width.breakpoints, tube.center.breakpoints]))
     raw = raw[np.concatenate([[True], np.diff(raw) > 1e-6 * length])]
     knots = [0.0]
-    for a, b in zip(raw[:-1], raw[1:], strict=True):
+    for a, b in itertools.pairwise(raw):
         pieces = math.ceil((b - a) / (length / SEGMENTS_PER_TUBE) - 1e-9)
         knots.extend(np.linspace(a, b, pieces + 1)[1:])
     return np.array(knots)
@@ -119,7 +120,7 @@ def plan_polynomial(tube: VirtualTube, swarm: SwarmParams, options: PlanningOpti
     w_bar = np.interp(l_colloc, problem.l_m, problem.w_start)
     previous = math.inf
     status, iterations = 'iteration limit', 0
-    for iterations in range(1, max_iterations + 1):  # noqa: B007 - reported below
+    for iterations in range(1, max_iterations + 1):  # the final count is reported below
         inv_scale.value = 1.0 / (swarm.a_v_mps2 * w_bar**3)
         slope.value = 3.0 / w_bar
         try:
@@ -130,12 +131,14 @@ def plan_polynomial(tube: VirtualTube, swarm: SwarmParams, options: PlanningOpti
         if cvx.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
             msg = f'Clarabel returned status {cvx.status!r} on a polynomial planning subproblem.'
             raise SolverError(msg)
+        assert slack.value is not None  # an optimal solve sets every variable
         w_bar = np.asarray(w_at.value, dtype=float)
         value = float(cvx.value)
         if previous - value <= rtol * max(1.0, abs(value)) and float(np.sum(slack.value)) <= 1e-9:
             status = 'converged'
             break
         previous = value
+    assert P.value is not None and Q.value is not None and slack.value is not None  # set by the last solve
     samples = np.linspace(0.0, tube.length_m, 4 * (problem.l_m.size - 1) + 1)
     seg = np.clip(np.searchsorted(knots, samples, side='right') - 1, 0, m - 1)
     local = bernstein((samples - knots[seg]) / h[seg])

@@ -25,9 +25,9 @@ import math
 import warnings
 from dataclasses import dataclass, field
 
+import daqp
 import numpy as np
 from numpy.typing import NDArray
-import daqp
 
 from robotarium_exp.errors import RobotariumError
 from robotarium_exp.spec import ROBOTARIUM

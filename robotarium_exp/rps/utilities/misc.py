@@ -77,11 +77,11 @@ def create_at_position(position_error: float = 0.05
 
 
 def at_pose(states: FloatArray, poses: FloatArray, position_error: float = 0.05,
-            rotation_error: float = 0.2) -> tuple[NDArray[np.intp]]:
+            rotation_error: float = 0.2) -> tuple[NDArray[np.intp], ...]:
     """Classic: indices of robots at their poses, as ``np.nonzero``."""
     return np.nonzero(create_at_pose(position_error, rotation_error)(states, poses)[1])
 
 
-def at_position(states: FloatArray, points: FloatArray, position_error: float = 0.02) -> tuple[NDArray[np.intp]]:
+def at_position(states: FloatArray, points: FloatArray, position_error: float = 0.02) -> tuple[NDArray[np.intp], ...]:
     """Classic: indices of robots at their positions (working, unlike the classic original)."""
     return np.nonzero(create_at_position(position_error)(states, points)[1])
