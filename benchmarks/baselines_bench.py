@@ -18,8 +18,8 @@ from vtube_planning import load_scene
 from vtube_planning.baselines.flocking import FlockingParams, flocking_command
 from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
 from vtube_planning.planning.planner import plan_convex
-from vtube_planning.swarm.control import velocity_command
 from vtube_planning.swarm.simulate import initial_formation
+from vtube_planning.swarm.step import SwarmStep
 
 
 def main() -> None:
@@ -32,10 +32,9 @@ def main() -> None:
     positions = initial_formation(tube, swarm, np.random.default_rng(0), 0.05)
     projection = tube.project(positions)
     velocities = 2.0 * projection.tangent
-    r_a = np.full(swarm.n_robots, swarm.r_a_m)
+    planned = SwarmStep(tube, scene.control.step_params(swarm), swarm.n_robots, plan=plan.profile)
     flocking = FlockingParams.scaled(swarm)
-    t_planned, _ = timed(lambda: velocity_command(positions, r_a, plan.speed(projection.l_m), tube, swarm,
-                                                  scene.control, tube.project(positions)), args.repeats)
+    t_planned, _ = timed(lambda: planned(positions, 0.02), args.repeats)
     t_flocking, _ = timed(lambda: flocking_command(positions, velocities, tube.project(positions), flocking),
                           args.repeats)
     params = NmpcParams.for_swarm(swarm)

@@ -1,8 +1,8 @@
 """Time of one control step of the swarm controller against N, beside a dense all-pairs evaluation of the same law.
 
-A control step is what the simulator does per robot per step: project every robot onto the tube, evaluate the
-command (forward term, avoidance with a k-d tree, tube keeping, saturation), measure the density and advance r_a
-by (a3). The dense reference computes the same avoidance term from all N^2 distances (in row blocks, to bound
+A control step is one call of the swarm step (:class:`vtube_planning.swarm.step.SwarmStep`) as the simulator
+makes it: project every robot onto the tube, evaluate the command (forward term, avoidance with a k-d tree, tube
+keeping, saturation), measure the density and advance r_a by (a3) against a constant planned density. The dense reference computes the same avoidance term from all N^2 distances (in row blocks, to bound
 memory). Robots sit on a jittered grid at about one robot per m^2 in a straight tube sized to hold them, so each
 has a few neighbours, as in a flying swarm. Prints median milliseconds per step, the ratio, and the growth
 exponent of the k-d tree step (slope of log time against log N).
@@ -19,14 +19,8 @@ import numpy as np
 
 from benchmarks._timing import timed
 from vtube_planning import ArcPath, ArcPiece, SwarmParams, VirtualTube, WidthPart, WidthProfile
-from vtube_planning.planning.density import swarm_area
-from vtube_planning.swarm.control import (
-    ControlParams,
-    avoidance_radius_rate,
-    avoidance_velocity,
-    barrier_gain,
-    velocity_command,
-)
+from vtube_planning.swarm.control import ControlParams
+from vtube_planning.swarm.step import PlanProfile, StepParams, SwarmStep, avoidance_velocity, barrier_gain
 
 
 def crowd(n: int, rng: np.random.Generator) -> tuple[VirtualTube, np.ndarray]:
@@ -39,19 +33,19 @@ def crowd(n: int, rng: np.random.Generator) -> tuple[VirtualTube, np.ndarray]:
     return tube, positions + 0.2 * rng.standard_normal(positions.shape)
 
 
-def control_step(tube, swarm, params, positions, r_a, speed):
-    projection = tube.project(positions)
-    l_m = projection.l_m
-    density = positions.shape[1] / swarm_area(tube, l_m.min(), l_m.max(), swarm.r_a_m)[0]
-    command = velocity_command(positions, r_a, speed, tube, swarm, params, projection)
-    return command.velocity, r_a + 0.02 * avoidance_radius_rate(density, np.full(r_a.size, 0.2), params)
+def stepper(tube: VirtualTube, params: StepParams, r_a: np.ndarray) -> SwarmStep:
+    """The swarm step flying a flat plan (3 m/s, 0.2 robots/m^2) from radii ``r_a``."""
+    ends = np.array([0.0, tube.length_m])
+    step = SwarmStep(tube, params, r_a.size, plan=PlanProfile(ends, np.full(2, 1 / 3.0), np.full(2, 0.2)))
+    step.r_a = r_a.copy()
+    return step
 
 
-def dense_avoidance(positions: np.ndarray, r_a: np.ndarray, swarm: SwarmParams, params: ControlParams) -> np.ndarray:
+def dense_avoidance(positions: np.ndarray, r_a: np.ndarray, params: StepParams) -> np.ndarray:
     """The barrier avoidance term from every pair, in blocks of rows."""
     n = positions.shape[1]
     out = np.zeros_like(positions)
-    r_s = swarm.r_s_m
+    r_s = params.r_s_m
     for start in range(0, n, 512):
         rows = slice(start, min(n, start + 512))
         dx = positions[0, rows, None] - positions[0, None, :]
@@ -72,18 +66,18 @@ def main() -> None:
     args = parser.parse_args()
     rng = np.random.default_rng(0)
     swarm_base = SwarmParams()
-    params = ControlParams()
+    control = ControlParams()
     print(f'{"N":>6} {"step [ms]":>10} {"dense avoidance [ms]":>21} {"ratio":>7} {"max |diff| [m/s]":>17}')
     sizes, times = [], []
     for n in args.sizes:
-        swarm = SwarmParams(n_robots=n, r_a_m=swarm_base.r_a_m)
+        params = control.step_params(SwarmParams(n_robots=n, r_a_m=swarm_base.r_a_m))
         tube, positions = crowd(n, rng)
-        r_a = np.full(n, swarm.r_a_m) + rng.uniform(0.0, 0.4, n)
-        speed = np.full(n, 3.0)
-        control_step(tube, swarm, params, positions, r_a, speed)  # warm-up: build the tube's k-d tree
-        t_step = 1e3 * timed(partial(control_step, tube, swarm, params, positions, r_a, speed), args.repeats)[0]
-        t_dense = 1e3 * timed(partial(dense_avoidance, positions, r_a, swarm, params), args.repeats // 2)[0]
-        diff = np.abs(avoidance_velocity(positions, r_a, swarm, params) - dense_avoidance(positions, r_a, swarm, params))
+        r_a = np.full(n, params.r_a_m) + rng.uniform(0.0, 0.4, n)
+        step = stepper(tube, params, r_a)
+        step(positions, 0.02)  # warm-up: build the tube's k-d tree
+        t_step = 1e3 * timed(partial(step, positions, 0.02), args.repeats)[0]
+        t_dense = 1e3 * timed(partial(dense_avoidance, positions, r_a, params), args.repeats // 2)[0]
+        diff = np.abs(avoidance_velocity(positions, r_a, params) - dense_avoidance(positions, r_a, params))
         print(f'{n:>6} {t_step:>10.2f} {t_dense:>21.2f} {t_dense / t_step:>6.1f}x {diff.max():>17.1e}')
         sizes.append(n)
         times.append(t_step)

@@ -2,43 +2,41 @@
 
     python -m benchmarks.submission_bench [--steps 300]
 
-Runs the committed robotarium_curve submission's loop on the bundled simulator and times, per step, what the file
-computes between get_poses and set_velocities: control points, the swarm law on the sampled tube, the barrier
-certificate (the PyPI simulator's cvxopt one, which is what the testbed's rps runs, and the bundled DAQP one),
-the near-identity map and wheel scaling. The simulator's own step is not timed.
+Builds the robotarium_curve submission and runs its own flight (the code inlined in the file) on the bundled
+simulator, timing per step what the file computes between get_poses and set_velocities: control points, the swarm
+step on the sampled tube, the barrier certificate (the PyPI simulator's cvxopt one, which is what the testbed's
+rps runs, and the bundled DAQP one), the near-identity map and wheel scaling. The simulator's step is not timed.
 """
 
 from __future__ import annotations
 
 import argparse
 import time
+from collections.abc import Callable
 from functools import partial
 
 import numpy as np
 
 from benchmarks._timing import timed
 from robotarium_exp.rps.robotarium import ClassicRobotarium
-from submission import runtime
 from submission.builder import build
 
 
-def loop_times(data: dict, certificate, steps: int) -> list[float]:
-    n = int(data['swarm']['n_robots'])
+def loop_times(namespace: dict, certificate: Callable[..., np.ndarray], steps: int) -> list[float]:
+    """Per-step seconds of the file's own flight (its inlined code) with ``certificate`` as the barrier."""
+    data = namespace['DATA']
+    n = int(data['n_robots'])
     r = ClassicRobotarium(number_of_robots=n, sim_in_real_time=False,
                           initial_conditions=np.array(data['initial_conditions']))
-    controller = runtime.TubeController(data)
-    d = float(data['projection_distance_m'])
+    flight = namespace['build_flight'](data, lambda dxi, x: certificate(np.array(dxi, copy=True), x))
+    dt = float(data['time_step_s'])
     times = []
     for _ in range(steps):
         poses = r.get_poses()
         start = time.perf_counter()
-        points = poses[:2] + d * np.vstack([np.cos(poses[2]), np.sin(poses[2])])
-        nominal, _ = controller.step(points, 0.033)
-        safe = certificate(nominal.copy(), points)
-        dxu, _ = runtime.scale_to_wheel_limits(runtime.si_to_uni(safe, poses, d), runtime.BASE_LENGTH,
-                                               runtime.WHEEL_RADIUS, runtime.MAX_WHEEL_SPEED)
+        period = flight(poses, dt)
         times.append(time.perf_counter() - start)
-        r.set_velocities(np.arange(n), dxu)
+        r.set_velocities(np.arange(n), period.dxu)
         r.step()
     return times
 
@@ -49,9 +47,9 @@ def main() -> None:
     args = parser.parse_args()
     namespace: dict = {}
     exec(compile(build('robotarium_curve').source, 'submission', 'exec'), namespace)  # noqa: S102 - our own build
-    data = namespace['DATA']
-    boundary = np.array([-1.6, 1.6, -1.0, 1.0])
-    radius, limit = data['barrier']['safety_radius_m'], data['swarm']['v_max_mps']
+    barrier = namespace['DATA']['barrier']
+    boundary = np.array(barrier['arena_m'])
+    radius, limit = barrier['safety_radius_m'], barrier['magnitude_limit_mps']
     from robotarium_exp.rps.utilities.barrier_certificates import create_si_barrier_certificate_with_boundary
 
     certificates = {'bundled (DAQP)': create_si_barrier_certificate_with_boundary(
@@ -65,7 +63,7 @@ def main() -> None:
             safety_radius=radius, magnitude_limit=limit, boundary_points=boundary)
     print(f'{"certificate":<22} {"median [ms]":>12} {"95th pct [ms]":>14} {"max [ms]":>10}')
     for name, certificate in certificates.items():
-        _, times = timed(partial(loop_times, data, certificate, args.steps), 1)
+        _, times = timed(partial(loop_times, namespace, certificate, args.steps), 1)
         ms = 1e3 * np.array(times)
         print(f'{name:<22} {np.median(ms):>12.3f} {np.percentile(ms, 95):>14.3f} {ms.max():>10.3f}')
 

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import subprocess
-from pathlib import Path
-from dataclasses import replace
 import sys
+from dataclasses import replace
+from pathlib import Path
 
 import pytest
 
@@ -138,9 +138,9 @@ def test_simulate_without_planning(tmp_path, capsys) -> None:
 
 
 def test_animation_is_a_gif(tmp_path) -> None:
-    from vtube_planning.swarm.control import ControlParams
-    from vtube_planning.plots import animate
     from vtube_planning.geometry.scene import load_scene
+    from vtube_planning.plots import animate
+    from vtube_planning.swarm.control import ControlParams
     from vtube_planning.swarm.simulate import SimConfig, simulate
 
     scene = load_scene('A')

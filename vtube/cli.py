@@ -66,10 +66,10 @@ def plan(name_or_path: str, out: Path, method: str = 'convex', grid_step_m: floa
     """Plan speed and density for a scene; print the summary, write ``plan_<scene>.npz`` and its figure to ``out``."""
     from dataclasses import replace
 
-    from vtube_planning.plots import plan_figure, save_figure
-    from vtube_planning.planning.polynomial import plan_polynomial
-    from vtube_planning.planning.planner import plan_convex
     from vtube_planning.geometry.scene import load_scene
+    from vtube_planning.planning.planner import plan_convex
+    from vtube_planning.planning.polynomial import plan_polynomial
+    from vtube_planning.plots import plan_figure, save_figure
 
     scene = load_scene(name_or_path)
     options = scene.planning if grid_step_m is None else replace(scene.planning, grid_step_m=grid_step_m)
@@ -161,9 +161,9 @@ def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: 
 
     from vtube_planning import plots
     from vtube_planning.params import SwarmParams
-    from vtube_planning.swarm.simulate import SimConfig
     from vtube_planning.study import BASELINE_MODES, run_study, study_markdown, summarise
     from vtube_planning.swarm.metrics import strict_json
+    from vtube_planning.swarm.simulate import SimConfig
 
     config = SimConfig(acceleration_limits=acceleration_limits)
     seed_list = list(range(seeds))
@@ -185,14 +185,14 @@ def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: 
 def robotarium_run(name_or_path: str, out: Path, *, planning: bool = True, barrier: bool = True,
                    initialization: bool = True, seed: int = 0, plan_path: Path | None = None) -> int:
     """Run the tube experiment on the bundled Robotarium simulator; print the verdict and metrics, write log and figure."""
+    import numpy as np
+
     from robotarium_exp.experiment import ExperimentConfig, run_experiment
     from robotarium_exp.plots import experiment_figure
     from robotarium_exp.rps.robotarium import Robotarium
     from robotarium_exp.spec import ROBOTARIUM
     from vtube_planning.geometry.scene import load_scene
     from vtube_planning.plots import save_figure
-
-    import numpy as np
 
     scene = load_scene(name_or_path)
     plan = _plan_for(scene, plan_path=plan_path) if planning else None
@@ -267,8 +267,8 @@ def analyze(inputs: list[Path], scene_name: str, out: Path, *, plan_path: Path |
             compare: Path | None = None, topic_pattern: str | None = None, frame_pattern: str | None = None,
             topics: list[str] | None = None, collision_distance_m: float | None = None) -> int:
     """Analyse returned data (testbed folder, our logs, ROS bags) in a scene; write metrics, report and figures."""
-    from robotarium_exp.analysis.report import analyse, write_report
     from robotarium_exp.analysis.loaders import load_trajectory
+    from robotarium_exp.analysis.report import analyse, write_report
     from vtube_planning.geometry.scene import load_scene
 
     scene = load_scene(scene_name)

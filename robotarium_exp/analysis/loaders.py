@@ -15,8 +15,8 @@ from typing import Any
 import numpy as np
 
 from robotarium_exp.analysis.bags import read_bag
-from robotarium_exp.errors import AnalysisError
 from robotarium_exp.analysis.trajectory import Trajectory
+from robotarium_exp.errors import AnalysisError
 from vtube_planning.errors import LogError
 from vtube_planning.swarm.log import read_log
 

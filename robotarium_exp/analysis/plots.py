@@ -11,8 +11,8 @@ from vtube_planning.plots import draw_tube
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from vtube_planning.planning.plan import Plan
     from vtube_planning.geometry.scene import Scene
+    from vtube_planning.planning.plan import Plan
 
 
 def analysis_figures(results: dict, scene: Scene, plan: Plan | None) -> dict[str, Figure]:

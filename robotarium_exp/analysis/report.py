@@ -13,9 +13,9 @@ from typing import Any
 import numpy as np
 
 from robotarium_exp.analysis.trajectory import Trajectory
-from vtube_planning.swarm.metrics import passage_metrics, strict_json
-from vtube_planning.planning.plan import Plan
 from vtube_planning.geometry.scene import Scene
+from vtube_planning.planning.plan import Plan
+from vtube_planning.swarm.metrics import passage_metrics, strict_json
 from vtube_planning.swarm.step import swarm_density
 
 

@@ -14,9 +14,9 @@ from rosbags.rosbag2 import StoragePlugin
 from rosbags.rosbag2 import Writer as Writer2
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
+from robotarium_exp.analysis.loaders import load_trajectory
 from robotarium_exp.analysis.report import analyse
 from robotarium_exp.errors import AnalysisError
-from robotarium_exp.analysis.loaders import load_trajectory
 from vtube_planning import load_scene
 
 ROOT = Path(__file__).resolve().parents[2]

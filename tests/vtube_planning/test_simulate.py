@@ -4,19 +4,18 @@ from __future__ import annotations
 
 import json
 import math
-
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from vtube_planning import ParamsError, PlanError, SwarmParams, load_scene
-from vtube_planning.swarm import simulate as simulate_module
-from vtube_planning.swarm.metrics import passage_metrics
 from vtube_planning.planning.planner import plan_convex
-from vtube_planning.swarm.log import read_log
-from vtube_planning.swarm.simulate import SimConfig, default_constant_speed, simulate
 from vtube_planning.study import run_study, summarise
+from vtube_planning.swarm import simulate as simulate_module
+from vtube_planning.swarm.log import read_log
+from vtube_planning.swarm.metrics import passage_metrics
+from vtube_planning.swarm.simulate import SimConfig, default_constant_speed, simulate
 
 SHORT = SimConfig(time_limit_s=4.0)
 

@@ -19,7 +19,7 @@ d_safe = 2 r_s, v_min = 0.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -132,9 +132,9 @@ class NmpcSwarm:
 
     tube: VirtualTube
     params: NmpcParams
-    plans: FloatArray | None = None  # (N, H, 2) accelerations, warm starts
-    predictions: FloatArray | None = None  # (N, H, 2) predicted positions
-    held: FloatArray | None = None  # (2, N) accelerations held between updates
+    plans: FloatArray = field(default_factory=lambda: np.zeros((0, 0, 2)))  # (N, H, 2) accelerations, warm starts
+    predictions: FloatArray = field(default_factory=lambda: np.zeros((0, 0, 2)))  # (N, H, 2) predicted positions
+    held: FloatArray = field(default_factory=lambda: np.zeros((2, 0)))  # (2, N) accelerations held between updates
     next_update_s: float = 0.0
     time_s: float = 0.0
     failures: int = 0
@@ -144,7 +144,7 @@ class NmpcSwarm:
     def command(self, positions: FloatArray, velocities: FloatArray, projection: Projection, dt_s: float) -> FloatArray:
         """Velocity commands (2, N): the current velocities advanced by the held accelerations, capped at v_max."""
         n, h = positions.shape[1], self.params.horizon
-        if self.plans is None:
+        if self.plans.shape[0] != n:  # the first call: no plans yet
             self.plans = np.zeros((n, h, 2))
             steps = np.arange(1, h + 1)[:, None, None] * self.params.dt_s
             self.predictions = (positions.T[None] + steps * velocities.T[None]).transpose(1, 0, 2)
@@ -153,7 +153,6 @@ class NmpcSwarm:
             self._update(positions, velocities, projection)
             self.next_update_s += self.params.update_s
         self.time_s += dt_s
-        assert self.held is not None  # set with the plans on the first call
         command = velocities + dt_s * self.held
         speed = np.hypot(command[0], command[1])
         return command * np.minimum(1.0, self.params.v_max / np.maximum(speed, 1e-12))
@@ -162,7 +161,6 @@ class NmpcSwarm:
         started = time.perf_counter()
         params, n = self.params, positions.shape[1]
         plans, predictions, held = self.plans, self.predictions, self.held
-        assert plans is not None and predictions is not None and held is not None  # set by command() first
         others_all = predictions.copy()
         for i in range(n):
             dist = np.hypot(*(positions - positions[:, [i]]))

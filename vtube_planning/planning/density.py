@@ -20,8 +20,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from vtube_planning.errors import ParamsError
-from vtube_planning.params import PREDICTIVE_MODELS
 from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.params import PREDICTIVE_MODELS
 from vtube_planning.swarm.step import swarm_area
 
 FloatArray = NDArray[np.float64]

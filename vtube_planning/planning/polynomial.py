@@ -131,21 +131,24 @@ def plan_polynomial(tube: VirtualTube, swarm: SwarmParams, options: PlanningOpti
         if cvx.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
             msg = f'Clarabel returned status {cvx.status!r} on a polynomial planning subproblem.'
             raise SolverError(msg)
-        assert slack.value is not None  # an optimal solve sets every variable
         w_bar = np.asarray(w_at.value, dtype=float)
         value = float(cvx.value)
-        if previous - value <= rtol * max(1.0, abs(value)) and float(np.sum(slack.value)) <= 1e-9:
+        if previous - value <= rtol * max(1.0, abs(value)) and _total(slack.value) <= 1e-9:
             status = 'converged'
             break
         previous = value
-    assert P.value is not None and Q.value is not None and slack.value is not None  # set by the last solve
     samples = np.linspace(0.0, tube.length_m, 4 * (problem.l_m.size - 1) + 1)
     seg = np.clip(np.searchsorted(knots, samples, side='right') - 1, 0, m - 1)
     local = bernstein((samples - knots[seg]) / h[seg])
-    w = np.einsum('ij,ij->i', local, P.value[seg])
-    rho = np.einsum('ij,ij->i', local, Q.value[seg])
+    w = np.einsum('ij,ij->i', local, np.asarray(P.value, dtype=float)[seg])  # an optimal solve sets every value
+    rho = np.einsum('ij,ij->i', local, np.asarray(Q.value, dtype=float)[seg])
     plan = make_plan(tube, swarm, options, samples, 1.0 / w, rho, method='polynomial', status=status,
                      iterations=iterations, solve_time_s=time.perf_counter() - started, scene=scene)
     plan.extra.update({'segments': int(m), 'objective_polynomial': float(objective.value),
-                       'p3_slack': float(np.sum(slack.value))})
+                       'p3_slack': _total(slack.value)})
     return plan
+
+
+def _total(value: object) -> float:
+    """The sum of a solved cvxpy variable's value."""
+    return float(np.sum(np.asarray(value, dtype=float)))

@@ -15,7 +15,6 @@ from vtube_planning.errors import ParamsError
 from vtube_planning.params import SwarmParams
 from vtube_planning.swarm.step import LAWS, StepParams
 
-
 # ---------------------------------------------------------------------- parameters
 
 
