@@ -29,8 +29,10 @@ def write_bag(path: Path, bodies: int, rate: float, seconds: float) -> int:
     steps = int(seconds * rate)
     count = 0
     with Writer(path, version=9) as writer:
-        conns = [writer.add_connection(f'/vrpn_mocap/body_{k:02d}/pose', 'geometry_msgs/msg/PoseStamped', typestore=ts)
-                 for k in range(bodies)]
+        conns = [
+            writer.add_connection(f'/vrpn_mocap/body_{k:02d}/pose', 'geometry_msgs/msg/PoseStamped', typestore=ts)
+            for k in range(bodies)
+        ]
         quat = T['geometry_msgs/msg/Quaternion'](x=0.0, y=0.0, z=0.0, w=1.0)
         for i in range(steps):
             t_ns = 1_700_000_000_000_000_000 + i * period_ns
@@ -38,8 +40,9 @@ def write_bag(path: Path, bodies: int, rate: float, seconds: float) -> int:
             header = T['std_msgs/msg/Header'](stamp=stamp, frame_id='world')
             for k, conn in enumerate(conns):
                 point = T['geometry_msgs/msg/Point'](x=0.001 * i, y=0.1 * k, z=0.0)
-                msg = T['geometry_msgs/msg/PoseStamped'](header=header, pose=T['geometry_msgs/msg/Pose'](
-                    position=point, orientation=quat))
+                msg = T['geometry_msgs/msg/PoseStamped'](
+                    header=header, pose=T['geometry_msgs/msg/Pose'](position=point, orientation=quat)
+                )
                 writer.write(conn, t_ns, ts.serialize_cdr(msg, 'geometry_msgs/msg/PoseStamped'))
                 count += 1
     return count
@@ -70,9 +73,11 @@ def main() -> None:
     assert count == written
     print(f'{written} messages ({args.bodies} bodies, {args.rate:g} Hz, {args.seconds:g} s)')
     print(f'  plain AnyReader loop (deserialize only): {t_plain:6.2f} s')
-    print(f'  vtube load_trajectory:                   {t_ours:6.2f} s  ({t_ours / t_plain:.2f}x the plain loop), '
-          f'{trajectory.positions_m.shape[0]} frames x {trajectory.n_robots} robots, '
-          f'{int(np.isnan(trajectory.positions_m).any(axis=(1, 2)).sum())} incomplete frames')
+    print(
+        f'  vtube load_trajectory:                   {t_ours:6.2f} s  ({t_ours / t_plain:.2f}x the plain loop), '
+        f'{trajectory.positions_m.shape[0]} frames x {trajectory.n_robots} robots, '
+        f'{int(np.isnan(trajectory.positions_m).any(axis=(1, 2)).sum())} incomplete frames'
+    )
 
 
 if __name__ == '__main__':

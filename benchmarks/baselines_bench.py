@@ -35,8 +35,9 @@ def main() -> None:
     planned = SwarmStep(tube, scene.control.step_params(swarm), swarm.n_robots, plan=plan.profile)
     flocking = FlockingParams.scaled(swarm)
     t_planned, _ = timed(lambda: planned(positions, 0.02), args.repeats)
-    t_flocking, _ = timed(lambda: flocking_command(positions, velocities, tube.project(positions), flocking),
-                          args.repeats)
+    t_flocking, _ = timed(
+        lambda: flocking_command(positions, velocities, tube.project(positions), flocking), args.repeats
+    )
     params = NmpcParams.for_swarm(swarm)
 
     def nmpc_update() -> None:
@@ -47,8 +48,10 @@ def main() -> None:
     print(f'N = {swarm.n_robots}, one control step (median):')
     print(f'  planned controller (projection + law)   {1e3 * t_planned:9.3f} ms')
     print(f'  optimized flocking (projection + law)   {1e3 * t_flocking:9.3f} ms')
-    print(f'  NMPC update (20 agents, SLSQP each)     {1e3 * t_nmpc:9.1f} ms, i.e. '
-          f'{1e3 * t_nmpc / steps_per_update:.1f} ms per 0.02 s step')
+    print(
+        f'  NMPC update (20 agents, SLSQP each)     {1e3 * t_nmpc:9.1f} ms, i.e. '
+        f'{1e3 * t_nmpc / steps_per_update:.1f} ms per 0.02 s step'
+    )
 
 
 if __name__ == '__main__':

@@ -34,12 +34,18 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--points', type=int, default=10_000)
     parser.add_argument('--repeats', type=int, default=7)
-    parser.add_argument('--spacing-m', type=float, default=None,
-                        help='dense sample spacing (default: L / 6000, about 1 cm on the paper scenes)')
+    parser.add_argument(
+        '--spacing-m',
+        type=float,
+        default=None,
+        help='dense sample spacing (default: L / 6000, about 1 cm on the paper scenes)',
+    )
     args = parser.parse_args()
     rng = np.random.default_rng(0)
-    print(f'{"scene":<18} {"N":>6} {"project [ms]":>13} {"max |dl| [m]":>13} {"dense [ms]":>11} '
-          f'{"max |dl| [m]":>13} {"samples":>8} {"ratio":>7}')
+    print(
+        f'{"scene":<18} {"N":>6} {"project [ms]":>13} {"max |dl| [m]":>13} {"dense [ms]":>11} '
+        f'{"max |dl| [m]":>13} {"samples":>8} {"ratio":>7}'
+    )
     for name in ('D', 'B', 'robotarium_curve'):
         tube = load_scene(name).tube
         l_true = rng.uniform(0.0, tube.length_m, args.points)
@@ -52,8 +58,10 @@ def main() -> None:
         err_ours = float(np.abs(proj.l_m - l_true).max())
         err_dense = float(np.abs(l_dense - l_true).max())
         samples = int(np.ceil(tube.length_m / spacing)) + 1
-        print(f'{name:<18} {args.points:>6} {1e3 * t_ours:>13.2f} {err_ours:>13.1e} {1e3 * t_dense:>11.1f} '
-              f'{err_dense:>13.1e} {samples:>8} {t_dense / t_ours:>6.1f}x')
+        print(
+            f'{name:<18} {args.points:>6} {1e3 * t_ours:>13.2f} {err_ours:>13.1e} {1e3 * t_dense:>11.1f} '
+            f'{err_dense:>13.1e} {samples:>8} {t_dense / t_ours:>6.1f}x'
+        )
 
 
 if __name__ == '__main__':

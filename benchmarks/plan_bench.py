@@ -30,8 +30,10 @@ def main() -> None:
     parser.add_argument('--slsqp-intervals', type=int, default=120)
     args = parser.parse_args()
     k = args.slsqp_intervals
-    print(f'{"scene":<21} {"step":>6} {"convex s":>9} {"J convex":>10} {"poly s":>7} {"J poly":>10} '
-          f'{"SLSQP@K s":>10} {"J SLSQP":>10} {"convex@K s":>11} {"J convex@K":>11} {"speed-up":>9}')
+    print(
+        f'{"scene":<21} {"step":>6} {"convex s":>9} {"J convex":>10} {"poly s":>7} {"J poly":>10} '
+        f'{"SLSQP@K s":>10} {"J SLSQP":>10} {"convex@K s":>11} {"J convex@K":>11} {"speed-up":>9}'
+    )
     for name in list_scenes():
         scene = load_scene(name)
         tube, swarm = scene.tube, scene.swarm
@@ -42,15 +44,18 @@ def main() -> None:
         v0, rho0 = initial_conditions(swarm, scene.planning)
         try:
             t_slsqp, (_, _, _, j_slsqp) = timed(
-                partial(slsqp_plan, tube, swarm, scene.planning, k, v0=v0, rho0=rho0), 1)
+                partial(slsqp_plan, tube, swarm, scene.planning, k, v0=v0, rho0=rho0), 1
+            )
         except RuntimeError as err:  # SLSQP's own failures are part of the comparison
             print(f'{name:<21} SLSQP reference failed at K = {k}: {err}')
             t_slsqp, j_slsqp = float('nan'), float('nan')
         coarse = replace(scene.planning, grid_step_m=tube.length_m / k)
         t_coarse, same = timed(partial(plan_convex, tube, swarm, coarse), args.repeats)
-        print(f'{name:<21} {step:>6.4f} {t_convex:>9.3f} {convex.objective["total"]:>10.5f} {t_poly:>7.3f} '
-              f'{poly.objective["total"]:>10.5f} {t_slsqp:>10.3f} {j_slsqp:>10.5f} {t_coarse:>11.3f} '
-              f'{same.objective["total"]:>11.5f} {t_slsqp / t_coarse:>8.1f}x')
+        print(
+            f'{name:<21} {step:>6.4f} {t_convex:>9.3f} {convex.objective["total"]:>10.5f} {t_poly:>7.3f} '
+            f'{poly.objective["total"]:>10.5f} {t_slsqp:>10.3f} {j_slsqp:>10.5f} {t_coarse:>11.3f} '
+            f'{same.objective["total"]:>11.5f} {t_slsqp / t_coarse:>8.1f}x'
+        )
 
 
 if __name__ == '__main__':

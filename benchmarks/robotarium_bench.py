@@ -64,8 +64,10 @@ def main() -> None:
     t0 = time.perf_counter()
     pypi = run_experiment(PypiRobotarium, scene, plan, config)
     t_pypi = time.perf_counter() - t0
-    print(f'experiment, 6 robots, {mine.arrays["t_s"].size} steps: ours {t_mine:.2f} s, with the PyPI Robotarium '
-          f'{t_pypi:.2f} s ({pypi.arrays["t_s"].size} steps), ratio {t_pypi / t_mine:.2f}x')
+    print(
+        f'experiment, 6 robots, {mine.arrays["t_s"].size} steps: ours {t_mine:.2f} s, with the PyPI Robotarium '
+        f'{t_pypi:.2f} s ({pypi.arrays["t_s"].size} steps), ratio {t_pypi / t_mine:.2f}x'
+    )
 
 
 if __name__ == '__main__':

@@ -51,9 +51,11 @@ def dense_avoidance(positions: np.ndarray, r_a: np.ndarray, params: StepParams) 
         dx = positions[0, rows, None] - positions[0, None, :]
         dy = positions[1, rows, None] - positions[1, None, :]
         dist = np.hypot(dx, dy)
-        np.fill_diagonal(dist[:, start:start + dist.shape[0]], np.inf)
+        np.fill_diagonal(dist[:, start : start + dist.shape[0]], np.inf)
         band = r_s + r_a[rows, None] * np.ones((1, n))
-        gain = np.where(dist < band, barrier_gain(np.minimum(dist, 1e3), 2 * r_s, 2 * r_s, band, params.avoidance_gain), 0.0)
+        gain = np.where(
+            dist < band, barrier_gain(np.minimum(dist, 1e3), 2 * r_s, 2 * r_s, band, params.avoidance_gain), 0.0
+        )
         out[0, rows] = np.sum(gain * dx / dist, axis=1)
         out[1, rows] = np.sum(gain * dy / dist, axis=1)
     return out

@@ -26,8 +26,9 @@ def loop_times(namespace: dict, certificate: Callable[..., np.ndarray], steps: i
     """Per-step seconds of the file's own flight (its inlined code) with ``certificate`` as the barrier."""
     data = namespace['DATA']
     n = int(data['n_robots'])
-    r = ClassicRobotarium(number_of_robots=n, sim_in_real_time=False,
-                          initial_conditions=np.array(data['initial_conditions']))
+    r = ClassicRobotarium(
+        number_of_robots=n, sim_in_real_time=False, initial_conditions=np.array(data['initial_conditions'])
+    )
     flight = namespace['build_flight'](data, lambda dxi, x: certificate(np.array(dxi, copy=True), x))
     dt = float(data['time_step_s'])
     times = []
@@ -52,15 +53,19 @@ def main() -> None:
     radius, limit = barrier['safety_radius_m'], barrier['magnitude_limit_mps']
     from robotarium_exp.rps.utilities.barrier_certificates import create_si_barrier_certificate_with_boundary
 
-    certificates = {'bundled (DAQP)': create_si_barrier_certificate_with_boundary(
-        safety_radius=radius, magnitude_limit=limit, boundary_points=boundary)}
+    certificates = {
+        'bundled (DAQP)': create_si_barrier_certificate_with_boundary(
+            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary
+        )
+    }
     try:
         from rps.utilities.barrier_certificates import create_single_integrator_barrier_certificate_with_boundary
     except ImportError:
         print('PyPI robotarium-python-simulator not installed: cvxopt certificate skipped')
     else:
         certificates['testbed rps (cvxopt)'] = create_single_integrator_barrier_certificate_with_boundary(
-            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary)
+            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary
+        )
     print(f'{"certificate":<22} {"median [ms]":>12} {"95th pct [ms]":>14} {"max [ms]":>10}')
     for name, certificate in certificates.items():
         _, times = timed(partial(loop_times, namespace, certificate, args.steps), 1)

@@ -17,8 +17,9 @@ from rps import robotarium
 N = 6
 STEPS = 300
 initial_conditions = np.array([[-1.0, -0.6, -0.2, 0.2, 0.6, 1.0], [0.0, 0.3, -0.3, 0.3, -0.3, 0.0], [0.0] * 6])
-r = robotarium.Robotarium(number_of_robots=N, show_figure=False, sim_in_real_time=False,
-                          initial_conditions=initial_conditions.copy())
+r = robotarium.Robotarium(
+    number_of_robots=N, show_figure=False, sim_in_real_time=False, initial_conditions=initial_conditions.copy()
+)
 history = []
 for k in range(STEPS):
     x = r.get_poses()

@@ -122,8 +122,10 @@ def initial_conditions(scene: Scene) -> FloatArray:
             break
     if np.any(np.abs(ic[0]) > ROBOTARIUM.ic_box_m[0]) or np.any(np.abs(ic[1]) > ROBOTARIUM.ic_box_m[1]):
         box_x, box_y = ROBOTARIUM.ic_box_m
-        msg = (f'scene {scene.name!r}: the entry formation leaves the box |x| <= {box_x}, |y| <= {box_y} the testbed '
-               'initializes robots in; move the tube entrance inwards or use fewer robots.')
+        msg = (
+            f'scene {scene.name!r}: the entry formation leaves the box |x| <= {box_x}, |y| <= {box_y} the testbed '
+            'initializes robots in; move the tube entrance inwards or use fewer robots.'
+        )
         raise ExperimentError(msg)
     return ic
 
@@ -170,68 +172,131 @@ def flight_data(scene: Scene, plan: Plan | None, config: ExperimentConfig) -> di
     tube, swarm = scene.tube, scene.swarm
     samples = tube.sampled(TUBE_SAMPLE_SPACING_M)
     profile = plan.profile if plan is not None else None
-    return plain_data({
-        'scene': scene.name,
-        'planned': config.planning,
-        'n_robots': swarm.n_robots,
-        'time_step_s': ROBOTARIUM.time_step_s,
-        'step': asdict(scene.control.step_params(swarm)),
-        'constant_speed_mps': default_constant_speed(swarm),
-        'plan': asdict(profile) if profile is not None else None,
-        'tube': {'l_m': samples.l_m, 'xy_m': samples.xy_m, 'half_width_m': samples.half_width_m,
-                 'area_m2': samples.area_m2},
-        'initial_conditions': initial_conditions(scene),
-        'parking_slots': parking_slots(scene),
-        'projection_distance_m': config.projection_distance_m,
-        'barrier': {'safety_radius_m': config.safety_radius_m, 'magnitude_limit_mps': swarm.v_max_mps,
-                    'arena_m': list(ROBOTARIUM.arena_m)} if config.barrier else None,
-        'wheels': asdict(Wheels(ROBOTARIUM.base_length_m, ROBOTARIUM.wheel_radius_m,
-                                ROBOTARIUM.max_wheel_speed_radps)),
-        'max_steps': config.max_steps,
-    })
+    return plain_data(
+        {
+            'scene': scene.name,
+            'planned': config.planning,
+            'n_robots': swarm.n_robots,
+            'time_step_s': ROBOTARIUM.time_step_s,
+            'step': asdict(scene.control.step_params(swarm)),
+            'constant_speed_mps': default_constant_speed(swarm),
+            'plan': asdict(profile) if profile is not None else None,
+            'tube': {
+                'l_m': samples.l_m,
+                'xy_m': samples.xy_m,
+                'half_width_m': samples.half_width_m,
+                'area_m2': samples.area_m2,
+            },
+            'initial_conditions': initial_conditions(scene),
+            'parking_slots': parking_slots(scene),
+            'projection_distance_m': config.projection_distance_m,
+            'barrier': {
+                'safety_radius_m': config.safety_radius_m,
+                'magnitude_limit_mps': swarm.v_max_mps,
+                'arena_m': list(ROBOTARIUM.arena_m),
+            }
+            if config.barrier
+            else None,
+            'wheels': asdict(
+                Wheels(ROBOTARIUM.base_length_m, ROBOTARIUM.wheel_radius_m, ROBOTARIUM.max_wheel_speed_radps)
+            ),
+            'max_steps': config.max_steps,
+        }
+    )
 
 
-def run_experiment(robotarium_class: Any, scene: Scene, plan: Plan | None, config: ExperimentConfig | None = None,
-                   *, log_path: str | Path | None = None, robotarium_kwargs: dict[str, Any] | None = None
-                   ) -> ExperimentResult:
+def run_experiment(
+    robotarium_class: Any,
+    scene: Scene,
+    plan: Plan | None,
+    config: ExperimentConfig | None = None,
+    *,
+    log_path: str | Path | None = None,
+    robotarium_kwargs: dict[str, Any] | None = None,
+) -> ExperimentResult:
     """Fly the scene's swarm through its tube on a Robotarium and park it beyond the exit."""
     config = config or ExperimentConfig()
     data = flight_data(scene, plan, config)
     tube, swarm, n = scene.tube, scene.swarm, scene.swarm.n_robots
     dt = ROBOTARIUM.time_step_s
-    r = robotarium_class(number_of_robots=int(n), show_figure=False, sim_in_real_time=False,
-                         initial_conditions=np.array(data['initial_conditions']), **(robotarium_kwargs or {}))
+    r = robotarium_class(
+        number_of_robots=int(n),
+        show_figure=False,
+        sim_in_real_time=False,
+        initial_conditions=np.array(data['initial_conditions']),
+        **(robotarium_kwargs or {}),
+    )
     barrier = None
     if config.barrier:
         barrier = create_si_barrier_certificate_with_boundary(
-            safety_radius=config.safety_radius_m, magnitude_limit=swarm.v_max_mps, boundary_points=ROBOTARIUM.arena_m)
+            safety_radius=config.safety_radius_m, magnitude_limit=swarm.v_max_mps, boundary_points=ROBOTARIUM.arena_m
+        )
     flight = build_flight(data, barrier)
-    meta = {'kind': 'robotarium experiment', 'scene': scene.name, 'planned': config.planning,
-            'barrier': config.barrier, 'n_robots': n, 'dt_s': dt, 'config': asdict(config), 'swarm': asdict(swarm),
-            'control': asdict(scene.control), 'length_m': tube.length_m,
-            'initial_conditions': data['initial_conditions']}
+    meta = {
+        'kind': 'robotarium experiment',
+        'scene': scene.name,
+        'planned': config.planning,
+        'barrier': config.barrier,
+        'n_robots': n,
+        'dt_s': dt,
+        'config': asdict(config),
+        'swarm': asdict(swarm),
+        'control': asdict(scene.control),
+        'length_m': tube.length_m,
+        'initial_conditions': data['initial_conditions'],
+    }
     log = LogWriter(log_path, meta, flush_every=config.log_every)
 
     def record(step: int, period: Period) -> None:
         robots = tube.project(period.poses[:2])  # the robots' centres on the exact tube, as the analysis measures
-        row = {'t_s': np.float64(step * dt), 'positions_m': period.poses[:2], 'headings_rad': period.poses[2],
-               'points_m': period.points_m,
-               'si_nominal_mps': period.step.velocity, 'si_safe_mps': period.safe_mps, 'dxu': period.dxu,
-               'barrier_correction_mps': period.barrier_correction_mps, 'r_a_m': period.step.r_a_m,
-               'l_m': robots.l_m, 'clearance_m': robots.clearance_m,
-               'density_per_m2': np.float64(period.step.density_per_m2)}
+        row = {
+            't_s': np.float64(step * dt),
+            'positions_m': period.poses[:2],
+            'headings_rad': period.poses[2],
+            'points_m': period.points_m,
+            'si_nominal_mps': period.step.velocity,
+            'si_safe_mps': period.safe_mps,
+            'dxu': period.dxu,
+            'barrier_correction_mps': period.barrier_correction_mps,
+            'r_a_m': period.step.r_a_m,
+            'l_m': robots.l_m,
+            'clearance_m': robots.clearance_m,
+            'density_per_m2': np.float64(period.step.density_per_m2),
+        }
         log.append(**row)
 
     completed, periods = fly(r, flight, dt, config.max_steps, record)
     arrays = log.arrays()
     errors = dict(getattr(r, 'errors', None) or getattr(r, '_errors', {}) or {})
-    metrics = passage_metrics(arrays['t_s'], arrays['positions_m'], arrays['l_m'], arrays['clearance_m'],
-                              tube.length_m, collision_distance_m=2.0 * swarm.r_p_m)
+    metrics = passage_metrics(
+        arrays['t_s'],
+        arrays['positions_m'],
+        arrays['l_m'],
+        arrays['clearance_m'],
+        tube.length_m,
+        collision_distance_m=2.0 * swarm.r_p_m,
+    )
     correction = arrays['barrier_correction_mps']
-    barrier_stats = {'correction_mean_mps': float(correction.mean()), 'correction_max_mps': float(correction.max()),
-                     'failures': barrier.stats.failures if barrier is not None else 0}
+    barrier_stats = {
+        'correction_mean_mps': float(correction.mean()),
+        'correction_max_mps': float(correction.max()),
+        'failures': barrier.stats.failures if barrier is not None else 0,
+    }
     duration = float(getattr(r, 'iterations', periods) * dt)
-    log.flush(metrics=metrics.to_json(), barrier=barrier_stats, duration_s=duration, errors=strict_json(errors),
-              completed=completed, finished=True)
-    return ExperimentResult(arrays=arrays, errors=errors, metrics=metrics, barrier=barrier_stats, duration_s=duration,
-                            completed=completed, meta=meta)
+    log.flush(
+        metrics=metrics.to_json(),
+        barrier=barrier_stats,
+        duration_s=duration,
+        errors=strict_json(errors),
+        completed=completed,
+        finished=True,
+    )
+    return ExperimentResult(
+        arrays=arrays,
+        errors=errors,
+        metrics=metrics,
+        barrier=barrier_stats,
+        duration_s=duration,
+        completed=completed,
+        meta=meta,
+    )

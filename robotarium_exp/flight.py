@@ -72,8 +72,13 @@ class Flight:
         The drive's limits.
     """
 
-    def __init__(self, stepper: SwarmStep, barrier: Callable[[FloatArray, FloatArray], FloatArray] | None,
-                 projection_distance_m: float, wheels: Wheels) -> None:
+    def __init__(
+        self,
+        stepper: SwarmStep,
+        barrier: Callable[[FloatArray, FloatArray], FloatArray] | None,
+        projection_distance_m: float,
+        wheels: Wheels,
+    ) -> None:
         self.stepper = stepper
         self.barrier = barrier
         self.d = float(projection_distance_m)
@@ -85,8 +90,9 @@ class Flight:
         step = self.stepper(points, dt_s)
         safe = self.barrier(step.velocity, points) if self.barrier is not None else step.velocity
         w = self.wheels
-        dxu, _ = scale_to_wheel_limits(si_to_uni(safe, poses, self.d), w.base_length_m, w.wheel_radius_m,
-                                       w.max_wheel_speed_radps)
+        dxu, _ = scale_to_wheel_limits(
+            si_to_uni(safe, poses, self.d), w.base_length_m, w.wheel_radius_m, w.max_wheel_speed_radps
+        )
         return Period(poses, points, step, safe, dxu)
 
 
@@ -96,14 +102,20 @@ def build_flight(data: dict[str, Any], barrier: Callable[[FloatArray, FloatArray
     plan = None
     if data['planned']:
         plan = PlanProfile(**{key: np.asarray(value, dtype=float) for key, value in data['plan'].items()})
-    stepper = SwarmStep(tube, StepParams(**data['step']), int(data['n_robots']), plan=plan,
-                        constant_speed_mps=float(data['constant_speed_mps']),
-                        parking_slots=np.asarray(data['parking_slots'], dtype=float))
+    stepper = SwarmStep(
+        tube,
+        StepParams(**data['step']),
+        int(data['n_robots']),
+        plan=plan,
+        constant_speed_mps=float(data['constant_speed_mps']),
+        parking_slots=np.asarray(data['parking_slots'], dtype=float),
+    )
     return Flight(stepper, barrier, float(data['projection_distance_m']), Wheels(**data['wheels']))
 
 
-def fly(robotarium: Any, flight: Flight, dt_s: float, max_steps: int,
-        record: Callable[[int, Period], None]) -> tuple[bool, int]:
+def fly(
+    robotarium: Any, flight: Flight, dt_s: float, max_steps: int, record: Callable[[int, Period], None]
+) -> tuple[bool, int]:
     """Run ``flight`` on ``robotarium`` until every robot has parked (True) or ``max_steps`` (False).
 
     ``record(step, period)`` sees every period before its commands are sent. Returns (completed, periods run).

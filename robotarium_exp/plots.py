@@ -39,14 +39,23 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
         for k in range(poses.shape[2]):
             center = (float(poses[step, 0, k]), float(poses[step, 1, k]))
             ax.add_patch(Circle(center, 0.055, fc=color, ec='k', lw=0.4, zorder=3))
-        ax.annotate(f'{t[step]:.0f} s', poses[step, :2].mean(axis=1), xytext=(0, 16), textcoords='offset points',
-                    ha='center', fontsize=7, color=color)
+        ax.annotate(
+            f'{t[step]:.0f} s',
+            poses[step, :2].mean(axis=1),
+            xytext=(0, 16),
+            textcoords='offset points',
+            ha='center',
+            fontsize=7,
+            color=color,
+        )
     ax.set_xlim(xmin - 0.1, xmax + 0.1)
     ax.set_ylim(ymin - 0.1, ymax + 0.1)
     e, m = result.errors, result.metrics
-    ax.set_title(f'{scene.name}, {"with" if result.meta["planned"] else "without"} planning: '
-                 f'{e.get("robots_too_close", 0)} too close, {e.get("robots_outside_boundaries", 0)} outside, '
-                 f'{e.get("exceeded_actuator_limits", 0)} actuator; min distance {m.min_distance_m:.3f} m')
+    ax.set_title(
+        f'{scene.name}, {"with" if result.meta["planned"] else "without"} planning: '
+        f'{e.get("robots_too_close", 0)} too close, {e.get("robots_outside_boundaries", 0)} outside, '
+        f'{e.get("exceeded_actuator_limits", 0)} actuator; min distance {m.min_distance_m:.3f} m'
+    )
     ra = arrays['r_a_m']
     ax_ra.plot(t, ra.mean(axis=1), color='tab:purple', label='mean r_a [m]')
     ax_ra.fill_between(t, ra.min(axis=1), ra.max(axis=1), color='tab:purple', alpha=0.2)

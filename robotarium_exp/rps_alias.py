@@ -22,8 +22,15 @@ import numpy as np
 
 from vtube_planning.swarm.log import LogWriter
 
-MODULES = ('', '.robotarium', '.utilities', '.utilities.barrier_certificates', '.utilities.controllers',
-           '.utilities.misc', '.utilities.transformations')
+MODULES = (
+    '',
+    '.robotarium',
+    '.utilities',
+    '.utilities.barrier_certificates',
+    '.utilities.controllers',
+    '.utilities.misc',
+    '.utilities.transformations',
+)
 
 
 def install(*, classic: bool = False, seed: int | None = None, log_path: str | None = None) -> None:
@@ -33,7 +40,9 @@ def install(*, classic: bool = False, seed: int | None = None, log_path: str | N
     original = sys.modules['rps.robotarium']
     cls = original.ClassicRobotarium if classic else original.Robotarium
     if seed is not None:
-        cls = type(cls.__name__, (cls,), {'__init__': functools.partialmethod(cls.__init__, rng=np.random.default_rng(seed))})
+        cls = type(
+            cls.__name__, (cls,), {'__init__': functools.partialmethod(cls.__init__, rng=np.random.default_rng(seed))}
+        )
     if log_path is not None:
         cls = recording(cls, log_path)
     module = types.ModuleType('rps.robotarium', original.__doc__)
@@ -49,13 +58,17 @@ def recording(cls: type, log_path: str) -> type:
     class Recording(cls):  # a subclass of the class chosen at run time
         def __init__(self, *args: Any, **kwargs: Any) -> None:
             super().__init__(*args, **kwargs)
-            self._log = LogWriter(log_path, {'kind': 'bundled robotarium', 'n_robots': self.number_of_robots,
-                                             'dt_s': self.TIME_STEP})
+            self._log = LogWriter(
+                log_path, {'kind': 'bundled robotarium', 'n_robots': self.number_of_robots, 'dt_s': self.TIME_STEP}
+            )
 
         def get_poses(self) -> Any:
             poses = super().get_poses()
-            self._log.append(t_s=(self.iterations - self.initialization_steps) * self.TIME_STEP,
-                             positions_m=poses[:2], headings_rad=poses[2])
+            self._log.append(
+                t_s=(self.iterations - self.initialization_steps) * self.TIME_STEP,
+                positions_m=poses[:2],
+                headings_rad=poses[2],
+            )
             return poses
 
         def debug(self) -> Any:
@@ -81,8 +94,10 @@ def main() -> None:
         else:
             log_path, args = args[1], args[2:]
     if not args:
-        print('usage: python -m robotarium_exp.rps_alias [--classic] [--seed N] [--log FILE] SCRIPT [ARGS...]',
-              file=sys.stderr)
+        print(
+            'usage: python -m robotarium_exp.rps_alias [--classic] [--seed N] [--log FILE] SCRIPT [ARGS...]',
+            file=sys.stderr,
+        )
         raise SystemExit(2)
     install(classic=classic, seed=seed, log_path=log_path)
     sys.argv = args

@@ -28,8 +28,11 @@ from typing import Any
 from robotarium_exp.spec import ROBOTARIUM
 from submission.errors import CheckError
 
-COUNTS = {'too_close': ('robots_too_close', 'collision'), 'outside': ('robots_outside_boundaries', 'boundary'),
-          'actuator': ('exceeded_actuator_limits', 'actuator')}
+COUNTS = {
+    'too_close': ('robots_too_close', 'collision'),
+    'outside': ('robots_outside_boundaries', 'boundary'),
+    'actuator': ('exceeded_actuator_limits', 'actuator'),
+}
 
 
 @dataclass
@@ -48,8 +51,12 @@ class RunReport:
 
     @property
     def ok(self) -> bool:
-        return (self.returncode == 0 and self.summary is not None and bool(self.summary.get('completed'))
-                and all(self.count(k) == 0 for k in COUNTS))
+        return (
+            self.returncode == 0
+            and self.summary is not None
+            and bool(self.summary.get('completed'))
+            and all(self.count(k) == 0 for k in COUNTS)
+        )
 
 
 @dataclass
@@ -76,8 +83,11 @@ class CheckReport:
 def server_libraries() -> set[str]:
     """Import names of the server's packages (distribution names normalised), plus rps."""
     text = resources.files('submission').joinpath('server_libraries.txt').read_text(encoding='utf-8')
-    names = {line.split('==')[0].strip().lower().replace('-', '_') for line in text.splitlines()
-             if line.strip() and not line.startswith('#')}
+    names = {
+        line.split('==')[0].strip().lower().replace('-', '_')
+        for line in text.splitlines()
+        if line.strip() and not line.startswith('#')
+    }
     aliases = {'opencv_python': 'cv2', 'pyyaml': 'yaml', 'scikit_learn': 'sklearn', 'gtsam_develop': 'gtsam'}
     return {aliases.get(n, n) for n in names} | {'rps'}
 
@@ -107,8 +117,9 @@ def run_file(path: Path, backend: str, seed: int | None, timeout_s: float = 900.
             command = [sys.executable, '-m', 'robotarium_exp.rps_alias', '--seed', str(seed), str(path)]
         else:
             command = [sys.executable, str(path)]
-        result = subprocess.run(command, cwd=folder, env=env, capture_output=True, text=True, timeout=timeout_s,
-                                check=False)
+        result = subprocess.run(
+            command, cwd=folder, env=env, capture_output=True, text=True, timeout=timeout_s, check=False
+        )
     summary = None
     for line in result.stdout.splitlines():
         if line.startswith('{') and '"vtube_summary"' in line:

@@ -45,10 +45,12 @@ def make_barrier(data: dict) -> Any:
     radius, limit = float(data['barrier']['safety_radius_m']), float(data['barrier']['magnitude_limit_mps'])
     if hasattr(certificates, 'create_si_barrier_certificate_with_boundary'):  # V2
         certificate = certificates.create_si_barrier_certificate_with_boundary(
-            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary)
+            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary
+        )
     else:  # classic: rescales its argument in place, so it gets a copy
         certificate = certificates.create_single_integrator_barrier_certificate_with_boundary(
-            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary)
+            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary
+        )
     return lambda dxi, x: certificate(np.array(dxi, copy=True), x)
 
 
@@ -72,8 +74,12 @@ def run(data: dict, robotarium_module: Any, *, max_steps: int | None = None) -> 
     """The experiment loop; returns (and prints) the summary."""
     n = int(data['n_robots'])
     show = os.environ.get('VTUBE_HEADLESS', '') != '1'
-    r = robotarium_module.Robotarium(number_of_robots=n, show_figure=show, sim_in_real_time=show,
-                                     initial_conditions=np.array(data['initial_conditions'], dtype=float))
+    r = robotarium_module.Robotarium(
+        number_of_robots=n,
+        show_figure=show,
+        sim_in_real_time=show,
+        initial_conditions=np.array(data['initial_conditions'], dtype=float),
+    )
     if show:
         draw_tube(r, data)
     dt = float(getattr(r, 'TIME_STEP', getattr(r, 'time_step', data['time_step_s'])))
@@ -86,10 +92,16 @@ def run(data: dict, robotarium_module: Any, *, max_steps: int | None = None) -> 
         poses = period.poses
         gaps = np.hypot(*(poses[:2, :, None] - poses[:2, None, :])) + np.eye(n) * 1e9
         closest[0] = min(closest[0], float(gaps.min()))
-        for name, value in (('t', step * dt), ('wall', time.time() - started), ('poses', poses), ('dxu', period.dxu),
-                            ('r_a', period.step.r_a_m), ('l', period.step.projection.l_m),
-                            ('density', period.step.density_per_m2),
-                            ('barrier_correction', period.barrier_correction_mps)):
+        for name, value in (
+            ('t', step * dt),
+            ('wall', time.time() - started),
+            ('poses', poses),
+            ('dxu', period.dxu),
+            ('r_a', period.step.r_a_m),
+            ('l', period.step.projection.l_m),
+            ('density', period.step.density_per_m2),
+            ('barrier_correction', period.barrier_correction_mps),
+        ):
             log[name].append(np.array(value, copy=True))
         if step % SAVE_EVERY == SAVE_EVERY - 1:
             save_log(log)
@@ -98,11 +110,19 @@ def run(data: dict, robotarium_module: Any, *, max_steps: int | None = None) -> 
     save_log(log)
     iterations = getattr(r, 'iterations', None) or getattr(r, '_iteration', None) or getattr(r, '_iterations', 0)
     errors = dict(getattr(r, 'errors', None) or getattr(r, '_errors', None) or {})
-    summary = {'vtube_summary': 1, 'scene': data['scene'], 'planned': data['planned'], 'robots': n, 'dt_s': dt,
-               'steps': steps, 'completed': completed, 'iterations': int(iterations or 0),
-               'min_center_distance_m': round(closest[0], 4),
-               'barrier_correction_max_mps': round(float(np.max(log['barrier_correction'])), 4),
-               'errors': {k: v for k, v in errors.items() if isinstance(v, int)}}
+    summary = {
+        'vtube_summary': 1,
+        'scene': data['scene'],
+        'planned': data['planned'],
+        'robots': n,
+        'dt_s': dt,
+        'steps': steps,
+        'completed': completed,
+        'iterations': int(iterations or 0),
+        'min_center_distance_m': round(closest[0], 4),
+        'barrier_correction_max_mps': round(float(np.max(log['barrier_correction'])), 4),
+        'errors': {k: v for k, v in errors.items() if isinstance(v, int)},
+    }
     print(json.dumps(summary))
     if hasattr(r, 'debug'):
         r.debug()

@@ -547,8 +547,9 @@ class Command:
     tube_keeping: FloatArray
 
 
-def velocity_command(positions: FloatArray, r_a: FloatArray, forward_speed_mps: FloatArray, projection: Any,
-                     params: StepParams) -> Command:
+def velocity_command(
+    positions: FloatArray, r_a: FloatArray, forward_speed_mps: FloatArray, projection: Any, params: StepParams
+) -> Command:
     """The command v_c of every robot (eq. s1) at (2, N) positions with radii r_a (N,) and forward speeds (N,)."""
     forward = forward_speed_mps * projection.tangent
     avoidance = avoidance_velocity(positions, r_a, params)
@@ -567,8 +568,9 @@ def feedforward_radius(rho_planned: ArrayLike, params: StepParams) -> FloatArray
     return 1.0 / np.sqrt(np.asarray(rho_planned, dtype=float)) - params.r_s_m
 
 
-def next_radius(r_a: FloatArray, rho_measured: float, rho_planned: FloatArray, params: StepParams,
-                dt_s: float) -> FloatArray:
+def next_radius(
+    r_a: FloatArray, rho_measured: float, rho_planned: FloatArray, params: StepParams, dt_s: float
+) -> FloatArray:
     """r_a after one period of (a3), capped at r_a_max, floored by the feed-forward when it is on."""
     r_a = np.minimum(params.r_a_max_m, r_a + dt_s * avoidance_radius_rate(rho_measured, rho_planned, params))
     if params.feedforward:
@@ -632,8 +634,16 @@ class SwarmStep:
         Slots (2, N) beyond the exit for robots that leave the tube; None lets them fly on.
     """
 
-    def __init__(self, tube: Any, params: StepParams, n_robots: int, *, plan: PlanProfile | None = None,
-                 constant_speed_mps: float | None = None, parking_slots: FloatArray | None = None) -> None:
+    def __init__(
+        self,
+        tube: Any,
+        params: StepParams,
+        n_robots: int,
+        *,
+        plan: PlanProfile | None = None,
+        constant_speed_mps: float | None = None,
+        parking_slots: FloatArray | None = None,
+    ) -> None:
         if plan is None and constant_speed_mps is None:
             msg = 'a swarm step without a plan needs constant_speed_mps, the forward speed to fly.'
             raise ValueError(msg)
@@ -666,7 +676,7 @@ class SwarmStep:
         r_a = self.r_a
         command = velocity_command(points, r_a, forward_speed, projection, p)
         velocity = command.velocity
-        exited = l_m > self.tube.length_m
+        exited = l_m > self.tube.length_m  # past the exit: the swarm's passage is over for this robot
         if self.slots is None:
             parked, done = np.zeros(l_m.size, dtype=bool), bool(exited.all())
         else:
@@ -675,8 +685,9 @@ class SwarmStep:
             self.r_a = next_radius(r_a, density, self.plan.density(l_m), p, dt_s)
         return StepResult(velocity, command, projection, forward_speed, density, r_a, parked, done)
 
-    def _park(self, slots: FloatArray, points: FloatArray, exited: NDArray[np.bool_],
-              velocity: FloatArray) -> tuple[FloatArray, NDArray[np.bool_], bool]:
+    def _park(
+        self, slots: FloatArray, points: FloatArray, exited: NDArray[np.bool_], velocity: FloatArray
+    ) -> tuple[FloatArray, NDArray[np.bool_], bool]:
         """Robots past the exit take the next free slot and drive to it at up to v_max."""
         for k in np.flatnonzero(exited & (self.slot_of < 0)):
             self.slot_of[k] = int((self.slot_of >= 0).sum())
@@ -741,8 +752,13 @@ class Flight:
         The drive's limits.
     """
 
-    def __init__(self, stepper: SwarmStep, barrier: Callable[[FloatArray, FloatArray], FloatArray] | None,
-                 projection_distance_m: float, wheels: Wheels) -> None:
+    def __init__(
+        self,
+        stepper: SwarmStep,
+        barrier: Callable[[FloatArray, FloatArray], FloatArray] | None,
+        projection_distance_m: float,
+        wheels: Wheels,
+    ) -> None:
         self.stepper = stepper
         self.barrier = barrier
         self.d = float(projection_distance_m)
@@ -754,8 +770,9 @@ class Flight:
         step = self.stepper(points, dt_s)
         safe = self.barrier(step.velocity, points) if self.barrier is not None else step.velocity
         w = self.wheels
-        dxu, _ = scale_to_wheel_limits(si_to_uni(safe, poses, self.d), w.base_length_m, w.wheel_radius_m,
-                                       w.max_wheel_speed_radps)
+        dxu, _ = scale_to_wheel_limits(
+            si_to_uni(safe, poses, self.d), w.base_length_m, w.wheel_radius_m, w.max_wheel_speed_radps
+        )
         return Period(poses, points, step, safe, dxu)
 
 
@@ -765,14 +782,20 @@ def build_flight(data: dict[str, Any], barrier: Callable[[FloatArray, FloatArray
     plan = None
     if data['planned']:
         plan = PlanProfile(**{key: np.asarray(value, dtype=float) for key, value in data['plan'].items()})
-    stepper = SwarmStep(tube, StepParams(**data['step']), int(data['n_robots']), plan=plan,
-                        constant_speed_mps=float(data['constant_speed_mps']),
-                        parking_slots=np.asarray(data['parking_slots'], dtype=float))
+    stepper = SwarmStep(
+        tube,
+        StepParams(**data['step']),
+        int(data['n_robots']),
+        plan=plan,
+        constant_speed_mps=float(data['constant_speed_mps']),
+        parking_slots=np.asarray(data['parking_slots'], dtype=float),
+    )
     return Flight(stepper, barrier, float(data['projection_distance_m']), Wheels(**data['wheels']))
 
 
-def fly(robotarium: Any, flight: Flight, dt_s: float, max_steps: int,
-        record: Callable[[int, Period], None]) -> tuple[bool, int]:
+def fly(
+    robotarium: Any, flight: Flight, dt_s: float, max_steps: int, record: Callable[[int, Period], None]
+) -> tuple[bool, int]:
     """Run ``flight`` on ``robotarium`` until every robot has parked (True) or ``max_steps`` (False).
 
     ``record(step, period)`` sees every period before its commands are sent. Returns (completed, periods run).
@@ -843,8 +866,9 @@ def wheel_speeds(dxu: ArrayLike, axle_length_m: float, wheel_radius_m: float) ->
     return np.vstack([2 * dxu[0] - length * dxu[1], 2 * dxu[0] + length * dxu[1]]) / (2 * radius)
 
 
-def scale_to_wheel_limits(dxu: ArrayLike, axle_length_m: float, wheel_radius_m: float,
-                          max_wheel_speed_radps: float) -> tuple[FloatArray, FloatArray]:
+def scale_to_wheel_limits(
+    dxu: ArrayLike, axle_length_m: float, wheel_radius_m: float, max_wheel_speed_radps: float
+) -> tuple[FloatArray, FloatArray]:
     """Scale each robot's [v; omega] uniformly so both wheels stay within the limit.
 
     Unlike the testbed's per-wheel clipping, a common factor keeps the curvature omega / v, so the robot still
@@ -884,10 +908,12 @@ def make_barrier(data: dict) -> Any:
     radius, limit = float(data['barrier']['safety_radius_m']), float(data['barrier']['magnitude_limit_mps'])
     if hasattr(certificates, 'create_si_barrier_certificate_with_boundary'):  # V2
         certificate = certificates.create_si_barrier_certificate_with_boundary(
-            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary)
+            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary
+        )
     else:  # classic: rescales its argument in place, so it gets a copy
         certificate = certificates.create_single_integrator_barrier_certificate_with_boundary(
-            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary)
+            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary
+        )
     return lambda dxi, x: certificate(np.array(dxi, copy=True), x)
 
 
@@ -911,8 +937,12 @@ def run(data: dict, robotarium_module: Any, *, max_steps: int | None = None) -> 
     """The experiment loop; returns (and prints) the summary."""
     n = int(data['n_robots'])
     show = os.environ.get('VTUBE_HEADLESS', '') != '1'
-    r = robotarium_module.Robotarium(number_of_robots=n, show_figure=show, sim_in_real_time=show,
-                                     initial_conditions=np.array(data['initial_conditions'], dtype=float))
+    r = robotarium_module.Robotarium(
+        number_of_robots=n,
+        show_figure=show,
+        sim_in_real_time=show,
+        initial_conditions=np.array(data['initial_conditions'], dtype=float),
+    )
     if show:
         draw_tube(r, data)
     dt = float(getattr(r, 'TIME_STEP', getattr(r, 'time_step', data['time_step_s'])))
@@ -925,10 +955,16 @@ def run(data: dict, robotarium_module: Any, *, max_steps: int | None = None) -> 
         poses = period.poses
         gaps = np.hypot(*(poses[:2, :, None] - poses[:2, None, :])) + np.eye(n) * 1e9
         closest[0] = min(closest[0], float(gaps.min()))
-        for name, value in (('t', step * dt), ('wall', time.time() - started), ('poses', poses), ('dxu', period.dxu),
-                            ('r_a', period.step.r_a_m), ('l', period.step.projection.l_m),
-                            ('density', period.step.density_per_m2),
-                            ('barrier_correction', period.barrier_correction_mps)):
+        for name, value in (
+            ('t', step * dt),
+            ('wall', time.time() - started),
+            ('poses', poses),
+            ('dxu', period.dxu),
+            ('r_a', period.step.r_a_m),
+            ('l', period.step.projection.l_m),
+            ('density', period.step.density_per_m2),
+            ('barrier_correction', period.barrier_correction_mps),
+        ):
             log[name].append(np.array(value, copy=True))
         if step % SAVE_EVERY == SAVE_EVERY - 1:
             save_log(log)
@@ -937,11 +973,19 @@ def run(data: dict, robotarium_module: Any, *, max_steps: int | None = None) -> 
     save_log(log)
     iterations = getattr(r, 'iterations', None) or getattr(r, '_iteration', None) or getattr(r, '_iterations', 0)
     errors = dict(getattr(r, 'errors', None) or getattr(r, '_errors', None) or {})
-    summary = {'vtube_summary': 1, 'scene': data['scene'], 'planned': data['planned'], 'robots': n, 'dt_s': dt,
-               'steps': steps, 'completed': completed, 'iterations': int(iterations or 0),
-               'min_center_distance_m': round(closest[0], 4),
-               'barrier_correction_max_mps': round(float(np.max(log['barrier_correction'])), 4),
-               'errors': {k: v for k, v in errors.items() if isinstance(v, int)}}
+    summary = {
+        'vtube_summary': 1,
+        'scene': data['scene'],
+        'planned': data['planned'],
+        'robots': n,
+        'dt_s': dt,
+        'steps': steps,
+        'completed': completed,
+        'iterations': int(iterations or 0),
+        'min_center_distance_m': round(closest[0], 4),
+        'barrier_correction_max_mps': round(float(np.max(log['barrier_correction'])), 4),
+        'errors': {k: v for k, v in errors.items() if isinstance(v, int)},
+    }
     print(json.dumps(summary))
     if hasattr(r, 'debug'):
         r.debug()

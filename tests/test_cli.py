@@ -30,7 +30,9 @@ BAD = {
         '{ kind = "line", length_m = 10.0 }, { kind = "arc", radius_m = 3.0, angle_deg = 300.0 }, '
         '{ kind = "line", length_m = 10.0 }',
     ),
-    'over_curved': GOOD.replace('{ kind = "line", length_m = 10.0 }', '{ kind = "arc", radius_m = 1.0, angle_deg = 90.0 }'),
+    'over_curved': GOOD.replace(
+        '{ kind = "line", length_m = 10.0 }', '{ kind = "arc", radius_m = 1.0, angle_deg = 90.0 }'
+    ),
     'unknown_key': GOOD + '[swarm]\nspeed = 3\n',
     'not_toml': GOOD + '[swarm\n',
 }
@@ -86,8 +88,9 @@ def test_unknown_scene_gives_exit_2(capsys) -> None:
 def test_console_entry_point_prints_no_traceback(tmp_path) -> None:
     path = tmp_path / 'bad.toml'
     path.write_text(BAD['self_intersecting'])
-    result = subprocess.run([sys.executable, '-m', 'vtube', 'scene', 'show', str(path)],
-                            capture_output=True, text=True, check=False)
+    result = subprocess.run(
+        [sys.executable, '-m', 'vtube', 'scene', 'show', str(path)], capture_output=True, text=True, check=False
+    )
     assert result.returncode == 2
     assert result.stderr.startswith('error: ') and 'Traceback' not in result.stderr
     assert len(result.stderr.splitlines()) == 1
@@ -111,8 +114,12 @@ def test_plan_reports_uncertified_polynomial_plans(tmp_path, capsys) -> None:
 
 def test_infeasible_plan_gives_exit_2_naming_constraint_and_arc_length(tmp_path, capsys) -> None:
     path = tmp_path / 'tight.toml'
-    path.write_text(GOOD.replace('{ kind = "line", length_m = 10.0 }',
-                                 '{ kind = "line", length_m = 5.0 }, { kind = "arc", radius_m = 3.0, angle_deg = 60.0 }'))
+    path.write_text(
+        GOOD.replace(
+            '{ kind = "line", length_m = 10.0 }',
+            '{ kind = "line", length_m = 5.0 }, { kind = "arc", radius_m = 3.0, angle_deg = 60.0 }',
+        )
+    )
     assert main(['plan', str(path), '--out', str(tmp_path)]) == 2
     err = capsys.readouterr().err.splitlines()
     assert len(err) == 1 and err[0].startswith('error: (p4) is incompatible with (p2) at l = 4.')
@@ -144,8 +151,9 @@ def test_animation_is_a_gif(tmp_path) -> None:
     from vtube_planning.swarm.simulate import SimConfig, simulate
 
     scene = load_scene('A')
-    result = simulate(scene.tube, replace(scene.swarm, n_robots=4), ControlParams(), plan=None,
-                      config=SimConfig(time_limit_s=1.0))
+    result = simulate(
+        scene.tube, replace(scene.swarm, n_robots=4), ControlParams(), plan=None, config=SimConfig(time_limit_s=1.0)
+    )
     path = animate(result, scene.tube, tmp_path / 'run.gif', frames=4)
     assert path.read_bytes()[:6] == b'GIF89a'
 
@@ -228,5 +236,18 @@ def test_a_plan_file_is_flown_as_given_and_refused_elsewhere(tmp_path, capsys) -
     assert main(['simulate', 'robotarium_trapezoid', '--n', '5', '--plan', str(plan_file), '--out', str(tmp_path)]) == 2
     assert 'other swarm parameters (n_robots)' in capsys.readouterr().err
     assert main(['robotarium', 'run', 'robotarium_curve', '--plan', str(plan_file), '--out', str(tmp_path)]) == 2
-    assert main(['analyze', str(tmp_path), '--scene', 'robotarium_curve', '--plan', str(plan_file),
-                 '--out', str(tmp_path / 'a')]) == 2
+    assert (
+        main(
+            [
+                'analyze',
+                str(tmp_path),
+                '--scene',
+                'robotarium_curve',
+                '--plan',
+                str(plan_file),
+                '--out',
+                str(tmp_path / 'a'),
+            ]
+        )
+        == 2
+    )

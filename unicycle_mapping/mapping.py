@@ -58,8 +58,9 @@ def si_to_uni_states(points: ArrayLike, headings: ArrayLike, d: float) -> FloatA
     return np.vstack([points[0] - d * np.cos(headings), points[1] - d * np.sin(headings), headings])
 
 
-def si_to_uni_constrained(dxi: ArrayLike, poses: ArrayLike, d: float, *, v_min: float, v_max: float,
-                          a_n: float) -> tuple[FloatArray, NDArray[np.bool_]]:
+def si_to_uni_constrained(
+    dxi: ArrayLike, poses: ArrayLike, d: float, *, v_min: float, v_max: float, a_n: float
+) -> tuple[FloatArray, NDArray[np.bool_]]:
     """The map for robots that cannot stop: v in [v_min, v_max], |omega| <= a_n / v (``theory.md`` §5).
 
     The forward speed is clipped into [v_min, v_max] and the turn rate to the normal-acceleration limit. A command

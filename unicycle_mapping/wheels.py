@@ -20,8 +20,9 @@ def wheel_speeds(dxu: ArrayLike, axle_length_m: float, wheel_radius_m: float) ->
     return np.vstack([2 * dxu[0] - length * dxu[1], 2 * dxu[0] + length * dxu[1]]) / (2 * radius)
 
 
-def scale_to_wheel_limits(dxu: ArrayLike, axle_length_m: float, wheel_radius_m: float,
-                          max_wheel_speed_radps: float) -> tuple[FloatArray, FloatArray]:
+def scale_to_wheel_limits(
+    dxu: ArrayLike, axle_length_m: float, wheel_radius_m: float, max_wheel_speed_radps: float
+) -> tuple[FloatArray, FloatArray]:
     """Scale each robot's [v; omega] uniformly so both wheels stay within the limit.
 
     Unlike the testbed's per-wheel clipping, a common factor keeps the curvature omega / v, so the robot still
@@ -41,8 +42,9 @@ def scale_to_wheel_limits(dxu: ArrayLike, axle_length_m: float, wheel_radius_m: 
     return dxu * scale, scale
 
 
-def max_realisable_si_speed(d: float, axle_length_m: float, wheel_radius_m: float,
-                            max_wheel_speed_radps: float) -> float:
+def max_realisable_si_speed(
+    d: float, axle_length_m: float, wheel_radius_m: float, max_wheel_speed_radps: float
+) -> float:
     """Largest single-integrator speed that is realisable in every direction without saturating a wheel.
 
     For a speed s at angle alpha to the heading, v = s cos(alpha) and omega = s sin(alpha) / d; the wheels stay
@@ -51,6 +53,8 @@ def max_realisable_si_speed(d: float, axle_length_m: float, wheel_radius_m: floa
     """
     d = positive(d, 'projection distance d')
     ratio = positive(axle_length_m, 'axle_length_m') / (2 * d)
-    return positive(wheel_radius_m, 'wheel_radius_m') * positive(max_wheel_speed_radps, 'max_wheel_speed_radps') / (
-        math.sqrt(1 + ratio**2)
+    return (
+        positive(wheel_radius_m, 'wheel_radius_m')
+        * positive(max_wheel_speed_radps, 'max_wheel_speed_radps')
+        / (math.sqrt(1 + ratio**2))
     )

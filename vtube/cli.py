@@ -75,15 +75,21 @@ def plan(name_or_path: str, out: Path, method: str = 'convex', grid_step_m: floa
     options = scene.planning if grid_step_m is None else replace(scene.planning, grid_step_m=grid_step_m)
     solve = {'convex': plan_convex, 'polynomial': plan_polynomial}[method]
     result = solve(scene.tube, scene.swarm, options, scene=scene.name)
-    print(f'plan for scene {scene.name} ({method}, {result.l_m.size} grid points, {result.status} after '
-          f'{result.iterations} iterations, {result.solve_time_s:.3f} s)')
+    print(
+        f'plan for scene {scene.name} ({method}, {result.l_m.size} grid points, {result.status} after '
+        f'{result.iterations} iterations, {result.solve_time_s:.3f} s)'
+    )
     print(f'  traversal time        {result.time_s:.4f} s')
-    print(f'  objective J           {result.objective["total"]:.6f}  (time {result.objective["time_s"]:.6f} + '
-          f'density {result.objective["density"]:.6f})')
+    print(
+        f'  objective J           {result.objective["total"]:.6f}  (time {result.objective["time_s"]:.6f} + '
+        f'density {result.objective["density"]:.6f})'
+    )
     print(f'  speed                 {result.speed_mps.min():.4g} .. {result.speed_mps.max():.4g} m/s')
     k = int(result.density_per_m2.argmin())
-    print(f'  density               min {result.density_per_m2[k]:.4g} at l = {result.l_m[k]:.3f} m, '
-          f'rho_d = {scene.swarm.rho_d_per_m2:g} /m^2')
+    print(
+        f'  density               min {result.density_per_m2[k]:.4g} at l = {result.l_m[k]:.3f} m, '
+        f'rho_d = {scene.swarm.rho_d_per_m2:g} /m^2'
+    )
     worst = ', '.join(f'{name} {value:.1e}' for name, value in result.certificate.items())
     verdict = 'certified' if result.is_certified() else 'NOT certified (violation above 1e-6)'
     print(f'  certificate           {verdict}: {worst}')
@@ -106,8 +112,17 @@ def _plan_for(scene: Scene, swarm: SwarmParams | None = None, plan_path: Path | 
     return loaded
 
 
-def simulate(name_or_path: str, out: Path, *, planning: bool = True, n_robots: int | None = None, seed: int = 0,
-             acceleration_limits: bool = False, animate: bool = False, plan_path: Path | None = None) -> int:
+def simulate(
+    name_or_path: str,
+    out: Path,
+    *,
+    planning: bool = True,
+    n_robots: int | None = None,
+    seed: int = 0,
+    acceleration_limits: bool = False,
+    animate: bool = False,
+    plan_path: Path | None = None,
+) -> int:
     """Fly the scene's swarm through its tube; print the metrics, write the log, figures and (optionally) a GIF."""
     from dataclasses import replace
 
@@ -122,30 +137,46 @@ def simulate(name_or_path: str, out: Path, *, planning: bool = True, n_robots: i
     mode = 'planned' if planning else 'unplanned'
     config = SimConfig(seed=seed, acceleration_limits=acceleration_limits)
     log = out / f'sim_{scene.name}_{mode}.npz'
-    result = run(scene.tube, swarm, scene.control, plan=plan, config=config, log_path=log,
-                 meta={'scene': scene.name, 'source': scene.source})
+    result = run(
+        scene.tube,
+        swarm,
+        scene.control,
+        plan=plan,
+        config=config,
+        log_path=log,
+        meta={'scene': scene.name, 'source': scene.source},
+    )
     m = result.metrics
-    print(f'simulation of scene {scene.name} {"with" if planning else "without"} planning: N = {swarm.n_robots}, '
-          f'seed {seed}, {result.t_s.size} steps of {config.dt_s} s')
+    print(
+        f'simulation of scene {scene.name} {"with" if planning else "without"} planning: N = {swarm.n_robots}, '
+        f'seed {seed}, {result.t_s.size} steps of {config.dt_s} s'
+    )
     rows = [
         ('passing time', f'{m.passing_time_s:.3f} s' + ('' if m.completed else ' (not every robot exited)')),
         ('minimum distance', f'{m.min_distance_m:.4f} m at t = {m.min_distance_time_s:.2f} s'),
         ('collisions', f'{m.collision_pairs} pairs closer than 2 r_p = {m.collision_distance_m:g} m'),
-        ('tube violations', (f'{m.tube_violation_steps} robot-steps, {m.robots_outside} robots, '
-                             f'up to {m.max_outside_m:.3f} m outside')),
+        (
+            'tube violations',
+            (f'{m.tube_violation_steps} robot-steps, {m.robots_outside} robots, up to {m.max_outside_m:.3f} m outside'),
+        ),
         ('speed violations', f'{m.speed_violations} commands outside [v_min, v_max]'),
     ]
     if m.speed_tracking_mean_mps is not None:
         rows += [
             ('speed tracking', f'mean {m.speed_tracking_mean_mps:.3f}, max {m.speed_tracking_max_mps:.3f} m/s'),
-            ('density tracking', (f'mean {m.density_tracking_mean_per_m2:.4f}, '
-                                  f'max {m.density_tracking_max_per_m2:.4f} /m^2')),
+            (
+                'density tracking',
+                (f'mean {m.density_tracking_mean_per_m2:.4f}, max {m.density_tracking_max_per_m2:.4f} /m^2'),
+            ),
         ]
     for name, value in rows:
         print(f'  {name:<18} {value}')
     stem = out / f'sim_{scene.name}_{mode}'
-    written = [log, plots.save_figure(plots.snapshots_figure(result, scene.tube), f'{stem}_snapshots.png'),
-               plots.save_figure(plots.distance_figure({mode: result}), f'{stem}_distance.png')]
+    written = [
+        log,
+        plots.save_figure(plots.snapshots_figure(result, scene.tube), f'{stem}_snapshots.png'),
+        plots.save_figure(plots.distance_figure({mode: result}), f'{stem}_distance.png'),
+    ]
     if plan is not None:
         written.append(plots.save_figure(plots.tracking_figure(result, plan), f'{stem}_tracking.png'))
     if animate:
@@ -154,8 +185,9 @@ def simulate(name_or_path: str, out: Path, *, planning: bool = True, n_robots: i
     return EXIT_OK
 
 
-def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: bool = False,
-          baselines: bool = False) -> int:
+def study(
+    out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: bool = False, baselines: bool = False
+) -> int:
     """The paper's comparison with and without planning; writes study.md, study.json and study.png."""
     import json
 
@@ -167,14 +199,14 @@ def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: 
 
     config = SimConfig(acceleration_limits=acceleration_limits)
     seed_list = list(range(seeds))
-    rows = run_study(scenes, seed_list, config=config, progress=print,
-                     baselines=BASELINE_MODES if baselines else ())
+    rows = run_study(scenes, seed_list, config=config, progress=print, baselines=BASELINE_MODES if baselines else ())
     summary = summarise(rows)
     text = study_markdown(summary, seed_list, config)
     out.mkdir(parents=True, exist_ok=True)
     (out / 'study.md').write_text(text, encoding='utf-8')
-    (out / 'study.json').write_text(json.dumps(strict_json({'rows': rows, 'summary': summary}), indent=1, allow_nan=False),
-                                    encoding='utf-8')
+    (out / 'study.json').write_text(
+        json.dumps(strict_json({'rows': rows, 'summary': summary}), indent=1, allow_nan=False), encoding='utf-8'
+    )
     figure = plots.save_figure(plots.study_figure(summary, 2 * SwarmParams().r_p_m), out / 'study.png')
     print()
     print(text)
@@ -182,8 +214,16 @@ def study(out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: 
     return EXIT_OK if all(e['claim_on_means'] for e in summary) else 1
 
 
-def robotarium_run(name_or_path: str, out: Path, *, planning: bool = True, barrier: bool = True,
-                   initialization: bool = True, seed: int = 0, plan_path: Path | None = None) -> int:
+def robotarium_run(
+    name_or_path: str,
+    out: Path,
+    *,
+    planning: bool = True,
+    barrier: bool = True,
+    initialization: bool = True,
+    seed: int = 0,
+    plan_path: Path | None = None,
+) -> int:
     """Run the tube experiment on the bundled Robotarium simulator; print the verdict and metrics, write log and figure."""
     import numpy as np
 
@@ -198,24 +238,35 @@ def robotarium_run(name_or_path: str, out: Path, *, planning: bool = True, barri
     plan = _plan_for(scene, plan_path=plan_path) if planning else None
     mode = 'planned' if planning else 'unplanned'
     log = out / f'experiment_{scene.name}_{mode}.npz'
-    result = run_experiment(Robotarium, scene, plan, ExperimentConfig(planning=planning, barrier=barrier),
-                            log_path=log, robotarium_kwargs={'skip_initialization': not initialization,
-                                                             'rng': np.random.default_rng(seed)})
+    result = run_experiment(
+        Robotarium,
+        scene,
+        plan,
+        ExperimentConfig(planning=planning, barrier=barrier),
+        log_path=log,
+        robotarium_kwargs={'skip_initialization': not initialization, 'rng': np.random.default_rng(seed)},
+    )
     e, m, b = result.errors, result.metrics, result.barrier
     hard = e['robots_too_close'] + e['robots_outside_boundaries']
     verdict = 'would run on the Robotarium' if hard == 0 else 'would NOT run on the Robotarium'
-    print(f'Robotarium experiment, scene {scene.name}, {"with" if planning else "without"} planning, '
-          f'barrier {"on" if barrier else "off"}: {verdict}')
+    print(
+        f'Robotarium experiment, scene {scene.name}, {"with" if planning else "without"} planning, '
+        f'barrier {"on" if barrier else "off"}: {verdict}'
+    )
     print(f'  too close (pair-steps) {e["robots_too_close"]}')
     print(f'  outside boundaries     {e["robots_outside_boundaries"]}')
     print(f'  actuator-limit steps   {e["exceeded_actuator_limits"]}')
-    print(f'  duration               {result.duration_s:.1f} s (initialization included: declare at least '
-          f'{ROBOTARIUM.duration_factor * result.duration_s:.0f} s)')
+    print(
+        f'  duration               {result.duration_s:.1f} s (initialization included: declare at least '
+        f'{ROBOTARIUM.duration_factor * result.duration_s:.0f} s)'
+    )
     print(f'  passing time           {m.passing_time_s:.2f} s; parked: {"yes" if result.completed else "no"}')
     print(f'  minimum distance       {m.min_distance_m:.3f} m between centres')
     print(f'  tube violations        {m.tube_violation_steps} robot-steps')
-    print(f'  barrier correction     mean {b["correction_mean_mps"]:.4f}, max {b["correction_max_mps"]:.4f} '
-          f'm/s, failures {b["failures"]}')
+    print(
+        f'  barrier correction     mean {b["correction_mean_mps"]:.4f}, max {b["correction_max_mps"]:.4f} '
+        f'm/s, failures {b["failures"]}'
+    )
     figure = save_figure(experiment_figure(result, scene, plan), out / f'experiment_{scene.name}_{mode}.png')
     print(f'  written                {log}, {figure}')
     return EXIT_OK if hard == 0 else 1
@@ -229,8 +280,10 @@ def submission_build(name_or_path: str, out: Path, *, planning: bool = True, pla
     scene = load_scene(name_or_path)
     submission = build(scene, planning=planning, plan=_plan_for(scene, plan_path=plan_path))
     path = write(submission, out)
-    print(f'submission for scene {submission.scene} ({submission.n_robots} robots, '
-          f'{"with" if planning else "without"} planning): {path}')
+    print(
+        f'submission for scene {submission.scene} ({submission.n_robots} robots, '
+        f'{"with" if planning else "without"} planning): {path}'
+    )
     print(f'  check it before uploading:  vtube submission check {path}')
     return EXIT_OK
 
@@ -246,26 +299,41 @@ def submission_check(path: Path, *, seeds: int = 3) -> int:
         print(f'  FAIL: imports missing on the Robotarium server: {", ".join(report.disallowed_imports)}')
         return 1
     print('  imports                only the standard library, numpy/scipy/matplotlib/cvxopt and rps: ok')
-    print(f'  {"run":<16} {"done":>5} {"too close":>10} {"outside":>8} {"actuator":>9} {"min dist [m]":>13} '
-          f'{"duration [s]":>13}')
+    print(
+        f'  {"run":<16} {"done":>5} {"too close":>10} {"outside":>8} {"actuator":>9} {"min dist [m]":>13} '
+        f'{"duration [s]":>13}'
+    )
     for run in report.runs:
         label = f'{run.backend}' + (f' seed {run.seed}' if run.seed is not None else '')
         if run.summary is None:
             print(f'  {label:<16} crashed (exit {run.returncode}): {run.stderr_tail.strip().splitlines()[-1:]}')
             continue
         counts = [run.count(key) for key in COUNTS]
-        print(f'  {label:<16} {"yes" if run.summary["completed"] else "no":>5} {counts[0]:>10} {counts[1]:>8} '
-              f'{counts[2]:>9} {run.summary["min_center_distance_m"]:>13.3f} '
-              f'{run.summary["iterations"] * ROBOTARIUM.time_step_s:>13.1f}')
-    print(f'  declare                {report.robots} robots, {report.declare_duration_s} s '
-          f'(longest run, initialization included, times the verifier\'s {ROBOTARIUM.duration_factor:g})')
+        print(
+            f'  {label:<16} {"yes" if run.summary["completed"] else "no":>5} {counts[0]:>10} {counts[1]:>8} '
+            f'{counts[2]:>9} {run.summary["min_center_distance_m"]:>13.3f} '
+            f'{run.summary["iterations"] * ROBOTARIUM.time_step_s:>13.1f}'
+        )
+    print(
+        f'  declare                {report.robots} robots, {report.declare_duration_s} s '
+        f"(longest run, initialization included, times the verifier's {ROBOTARIUM.duration_factor:g})"
+    )
     print(f'  verdict                {"PASS" if report.passed else "FAIL"}')
     return EXIT_OK if report.passed else 1
 
 
-def analyze(inputs: list[Path], scene_name: str, out: Path, *, plan_path: Path | None = None,
-            compare: Path | None = None, topic_pattern: str | None = None, frame_pattern: str | None = None,
-            topics: list[str] | None = None, collision_distance_m: float | None = None) -> int:
+def analyze(
+    inputs: list[Path],
+    scene_name: str,
+    out: Path,
+    *,
+    plan_path: Path | None = None,
+    compare: Path | None = None,
+    topic_pattern: str | None = None,
+    frame_pattern: str | None = None,
+    topics: list[str] | None = None,
+    collision_distance_m: float | None = None,
+) -> int:
     """Analyse returned data (testbed folder, our logs, ROS bags) in a scene; write metrics, report and figures."""
     from robotarium_exp.analysis.loaders import load_trajectory
     from robotarium_exp.analysis.report import analyse, write_report
@@ -273,19 +341,22 @@ def analyze(inputs: list[Path], scene_name: str, out: Path, *, plan_path: Path |
 
     scene = load_scene(scene_name)
     plan = _plan_for(scene, plan_path=plan_path) if plan_path is not None else None
-    trajectory = load_trajectory(list(inputs), topic_pattern=topic_pattern, frame_pattern=frame_pattern,
-                                 topics=topics)
+    trajectory = load_trajectory(list(inputs), topic_pattern=topic_pattern, frame_pattern=frame_pattern, topics=topics)
     results = {'data': (trajectory, analyse(trajectory, scene, plan, collision_distance_m=collision_distance_m))}
     if compare is not None:
         simulated = load_trajectory([compare])
         results['comparison'] = (simulated, analyse(simulated, scene, plan, collision_distance_m=collision_distance_m))
     report = write_report(out, results, scene, plan)
     m = results['data'][1]
-    print(f'analysis of {trajectory.source.get("kind")} {trajectory.source.get("path")} in scene {scene.name}: '
-          f'{trajectory.n_robots} robots, {m["frames"]} frames ({m["dropped_frames"]} dropped, {len(m["gaps"])} gaps)')
+    print(
+        f'analysis of {trajectory.source.get("kind")} {trajectory.source.get("path")} in scene {scene.name}: '
+        f'{trajectory.n_robots} robots, {m["frames"]} frames ({m["dropped_frames"]} dropped, {len(m["gaps"])} gaps)'
+    )
     passing = 'not every robot passed' if m['passing_time_s'] is None else f'passing time {m["passing_time_s"]:.2f} s'
-    print(f'  {passing}, minimum distance {m["min_distance_m"]:.3f} m, '
-          f'{m["collision_pairs"]} collision pairs, {m["tube_violation_steps"]} tube violations')
+    print(
+        f'  {passing}, minimum distance {m["min_distance_m"]:.3f} m, '
+        f'{m["collision_pairs"]} collision pairs, {m["tube_violation_steps"]} tube violations'
+    )
     print(f'  written {report}, {out / "metrics.json"}')
     return EXIT_OK
 
@@ -302,8 +373,10 @@ def demo(out: Path) -> int:
         ('plan', lambda: plan(scene, out / 'plan')),
         ('simulate with planning', lambda: simulate(scene, out / 'simulation', plan_path=plan_path)),
         ('simulate without planning', lambda: simulate(scene, out / 'simulation', planning=False)),
-        ('build the submission', lambda: submission_build(scene, out / 'submission' / 'experiment.py',
-                                                          plan_path=plan_path)),
+        (
+            'build the submission',
+            lambda: submission_build(scene, out / 'submission' / 'experiment.py', plan_path=plan_path),
+        ),
         ('check the submission', lambda: submission_check(out / 'submission' / 'experiment.py', seeds=2)),
     ]
     for title, step in steps:
@@ -315,15 +388,28 @@ def demo(out: Path) -> int:
     returned = out / 'returned'
     returned.mkdir(parents=True, exist_ok=True)
     env = dict(os.environ, VTUBE_HEADLESS='1', MPLBACKEND='Agg')
-    run = subprocess.run([sys.executable, '-m', 'robotarium_exp.rps_alias', '--seed', '0',
-                          str((out / 'submission' / 'experiment.py').resolve())], cwd=returned, env=env,
-                         capture_output=True, text=True, check=False)
+    run = subprocess.run(
+        [
+            sys.executable,
+            '-m',
+            'robotarium_exp.rps_alias',
+            '--seed',
+            '0',
+            str((out / 'submission' / 'experiment.py').resolve()),
+        ],
+        cwd=returned,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     (returned / 'log.txt').write_text(run.stdout + run.stderr, encoding='utf-8')
     if run.returncode != 0:
         print(f'error: the submission failed on the bundled simulator; see {returned / "log.txt"}', file=sys.stderr)
         return 1
-    return analyze([returned], scene, out / 'report', plan_path=plan_path,
-                   compare=out / 'simulation' / f'sim_{scene}_planned.npz')
+    return analyze(
+        [returned], scene, out / 'report', plan_path=plan_path, compare=out / 'simulation' / f'sim_{scene}_planned.npz'
+    )
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -338,21 +424,33 @@ def _parser() -> argparse.ArgumentParser:
     show = scene_commands.add_parser('show', help="print a scene's summary and draw it")
     show.add_argument('scene', help='a shipped scene name (see `vtube scene list`) or a .toml file')
     show.add_argument('--out', type=Path, default=None, help='write the figure here (e.g. scene.png)')
-    planner = commands.add_parser('plan', help='plan speed and density along a scene\'s tube')
+    planner = commands.add_parser('plan', help="plan speed and density along a scene's tube")
     planner.add_argument('scene', help='a shipped scene name (see `vtube scene list`) or a .toml file')
     planner.add_argument('--out', type=Path, required=True, help='folder for the plan file and its figure')
-    planner.add_argument('--method', choices=('convex', 'polynomial'), default='convex',
-                         help='convex: slowness form (default); polynomial: the paper\'s cubic segments')
-    planner.add_argument('--grid-step', type=float, default=None, dest='grid_step_m',
-                         help='planning grid step in m (default: the scene\'s)')
+    planner.add_argument(
+        '--method',
+        choices=('convex', 'polynomial'),
+        default='convex',
+        help="convex: slowness form (default); polynomial: the paper's cubic segments",
+    )
+    planner.add_argument(
+        '--grid-step',
+        type=float,
+        default=None,
+        dest='grid_step_m',
+        help="planning grid step in m (default: the scene's)",
+    )
     sim = commands.add_parser('simulate', help='fly the swarm through a scene, with or without planning')
     sim.add_argument('scene', help='a shipped scene name or a .toml file')
     sim.add_argument('--out', type=Path, required=True, help='folder for the log, figures and GIF')
     sim.add_argument('--no-planning', action='store_true', help='constant mid-range speed and constant r_a')
     sim.add_argument('--n', type=int, default=None, dest='n_robots', help="swarm size (default: the scene's)")
     sim.add_argument('--seed', type=int, default=0, help='seed of the initial formation jitter')
-    sim.add_argument('--acceleration-limits', action='store_true',
-                     help='make every robot obey the acceleration limits (3), (4), not only the plan')
+    sim.add_argument(
+        '--acceleration-limits',
+        action='store_true',
+        help='make every robot obey the acceleration limits (3), (4), not only the plan',
+    )
     sim.add_argument('--animate', action='store_true', help='also write an animated GIF')
     sim.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
     stu = commands.add_parser('study', help="the paper's comparison on scenes A-D with and without planning")
@@ -360,8 +458,11 @@ def _parser() -> argparse.ArgumentParser:
     stu.add_argument('--seeds', type=int, default=5, help='number of seeds (0..n-1)')
     stu.add_argument('--scenes', default='A,B,C,D', help='comma-separated scene names')
     stu.add_argument('--acceleration-limits', action='store_true', help='apply (3), (4) to every robot')
-    stu.add_argument('--baselines', action='store_true',
-                     help='add optimized flocking and NMPC on scenes C and D (NMPC: about a minute per run)')
+    stu.add_argument(
+        '--baselines',
+        action='store_true',
+        help='add optimized flocking and NMPC on scenes C and D (NMPC: about a minute per run)',
+    )
     robo = commands.add_parser('robotarium', help='the tube experiment on the bundled Robotarium simulator')
     robo_commands = robo.add_subparsers(dest='robotarium_command', required=True, metavar='SUBCOMMAND')
     run = robo_commands.add_parser('run', help='run the experiment, print the testbed verdict and metrics')
@@ -378,12 +479,16 @@ def _parser() -> argparse.ArgumentParser:
     build_cmd.add_argument('scene', help='robotarium_trapezoid, robotarium_curve or a .toml file')
     build_cmd.add_argument('--out', type=Path, required=True, help='the .py file to write')
     build_cmd.add_argument('--no-planning', action='store_true', help='constant speed and r_a (the comparison)')
-    build_cmd.add_argument('--plan', type=Path, default=None, help='embed this plan file (vtube plan) instead of planning')
+    build_cmd.add_argument(
+        '--plan', type=Path, default=None, help='embed this plan file (vtube plan) instead of planning'
+    )
     check_cmd = sub_commands.add_parser('check', help='preflight a submission on the simulators')
     check_cmd.add_argument('file', type=Path, help='the submission .py file')
     check_cmd.add_argument('--seeds', type=int, default=3, help='runs on the bundled simulator (seeds 0..n-1)')
     ana = commands.add_parser('analyze', help='metrics, figures and a report of returned or recorded data')
-    ana.add_argument('inputs', type=Path, nargs='+', help='a folder of vtube_*.npy, a .npz log, .bag files or a bag folder')
+    ana.add_argument(
+        'inputs', type=Path, nargs='+', help='a folder of vtube_*.npy, a .npz log, .bag files or a bag folder'
+    )
     ana.add_argument('--scene', required=True, help='the scene the data was recorded in')
     ana.add_argument('--out', type=Path, required=True, help='folder for metrics.json, report.md and figures')
     ana.add_argument('--plan', type=Path, default=None, help='a plan file (vtube plan) to track against')
@@ -391,8 +496,13 @@ def _parser() -> argparse.ArgumentParser:
     ana.add_argument('--topic', action='append', default=None, dest='topics', help='bag topic(s) to read')
     ana.add_argument('--topic-pattern', default=None, help='regex with a (?P<robot>...) group for bag topics')
     ana.add_argument('--frame-pattern', default=None, help='regex with a (?P<robot>...) group for /tf child frames')
-    ana.add_argument('--collision-distance', type=float, default=None, dest='collision_distance_m',
-                     help="centre distance counted as a collision (default: the scene's 2 r_p)")
+    ana.add_argument(
+        '--collision-distance',
+        type=float,
+        default=None,
+        dest='collision_distance_m',
+        help="centre distance counted as a collision (default: the scene's 2 r_p)",
+    )
     dem = commands.add_parser('demo', help='the whole pipeline on the bundled simulator, into one report')
     dem.add_argument('--out', type=Path, required=True, help='folder for everything the demo writes')
     return parser
@@ -405,13 +515,28 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == 'plan':
             return plan(args.scene, args.out, args.method, args.grid_step_m)
         if args.command == 'simulate':
-            return simulate(args.scene, args.out, planning=not args.no_planning, n_robots=args.n_robots,
-                            seed=args.seed, acceleration_limits=args.acceleration_limits, animate=args.animate,
-                            plan_path=args.plan)
+            return simulate(
+                args.scene,
+                args.out,
+                planning=not args.no_planning,
+                n_robots=args.n_robots,
+                seed=args.seed,
+                acceleration_limits=args.acceleration_limits,
+                animate=args.animate,
+                plan_path=args.plan,
+            )
         if args.command == 'analyze':
-            return analyze(args.inputs, args.scene, args.out, plan_path=args.plan, compare=args.compare,
-                           topic_pattern=args.topic_pattern, frame_pattern=args.frame_pattern, topics=args.topics,
-                           collision_distance_m=args.collision_distance_m)
+            return analyze(
+                args.inputs,
+                args.scene,
+                args.out,
+                plan_path=args.plan,
+                compare=args.compare,
+                topic_pattern=args.topic_pattern,
+                frame_pattern=args.frame_pattern,
+                topics=args.topics,
+                collision_distance_m=args.collision_distance_m,
+            )
         if args.command == 'demo':
             return demo(args.out)
         if args.command == 'submission' and args.submission_command == 'build':
@@ -419,11 +544,23 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == 'submission':
             return submission_check(args.file, seeds=args.seeds)
         if args.command == 'robotarium':
-            return robotarium_run(args.scene, args.out, planning=not args.no_planning, barrier=not args.no_barrier,
-                                  initialization=not args.no_initialization, seed=args.seed, plan_path=args.plan)
+            return robotarium_run(
+                args.scene,
+                args.out,
+                planning=not args.no_planning,
+                barrier=not args.no_barrier,
+                initialization=not args.no_initialization,
+                seed=args.seed,
+                plan_path=args.plan,
+            )
         if args.command == 'study':
-            return study(args.out, scenes=args.scenes.split(','), seeds=args.seeds,
-                         acceleration_limits=args.acceleration_limits, baselines=args.baselines)
+            return study(
+                args.out,
+                scenes=args.scenes.split(','),
+                seeds=args.seeds,
+                acceleration_limits=args.acceleration_limits,
+                baselines=args.baselines,
+            )
         if args.scene_command == 'list':
             return scene_list()
         return scene_show(args.scene, args.out)

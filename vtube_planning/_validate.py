@@ -19,8 +19,9 @@ def is_positive(value: object) -> bool:
     return is_real(value) and value > 0  # type: ignore[operator]
 
 
-def as_points(value: object, *, name: str = 'points', item: str = 'columns', min_count: int = 0,
-              allow_single: bool = False) -> np.ndarray:
+def as_points(
+    value: object, *, name: str = 'points', item: str = 'columns', min_count: int = 0, allow_single: bool = False
+) -> np.ndarray:
     """``value`` as finite float points of shape (2, N), one per column, or :class:`ShapeError` naming the problem.
 
     ``allow_single`` accepts a single point of shape (2,) as (2, 1).

@@ -51,13 +51,28 @@ def scene_figure(scene: Scene) -> Figure:
     ws = scene.workspace
     if ws is not None:
         ax_plane.add_patch(
-            Rectangle((ws.x_min_m, ws.y_min_m), ws.x_max_m - ws.x_min_m, ws.y_max_m - ws.y_min_m,
-                      fill=False, ec='k', lw=1.2, label='workspace')
+            Rectangle(
+                (ws.x_min_m, ws.y_min_m),
+                ws.x_max_m - ws.x_min_m,
+                ws.y_max_m - ws.y_min_m,
+                fill=False,
+                ec='k',
+                lw=1.2,
+                label='workspace',
+            )
         )
         m = ws.margin_m
         ax_plane.add_patch(
-            Rectangle((ws.x_min_m + m, ws.y_min_m + m), ws.x_max_m - ws.x_min_m - 2 * m,
-                      ws.y_max_m - ws.y_min_m - 2 * m, fill=False, ec='k', lw=0.6, ls=':', label='margin')
+            Rectangle(
+                (ws.x_min_m + m, ws.y_min_m + m),
+                ws.x_max_m - ws.x_min_m - 2 * m,
+                ws.y_max_m - ws.y_min_m - 2 * m,
+                fill=False,
+                ec='k',
+                lw=0.6,
+                ls=':',
+                label='margin',
+            )
         )
     ax_plane.legend(loc='best', fontsize=8)
     ax_plane.set_title(scene.title)
@@ -96,17 +111,23 @@ def plan_figure(plan: Plan) -> Figure:
     fig = Figure(figsize=(9.0, 8.0), layout='constrained')
     ax_v, ax_rho, ax_w, ax_act = fig.subplots(4, 1, sharex=True, height_ratios=[3, 3, 2, 1.4])
     ax_v.plot(fine, plan.speed(fine), color='tab:blue', lw=2, label='planned speed v*')
-    ax_v.plot(l, np.minimum(plan.speed_limit_mps, 1.5 * swarm.v_max_mps), color='tab:orange', ls='--',
-              label='curvature limit sqrt(a_n r_t)')
+    ax_v.plot(
+        l,
+        np.minimum(plan.speed_limit_mps, 1.5 * swarm.v_max_mps),
+        color='tab:orange',
+        ls='--',
+        label='curvature limit sqrt(a_n r_t)',
+    )
     for value, name in ((swarm.v_min_mps, 'v_min'), (swarm.v_max_mps, 'v_max')):
         ax_v.axhline(value, color='0.5', lw=0.8, ls=':')
-        ax_v.annotate(name, (plan.length_m, value), xytext=(2, 0), textcoords='offset points', fontsize=8,
-                      va='center')
+        ax_v.annotate(name, (plan.length_m, value), xytext=(2, 0), textcoords='offset points', fontsize=8, va='center')
     ax_v.set_ylim(0.0, 1.15 * swarm.v_max_mps)
     ax_v.set_ylabel('speed [m/s]')
     ax_v.legend(loc='lower right', fontsize=8)
-    ax_v.set_title(f'plan for scene {plan.scene or "?"} ({plan.method}): time {plan.time_s:.3f} s, '
-                   f'J = {plan.objective["total"]:.4f}, max violation {plan.max_violation:.1e}')
+    ax_v.set_title(
+        f'plan for scene {plan.scene or "?"} ({plan.method}): time {plan.time_s:.3f} s, '
+        f'J = {plan.objective["total"]:.4f}, max violation {plan.max_violation:.1e}'
+    )
     ax_rho.plot(fine, plan.density(fine), color='tab:green', lw=2, label='planned density rho*')
     ax_rho.axhline(swarm.rho_d_per_m2, color='tab:green', lw=0.8, ls=':', label='rho_d')
     ax_rho.set_ylim(0.0, 1.15 * float(plan.density_per_m2.max()))
@@ -152,15 +173,35 @@ def snapshots_figure(result: SimResult, tube: VirtualTube, *, title: str = '') -
     for k in steps:
         xy = result.positions_m[k].T
         color = cmap(float(result.t_s[k]) / t_end)
-        ax.add_collection(EllipseCollection(np.full(len(xy), 2 * r_p), np.full(len(xy), 2 * r_p), 0.0, units='xy',
-                                            offsets=xy, offset_transform=ax.transData, facecolors=[color],
-                                            edgecolors='k', linewidths=0.3))
-        ax.annotate(f'{result.t_s[k]:.1f} s', xy.mean(axis=0), xytext=(0, 14), textcoords='offset points',
-                    ha='center', fontsize=7, color=color)
+        ax.add_collection(
+            EllipseCollection(
+                np.full(len(xy), 2 * r_p),
+                np.full(len(xy), 2 * r_p),
+                0.0,
+                units='xy',
+                offsets=xy,
+                offset_transform=ax.transData,
+                facecolors=[color],
+                edgecolors='k',
+                linewidths=0.3,
+            )
+        )
+        ax.annotate(
+            f'{result.t_s[k]:.1f} s',
+            xy.mean(axis=0),
+            xytext=(0, 14),
+            textcoords='offset points',
+            ha='center',
+            fontsize=7,
+            color=color,
+        )
     ax.autoscale_view()
     mode = 'with planning' if result.planned else 'without planning'
-    ax.set_title(title or f'swarm {mode}: passing time {result.metrics.passing_time_s:.2f} s, '
-                 f'min distance {result.metrics.min_distance_m:.3f} m')
+    ax.set_title(
+        title
+        or f'swarm {mode}: passing time {result.metrics.passing_time_s:.2f} s, '
+        f'min distance {result.metrics.min_distance_m:.3f} m'
+    )
     return fig
 
 
@@ -182,8 +223,14 @@ def tracking_figure(result: SimResult, plan: Plan) -> Figure:
     ax_rho.set_ylabel('density [1/m^2]')
     ax_rho.legend(fontsize=8)
     ax_ra.plot(center[inside], result.r_a_m.mean(axis=1)[inside], color='tab:purple', label='mean r_a')
-    ax_ra.fill_between(center[inside], result.r_a_m.min(axis=1)[inside], result.r_a_m.max(axis=1)[inside],
-                       color='tab:purple', alpha=0.2, label='range')
+    ax_ra.fill_between(
+        center[inside],
+        result.r_a_m.min(axis=1)[inside],
+        result.r_a_m.max(axis=1)[inside],
+        color='tab:purple',
+        alpha=0.2,
+        label='range',
+    )
     ax_ra.set_ylabel('r_a [m]')
     ax_ra.set_xlabel('arc length of the swarm centre [m]')
     ax_ra.legend(fontsize=8)
@@ -244,18 +291,30 @@ def study_figure(summary: list[dict[str, Any]], collision_distance_m: float) -> 
     scenes = [e['scene'] for e in summary]
     x = np.arange(len(scenes))
     modes = list(dict.fromkeys(m for e in summary for m in e['modes']))
-    colors = {'no planning': 'tab:gray', 'planning': 'tab:blue', 'flocking': 'tab:orange',
-              'flocking (v_min)': 'tab:brown', 'nmpc': 'tab:red'}
+    colors = {
+        'no planning': 'tab:gray',
+        'planning': 'tab:blue',
+        'flocking': 'tab:orange',
+        'flocking (v_min)': 'tab:brown',
+        'nmpc': 'tab:red',
+    }
     width = 0.8 / len(modes)
     for k, mode in enumerate(sorted(modes, key=lambda m: (m != 'no planning', m != 'planning', m))):
         offset = (k - 0.5 * (len(modes) - 1)) * width
         present = [i for i, e in enumerate(summary) if mode in e['modes']]
-        for ax, key, span in ((ax_t, 'passing_time_s', 'passing_time_range_s'),
-                              (ax_d, 'min_distance_m', 'min_distance_range_m')):
+        for ax, key, span in (
+            (ax_t, 'passing_time_s', 'passing_time_range_s'),
+            (ax_d, 'min_distance_m', 'min_distance_range_m'),
+        ):
             mean = np.array([summary[i][mode][key] for i in present])
             ax.bar(x[present] + offset, mean, width, color=colors.get(mode, f'C{k}'), label=mode)
-            ax.vlines(x[present] + offset, [summary[i][mode][span][0] for i in present],
-                      [summary[i][mode][span][1] for i in present], color='k', lw=1.2)  # the range over seeds
+            ax.vlines(
+                x[present] + offset,
+                [summary[i][mode][span][0] for i in present],
+                [summary[i][mode][span][1] for i in present],
+                color='k',
+                lw=1.2,
+            )  # the range over seeds
     ax_d.axhline(collision_distance_m, color='tab:red', ls='--', label='2 r_p (collision)')
     for ax, label in ((ax_t, 'passing time [s]'), (ax_d, 'minimum distance [m]')):
         ax.set_xticks(x, scenes)

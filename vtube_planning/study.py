@@ -28,8 +28,14 @@ BASELINE_SCENES = ('C', 'D')
 COLUMNS = ('passing_time_s', 'min_distance_m', 'collision_pairs', 'tube_violation_steps', 'completed')
 
 
-def run_study(scenes: Iterable[str], seeds: Iterable[int], *, config: SimConfig | None = None,
-              progress: Callable[[str], None] | None = None, baselines: Iterable[str] = ()) -> list[dict[str, Any]]:
+def run_study(
+    scenes: Iterable[str],
+    seeds: Iterable[int],
+    *,
+    config: SimConfig | None = None,
+    progress: Callable[[str], None] | None = None,
+    baselines: Iterable[str] = (),
+) -> list[dict[str, Any]]:
     """One row per scene, mode and seed with the passage's metrics; ``baselines`` from BASELINE_MODES."""
     config = config or SimConfig()
     rows = []
@@ -40,14 +46,28 @@ def run_study(scenes: Iterable[str], seeds: Iterable[int], *, config: SimConfig 
         for seed in seeds:
             for mode in modes:
                 law = _baseline_law(mode, scene, config.dt_s) if mode in BASELINE_MODES else None
-                result = simulate(scene.tube, scene.swarm, scene.control, plan=plan if mode == 'planning' else None,
-                                  config=replace(config, seed=seed), baseline=law)
-                rows.append({'scene': scene.name, 'mode': mode, 'seed': seed,
-                             **{k: getattr(result.metrics, k) for k in COLUMNS}})
+                result = simulate(
+                    scene.tube,
+                    scene.swarm,
+                    scene.control,
+                    plan=plan if mode == 'planning' else None,
+                    config=replace(config, seed=seed),
+                    baseline=law,
+                )
+                rows.append(
+                    {
+                        'scene': scene.name,
+                        'mode': mode,
+                        'seed': seed,
+                        **{k: getattr(result.metrics, k) for k in COLUMNS},
+                    }
+                )
                 if progress is not None:
                     m = result.metrics
-                    progress(f'{scene.name} seed {seed} {mode:<11}: passing {m.passing_time_s:.2f} s, '
-                             f'min distance {m.min_distance_m:.3f} m, collisions {m.collision_pairs}')
+                    progress(
+                        f'{scene.name} seed {seed} {mode:<11}: passing {m.passing_time_s:.2f} s, '
+                        f'min distance {m.min_distance_m:.3f} m, collisions {m.collision_pairs}'
+                    )
     return rows
 
 
@@ -83,20 +103,29 @@ def summarise(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
                 'completed': all(r['completed'] for r in sel),
             }
         planned, unplanned = entry['planning'], entry['no planning']
-        entry['claim_on_means'] = (planned['passing_time_s'] < unplanned['passing_time_s']
-                                   and planned['min_distance_m'] > unplanned['min_distance_m']
-                                   and planned['collision_pairs'] == 0)
+        entry['claim_on_means'] = (
+            planned['passing_time_s'] < unplanned['passing_time_s']
+            and planned['min_distance_m'] > unplanned['min_distance_m']
+            and planned['collision_pairs'] == 0
+        )
         pairs = zip(per_mode['planning'], per_mode['no planning'], strict=True)
         entry['claim_per_seed'] = [
-            {'seed': p['seed'], 'holds': p['passing_time_s'] < u['passing_time_s']
-             and p['min_distance_m'] > u['min_distance_m'] and p['collision_pairs'] == 0}
+            {
+                'seed': p['seed'],
+                'holds': p['passing_time_s'] < u['passing_time_s']
+                and p['min_distance_m'] > u['min_distance_m']
+                and p['collision_pairs'] == 0,
+            }
             for p, u in pairs
         ]
         entry['safer_than'] = {
             mode: planned['collision_pairs'] < entry[mode]['collision_pairs']
-            or (planned['collision_pairs'] == entry[mode]['collision_pairs'] == 0
-                and planned['min_distance_m'] > entry[mode]['min_distance_m'])
-            for mode in modes if mode in BASELINE_MODES
+            or (
+                planned['collision_pairs'] == entry[mode]['collision_pairs'] == 0
+                and planned['min_distance_m'] > entry[mode]['min_distance_m']
+            )
+            for mode in modes
+            if mode in BASELINE_MODES
         }
         out.append(entry)
     return out
@@ -119,10 +148,12 @@ def study_markdown(summary: list[dict[str, Any]], seeds: list[int], config: SimC
             e = entry[mode]
             lo, hi = e['passing_time_range_s']
             dlo, dhi = e['min_distance_range_m']
-            lines.append(f'| {entry["scene"]} | {mode} | {e["passing_time_s"]:.2f} [{lo:.2f}, {hi:.2f}] | '
-                         f'{e["min_distance_m"]:.3f} [{dlo:.3f}, {dhi:.3f}] | {e["collision_pairs"]} | '
-                         f'{e["tube_violation_steps"]} |')
-    lines += ['', 'The paper\'s claim (with planning: shorter passing time, larger minimum distance, no collision):', '']
+            lines.append(
+                f'| {entry["scene"]} | {mode} | {e["passing_time_s"]:.2f} [{lo:.2f}, {hi:.2f}] | '
+                f'{e["min_distance_m"]:.3f} [{dlo:.3f}, {dhi:.3f}] | {e["collision_pairs"]} | '
+                f'{e["tube_violation_steps"]} |'
+            )
+    lines += ['', "The paper's claim (with planning: shorter passing time, larger minimum distance, no collision):", '']
     for entry in summary:
         held = [c['seed'] for c in entry['claim_per_seed'] if c['holds']]
         failed = [c['seed'] for c in entry['claim_per_seed'] if not c['holds']]
@@ -133,11 +164,19 @@ def study_markdown(summary: list[dict[str, Any]], seeds: list[int], config: SimC
         lines.append(f'- scene {entry["scene"]}: {verdict} on the means{detail}.')
     compared = [entry for entry in summary if entry['safer_than']]
     if compared:
-        lines += ['', ('Against the baselines (planning safer: fewer collisions, or none on either side and a '
-                       'larger minimum distance):'), '']
+        lines += [
+            '',
+            (
+                'Against the baselines (planning safer: fewer collisions, or none on either side and a '
+                'larger minimum distance):'
+            ),
+            '',
+        ]
         for entry in compared:
             for mode, safer in entry['safer_than'].items():
-                lines.append(f'- scene {entry["scene"]}, {mode}: {"holds" if safer else "does not hold"} '
-                             f'({entry["planning"]["collision_pairs"]} against {entry[mode]["collision_pairs"]} '
-                             'collision pairs).')
+                lines.append(
+                    f'- scene {entry["scene"]}, {mode}: {"holds" if safer else "does not hold"} '
+                    f'({entry["planning"]["collision_pairs"]} against {entry[mode]["collision_pairs"]} '
+                    'collision pairs).'
+                )
     return '\n'.join(lines) + '\n'

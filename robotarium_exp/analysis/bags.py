@@ -45,8 +45,13 @@ def stamp_ns(header: Any) -> int:
     return int(header.stamp.sec) * 1_000_000_000 + int(header.stamp.nanosec)
 
 
-def read_bag(paths: list[Path], *, topic_pattern: str | None = None, frame_pattern: str | None = None,
-             topics: list[str] | None = None) -> Trajectory:
+def read_bag(
+    paths: list[Path],
+    *,
+    topic_pattern: str | None = None,
+    frame_pattern: str | None = None,
+    topics: list[str] | None = None,
+) -> Trajectory:
     """Load robot positions from one or more bags (ROS1 ``.bag`` files or one ROS2 bag folder)."""
     from rosbags.highlevel import AnyReader, AnyReaderError
     from rosbags.typesys import Stores, get_typestore
@@ -68,11 +73,19 @@ def read_bag(paths: list[Path], *, topic_pattern: str | None = None, frame_patte
                 if missing:
                     msg = f'topic {missing[0]!r} is not in {paths[0]}; it has: {sorted(available)}.'
                     raise AnalysisError(msg)
-            chosen = [c for c in reader.connections if c.msgtype in SUPPORTED and (
-                c.topic in topics if topics else c.msgtype == TF_MESSAGE or any(r.match(c.topic) for r in topic_res))]
+            chosen = [
+                c
+                for c in reader.connections
+                if c.msgtype in SUPPORTED
+                and (
+                    c.topic in topics if topics else c.msgtype == TF_MESSAGE or any(r.match(c.topic) for r in topic_res)
+                )
+            ]
             if not chosen:
-                msg = (f'no pose topic found in {paths[0]}: it has {sorted(available.items())}; name the topics '
-                       '(--topic) or give a pattern with a (?P<robot>...) group (--topic-pattern).')
+                msg = (
+                    f'no pose topic found in {paths[0]}: it has {sorted(available.items())}; name the topics '
+                    '(--topic) or give a pattern with a (?P<robot>...) group (--topic-pattern).'
+                )
                 raise AnalysisError(msg)
             robot_of = {}
             for c in chosen:
@@ -87,8 +100,9 @@ def read_bag(paths: list[Path], *, topic_pattern: str | None = None, frame_patte
                         match = frame_re.match(tr.child_frame_id)
                         if match:
                             tl = tr.transform.translation
-                            samples[match.group('robot')].append((stamp_ns(tr.header), tl.x, tl.y,
-                                                                   yaw(tr.transform.rotation)))
+                            samples[match.group('robot')].append(
+                                (stamp_ns(tr.header), tl.x, tl.y, yaw(tr.transform.rotation))
+                            )
                     continue
                 robot = robot_of[connection.topic]
                 if msg_type == POSE_2D:
@@ -108,5 +122,6 @@ def read_bag(paths: list[Path], *, topic_pattern: str | None = None, frame_patte
         keep = np.concatenate([[True], np.diff(stamps) > 0])  # duplicate stamps (e.g. /tf and a pose topic)
         seconds = (stamps[keep] - origin) * 1e-9  # the one conversion of bag nanoseconds to seconds
         per_robot[robot] = (seconds, values[keep, :2], values[keep, 2])
-    return on_common_stamps(per_robot, source={'kind': 'ros bag', 'path': str(paths[0]),
-                                              'topics': sorted({c.topic for c in chosen})})
+    return on_common_stamps(
+        per_robot, source={'kind': 'ros bag', 'path': str(paths[0]), 'topics': sorted({c.topic for c in chosen})}
+    )

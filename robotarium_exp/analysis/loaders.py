@@ -47,8 +47,10 @@ def load_submission_folder(folder: Path) -> Trajectory:
     """The arrays a submission saved (``vtube_t.npy``, ``vtube_poses.npy``), as downloaded from the testbed."""
     files = sorted(folder.glob(SUBMISSION_PREFIX + '*.npy'))
     if not files:
-        msg = (f'{str(folder)!r} holds no {SUBMISSION_PREFIX}*.npy files; download the data files of the experiment '
-               'into one folder.')
+        msg = (
+            f'{str(folder)!r} holds no {SUBMISSION_PREFIX}*.npy files; download the data files of the experiment '
+            'into one folder.'
+        )
         raise AnalysisError(msg)
     arrays, broken = {}, []
     for path in files:
@@ -58,15 +60,25 @@ def load_submission_folder(folder: Path) -> Trajectory:
             broken.append(f'{path.name} ({err})')
     if 't' not in arrays or 'poses' not in arrays:
         read = sorted(arrays)
-        msg = (f'{str(folder)!r}: cannot read vtube_t.npy and vtube_poses.npy; truncated or corrupt: {broken}; '
-               f'read: {read}.')
+        msg = (
+            f'{str(folder)!r}: cannot read vtube_t.npy and vtube_poses.npy; truncated or corrupt: {broken}; '
+            f'read: {read}.'
+        )
         raise AnalysisError(msg)
     steps = min(arrays['t'].shape[0], arrays['poses'].shape[0])  # a save interrupted between two files
     poses = arrays['poses'][:steps]
-    return Trajectory(np.asarray(arrays['t'][:steps], dtype=float), poses[:, :2], poses[:, 2],
-                      tuple(f'robot_{k}' for k in range(poses.shape[2])),
-                      {'kind': 'robotarium submission', 'path': str(folder), 'unreadable': broken,
-                       'arrays': {k: list(v.shape) for k, v in arrays.items()}})
+    return Trajectory(
+        np.asarray(arrays['t'][:steps], dtype=float),
+        poses[:, :2],
+        poses[:, 2],
+        tuple(f'robot_{k}' for k in range(poses.shape[2])),
+        {
+            'kind': 'robotarium submission',
+            'path': str(folder),
+            'unreadable': broken,
+            'arrays': {k: list(v.shape) for k, v in arrays.items()},
+        },
+    )
 
 
 def load_npz_log(path: Path) -> Trajectory:
@@ -76,7 +88,10 @@ def load_npz_log(path: Path) -> Trajectory:
     except LogError as err:
         raise AnalysisError(str(err)) from err
     positions = arrays['positions_m']
-    return Trajectory(np.asarray(arrays['t_s'], dtype=float), positions, arrays.get('headings_rad'),
-                      tuple(f'robot_{k}' for k in range(positions.shape[2])),
-                      {'kind': 'vtube log', 'path': str(path), 'scene': meta.get('scene'),
-                       'planned': meta.get('planned')})
+    return Trajectory(
+        np.asarray(arrays['t_s'], dtype=float),
+        positions,
+        arrays.get('headings_rad'),
+        tuple(f'robot_{k}' for k in range(positions.shape[2])),
+        {'kind': 'vtube log', 'path': str(path), 'scene': meta.get('scene'), 'planned': meta.get('planned')},
+    )

@@ -57,8 +57,10 @@ class Trajectory:
     def __post_init__(self) -> None:
         t, p = np.asarray(self.t_s), np.asarray(self.positions_m)
         if t.ndim != 1 or p.ndim != 3 or p.shape[0] != t.size or p.shape[1] != 2 or p.shape[2] != len(self.robot_ids):
-            msg = (f'a trajectory needs t (T,), positions (T, 2, N) and N robot ids; got {t.shape}, {p.shape}, '
-                   f'{len(self.robot_ids)} ids.')
+            msg = (
+                f'a trajectory needs t (T,), positions (T, 2, N) and N robot ids; got {t.shape}, {p.shape}, '
+                f'{len(self.robot_ids)} ids.'
+            )
             raise AnalysisError(msg)
         if t.size == 0:
             msg = f'the trajectory from {self.source.get("path", "?")} has no samples.'
@@ -79,8 +81,13 @@ class Trajectory:
         return np.all(np.isfinite(self.positions_m), axis=(1, 2))
 
 
-def on_common_stamps(samples: dict[str, tuple[FloatArray, FloatArray, FloatArray | None]], *, source: dict[str, Any],
-                     rate_hz: float | None = None, gap_factor: float = 3.0) -> Trajectory:
+def on_common_stamps(
+    samples: dict[str, tuple[FloatArray, FloatArray, FloatArray | None]],
+    *,
+    source: dict[str, Any],
+    rate_hz: float | None = None,
+    gap_factor: float = 3.0,
+) -> Trajectory:
     """Robots sampled at their own stamps -> one Trajectory on common stamps.
 
     Parameters

@@ -52,26 +52,42 @@ class Robotarium:
     COLLISION_OFFSET = ROBOTARIUM.collision_offset_m
     BOUNDARIES = ROBOTARIUM.arena_m
 
-    def __init__(self, number_of_robots: int = -1, show_figure: bool = False, sim_in_real_time: bool = True,
-                 initial_conditions: FloatArray | None = None, *, skip_initialization: bool = False,
-                 rng: np.random.Generator | None = None) -> None:
+    def __init__(
+        self,
+        number_of_robots: int = -1,
+        show_figure: bool = False,
+        sim_in_real_time: bool = True,
+        initial_conditions: FloatArray | None = None,
+        *,
+        skip_initialization: bool = False,
+        rng: np.random.Generator | None = None,
+    ) -> None:
         if isinstance(number_of_robots, bool) or not isinstance(number_of_robots, int):
-            msg = (f'The number of robots used argument (number_of_robots) provided to create the Robotarium object '
-                   f'must be an integer type. Recieved type {type(number_of_robots).__name__!r}. Pass int(N).')
+            msg = (
+                f'The number of robots used argument (number_of_robots) provided to create the Robotarium object '
+                f'must be an integer type. Recieved type {type(number_of_robots).__name__!r}. Pass int(N).'
+            )
             raise RobotariumError(msg)
         if not 0 <= number_of_robots <= MAX_ROBOTS:
-            msg = (f'Requested {number_of_robots} robots to be used when creating the Robotarium object. The deployed '
-                   f'number of robots must be between 0 and {MAX_ROBOTS}.')
+            msg = (
+                f'Requested {number_of_robots} robots to be used when creating the Robotarium object. The deployed '
+                f'number of robots must be between 0 and {MAX_ROBOTS}.'
+            )
             raise RobotariumError(msg)
-        for name, flag in (('show_figure', show_figure), ('sim_in_real_time', sim_in_real_time),
-                           ('skip_initialization', skip_initialization)):
+        for name, flag in (
+            ('show_figure', show_figure),
+            ('sim_in_real_time', sim_in_real_time),
+            ('skip_initialization', skip_initialization),
+        ):
             if not isinstance(flag, bool):
                 msg = f'{name} must be a bool; got {type(flag).__name__} {flag!r}.'
                 raise RobotariumError(msg)
         ic = np.array([]) if initial_conditions is None else initial_conditions
         if not isinstance(ic, np.ndarray):
-            msg = (f'The initial conditions array argument (initial_conditions) provided to create the Robotarium '
-                   f'object must be a numpy ndarray. Recieved type {type(ic).__name__!r}.')
+            msg = (
+                f'The initial conditions array argument (initial_conditions) provided to create the Robotarium '
+                f'object must be a numpy ndarray. Recieved type {type(ic).__name__!r}.'
+            )
             raise RobotariumError(msg)
         self.number_of_robots = number_of_robots
         self.show_figure = show_figure
@@ -80,14 +96,19 @@ class Robotarium:
         if ic.size == 0:
             ic = generate_random_poses(number_of_robots, spacing=0.5, width=2.75, height=1.75, rng=self.rng)
         if ic.shape != (3, number_of_robots) or not np.all(np.isfinite(ic)):
-            msg = (f'Initial conditions provided when creating the Robotarium object must of size 3xN, where N is '
-                   f'the number of robots used. Expected a 3 x {number_of_robots} array of finite values but '
-                   f'recieved {ic.shape}.')
+            msg = (
+                f'Initial conditions provided when creating the Robotarium object must of size 3xN, where N is '
+                f'the number of robots used. Expected a 3 x {number_of_robots} array of finite values but '
+                f'recieved {ic.shape}.'
+            )
             raise RobotariumError(msg)
         self.initial_conditions = ic.astype(float).copy()
         self._velocities = np.zeros((2, number_of_robots))
-        self._errors: dict[str, int] = {'robots_outside_boundaries': 0, 'robots_too_close': 0,
-                                        'exceeded_actuator_limits': 0}
+        self._errors: dict[str, int] = {
+            'robots_outside_boundaries': 0,
+            'robots_too_close': 0,
+            'exceeded_actuator_limits': 0,
+        }
         self._iteration = 0
         self.initialization_steps = 0
         self._checked_poses_already = False
@@ -167,8 +188,10 @@ class Robotarium:
         """Set unicycle commands [v; omega] (2xk) of the robots ``ids`` (V2 semantics; all ids for classic)."""
         velocities = np.asarray(velocities, dtype=float)
         if velocities.ndim != 2 or velocities.shape[0] != 2 or velocities.shape[1] > self.number_of_robots:
-            msg = (f'velocities must be a 2xk array [v; omega] with k <= number_of_robots = {self.number_of_robots}; '
-                   f'got {velocities.shape}.')
+            msg = (
+                f'velocities must be a 2xk array [v; omega] with k <= number_of_robots = {self.number_of_robots}; '
+                f'got {velocities.shape}.'
+            )
             raise RobotariumError(msg)
         if not np.all(np.isfinite(velocities)):
             msg = 'velocities must be finite; a NaN or inf command would stop the real robots.'
@@ -211,8 +234,10 @@ class Robotarium:
         elif e['exceeded_actuator_limits']:
             share = 100 * e['exceeded_actuator_limits'] / max(1, self._iteration)
             print('No hard errors detected, your script will run on the Robotarium.')
-            print(f'Warning: {e["exceeded_actuator_limits"]} time steps ({share:.1f}%) exceeded the actuator limits; '
-                  'those commands were clipped per wheel.')
+            print(
+                f'Warning: {e["exceeded_actuator_limits"]} time steps ({share:.1f}%) exceeded the actuator limits; '
+                'those commands were clipped per wheel.'
+            )
         else:
             print('No errors or warnings in your simulation! Your script will run on the Robotarium!')
         return self.errors
@@ -220,18 +245,24 @@ class Robotarium:
     def call_at_scripts_end(self) -> dict[str, int]:
         """Print the classic report; returns the counts."""
         print('##### DEBUG OUTPUT #####')
-        print(f'Your simulation will take approximately {math.ceil(self._iteration * self.TIME_STEP)} real seconds '
-              'when deployed on the Robotarium. \n')
+        print(
+            f'Your simulation will take approximately {math.ceil(self._iteration * self.TIME_STEP)} real seconds '
+            'when deployed on the Robotarium. \n'
+        )
         e = self._errors
         if any(e.values()):
             if e['robots_outside_boundaries']:
-                print(f'\t Simulation had {e["robots_outside_boundaries"]} iterations where robot(s) were outside the '
-                      'boundaries.\n')
+                print(
+                    f'\t Simulation had {e["robots_outside_boundaries"]} iterations where robot(s) were outside the '
+                    'boundaries.\n'
+                )
             if e['robots_too_close']:
                 print(f'\t Simulation had {e["robots_too_close"]} iterations where robot(s) collided.\n')
             if e['exceeded_actuator_limits']:
-                print(f'\t Simulation had {e["exceeded_actuator_limits"]} iterations where robot(s) exceeded '
-                      'actuator limits.')
+                print(
+                    f'\t Simulation had {e["exceeded_actuator_limits"]} iterations where robot(s) exceeded '
+                    'actuator limits.'
+                )
         else:
             print('No errors in your simulation! Acceptance of your experiment is likely!')
         return self.errors
@@ -241,7 +272,8 @@ class Robotarium:
     def wheel_speeds(self, dxu: FloatArray) -> FloatArray:
         """(2v -/+ L omega) / (2 r), 2xN."""
         return np.vstack([2 * dxu[0] - self.BASE_LENGTH * dxu[1], 2 * dxu[0] + self.BASE_LENGTH * dxu[1]]) / (
-            2 * self.WHEEL_RADIUS)
+            2 * self.WHEEL_RADIUS
+        )
 
     def _threshold(self, dxu: FloatArray) -> FloatArray:
         """Clip each wheel to the limit independently (the testbed's actuator model; changes omega / v)."""
@@ -265,16 +297,19 @@ class Robotarium:
         self._iteration += 1
         dxu = self._threshold(self._velocities)
         theta = self.poses[2]
-        self.poses = np.vstack([
-            self.poses[0] + self.TIME_STEP * np.cos(theta) * dxu[0],
-            self.poses[1] + self.TIME_STEP * np.sin(theta) * dxu[0],
-            np.arctan2(np.sin(theta + self.TIME_STEP * dxu[1]), np.cos(theta + self.TIME_STEP * dxu[1])),
-        ])
+        self.poses = np.vstack(
+            [
+                self.poses[0] + self.TIME_STEP * np.cos(theta) * dxu[0],
+                self.poses[1] + self.TIME_STEP * np.sin(theta) * dxu[0],
+                np.arctan2(np.sin(theta + self.TIME_STEP * dxu[1]), np.cos(theta + self.TIME_STEP * dxu[1])),
+            ]
+        )
 
     def _initialize(self, goals: FloatArray) -> None:
         """V2's initialization: from the chargers to the goals under a unicycle barrier certificate (not validated)."""
-        controller = create_pose_controller_hybrid(angular_velocity_limit=math.pi / 3, position_epsilon=0.03,
-                                                   position_error=0.05, rotation_error=0.1)
+        controller = create_pose_controller_hybrid(
+            angular_velocity_limit=math.pi / 3, position_epsilon=0.03, position_error=0.05, rotation_error=0.1
+        )
         barrier = create_uni_barrier_certificate()
         at_pose = create_at_pose(position_error=0.05, rotation_error=0.2)
         progress_at = self.poses[:2].copy()
@@ -297,9 +332,11 @@ class Robotarium:
             dxu = barrier(controller(self.poses, waypoints), self.poses)
             self._velocities = dxu
             self._advance()
-        msg = (f'the initialization did not bring the robots to their initial conditions within '
-               f'{INITIALIZATION_STEP_LIMIT} steps; space the initial conditions at least 0.4 m apart inside '
-               '|x| <= 1.375, |y| <= 0.875 (robotarium.md §2.6).')
+        msg = (
+            f'the initialization did not bring the robots to their initial conditions within '
+            f'{INITIALIZATION_STEP_LIMIT} steps; space the initial conditions at least 0.4 m apart inside '
+            '|x| <= 1.375, |y| <= 0.875 (robotarium.md §2.6).'
+        )
         raise RobotariumError(msg)
 
     def _draw_setup(self) -> None:
@@ -326,7 +363,15 @@ class Robotarium:
 class ClassicRobotarium(Robotarium):
     """The classic generation's behaviour: robots start exactly at the initial conditions (no charger drive)."""
 
-    def __init__(self, number_of_robots: int = -1, show_figure: bool = False, sim_in_real_time: bool = True,
-                 initial_conditions: FloatArray | None = None, *, rng: np.random.Generator | None = None) -> None:
-        super().__init__(number_of_robots, show_figure, sim_in_real_time, initial_conditions,
-                         skip_initialization=True, rng=rng)
+    def __init__(
+        self,
+        number_of_robots: int = -1,
+        show_figure: bool = False,
+        sim_in_real_time: bool = True,
+        initial_conditions: FloatArray | None = None,
+        *,
+        rng: np.random.Generator | None = None,
+    ) -> None:
+        super().__init__(
+            number_of_robots, show_figure, sim_in_real_time, initial_conditions, skip_initialization=True, rng=rng
+        )

@@ -37,8 +37,9 @@ def make_messages(ts, ros1: bool):
     T = ts.types
 
     def header(i: int):
-        stamp = T['builtin_interfaces/msg/Time'](sec=(START_NS + i * PERIOD_NS) // 10**9,
-                                                  nanosec=(START_NS + i * PERIOD_NS) % 10**9)
+        stamp = T['builtin_interfaces/msg/Time'](
+            sec=(START_NS + i * PERIOD_NS) // 10**9, nanosec=(START_NS + i * PERIOD_NS) % 10**9
+        )
         if ros1:
             return T['std_msgs/msg/Header'](seq=i, stamp=stamp, frame_id='world')
         return T['std_msgs/msg/Header'](stamp=stamp, frame_id='world')
@@ -46,29 +47,40 @@ def make_messages(ts, ros1: bool):
     def pose(x: float, y: float, theta: float):
         return T['geometry_msgs/msg/Pose'](
             position=T['geometry_msgs/msg/Point'](x=x, y=y, z=0.0),
-            orientation=T['geometry_msgs/msg/Quaternion'](x=0.0, y=0.0, z=np.sin(theta / 2), w=np.cos(theta / 2)))
+            orientation=T['geometry_msgs/msg/Quaternion'](x=0.0, y=0.0, z=np.sin(theta / 2), w=np.cos(theta / 2)),
+        )
 
     def pose_stamped(i, x, y, th):
         return T['geometry_msgs/msg/PoseStamped'](header=header(i), pose=pose(x, y, th))
 
     def odometry(i, x, y, th):
         cov = np.zeros(36)
-        twist = T['geometry_msgs/msg/Twist'](linear=T['geometry_msgs/msg/Vector3'](x=0.0, y=0.0, z=0.0),
-                                            angular=T['geometry_msgs/msg/Vector3'](x=0.0, y=0.0, z=0.0))
-        return T['nav_msgs/msg/Odometry'](header=header(i), child_frame_id='base',
-                                          pose=T['geometry_msgs/msg/PoseWithCovariance'](pose=pose(x, y, th), covariance=cov),
-                                          twist=T['geometry_msgs/msg/TwistWithCovariance'](twist=twist, covariance=cov))
+        twist = T['geometry_msgs/msg/Twist'](
+            linear=T['geometry_msgs/msg/Vector3'](x=0.0, y=0.0, z=0.0),
+            angular=T['geometry_msgs/msg/Vector3'](x=0.0, y=0.0, z=0.0),
+        )
+        return T['nav_msgs/msg/Odometry'](
+            header=header(i),
+            child_frame_id='base',
+            pose=T['geometry_msgs/msg/PoseWithCovariance'](pose=pose(x, y, th), covariance=cov),
+            twist=T['geometry_msgs/msg/TwistWithCovariance'](twist=twist, covariance=cov),
+        )
 
     def pose_2d(i, x, y, th):
         return T['geometry_msgs/msg/Pose2D'](x=x, y=y, theta=th)
 
     def tf(i, xs, ys, ths):
-        transforms = [T['geometry_msgs/msg/TransformStamped'](
-            header=header(i), child_frame_id=name,
-            transform=T['geometry_msgs/msg/Transform'](
-                translation=T['geometry_msgs/msg/Vector3'](x=x, y=y, z=0.0),
-                rotation=T['geometry_msgs/msg/Quaternion'](x=0.0, y=0.0, z=np.sin(th / 2), w=np.cos(th / 2))))
-            for name, x, y, th in zip(ROBOTS, xs, ys, ths, strict=True)]
+        transforms = [
+            T['geometry_msgs/msg/TransformStamped'](
+                header=header(i),
+                child_frame_id=name,
+                transform=T['geometry_msgs/msg/Transform'](
+                    translation=T['geometry_msgs/msg/Vector3'](x=x, y=y, z=0.0),
+                    rotation=T['geometry_msgs/msg/Quaternion'](x=0.0, y=0.0, z=np.sin(th / 2), w=np.cos(th / 2)),
+                ),
+            )
+            for name, x, y, th in zip(ROBOTS, xs, ys, ths, strict=True)
+        ]
         return T['tf2_msgs/msg/TFMessage'](transforms=transforms)
 
     return pose_stamped, odometry, pose_2d, tf
@@ -152,16 +164,36 @@ def test_gaps_are_reported_not_interpolated() -> None:
 
 
 def test_submission_files_analyse_like_the_simulator_log_of_the_same_run(tmp_path) -> None:
-    run = subprocess.run([sys.executable, '-m', 'robotarium_exp.rps_alias', '--classic', '--seed', '0', '--log',
-                          str(tmp_path / 'sim.npz'), str(ROOT / 'submissions' / 'vtube_robotarium_trapezoid.py')],
-                         cwd=tmp_path, env={**__import__('os').environ, 'VTUBE_HEADLESS': '1', 'MPLBACKEND': 'Agg'},
-                         capture_output=True, text=True, check=True)
+    run = subprocess.run(
+        [
+            sys.executable,
+            '-m',
+            'robotarium_exp.rps_alias',
+            '--classic',
+            '--seed',
+            '0',
+            '--log',
+            str(tmp_path / 'sim.npz'),
+            str(ROOT / 'submissions' / 'vtube_robotarium_trapezoid.py'),
+        ],
+        cwd=tmp_path,
+        env={**__import__('os').environ, 'VTUBE_HEADLESS': '1', 'MPLBACKEND': 'Agg'},
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     assert '"completed": true' in run.stdout
     scene = load_scene('robotarium_trapezoid')
     from_files = analyse(load_trajectory([tmp_path]), scene)
     from_log = analyse(load_trajectory([tmp_path / 'sim.npz']), scene)
-    for key in ('passing_time_s', 'min_distance_m', 'collision_pairs', 'tube_violation_steps', 'frames',
-                'extent_at_narrowing_m'):
+    for key in (
+        'passing_time_s',
+        'min_distance_m',
+        'collision_pairs',
+        'tube_violation_steps',
+        'frames',
+        'extent_at_narrowing_m',
+    ):
         assert from_files[key] == pytest.approx(from_log[key], abs=1e-12)
     assert from_files['collision_pairs'] == 0 and from_files['tube_violation_steps'] == 0
     strict = analyse(load_trajectory([tmp_path]), scene, collision_distance_m=1.0)  # a chosen, larger radius
@@ -189,5 +221,5 @@ def test_bad_input_gives_clear_errors(tmp_path) -> None:
     (folder / 'vtube_poses.npy').write_bytes((folder / 'vtube_poses.npy').read_bytes()[:120])  # truncated
     with pytest.raises(AnalysisError, match=r"truncated or corrupt: \['vtube_poses.npy"):
         load_trajectory([folder])
-    with pytest.raises(AnalysisError, match="does not exist"):
+    with pytest.raises(AnalysisError, match='does not exist'):
         load_trajectory([tmp_path / 'missing.csv'])

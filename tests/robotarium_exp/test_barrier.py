@@ -27,11 +27,12 @@ def reference(u_hat: np.ndarray, x: np.ndarray, spec: bc.BarrierSpec) -> np.ndar
     rows, rhs = [a], [b]
     if spec.speed_polygon:
         poly_a, poly_b = bc.barrier_rows(x, bc.BarrierSpec(1e-9, 1e-9, spec.magnitude_limit, None, True))
-        rows.append(poly_a[-8 * x.shape[1]:])
-        rhs.append(poly_b[-8 * x.shape[1]:])
+        rows.append(poly_a[-8 * x.shape[1] :])
+        rhs.append(poly_b[-8 * x.shape[1] :])
     u = cp.Variable(u_hat.size)
-    problem = cp.Problem(cp.Minimize(cp.sum_squares(u - scaled.reshape(-1, order='F'))),
-                         [np.vstack(rows) @ u <= np.concatenate(rhs)])
+    problem = cp.Problem(
+        cp.Minimize(cp.sum_squares(u - scaled.reshape(-1, order='F'))), [np.vstack(rows) @ u <= np.concatenate(rhs)]
+    )
     problem.solve(solver=cp.CLARABEL, **TIGHT)
     if problem.status != cp.OPTIMAL:
         return None

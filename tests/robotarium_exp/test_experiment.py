@@ -61,8 +61,9 @@ def test_full_run_with_initialization_logs_every_step(tmp_path) -> None:
     scene = load_scene('robotarium_curve')
     plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
     log = tmp_path / 'run.npz'
-    result = run_experiment(Robotarium, scene, plan, ExperimentConfig(), log_path=log,
-                            robotarium_kwargs={'rng': np.random.default_rng(1)})
+    result = run_experiment(
+        Robotarium, scene, plan, ExperimentConfig(), log_path=log, robotarium_kwargs={'rng': np.random.default_rng(1)}
+    )
     arrays, meta = read_log(log)
     assert arrays['positions_m'].shape == result.arrays['positions_m'].shape and meta['finished'] and meta['completed']
     assert meta['errors']['robots_too_close'] == 0 and meta['duration_s'] > arrays['t_s'][-1]

@@ -19,8 +19,14 @@ NOT_A_BOOL: Any = 'yes'  # a wrong argument type, passed on purpose (Any, so myp
 
 def ours(n: int = 2, ic: np.ndarray | None = None, **kwargs) -> Robotarium:
     ic = np.array([[0.0, 0.5], [0.0, 0.0], [0.0, 0.0]])[:, :n] if ic is None else ic
-    return Robotarium(number_of_robots=n, show_figure=False, sim_in_real_time=False, initial_conditions=ic,
-                      skip_initialization=True, **kwargs)
+    return Robotarium(
+        number_of_robots=n,
+        show_figure=False,
+        sim_in_real_time=False,
+        initial_conditions=ic,
+        skip_initialization=True,
+        **kwargs,
+    )
 
 
 def test_the_same_script_runs_on_both_simulators_and_agrees(tmp_path) -> None:
@@ -30,11 +36,17 @@ def test_the_same_script_runs_on_both_simulators_and_agrees(tmp_path) -> None:
     import os
 
     env = dict(os.environ, **env_plot)
-    pypi = subprocess.run([sys.executable, str(script), str(tmp_path / 'pypi.npy')], capture_output=True, text=True,
-                          env=env, check=True)
-    bundled = subprocess.run([sys.executable, '-m', 'robotarium_exp.rps_alias', '--classic', str(script),
-                              str(tmp_path / 'ours.npy')],
-                             capture_output=True, text=True, env=env, check=True, cwd=ROOT)
+    pypi = subprocess.run(
+        [sys.executable, str(script), str(tmp_path / 'pypi.npy')], capture_output=True, text=True, env=env, check=True
+    )
+    bundled = subprocess.run(
+        [sys.executable, '-m', 'robotarium_exp.rps_alias', '--classic', str(script), str(tmp_path / 'ours.npy')],
+        capture_output=True,
+        text=True,
+        env=env,
+        check=True,
+        cwd=ROOT,
+    )
     a, b = np.load(tmp_path / 'pypi.npy'), np.load(tmp_path / 'ours.npy')
     assert a.shape == b.shape == (300, 3, 6)
     np.testing.assert_allclose(b, a, atol=1e-9)  # step by step
@@ -52,8 +64,9 @@ def test_documented_difference_per_wheel_clipping() -> None:
     np.testing.assert_allclose(r.get_poses()[:, 0], [0.033 * v, 0.0, 0.033 * omega], atol=1e-15)
     assert r.errors['exceeded_actuator_limits'] == 1
     rps_robotarium = pytest.importorskip('rps.robotarium')
-    pypi = rps_robotarium.Robotarium(number_of_robots=1, show_figure=False, sim_in_real_time=False,
-                                     initial_conditions=np.zeros((3, 1)))
+    pypi = rps_robotarium.Robotarium(
+        number_of_robots=1, show_figure=False, sim_in_real_time=False, initial_conditions=np.zeros((3, 1))
+    )
     pypi.get_poses()
     pypi.set_velocities(np.arange(1), np.array([[0.2], [2.0]]))
     pypi.step()
@@ -95,12 +108,24 @@ def test_constants_in_both_spellings() -> None:
     [
         (lambda: Robotarium(number_of_robots=np.int64(3), sim_in_real_time=False), 'must be an integer type'),
         (lambda: Robotarium(number_of_robots=51, sim_in_real_time=False), 'must be between 0 and 50'),
-        (lambda: Robotarium(number_of_robots=2, sim_in_real_time=False, initial_conditions=np.zeros((2, 2)),
-                            skip_initialization=True), 'must of size 3xN'),
+        (
+            lambda: Robotarium(
+                number_of_robots=2,
+                sim_in_real_time=False,
+                initial_conditions=np.zeros((2, 2)),
+                skip_initialization=True,
+            ),
+            'must of size 3xN',
+        ),
         (lambda: Robotarium(number_of_robots=2, show_figure=NOT_A_BOOL), 'show_figure must be a bool'),
-        (lambda: Robotarium(number_of_robots=30, sim_in_real_time=False,
-                            initial_conditions=np.vstack([np.mgrid[-1:1:6j, -0.8:0.8:5j].reshape(2, -1),
-                                                          np.zeros(30)])), '22 charger slots'),
+        (
+            lambda: Robotarium(
+                number_of_robots=30,
+                sim_in_real_time=False,
+                initial_conditions=np.vstack([np.mgrid[-1:1:6j, -0.8:0.8:5j].reshape(2, -1), np.zeros(30)]),
+            ),
+            '22 charger slots',
+        ),
     ],
 )
 def test_bad_construction_raises_what_rps_users_know(make, match: str) -> None:

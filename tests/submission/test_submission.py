@@ -54,8 +54,14 @@ def test_the_inlined_step_is_the_library_step(tmp_path, control_line: str) -> No
     def stepper(module_classes: tuple) -> object:
         tube_cls, params_cls, plan_cls, step_cls = module_classes
         plan = plan_cls(**{k: np.asarray(v) for k, v in data['plan'].items()})
-        return step_cls(tube_cls(**data['tube']), params_cls(**data['step']), 6, plan=plan,
-                        constant_speed_mps=data['constant_speed_mps'], parking_slots=np.asarray(data['parking_slots']))
+        return step_cls(
+            tube_cls(**data['tube']),
+            params_cls(**data['step']),
+            6,
+            plan=plan,
+            constant_speed_mps=data['constant_speed_mps'],
+            parking_slots=np.asarray(data['parking_slots']),
+        )
 
     inlined = stepper((ns['SampledTube'], ns['StepParams'], ns['PlanProfile'], ns['SwarmStep']))
     library = stepper((SampledTube, StepParams, PlanProfile, SwarmStep))
@@ -75,33 +81,53 @@ def test_the_submission_flies_the_bundled_experiment(tmp_path) -> None:
     """Same scene variant, same initial conditions: the experiment and the built file on the classic simulator."""
     path = variant(tmp_path, 'robotarium_trapezoid', 'law = "practical"')
     scene = load_scene(path)
-    experiment = run_experiment(Robotarium, scene, plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name),
-                                ExperimentConfig(),
-                                robotarium_kwargs={'skip_initialization': True})
+    experiment = run_experiment(
+        Robotarium,
+        scene,
+        plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name),
+        ExperimentConfig(),
+        robotarium_kwargs={'skip_initialization': True},
+    )
     work = tmp_path / 'testbed'
     work.mkdir()
     file = write(build(path), work / 'submission.py')
     env = dict(os.environ, VTUBE_HEADLESS='1')
-    done = subprocess.run([sys.executable, '-m', 'robotarium_exp.rps_alias', '--classic', str(file)], cwd=work,
-                          env=env, capture_output=True, text=True, timeout=600, check=False)
+    done = subprocess.run(
+        [sys.executable, '-m', 'robotarium_exp.rps_alias', '--classic', str(file)],
+        cwd=work,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
+    )
     assert done.returncode == 0, done.stderr[-2000:]
     poses, t = np.load(work / 'vtube_poses.npy'), np.load(work / 'vtube_t.npy')
     robots = [scene.tube.project(p[:2]) for p in poses]
-    returned = passage_metrics(t, poses[:, :2], np.array([p.l_m for p in robots]),
-                               np.array([p.clearance_m for p in robots]), scene.tube.length_m,
-                               collision_distance_m=2 * scene.swarm.r_p_m)
+    returned = passage_metrics(
+        t,
+        poses[:, :2],
+        np.array([p.l_m for p in robots]),
+        np.array([p.clearance_m for p in robots]),
+        scene.tube.length_m,
+        collision_distance_m=2 * scene.swarm.r_p_m,
+    )
     mine = experiment.metrics
     assert returned.passing_time_s == pytest.approx(mine.passing_time_s, rel=0.01)
     assert returned.min_distance_m == pytest.approx(mine.min_distance_m, abs=0.005)
     assert returned.tube_violation_steps == pytest.approx(mine.tube_violation_steps, rel=0.05)
     assert mine.tube_violation_steps > 0  # the practical law leaves the tube here: the variant really flew
-    np.testing.assert_allclose(poses[:, :2], experiment.arrays['positions_m'], atol=1e-9)  # in fact, the same trajectory
+    np.testing.assert_allclose(
+        poses[:, :2], experiment.arrays['positions_m'], atol=1e-9
+    )  # in fact, the same trajectory
 
 
 @pytest.mark.parametrize('scene', SCENES)
 def test_committed_submission_equals_a_fresh_build(scene: str) -> None:
     committed = (ROOT / 'submissions' / f'vtube_{scene}.py').read_text(encoding='utf-8')
-    assert build(scene).source == committed, f'rebuild with: vtube submission build {scene} --out submissions/vtube_{scene}.py'
+    assert build(scene).source == committed, (
+        f'rebuild with: vtube submission build {scene} --out submissions/vtube_{scene}.py'
+    )
 
 
 @pytest.mark.parametrize('scene', SCENES)

@@ -95,8 +95,9 @@ def test_wheel_speeds_by_hand_and_the_testbed_limit() -> None:
     assert np.abs(wheel_speeds(edge, L_AXLE, R_WHEEL)).max() == pytest.approx(PHI_MAX)
 
 
-@pytest.mark.parametrize(('d', 'length', 'expected'), [(0.05, 0.11, 0.134), (0.03, 0.11, 0.096),
-                                                       (0.05, 0.105, 0.138), (0.03, 0.105, 0.099)])
+@pytest.mark.parametrize(
+    ('d', 'length', 'expected'), [(0.05, 0.11, 0.134), (0.03, 0.11, 0.096), (0.05, 0.105, 0.138), (0.03, 0.105, 0.099)]
+)
 def test_realisable_speed_matches_the_robotarium_table_and_is_tight(d: float, length: float, expected: float) -> None:
     bound = max_realisable_si_speed(d, length, R_WHEEL, PHI_MAX)
     assert bound == pytest.approx(expected, abs=1e-3)  # the table prints three digits (0.1345 as 0.134)
@@ -142,13 +143,18 @@ def test_unicycle_step_is_exact_for_constant_commands() -> None:
     [
         (lambda: si_to_uni(np.zeros((2, 3)), np.zeros((2, 3)), 0.05), r'poses must have shape \(3, N\).*got \(2, 3\)'),
         (lambda: si_to_uni(np.zeros((2, 4)), np.zeros((3, 3)), 0.05), r'dxi must have shape \(2, 3\).*got \(2, 4\)'),
-        (lambda: si_to_uni(np.zeros((2, 3)), np.zeros((3, 3)), 0.0), 'projection distance d must be a finite number > 0'),
+        (
+            lambda: si_to_uni(np.zeros((2, 3)), np.zeros((3, 3)), 0.0),
+            'projection distance d must be a finite number > 0',
+        ),
         (lambda: uni_to_si(np.array([[0.1], [np.nan]]), np.zeros((3, 1)), 0.05), r'columns \[0\] of shape \(2, 1\)'),
         (lambda: unicycle_step(np.zeros((3, 2)), np.zeros((2,)), 0.03), r'got \(2,\)'),
         (lambda: unicycle_step(np.zeros((3, 2)), np.zeros((2, 2)), float('inf')), 'dt_s must be a finite number'),
         (lambda: scale_to_wheel_limits(np.zeros((2, 1)), 0.11, -1.0, 12.5), 'wheel_radius_m must be'),
-        (lambda: si_to_uni_constrained(np.zeros((2, 1)), np.zeros((3, 1)), 0.05, v_min=0.2, v_max=0.1, a_n=1.0),
-         r'v_min \(0.2\) exceeds v_max \(0.1\)'),
+        (
+            lambda: si_to_uni_constrained(np.zeros((2, 1)), np.zeros((3, 1)), 0.05, v_min=0.2, v_max=0.1, a_n=1.0),
+            r'v_min \(0.2\) exceeds v_max \(0.1\)',
+        ),
     ],
 )
 def test_bad_input_raises_value_error_with_the_shape(call, match: str) -> None:

@@ -16,8 +16,9 @@ from vtube_planning import PlanningOptions, SwarmParams, VirtualTube
 RHO_FLOOR = 1e-3  # (p5)'s strictly positive density, as the paper's rho > 0
 
 
-def slsqp_plan(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, n_intervals: int,
-               *, v0: float, rho0: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+def slsqp_plan(
+    tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, n_intervals: int, *, v0: float, rho0: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """Grid, speed, density and objective value of the SLSQP solution on ``n_intervals`` equal intervals."""
     l = np.linspace(0.0, tube.length_m, n_intervals + 1)
     dl = l[1] - l[0]
@@ -26,8 +27,9 @@ def slsqp_plan(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, 
     radius = np.array([np.min(tube.curvature_radius(row)) for row in sub])
     interval_cap = np.minimum(np.sqrt(swarm.a_n_mps2 * radius), swarm.v_max_mps)
     node_cap = np.minimum(np.append(interval_cap, np.inf), np.insert(interval_cap, 0, np.inf))
-    ratio = np.array([np.max(np.abs(tube.half_width(row) / tube.half_width(row + options.lookahead_m) - 1))
-                      for row in sub])
+    ratio = np.array(
+        [np.max(np.abs(tube.half_width(row) / tube.half_width(row + options.lookahead_m) - 1)) for row in sub]
+    )
     a_rho, a_v, mu = swarm.a_rho, swarm.a_v_mps2, options.density_weight
 
     def split(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -57,8 +59,9 @@ def slsqp_plan(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, 
         {'type': 'ineq', 'fun': inequalities},
         {'type': 'eq', 'fun': lambda x: np.array([x[0] - v0, x[n] - rho0])},
     ]
-    result = minimize(objective, x0, method='SLSQP', bounds=bounds, constraints=constraints,
-                      options={'maxiter': 500, 'ftol': 1e-10})
+    result = minimize(
+        objective, x0, method='SLSQP', bounds=bounds, constraints=constraints, options={'maxiter': 500, 'ftol': 1e-10}
+    )
     if not result.success:
         msg = f'SLSQP reference failed: {result.message}'
         raise RuntimeError(msg)

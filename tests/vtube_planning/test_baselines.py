@@ -20,9 +20,23 @@ from vtube_planning.baselines.nmpc import (
     wall_slack,
 )
 
-SIMPLE = FlockingParams(v_flock=1.0, v_max=10.0, v_min=0.0, r0_rep=1.0, p_rep=2.0, v_rep=5.0, r0_frict=0.5,
-                        c_frict=0.1, v_frict=0.2, p_frict=1.0, a_frict=1.0, r0_shill=0.0, v_shill=1.0, p_shill=1.0,
-                        a_shill=1.0)
+SIMPLE = FlockingParams(
+    v_flock=1.0,
+    v_max=10.0,
+    v_min=0.0,
+    r0_rep=1.0,
+    p_rep=2.0,
+    v_rep=5.0,
+    r0_frict=0.5,
+    c_frict=0.1,
+    v_frict=0.2,
+    p_frict=1.0,
+    a_frict=1.0,
+    r0_shill=0.0,
+    v_shill=1.0,
+    p_shill=1.0,
+    a_shill=1.0,
+)
 
 
 def straight(half_width: float) -> VirtualTube:
@@ -31,8 +45,9 @@ def straight(half_width: float) -> VirtualTube:
 
 def test_braking_curve_by_hand() -> None:
     # a = 2, p = 1: linear r p below r = a / p^2 = 2, then sqrt(2 a r - a^2 / p^2); 0 for r <= 0
-    np.testing.assert_allclose(braking_curve(np.array([-1.0, 0.0, 1.0, 2.0, 3.0]), 2.0, 1.0),
-                               [0.0, 0.0, 1.0, 2.0, math.sqrt(8.0)])
+    np.testing.assert_allclose(
+        braking_curve(np.array([-1.0, 0.0, 1.0, 2.0, 3.0]), 2.0, 1.0), [0.0, 0.0, 1.0, 2.0, math.sqrt(8.0)]
+    )
 
 
 def test_two_robots_repulsion_and_alignment_by_hand() -> None:
@@ -43,8 +58,9 @@ def test_two_robots_repulsion_and_alignment_by_hand() -> None:
     repulsion = 2.0 * (1.0 - 0.6)  # p_rep (r0_rep - r) = 0.8 < v_rep
     # |v_j - v_i| = 0.5 exceeds max(v_frict, D(0.6 - 0.5)) = max(0.2, 0.1) = 0.2 by 0.3; C_frict 0.1
     alignment = 0.1 * (0.5 - 0.2)
-    np.testing.assert_allclose(command.T, [[1.0 - repulsion + alignment, 0.0], [1.0 + repulsion - alignment, 0.0]],
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        command.T, [[1.0 - repulsion + alignment, 0.0], [1.0 + repulsion - alignment, 0.0]], atol=1e-12
+    )
 
 
 def test_wall_shill_by_hand() -> None:
@@ -63,8 +79,9 @@ def test_speed_limits_cap_and_floor() -> None:
     positions = np.array([[2.0, 2.05], [0.0, 0.0]])  # strong repulsion: robot 0 is pushed backwards
     velocities = np.zeros((2, 2))
     free = flocking_command(positions, velocities, tube.project(positions), SIMPLE)
-    constrained = flocking_command(positions, velocities, tube.project(positions),
-                                   FlockingParams(**{**vars(SIMPLE), 'v_min': 2.0, 'v_max': 2.5}))
+    constrained = flocking_command(
+        positions, velocities, tube.project(positions), FlockingParams(**{**vars(SIMPLE), 'v_min': 2.0, 'v_max': 2.5})
+    )
     assert free[0, 0] < 0.0  # with v_min = 0 a flocking robot may even back up
     np.testing.assert_allclose(np.hypot(*constrained), [2.0, 2.5])  # floored and capped, direction kept
     assert constrained[0, 0] < 0.0

@@ -12,7 +12,9 @@ from vtube_planning.swarm.step import swarm_area, swarm_density
 
 def step_tube() -> VirtualTube:
     """Straight, half-width 2 m for 10 m, then 1 m (smooth over 1 m) for the remaining 19 m."""
-    width = WidthProfile(2.0, (WidthPart('constant', 10.0), WidthPart('smooth', 1.0, to_m=1.0), WidthPart('constant', 19.0)))
+    width = WidthProfile(
+        2.0, (WidthPart('constant', 10.0), WidthPart('smooth', 1.0, to_m=1.0), WidthPart('constant', 19.0))
+    )
     return VirtualTube(ArcPath((ArcPiece(30.0),)), width)
 
 
@@ -27,7 +29,9 @@ def test_line_abreast_swarm_has_the_padded_area() -> None:
 def test_measured_density_is_global_n_over_s_and_needs_robots() -> None:
     tube = step_tube()
     points = np.array([[1.0, 4.0, 12.0], [0.0, 1.0, -0.5]])
-    area = 2 * 2.0 * (10.0 - 0.5) + tube.width.area(np.array([11.0]))[0] - tube.width.area(np.array([10.0]))[0] + 2.0 * 1.5
+    area = (
+        2 * 2.0 * (10.0 - 0.5) + tube.width.area(np.array([11.0]))[0] - tube.width.area(np.array([10.0]))[0] + 2.0 * 1.5
+    )
     assert swarm_density(tube, tube.project(points).l_m, 0.5) == pytest.approx(3 / area)
     with pytest.raises(ValueError, match='at least one robot'):
         swarm_density(tube, np.zeros(0), 0.5)

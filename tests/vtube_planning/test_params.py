@@ -12,8 +12,18 @@ from vtube_planning import ParamsError, PlanningOptions, SwarmParams
 def test_defaults_are_table_1() -> None:
     p = SwarmParams()
     table = (20, 2.0, 5.0, 1.0, 1.0, 0.3, 0.4, 0.8, 0.1989, 0.9974)
-    assert (p.n_robots, p.v_min_mps, p.v_max_mps, p.a_v_mps2, p.a_n_mps2, p.r_p_m, p.r_s_m, p.r_a_m,
-            p.rho_d_per_m2, p.rho_max_per_m2) == table
+    assert (
+        p.n_robots,
+        p.v_min_mps,
+        p.v_max_mps,
+        p.a_v_mps2,
+        p.a_n_mps2,
+        p.r_p_m,
+        p.r_s_m,
+        p.r_a_m,
+        p.rho_d_per_m2,
+        p.rho_max_per_m2,
+    ) == table
 
 
 def test_derived_quantities_of_table_1() -> None:

@@ -187,13 +187,25 @@ def no_solver(monkeypatch):
 @pytest.mark.parametrize(
     ('center', 'swarm', 'options', 'match'),
     [
-        (ArcPath((ArcPiece(5.0), ArcPiece(6.0, radius_m=3.0), ArcPiece(5.0))), SwarmParams(), PlanningOptions(),
-         r'\(p4\) is incompatible with \(p2\) at l = 4\.\d+ m.*below v_min = 2 m/s'),
-        (ArcPath((ArcPiece(20.0),)), SwarmParams(), PlanningOptions(rho0_per_m2=1.5),
-         r'\(p5\) fails at l = 0: the initial density 1.5'),
+        (
+            ArcPath((ArcPiece(5.0), ArcPiece(6.0, radius_m=3.0), ArcPiece(5.0))),
+            SwarmParams(),
+            PlanningOptions(),
+            r'\(p4\) is incompatible with \(p2\) at l = 4\.\d+ m.*below v_min = 2 m/s',
+        ),
+        (
+            ArcPath((ArcPiece(20.0),)),
+            SwarmParams(),
+            PlanningOptions(rho0_per_m2=1.5),
+            r'\(p5\) fails at l = 0: the initial density 1.5',
+        ),
         (ArcPath((ArcPiece(20.0),)), SwarmParams(), PlanningOptions(v0_mps=6.0), r'\(p2\) fails at l = 0'),
-        (ArcPath((ArcPiece(2.0), ArcPiece(10.0, radius_m=5.0))), SwarmParams(), PlanningOptions(v0_mps=5.0),
-         r'\(p3\) and \(p4\) conflict at l = [01]\.\d+ m'),
+        (
+            ArcPath((ArcPiece(2.0), ArcPiece(10.0, radius_m=5.0))),
+            SwarmParams(),
+            PlanningOptions(v0_mps=5.0),
+            r'\(p3\) and \(p4\) conflict at l = [01]\.\d+ m',
+        ),
     ],
 )
 def test_infeasible_problems_fail_fast(center, swarm, options, match, no_solver) -> None:
@@ -203,7 +215,9 @@ def test_infeasible_problems_fail_fast(center, swarm, options, match, no_solver)
 
 def test_impossible_pre_expansion_is_reported_with_its_arc_length(no_solver) -> None:
     # the tube narrows 8:1 right at the entrance: the density cannot fall from the packing value in time
-    width = WidthProfile(4.0, (WidthPart('constant', 0.2), WidthPart('smooth', 0.3, to_m=0.5), WidthPart('constant', 9.5)))
+    width = WidthProfile(
+        4.0, (WidthPart('constant', 0.2), WidthPart('smooth', 0.3, to_m=0.5), WidthPart('constant', 9.5))
+    )
     tube = VirtualTube(ArcPath((ArcPiece(10.0),)), width)
     with pytest.raises(PlanError, match=r'\(p7\) cannot hold at l = 0\.\d{3} m'):
         plan_convex(tube, SwarmParams(), PlanningOptions(lookahead_m=1.0))
@@ -239,7 +253,7 @@ def test_plan_interpolates_slowness_and_density_linearly(shipped_plans: dict[str
 def test_corrupt_plan_file_gives_plan_error(tmp_path) -> None:
     bad = tmp_path / 'bad.npz'
     bad.write_bytes(b'PK\x03\x04 not really a zip')
-    with pytest.raises(PlanError, match="cannot read plan file .*bad.npz"):
+    with pytest.raises(PlanError, match='cannot read plan file .*bad.npz'):
         Plan.load(bad)
 
 

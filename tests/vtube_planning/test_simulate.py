@@ -40,8 +40,13 @@ def test_same_seed_same_run_other_seed_other_run(scene_a) -> None:
 @pytest.mark.parametrize('limits', [True, False])
 def test_every_command_respects_the_speed_band(scene_a, planned: bool, limits: bool) -> None:
     scene, plan = scene_a
-    result = simulate(scene.tube, scene.swarm, scene.control, plan=plan if planned else None,
-                      config=replace(SHORT, acceleration_limits=limits))
+    result = simulate(
+        scene.tube,
+        scene.swarm,
+        scene.control,
+        plan=plan if planned else None,
+        config=replace(SHORT, acceleration_limits=limits),
+    )
     speed = np.hypot(result.commands_mps[:, 0], result.commands_mps[:, 1])
     assert speed.min() >= scene.swarm.v_min_mps - 1e-9 and speed.max() <= scene.swarm.v_max_mps + 1e-9
     assert result.metrics.speed_violations == 0
@@ -77,8 +82,15 @@ def test_interrupted_run_leaves_a_readable_log(scene_a, tmp_path, monkeypatch) -
     monkeypatch.setattr(simulate_module.SwarmStep, '__call__', failing)
     log = tmp_path / 'run.npz'
     with pytest.raises(KeyboardInterrupt):
-        simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=replace(SHORT, log_every=10),
-                 log_path=log, meta={'scene': 'A'})
+        simulate(
+            scene.tube,
+            scene.swarm,
+            scene.control,
+            plan=plan,
+            config=replace(SHORT, log_every=10),
+            log_path=log,
+            meta={'scene': 'A'},
+        )
     arrays, meta = read_log(log)
     assert arrays['positions_m'].shape == (50, 2, 20)  # every row up to the last flush
     assert meta['scene'] == 'A' and meta['planned'] and 'metrics' not in meta
@@ -107,8 +119,12 @@ def test_metrics_of_a_constructed_passage() -> None:
     assert m.tube_violation_steps == 1 and m.robots_outside == 1 and m.max_outside_m == pytest.approx(0.2)
     assert passage_metrics(t, positions, l, clearance, 10.0, collision_distance_m=0.4).collision_pairs == 0
     commands = np.stack([np.full((11, 2), 2.0), np.zeros((11, 2))], axis=1)  # speed 2 m/s
-    assert passage_metrics(t, positions, l, clearance, 10.0, collision_distance_m=0.6, speed_band_mps=(2.5, 5.0),
-                           commands_mps=commands).speed_violations == 22
+    assert (
+        passage_metrics(
+            t, positions, l, clearance, 10.0, collision_distance_m=0.6, speed_band_mps=(2.5, 5.0), commands_mps=commands
+        ).speed_violations
+        == 22
+    )
     assert m.speed_violations is None and m.speed_tracking_mean_mps is None
 
 

@@ -29,8 +29,9 @@ SWARM = SwarmParams()  # r_s = 0.4, r_a = 0.8, v in [2, 5]
 PRACTICAL = ControlParams(law='practical', avoidance_gain=2.0, keeping_gain=3.0)
 
 
-def command_at(positions: np.ndarray, r_a: np.ndarray, forward: np.ndarray, tube: VirtualTube,
-               control: ControlParams) -> Command:
+def command_at(
+    positions: np.ndarray, r_a: np.ndarray, forward: np.ndarray, tube: VirtualTube, control: ControlParams
+) -> Command:
     """The law at positions with the exact projection."""
     return velocity_command(positions, r_a, forward, tube.project(positions), control.step_params(SWARM))
 
@@ -100,8 +101,12 @@ def test_barrier_potential_reproduces_theory_values() -> None:
 def test_barrier_gain_is_minus_the_potential_derivative() -> None:
     x = np.linspace(0.82, 1.25, 60)
     h = 1e-7
-    fd = np.array([-(barrier_potential(v + h, 0.8, 0.8, 1.2, 1.0) - barrier_potential(v - h, 0.8, 0.8, 1.2, 1.0))
-                   / (2 * h) for v in x])
+    fd = np.array(
+        [
+            -(barrier_potential(v + h, 0.8, 0.8, 1.2, 1.0) - barrier_potential(v - h, 0.8, 0.8, 1.2, 1.0)) / (2 * h)
+            for v in x
+        ]
+    )
     np.testing.assert_allclose(barrier_gain(x, 0.8, 0.8, np.full(x.shape, 1.2), 1.0), fd, rtol=1e-5, atol=1e-6)
     assert np.all(barrier_gain(np.array([1.2, 2.0]), 0.8, 0.8, np.full(2, 1.2), 1.0) == 0.0)
     assert barrier_gain(np.array([0.5]), 0.8, 0.8, np.array([1.2]), 1.0)[0] > 1e6  # inside the safety distance
@@ -155,8 +160,9 @@ def test_commands_always_lie_in_the_speed_band() -> None:
     tube = wide_tube(3.0)
     for law in ('practical', 'barrier'):
         positions = np.vstack([rng.uniform(0, 20, 300), rng.uniform(-3.5, 3.5, 300)])
-        command = command_at(positions, rng.uniform(0.8, 2.0, 300), rng.uniform(2, 5, 300), tube,
-                             ControlParams(law=law))
+        command = command_at(
+            positions, rng.uniform(0.8, 2.0, 300), rng.uniform(2, 5, 300), tube, ControlParams(law=law)
+        )
         speed = np.hypot(*command.velocity)
         assert np.all(speed >= 2.0 - 1e-9) and np.all(speed <= 5.0 + 1e-9)
 
@@ -209,8 +215,15 @@ def test_every_control_option_reaches_the_step() -> None:
     from dataclasses import fields, replace
 
     base = ControlParams(r_a_max_m=2.0)
-    changed = {'avoidance_gain': 2.0, 'keeping_gain': 3.0, 'k_ra_m3ps': 4.0, 'r_a_max_m': 2.5, 'feedforward': True,
-               'law': 'practical', 'kdtree_above': 7}
+    changed = {
+        'avoidance_gain': 2.0,
+        'keeping_gain': 3.0,
+        'k_ra_m3ps': 4.0,
+        'r_a_max_m': 2.5,
+        'feedforward': True,
+        'law': 'practical',
+        'kdtree_above': 7,
+    }
     assert {f.name for f in fields(ControlParams)} == set(changed)
     for name, value in changed.items():
         assert replace(base, **{name: value}).step_params(SWARM) != base.step_params(SWARM), name

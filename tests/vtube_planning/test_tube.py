@@ -194,15 +194,18 @@ def test_projection_of_shipped_scenes_is_the_closest_point(name: str) -> None:
 
 
 def test_smooth_width_part_is_the_sigma_smoothstep() -> None:
-    width = WidthProfile(4.0, (WidthPart('constant', 5.0), WidthPart('smooth', 6.0, to_m=1.5), WidthPart('constant', 4.0)))
+    width = WidthProfile(
+        4.0, (WidthPart('constant', 5.0), WidthPart('smooth', 6.0, to_m=1.5), WidthPart('constant', 4.0))
+    )
     l = np.linspace(0.0, 15.0, 1001)
     expected = (4.0 - 1.5) * sigma(l, 5.0, 11.0) + 1.5
     np.testing.assert_allclose(width.value(l), expected, atol=1e-12)
 
 
 def test_linear_width_part_is_a_rounded_trapezoid() -> None:
-    width = WidthProfile(4.0, (WidthPart('constant', 5.0), WidthPart('linear', 10.0, to_m=1.0, corner_m=1.0),
-                               WidthPart('constant', 5.0)))
+    width = WidthProfile(
+        4.0, (WidthPart('constant', 5.0), WidthPart('linear', 10.0, to_m=1.0, corner_m=1.0), WidthPart('constant', 5.0))
+    )
     slope = (1.0 - 4.0) / (10.0 - 1.0)
     np.testing.assert_allclose(width.slope(np.linspace(6.0, 14.0, 50)), slope, atol=1e-12)  # straight middle
     np.testing.assert_allclose(width.value(np.array([5.0, 15.0])), [4.0, 1.0], atol=1e-12)
@@ -221,8 +224,15 @@ def test_cumulative_area_matches_quadrature_and_inverts(name: str) -> None:
     breaks = tube.width.breakpoints
     for l_end in np.linspace(0.0, tube.length_m, 7):
         pts = breaks[(breaks > 0) & (breaks < l_end)]
-        integral = quad(lambda s: 2.0 * tube.half_width(s), 0.0, l_end, points=pts if pts.size else None,
-                        epsabs=1e-12, epsrel=1e-12, limit=200)[0]
+        integral = quad(
+            lambda s: 2.0 * tube.half_width(s),
+            0.0,
+            l_end,
+            points=pts if pts.size else None,
+            epsabs=1e-12,
+            epsrel=1e-12,
+            limit=200,
+        )[0]
         assert tube.area(l_end) == pytest.approx(integral, rel=1e-10, abs=1e-12)
     l = np.linspace(-2.0, tube.length_m + 2.0, 501)  # the straight extensions keep their end widths
     np.testing.assert_allclose(tube.area_inverse(tube.area(l)), l, atol=1e-9 * tube.length_m)
@@ -240,7 +250,9 @@ def test_over_curved_tube_names_the_arc_length() -> None:
 
 def test_self_intersecting_tube_names_both_arc_lengths() -> None:
     loop = ArcPath((ArcPiece(10.0), ArcPiece(3.0 * 1.5 * math.pi, radius_m=3.0), ArcPiece(10.0)))
-    with pytest.raises(TubeError, match=r'overlaps itself: the cross-sections at l = \d+\.\d{3} m and l = \d+\.\d{3} m'):
+    with pytest.raises(
+        TubeError, match=r'overlaps itself: the cross-sections at l = \d+\.\d{3} m and l = \d+\.\d{3} m'
+    ):
         VirtualTube(loop, constant(loop.length_m, 1.0))
 
 
@@ -261,8 +273,9 @@ def test_converging_legs_overlap_although_locally_regular() -> None:
 
 
 def test_width_with_kinks_is_not_c1_and_names_the_arc_length() -> None:
-    width = WidthProfile(3.0, (WidthPart('constant', 5.0), WidthPart('linear', 4.0, to_m=1.0, corner_m=0.0),
-                               WidthPart('constant', 1.0)))
+    width = WidthProfile(
+        3.0, (WidthPart('constant', 5.0), WidthPart('linear', 4.0, to_m=1.0, corner_m=0.0), WidthPart('constant', 1.0))
+    )
     with pytest.raises(TubeError, match=r'not C\^1 at l = 5\.000 m'):
         VirtualTube(ArcPath((ArcPiece(10.0),)), width)
 
@@ -303,8 +316,14 @@ def test_shape_contract_of_arc_length_functions() -> None:
         assert fun(1.0).shape == (2,)
         assert fun(np.array([1.0, 2.0, 3.0])).shape == (3, 2)
         assert fun(np.array([])).shape == (0, 2)
-    for scalar_fun in (tube.curvature, tube.curvature_radius, tube.half_width, tube.half_width_slope, tube.area,
-                       tube.area_inverse):
+    for scalar_fun in (
+        tube.curvature,
+        tube.curvature_radius,
+        tube.half_width,
+        tube.half_width_slope,
+        tube.area,
+        tube.area_inverse,
+    ):
         assert isinstance(scalar_fun(1.0), float)
         assert np.shape(scalar_fun(np.array([1.0, 2.0, 3.0]))) == (3,)
     left, right = tube.boundaries(1.0)

@@ -30,9 +30,22 @@ from vtube_planning.params import SwarmParams
 
 FloatArray = NDArray[np.float64]
 
-ROBOTSIM = {'v_flock': 4.0, 'v_max': 8.0, 'r0_rep': 25.667, 'p_rep': 0.4, 'v_rep': 6.197, 'r0_frict_offset': 10.0,
-            'c_frict': 0.0238, 'v_frict': 0.5, 'p_frict': 0.4, 'a_frict': 2.5, 'r0_shill': 0.0, 'v_shill': 6.52,
-            'p_shill': 0.4, 'a_shill': 2.5}
+ROBOTSIM = {
+    'v_flock': 4.0,
+    'v_max': 8.0,
+    'r0_rep': 25.667,
+    'p_rep': 0.4,
+    'v_rep': 6.197,
+    'r0_frict_offset': 10.0,
+    'c_frict': 0.0238,
+    'v_frict': 0.5,
+    'p_frict': 0.4,
+    'a_frict': 2.5,
+    'r0_shill': 0.0,
+    'v_shill': 6.52,
+    'p_shill': 0.4,
+    'a_shill': 2.5,
+}
 """robotsim's ``parameters/flockingparams.dat`` (``theory.md`` §6.1), SI units."""
 
 
@@ -72,13 +85,23 @@ class FlockingParams:
         speed = swarm.v_max_mps / ROBOTSIM['v_max']
         rate, accel = speed / length, speed**2 / length
         r = ROBOTSIM
-        return cls(v_flock=r['v_flock'] * speed, v_max=swarm.v_max_mps,
-                   v_min=swarm.v_min_mps if speed_constrained else 0.0,
-                   r0_rep=r['r0_rep'] * length, p_rep=r['p_rep'] * rate, v_rep=r['v_rep'] * speed,
-                   r0_frict=(r['r0_rep'] + r['r0_frict_offset']) * length, c_frict=r['c_frict'],
-                   v_frict=r['v_frict'] * speed, p_frict=r['p_frict'] * rate, a_frict=r['a_frict'] * accel,
-                   r0_shill=r['r0_shill'] * length, v_shill=r['v_shill'] * speed, p_shill=r['p_shill'] * rate,
-                   a_shill=r['a_shill'] * accel)
+        return cls(
+            v_flock=r['v_flock'] * speed,
+            v_max=swarm.v_max_mps,
+            v_min=swarm.v_min_mps if speed_constrained else 0.0,
+            r0_rep=r['r0_rep'] * length,
+            p_rep=r['p_rep'] * rate,
+            v_rep=r['v_rep'] * speed,
+            r0_frict=(r['r0_rep'] + r['r0_frict_offset']) * length,
+            c_frict=r['c_frict'],
+            v_frict=r['v_frict'] * speed,
+            p_frict=r['p_frict'] * rate,
+            a_frict=r['a_frict'] * accel,
+            r0_shill=r['r0_shill'] * length,
+            v_shill=r['v_shill'] * speed,
+            p_shill=r['p_shill'] * rate,
+            a_shill=r['a_shill'] * accel,
+        )
 
 
 def braking_curve(r: FloatArray, a: float, p: float) -> FloatArray:
@@ -89,8 +112,9 @@ def braking_curve(r: FloatArray, a: float, p: float) -> FloatArray:
     return np.where(r <= 0.0, 0.0, np.where(linear < a / p, linear, root))
 
 
-def flocking_command(positions: FloatArray, velocities: FloatArray, projection: Projection,
-                     params: FlockingParams) -> FloatArray:
+def flocking_command(
+    positions: FloatArray, velocities: FloatArray, projection: Projection, params: FlockingParams
+) -> FloatArray:
     """Desired velocities (2, N) of optimized flocking in a tube, capped at v_max and floored at v_min."""
     n = positions.shape[1]
     command = params.v_flock * projection.tangent

@@ -63,8 +63,13 @@ class NmpcParams:
     @classmethod
     def for_swarm(cls, swarm: SwarmParams) -> NmpcParams:
         """v_ref = v_max, d_ref = 2 r_a, d_safe = 2 r_s, wall margin r_s (``theory.md`` §6.2, Table 1 radii)."""
-        return cls(v_max=swarm.v_max_mps, v_ref=swarm.v_max_mps, d_ref=2 * swarm.r_a_m, d_safe=2 * swarm.r_s_m,
-                   wall_margin=swarm.r_s_m)
+        return cls(
+            v_max=swarm.v_max_mps,
+            v_ref=swarm.v_max_mps,
+            d_ref=2 * swarm.r_a_m,
+            d_safe=2 * swarm.r_s_m,
+            wall_margin=swarm.r_s_m,
+        )
 
 
 def rollout(p0: FloatArray, v0: FloatArray, u: FloatArray, dt: float) -> tuple[FloatArray, FloatArray]:
@@ -88,8 +93,9 @@ def rollout_maps(horizon: int, dt: float) -> tuple[FloatArray, FloatArray]:
     return a_p, a_v
 
 
-def cost_gradients(p: FloatArray, v: FloatArray, u: FloatArray, others: FloatArray, tangent: FloatArray,
-                   params: NmpcParams) -> tuple[FloatArray, FloatArray, FloatArray]:
+def cost_gradients(
+    p: FloatArray, v: FloatArray, u: FloatArray, others: FloatArray, tangent: FloatArray, params: NmpcParams
+) -> tuple[FloatArray, FloatArray, FloatArray]:
     """d(total cost)/dp, /dv and the direct /du, each (H, 2)."""
     d_p = np.zeros_like(p)
     if others.shape[0]:
@@ -105,8 +111,9 @@ def cost_gradients(p: FloatArray, v: FloatArray, u: FloatArray, others: FloatArr
     return d_p, d_v, 2 * params.w_u**2 * u
 
 
-def stage_costs(p: FloatArray, v: FloatArray, u: FloatArray, others: FloatArray, tangent: FloatArray,
-                params: NmpcParams) -> dict[str, float]:
+def stage_costs(
+    p: FloatArray, v: FloatArray, u: FloatArray, others: FloatArray, tangent: FloatArray, params: NmpcParams
+) -> dict[str, float]:
     """The four cost terms over the horizon; ``others`` (M, H, 2) are the neighbours' predicted positions."""
     if others.shape[0]:
         d2 = np.sum((others - p[None]) ** 2, axis=2)
@@ -167,15 +174,23 @@ class NmpcSwarm:
             dist[i] = np.inf
             near = np.argsort(dist)[: min(params.neighbours, n - 1)]
             others = others_all[near]
-            u, pred = self._solve(positions[:, i], velocities[:, i], projection.tangent[:, i], others,
-                                  plans[i], predictions[i])
+            u, pred = self._solve(
+                positions[:, i], velocities[:, i], projection.tangent[:, i], others, plans[i], predictions[i]
+            )
             plans[i] = np.vstack([u[1:], u[-1:]])  # shifted warm start
             predictions[i] = pred
             held[:, i] = u[0]
         self.solve_time_s += time.perf_counter() - started
 
-    def _solve(self, p0: FloatArray, v0: FloatArray, tangent: FloatArray, others: FloatArray, guess: FloatArray,
-               previous: FloatArray) -> tuple[FloatArray, FloatArray]:
+    def _solve(
+        self,
+        p0: FloatArray,
+        v0: FloatArray,
+        tangent: FloatArray,
+        others: FloatArray,
+        guess: FloatArray,
+        previous: FloatArray,
+    ) -> tuple[FloatArray, FloatArray]:
         params = self.params
         h, dt = params.horizon, params.dt_s
         a_p, a_v = rollout_maps(h, dt)
@@ -214,9 +229,15 @@ class NmpcSwarm:
         constraints = [{'type': 'ineq', 'fun': wall, 'jac': lambda x: np.vstack([-wall_jac, wall_jac])}]
         if others.shape[0]:
             constraints.append({'type': 'ineq', 'fun': separation, 'jac': separation_jac})
-        result = minimize(cost, guess.ravel(), jac=cost_grad, method='SLSQP',
-                          bounds=[(-params.a_max, params.a_max)] * (2 * h), constraints=constraints,
-                          options={'maxiter': params.max_iter, 'ftol': 1e-6})
+        result = minimize(
+            cost,
+            guess.ravel(),
+            jac=cost_grad,
+            method='SLSQP',
+            bounds=[(-params.a_max, params.a_max)] * (2 * h),
+            constraints=constraints,
+            options={'maxiter': params.max_iter, 'ftol': 1e-6},
+        )
         self.solves += 1
         if not result.success:
             self.failures += 1  # keep the best iterate: the agent must still act

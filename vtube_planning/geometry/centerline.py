@@ -229,4 +229,3 @@ class SplineCurve(CenterCurve):
         speed = np.hypot(d1[:, 0], d1[:, 1])
         kappa = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / speed**3
         return self._spline(u), d1 / speed[:, None], kappa
-

@@ -162,7 +162,9 @@ def scene_from_text(text: str, *, name: str, source: str) -> Scene:
 
 def _build(data: dict[str, Any], *, name: str, source: str) -> Scene:
     where = _Where(source)
-    where.keys(data, '', required=('tube',), optional=('title', 'description', 'swarm', 'planning', 'control', 'workspace'))
+    where.keys(
+        data, '', required=('tube',), optional=('title', 'description', 'swarm', 'planning', 'control', 'workspace')
+    )
     tube_table = where.table(data, 'tube')
     where.keys(tube_table, 'tube', required=('center', 'width'))
     center = _center(where.table(tube_table, 'center', 'tube'), where)
@@ -197,7 +199,9 @@ class _Where:
     def fail(self, text: str) -> SceneError:
         return SceneError(f'{self.source}: {text}')
 
-    def keys(self, table: dict[str, Any], path: str, *, required: tuple[str, ...] = (), optional: tuple[str, ...] = ()) -> None:
+    def keys(
+        self, table: dict[str, Any], path: str, *, required: tuple[str, ...] = (), optional: tuple[str, ...] = ()
+    ) -> None:
         label = f'[{path}]' if path else 'the top level'
         unknown = sorted(set(table) - set(required) - set(optional))
         if unknown:
@@ -280,8 +284,12 @@ def _width(table: dict[str, Any], length_m: float, where: _Where) -> WidthProfil
             msg = f'{part_path} must be a table such as {{ kind = "constant", length_m = 10.0 }}; got {part!r}.'
             raise where.fail(msg)
         last = k == len(parts) - 1
-        where.keys(part, part_path, required=('kind',) if last else ('kind', 'length_m'),
-                   optional=('length_m', 'to_m', 'corner_m') if last else ('to_m', 'corner_m'))
+        where.keys(
+            part,
+            part_path,
+            required=('kind',) if last else ('kind', 'length_m'),
+            optional=('length_m', 'to_m', 'corner_m') if last else ('to_m', 'corner_m'),
+        )
         values = {key: part[key] for key in ('length_m', 'to_m', 'corner_m') if key in part}
         if last and 'length_m' not in part:
             values['length_m'] = length_m - sum(p.length_m for p in built)

@@ -67,7 +67,9 @@ class WidthPart:
                 raise TubeError(msg)
             return
         if not is_real(self.to_m):
-            msg = f'a {self.kind!r} width part needs to_m, the half-width it ends at, a finite number; got {self.to_m!r}.'
+            msg = (
+                f'a {self.kind!r} width part needs to_m, the half-width it ends at, a finite number; got {self.to_m!r}.'
+            )
             raise TubeError(msg)
         if self.kind == 'smooth' and self.corner_m is not None:
             msg = "corner_m applies to 'linear' width parts only; remove it from the 'smooth' part."

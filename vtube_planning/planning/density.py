@@ -27,7 +27,9 @@ from vtube_planning.swarm.step import swarm_area
 FloatArray = NDArray[np.float64]
 
 
-def footprint(tube: VirtualTube, l_center_m: ArrayLike, rho_per_m2: ArrayLike, n_robots: int) -> tuple[FloatArray, FloatArray]:
+def footprint(
+    tube: VirtualTube, l_center_m: ArrayLike, rho_per_m2: ArrayLike, n_robots: int
+) -> tuple[FloatArray, FloatArray]:
     """Back and front arc lengths ``(l_e, l_s)`` of a swarm of N robots at density rho centred at l (area-wise)."""
     center_area = np.asarray(tube.area(np.atleast_1d(np.asarray(l_center_m, dtype=float))))
     half = 0.5 * n_robots / np.asarray(rho_per_m2, dtype=float)

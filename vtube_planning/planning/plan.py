@@ -114,8 +114,9 @@ class Plan:
         """rho*(l) as used: linear interpolation; end values outside [0, L]."""
         return self.profile.density(l_m)
 
-    def check_matches(self, tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions | None = None,
-                      *, scene: str | None = None) -> None:
+    def check_matches(
+        self, tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions | None = None, *, scene: str | None = None
+    ) -> None:
         """Raise :class:`PlanError` unless this plan was made for this tube, swarm (and options, when given).
 
         The scene's name alone does not decide (a copied scene file plans the same); it is named in the message.
@@ -132,8 +133,10 @@ class Plan:
             changed = [k for k, v in asdict(options).items() if asdict(self.options)[k] != v]
             problems.append(f'other planning options ({", ".join(changed)})')
         if problems:
-            msg = (f'{made_for} does not fit {here}: it was made for {" and ".join(problems)}. Plan this scene '
-                   'first (vtube plan SCENE --out DIR) and pass that plan.')
+            msg = (
+                f'{made_for} does not fit {here}: it was made for {" and ".join(problems)}. Plan this scene '
+                'first (vtube plan SCENE --out DIR) and pass that plan.'
+            )
             raise PlanError(msg)
 
     def save(self, path: str | Path) -> Path:
@@ -162,8 +165,10 @@ class Plan:
         """Read a plan written by :meth:`save`."""
         arrays, meta = read_npz(path, PlanError, 'plan file')
         if meta.get('format_version') != FORMAT_VERSION:
-            msg = (f'plan file {str(path)!r} has format {meta.get("format_version")!r}; this vtube reads format '
-                   f'{FORMAT_VERSION} (format 1 plans do not record their tube). Plan again with vtube plan.')
+            msg = (
+                f'plan file {str(path)!r} has format {meta.get("format_version")!r}; this vtube reads format '
+                f'{FORMAT_VERSION} (format 1 plans do not record their tube). Plan again with vtube plan.'
+            )
             raise PlanError(msg)
         active = {k.removeprefix('active_'): arrays.pop(k) for k in list(arrays) if k.startswith('active_')}
         return cls(
@@ -196,8 +201,9 @@ def curvature_speed_limit(tube: VirtualTube, swarm: SwarmParams, l_m: FloatArray
     return np.sqrt(swarm.a_n_mps2 * np.asarray(tube.curvature_radius(l_m)))
 
 
-def objective_terms(l_m: FloatArray, speed_mps: FloatArray, density: FloatArray, swarm: SwarmParams,
-                    options: PlanningOptions) -> dict[str, float]:
+def objective_terms(
+    l_m: FloatArray, speed_mps: FloatArray, density: FloatArray, swarm: SwarmParams, options: PlanningOptions
+) -> dict[str, float]:
     """(p1) for the plan interpolated as used: exact integrals of w and of mu (rho - rho_d)^2 (piecewise linear)."""
     dl = np.diff(l_m)
     w = 1.0 / speed_mps
@@ -207,8 +213,14 @@ def objective_terms(l_m: FloatArray, speed_mps: FloatArray, density: FloatArray,
     return {'time_s': time_s, 'density': dens, 'total': time_s + dens}
 
 
-def certify(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, l_m: FloatArray,
-            speed_mps: FloatArray, density: FloatArray) -> tuple[dict[str, float], dict[str, NDArray[np.bool_]]]:
+def certify(
+    tube: VirtualTube,
+    swarm: SwarmParams,
+    options: PlanningOptions,
+    l_m: FloatArray,
+    speed_mps: FloatArray,
+    density: FloatArray,
+) -> tuple[dict[str, float], dict[str, NDArray[np.bool_]]]:
     """Relative violations of (p2)-(p7) and of the initial values on a 10x finer grid, and the active sets.
 
     Violations are divided by the constraint's own bound (v_min or v_max, a_v, sqrt(a_n r_t), rho_max, a_rho,
@@ -235,8 +247,10 @@ def certify(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, l_m
         'p2': max(worst((swarm.v_min_mps - v) / swarm.v_min_mps), worst((v - swarm.v_max_mps) / swarm.v_max_mps)),
         'p3': worst((np.abs(np.diff(w)) / dl / np.minimum(w[:-1], w[1:]) ** 3 - swarm.a_v_mps2) / swarm.a_v_mps2),
         'p4': worst((v[curved] - limit[curved]) / limit[curved]),
-        'p5': max(worst((rho - swarm.rho_max_per_m2) / swarm.rho_max_per_m2),
-                  worst((RHO_EPSILON - rho) / swarm.rho_max_per_m2)),
+        'p5': max(
+            worst((rho - swarm.rho_max_per_m2) / swarm.rho_max_per_m2),
+            worst((RHO_EPSILON - rho) / swarm.rho_max_per_m2),
+        ),
         'p6': worst((np.abs(np.diff(rho)) / dl * v_top - a_rho) / a_rho),
         'p7': worst((np.abs(rho_f - rho) / options.lookahead_m * v - a_rho) / a_rho),
         'initial': max(abs(speed_mps[0] - v0) / v0, abs(density[0] - rho0) / rho0),

@@ -87,7 +87,9 @@ def discretise(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions) 
     if inside.size:  # curvature jumps at the joints of arcs: include both sides
         joint_k = np.clip(np.searchsorted(l_m, inside) - 1, 0, n_int - 1)
         eps = 1e-9 * max(1.0, length)
-        joint = np.minimum(curvature_speed_limit(tube, swarm, inside - eps), curvature_speed_limit(tube, swarm, inside + eps))
+        joint = np.minimum(
+            curvature_speed_limit(tube, swarm, inside - eps), curvature_speed_limit(tube, swarm, inside + eps)
+        )
         np.minimum.at(limit_sub, joint_k, joint)
     interval_cap = np.minimum(limit_sub, swarm.v_max_mps)
     speed_cap = np.minimum(np.concatenate([interval_cap, [np.inf]]), np.concatenate([[np.inf], interval_cap]))
@@ -212,8 +214,10 @@ class ConvexPlanner:
             cons.append(cp.SOC(y + t, cp.vstack([2.0 * x, y - t]), axis=0))
         e = rho - swarm.rho_d_per_m2
         time_term = dl * (cp.sum(w) - 0.5 * (w[0] + w[-1]))
-        density_term = options.density_weight * dl * (
-            0.25 * cp.sum_squares(e[:-1] + e[1:]) + cp.sum_squares(e[1:] - e[:-1]) / 12.0
+        density_term = (
+            options.density_weight
+            * dl
+            * (0.25 * cp.sum_squares(e[:-1] + e[1:]) + cp.sum_squares(e[1:] - e[:-1]) / 12.0)
         )
         self.cvx = cp.Problem(cp.Minimize(time_term + density_term), cons)
 
@@ -240,8 +244,15 @@ class ConvexPlanner:
         return np.asarray(self.w.value, dtype=float), np.asarray(self.rho.value, dtype=float)
 
 
-def plan_convex(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, *, scene: str = '',
-                max_iterations: int = 60, rtol: float = 1e-9) -> Plan:
+def plan_convex(
+    tube: VirtualTube,
+    swarm: SwarmParams,
+    options: PlanningOptions,
+    *,
+    scene: str = '',
+    max_iterations: int = 60,
+    rtol: float = 1e-9,
+) -> Plan:
     """Plan speed and density by the convex-concave procedure on the slowness form.
 
     Parameters
@@ -273,13 +284,35 @@ def plan_convex(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions,
             status = 'converged'
             break
         previous = value
-    return make_plan(tube, swarm, options, problem.l_m, 1.0 / w_bar, rho_bar, method='convex', status=status,
-                     iterations=iterations, solve_time_s=time.perf_counter() - started, scene=scene)
+    return make_plan(
+        tube,
+        swarm,
+        options,
+        problem.l_m,
+        1.0 / w_bar,
+        rho_bar,
+        method='convex',
+        status=status,
+        iterations=iterations,
+        solve_time_s=time.perf_counter() - started,
+        scene=scene,
+    )
 
 
-def make_plan(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, l_m: FloatArray, speed: FloatArray,
-              density: FloatArray, *, method: str, status: str, iterations: int, solve_time_s: float,
-              scene: str) -> Plan:
+def make_plan(
+    tube: VirtualTube,
+    swarm: SwarmParams,
+    options: PlanningOptions,
+    l_m: FloatArray,
+    speed: FloatArray,
+    density: FloatArray,
+    *,
+    method: str,
+    status: str,
+    iterations: int,
+    solve_time_s: float,
+    scene: str,
+) -> Plan:
     """Wrap planned samples into a :class:`Plan` with its certificate, active sets and objective terms."""
     certificate, active = certify(tube, swarm, options, l_m, speed, density)
     objective = objective_terms(l_m, speed, density, swarm, options)

@@ -60,8 +60,15 @@ def segment_knots(tube: VirtualTube) -> FloatArray:
     return np.array(knots)
 
 
-def plan_polynomial(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, *, scene: str = '',
-                    max_iterations: int = 60, rtol: float = 1e-9) -> Plan:
+def plan_polynomial(
+    tube: VirtualTube,
+    swarm: SwarmParams,
+    options: PlanningOptions,
+    *,
+    scene: str = '',
+    max_iterations: int = 60,
+    rtol: float = 1e-9,
+) -> Plan:
     """Plan speed and density with C^1 cubic segments (the paper's segmented planning), for comparison.
 
     Raises
@@ -83,7 +90,9 @@ def plan_polynomial(tube: VirtualTube, swarm: SwarmParams, options: PlanningOpti
     l_colloc = (knots[:-1, None] + h[:, None] * COLLOCATION[None, :]).ravel()
     sub = np.linspace(knots[:-1], knots[1:], SUBSAMPLES * 4 + 1, axis=1)
     cap = np.minimum(curvature_speed_limit(tube, swarm, sub.ravel()).reshape(sub.shape).min(axis=1), swarm.v_max_mps)
-    ratio = np.abs(np.asarray(tube.half_width(l_colloc)) / np.asarray(tube.half_width(l_colloc + options.lookahead_m)) - 1.0)
+    ratio = np.abs(
+        np.asarray(tube.half_width(l_colloc)) / np.asarray(tube.half_width(l_colloc + options.lookahead_m)) - 1.0
+    )
 
     P = cp.Variable((m, 4), name='w_control')
     Q = cp.Variable((m, 4), name='rho_control')
@@ -142,10 +151,22 @@ def plan_polynomial(tube: VirtualTube, swarm: SwarmParams, options: PlanningOpti
     local = bernstein((samples - knots[seg]) / h[seg])
     w = np.einsum('ij,ij->i', local, np.asarray(P.value, dtype=float)[seg])  # an optimal solve sets every value
     rho = np.einsum('ij,ij->i', local, np.asarray(Q.value, dtype=float)[seg])
-    plan = make_plan(tube, swarm, options, samples, 1.0 / w, rho, method='polynomial', status=status,
-                     iterations=iterations, solve_time_s=time.perf_counter() - started, scene=scene)
-    plan.extra.update({'segments': int(m), 'objective_polynomial': float(objective.value),
-                       'p3_slack': _total(slack.value)})
+    plan = make_plan(
+        tube,
+        swarm,
+        options,
+        samples,
+        1.0 / w,
+        rho,
+        method='polynomial',
+        status=status,
+        iterations=iterations,
+        solve_time_s=time.perf_counter() - started,
+        scene=scene,
+    )
+    plan.extra.update(
+        {'segments': int(m), 'objective_polynomial': float(objective.value), 'p3_slack': _total(slack.value)}
+    )
     return plan
 
 

@@ -89,8 +89,10 @@ def read_log(path: str | Path) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]
         msg = f'{str(path)!r} is not a vtube trajectory log (format {meta.get("format")!r}, expected {LOG_FORMAT!r}).'
         raise LogError(msg)
     elif meta.get('version') != LOG_VERSION:
-        msg = (f'{str(path)!r} is a vtube trajectory log of version {meta.get("version")!r}; this vtube reads '
-               f'versions 1 to {LOG_VERSION}. Read it with the vtube that wrote it, or upgrade vtube.')
+        msg = (
+            f'{str(path)!r} is a vtube trajectory log of version {meta.get("version")!r}; this vtube reads '
+            f'versions 1 to {LOG_VERSION}. Read it with the vtube that wrote it, or upgrade vtube.'
+        )
         raise LogError(msg)
     missing = [key for key in REQUIRED if key not in arrays]
     if missing:

@@ -193,13 +193,23 @@ def simulate(
     if start_speed is None:
         start_speed = float(plan.speed_mps[0]) if plan is not None else swarm.v_min_mps
     velocity = start_speed * tube.project(positions).tangent
-    stepper = SwarmStep(tube, step_params, n, plan=plan.profile if plan is not None else None,
-                        constant_speed_mps=forward_const)
+    stepper = SwarmStep(
+        tube, step_params, n, plan=plan.profile if plan is not None else None, constant_speed_mps=forward_const
+    )
     extent = float(np.ptp(tube.project(positions).l_m))
     limit = config.time_limit_s or 4.0 * (tube.length_m + extent + 2 * swarm.r_a_m) / swarm.v_min_mps
     steps = math.ceil(limit / config.dt_s)
-    description = dict(meta or {}, kind='simulation', planned=plan is not None, n_robots=n, dt_s=config.dt_s,
-                       seed=config.seed, swarm=asdict(swarm), control=asdict(control), length_m=tube.length_m)
+    description = dict(
+        meta or {},
+        kind='simulation',
+        planned=plan is not None,
+        n_robots=n,
+        dt_s=config.dt_s,
+        seed=config.seed,
+        swarm=asdict(swarm),
+        control=asdict(control),
+        length_m=tube.length_m,
+    )
     log = LogWriter(log_path, description, flush_every=config.log_every)
     for step in range(steps + 1):
         projection = tube.project(positions)
@@ -230,11 +240,17 @@ def simulate(
         positions = positions + config.dt_s * velocity
     arrays = log.arrays()
     metrics = passage_metrics(
-        arrays['t_s'], arrays['positions_m'], arrays['l_m'], arrays['clearance_m'], tube.length_m,
-        collision_distance_m=2.0 * swarm.r_p_m, speed_band_mps=(swarm.v_min_mps, swarm.v_max_mps),
-        commands_mps=arrays['commands_mps'], forward_speed_mps=arrays['forward_speed_mps'],
-        density_per_m2=arrays['density_per_m2'], plan=plan,
+        arrays['t_s'],
+        arrays['positions_m'],
+        arrays['l_m'],
+        arrays['clearance_m'],
+        tube.length_m,
+        collision_distance_m=2.0 * swarm.r_p_m,
+        speed_band_mps=(swarm.v_min_mps, swarm.v_max_mps),
+        commands_mps=arrays['commands_mps'],
+        forward_speed_mps=arrays['forward_speed_mps'],
+        density_per_m2=arrays['density_per_m2'],
+        plan=plan,
     )
     log.flush(metrics=metrics.to_json(), finished=True)
     return SimResult(**arrays, metrics=metrics, planned=plan is not None, meta=description)
-

@@ -237,8 +237,9 @@ class Command:
     tube_keeping: FloatArray
 
 
-def velocity_command(positions: FloatArray, r_a: FloatArray, forward_speed_mps: FloatArray, projection: Any,
-                     params: StepParams) -> Command:
+def velocity_command(
+    positions: FloatArray, r_a: FloatArray, forward_speed_mps: FloatArray, projection: Any, params: StepParams
+) -> Command:
     """The command v_c of every robot (eq. s1) at (2, N) positions with radii r_a (N,) and forward speeds (N,)."""
     forward = forward_speed_mps * projection.tangent
     avoidance = avoidance_velocity(positions, r_a, params)
@@ -257,8 +258,9 @@ def feedforward_radius(rho_planned: ArrayLike, params: StepParams) -> FloatArray
     return 1.0 / np.sqrt(np.asarray(rho_planned, dtype=float)) - params.r_s_m
 
 
-def next_radius(r_a: FloatArray, rho_measured: float, rho_planned: FloatArray, params: StepParams,
-                dt_s: float) -> FloatArray:
+def next_radius(
+    r_a: FloatArray, rho_measured: float, rho_planned: FloatArray, params: StepParams, dt_s: float
+) -> FloatArray:
     """r_a after one period of (a3), capped at r_a_max, floored by the feed-forward when it is on."""
     r_a = np.minimum(params.r_a_max_m, r_a + dt_s * avoidance_radius_rate(rho_measured, rho_planned, params))
     if params.feedforward:
@@ -322,8 +324,16 @@ class SwarmStep:
         Slots (2, N) beyond the exit for robots that leave the tube; None lets them fly on.
     """
 
-    def __init__(self, tube: Any, params: StepParams, n_robots: int, *, plan: PlanProfile | None = None,
-                 constant_speed_mps: float | None = None, parking_slots: FloatArray | None = None) -> None:
+    def __init__(
+        self,
+        tube: Any,
+        params: StepParams,
+        n_robots: int,
+        *,
+        plan: PlanProfile | None = None,
+        constant_speed_mps: float | None = None,
+        parking_slots: FloatArray | None = None,
+    ) -> None:
         if plan is None and constant_speed_mps is None:
             msg = 'a swarm step without a plan needs constant_speed_mps, the forward speed to fly.'
             raise ValueError(msg)
@@ -365,8 +375,9 @@ class SwarmStep:
             self.r_a = next_radius(r_a, density, self.plan.density(l_m), p, dt_s)
         return StepResult(velocity, command, projection, forward_speed, density, r_a, parked, done)
 
-    def _park(self, slots: FloatArray, points: FloatArray, exited: NDArray[np.bool_],
-              velocity: FloatArray) -> tuple[FloatArray, NDArray[np.bool_], bool]:
+    def _park(
+        self, slots: FloatArray, points: FloatArray, exited: NDArray[np.bool_], velocity: FloatArray
+    ) -> tuple[FloatArray, NDArray[np.bool_], bool]:
         """Robots past the exit take the next free slot and drive to it at up to v_max."""
         for k in np.flatnonzero(exited & (self.slot_of < 0)):
             self.slot_of[k] = int((self.slot_of >= 0).sum())

@@ -85,17 +85,21 @@ def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArr
     if spec.boundary is not None:
         xmin, xmax, ymin, ymax = spec.boundary
         half, gain = spec.safety_radius / 2, 0.4 * spec.barrier_gain
-        for axis, sign, room in ((1, 1.0, ymax - half - x[1]), (1, -1.0, -ymin - half + x[1]),
-                                 (0, 1.0, xmax - half - x[0]), (0, -1.0, -xmin - half + x[0])):
+        for axis, sign, room in (
+            (1, 1.0, ymax - half - x[1]),
+            (1, -1.0, -ymin - half + x[1]),
+            (0, 1.0, xmax - half - x[0]),
+            (0, -1.0, -xmin - half + x[0]),
+        ):
             a[row + robots, 2 * robots + axis] = sign
-            b[row:row + n] = gain * room**3
+            b[row : row + n] = gain * room**3
             row += n
     if spec.speed_polygon:  # rps V2: the first side at the limit, the other seven at limit cos(pi/8)
         for side in range(POLYGON_SIDES):
             angle = 2 * math.pi * side / POLYGON_SIDES
             a[row + robots, 2 * robots] = math.cos(angle)
             a[row + robots, 2 * robots + 1] = math.sin(angle)
-            b[row:row + n] = spec.magnitude_limit * (1.0 if side == 0 else math.cos(math.pi / POLYGON_SIDES))
+            b[row : row + n] = spec.magnitude_limit * (1.0 if side == 0 else math.cos(math.pi / POLYGON_SIDES))
             row += n
     return a, b
 
@@ -171,8 +175,10 @@ def _check_pair(u: object, x: object, u_name: str, x_name: str, state_rows: int 
         msg = f'{u_name} and {x_name} must be numpy arrays; got {type(u).__name__} and {type(x).__name__}.'
         raise RobotariumError(msg)
     if u.ndim != 2 or u.shape[0] != 2 or x.ndim != 2 or x.shape[0] < state_rows or x.shape[1] != u.shape[1]:
-        msg = (f'{u_name} must be 2xN and {x_name} {state_rows}xN with the same N; got {u_name} {u.shape} and '
-               f'{x_name} {x.shape}.')
+        msg = (
+            f'{u_name} must be 2xN and {x_name} {state_rows}xN with the same N; got {u_name} {u.shape} and '
+            f'{x_name} {x.shape}.'
+        )
         raise RobotariumError(msg)
     if not (np.all(np.isfinite(u)) and np.all(np.isfinite(x))):
         msg = f'{u_name} and {x_name} must be finite.'
@@ -180,10 +186,14 @@ def _check_pair(u: object, x: object, u_name: str, x_name: str, state_rows: int 
     return u.astype(float), x.astype(float)
 
 
-def _spec(safety_radius: float, barrier_gain: float, magnitude_limit: float, boundary: object,
-          polygon: bool) -> BarrierSpec:
-    for name, value in (('safety_radius', safety_radius), ('barrier_gain', barrier_gain),
-                        ('magnitude_limit', magnitude_limit)):
+def _spec(
+    safety_radius: float, barrier_gain: float, magnitude_limit: float, boundary: object, polygon: bool
+) -> BarrierSpec:
+    for name, value in (
+        ('safety_radius', safety_radius),
+        ('barrier_gain', barrier_gain),
+        ('magnitude_limit', magnitude_limit),
+    ):
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
             msg = f'{name} must be a positive number; got {value!r}.'
             raise RobotariumError(msg)
@@ -197,32 +207,42 @@ def _spec(safety_radius: float, barrier_gain: float, magnitude_limit: float, bou
 # ---------------------------------------------------------------------- V2 names and defaults
 
 
-def create_si_barrier_certificate(safety_radius: float = 0.15, barrier_gain: float = 100.0,
-                                  magnitude_limit: float = 0.2) -> Certificate:
+def create_si_barrier_certificate(
+    safety_radius: float = 0.15, barrier_gain: float = 100.0, magnitude_limit: float = 0.2
+) -> Certificate:
     """V2: pairwise barriers and the speed polygon."""
     return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, None, True))
 
 
-def create_si_barrier_certificate_with_boundary(safety_radius: float = 0.15, barrier_gain: float = 100.0,
-                                                magnitude_limit: float = 0.2,
-                                                boundary_points: object = None) -> Certificate:
+def create_si_barrier_certificate_with_boundary(
+    safety_radius: float = 0.15,
+    barrier_gain: float = 100.0,
+    magnitude_limit: float = 0.2,
+    boundary_points: object = None,
+) -> Certificate:
     """V2: pairwise and boundary barriers (default boundary [-1.7, 1.7, -1.1, 1.1], as V2) and the speed polygon."""
     boundary = (-1.7, 1.7, -1.1, 1.1) if boundary_points is None else boundary_points
     return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, boundary, True))
 
 
-def create_uni_barrier_certificate(barrier_gain: float = 100.0, safety_radius: float = 0.15,
-                                   projection_distance: float = 0.05,
-                                   velocity_magnitude_limit: float = 0.2) -> UnicycleCertificate:
+def create_uni_barrier_certificate(
+    barrier_gain: float = 100.0,
+    safety_radius: float = 0.15,
+    projection_distance: float = 0.05,
+    velocity_magnitude_limit: float = 0.2,
+) -> UnicycleCertificate:
     """V2: the SI certificate at projection points, radius safety_radius + 2 d."""
     spec = _spec(safety_radius + 2 * projection_distance, barrier_gain, velocity_magnitude_limit, None, True)
     return UnicycleCertificate(spec, projection_distance)
 
 
-def create_uni_barrier_certificate_with_boundary(safety_radius: float = 0.12, barrier_gain: float = 150.0,
-                                                 projection_distance: float = 0.03,
-                                                 velocity_magnitude_limit: float = 0.2,
-                                                 boundary_points: object = None) -> UnicycleCertificate:
+def create_uni_barrier_certificate_with_boundary(
+    safety_radius: float = 0.12,
+    barrier_gain: float = 150.0,
+    projection_distance: float = 0.03,
+    velocity_magnitude_limit: float = 0.2,
+    boundary_points: object = None,
+) -> UnicycleCertificate:
     """V2: as above with the arena boundary (default: the arena of robotarium_exp.spec)."""
     boundary = ARENA if boundary_points is None else boundary_points
     spec = _spec(safety_radius + 2 * projection_distance, barrier_gain, velocity_magnitude_limit, boundary, True)
@@ -232,31 +252,41 @@ def create_uni_barrier_certificate_with_boundary(safety_radius: float = 0.12, ba
 # ---------------------------------------------------------------------- classic names and defaults
 
 
-def create_single_integrator_barrier_certificate(barrier_gain: float = 100, safety_radius: float = 0.17,
-                                                 magnitude_limit: float = 0.2) -> Certificate:
+def create_single_integrator_barrier_certificate(
+    barrier_gain: float = 100, safety_radius: float = 0.17, magnitude_limit: float = 0.2
+) -> Certificate:
     """Classic: pairwise barriers, no speed polygon (the input is pre-scaled to the limit)."""
     return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, None, False))
 
 
-def create_single_integrator_barrier_certificate_with_boundary(barrier_gain: float = 100, safety_radius: float = 0.17,
-                                                               magnitude_limit: float = 0.2,
-                                                               boundary_points: object = ARENA) -> Certificate:
+def create_single_integrator_barrier_certificate_with_boundary(
+    barrier_gain: float = 100,
+    safety_radius: float = 0.17,
+    magnitude_limit: float = 0.2,
+    boundary_points: object = ARENA,
+) -> Certificate:
     """Classic: pairwise and boundary barriers."""
     return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, boundary_points, False))
 
 
-def create_unicycle_barrier_certificate(barrier_gain: float = 100, safety_radius: float = 0.12,
-                                        projection_distance: float = 0.05,
-                                        magnitude_limit: float = 0.2) -> UnicycleCertificate:
+def create_unicycle_barrier_certificate(
+    barrier_gain: float = 100,
+    safety_radius: float = 0.12,
+    projection_distance: float = 0.05,
+    magnitude_limit: float = 0.2,
+) -> UnicycleCertificate:
     """Classic: the SI certificate at projection points, radius safety_radius + d."""
     spec = _spec(safety_radius + projection_distance, barrier_gain, magnitude_limit, None, False)
     return UnicycleCertificate(spec, projection_distance)
 
 
-def create_unicycle_barrier_certificate_with_boundary(barrier_gain: float = 100, safety_radius: float = 0.12,
-                                                      projection_distance: float = 0.05,
-                                                      magnitude_limit: float = 0.2,
-                                                      boundary_points: object = ARENA) -> UnicycleCertificate:
+def create_unicycle_barrier_certificate_with_boundary(
+    barrier_gain: float = 100,
+    safety_radius: float = 0.12,
+    projection_distance: float = 0.05,
+    magnitude_limit: float = 0.2,
+    boundary_points: object = ARENA,
+) -> UnicycleCertificate:
     """Classic: as above with the arena boundary."""
     spec = _spec(safety_radius + projection_distance, barrier_gain, magnitude_limit, boundary_points, False)
     return UnicycleCertificate(spec, projection_distance)

@@ -12,8 +12,9 @@ from robotarium_exp.rps.utilities.transformations import create_si_to_uni_dynami
 FloatArray = NDArray[np.float64]
 
 
-def create_si_position_controller(x_velocity_gain: float = 0.8, y_velocity_gain: float = 0.8,
-                                  velocity_magnitude_limit: float = 0.15) -> Callable[[FloatArray, FloatArray], FloatArray]:
+def create_si_position_controller(
+    x_velocity_gain: float = 0.8, y_velocity_gain: float = 0.8, velocity_magnitude_limit: float = 0.15
+) -> Callable[[FloatArray, FloatArray], FloatArray]:
     """``f(x, goals) -> dxi``: proportional single-integrator control, norm-clamped."""
 
     def controller(x: FloatArray, goals: FloatArray) -> FloatArray:
@@ -26,10 +27,14 @@ def create_si_position_controller(x_velocity_gain: float = 0.8, y_velocity_gain:
     return controller
 
 
-def create_pose_controller_hybrid(linear_velocity_gain: float = 0.8, angular_velocity_limit: float = np.pi,
-                                  velocity_magnitude_limit: float = 0.15, position_error: float = 0.03,
-                                  position_epsilon: float = 0.01,
-                                  rotation_error: float = 0.05) -> Callable[[FloatArray, FloatArray], FloatArray]:
+def create_pose_controller_hybrid(
+    linear_velocity_gain: float = 0.8,
+    angular_velocity_limit: float = np.pi,
+    velocity_magnitude_limit: float = 0.15,
+    position_error: float = 0.03,
+    position_epsilon: float = 0.01,
+    rotation_error: float = 0.05,
+) -> Callable[[FloatArray, FloatArray], FloatArray]:
     """``f(states, poses) -> dxu``: approach the position with the heading law, then turn in place.
 
     A robot switches to turning when within ``position_error`` of its goal and back to approaching when it drifts

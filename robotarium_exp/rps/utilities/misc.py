@@ -15,12 +15,15 @@ CHARGER_SLOTS = 22
 """V2 starts robots on 22 charger slots: x in linspace(-1.545, 1.545, 11), y = +/-0.945, facing the arena."""
 
 
-def generate_initial_poses(n: int, width: float = 3.0, height: float = 1.0, *,
-                           rng: np.random.Generator | None = None) -> FloatArray:
+def generate_initial_poses(
+    n: int, width: float = 3.0, height: float = 1.0, *, rng: np.random.Generator | None = None
+) -> FloatArray:
     """N distinct charger slots as start poses (3xN), chosen at random as V2 does."""
     if n > CHARGER_SLOTS:
-        msg = (f'the V2 initialization starts robots on {CHARGER_SLOTS} charger slots, but {n} robots were asked; '
-               'use skip_initialization=True for larger simulated swarms.')
+        msg = (
+            f'the V2 initialization starts robots on {CHARGER_SLOTS} charger slots, but {n} robots were asked; '
+            'use skip_initialization=True for larger simulated swarms.'
+        )
         raise RobotariumError(msg)
     rng = rng if rng is not None else np.random.default_rng()
     x = np.tile(np.linspace(-1.545, 1.545, 11), 2)
@@ -30,8 +33,9 @@ def generate_initial_poses(n: int, width: float = 3.0, height: float = 1.0, *,
     return np.vstack([x[pick], y[pick], theta[pick]])
 
 
-def generate_random_poses(n: int, spacing: float = 0.5, width: float = 3.0, height: float = 1.8, *,
-                          rng: np.random.Generator | None = None) -> FloatArray:
+def generate_random_poses(
+    n: int, spacing: float = 0.5, width: float = 3.0, height: float = 1.8, *, rng: np.random.Generator | None = None
+) -> FloatArray:
     """N random poses (3xN) at least ``spacing`` apart in a width x height box (rejection sampling)."""
     rng = rng if rng is not None else np.random.default_rng()
     points = np.zeros((2, 0))
@@ -47,14 +51,16 @@ def generate_random_poses(n: int, spacing: float = 0.5, width: float = 3.0, heig
     return np.vstack([points, rng.uniform(-np.pi, np.pi, n)])
 
 
-def generate_initial_conditions(n: int, spacing: float = 0.3, width: float = 3.0, height: float = 1.8, *,
-                                rng: np.random.Generator | None = None) -> FloatArray:
+def generate_initial_conditions(
+    n: int, spacing: float = 0.3, width: float = 3.0, height: float = 1.8, *, rng: np.random.Generator | None = None
+) -> FloatArray:
     """Classic name of :func:`generate_random_poses`."""
     return generate_random_poses(n, spacing, width, height, rng=rng)
 
 
-def create_at_pose(position_error: float = 0.05, rotation_error: float = 0.2
-                   ) -> Callable[[FloatArray, FloatArray], tuple[bool, NDArray[np.bool_]]]:
+def create_at_pose(
+    position_error: float = 0.05, rotation_error: float = 0.2
+) -> Callable[[FloatArray, FloatArray], tuple[bool, NDArray[np.bool_]]]:
     """V2: ``check(states, poses) -> (all arrived, per-robot mask)`` within the position and heading errors."""
 
     def check(states: FloatArray, poses: FloatArray) -> tuple[bool, NDArray[np.bool_]]:
@@ -65,8 +71,9 @@ def create_at_pose(position_error: float = 0.05, rotation_error: float = 0.2
     return check
 
 
-def create_at_position(position_error: float = 0.05
-                       ) -> Callable[[FloatArray, FloatArray], tuple[bool, NDArray[np.bool_]]]:
+def create_at_position(
+    position_error: float = 0.05,
+) -> Callable[[FloatArray, FloatArray], tuple[bool, NDArray[np.bool_]]]:
     """V2: ``check(states, positions) -> (all arrived, per-robot mask)``."""
 
     def check(states: FloatArray, positions: FloatArray) -> tuple[bool, NDArray[np.bool_]]:
@@ -76,8 +83,9 @@ def create_at_position(position_error: float = 0.05
     return check
 
 
-def at_pose(states: FloatArray, poses: FloatArray, position_error: float = 0.05,
-            rotation_error: float = 0.2) -> tuple[NDArray[np.intp], ...]:
+def at_pose(
+    states: FloatArray, poses: FloatArray, position_error: float = 0.05, rotation_error: float = 0.2
+) -> tuple[NDArray[np.intp], ...]:
     """Classic: indices of robots at their poses, as ``np.nonzero``."""
     return np.nonzero(create_at_pose(position_error, rotation_error)(states, poses)[1])
 

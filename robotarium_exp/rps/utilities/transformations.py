@@ -20,14 +20,16 @@ def create_si_to_uni_dynamics(linear_velocity_gain: float = 1, angular_velocity_
         c, s = np.cos(poses[2]), np.sin(poses[2])
         along = c * dxi[0] + s * dxi[1]
         across = -s * dxi[0] + c * dxi[1]
-        return np.vstack([linear_velocity_gain * along,
-                          angular_velocity_limit * np.arctan2(across, along) / (np.pi / 2)])
+        return np.vstack(
+            [linear_velocity_gain * along, angular_velocity_limit * np.arctan2(across, along) / (np.pi / 2)]
+        )
 
     return dynamics
 
 
-def create_si_to_uni_dynamics_with_backwards_motion(linear_velocity_gain: float = 1,
-                                                    angular_velocity_limit: float = np.pi) -> Map:
+def create_si_to_uni_dynamics_with_backwards_motion(
+    linear_velocity_gain: float = 1, angular_velocity_limit: float = np.pi
+) -> Map:
     """V2: the heading law, reversing when the command points more than 90 degrees away."""
     forward = create_si_to_uni_dynamics(linear_velocity_gain, angular_velocity_limit)
 
@@ -42,8 +44,9 @@ def create_si_to_uni_dynamics_with_backwards_motion(linear_velocity_gain: float 
     return dynamics
 
 
-def create_si_to_uni_mapping(projection_distance: float = 0.05,
-                             angular_velocity_limit: float | None = None) -> tuple[Map, Callable[[FloatArray], FloatArray]]:
+def create_si_to_uni_mapping(
+    projection_distance: float = 0.05, angular_velocity_limit: float | None = None
+) -> tuple[Map, Callable[[FloatArray], FloatArray]]:
     """``(si_to_uni_dyn(dxi, poses), uni_to_si_states(poses))``: the near-identity map.
 
     V2 applies no limit to omega; the classic version clips it to ``angular_velocity_limit`` (pass it to get that).
