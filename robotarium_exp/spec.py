@@ -2,7 +2,7 @@
 
 The bundled simulator (:mod:`robotarium_exp.rps`), the experiment, the submission builder and its check, the
 command line and the arena checks all read :data:`ROBOTARIUM`; the submitted file carries the values it needs as
-data. Values from ``reference/robotarium.md`` (V2 simulator and the testbed's verifier).
+data. Values from ``docs/robotarium.md`` (V2 simulator and the testbed's verifier).
 """
 
 from __future__ import annotations
@@ -88,4 +88,4 @@ class RobotariumSpec:
 
 
 ROBOTARIUM = RobotariumSpec()
-"""The Robotarium of ``reference/robotarium.md``."""
+"""The Robotarium of ``docs/robotarium.md``."""

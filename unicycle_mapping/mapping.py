@@ -1,7 +1,7 @@
 """The near-identity diffeomorphism of Olfati-Saber (ACC 2002) between unicycles and single integrators.
 
 The control point of a unicycle at [x; y; theta] is p = [x; y] + d e_theta with e_theta = [cos theta; sin theta]
-(``theory.md`` §5, ``robotarium.md`` §8.4). Its velocity is p' = R(theta) diag(1, d) [v; omega], invertible for
+(``docs/theory.md`` §5, ``docs/robotarium.md`` §8.4). Its velocity is p' = R(theta) diag(1, d) [v; omega], invertible for
 d > 0: a desired single-integrator velocity u of the control point is realised exactly by
 
     v = e_theta . u,        omega = e_theta_perp . u / d.
@@ -61,7 +61,7 @@ def si_to_uni_states(points: ArrayLike, headings: ArrayLike, d: float) -> FloatA
 def si_to_uni_constrained(
     dxi: ArrayLike, poses: ArrayLike, d: float, *, v_min: float, v_max: float, a_n: float
 ) -> tuple[FloatArray, NDArray[np.bool_]]:
-    """The map for robots that cannot stop: v in [v_min, v_max], |omega| <= a_n / v (``theory.md`` §5).
+    """The map for robots that cannot stop: v in [v_min, v_max], |omega| <= a_n / v (``docs/theory.md`` §5).
 
     The forward speed is clipped into [v_min, v_max] and the turn rate to the normal-acceleration limit. A command
     that points behind the robot is not reversed: the robot keeps v_min and turns at its largest rate towards it

@@ -49,7 +49,7 @@ def max_realisable_si_speed(
 
     For a speed s at angle alpha to the heading, v = s cos(alpha) and omega = s sin(alpha) / d; the wheels stay
     within r phi_max when s (|cos alpha| + (L / 2d) |sin alpha|) <= r phi_max, whose worst case over alpha gives
-    s = r phi_max / sqrt(1 + (L / 2d)^2) (``robotarium.md`` §8.4).
+    s = r phi_max / sqrt(1 + (L / 2d)^2) (``docs/robotarium.md`` §8.4).
     """
     d = positive(d, 'projection distance d')
     ratio = positive(axle_length_m, 'axle_length_m') / (2 * d)

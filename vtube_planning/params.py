@@ -1,7 +1,7 @@
 """Swarm parameters of the paper (Table 1) and the quantities derived from them.
 
-The defaults are Table 1 exactly as printed (``DESIGN.md``). Two printed values disagree with the paper's own
-formulas (``theory.md`` §7.1):
+The defaults are Table 1 exactly as printed (``docs/design.md``). Two printed values disagree with the paper's own
+formulas (``docs/theory.md`` §7.1):
 
 * ``rho_max``: the table says 0.9974 robots/m^2 while the printed formula ``1/r_p^2`` gives 11.11. The table value
   is kept; :meth:`SwarmParams.rho_max_variants` lists the candidate formulas for ablations.
@@ -95,7 +95,7 @@ class SwarmParams:
         return self.n_robots / (2.0 * self.n_side * self.r_a_m) ** 2
 
     def rho_max_variants(self) -> dict[str, float]:
-        """Candidate values of rho_max (robots/m^2): the table's and the formulas of ``theory.md`` §7.1.
+        """Candidate values of rho_max (robots/m^2): the table's and the formulas of ``docs/theory.md`` §7.1.
 
         Keys: ``table`` (the configured value), ``printed_formula`` 1/r_p^2, ``square_safety`` 1/(4 r_s^2) (Assumption
         2 read literally), ``square_physical`` 1/(4 r_p^2), ``circle_safety`` 1/(2 pi r_s^2) (matches Table 1's
@@ -111,7 +111,7 @@ class SwarmParams:
 
 
 PREDICTIVE_MODELS = ('local_width', 'rigid_shift')
-"""The two readings of the predictive density constraint (p7), ``theory.md`` §7 A6 and §8.3."""
+"""The two readings of the predictive density constraint (p7), ``docs/theory.md`` §7 A6 and §8.3."""
 
 
 @dataclass(frozen=True)
@@ -126,7 +126,7 @@ class PlanningOptions:
         Weight mu of the density term of the objective (p1); 1 is the paper's unweighted sum (A5).
     predictive_model
         Reading of (p7): ``'local_width'`` rho_f = rho lambda(l) / lambda(l + dl), or ``'rigid_shift'`` of the
-        swarm's whole footprint (``theory.md`` §8.3).
+        swarm's whole footprint (``docs/theory.md`` §8.3).
     lookahead_m
         Look-ahead distance dl of (p7), > 0 (the paper leaves it unspecified, A6).
     v0_mps

@@ -3,7 +3,7 @@
 Supported messages: ``geometry_msgs/PoseStamped``, ``nav_msgs/Odometry``, ``tf2_msgs/TFMessage`` (one robot per
 child frame) and ``geometry_msgs/Pose2D`` (no header: the bag time is used). Robots are named by a regular
 expression with a group ``robot``, matched against topic names (or, for /tf, child frame ids). The defaults
-cover vrpn_client_ros, vrpn_mocap, natnet_ros_cpp and mocap_optitrack (``ecosystem.md`` §1). Time stamps come from
+cover vrpn_client_ros, vrpn_mocap, natnet_ros_cpp and mocap_optitrack (``docs/ecosystem.md`` §1). Time stamps come from
 ``header.stamp`` when there is one. Bags without embedded type definitions (older rosbag2 sqlite3) are read with
 the ROS 2 Humble types, ROS1 bags with the Noetic ones.
 """

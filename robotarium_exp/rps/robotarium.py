@@ -1,4 +1,4 @@
-"""``Robotarium``: the testbed's simulator contract for both API generations (``robotarium.md`` §2-4).
+"""``Robotarium``: the testbed's simulator contract for both API generations (``docs/robotarium.md`` §2-4).
 
 * Construction: the V2 keywords (``number_of_robots``, ``show_figure``, ``sim_in_real_time``, ``initial_conditions``,
   ``skip_initialization``) or the classic positional signature ``Robotarium(N, show_figure, sim_in_real_time, ic)``.
@@ -335,7 +335,7 @@ class Robotarium:
         msg = (
             f'the initialization did not bring the robots to their initial conditions within '
             f'{INITIALIZATION_STEP_LIMIT} steps; space the initial conditions at least 0.4 m apart inside '
-            '|x| <= 1.375, |y| <= 0.875 (robotarium.md §2.6).'
+            '|x| <= 1.375, |y| <= 0.875 (docs/robotarium.md §2.6).'
         )
         raise RobotariumError(msg)
 

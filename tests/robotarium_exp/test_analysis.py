@@ -97,7 +97,7 @@ KINDS = {
 def write_bag(path: Path, fmt: str, kind: str) -> Path:
     ros1 = fmt == 'ros1'
     ts = get_typestore(Stores.ROS1_NOETIC if ros1 else Stores.ROS2_HUMBLE)
-    if ros1 and 'tf2_msgs/msg/TFMessage' not in ts.types:  # ecosystem.md: the Noetic store lacks it
+    if ros1 and 'tf2_msgs/msg/TFMessage' not in ts.types:  # docs/ecosystem.md: the Noetic store lacks it
         ts.register(get_types_from_msg('geometry_msgs/TransformStamped[] transforms', 'tf2_msgs/msg/TFMessage'))
     msgtype, topic = KINDS[kind]
     builders = dict(zip(('pose', 'odom', 'pose2d', 'tf'), make_messages(ts, ros1), strict=True))

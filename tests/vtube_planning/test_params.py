@@ -32,7 +32,7 @@ def test_derived_quantities_of_table_1() -> None:
     # (p8) by hand: sqrt(2) * 20 * 5 / (4 * 5^3 * 0.8^3), magnitude (resolution A2)
     assert p.a_rho == pytest.approx(141.42135623730951 / 256.0, rel=1e-15)
     assert p.a_rho == pytest.approx(0.5524, abs=5e-5)
-    assert p.rho_packing == pytest.approx(20.0 / 64.0)  # 0.3125, theory.md §7.1
+    assert p.rho_packing == pytest.approx(20.0 / 64.0)  # 0.3125, docs/theory.md §7.1
 
 
 def test_rho_max_variants_explain_table_1() -> None:

@@ -168,7 +168,7 @@ def test_rigid_shift_reading_plans_and_is_not_stricter_here() -> None:
     rigid = plan_convex(scene.tube, scene.swarm, replace(scene.planning, predictive_model='rigid_shift'))
     local = plan_convex(scene.tube, scene.swarm, scene.planning)
     assert rigid.certificate['p7'] <= 1e-3  # nodal, footprint frozen per iterate: small slack between nodes
-    assert rigid.objective['total'] <= local.objective['total'] + 1e-9  # theory.md §8.6: (b) barely binds
+    assert rigid.objective['total'] <= local.objective['total'] + 1e-9  # docs/theory.md §8.6: (b) barely binds
     with pytest.raises(PlanError, match='local-width reading of \\(p7\\) only'):
         plan_polynomial(scene.tube, scene.swarm, replace(scene.planning, predictive_model='rigid_shift'))
 

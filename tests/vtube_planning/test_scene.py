@@ -8,7 +8,7 @@ import pytest
 from vtube_planning import SceneError, SwarmParams, list_scenes, load_scene
 from vtube_planning.geometry.scene import scene_from_text
 
-ARENA = (-1.6, 1.6, -1.0, 1.0)  # Robotarium arena, DESIGN.md
+ARENA = (-1.6, 1.6, -1.0, 1.0)  # Robotarium arena, docs/design.md
 PAPER_SCENES = ('A', 'B', 'C', 'D')
 ROBOTARIUM_SCENES = ('robotarium_curve', 'robotarium_trapezoid')
 

@@ -1,4 +1,4 @@
-"""The swarm step against hand-computed values, theory.md's published numbers and finite differences; the sampled
+"""The swarm step against hand-computed values, docs/theory.md's published numbers and finite differences; the sampled
 tube against the exact one; the step as the submission inlines it against the library's."""
 
 from __future__ import annotations
@@ -41,7 +41,7 @@ def wide_tube(half_width_m: float = 10.0) -> VirtualTube:
 
 
 def sigma_published(x: float, d1: float, d2: float) -> float:
-    """theory.md §2.3 with its coefficients A, B, C, D."""
+    """docs/theory.md §2.3 with its coefficients A, B, C, D."""
     den = (d1 - d2) ** 3
     if x <= d1:
         return 1.0
@@ -51,7 +51,7 @@ def sigma_published(x: float, d1: float, d2: float) -> float:
 
 
 def barrier_potential(x: float, offset: float, d1: float, d2: float, k: float, eps: float = 1e-6) -> float:
-    """V = k sigma / ((1 + eps) x - offset s(x / offset)) written out from theory.md §2.3-2.4."""
+    """V = k sigma / ((1 + eps) x - offset s(x / offset)) written out from docs/theory.md §2.3-2.4."""
     x2 = 1 + eps / math.tan(math.radians(67.5))
     x1 = x2 - eps * math.sin(math.radians(45))
     u = x / offset
@@ -91,7 +91,7 @@ def test_smooth_saturation_is_c1_at_both_corners(eps: float) -> None:
 
 
 def test_barrier_potential_reproduces_theory_values() -> None:
-    # theory.md §2.4: r_s = 0.4, r_a = 0.8, k2 = 1, eps = 1e-6
+    # docs/theory.md §2.4: r_s = 0.4, r_a = 0.8, k2 = 1, eps = 1e-6
     for x, expected in ((0.81, 99.8), (0.9, 8.4), (1.0, 2.5)):
         assert barrier_potential(x, 0.8, 0.8, 1.2, 1.0) == pytest.approx(expected, rel=0.01)
     assert barrier_potential(0.79, 0.8, 0.8, 1.2, 1.0) == pytest.approx(1.27e6, rel=0.01)

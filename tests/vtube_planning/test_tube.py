@@ -49,7 +49,7 @@ def spline_tube() -> VirtualTube:
 
 
 def sigma(x: np.ndarray, d1: float, d2: float) -> np.ndarray:
-    """The cubic smooth step of theory.md §2.3 with its published coefficients (independent of width.py)."""
+    """The cubic smooth step of docs/theory.md §2.3 with its published coefficients (independent of width.py)."""
     den = (d1 - d2) ** 3
     a, b, c = -2.0 / den, 3.0 * (d1 + d2) / den, -6.0 * d1 * d2 / den
     d = d2**2 * (3.0 * d1 - d2) / den

@@ -1,6 +1,6 @@
 """The paper's baselines, run through the same simulator and metrics as the planned controller.
 
-Optimized flocking (Vasarhelyi et al., Science Robotics 2018; ``theory.md`` §6.1), from the original authors' code
+Optimized flocking (Vasarhelyi et al., Science Robotics 2018; ``docs/theory.md`` §6.1), from the original authors' code
 (robotsim ``algo_spp_evol.c``): every robot's desired velocity is the sum of
 
 * self-propulsion along the tube: ``v_flock t_c`` (the tube tangent as the migration direction);
@@ -46,7 +46,7 @@ ROBOTSIM = {
     'p_shill': 0.4,
     'a_shill': 2.5,
 }
-"""robotsim's ``parameters/flockingparams.dat`` (``theory.md`` §6.1), SI units."""
+"""robotsim's ``parameters/flockingparams.dat`` (``docs/theory.md`` §6.1), SI units."""
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,5 @@
 """The paper's second baseline: distributed nonlinear MPC for a swarm in a tube (Soria, Schiano, Floreano 2021;
-``theory.md`` §6.2).
+``docs/theory.md`` §6.2).
 
 Every agent is a double integrator p' = v, v' = u with |u_x|, |u_y| <= a_max, and solves its own problem over a
 horizon of H steps of dt, minimising (weights from the first author's acados code, squared)
@@ -62,7 +62,7 @@ class NmpcParams:
 
     @classmethod
     def for_swarm(cls, swarm: SwarmParams) -> NmpcParams:
-        """v_ref = v_max, d_ref = 2 r_a, d_safe = 2 r_s, wall margin r_s (``theory.md`` §6.2, Table 1 radii)."""
+        """v_ref = v_max, d_ref = 2 r_a, d_safe = 2 r_s, wall margin r_s (``docs/theory.md`` §6.2, Table 1 radii)."""
         return cls(
             v_max=swarm.v_max_mps,
             v_ref=swarm.v_max_mps,

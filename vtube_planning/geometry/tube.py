@@ -2,12 +2,12 @@
 
 A point of the plane is written ``p = gamma(l) + y n(l)`` with arc length l, unit tangent t, left normal n
 (t rotated by +90 degrees) and signed lateral offset y; the tube is ``|y| <= lambda(l)``, ``0 <= l <= L``
-(``theory.md`` §3.1). Conventions:
+(``docs/theory.md`` §3.1). Conventions:
 
 * functions of arc length follow the path convention: scalar l -> (2,) or float, array (k,) -> (k, 2) or (k,);
 * functions of robots follow the Robotarium convention: points (2, N), one robot per column.
 
-Construction checks the regularity conditions of ``theory.md`` §3.2 and raises :class:`TubeError` naming the arc
+Construction checks the regularity conditions of ``docs/theory.md`` §3.2 and raises :class:`TubeError` naming the arc
 length of the first violation: lambda |kappa| < 1 (R2), no two distant cross-sections intersect (R3), lambda is
 C^1 (R4). lambda > 0 holds by construction: every width part is monotone between positive values, which
 :class:`~vtube_planning.geometry.width.WidthProfile` checks with the arc length of the offending part.
@@ -129,7 +129,7 @@ class VirtualTube:
         return _shape_points(pos + offset, scalar), _shape_points(pos - offset, scalar)
 
     def area(self, l_m: ArrayLike) -> FloatArray | float:
-        """Cumulative area A(l) = integral_0^l 2 lambda in m^2 (exact for a symmetric tube, ``theory.md`` §3.1)."""
+        """Cumulative area A(l) = integral_0^l 2 lambda in m^2 (exact for a symmetric tube, ``docs/theory.md`` §3.1)."""
         arr, scalar = _arc_lengths(l_m)
         return _shape(self.width.area(arr), scalar)
 

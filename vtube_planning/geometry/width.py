@@ -3,10 +3,10 @@
 A profile starts at a half-width and is a sequence of parts along the arc length:
 
 * ``constant``: lambda keeps its value;
-* ``smooth``: lambda moves to ``to_m`` along the C^1 cubic smoothstep of ``theory.md`` §2.3
+* ``smooth``: lambda moves to ``to_m`` along the C^1 cubic smoothstep of ``docs/theory.md`` §2.3
   (lambda = (lambda_a - lambda_b) sigma(l, l_a, l_b) + lambda_b), flat at both ends;
 * ``linear``: a trapezoidal ramp to ``to_m`` whose two corners are rounded by parabolic blends of length
-  ``corner_m`` each, so that the profile stays C^1 (regularity condition R4, ``theory.md`` §3.2). With
+  ``corner_m`` each, so that the profile stays C^1 (regularity condition R4, ``docs/theory.md`` §3.2). With
   ``corner_m = 0`` the ramp has kinks, which the tube's regularity check rejects.
 
 Because every part is a polynomial, lambda'(l) and the cumulative area A(l) = integral of 2 lambda are exact.

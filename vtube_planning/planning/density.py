@@ -1,4 +1,4 @@
-"""The swarm's density along a virtual tube, as the planner models it (``theory.md`` §1.5, §7 A6-A8, §8.3).
+"""The swarm's density along a virtual tube, as the planner models it (``docs/theory.md`` §1.5, §7 A6-A8, §8.3).
 
 The density of a flying swarm is measured by :func:`vtube_planning.swarm.step.swarm_density`, the one definition
 that the controller, the logs and the analysis share: the swarm occupies the part of the tube between the

@@ -1,4 +1,4 @@
-"""Speed and density planning (paper (p1)-(p8)) in the convex slowness form of ``theory.md`` §8.1.
+"""Speed and density planning (paper (p1)-(p8)) in the convex slowness form of ``docs/theory.md`` §8.1.
 
 Unknowns on an arc-length grid l_0..l_K: the slowness w = 1/v and the density rho, both interpolated linearly
 between grid points (:class:`~vtube_planning.planning.plan.Plan`). Each constraint is imposed so that it holds on every
@@ -8,7 +8,7 @@ interval, not only at the grid points:
 * (p4): w_k >= 1 / min sqrt(a_n r_t) over the two intervals around l_k;
 * (p6): |rho_{k+1} - rho_k| <= a_rho dl min(w_k, w_{k+1})  (the interval's largest speed);
 * (p7), local width: c_k rho_i <= a_rho dl_p w_j for i, j in {k, k+1}, with c_k the largest
-  |lambda(l) / lambda(l + dl_p) - 1| on the interval; rigid shift: the convex form of ``theory.md`` §8.3 at the
+  |lambda(l) / lambda(l + dl_p) - 1| on the interval; rigid shift: the convex form of ``docs/theory.md`` §8.3 at the
   grid points, with the footprint frozen at the previous iterate;
 * (p3): |v v'| = |w'| / w^3, so |w_{k+1} - w_k| <= a_v dl min(w_k, w_{k+1})^3. The right side is convex in w:
   the convex-concave procedure replaces w^3 by its tangent at the previous iterate (an under-estimate), so every
@@ -205,7 +205,7 @@ class ConvexPlanner:
                 for j in (slice(None, -1), slice(1, None)):
                     cons.append(cp.multiply(ratio, rho[i]) <= budget * w[j])
         else:
-            # rho^2 |D| / (N + D rho) <= a_rho dl_p w, with the footprint change D frozen (theory.md §8.3)
+            # rho^2 |D| / (N + D rho) <= a_rho dl_p w, with the footprint change D frozen (docs/theory.md §8.3)
             self.footprint_gap = cp.Parameter(n, name='footprint_gap')
             self.footprint_root = cp.Parameter(n, nonneg=True, name='footprint_root')
             x = cp.multiply(self.footprint_root, rho)

@@ -1,4 +1,4 @@
-"""The paper's segmented planning: cubic polynomials per segment, posed convexly (``theory.md`` §8.5).
+"""The paper's segmented planning: cubic polynomials per segment, posed convexly (``docs/theory.md`` §8.5).
 
 On each segment [L_{j-1}, L_j] the slowness w and the density rho are cubic Bernstein polynomials (the paper
 parameterises v; parameterising w keeps the problem convex). Segments end at the breakpoints of the tube's

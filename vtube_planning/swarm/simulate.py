@@ -13,7 +13,7 @@ l = L, or at the time limit.
 
 *With planning* the forward term follows the plan and the avoidance radius follows (a3); *without planning* the
 forward speed is a constant and r_a keeps its initial value: the paper's comparison. The constant defaults to
-the middle of the speed range, (v_min + v_max) / 2, the convention of the group's code (``theory.md`` §2.7-2.8:
+the middle of the speed range, (v_min + v_max) / 2, the convention of the group's code (``docs/theory.md`` §2.7-2.8:
 TCNS 2 m/s in [0.5, 3.5], Robotarium k1 = v_max / 2).
 """
 
