@@ -23,7 +23,6 @@ from numpy.typing import NDArray
 
 from robotarium_exp.errors import ExperimentError
 from robotarium_exp.flight import Period, Wheels, build_flight, fly
-from robotarium_exp.rps.utilities.barrier_certificates import create_si_barrier_certificate_with_boundary
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
@@ -34,6 +33,8 @@ from vtube_planning.swarm.step import parking_slots as slots_beyond
 
 FloatArray = NDArray[np.float64]
 
+BARRIER_GAIN = 100.0
+"""gamma of the barrier rows: the Robotarium certificates' default."""
 TUBE_SAMPLE_SPACING_M = 0.01
 """The submission's tube is sampled this finely: arc lengths within 0.1 mm of the exact tube's."""
 
@@ -190,9 +191,9 @@ def flight_data(scene: Scene, plan: Plan | None, config: ExperimentConfig) -> di
             'initial_conditions': initial_conditions(scene),
             'parking_slots': parking_slots(scene),
             'projection_distance_m': config.projection_distance_m,
-            'barrier': {
+            'safety': {
                 'safety_radius_m': config.safety_radius_m,
-                'magnitude_limit_mps': swarm.v_max_mps,
+                'barrier_gain': BARRIER_GAIN,
                 'arena_m': list(ROBOTARIUM.arena_m),
             }
             if config.barrier
@@ -203,6 +204,77 @@ def flight_data(scene: Scene, plan: Plan | None, config: ExperimentConfig) -> di
             'max_steps': config.max_steps,
         }
     )
+
+
+def filter_summary(
+    arrays: dict[str, FloatArray], v_min: float, v_max: float, length_m: float, dt_s: float
+) -> dict[str, float]:
+    """What the safety filter did, and the speed band on the robots, from an experiment's logged arrays.
+
+    ``correction_mean_mps`` / ``correction_max_mps``: per robot-step change of the swarm's command;
+    ``intervention_m``: its integral over the run, summed over robots (how much the filter had to correct);
+    ``band_share``: flying robot-steps inside the tube (0 <= l <= L) whose forward speed lies in [v_min, v_max];
+    ``band_share_held``: the same over the steps where the filter kept the band; ``band_dropped_share``: the
+    steps where safety and the band could not both hold (safety won).
+    """
+    correction = arrays['barrier_correction_mps']
+    v = arrays['dxu'][:, 0, :]
+    in_tube = arrays['flying'] & (arrays['l_m'] >= 0.0) & (arrays['l_m'] <= length_m)
+    in_band = (v >= v_min * (1 - 1e-9)) & (v <= v_max * (1 + 1e-9))
+    held = arrays['band_held'][:, None] & in_tube
+    return {
+        'correction_mean_mps': float(correction.mean()),
+        'correction_max_mps': float(correction.max()),
+        'intervention_m': float(correction.sum() * dt_s),
+        'band_share': float(in_band[in_tube].mean()) if in_tube.any() else 1.0,
+        'band_share_held': float(in_band[held].mean()) if held.any() else 1.0,
+        'band_dropped_share': float(1.0 - arrays['band_held'].mean()),
+    }
+
+
+EXPANSION_THRESHOLD_M = 0.02
+"""The expansion has started once the swarm's mean avoidance radius is this far above its initial value."""
+
+
+def plan_tracking(result: ExperimentResult, plan: Plan, scene: Scene) -> dict[str, Any]:
+    """How a run followed its plan, phase by phase, and when the swarm expanded (strict JSON values).
+
+    Phases by the arc length l_c of the swarm's centre, over the steps before any robot parks: ``approach``
+    before the plan's (p7) binds, ``dip`` while it binds, ``narrow`` after. Per phase, the mean and largest
+    relative density error |rho_r - rho*(l_c)| / rho*(l_c) and speed error |v - v*(l_c)| / v*(l_c) (v: the
+    flying robots' mean forward speed). ``expansion_start_s``: when the mean r_a first exceeds its initial value
+    by ``EXPANSION_THRESHOLD_M``; ``front_at_narrowing_s``: when the first robot reaches the narrowing.
+    """
+    from robotarium_exp.analysis.report import narrowing_start
+
+    a = result.arrays
+    swarm = a['flying'].all(axis=1)
+    center = a['l_m'].mean(axis=1)
+    active = plan.l_m[plan.active['p7']]
+    start, stop = (float(active.min()), float(active.max())) if active.size else (math.inf, math.inf)
+    phases = {
+        'approach': swarm & (center >= 0.0) & (center < start),
+        'dip': swarm & (center >= start) & (center <= stop),
+        'narrow': swarm & (center > stop) & (center <= scene.tube.length_m),
+    }
+    rho_err = np.abs(a['density_per_m2'] - plan.density(center)) / plan.density(center)
+    speed = a['dxu'][:, 0, :].mean(axis=1)
+    speed_err = np.abs(speed - plan.speed(center)) / plan.speed(center)
+    out: dict[str, Any] = {'p7_active_m': [start, stop] if active.size else None}
+    for name, mask in phases.items():
+        out[name] = {
+            'steps': int(mask.sum()),
+            'density_error_mean': float(rho_err[mask].mean()) if mask.any() else None,
+            'density_error_max': float(rho_err[mask].max()) if mask.any() else None,
+            'speed_error_mean': float(speed_err[mask].mean()) if mask.any() else None,
+            'speed_error_max': float(speed_err[mask].max()) if mask.any() else None,
+        }
+    r_a = a['r_a_m'].mean(axis=1)
+    expanded = np.flatnonzero(r_a >= r_a[0] + EXPANSION_THRESHOLD_M)
+    narrowing = np.flatnonzero(a['l_m'].max(axis=1) >= narrowing_start(scene))
+    out['expansion_start_s'] = float(a['t_s'][expanded[0]]) if expanded.size else None
+    out['front_at_narrowing_s'] = float(a['t_s'][narrowing[0]]) if narrowing.size else None
+    return strict_json(out)
 
 
 def run_experiment(
@@ -226,12 +298,7 @@ def run_experiment(
         initial_conditions=np.array(data['initial_conditions']),
         **(robotarium_kwargs or {}),
     )
-    barrier = None
-    if config.barrier:
-        barrier = create_si_barrier_certificate_with_boundary(
-            safety_radius=config.safety_radius_m, magnitude_limit=swarm.v_max_mps, boundary_points=ROBOTARIUM.arena_m
-        )
-    flight = build_flight(data, barrier)
+    flight = build_flight(data)
     meta = {
         'kind': 'robotarium experiment',
         'scene': scene.name,
@@ -262,6 +329,8 @@ def run_experiment(
             'l_m': robots.l_m,
             'clearance_m': robots.clearance_m,
             'density_per_m2': np.float64(period.step.density_per_m2),
+            'flying': period.flying,
+            'band_held': np.bool_(period.band_held),
         }
         log.append(**row)
 
@@ -275,13 +344,10 @@ def run_experiment(
         arrays['clearance_m'],
         tube.length_m,
         collision_distance_m=2.0 * swarm.r_p_m,
+        body_radius_m=0.5 * ROBOTARIUM.robot_diameter_m,
     )
-    correction = arrays['barrier_correction_mps']
-    barrier_stats = {
-        'correction_mean_mps': float(correction.mean()),
-        'correction_max_mps': float(correction.max()),
-        'failures': barrier.stats.failures if barrier is not None else 0,
-    }
+    barrier_stats = filter_summary(arrays, swarm.v_min_mps, swarm.v_max_mps, tube.length_m, dt)
+    barrier_stats['failures'] = flight.safety.stats.failures if flight.safety is not None else 0
     duration = float(getattr(r, 'iterations', periods) * dt)
     log.flush(
         metrics=metrics.to_json(),

@@ -6,9 +6,10 @@ Each period:
 1. poses -> control points p + d e_theta (:mod:`unicycle_mapping`);
 2. the swarm step (:class:`~vtube_planning.swarm.step.SwarmStep`) on the control points: the plan's forward term
    (or a constant speed), avoidance, tube keeping, sat, (a3); robots past the exit drive to parking slots;
-3. the single-integrator barrier certificate (whichever the caller gives: ours, or the testbed's own);
-4. the near-identity map to [v; omega] and uniform wheel scaling (curvature kept, no per-wheel clipping left for
-   the testbed to do).
+3. the safety filter (:mod:`robotarium_exp.safety`): the barrier certificate with the arena boundary, and the
+   speed band of the robots still flying the tube, in one exact QP; where both cannot hold, safety wins;
+4. the speed-constrained map to [v; omega] for the flying robots (forward speed in [v_min, v_max]), the exact
+   near-identity map and uniform wheel scaling for the others.
 
 The loop (:func:`fly`) hands the commands to ``set_velocities`` and calls ``step()`` until every robot has parked
 or the step limit; the caller records each period as it likes. It needs numpy only and uses the Robotarium
@@ -24,7 +25,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from unicycle_mapping.mapping import si_to_uni, uni_to_si_states
+from robotarium_exp.safety import BarrierSpec, SafetyFilter
+from unicycle_mapping.mapping import si_to_uni, si_to_uni_constrained, uni_to_si_states
 from unicycle_mapping.wheels import scale_to_wheel_limits
 from vtube_planning.geometry.projection import SampledTube
 from vtube_planning.swarm.step import PlanProfile, StepParams, StepResult, SwarmStep
@@ -34,17 +36,23 @@ FloatArray = NDArray[np.float64]
 
 @dataclass(frozen=True)
 class Period:
-    """One control period: the poses, control points, the swarm step, the certified velocities, the commands."""
+    """One control period: the poses, control points, the swarm step, the filtered velocities, the commands.
+
+    ``flying`` marks the robots still flying the tube (not parked); ``band_held`` is False in a step where the
+    safety filter had to drop their speed band (safety won).
+    """
 
     poses: FloatArray
     points_m: FloatArray
     step: StepResult
     safe_mps: FloatArray
     dxu: FloatArray
+    flying: NDArray[np.bool_]
+    band_held: bool
 
     @property
     def barrier_correction_mps(self) -> FloatArray:
-        """How much the barrier certificate changed each robot's velocity, (N,)."""
+        """How much the safety filter changed each robot's velocity, (N,)."""
         return np.hypot(*(self.safe_mps - self.step.velocity))
 
 
@@ -56,16 +64,21 @@ class Wheels:
     wheel_radius_m: float
     max_wheel_speed_radps: float
 
+    @property
+    def rim_speed_mps(self) -> float:
+        """The largest wheel rim speed r phi_max."""
+        return self.wheel_radius_m * self.max_wheel_speed_radps
+
 
 class Flight:
-    """The experiment's controller: control points, swarm step, barrier, map, wheel scaling.
+    """The experiment's controller: control points, swarm step, safety filter, speed-constrained map.
 
     Parameters
     ----------
     stepper
         The swarm step with its plan, tube and parking slots.
-    barrier
-        ``barrier(dxi, points) -> dxi`` (single-integrator certificate), or None.
+    safety
+        The safety filter (barrier rows, the speed band of flying robots, the wheel limits), or None.
     projection_distance_m
         d of the near-identity map.
     wheels
@@ -73,44 +86,70 @@ class Flight:
     """
 
     def __init__(
-        self,
-        stepper: SwarmStep,
-        barrier: Callable[[FloatArray, FloatArray], FloatArray] | None,
-        projection_distance_m: float,
-        wheels: Wheels,
+        self, stepper: SwarmStep, safety: SafetyFilter | None, projection_distance_m: float, wheels: Wheels
     ) -> None:
         self.stepper = stepper
-        self.barrier = barrier
+        self.safety = safety
         self.d = float(projection_distance_m)
         self.wheels = wheels
 
     def __call__(self, poses: FloatArray, dt_s: float) -> Period:
-        """The commands for robots at ``poses`` (3, N); advances the swarm's state by ``dt_s``."""
+        """The commands for robots at ``poses`` (3, N); advances the swarm's state by ``dt_s``.
+
+        Flying robots whose band held go through the speed-constrained map (v in [v_min, v_max]; the filter's
+        rows keep it exact); parked robots, and every robot in a step where safety won, through the exact map,
+        then uniform wheel scaling.
+        """
         points = uni_to_si_states(poses, self.d)
         step = self.stepper(points, dt_s)
-        safe = self.barrier(step.velocity, points) if self.barrier is not None else step.velocity
+        flying = ~step.parked
+        safe, held = step.velocity, True
+        if self.safety is not None:
+            safe, held = self.safety(step.velocity, poses, points, flying)
         w = self.wheels
         dxu, _ = scale_to_wheel_limits(
             si_to_uni(safe, poses, self.d), w.base_length_m, w.wheel_radius_m, w.max_wheel_speed_radps
         )
-        return Period(poses, points, step, safe, dxu)
+        p = self.stepper.params
+        if held and self.safety is not None and flying.any():
+            turn = p.v_max_mps * self.safety.lateral_max / self.d  # never binds: the filter bounds |omega| below
+            banded, _ = si_to_uni_constrained(
+                safe[:, flying], poses[:, flying], self.d, v_min=p.v_min_mps, v_max=p.v_max_mps, a_n=turn
+            )
+            dxu[:, flying] = banded
+        return Period(poses, points, step, safe, dxu, flying, held)
 
 
-def build_flight(data: dict[str, Any], barrier: Callable[[FloatArray, FloatArray], FloatArray] | None) -> Flight:
+def build_flight(data: dict[str, Any]) -> Flight:
     """The flight described by ``data`` (:func:`robotarium_exp.experiment.flight_data`, a submission's ``DATA``)."""
     tube = SampledTube(**data['tube'])
     plan = None
     if data['planned']:
         plan = PlanProfile(**{key: np.asarray(value, dtype=float) for key, value in data['plan'].items()})
+    params = StepParams(**data['step'])
     stepper = SwarmStep(
         tube,
-        StepParams(**data['step']),
+        params,
         int(data['n_robots']),
         plan=plan,
         constant_speed_mps=float(data['constant_speed_mps']),
         parking_slots=np.asarray(data['parking_slots'], dtype=float),
     )
-    return Flight(stepper, barrier, float(data['projection_distance_m']), Wheels(**data['wheels']))
+    wheels = Wheels(**data['wheels'])
+    d = float(data['projection_distance_m'])
+    safety = None
+    if data['safety'] is not None:
+        barrier = BarrierSpec(
+            float(data['safety']['safety_radius_m']),
+            float(data['safety']['barrier_gain']),
+            params.v_max_mps,
+            tuple(data['safety']['arena_m']),
+            False,
+        )
+        safety = SafetyFilter(
+            barrier, params.v_min_mps, params.v_max_mps, d, wheels.base_length_m, wheels.rim_speed_mps
+        )
+    return Flight(stepper, safety, d, wheels)
 
 
 def fly(

@@ -1,13 +1,15 @@
-"""The body of a Robotarium submission: the flight of :mod:`robotarium_exp.flight` with the testbed's own parts.
+"""The body of a Robotarium submission: the flight of :mod:`robotarium_exp.flight`, saving what the testbed returns.
 
 :mod:`submission.builder` writes a single file: a header, the scene's data (``DATA``: what
 :func:`robotarium_exp.experiment.flight_data` gives, rounded), the sources of the modules in ``INLINED_MODULES``
-(the tube's projection, the swarm step and the flight: the code the bundled experiment runs) and of the functions
+(the tube's projection, the swarm step, the safety filter and the flight: the code the bundled experiment runs)
+and of the functions
 in ``INLINED_FUNCTIONS`` (the unicycle map), then this module's code below the marker line. Imported as a module
 (tests, benchmarks) it takes them from the package instead.
 
 On the testbed it constructs the Robotarium with the scene's initial conditions and flies: every period, the
-swarm step on the control points, the testbed's own barrier certificate (either generation's name), the
+swarm step on the control points, the safety filter of :mod:`robotarium_exp.safety` (barrier certificate and speed
+band in one QP, solved with scipy; the testbed's certificate cannot hold the band), the speed-constrained map and the
 near-identity map with uniform wheel scaling, ``set_velocities``, ``step``. Robots that leave the tube park beyond
 its exit. It saves every logged array with ``np.save`` every 100 steps and at the end, prints a one-line JSON
 summary (it lands in ``log.txt``), and calls the generation's end-of-script function.
@@ -18,10 +20,15 @@ from __future__ import annotations
 # ---- inlined by the builder: the modules and functions named below replace this import block ----
 from robotarium_exp.flight import Period, build_flight, fly
 
-INLINED_MODULES = ('vtube_planning.geometry.projection', 'vtube_planning.swarm.step', 'robotarium_exp.flight')
+INLINED_MODULES = (
+    'vtube_planning.geometry.projection',
+    'vtube_planning.swarm.step',
+    'robotarium_exp.safety',
+    'robotarium_exp.flight',
+)
 INLINED_FUNCTIONS = (
     ('unicycle_mapping.errors', ('MappingError', 'as_columns', 'positive')),
-    ('unicycle_mapping.mapping', ('si_to_uni', 'uni_to_si_states')),
+    ('unicycle_mapping.mapping', ('si_to_uni', 'si_to_uni_constrained', 'uni_to_si_states')),
     ('unicycle_mapping.wheels', ('wheel_speeds', 'scale_to_wheel_limits')),
 )
 # ---- runtime ----
@@ -33,25 +40,6 @@ from typing import Any
 import numpy as np
 
 SAVE_EVERY = 100
-
-
-def make_barrier(data: dict) -> Any:
-    """The testbed's single-integrator certificate with the arena boundary, under either generation's name."""
-    if data['barrier'] is None:
-        return None
-    import rps.utilities.barrier_certificates as certificates
-
-    boundary = np.array(data['barrier']['arena_m'], dtype=float)
-    radius, limit = float(data['barrier']['safety_radius_m']), float(data['barrier']['magnitude_limit_mps'])
-    if hasattr(certificates, 'create_si_barrier_certificate_with_boundary'):  # V2
-        certificate = certificates.create_si_barrier_certificate_with_boundary(
-            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary
-        )
-    else:  # classic: rescales its argument in place, so it gets a copy
-        certificate = certificates.create_single_integrator_barrier_certificate_with_boundary(
-            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary
-        )
-    return lambda dxi, x: certificate(np.array(dxi, copy=True), x)
 
 
 def draw_tube(r, data: dict) -> None:
@@ -83,7 +71,7 @@ def run(data: dict, robotarium_module: Any, *, max_steps: int | None = None) -> 
     if show:
         draw_tube(r, data)
     dt = float(getattr(r, 'TIME_STEP', getattr(r, 'time_step', data['time_step_s'])))
-    flight = build_flight(data, make_barrier(data))
+    flight = build_flight(data)
     log: dict = {name: [] for name in ('t', 'wall', 'poses', 'dxu', 'r_a', 'l', 'density', 'barrier_correction')}
     started = time.time()
     closest = [np.inf]

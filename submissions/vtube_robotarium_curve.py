@@ -3,7 +3,7 @@
 Scene 'robotarium_curve': Robotarium: narrowing curved tube. 6 robots, with speed and density planning.
 
 Declare on the web form: the robot count above, and the duration that `vtube submission check` reports.
-Plan: convex slowness method, 261 grid points, traversal time 23.08 s; certificate:
+Plan: convex slowness method, 261 grid points, traversal time 28.59 s; certificate:
 every constraint holds within 1e-6 (relative). Arrays rounded to six significant digits.
 Method: Song, Gao, Quan, "Speed and Density Planning for a Speed-Constrained Robot Swarm Through a Virtual
 Tube" (arXiv:2310.00623), as implemented by the vtube package.
@@ -20,16 +20,16 @@ DATA = {'scene': 'robotarium_curve',
  'planned': True,
  'n_robots': 6,
  'time_step_s': 0.033,
- 'step': {'r_s_m': 0.09,
-          'r_a_m': 0.15,
-          'r_a_max_m': 0.3,
+ 'step': {'r_s_m': 0.1,
+          'r_a_m': 0.3,
+          'r_a_max_m': 0.5,
           'v_min_mps': 0.04,
           'v_max_mps': 0.12,
           'law': 'barrier',
           'avoidance_gain': 0.0005,
           'keeping_gain': 0.0005,
-          'k_ra_m3ps': 0.01,
-          'feedforward': False,
+          'k_ra_m3ps': 0.02,
+          'feedforward': True,
           'kdtree_above': 48},
  'constant_speed_mps': 0.08,
  'plan': {'l_m': [0.0, 0.00998541, 0.0199708, 0.0299562, 0.0399416, 0.0499271, 0.0599125, 0.0698979, 0.0798833,
@@ -66,16 +66,16 @@ DATA = {'scene': 'robotarium_curve',
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
+                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.38733, 8.50516, 8.62803,
+                           8.7563, 8.89038, 9.03072, 9.1778, 9.33219, 9.4945, 9.66542, 9.84575, 10.0364, 10.2383,
+                           10.4526, 10.6806, 10.924, 11.1843, 11.4637, 11.7646, 12.0898, 12.4427, 12.8274, 13.2489,
+                           13.7133, 14.2283, 14.8036, 15.4515, 16.1209, 16.7641, 17.3747, 17.9462, 18.4717, 18.9445,
+                           19.3578, 19.7052, 19.9805, 20.1781, 20.2933, 20.3223, 20.3223, 20.2622, 20.1116, 19.8702,
+                           19.7036, 19.7036, 19.6888, 19.6294, 19.5262, 19.3811, 19.3811, 19.3811, 19.3811, 19.3811,
+                           19.3811, 19.3467, 19.2649, 19.1356, 18.9587, 18.7343, 18.4631, 18.1458, 17.7834, 17.3773,
+                           16.9292, 16.4409, 15.9146, 15.3528, 14.7583, 14.188, 13.677, 13.216, 12.7975, 12.4153,
+                           12.0646, 11.7413, 11.4422, 11.1643, 10.9053, 10.6631, 10.4361, 10.2228, 10.0218, 9.83195,
+                           9.65235, 9.4821, 9.3204, 9.16658, 9.02002, 8.88017, 8.74654, 8.61868, 8.4962, 8.37873,
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
@@ -84,22 +84,28 @@ DATA = {'scene': 'robotarium_curve',
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
                            8.33333],
-          'density_per_m2': [7.40741, 6.77497, 6.1931, 5.65192, 5.1443, 4.66495, 4.20981, 3.94378, 4.01506, 3.99596,
-                             4.00108, 3.99971, 4.00008, 3.99998, 4.00001, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0]},
+          'density_per_m2': [5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86,
+                             5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86,
+                             5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86,
+                             5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86,
+                             5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86,
+                             5.86, 5.86, 5.85999, 5.86002, 5.85992, 5.86029, 5.85889, 5.86419, 5.84431, 5.81526,
+                             5.78621, 5.75715, 5.72809, 5.69904, 5.66998, 5.64092, 5.61187, 5.58281, 5.55375, 5.5247,
+                             5.49564, 5.46658, 5.43753, 5.40828, 5.37863, 5.34854, 5.31801, 5.28701, 5.25552, 5.22352,
+                             5.19098, 5.15788, 5.12418, 5.08985, 5.05485, 5.01915, 4.98271, 4.94547, 4.90738, 4.86838,
+                             4.82841, 4.78739, 4.74523, 4.70185, 4.65712, 4.61093, 4.56311, 4.5135, 4.46188, 4.40801,
+                             4.3518, 4.29334, 4.23276, 4.17019, 4.10578, 4.03972, 3.97223, 3.90352, 3.83385, 3.7635,
+                             3.69274, 3.62188, 3.55123, 3.4811, 3.44047, 3.44013, 3.44013, 3.44013, 3.44013, 3.44013,
+                             3.44013, 3.4733, 3.51416, 3.56288, 3.61971, 3.68498, 3.75244, 3.81961, 3.88633, 3.95243,
+                             4.01776, 4.08213, 4.14541, 4.20741, 4.268, 4.32703, 4.38436, 4.43985, 4.49338, 4.54484,
+                             4.59431, 4.642, 4.68808, 4.7327, 4.77599, 4.81806, 4.859, 4.89889, 4.93782, 4.97585,
+                             5.01303, 5.04942, 5.08506, 5.12, 5.15429, 5.18794, 5.221, 5.2535, 5.28546, 5.31691,
+                             5.34788, 5.37838, 5.40843, 5.43805, 5.46727, 5.49632, 5.52538, 5.55444, 5.58349, 5.61255,
+                             5.64161, 5.67066, 5.69972, 5.72878, 5.75783, 5.78689, 5.81594, 5.84499, 5.86401, 5.85893,
+                             5.86028, 5.85993, 5.86002, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86,
+                             5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86,
+                             5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86,
+                             5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86, 5.86]},
  'tube': {'l_m': [0.0, 0.00998541, 0.0199708, 0.0299562, 0.0399416, 0.0499271, 0.0599125, 0.0698979, 0.0798833,
                   0.0898687, 0.0998541, 0.10984, 0.119825, 0.12981, 0.139796, 0.149781, 0.159767, 0.169752, 0.179737,
                   0.189723, 0.199708, 0.209694, 0.219679, 0.229664, 0.23965, 0.249635, 0.259621, 0.269606, 0.279591,
@@ -235,7 +241,7 @@ DATA = {'scene': 'robotarium_curve',
  'parking_slots': [[1.45079, 1.45039, 1.45, 1.44961, 1.44921, 1.20079],
                    [-0.199292, 0.0507074, 0.300707, 0.550707, 0.800706, -0.199685]],
  'projection_distance_m': 0.05,
- 'barrier': {'safety_radius_m': 0.2, 'magnitude_limit_mps': 0.12, 'arena_m': [-1.6, 1.6, -1.0, 1.0]},
+ 'safety': {'safety_radius_m': 0.2, 'barrier_gain': 100.0, 'arena_m': [-1.6, 1.6, -1.0, 1.0]},
  'wheels': {'base_length_m': 0.11, 'wheel_radius_m': 0.016, 'max_wheel_speed_radps': 12.5},
  'max_steps': 4000,
  'tube_edges': [[[-1.45086, -1.42903, -1.40717, -1.38529, -1.36337, -1.34143, -1.31947, -1.29747, -1.27545, -1.2534,
@@ -576,14 +582,22 @@ def neighbour_pairs(positions: FloatArray, radius: float, *, use_tree: bool) -> 
     return i[keep], j[keep], dist[keep]
 
 
-def avoidance_velocity(positions: FloatArray, r_a: FloatArray, params: StepParams) -> FloatArray:
-    """v_m of every robot, (2, N): the sum over neighbours closer than r_s + r_a,i of phi_m times the unit p_ij."""
+def avoidance_velocity(
+    positions: FloatArray, r_a: FloatArray, params: StepParams, members: NDArray[np.bool_] | None = None
+) -> FloatArray:
+    """v_m of every robot, (2, N): the sum over neighbours closer than r_s + r_a,i of phi_m times the unit p_ij.
+
+    ``members`` (N,) restricts the pairs to robots of the swarm (parked robots have left it); None: all.
+    """
     n = positions.shape[1]
     out = np.zeros_like(positions)
     if n < 2:
         return out
     r_s = params.r_s_m
     i, j, dist = neighbour_pairs(positions, r_s + float(r_a.max()), use_tree=n > params.kdtree_above)
+    if members is not None:
+        keep = members[i] & members[j]
+        i, j, dist = i[keep], j[keep], dist[keep]
     if i.size == 0:
         return out
     unit = (positions[:, i] - positions[:, j]) / np.maximum(dist, 1e-12)  # from j to i
@@ -620,11 +634,19 @@ class Command:
 
 
 def velocity_command(
-    positions: FloatArray, r_a: FloatArray, forward_speed_mps: FloatArray, projection: Any, params: StepParams
+    positions: FloatArray,
+    r_a: FloatArray,
+    forward_speed_mps: FloatArray,
+    projection: Any,
+    params: StepParams,
+    members: NDArray[np.bool_] | None = None,
 ) -> Command:
-    """The command v_c of every robot (eq. s1) at (2, N) positions with radii r_a (N,) and forward speeds (N,)."""
+    """The command v_c of every robot (eq. s1) at (2, N) positions with radii r_a (N,) and forward speeds (N,).
+
+    ``members``: the robots that avoid each other (see :func:`avoidance_velocity`).
+    """
     forward = forward_speed_mps * projection.tangent
-    avoidance = avoidance_velocity(positions, r_a, params)
+    avoidance = avoidance_velocity(positions, r_a, params, members)
     keeping = tube_keeping_velocity(projection, r_a, params)
     velocity = saturate(forward + avoidance + keeping, params.v_min_mps, params.v_max_mps, projection.tangent)
     return Command(velocity, forward, avoidance, keeping)
@@ -740,36 +762,231 @@ class SwarmStep:
         if projection is None:
             projection = self.tube.project(points)
         l_m = projection.l_m
-        density = swarm_density(self.tube, l_m, p.r_a_m)
+        exited = l_m > self.tube.length_m  # past the exit: the swarm's passage is over for this robot
+        if self.slots is not None:  # robots past the exit take the next free slot and leave the swarm
+            for k in np.flatnonzero(exited & (self.slot_of < 0)):
+                self.slot_of[k] = int((self.slot_of >= 0).sum())
+        parked = self.slot_of >= 0
+        members = ~parked
+        density = swarm_density(self.tube, l_m[members] if members.any() else l_m, p.r_a_m)
         if self.plan is not None:
             forward_speed = self.plan.speed(l_m)
         else:
             forward_speed = np.full(l_m.size, self.constant_speed_mps)
         r_a = self.r_a
-        command = velocity_command(points, r_a, forward_speed, projection, p)
+        command = velocity_command(points, r_a, forward_speed, projection, p, members if parked.any() else None)
         velocity = command.velocity
-        exited = l_m > self.tube.length_m  # past the exit: the swarm's passage is over for this robot
         if self.slots is None:
-            parked, done = np.zeros(l_m.size, dtype=bool), bool(exited.all())
+            done = bool(exited.all())
         else:
-            velocity, parked, done = self._park(self.slots, points, exited, velocity)
+            velocity, done = self._park(self.slots, points, parked, velocity)
         if self.plan is not None:
             self.r_a = next_radius(r_a, density, self.plan.density(l_m), p, dt_s)
         return StepResult(velocity, command, projection, forward_speed, density, r_a, parked, done)
 
     def _park(
-        self, slots: FloatArray, points: FloatArray, exited: NDArray[np.bool_], velocity: FloatArray
-    ) -> tuple[FloatArray, NDArray[np.bool_], bool]:
-        """Robots past the exit take the next free slot and drive to it at up to v_max."""
-        for k in np.flatnonzero(exited & (self.slot_of < 0)):
-            self.slot_of[k] = int((self.slot_of >= 0).sum())
-        parked = self.slot_of >= 0
+        self, slots: FloatArray, points: FloatArray, parked: NDArray[np.bool_], velocity: FloatArray
+    ) -> tuple[FloatArray, bool]:
+        """Parked robots drive to their slots at up to v_max; done when every robot is in its slot."""
         to_slot = slots[:, self.slot_of[parked]] - points[:, parked]
         reach = np.maximum(np.hypot(to_slot[0], to_slot[1]), 1e-9)
         velocity = velocity.copy()
         velocity[:, parked] = to_slot * np.minimum(1.0, self.params.v_max_mps / reach)
         done = bool(parked.all()) and bool(np.all(np.hypot(*(slots[:, self.slot_of] - points)) < PARKED_WITHIN_M))
-        return velocity, parked, done
+        return velocity, done
+
+
+# ---- robotarium_exp.safety ----
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import nnls
+
+FloatArray = NDArray[np.float64]
+
+POLYGON_SIDES = 8
+FEASIBILITY_TOL = 1e-9
+"""Largest violation (relative to a row's scale) of a returned solution's rows."""
+
+
+@dataclass(frozen=True)
+class BarrierSpec:
+    """The QP's data: safety radius R, gain gamma, speed limit, boundary [xmin, xmax, ymin, ymax], polygon."""
+
+    safety_radius: float
+    barrier_gain: float
+    magnitude_limit: float
+    boundary: tuple[float, float, float, float] | None
+    speed_polygon: bool
+
+
+def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArray]:
+    """Constraint rows A u <= b (u stacked robot by robot: [u_0x, u_0y, u_1x, ...]) for positions x (2, N)."""
+    n = x.shape[1]
+    i, j = np.triu_indices(n, k=1)
+    diff = x[:, i] - x[:, j]
+    dist2 = np.einsum('ij,ij->j', diff, diff)
+    b_pair = spec.barrier_gain * (dist2 - spec.safety_radius**2) ** 3
+    if spec.speed_polygon:  # exact pruning: |2 e.(u_i - u_j)| <= 2 d 2 u_max / cos(pi/8) < gamma h^3 never binds
+        reach = 4.0 * np.sqrt(dist2) * spec.magnitude_limit / math.cos(math.pi / POLYGON_SIDES)
+        keep = b_pair < reach
+        i, j, diff, b_pair = i[keep], j[keep], diff[:, keep], b_pair[keep]
+    n_pairs = i.size
+    n_walls = 4 * n if spec.boundary is not None else 0
+    n_sides = POLYGON_SIDES * n if spec.speed_polygon else 0
+    a = np.zeros((n_pairs + n_walls + n_sides, 2 * n))
+    b = np.empty(a.shape[0])
+    k = np.arange(n_pairs)
+    a[k, 2 * i], a[k, 2 * i + 1] = -2 * diff[0], -2 * diff[1]
+    a[k, 2 * j], a[k, 2 * j + 1] = 2 * diff[0], 2 * diff[1]
+    b[:n_pairs] = b_pair
+    robots = np.arange(n)
+    row = n_pairs
+    if spec.boundary is not None:
+        xmin, xmax, ymin, ymax = spec.boundary
+        half, gain = spec.safety_radius / 2, 0.4 * spec.barrier_gain
+        for axis, sign, room in (
+            (1, 1.0, ymax - half - x[1]),
+            (1, -1.0, -ymin - half + x[1]),
+            (0, 1.0, xmax - half - x[0]),
+            (0, -1.0, -xmin - half + x[0]),
+        ):
+            a[row + robots, 2 * robots + axis] = sign
+            b[row : row + n] = gain * room**3
+            row += n
+    if spec.speed_polygon:  # rps V2: the first side at the limit, the other seven at limit cos(pi/8)
+        for side in range(POLYGON_SIDES):
+            angle = 2 * math.pi * side / POLYGON_SIDES
+            a[row + robots, 2 * robots] = math.cos(angle)
+            a[row + robots, 2 * robots + 1] = math.sin(angle)
+            b[row : row + n] = spec.magnitude_limit * (1.0 if side == 0 else math.cos(math.pi / POLYGON_SIDES))
+            row += n
+    return a, b
+
+
+def least_distance_nnls(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
+    """argmin ||u - u_hat||^2 subject to a u <= b, exactly (via NNLS); None if the rows cannot hold together."""
+    slack = b - a @ u_hat
+    if a.shape[0] == 0 or np.all(slack >= 0.0):
+        return u_hat.copy()
+    scale = np.maximum(np.abs(a).max(axis=1), 1e-300)  # unit rows: the right sides span many orders of magnitude
+    rows, room = a / scale[:, None], slack / scale
+    # least distance: min ||z|| with rows z <= room, i.e. G z >= h for G = -rows, h = -room
+    e = np.vstack([-rows.T, -room[None, :]])
+    f = np.zeros(e.shape[0])
+    f[-1] = 1.0
+    w, _ = nnls(e, f, maxiter=50 * e.shape[1])
+    residual = e @ w - f
+    if abs(residual[-1]) < 1e-12:
+        return None
+    z = -residual[:-1] / residual[-1]
+    if np.max(rows @ z - room) > FEASIBILITY_TOL:
+        return None
+    return u_hat + z
+
+
+@dataclass
+class FilterStats:
+    """Counters of a safety filter over a run."""
+
+    solves: int = 0
+    band_dropped: int = 0
+    failures: int = 0
+    intervention_mps: float = 0.0
+    """Sum over steps of the total change of the commands, sum_i ||u_i - u_hat_i|| (m/s)."""
+    messages: list[str] = field(default_factory=list)
+
+
+class SafetyFilter:
+    """Barrier certificate with the arena boundary, the speed band of flying robots and the wheel limits.
+
+    Parameters
+    ----------
+    barrier
+        Safety radius, gain and arena of the barrier rows (``magnitude_limit`` is not used: the band and the
+        wheel rows bound the speed).
+    v_min_mps, v_max_mps
+        The speed band of a robot flying the tube.
+    projection_distance_m, base_length_m, wheel_speed_mps
+        d of the near-identity map, the axle length and the largest wheel rim speed r phi_max.
+    """
+
+    def __init__(
+        self,
+        barrier: BarrierSpec,
+        v_min_mps: float,
+        v_max_mps: float,
+        projection_distance_m: float,
+        base_length_m: float,
+        wheel_speed_mps: float,
+    ) -> None:
+        self.barrier = barrier
+        self.v_min, self.v_max = float(v_min_mps), float(v_max_mps)
+        self.d = float(projection_distance_m)
+        self.half_base = 0.5 * float(base_length_m)
+        self.wheel = float(wheel_speed_mps)
+        self.lateral_max = (self.wheel - self.v_max) * self.d / self.half_base
+        self.stats = FilterStats()
+
+    def __call__(
+        self, u_hat: FloatArray, poses: FloatArray, points: FloatArray, flying: NDArray[np.bool_]
+    ) -> tuple[FloatArray, bool]:
+        """Filtered control-point velocities (2, N), and whether the band held for the flying robots."""
+        n = u_hat.shape[1]
+        a_safe, b_safe = barrier_rows(points, self.barrier)
+        a_band, b_band = self._band_rows(poses, flying)
+        a_wheel, b_wheel = self._wheel_rows(poses, ~flying)
+        flat = u_hat.reshape(-1, order='F')
+        self.stats.solves += 1
+        u = least_distance_nnls(flat, np.vstack([a_safe, a_band, a_wheel]), np.concatenate([b_safe, b_band, b_wheel]))
+        held = u is not None
+        if u is None:  # safety wins: every robot keeps only its wheel limits
+            self.stats.band_dropped += 1
+            a_all, b_all = self._wheel_rows(poses, np.ones(n, dtype=bool))
+            u = least_distance_nnls(flat, np.vstack([a_safe, a_all]), np.concatenate([b_safe, b_all]))
+        if u is None:
+            self.stats.failures += 1
+            self.stats.messages.append(f'safety QP infeasible at solve {self.stats.solves}; holding the robots')
+            u = np.zeros_like(flat)
+        out = u.reshape(2, n, order='F')
+        self.stats.intervention_mps += float(np.hypot(*(out - u_hat)).sum())
+        return out, held
+
+    def _frames(self, poses: FloatArray, robots: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray, FloatArray]:
+        k = np.flatnonzero(robots)
+        return k, np.cos(poses[2, k]), np.sin(poses[2, k])
+
+    def _band_rows(self, poses: FloatArray, flying: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray]:
+        """v_min <= e.u <= v_max and |e_perp.u| <= lateral_max for the flying robots."""
+        k, c, s = self._frames(poses, flying)
+        n, m = poses.shape[1], k.size
+        a = np.zeros((4 * m, 2 * n))
+        for block, (ex, ey, bound) in enumerate(
+            (
+                (c, s, self.v_max),
+                (-c, -s, -self.v_min),
+                (-s, c, self.lateral_max),
+                (s, -c, self.lateral_max),
+            )
+        ):
+            rows = block * m + np.arange(m)
+            a[rows, 2 * k], a[rows, 2 * k + 1] = ex, ey
+        b = np.repeat([self.v_max, -self.v_min, self.lateral_max, self.lateral_max], m)
+        return a, b
+
+    def _wheel_rows(self, poses: FloatArray, robots: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray]:
+        """|v| + (L/2) |omega| <= r phi_max, i.e. +/- e.u +/- (L / 2d) e_perp.u <= r phi_max."""
+        k, c, s = self._frames(poses, robots)
+        n, m = poses.shape[1], k.size
+        ratio = self.half_base / self.d
+        a = np.zeros((4 * m, 2 * n))
+        for block, (sv, sw) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1))):
+            rows = block * m + np.arange(m)
+            a[rows, 2 * k] = sv * c - sw * ratio * s
+            a[rows, 2 * k + 1] = sv * s + sw * ratio * c
+        return a, np.full(4 * m, self.wheel)
 
 
 # ---- robotarium_exp.flight ----
@@ -786,17 +1003,23 @@ FloatArray = NDArray[np.float64]
 
 @dataclass(frozen=True)
 class Period:
-    """One control period: the poses, control points, the swarm step, the certified velocities, the commands."""
+    """One control period: the poses, control points, the swarm step, the filtered velocities, the commands.
+
+    ``flying`` marks the robots still flying the tube (not parked); ``band_held`` is False in a step where the
+    safety filter had to drop their speed band (safety won).
+    """
 
     poses: FloatArray
     points_m: FloatArray
     step: StepResult
     safe_mps: FloatArray
     dxu: FloatArray
+    flying: NDArray[np.bool_]
+    band_held: bool
 
     @property
     def barrier_correction_mps(self) -> FloatArray:
-        """How much the barrier certificate changed each robot's velocity, (N,)."""
+        """How much the safety filter changed each robot's velocity, (N,)."""
         return np.hypot(*(self.safe_mps - self.step.velocity))
 
 
@@ -808,16 +1031,21 @@ class Wheels:
     wheel_radius_m: float
     max_wheel_speed_radps: float
 
+    @property
+    def rim_speed_mps(self) -> float:
+        """The largest wheel rim speed r phi_max."""
+        return self.wheel_radius_m * self.max_wheel_speed_radps
+
 
 class Flight:
-    """The experiment's controller: control points, swarm step, barrier, map, wheel scaling.
+    """The experiment's controller: control points, swarm step, safety filter, speed-constrained map.
 
     Parameters
     ----------
     stepper
         The swarm step with its plan, tube and parking slots.
-    barrier
-        ``barrier(dxi, points) -> dxi`` (single-integrator certificate), or None.
+    safety
+        The safety filter (barrier rows, the speed band of flying robots, the wheel limits), or None.
     projection_distance_m
         d of the near-identity map.
     wheels
@@ -825,44 +1053,70 @@ class Flight:
     """
 
     def __init__(
-        self,
-        stepper: SwarmStep,
-        barrier: Callable[[FloatArray, FloatArray], FloatArray] | None,
-        projection_distance_m: float,
-        wheels: Wheels,
+        self, stepper: SwarmStep, safety: SafetyFilter | None, projection_distance_m: float, wheels: Wheels
     ) -> None:
         self.stepper = stepper
-        self.barrier = barrier
+        self.safety = safety
         self.d = float(projection_distance_m)
         self.wheels = wheels
 
     def __call__(self, poses: FloatArray, dt_s: float) -> Period:
-        """The commands for robots at ``poses`` (3, N); advances the swarm's state by ``dt_s``."""
+        """The commands for robots at ``poses`` (3, N); advances the swarm's state by ``dt_s``.
+
+        Flying robots whose band held go through the speed-constrained map (v in [v_min, v_max]; the filter's
+        rows keep it exact); parked robots, and every robot in a step where safety won, through the exact map,
+        then uniform wheel scaling.
+        """
         points = uni_to_si_states(poses, self.d)
         step = self.stepper(points, dt_s)
-        safe = self.barrier(step.velocity, points) if self.barrier is not None else step.velocity
+        flying = ~step.parked
+        safe, held = step.velocity, True
+        if self.safety is not None:
+            safe, held = self.safety(step.velocity, poses, points, flying)
         w = self.wheels
         dxu, _ = scale_to_wheel_limits(
             si_to_uni(safe, poses, self.d), w.base_length_m, w.wheel_radius_m, w.max_wheel_speed_radps
         )
-        return Period(poses, points, step, safe, dxu)
+        p = self.stepper.params
+        if held and self.safety is not None and flying.any():
+            turn = p.v_max_mps * self.safety.lateral_max / self.d  # never binds: the filter bounds |omega| below
+            banded, _ = si_to_uni_constrained(
+                safe[:, flying], poses[:, flying], self.d, v_min=p.v_min_mps, v_max=p.v_max_mps, a_n=turn
+            )
+            dxu[:, flying] = banded
+        return Period(poses, points, step, safe, dxu, flying, held)
 
 
-def build_flight(data: dict[str, Any], barrier: Callable[[FloatArray, FloatArray], FloatArray] | None) -> Flight:
+def build_flight(data: dict[str, Any]) -> Flight:
     """The flight described by ``data`` (:func:`robotarium_exp.experiment.flight_data`, a submission's ``DATA``)."""
     tube = SampledTube(**data['tube'])
     plan = None
     if data['planned']:
         plan = PlanProfile(**{key: np.asarray(value, dtype=float) for key, value in data['plan'].items()})
+    params = StepParams(**data['step'])
     stepper = SwarmStep(
         tube,
-        StepParams(**data['step']),
+        params,
         int(data['n_robots']),
         plan=plan,
         constant_speed_mps=float(data['constant_speed_mps']),
         parking_slots=np.asarray(data['parking_slots'], dtype=float),
     )
-    return Flight(stepper, barrier, float(data['projection_distance_m']), Wheels(**data['wheels']))
+    wheels = Wheels(**data['wheels'])
+    d = float(data['projection_distance_m'])
+    safety = None
+    if data['safety'] is not None:
+        barrier = BarrierSpec(
+            float(data['safety']['safety_radius_m']),
+            float(data['safety']['barrier_gain']),
+            params.v_max_mps,
+            tuple(data['safety']['arena_m']),
+            False,
+        )
+        safety = SafetyFilter(
+            barrier, params.v_min_mps, params.v_max_mps, d, wheels.base_length_m, wheels.rim_speed_mps
+        )
+    return Flight(stepper, safety, d, wheels)
 
 
 def fly(
@@ -922,6 +1176,36 @@ def si_to_uni(dxi: ArrayLike, poses: ArrayLike, d: float) -> FloatArray:
     return np.vstack([c * dxi[0] + s * dxi[1], (-s * dxi[0] + c * dxi[1]) / d])
 
 
+def si_to_uni_constrained(
+    dxi: ArrayLike, poses: ArrayLike, d: float, *, v_min: float, v_max: float, a_n: float
+) -> tuple[FloatArray, NDArray[np.bool_]]:
+    """The map for robots that cannot stop: v in [v_min, v_max], |omega| <= a_n / v (``docs/theory.md`` §5).
+
+    The forward speed is clipped into [v_min, v_max] and the turn rate to the normal-acceleration limit. A command
+    that points behind the robot is not reversed: the robot keeps v_min and turns at its largest rate towards it
+    (it loiters), to the left when the command points straight back.
+
+    Returns
+    -------
+    dxu
+        Commands [v; omega], (2, N).
+    exact
+        True where the command was realised exactly (no limit active), (N,).
+    """
+    v_min, v_max, a_n = positive(v_min, 'v_min'), positive(v_max, 'v_max'), positive(a_n, 'a_n')
+    if v_min > v_max:
+        msg = f'v_min ({v_min}) exceeds v_max ({v_max}).'
+        raise MappingError(msg)
+    ideal = si_to_uni(dxi, poses, d)
+    v = np.clip(ideal[0], v_min, v_max)
+    turn_limit = a_n / v
+    behind = ideal[0] < 0.0
+    toward = np.where(ideal[1] < 0.0, -1.0, 1.0)
+    omega = np.where(behind, toward * turn_limit, np.clip(ideal[1], -turn_limit, turn_limit))
+    exact = (v == ideal[0]) & (omega == ideal[1])
+    return np.vstack([v, omega]), exact
+
+
 def uni_to_si_states(poses: ArrayLike, d: float) -> FloatArray:
     """Control points p = [x; y] + d e_theta, (2, N)."""
     d = positive(d, 'projection distance d')
@@ -970,25 +1254,6 @@ import numpy as np
 SAVE_EVERY = 100
 
 
-def make_barrier(data: dict) -> Any:
-    """The testbed's single-integrator certificate with the arena boundary, under either generation's name."""
-    if data['barrier'] is None:
-        return None
-    import rps.utilities.barrier_certificates as certificates
-
-    boundary = np.array(data['barrier']['arena_m'], dtype=float)
-    radius, limit = float(data['barrier']['safety_radius_m']), float(data['barrier']['magnitude_limit_mps'])
-    if hasattr(certificates, 'create_si_barrier_certificate_with_boundary'):  # V2
-        certificate = certificates.create_si_barrier_certificate_with_boundary(
-            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary
-        )
-    else:  # classic: rescales its argument in place, so it gets a copy
-        certificate = certificates.create_single_integrator_barrier_certificate_with_boundary(
-            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary
-        )
-    return lambda dxi, x: certificate(np.array(dxi, copy=True), x)
-
-
 def draw_tube(r, data: dict) -> None:
     """Draw the tube on the arena figure (projected onto the testbed), if the Robotarium has a figure."""
     axes = getattr(r, '_axes_handle', None) or getattr(r, 'axes', None)
@@ -1018,7 +1283,7 @@ def run(data: dict, robotarium_module: Any, *, max_steps: int | None = None) -> 
     if show:
         draw_tube(r, data)
     dt = float(getattr(r, 'TIME_STEP', getattr(r, 'time_step', data['time_step_s'])))
-    flight = build_flight(data, make_barrier(data))
+    flight = build_flight(data)
     log: dict = {name: [] for name in ('t', 'wall', 'poses', 'dxu', 'r_a', 'l', 'density', 'barrier_correction')}
     started = time.time()
     closest = [np.inf]

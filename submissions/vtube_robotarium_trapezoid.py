@@ -3,7 +3,7 @@
 Scene 'robotarium_trapezoid': Robotarium: narrowing trapezoidal tube. 6 robots, with speed and density planning.
 
 Declare on the web form: the robot count above, and the duration that `vtube submission check` reports.
-Plan: convex slowness method, 246 grid points, traversal time 21.86 s; certificate:
+Plan: convex slowness method, 197 grid points, traversal time 27.33 s; certificate:
 every constraint holds within 1e-6 (relative). Arrays rounded to six significant digits.
 Method: Song, Gao, Quan, "Speed and Density Planning for a Speed-Constrained Robot Swarm Through a Virtual
 Tube" (arXiv:2310.00623), as implemented by the vtube package.
@@ -20,73 +20,69 @@ DATA = {'scene': 'robotarium_trapezoid',
  'planned': True,
  'n_robots': 6,
  'time_step_s': 0.033,
- 'step': {'r_s_m': 0.09,
-          'r_a_m': 0.15,
-          'r_a_max_m': 0.3,
+ 'step': {'r_s_m': 0.1,
+          'r_a_m': 0.3,
+          'r_a_max_m': 0.5,
           'v_min_mps': 0.04,
           'v_max_mps': 0.12,
           'law': 'barrier',
           'avoidance_gain': 0.0005,
           'keeping_gain': 0.0005,
-          'k_ra_m3ps': 0.01,
-          'feedforward': False,
+          'k_ra_m3ps': 0.02,
+          'feedforward': True,
           'kdtree_above': 48},
  'constant_speed_mps': 0.08,
- 'plan': {'l_m': [0.0, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06, 0.07, 0.08, 0.09, 0.1, 0.11, 0.12, 0.13, 0.14, 0.15, 0.16,
-                  0.17, 0.18, 0.19, 0.2, 0.21, 0.22, 0.23, 0.24, 0.25, 0.26, 0.27, 0.28, 0.29, 0.3, 0.31, 0.32, 0.33,
-                  0.34, 0.35, 0.36, 0.37, 0.38, 0.39, 0.4, 0.41, 0.42, 0.43, 0.44, 0.45, 0.46, 0.47, 0.48, 0.49, 0.5,
-                  0.51, 0.52, 0.53, 0.54, 0.55, 0.56, 0.57, 0.58, 0.59, 0.6, 0.61, 0.62, 0.63, 0.64, 0.65, 0.66, 0.67,
-                  0.68, 0.69, 0.7, 0.71, 0.72, 0.73, 0.74, 0.75, 0.76, 0.77, 0.78, 0.79, 0.8, 0.81, 0.82, 0.83, 0.84,
-                  0.85, 0.86, 0.87, 0.88, 0.89, 0.9, 0.91, 0.92, 0.93, 0.94, 0.95, 0.96, 0.97, 0.98, 0.99, 1.0, 1.01,
-                  1.02, 1.03, 1.04, 1.05, 1.06, 1.07, 1.08, 1.09, 1.1, 1.11, 1.12, 1.13, 1.14, 1.15, 1.16, 1.17, 1.18,
-                  1.19, 1.2, 1.21, 1.22, 1.23, 1.24, 1.25, 1.26, 1.27, 1.28, 1.29, 1.3, 1.31, 1.32, 1.33, 1.34, 1.35,
-                  1.36, 1.37, 1.38, 1.39, 1.4, 1.41, 1.42, 1.43, 1.44, 1.45, 1.46, 1.47, 1.48, 1.49, 1.5, 1.51, 1.52,
-                  1.53, 1.54, 1.55, 1.56, 1.57, 1.58, 1.59, 1.6, 1.61, 1.62, 1.63, 1.64, 1.65, 1.66, 1.67, 1.68, 1.69,
-                  1.7, 1.71, 1.72, 1.73, 1.74, 1.75, 1.76, 1.77, 1.78, 1.79, 1.8, 1.81, 1.82, 1.83, 1.84, 1.85, 1.86,
-                  1.87, 1.88, 1.89, 1.9, 1.91, 1.92, 1.93, 1.94, 1.95, 1.96, 1.97, 1.98, 1.99, 2.0, 2.01, 2.02, 2.03,
-                  2.04, 2.05, 2.06, 2.07, 2.08, 2.09, 2.1, 2.11, 2.12, 2.13, 2.14, 2.15, 2.16, 2.17, 2.18, 2.19, 2.2,
-                  2.21, 2.22, 2.23, 2.24, 2.25, 2.26, 2.27, 2.28, 2.29, 2.3, 2.31, 2.32, 2.33, 2.34, 2.35, 2.36, 2.37,
-                  2.38, 2.39, 2.4, 2.41, 2.42, 2.43, 2.44, 2.45],
-          'slowness_spm': [25.0, 22.6699, 20.8556, 19.3962, 18.1921, 17.1782, 16.3104, 15.5574, 14.8963, 14.3102,
-                           13.7861, 13.3141, 12.8862, 12.4959, 12.1382, 11.8089, 11.5044, 11.2217, 10.9585, 10.7127,
-                           10.4823, 10.2659, 10.0622, 9.86987, 9.68801, 9.51569, 9.3521, 9.19653, 9.04837, 8.90704,
-                           8.77204, 8.64292, 8.51926, 8.40069, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
+ 'plan': {'l_m': [0.0, 0.0125, 0.025, 0.0375, 0.05, 0.0625, 0.075, 0.0875, 0.1, 0.1125, 0.125, 0.1375, 0.15, 0.1625,
+                  0.175, 0.1875, 0.2, 0.2125, 0.225, 0.2375, 0.25, 0.2625, 0.275, 0.2875, 0.3, 0.3125, 0.325, 0.3375,
+                  0.35, 0.3625, 0.375, 0.3875, 0.4, 0.4125, 0.425, 0.4375, 0.45, 0.4625, 0.475, 0.4875, 0.5, 0.5125,
+                  0.525, 0.5375, 0.55, 0.5625, 0.575, 0.5875, 0.6, 0.6125, 0.625, 0.6375, 0.65, 0.6625, 0.675, 0.6875,
+                  0.7, 0.7125, 0.725, 0.7375, 0.75, 0.7625, 0.775, 0.7875, 0.8, 0.8125, 0.825, 0.8375, 0.85, 0.8625,
+                  0.875, 0.8875, 0.9, 0.9125, 0.925, 0.9375, 0.95, 0.9625, 0.975, 0.9875, 1.0, 1.0125, 1.025, 1.0375,
+                  1.05, 1.0625, 1.075, 1.0875, 1.1, 1.1125, 1.125, 1.1375, 1.15, 1.1625, 1.175, 1.1875, 1.2, 1.2125,
+                  1.225, 1.2375, 1.25, 1.2625, 1.275, 1.2875, 1.3, 1.3125, 1.325, 1.3375, 1.35, 1.3625, 1.375, 1.3875,
+                  1.4, 1.4125, 1.425, 1.4375, 1.45, 1.4625, 1.475, 1.4875, 1.5, 1.5125, 1.525, 1.5375, 1.55, 1.5625,
+                  1.575, 1.5875, 1.6, 1.6125, 1.625, 1.6375, 1.65, 1.6625, 1.675, 1.6875, 1.7, 1.7125, 1.725, 1.7375,
+                  1.75, 1.7625, 1.775, 1.7875, 1.8, 1.8125, 1.825, 1.8375, 1.85, 1.8625, 1.875, 1.8875, 1.9, 1.9125,
+                  1.925, 1.9375, 1.95, 1.9625, 1.975, 1.9875, 2.0, 2.0125, 2.025, 2.0375, 2.05, 2.0625, 2.075, 2.0875,
+                  2.1, 2.1125, 2.125, 2.1375, 2.15, 2.1625, 2.175, 2.1875, 2.2, 2.2125, 2.225, 2.2375, 2.25, 2.2625,
+                  2.275, 2.2875, 2.3, 2.3125, 2.325, 2.3375, 2.35, 2.3625, 2.375, 2.3875, 2.4, 2.4125, 2.425, 2.4375,
+                  2.45],
+          'slowness_spm': [25.0, 22.2472, 20.1898, 18.585, 17.2923, 16.2245, 15.3248, 14.5541, 13.8849, 13.2971,
+                           12.7758, 12.3095, 11.8893, 11.5083, 11.1607, 10.8421, 10.5487, 10.2773, 10.0254, 9.79074,
+                           9.57152, 9.36611, 9.17314, 8.99141, 8.81988, 8.65765, 8.50391, 8.35795, 8.33333, 8.33333,
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
+                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.4597,
+                           8.61106, 8.77068, 8.93936, 9.11795, 9.30746, 9.50903, 9.72398, 9.95385, 10.2004, 10.4657,
+                           10.7523, 11.0631, 11.4016, 11.7721, 12.18, 12.6317, 13.1356, 13.7022, 14.3454, 15.0568,
+                           15.7736, 16.4947, 17.2191, 17.9456, 18.6731, 19.4001, 20.1252, 20.7678, 21.1553, 21.2745,
+                           21.2745, 21.1269, 20.7241, 20.7241, 20.6628, 20.4788, 20.1722, 19.7429, 19.5249, 19.3605,
+                           19.1643, 18.9361, 18.6757, 18.3831, 18.0582, 17.7011, 17.3122, 16.8915, 16.4397, 15.957,
+                           15.4443, 14.902, 14.331, 13.7322, 13.1621, 12.6554, 12.2013, 11.7914, 11.4192, 11.0792,
+                           10.7671, 10.4794, 10.2131, 9.96565, 9.735, 9.51935, 9.31714, 9.12706, 8.94796, 8.77882,
+                           8.61876, 8.46701, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
                            8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333,
-                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333],
-          'density_per_m2': [7.40741, 6.77412, 6.19152, 5.64968, 5.14149, 4.66161, 4.20598, 3.94481, 4.01479, 3.99604,
-                             4.00106, 3.99972, 4.00008, 3.99998, 4.00001, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0,
-                             4.0, 4.0, 4.0, 4.0, 4.0, 4.0]},
+                           8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333, 8.33333],
+          'density_per_m2': [6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0,
+                             6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0,
+                             6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0,
+                             6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 5.99999, 6.00003, 5.99987, 6.00049, 5.99819, 6.00677,
+                             5.97122, 5.93484, 5.89847, 5.8621, 5.82572, 5.78935, 5.75297, 5.7166, 5.68023, 5.64385,
+                             5.60748, 5.57111, 5.53473, 5.49781, 5.46022, 5.42194, 5.38292, 5.34312, 5.30249, 5.26099,
+                             5.21854, 5.1751, 5.13057, 5.08489, 5.03796, 4.98967, 4.93991, 4.88852, 4.83536, 4.78022,
+                             4.72289, 4.66308, 4.60046, 4.53474, 4.46589, 4.3939, 4.31874, 4.24041, 4.1589, 4.07422,
+                             3.98638, 3.89573, 3.80339, 3.71053, 3.61831, 3.61831, 3.61831, 3.61831, 3.61831, 3.61831,
+                             3.61831, 3.68081, 3.76532, 3.84897, 3.93162, 4.01314, 4.09338, 4.1722, 4.24946, 4.32503,
+                             4.39876, 4.47051, 4.54016, 4.60757, 4.67262, 4.73517, 4.79511, 4.85256, 4.9078, 4.96106,
+                             5.01253, 5.06237, 5.11073, 5.15772, 5.20347, 5.24804, 5.29154, 5.33403, 5.37559, 5.41625,
+                             5.45609, 5.49515, 5.53347, 5.57109, 5.60804, 5.64442, 5.68079, 5.71716, 5.75354, 5.78991,
+                             5.82629, 5.86266, 5.89903, 5.93541, 5.97178, 6.00696, 5.99814, 6.0005, 5.99987, 6.00004,
+                             5.99999, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0,
+                             6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 6.0]},
  'tube': {'l_m': [0.0, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06, 0.07, 0.08, 0.09, 0.1, 0.11, 0.12, 0.13, 0.14, 0.15, 0.16,
                   0.17, 0.18, 0.19, 0.2, 0.21, 0.22, 0.23, 0.24, 0.25, 0.26, 0.27, 0.28, 0.29, 0.3, 0.31, 0.32, 0.33,
                   0.34, 0.35, 0.36, 0.37, 0.38, 0.39, 0.4, 0.41, 0.42, 0.43, 0.44, 0.45, 0.46, 0.47, 0.48, 0.49, 0.5,
@@ -172,7 +168,7 @@ DATA = {'scene': 'robotarium_trapezoid',
                         [-0.4, 0.0, 0.4, -0.4, 0.0, 0.4], [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]],
  'parking_slots': [[1.45, 1.45, 1.45, 1.45, 1.45, 1.2], [-0.5, -0.25, 0.0, 0.25, 0.5, -0.5]],
  'projection_distance_m': 0.05,
- 'barrier': {'safety_radius_m': 0.2, 'magnitude_limit_mps': 0.12, 'arena_m': [-1.6, 1.6, -1.0, 1.0]},
+ 'safety': {'safety_radius_m': 0.2, 'barrier_gain': 100.0, 'arena_m': [-1.6, 1.6, -1.0, 1.0]},
  'wheels': {'base_length_m': 0.11, 'wheel_radius_m': 0.016, 'max_wheel_speed_radps': 12.5},
  'max_steps': 4000,
  'tube_edges': [[[-1.45, -1.42941, -1.40882, -1.38824, -1.36765, -1.34706, -1.32647, -1.30588, -1.28529, -1.26471,
@@ -504,14 +500,22 @@ def neighbour_pairs(positions: FloatArray, radius: float, *, use_tree: bool) -> 
     return i[keep], j[keep], dist[keep]
 
 
-def avoidance_velocity(positions: FloatArray, r_a: FloatArray, params: StepParams) -> FloatArray:
-    """v_m of every robot, (2, N): the sum over neighbours closer than r_s + r_a,i of phi_m times the unit p_ij."""
+def avoidance_velocity(
+    positions: FloatArray, r_a: FloatArray, params: StepParams, members: NDArray[np.bool_] | None = None
+) -> FloatArray:
+    """v_m of every robot, (2, N): the sum over neighbours closer than r_s + r_a,i of phi_m times the unit p_ij.
+
+    ``members`` (N,) restricts the pairs to robots of the swarm (parked robots have left it); None: all.
+    """
     n = positions.shape[1]
     out = np.zeros_like(positions)
     if n < 2:
         return out
     r_s = params.r_s_m
     i, j, dist = neighbour_pairs(positions, r_s + float(r_a.max()), use_tree=n > params.kdtree_above)
+    if members is not None:
+        keep = members[i] & members[j]
+        i, j, dist = i[keep], j[keep], dist[keep]
     if i.size == 0:
         return out
     unit = (positions[:, i] - positions[:, j]) / np.maximum(dist, 1e-12)  # from j to i
@@ -548,11 +552,19 @@ class Command:
 
 
 def velocity_command(
-    positions: FloatArray, r_a: FloatArray, forward_speed_mps: FloatArray, projection: Any, params: StepParams
+    positions: FloatArray,
+    r_a: FloatArray,
+    forward_speed_mps: FloatArray,
+    projection: Any,
+    params: StepParams,
+    members: NDArray[np.bool_] | None = None,
 ) -> Command:
-    """The command v_c of every robot (eq. s1) at (2, N) positions with radii r_a (N,) and forward speeds (N,)."""
+    """The command v_c of every robot (eq. s1) at (2, N) positions with radii r_a (N,) and forward speeds (N,).
+
+    ``members``: the robots that avoid each other (see :func:`avoidance_velocity`).
+    """
     forward = forward_speed_mps * projection.tangent
-    avoidance = avoidance_velocity(positions, r_a, params)
+    avoidance = avoidance_velocity(positions, r_a, params, members)
     keeping = tube_keeping_velocity(projection, r_a, params)
     velocity = saturate(forward + avoidance + keeping, params.v_min_mps, params.v_max_mps, projection.tangent)
     return Command(velocity, forward, avoidance, keeping)
@@ -668,36 +680,231 @@ class SwarmStep:
         if projection is None:
             projection = self.tube.project(points)
         l_m = projection.l_m
-        density = swarm_density(self.tube, l_m, p.r_a_m)
+        exited = l_m > self.tube.length_m  # past the exit: the swarm's passage is over for this robot
+        if self.slots is not None:  # robots past the exit take the next free slot and leave the swarm
+            for k in np.flatnonzero(exited & (self.slot_of < 0)):
+                self.slot_of[k] = int((self.slot_of >= 0).sum())
+        parked = self.slot_of >= 0
+        members = ~parked
+        density = swarm_density(self.tube, l_m[members] if members.any() else l_m, p.r_a_m)
         if self.plan is not None:
             forward_speed = self.plan.speed(l_m)
         else:
             forward_speed = np.full(l_m.size, self.constant_speed_mps)
         r_a = self.r_a
-        command = velocity_command(points, r_a, forward_speed, projection, p)
+        command = velocity_command(points, r_a, forward_speed, projection, p, members if parked.any() else None)
         velocity = command.velocity
-        exited = l_m > self.tube.length_m  # past the exit: the swarm's passage is over for this robot
         if self.slots is None:
-            parked, done = np.zeros(l_m.size, dtype=bool), bool(exited.all())
+            done = bool(exited.all())
         else:
-            velocity, parked, done = self._park(self.slots, points, exited, velocity)
+            velocity, done = self._park(self.slots, points, parked, velocity)
         if self.plan is not None:
             self.r_a = next_radius(r_a, density, self.plan.density(l_m), p, dt_s)
         return StepResult(velocity, command, projection, forward_speed, density, r_a, parked, done)
 
     def _park(
-        self, slots: FloatArray, points: FloatArray, exited: NDArray[np.bool_], velocity: FloatArray
-    ) -> tuple[FloatArray, NDArray[np.bool_], bool]:
-        """Robots past the exit take the next free slot and drive to it at up to v_max."""
-        for k in np.flatnonzero(exited & (self.slot_of < 0)):
-            self.slot_of[k] = int((self.slot_of >= 0).sum())
-        parked = self.slot_of >= 0
+        self, slots: FloatArray, points: FloatArray, parked: NDArray[np.bool_], velocity: FloatArray
+    ) -> tuple[FloatArray, bool]:
+        """Parked robots drive to their slots at up to v_max; done when every robot is in its slot."""
         to_slot = slots[:, self.slot_of[parked]] - points[:, parked]
         reach = np.maximum(np.hypot(to_slot[0], to_slot[1]), 1e-9)
         velocity = velocity.copy()
         velocity[:, parked] = to_slot * np.minimum(1.0, self.params.v_max_mps / reach)
         done = bool(parked.all()) and bool(np.all(np.hypot(*(slots[:, self.slot_of] - points)) < PARKED_WITHIN_M))
-        return velocity, parked, done
+        return velocity, done
+
+
+# ---- robotarium_exp.safety ----
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import nnls
+
+FloatArray = NDArray[np.float64]
+
+POLYGON_SIDES = 8
+FEASIBILITY_TOL = 1e-9
+"""Largest violation (relative to a row's scale) of a returned solution's rows."""
+
+
+@dataclass(frozen=True)
+class BarrierSpec:
+    """The QP's data: safety radius R, gain gamma, speed limit, boundary [xmin, xmax, ymin, ymax], polygon."""
+
+    safety_radius: float
+    barrier_gain: float
+    magnitude_limit: float
+    boundary: tuple[float, float, float, float] | None
+    speed_polygon: bool
+
+
+def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArray]:
+    """Constraint rows A u <= b (u stacked robot by robot: [u_0x, u_0y, u_1x, ...]) for positions x (2, N)."""
+    n = x.shape[1]
+    i, j = np.triu_indices(n, k=1)
+    diff = x[:, i] - x[:, j]
+    dist2 = np.einsum('ij,ij->j', diff, diff)
+    b_pair = spec.barrier_gain * (dist2 - spec.safety_radius**2) ** 3
+    if spec.speed_polygon:  # exact pruning: |2 e.(u_i - u_j)| <= 2 d 2 u_max / cos(pi/8) < gamma h^3 never binds
+        reach = 4.0 * np.sqrt(dist2) * spec.magnitude_limit / math.cos(math.pi / POLYGON_SIDES)
+        keep = b_pair < reach
+        i, j, diff, b_pair = i[keep], j[keep], diff[:, keep], b_pair[keep]
+    n_pairs = i.size
+    n_walls = 4 * n if spec.boundary is not None else 0
+    n_sides = POLYGON_SIDES * n if spec.speed_polygon else 0
+    a = np.zeros((n_pairs + n_walls + n_sides, 2 * n))
+    b = np.empty(a.shape[0])
+    k = np.arange(n_pairs)
+    a[k, 2 * i], a[k, 2 * i + 1] = -2 * diff[0], -2 * diff[1]
+    a[k, 2 * j], a[k, 2 * j + 1] = 2 * diff[0], 2 * diff[1]
+    b[:n_pairs] = b_pair
+    robots = np.arange(n)
+    row = n_pairs
+    if spec.boundary is not None:
+        xmin, xmax, ymin, ymax = spec.boundary
+        half, gain = spec.safety_radius / 2, 0.4 * spec.barrier_gain
+        for axis, sign, room in (
+            (1, 1.0, ymax - half - x[1]),
+            (1, -1.0, -ymin - half + x[1]),
+            (0, 1.0, xmax - half - x[0]),
+            (0, -1.0, -xmin - half + x[0]),
+        ):
+            a[row + robots, 2 * robots + axis] = sign
+            b[row : row + n] = gain * room**3
+            row += n
+    if spec.speed_polygon:  # rps V2: the first side at the limit, the other seven at limit cos(pi/8)
+        for side in range(POLYGON_SIDES):
+            angle = 2 * math.pi * side / POLYGON_SIDES
+            a[row + robots, 2 * robots] = math.cos(angle)
+            a[row + robots, 2 * robots + 1] = math.sin(angle)
+            b[row : row + n] = spec.magnitude_limit * (1.0 if side == 0 else math.cos(math.pi / POLYGON_SIDES))
+            row += n
+    return a, b
+
+
+def least_distance_nnls(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
+    """argmin ||u - u_hat||^2 subject to a u <= b, exactly (via NNLS); None if the rows cannot hold together."""
+    slack = b - a @ u_hat
+    if a.shape[0] == 0 or np.all(slack >= 0.0):
+        return u_hat.copy()
+    scale = np.maximum(np.abs(a).max(axis=1), 1e-300)  # unit rows: the right sides span many orders of magnitude
+    rows, room = a / scale[:, None], slack / scale
+    # least distance: min ||z|| with rows z <= room, i.e. G z >= h for G = -rows, h = -room
+    e = np.vstack([-rows.T, -room[None, :]])
+    f = np.zeros(e.shape[0])
+    f[-1] = 1.0
+    w, _ = nnls(e, f, maxiter=50 * e.shape[1])
+    residual = e @ w - f
+    if abs(residual[-1]) < 1e-12:
+        return None
+    z = -residual[:-1] / residual[-1]
+    if np.max(rows @ z - room) > FEASIBILITY_TOL:
+        return None
+    return u_hat + z
+
+
+@dataclass
+class FilterStats:
+    """Counters of a safety filter over a run."""
+
+    solves: int = 0
+    band_dropped: int = 0
+    failures: int = 0
+    intervention_mps: float = 0.0
+    """Sum over steps of the total change of the commands, sum_i ||u_i - u_hat_i|| (m/s)."""
+    messages: list[str] = field(default_factory=list)
+
+
+class SafetyFilter:
+    """Barrier certificate with the arena boundary, the speed band of flying robots and the wheel limits.
+
+    Parameters
+    ----------
+    barrier
+        Safety radius, gain and arena of the barrier rows (``magnitude_limit`` is not used: the band and the
+        wheel rows bound the speed).
+    v_min_mps, v_max_mps
+        The speed band of a robot flying the tube.
+    projection_distance_m, base_length_m, wheel_speed_mps
+        d of the near-identity map, the axle length and the largest wheel rim speed r phi_max.
+    """
+
+    def __init__(
+        self,
+        barrier: BarrierSpec,
+        v_min_mps: float,
+        v_max_mps: float,
+        projection_distance_m: float,
+        base_length_m: float,
+        wheel_speed_mps: float,
+    ) -> None:
+        self.barrier = barrier
+        self.v_min, self.v_max = float(v_min_mps), float(v_max_mps)
+        self.d = float(projection_distance_m)
+        self.half_base = 0.5 * float(base_length_m)
+        self.wheel = float(wheel_speed_mps)
+        self.lateral_max = (self.wheel - self.v_max) * self.d / self.half_base
+        self.stats = FilterStats()
+
+    def __call__(
+        self, u_hat: FloatArray, poses: FloatArray, points: FloatArray, flying: NDArray[np.bool_]
+    ) -> tuple[FloatArray, bool]:
+        """Filtered control-point velocities (2, N), and whether the band held for the flying robots."""
+        n = u_hat.shape[1]
+        a_safe, b_safe = barrier_rows(points, self.barrier)
+        a_band, b_band = self._band_rows(poses, flying)
+        a_wheel, b_wheel = self._wheel_rows(poses, ~flying)
+        flat = u_hat.reshape(-1, order='F')
+        self.stats.solves += 1
+        u = least_distance_nnls(flat, np.vstack([a_safe, a_band, a_wheel]), np.concatenate([b_safe, b_band, b_wheel]))
+        held = u is not None
+        if u is None:  # safety wins: every robot keeps only its wheel limits
+            self.stats.band_dropped += 1
+            a_all, b_all = self._wheel_rows(poses, np.ones(n, dtype=bool))
+            u = least_distance_nnls(flat, np.vstack([a_safe, a_all]), np.concatenate([b_safe, b_all]))
+        if u is None:
+            self.stats.failures += 1
+            self.stats.messages.append(f'safety QP infeasible at solve {self.stats.solves}; holding the robots')
+            u = np.zeros_like(flat)
+        out = u.reshape(2, n, order='F')
+        self.stats.intervention_mps += float(np.hypot(*(out - u_hat)).sum())
+        return out, held
+
+    def _frames(self, poses: FloatArray, robots: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray, FloatArray]:
+        k = np.flatnonzero(robots)
+        return k, np.cos(poses[2, k]), np.sin(poses[2, k])
+
+    def _band_rows(self, poses: FloatArray, flying: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray]:
+        """v_min <= e.u <= v_max and |e_perp.u| <= lateral_max for the flying robots."""
+        k, c, s = self._frames(poses, flying)
+        n, m = poses.shape[1], k.size
+        a = np.zeros((4 * m, 2 * n))
+        for block, (ex, ey, bound) in enumerate(
+            (
+                (c, s, self.v_max),
+                (-c, -s, -self.v_min),
+                (-s, c, self.lateral_max),
+                (s, -c, self.lateral_max),
+            )
+        ):
+            rows = block * m + np.arange(m)
+            a[rows, 2 * k], a[rows, 2 * k + 1] = ex, ey
+        b = np.repeat([self.v_max, -self.v_min, self.lateral_max, self.lateral_max], m)
+        return a, b
+
+    def _wheel_rows(self, poses: FloatArray, robots: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray]:
+        """|v| + (L/2) |omega| <= r phi_max, i.e. +/- e.u +/- (L / 2d) e_perp.u <= r phi_max."""
+        k, c, s = self._frames(poses, robots)
+        n, m = poses.shape[1], k.size
+        ratio = self.half_base / self.d
+        a = np.zeros((4 * m, 2 * n))
+        for block, (sv, sw) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1))):
+            rows = block * m + np.arange(m)
+            a[rows, 2 * k] = sv * c - sw * ratio * s
+            a[rows, 2 * k + 1] = sv * s + sw * ratio * c
+        return a, np.full(4 * m, self.wheel)
 
 
 # ---- robotarium_exp.flight ----
@@ -714,17 +921,23 @@ FloatArray = NDArray[np.float64]
 
 @dataclass(frozen=True)
 class Period:
-    """One control period: the poses, control points, the swarm step, the certified velocities, the commands."""
+    """One control period: the poses, control points, the swarm step, the filtered velocities, the commands.
+
+    ``flying`` marks the robots still flying the tube (not parked); ``band_held`` is False in a step where the
+    safety filter had to drop their speed band (safety won).
+    """
 
     poses: FloatArray
     points_m: FloatArray
     step: StepResult
     safe_mps: FloatArray
     dxu: FloatArray
+    flying: NDArray[np.bool_]
+    band_held: bool
 
     @property
     def barrier_correction_mps(self) -> FloatArray:
-        """How much the barrier certificate changed each robot's velocity, (N,)."""
+        """How much the safety filter changed each robot's velocity, (N,)."""
         return np.hypot(*(self.safe_mps - self.step.velocity))
 
 
@@ -736,16 +949,21 @@ class Wheels:
     wheel_radius_m: float
     max_wheel_speed_radps: float
 
+    @property
+    def rim_speed_mps(self) -> float:
+        """The largest wheel rim speed r phi_max."""
+        return self.wheel_radius_m * self.max_wheel_speed_radps
+
 
 class Flight:
-    """The experiment's controller: control points, swarm step, barrier, map, wheel scaling.
+    """The experiment's controller: control points, swarm step, safety filter, speed-constrained map.
 
     Parameters
     ----------
     stepper
         The swarm step with its plan, tube and parking slots.
-    barrier
-        ``barrier(dxi, points) -> dxi`` (single-integrator certificate), or None.
+    safety
+        The safety filter (barrier rows, the speed band of flying robots, the wheel limits), or None.
     projection_distance_m
         d of the near-identity map.
     wheels
@@ -753,44 +971,70 @@ class Flight:
     """
 
     def __init__(
-        self,
-        stepper: SwarmStep,
-        barrier: Callable[[FloatArray, FloatArray], FloatArray] | None,
-        projection_distance_m: float,
-        wheels: Wheels,
+        self, stepper: SwarmStep, safety: SafetyFilter | None, projection_distance_m: float, wheels: Wheels
     ) -> None:
         self.stepper = stepper
-        self.barrier = barrier
+        self.safety = safety
         self.d = float(projection_distance_m)
         self.wheels = wheels
 
     def __call__(self, poses: FloatArray, dt_s: float) -> Period:
-        """The commands for robots at ``poses`` (3, N); advances the swarm's state by ``dt_s``."""
+        """The commands for robots at ``poses`` (3, N); advances the swarm's state by ``dt_s``.
+
+        Flying robots whose band held go through the speed-constrained map (v in [v_min, v_max]; the filter's
+        rows keep it exact); parked robots, and every robot in a step where safety won, through the exact map,
+        then uniform wheel scaling.
+        """
         points = uni_to_si_states(poses, self.d)
         step = self.stepper(points, dt_s)
-        safe = self.barrier(step.velocity, points) if self.barrier is not None else step.velocity
+        flying = ~step.parked
+        safe, held = step.velocity, True
+        if self.safety is not None:
+            safe, held = self.safety(step.velocity, poses, points, flying)
         w = self.wheels
         dxu, _ = scale_to_wheel_limits(
             si_to_uni(safe, poses, self.d), w.base_length_m, w.wheel_radius_m, w.max_wheel_speed_radps
         )
-        return Period(poses, points, step, safe, dxu)
+        p = self.stepper.params
+        if held and self.safety is not None and flying.any():
+            turn = p.v_max_mps * self.safety.lateral_max / self.d  # never binds: the filter bounds |omega| below
+            banded, _ = si_to_uni_constrained(
+                safe[:, flying], poses[:, flying], self.d, v_min=p.v_min_mps, v_max=p.v_max_mps, a_n=turn
+            )
+            dxu[:, flying] = banded
+        return Period(poses, points, step, safe, dxu, flying, held)
 
 
-def build_flight(data: dict[str, Any], barrier: Callable[[FloatArray, FloatArray], FloatArray] | None) -> Flight:
+def build_flight(data: dict[str, Any]) -> Flight:
     """The flight described by ``data`` (:func:`robotarium_exp.experiment.flight_data`, a submission's ``DATA``)."""
     tube = SampledTube(**data['tube'])
     plan = None
     if data['planned']:
         plan = PlanProfile(**{key: np.asarray(value, dtype=float) for key, value in data['plan'].items()})
+    params = StepParams(**data['step'])
     stepper = SwarmStep(
         tube,
-        StepParams(**data['step']),
+        params,
         int(data['n_robots']),
         plan=plan,
         constant_speed_mps=float(data['constant_speed_mps']),
         parking_slots=np.asarray(data['parking_slots'], dtype=float),
     )
-    return Flight(stepper, barrier, float(data['projection_distance_m']), Wheels(**data['wheels']))
+    wheels = Wheels(**data['wheels'])
+    d = float(data['projection_distance_m'])
+    safety = None
+    if data['safety'] is not None:
+        barrier = BarrierSpec(
+            float(data['safety']['safety_radius_m']),
+            float(data['safety']['barrier_gain']),
+            params.v_max_mps,
+            tuple(data['safety']['arena_m']),
+            False,
+        )
+        safety = SafetyFilter(
+            barrier, params.v_min_mps, params.v_max_mps, d, wheels.base_length_m, wheels.rim_speed_mps
+        )
+    return Flight(stepper, safety, d, wheels)
 
 
 def fly(
@@ -850,6 +1094,36 @@ def si_to_uni(dxi: ArrayLike, poses: ArrayLike, d: float) -> FloatArray:
     return np.vstack([c * dxi[0] + s * dxi[1], (-s * dxi[0] + c * dxi[1]) / d])
 
 
+def si_to_uni_constrained(
+    dxi: ArrayLike, poses: ArrayLike, d: float, *, v_min: float, v_max: float, a_n: float
+) -> tuple[FloatArray, NDArray[np.bool_]]:
+    """The map for robots that cannot stop: v in [v_min, v_max], |omega| <= a_n / v (``docs/theory.md`` §5).
+
+    The forward speed is clipped into [v_min, v_max] and the turn rate to the normal-acceleration limit. A command
+    that points behind the robot is not reversed: the robot keeps v_min and turns at its largest rate towards it
+    (it loiters), to the left when the command points straight back.
+
+    Returns
+    -------
+    dxu
+        Commands [v; omega], (2, N).
+    exact
+        True where the command was realised exactly (no limit active), (N,).
+    """
+    v_min, v_max, a_n = positive(v_min, 'v_min'), positive(v_max, 'v_max'), positive(a_n, 'a_n')
+    if v_min > v_max:
+        msg = f'v_min ({v_min}) exceeds v_max ({v_max}).'
+        raise MappingError(msg)
+    ideal = si_to_uni(dxi, poses, d)
+    v = np.clip(ideal[0], v_min, v_max)
+    turn_limit = a_n / v
+    behind = ideal[0] < 0.0
+    toward = np.where(ideal[1] < 0.0, -1.0, 1.0)
+    omega = np.where(behind, toward * turn_limit, np.clip(ideal[1], -turn_limit, turn_limit))
+    exact = (v == ideal[0]) & (omega == ideal[1])
+    return np.vstack([v, omega]), exact
+
+
 def uni_to_si_states(poses: ArrayLike, d: float) -> FloatArray:
     """Control points p = [x; y] + d e_theta, (2, N)."""
     d = positive(d, 'projection distance d')
@@ -898,25 +1172,6 @@ import numpy as np
 SAVE_EVERY = 100
 
 
-def make_barrier(data: dict) -> Any:
-    """The testbed's single-integrator certificate with the arena boundary, under either generation's name."""
-    if data['barrier'] is None:
-        return None
-    import rps.utilities.barrier_certificates as certificates
-
-    boundary = np.array(data['barrier']['arena_m'], dtype=float)
-    radius, limit = float(data['barrier']['safety_radius_m']), float(data['barrier']['magnitude_limit_mps'])
-    if hasattr(certificates, 'create_si_barrier_certificate_with_boundary'):  # V2
-        certificate = certificates.create_si_barrier_certificate_with_boundary(
-            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary
-        )
-    else:  # classic: rescales its argument in place, so it gets a copy
-        certificate = certificates.create_single_integrator_barrier_certificate_with_boundary(
-            safety_radius=radius, magnitude_limit=limit, boundary_points=boundary
-        )
-    return lambda dxi, x: certificate(np.array(dxi, copy=True), x)
-
-
 def draw_tube(r, data: dict) -> None:
     """Draw the tube on the arena figure (projected onto the testbed), if the Robotarium has a figure."""
     axes = getattr(r, '_axes_handle', None) or getattr(r, 'axes', None)
@@ -946,7 +1201,7 @@ def run(data: dict, robotarium_module: Any, *, max_steps: int | None = None) -> 
     if show:
         draw_tube(r, data)
     dt = float(getattr(r, 'TIME_STEP', getattr(r, 'time_step', data['time_step_s'])))
-    flight = build_flight(data, make_barrier(data))
+    flight = build_flight(data)
     log: dict = {name: [] for name in ('t', 'wall', 'poses', 'dxu', 'r_a', 'l', 'density', 'barrier_correction')}
     started = time.time()
     closest = [np.inf]

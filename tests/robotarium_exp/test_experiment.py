@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from robotarium_exp.errors import ExperimentError
-from robotarium_exp.experiment import ExperimentConfig, initial_conditions, parking_slots, run_experiment
+from robotarium_exp.experiment import ExperimentConfig, initial_conditions, parking_slots, plan_tracking, run_experiment
 from robotarium_exp.rps.robotarium import Robotarium
 from vtube_planning import load_scene
 from vtube_planning.planning.planner import plan_convex
@@ -33,16 +33,32 @@ def test_zero_collisions_boundary_and_actuator_counts(runs) -> None:
         assert result.barrier['correction_mean_mps'] < 0.05  # small against v_max = 0.12 m/s
 
 
-def test_the_swarm_expands_before_the_narrowing(runs) -> None:
-    scene, _, planned, unplanned = runs
+def test_the_plan_dips_and_the_swarm_expands_before_the_narrowing(runs) -> None:
+    """(p7) binds ahead of the narrowing; the planned run expands after departure and before its front gets there,
+    and tracks the plan in the approach; the unplanned run does not expand."""
+    scene, plan, planned, unplanned = runs
     narrowing = 1.4  # where both Robotarium scenes start to narrow
-    for result, expanded in ((planned, True), (unplanned, False)):
-        l = result.arrays['l_m']
-        k = int(np.argmax(l.max(axis=1) >= narrowing))  # the front reaches the narrowing
-        r_a = result.arrays['r_a_m'][k]
-        assert (r_a.mean() >= 1.5 * scene.swarm.r_a_m) == expanded
-        assert np.ptp(l[k]) > np.ptp(l[0])  # longer along the tube than at the start
+    active = plan.l_m[plan.active['p7']]
+    assert active.size and active.min() < narrowing < active.max()
+    assert plan.density_per_m2.min() < 0.7 * scene.swarm.rho_d_per_m2  # a real dip, not a flat plan
+    tracked = plan_tracking(planned, plan, scene)
+    assert 0.0 < tracked['expansion_start_s'] < tracked['front_at_narrowing_s']
+    assert tracked['approach']['density_error_mean'] <= 0.25
+    assert plan_tracking(unplanned, plan, scene)['expansion_start_s'] is None
     assert planned.metrics.passing_time_s < unplanned.metrics.passing_time_s
+
+
+def test_the_speed_band_holds_on_the_unicycles(runs) -> None:
+    """Every flying robot's forward speed stays in [v_min, v_max] in every step where the filter kept the band."""
+    scene, _, planned, unplanned = runs
+    for result in (planned, unplanned):
+        a = result.arrays
+        v = a['dxu'][:, 0, :]
+        kept = a['flying'] & a['band_held'][:, None]
+        assert kept.any()
+        assert np.all(v[kept] >= scene.swarm.v_min_mps * (1 - 1e-9))
+        assert np.all(v[kept] <= scene.swarm.v_max_mps * (1 + 1e-9))
+        assert result.barrier['band_share'] >= 0.99
 
 
 def test_initial_conditions_are_spread_for_the_testbed() -> None:

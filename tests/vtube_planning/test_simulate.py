@@ -126,6 +126,12 @@ def test_metrics_of_a_constructed_passage() -> None:
         == 22
     )
     assert m.speed_violations is None and m.speed_tracking_mean_mps is None
+    # with bodies of radius 0.05 m, clearances below 0.05 m count
+    clearance[5, 1] = 0.03  # a body crossing the wall while its centre is inside
+    bodies = passage_metrics(t, positions, l, clearance, 10.0, collision_distance_m=0.6, body_radius_m=0.05)
+    centres = passage_metrics(t, positions, l, clearance, 10.0, collision_distance_m=0.6)
+    assert bodies.tube_violation_steps == centres.tube_violation_steps + 1
+    assert bodies.max_outside_m == pytest.approx(0.2 + 0.05)
 
 
 def test_metrics_json_is_strict() -> None:

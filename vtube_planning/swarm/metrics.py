@@ -70,7 +70,8 @@ class PassageMetrics:
     collision_pairs, collision_steps
         Distinct pairs that ever collided; steps with at least one collision.
     tube_violation_steps, robots_outside, max_outside_m
-        Robot-steps outside the tube while 0 <= l <= L; robots that ever were; how far out at most.
+        Robot-steps outside the tube while 0 <= l <= L (the body, given a body radius; else the centre); robots
+        that ever were; how far out at most.
     speed_violations
         Commands whose speed left the speed band (None when no commands or band were given).
     speed_tracking_mean_mps, speed_tracking_max_mps, density_tracking_mean_per_m2, density_tracking_max_per_m2
@@ -126,6 +127,7 @@ def passage_metrics(
     length_m: float,
     *,
     collision_distance_m: float,
+    body_radius_m: float = 0.0,
     speed_band_mps: tuple[float, float] | None = None,
     commands_mps: FloatArray | None = None,
     forward_speed_mps: FloatArray | None = None,
@@ -142,6 +144,8 @@ def passage_metrics(
         The tube's length L.
     collision_distance_m
         Centre distance below which two robots collide.
+    body_radius_m
+        A robot is outside the tube once its body is: when its centre's clearance is below this (0: the centre).
     speed_band_mps, commands_mps
         [v_min, v_max] and the commanded velocities (T, 2, N): their speeds are checked against the band.
     forward_speed_mps, density_per_m2, plan
@@ -155,7 +159,7 @@ def passage_metrics(
     k_min = int(np.argmin(min_dist))
     pairs = close_pairs(positions_m, collision_distance_m) if positions_m.shape[2] > 1 else set()
     in_span = (l_m >= 0.0) & (l_m <= length_m)
-    outside = in_span & (clearance_m < 0.0)
+    outside = in_span & (clearance_m < body_radius_m)
     speed_violations = None
     if commands_mps is not None and speed_band_mps is not None:
         speed = np.hypot(commands_mps[:, 0], commands_mps[:, 1])
@@ -186,7 +190,7 @@ def passage_metrics(
         collision_steps=int(np.sum(min_dist < collision_distance_m)),
         tube_violation_steps=int(outside.sum()),
         robots_outside=int(outside.any(axis=0).sum()),
-        max_outside_m=float(max(0.0, -clearance_m[in_span].min())) if in_span.any() else 0.0,
+        max_outside_m=float(max(0.0, body_radius_m - clearance_m[in_span].min())) if in_span.any() else 0.0,
         speed_violations=speed_violations,
         **tracking,
     )

@@ -21,7 +21,8 @@ The swarm's density is measured once per step (:func:`swarm_density`, the one de
 the avoidance radius follows (a3), ``r_a,i' = k_ra max(0, rho_r - rho*(l_i))``, capped at ``r_a_max`` (A9),
 optionally floored by the feed-forward ``1/sqrt(rho*) - r_s`` (§2.8). Robots past the exit either keep flying
 the law (the paper's study) or, given parking slots (the Robotarium, where the arena ends), drive to the next
-free slot beyond the exit.
+free slot beyond the exit and leave the swarm: its avoidance and its density count only the robots still flying
+the tube (the safety filter keeps everyone apart).
 """
 
 from __future__ import annotations
@@ -194,14 +195,22 @@ def neighbour_pairs(positions: FloatArray, radius: float, *, use_tree: bool) -> 
     return i[keep], j[keep], dist[keep]
 
 
-def avoidance_velocity(positions: FloatArray, r_a: FloatArray, params: StepParams) -> FloatArray:
-    """v_m of every robot, (2, N): the sum over neighbours closer than r_s + r_a,i of phi_m times the unit p_ij."""
+def avoidance_velocity(
+    positions: FloatArray, r_a: FloatArray, params: StepParams, members: NDArray[np.bool_] | None = None
+) -> FloatArray:
+    """v_m of every robot, (2, N): the sum over neighbours closer than r_s + r_a,i of phi_m times the unit p_ij.
+
+    ``members`` (N,) restricts the pairs to robots of the swarm (parked robots have left it); None: all.
+    """
     n = positions.shape[1]
     out = np.zeros_like(positions)
     if n < 2:
         return out
     r_s = params.r_s_m
     i, j, dist = neighbour_pairs(positions, r_s + float(r_a.max()), use_tree=n > params.kdtree_above)
+    if members is not None:
+        keep = members[i] & members[j]
+        i, j, dist = i[keep], j[keep], dist[keep]
     if i.size == 0:
         return out
     unit = (positions[:, i] - positions[:, j]) / np.maximum(dist, 1e-12)  # from j to i
@@ -238,11 +247,19 @@ class Command:
 
 
 def velocity_command(
-    positions: FloatArray, r_a: FloatArray, forward_speed_mps: FloatArray, projection: Any, params: StepParams
+    positions: FloatArray,
+    r_a: FloatArray,
+    forward_speed_mps: FloatArray,
+    projection: Any,
+    params: StepParams,
+    members: NDArray[np.bool_] | None = None,
 ) -> Command:
-    """The command v_c of every robot (eq. s1) at (2, N) positions with radii r_a (N,) and forward speeds (N,)."""
+    """The command v_c of every robot (eq. s1) at (2, N) positions with radii r_a (N,) and forward speeds (N,).
+
+    ``members``: the robots that avoid each other (see :func:`avoidance_velocity`).
+    """
     forward = forward_speed_mps * projection.tangent
-    avoidance = avoidance_velocity(positions, r_a, params)
+    avoidance = avoidance_velocity(positions, r_a, params, members)
     keeping = tube_keeping_velocity(projection, r_a, params)
     velocity = saturate(forward + avoidance + keeping, params.v_min_mps, params.v_max_mps, projection.tangent)
     return Command(velocity, forward, avoidance, keeping)
@@ -358,33 +375,35 @@ class SwarmStep:
         if projection is None:
             projection = self.tube.project(points)
         l_m = projection.l_m
-        density = swarm_density(self.tube, l_m, p.r_a_m)
+        exited = l_m > self.tube.length_m  # past the exit: the swarm's passage is over for this robot
+        if self.slots is not None:  # robots past the exit take the next free slot and leave the swarm
+            for k in np.flatnonzero(exited & (self.slot_of < 0)):
+                self.slot_of[k] = int((self.slot_of >= 0).sum())
+        parked = self.slot_of >= 0
+        members = ~parked
+        density = swarm_density(self.tube, l_m[members] if members.any() else l_m, p.r_a_m)
         if self.plan is not None:
             forward_speed = self.plan.speed(l_m)
         else:
             forward_speed = np.full(l_m.size, self.constant_speed_mps)
         r_a = self.r_a
-        command = velocity_command(points, r_a, forward_speed, projection, p)
+        command = velocity_command(points, r_a, forward_speed, projection, p, members if parked.any() else None)
         velocity = command.velocity
-        exited = l_m > self.tube.length_m  # past the exit: the swarm's passage is over for this robot
         if self.slots is None:
-            parked, done = np.zeros(l_m.size, dtype=bool), bool(exited.all())
+            done = bool(exited.all())
         else:
-            velocity, parked, done = self._park(self.slots, points, exited, velocity)
+            velocity, done = self._park(self.slots, points, parked, velocity)
         if self.plan is not None:
             self.r_a = next_radius(r_a, density, self.plan.density(l_m), p, dt_s)
         return StepResult(velocity, command, projection, forward_speed, density, r_a, parked, done)
 
     def _park(
-        self, slots: FloatArray, points: FloatArray, exited: NDArray[np.bool_], velocity: FloatArray
-    ) -> tuple[FloatArray, NDArray[np.bool_], bool]:
-        """Robots past the exit take the next free slot and drive to it at up to v_max."""
-        for k in np.flatnonzero(exited & (self.slot_of < 0)):
-            self.slot_of[k] = int((self.slot_of >= 0).sum())
-        parked = self.slot_of >= 0
+        self, slots: FloatArray, points: FloatArray, parked: NDArray[np.bool_], velocity: FloatArray
+    ) -> tuple[FloatArray, bool]:
+        """Parked robots drive to their slots at up to v_max; done when every robot is in its slot."""
         to_slot = slots[:, self.slot_of[parked]] - points[:, parked]
         reach = np.maximum(np.hypot(to_slot[0], to_slot[1]), 1e-9)
         velocity = velocity.copy()
         velocity[:, parked] = to_slot * np.minimum(1.0, self.params.v_max_mps / reach)
         done = bool(parked.all()) and bool(np.all(np.hypot(*(slots[:, self.slot_of] - points)) < PARKED_WITHIN_M))
-        return velocity, parked, done
+        return velocity, done

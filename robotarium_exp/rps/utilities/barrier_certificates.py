@@ -21,7 +21,6 @@ Names and keyword defaults of both generations:
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass, field
 
@@ -30,13 +29,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.errors import RobotariumError
+from robotarium_exp.safety import BarrierSpec, barrier_rows
 from robotarium_exp.spec import ROBOTARIUM
 from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
 
 FloatArray = NDArray[np.float64]
 
 ARENA = ROBOTARIUM.arena_m
-POLYGON_SIDES = 8
 
 
 @dataclass
@@ -47,61 +46,6 @@ class BarrierStats:
     failures: int = 0
     rows_last: int = 0
     messages: list[str] = field(default_factory=list)
-
-
-@dataclass(frozen=True)
-class BarrierSpec:
-    """The QP's data: safety radius R, gain gamma, speed limit, boundary [xmin, xmax, ymin, ymax], polygon."""
-
-    safety_radius: float
-    barrier_gain: float
-    magnitude_limit: float
-    boundary: tuple[float, float, float, float] | None
-    speed_polygon: bool
-
-
-def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArray]:
-    """Constraint rows A u <= b (u stacked robot by robot: [u_0x, u_0y, u_1x, ...]) for positions x (2, N)."""
-    n = x.shape[1]
-    i, j = np.triu_indices(n, k=1)
-    diff = x[:, i] - x[:, j]
-    dist2 = np.einsum('ij,ij->j', diff, diff)
-    b_pair = spec.barrier_gain * (dist2 - spec.safety_radius**2) ** 3
-    if spec.speed_polygon:  # exact pruning: |2 e.(u_i - u_j)| <= 2 d 2 u_max / cos(pi/8) < gamma h^3 never binds
-        reach = 4.0 * np.sqrt(dist2) * spec.magnitude_limit / math.cos(math.pi / POLYGON_SIDES)
-        keep = b_pair < reach
-        i, j, diff, b_pair = i[keep], j[keep], diff[:, keep], b_pair[keep]
-    n_pairs = i.size
-    n_walls = 4 * n if spec.boundary is not None else 0
-    n_sides = POLYGON_SIDES * n if spec.speed_polygon else 0
-    a = np.zeros((n_pairs + n_walls + n_sides, 2 * n))
-    b = np.empty(a.shape[0])
-    k = np.arange(n_pairs)
-    a[k, 2 * i], a[k, 2 * i + 1] = -2 * diff[0], -2 * diff[1]
-    a[k, 2 * j], a[k, 2 * j + 1] = 2 * diff[0], 2 * diff[1]
-    b[:n_pairs] = b_pair
-    robots = np.arange(n)
-    row = n_pairs
-    if spec.boundary is not None:
-        xmin, xmax, ymin, ymax = spec.boundary
-        half, gain = spec.safety_radius / 2, 0.4 * spec.barrier_gain
-        for axis, sign, room in (
-            (1, 1.0, ymax - half - x[1]),
-            (1, -1.0, -ymin - half + x[1]),
-            (0, 1.0, xmax - half - x[0]),
-            (0, -1.0, -xmin - half + x[0]),
-        ):
-            a[row + robots, 2 * robots + axis] = sign
-            b[row : row + n] = gain * room**3
-            row += n
-    if spec.speed_polygon:  # rps V2: the first side at the limit, the other seven at limit cos(pi/8)
-        for side in range(POLYGON_SIDES):
-            angle = 2 * math.pi * side / POLYGON_SIDES
-            a[row + robots, 2 * robots] = math.cos(angle)
-            a[row + robots, 2 * robots + 1] = math.sin(angle)
-            b[row : row + n] = spec.magnitude_limit * (1.0 if side == 0 else math.cos(math.pi / POLYGON_SIDES))
-            row += n
-    return a, b
 
 
 DAQP_OPTIMAL = (1, 2)

@@ -1,0 +1,213 @@
+"""Safety filters of the tube experiment: the barrier certificate's rows, and one QP that also keeps the speed band.
+
+The pairwise barrier rows ``-2 (x_i - x_j)^T (u_i - u_j) <= gamma h_ij^3``, ``h_ij = ||x_i - x_j||^2 - R^2``, the
+boundary rows ``+/- u <= 0.4 gamma (distance to the wall - R/2)^3`` and the V2 speed polygon are those of the
+Robotarium's certificates (:mod:`robotarium_exp.rps.utilities.barrier_certificates` builds its certificates on
+:func:`barrier_rows`).
+
+The tube experiment's :class:`SafetyFilter` adds, for every robot still flying the tube, the speed band of a
+speed-constrained unicycle as linear rows in its control point's velocity u: the near-identity map gives the
+forward speed ``v = e_theta . u`` and the turn rate ``omega = e_theta_perp . u / d`` exactly, so
+``v_min <= e_theta . u <= v_max`` and ``|e_theta_perp . u| <= lateral_max`` are linear. ``lateral_max`` is what the
+wheels allow at v_max (``v_max + (L/2) omega_max = r phi_max``), so every command the filter returns is realised
+without wheel saturation. Parked robots (past the exit) keep only the wheel limit. When the barrier rows and the
+band cannot hold together, safety wins: the band is dropped for that step (and counted), the robots get the
+barrier's velocity through the exact map.
+
+The QP ``min ||u - u_hat||^2 subject to A u <= b`` is a least-distance problem, solved exactly through
+non-negative least squares (Lawson and Hanson, *Solving Least Squares Problems*, ch. 23) with scipy's ``nnls``:
+numpy and scipy only, so :mod:`submission.builder` inlines this module and the testbed flies the same filter.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import nnls
+
+FloatArray = NDArray[np.float64]
+
+POLYGON_SIDES = 8
+FEASIBILITY_TOL = 1e-9
+"""Largest violation (relative to a row's scale) of a returned solution's rows."""
+
+
+@dataclass(frozen=True)
+class BarrierSpec:
+    """The QP's data: safety radius R, gain gamma, speed limit, boundary [xmin, xmax, ymin, ymax], polygon."""
+
+    safety_radius: float
+    barrier_gain: float
+    magnitude_limit: float
+    boundary: tuple[float, float, float, float] | None
+    speed_polygon: bool
+
+
+def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArray]:
+    """Constraint rows A u <= b (u stacked robot by robot: [u_0x, u_0y, u_1x, ...]) for positions x (2, N)."""
+    n = x.shape[1]
+    i, j = np.triu_indices(n, k=1)
+    diff = x[:, i] - x[:, j]
+    dist2 = np.einsum('ij,ij->j', diff, diff)
+    b_pair = spec.barrier_gain * (dist2 - spec.safety_radius**2) ** 3
+    if spec.speed_polygon:  # exact pruning: |2 e.(u_i - u_j)| <= 2 d 2 u_max / cos(pi/8) < gamma h^3 never binds
+        reach = 4.0 * np.sqrt(dist2) * spec.magnitude_limit / math.cos(math.pi / POLYGON_SIDES)
+        keep = b_pair < reach
+        i, j, diff, b_pair = i[keep], j[keep], diff[:, keep], b_pair[keep]
+    n_pairs = i.size
+    n_walls = 4 * n if spec.boundary is not None else 0
+    n_sides = POLYGON_SIDES * n if spec.speed_polygon else 0
+    a = np.zeros((n_pairs + n_walls + n_sides, 2 * n))
+    b = np.empty(a.shape[0])
+    k = np.arange(n_pairs)
+    a[k, 2 * i], a[k, 2 * i + 1] = -2 * diff[0], -2 * diff[1]
+    a[k, 2 * j], a[k, 2 * j + 1] = 2 * diff[0], 2 * diff[1]
+    b[:n_pairs] = b_pair
+    robots = np.arange(n)
+    row = n_pairs
+    if spec.boundary is not None:
+        xmin, xmax, ymin, ymax = spec.boundary
+        half, gain = spec.safety_radius / 2, 0.4 * spec.barrier_gain
+        for axis, sign, room in (
+            (1, 1.0, ymax - half - x[1]),
+            (1, -1.0, -ymin - half + x[1]),
+            (0, 1.0, xmax - half - x[0]),
+            (0, -1.0, -xmin - half + x[0]),
+        ):
+            a[row + robots, 2 * robots + axis] = sign
+            b[row : row + n] = gain * room**3
+            row += n
+    if spec.speed_polygon:  # rps V2: the first side at the limit, the other seven at limit cos(pi/8)
+        for side in range(POLYGON_SIDES):
+            angle = 2 * math.pi * side / POLYGON_SIDES
+            a[row + robots, 2 * robots] = math.cos(angle)
+            a[row + robots, 2 * robots + 1] = math.sin(angle)
+            b[row : row + n] = spec.magnitude_limit * (1.0 if side == 0 else math.cos(math.pi / POLYGON_SIDES))
+            row += n
+    return a, b
+
+
+def least_distance_nnls(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
+    """argmin ||u - u_hat||^2 subject to a u <= b, exactly (via NNLS); None if the rows cannot hold together."""
+    slack = b - a @ u_hat
+    if a.shape[0] == 0 or np.all(slack >= 0.0):
+        return u_hat.copy()
+    scale = np.maximum(np.abs(a).max(axis=1), 1e-300)  # unit rows: the right sides span many orders of magnitude
+    rows, room = a / scale[:, None], slack / scale
+    # least distance: min ||z|| with rows z <= room, i.e. G z >= h for G = -rows, h = -room
+    e = np.vstack([-rows.T, -room[None, :]])
+    f = np.zeros(e.shape[0])
+    f[-1] = 1.0
+    w, _ = nnls(e, f, maxiter=50 * e.shape[1])
+    residual = e @ w - f
+    if abs(residual[-1]) < 1e-12:
+        return None
+    z = -residual[:-1] / residual[-1]
+    if np.max(rows @ z - room) > FEASIBILITY_TOL:
+        return None
+    return u_hat + z
+
+
+@dataclass
+class FilterStats:
+    """Counters of a safety filter over a run."""
+
+    solves: int = 0
+    band_dropped: int = 0
+    failures: int = 0
+    intervention_mps: float = 0.0
+    """Sum over steps of the total change of the commands, sum_i ||u_i - u_hat_i|| (m/s)."""
+    messages: list[str] = field(default_factory=list)
+
+
+class SafetyFilter:
+    """Barrier certificate with the arena boundary, the speed band of flying robots and the wheel limits.
+
+    Parameters
+    ----------
+    barrier
+        Safety radius, gain and arena of the barrier rows (``magnitude_limit`` is not used: the band and the
+        wheel rows bound the speed).
+    v_min_mps, v_max_mps
+        The speed band of a robot flying the tube.
+    projection_distance_m, base_length_m, wheel_speed_mps
+        d of the near-identity map, the axle length and the largest wheel rim speed r phi_max.
+    """
+
+    def __init__(
+        self,
+        barrier: BarrierSpec,
+        v_min_mps: float,
+        v_max_mps: float,
+        projection_distance_m: float,
+        base_length_m: float,
+        wheel_speed_mps: float,
+    ) -> None:
+        self.barrier = barrier
+        self.v_min, self.v_max = float(v_min_mps), float(v_max_mps)
+        self.d = float(projection_distance_m)
+        self.half_base = 0.5 * float(base_length_m)
+        self.wheel = float(wheel_speed_mps)
+        self.lateral_max = (self.wheel - self.v_max) * self.d / self.half_base
+        self.stats = FilterStats()
+
+    def __call__(
+        self, u_hat: FloatArray, poses: FloatArray, points: FloatArray, flying: NDArray[np.bool_]
+    ) -> tuple[FloatArray, bool]:
+        """Filtered control-point velocities (2, N), and whether the band held for the flying robots."""
+        n = u_hat.shape[1]
+        a_safe, b_safe = barrier_rows(points, self.barrier)
+        a_band, b_band = self._band_rows(poses, flying)
+        a_wheel, b_wheel = self._wheel_rows(poses, ~flying)
+        flat = u_hat.reshape(-1, order='F')
+        self.stats.solves += 1
+        u = least_distance_nnls(flat, np.vstack([a_safe, a_band, a_wheel]), np.concatenate([b_safe, b_band, b_wheel]))
+        held = u is not None
+        if u is None:  # safety wins: every robot keeps only its wheel limits
+            self.stats.band_dropped += 1
+            a_all, b_all = self._wheel_rows(poses, np.ones(n, dtype=bool))
+            u = least_distance_nnls(flat, np.vstack([a_safe, a_all]), np.concatenate([b_safe, b_all]))
+        if u is None:
+            self.stats.failures += 1
+            self.stats.messages.append(f'safety QP infeasible at solve {self.stats.solves}; holding the robots')
+            u = np.zeros_like(flat)
+        out = u.reshape(2, n, order='F')
+        self.stats.intervention_mps += float(np.hypot(*(out - u_hat)).sum())
+        return out, held
+
+    def _frames(self, poses: FloatArray, robots: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray, FloatArray]:
+        k = np.flatnonzero(robots)
+        return k, np.cos(poses[2, k]), np.sin(poses[2, k])
+
+    def _band_rows(self, poses: FloatArray, flying: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray]:
+        """v_min <= e.u <= v_max and |e_perp.u| <= lateral_max for the flying robots."""
+        k, c, s = self._frames(poses, flying)
+        n, m = poses.shape[1], k.size
+        a = np.zeros((4 * m, 2 * n))
+        for block, (ex, ey, bound) in enumerate(
+            (
+                (c, s, self.v_max),
+                (-c, -s, -self.v_min),
+                (-s, c, self.lateral_max),
+                (s, -c, self.lateral_max),
+            )
+        ):
+            rows = block * m + np.arange(m)
+            a[rows, 2 * k], a[rows, 2 * k + 1] = ex, ey
+        b = np.repeat([self.v_max, -self.v_min, self.lateral_max, self.lateral_max], m)
+        return a, b
+
+    def _wheel_rows(self, poses: FloatArray, robots: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray]:
+        """|v| + (L/2) |omega| <= r phi_max, i.e. +/- e.u +/- (L / 2d) e_perp.u <= r phi_max."""
+        k, c, s = self._frames(poses, robots)
+        n, m = poses.shape[1], k.size
+        ratio = self.half_base / self.d
+        a = np.zeros((4 * m, 2 * n))
+        for block, (sv, sw) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1))):
+            rows = block * m + np.arange(m)
+            a[rows, 2 * k] = sv * c - sw * ratio * s
+            a[rows, 2 * k + 1] = sv * s + sw * ratio * c
+        return a, np.full(4 * m, self.wheel)

@@ -1,0 +1,71 @@
+"""The tube experiment's safety filter: the exact least-distance solver, the band rows, safety before the band."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from robotarium_exp.rps.utilities.barrier_certificates import least_distance
+from robotarium_exp.safety import BarrierSpec, SafetyFilter, barrier_rows, least_distance_nnls
+from robotarium_exp.spec import ROBOTARIUM
+
+BARRIER = BarrierSpec(0.2, 100.0, 0.12, ROBOTARIUM.arena_m, False)
+
+
+def safety_filter() -> SafetyFilter:
+    return SafetyFilter(BARRIER, 0.04, 0.12, 0.05, ROBOTARIUM.base_length_m, ROBOTARIUM.max_linear_speed_mps)
+
+
+def test_nnls_least_distance_equals_daqp_on_random_barrier_problems() -> None:
+    """Two independent exact solvers (NNLS on the least-distance dual, DAQP's active set) agree."""
+    rng = np.random.default_rng(5)
+    solved = 0
+    for _ in range(150):
+        n = int(rng.integers(2, 9))
+        x = rng.uniform(-0.6, 0.6, (2, n))
+        u_hat = rng.uniform(-0.15, 0.15, 2 * n)
+        a, b = barrier_rows(x, BARRIER)
+        mine, reference = least_distance_nnls(u_hat, a, b), least_distance(u_hat, a, b)
+        assert (mine is None) == (reference is None)
+        if mine is not None and reference is not None:
+            np.testing.assert_allclose(mine, reference, atol=1e-7)
+            assert np.all(a @ mine - b <= 1e-7 * np.maximum(1.0, np.abs(a).max(axis=1)))
+            solved += 1
+    assert solved > 100
+
+
+def test_infeasible_rows_are_reported_not_approximated() -> None:
+    a = np.array([[1.0, 0.0], [-1.0, 0.0]])
+    assert least_distance_nnls(np.zeros(2), a, np.array([-1.0, -1.0])) is None  # u_x <= -1 and u_x >= 1
+    np.testing.assert_allclose(least_distance_nnls(np.array([2.0, 3.0]), a, np.array([1.0, 5.0])), [1.0, 3.0])
+
+
+def test_the_band_and_the_wheels_hold_for_flying_robots() -> None:
+    """Robots far apart, asked to stop, to rush sideways and to turn: each gets the nearest command in the band."""
+    f = safety_filter()
+    poses = np.array([[-1.0, 0.0, 1.0], [0.0, 0.0, 0.0], [0.0, 0.5, -0.3]])
+    points = poses[:2] + 0.05 * np.vstack([np.cos(poses[2]), np.sin(poses[2])])
+    u_hat = np.array([[0.0, 0.3, 0.02], [0.0, 0.0, 0.2]])
+    u, held = f(u_hat, poses, points, np.ones(3, dtype=bool))
+    assert held
+    e = np.vstack([np.cos(poses[2]), np.sin(poses[2])])
+    e_perp = np.vstack([-e[1], e[0]])
+    v, lateral = np.einsum('in,in->n', e, u), np.einsum('in,in->n', e_perp, u)
+    assert np.all(v >= 0.04 - 1e-9) and np.all(v <= 0.12 + 1e-9)
+    assert np.all(np.abs(lateral) <= f.lateral_max + 1e-9)
+    np.testing.assert_allclose(u[:, 0], [0.04, 0.0], atol=1e-9)  # stop -> v_min straight on
+    # too fast and too far sideways: v_max, and the lateral limit the wheels leave at v_max
+    np.testing.assert_allclose([v[1], lateral[1]], [0.12, -f.lateral_max], atol=1e-9)
+    wheels = v + 0.5 * ROBOTARIUM.base_length_m * np.abs(lateral / 0.05)
+    assert np.all(wheels <= ROBOTARIUM.max_linear_speed_mps + 1e-9)  # realisable without wheel saturation
+
+
+def test_safety_wins_over_the_band_and_is_counted() -> None:
+    """Two robots nose to nose at the barrier distance cannot both keep v >= v_min: the band is dropped."""
+    f = safety_filter()
+    poses = np.array([[-0.15, 0.15], [0.0, 0.0], [0.0, np.pi]])
+    points = poses[:2] + 0.05 * np.vstack([np.cos(poses[2]), np.sin(poses[2])])
+    u, held = f(np.array([[0.1, -0.1], [0.0, 0.0]]), poses, points, np.ones(2, dtype=bool))
+    assert not held and f.stats.band_dropped == 1 and f.stats.failures == 0
+    a, b = barrier_rows(points, BARRIER)
+    assert np.all(a @ u.reshape(-1, order='F') <= b + 1e-9)  # safe
+    assert f.stats.intervention_mps > 0.15
