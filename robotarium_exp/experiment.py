@@ -219,9 +219,9 @@ def filter_summary(
     """
     correction = arrays['barrier_correction_mps']
     v = arrays['dxu'][:, 0, :]
-    in_tube = arrays['flying'] & (arrays['l_m'] >= 0.0) & (arrays['l_m'] <= length_m)
+    in_tube = np.asarray(arrays['flying'], dtype=bool) & (arrays['l_m'] >= 0.0) & (arrays['l_m'] <= length_m)
     in_band = (v >= v_min * (1 - 1e-9)) & (v <= v_max * (1 + 1e-9))
-    held = arrays['band_held'][:, None] & in_tube
+    held = np.asarray(arrays['band_held'], dtype=bool)[:, None] & in_tube
     return {
         'correction_mean_mps': float(correction.mean()),
         'correction_max_mps': float(correction.max()),

@@ -954,7 +954,7 @@ class SafetyFilter:
         self.stats.intervention_mps += float(np.hypot(*(out - u_hat)).sum())
         return out, held
 
-    def _frames(self, poses: FloatArray, robots: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray, FloatArray]:
+    def _frames(self, poses: FloatArray, robots: NDArray[np.bool_]) -> tuple[NDArray[np.intp], FloatArray, FloatArray]:
         k = np.flatnonzero(robots)
         return k, np.cos(poses[2, k]), np.sin(poses[2, k])
 
