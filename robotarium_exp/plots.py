@@ -18,15 +18,20 @@ if TYPE_CHECKING:
 
 
 def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None = None) -> Figure:
-    """The arena with the tube, robot paths and snapshots (colour = time); r_a and density over time."""
+    """The paper's Robotarium figure: the arena with the tube, paths and snapshots (colour = time) with every robot's
+    avoidance radius drawn; below, the planned and measured density, speed and r_a over time, with the moment
+    the expansion starts and the moment the front reaches the narrowing."""
     from matplotlib import colormaps
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle, Rectangle
 
+    from robotarium_exp.analysis.report import narrowing_start
+    from robotarium_exp.experiment import EXPANSION_THRESHOLD_M
+
     arrays = result.arrays
     t = arrays['t_s']
-    fig = Figure(figsize=(9.0, 8.0), layout='constrained')
-    ax, ax_ra = fig.subplots(2, 1, height_ratios=[2.2, 1])
+    fig = Figure(figsize=(9.0, 10.5), layout='constrained')
+    ax, ax_rho, ax_v = fig.subplots(3, 1, height_ratios=[2.2, 1, 1], sharex=False)
     draw_tube(ax, scene.tube, n_sections=8)
     xmin, xmax, ymin, ymax = ROBOTARIUM.arena_m
     ax.add_patch(Rectangle((xmin, ymin), xmax - xmin, ymax - ymin, fill=False, ec='k', lw=1.2))
@@ -38,7 +43,10 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
         color = cmap(step / max(1, t.size - 1))
         for k in range(poses.shape[2]):
             center = (float(poses[step, 0, k]), float(poses[step, 1, k]))
-            ax.add_patch(Circle(center, 0.055, fc=color, ec='k', lw=0.4, zorder=3))
+            ax.add_patch(Circle(center, 0.5 * ROBOTARIUM.robot_diameter_m, fc=color, ec='k', lw=0.4, zorder=3))
+            if arrays['flying'][step, k]:
+                radius = float(arrays['r_a_m'][step, k])
+                ax.add_patch(Circle(center, radius, fill=False, ec=color, lw=0.6, ls='--', zorder=2))
         ax.annotate(
             f'{t[step]:.0f} s',
             poses[step, :2].mean(axis=1),
@@ -50,22 +58,35 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
         )
     ax.set_xlim(xmin - 0.1, xmax + 0.1)
     ax.set_ylim(ymin - 0.1, ymax + 0.1)
+    ax.set_aspect('equal')
     e, m = result.errors, result.metrics
     ax.set_title(
         f'{scene.name}, {"with" if result.meta["planned"] else "without"} planning: '
         f'{e.get("robots_too_close", 0)} too close, {e.get("robots_outside_boundaries", 0)} outside, '
-        f'{e.get("exceeded_actuator_limits", 0)} actuator; min distance {m.min_distance_m:.3f} m'
+        f'{e.get("exceeded_actuator_limits", 0)} actuator; min distance {m.min_distance_m:.3f} m '
+        '(dashed: r_a)'
     )
-    ra = arrays['r_a_m']
-    ax_ra.plot(t, ra.mean(axis=1), color='tab:purple', label='mean r_a [m]')
-    ax_ra.fill_between(t, ra.min(axis=1), ra.max(axis=1), color='tab:purple', alpha=0.2)
-    ax_ra.set_xlabel('time [s]')
-    ax_ra.set_ylabel('r_a [m]')
-    ax_rho = ax_ra.twinx()
-    ax_rho.plot(t, arrays['density_per_m2'], color='tab:green', label='measured density')
+    swarm = arrays['flying'].all(axis=1)  # until the first robot parks
+    center = arrays['l_m'].mean(axis=1)
+    ax_rho.plot(t[swarm], arrays['density_per_m2'][swarm], color='tab:green', label='measured density')
+    ax_v.plot(t[swarm], arrays['dxu'][swarm, 0, :].mean(axis=1), color='tab:blue', label='mean forward speed')
     if plan is not None:
-        ax_rho.plot(t, plan.density(arrays['l_m'].mean(axis=1)), color='tab:green', ls='--', label='planned density')
+        ax_rho.plot(t[swarm], plan.density(center[swarm]), color='tab:green', ls='--', label='planned density')
+        ax_v.plot(t[swarm], plan.speed(center[swarm]), color='tab:blue', ls='--', label='planned speed')
+    ax_ra = ax_rho.twinx()
+    ra = arrays['r_a_m'].mean(axis=1)
+    ax_ra.plot(t[swarm], ra[swarm], color='tab:purple', label='mean r_a')
+    ax_ra.set_ylabel('r_a [m]')
+    expanded = np.flatnonzero(ra >= ra[0] + EXPANSION_THRESHOLD_M)
+    narrowing = np.flatnonzero(arrays['l_m'].max(axis=1) >= narrowing_start(scene))
+    for axis in (ax_rho, ax_v):
+        if expanded.size:
+            axis.axvline(t[expanded[0]], color='tab:purple', ls=':', lw=1.0, label='expansion starts')
+        if narrowing.size:
+            axis.axvline(t[narrowing[0]], color='k', ls=':', lw=1.0, label='front reaches the narrowing')
+        axis.set_xlabel('time [s]')
+        axis.legend(loc='upper right', fontsize=7)
     ax_rho.set_ylabel('density [1/m^2]')
-    ax_ra.legend(loc='upper left', fontsize=8)
-    ax_rho.legend(loc='upper right', fontsize=8)
+    ax_v.set_ylabel('speed [m/s]')
+    ax_ra.legend(loc='lower right', fontsize=7)
     return fig

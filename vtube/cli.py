@@ -227,7 +227,7 @@ def robotarium_run(
     """Run the tube experiment on the bundled Robotarium simulator; print the verdict and metrics, write log and figure."""
     import numpy as np
 
-    from robotarium_exp.experiment import ExperimentConfig, run_experiment
+    from robotarium_exp.experiment import ExperimentConfig, plan_tracking, run_experiment
     from robotarium_exp.plots import experiment_figure
     from robotarium_exp.rps.robotarium import Robotarium
     from robotarium_exp.spec import ROBOTARIUM
@@ -264,12 +264,35 @@ def robotarium_run(
     print(f'  minimum distance       {m.min_distance_m:.3f} m between centres')
     print(f'  tube violations        {m.tube_violation_steps} robot-steps')
     print(
-        f'  barrier correction     mean {b["correction_mean_mps"]:.4f}, max {b["correction_max_mps"]:.4f} '
-        f'm/s, failures {b["failures"]}'
+        f'  safety filter          correction mean {b["correction_mean_mps"]:.4f}, max {b["correction_max_mps"]:.4f} m/s, '
+        f'total {b["intervention_m"]:.2f} m; failures {b["failures"]}'
     )
+    print(
+        f'  speed band             {100 * b["band_share"]:.2f} % of flying robot-steps in [v_min, v_max] '
+        f'({100 * b["band_share_held"]:.2f} % where the filter kept it; band dropped in '
+        f'{100 * b["band_dropped_share"]:.2f} % of steps)'
+    )
+    if plan is not None:
+        tracked = plan_tracking(result, plan, scene)
+        for phase in ('approach', 'dip', 'narrow'):
+            ph = tracked[phase]
+            if ph['steps']:
+                print(
+                    f'  tracking, {phase:<12} density error mean {100 * ph["density_error_mean"]:.0f} % '
+                    f'(max {100 * ph["density_error_max"]:.0f} %), speed error mean '
+                    f'{100 * ph["speed_error_mean"]:.0f} %'
+                )
+        print(
+            f'  expansion              starts at {_seconds(tracked["expansion_start_s"])}; the front reaches the '
+            f'narrowing at {_seconds(tracked["front_at_narrowing_s"])}'
+        )
     figure = save_figure(experiment_figure(result, scene, plan), out / f'experiment_{scene.name}_{mode}.png')
     print(f'  written                {log}, {figure}')
     return EXIT_OK if hard == 0 else 1
+
+
+def _seconds(value: float | None) -> str:
+    return 'never' if value is None else f'{value:.1f} s'
 
 
 def submission_build(name_or_path: str, out: Path, *, planning: bool = True, plan_path: Path | None = None) -> int:
