@@ -30,6 +30,7 @@ DATA = {'scene': 'robotarium_curve',
           'keeping_gain': 0.0005,
           'k_ra_m3ps': 0.02,
           'feedforward': True,
+          'plan_at': 'center',
           'kdtree_above': 48},
  'constant_speed_mps': 0.08,
  'plan': {'l_m': [0.0, 0.00998541, 0.0199708, 0.0299562, 0.0399416, 0.0499271, 0.0599125, 0.0698979, 0.0798833,
@@ -426,6 +427,8 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
 
 LAWS = ('practical', 'barrier')
+PLAN_AT = ('robot', 'center')
+"""Where every robot reads the plan: at its own arc length l_i, or at the swarm centre's (``docs/theory.md`` A16)."""
 BARRIER_EPS = 1e-6
 """epsilon_m = epsilon_t = epsilon_s of the barrier functions (the group's code, ``docs/theory.md`` §2.5)."""
 PARKED_WITHIN_M = 0.03
@@ -507,6 +510,9 @@ class StepParams:
         Gain of (a3).
     feedforward
         Floor r_a by ``1/sqrt(rho*) - r_s``.
+    plan_at
+        ``'robot'``: every robot reads v* and rho* at its own arc length (the paper); ``'center'``: at the mean arc
+        length of the swarm's robots, for which the plan is made (A16).
     kdtree_above
         Find neighbours with a k-d tree above this many robots, all pairs below.
     """
@@ -521,6 +527,7 @@ class StepParams:
     keeping_gain: float = 1.0
     k_ra_m3ps: float = 5.0
     feedforward: bool = False
+    plan_at: str = 'robot'
     kdtree_above: int = 48
 
 
@@ -768,9 +775,11 @@ class SwarmStep:
                 self.slot_of[k] = int((self.slot_of >= 0).sum())
         parked = self.slot_of >= 0
         members = ~parked
-        density = swarm_density(self.tube, l_m[members] if members.any() else l_m, p.r_a_m)
+        swarm_l = l_m[members] if members.any() else l_m
+        density = swarm_density(self.tube, swarm_l, p.r_a_m)
+        l_plan = np.full(l_m.size, swarm_l.mean()) if p.plan_at == 'center' else l_m
         if self.plan is not None:
-            forward_speed = self.plan.speed(l_m)
+            forward_speed = self.plan.speed(l_plan)
         else:
             forward_speed = np.full(l_m.size, self.constant_speed_mps)
         r_a = self.r_a
@@ -781,7 +790,7 @@ class SwarmStep:
         else:
             velocity, done = self._park(self.slots, points, parked, velocity)
         if self.plan is not None:
-            self.r_a = next_radius(r_a, density, self.plan.density(l_m), p, dt_s)
+            self.r_a = next_radius(r_a, density, self.plan.density(l_plan), p, dt_s)
         return StepResult(velocity, command, projection, forward_speed, density, r_a, parked, done)
 
     def _park(

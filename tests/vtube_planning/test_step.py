@@ -222,8 +222,25 @@ def test_every_control_option_reaches_the_step() -> None:
         'r_a_max_m': 2.5,
         'feedforward': True,
         'law': 'practical',
+        'plan_at': 'center',
         'kdtree_above': 7,
     }
     assert {f.name for f in fields(ControlParams)} == set(changed)
     for name, value in changed.items():
         assert replace(base, **{name: value}).step_params(SWARM) != base.step_params(SWARM), name
+
+
+def test_the_plan_read_at_the_swarm_centre_is_the_same_for_every_robot() -> None:
+    """plan_at='center': one forward speed for all (the plan at the mean arc length); 'robot': each its own."""
+    from vtube_planning.swarm.step import PlanProfile
+
+    tube = wide_tube()
+    ends = np.array([0.0, 50.0])
+    plan = PlanProfile(ends, 1.0 / np.array([2.0, 5.0]), np.array([0.3, 0.3]))  # speeds up along the tube
+    positions = np.array([[10.0, 20.0, 30.0], [0.0, 3.0, -3.0]])  # far apart: no avoidance, no wall
+    speeds = {}
+    for where in ('robot', 'center'):
+        step = SwarmStep(tube, ControlParams(plan_at=where).step_params(SWARM), 3, plan=plan)
+        speeds[where] = step(positions, 0.02).forward_speed_mps
+    np.testing.assert_allclose(speeds['robot'], plan.speed(positions[0]))
+    np.testing.assert_allclose(speeds['center'], np.full(3, float(plan.speed(20.0))))

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from vtube_planning._validate import is_positive
 from vtube_planning.errors import ParamsError
 from vtube_planning.params import SwarmParams
-from vtube_planning.swarm.step import LAWS, StepParams
+from vtube_planning.swarm.step import LAWS, PLAN_AT, StepParams
 
 # ---------------------------------------------------------------------- parameters
 
@@ -35,6 +35,10 @@ class ControlParams:
         Floor r_a,i by 1/sqrt(rho*(l_i)) - r_s, the lattice spacing that realises the planned density (§2.8).
     law
         ``'practical'`` (sigma-weighted, bounded) or ``'barrier'`` (gradients of the barrier functions).
+    plan_at
+        Read the plan at each robot's arc length (``'robot'``, the paper) or at the swarm centre's (``'center'``,
+        ``docs/theory.md`` A16): with ``'robot'`` a planned slow-down reaches the front first and compresses the
+        swarm just where the plan lowers its density.
     kdtree_above
         Use a k-d tree for neighbours above this many robots, all pairs below.
     """
@@ -45,6 +49,7 @@ class ControlParams:
     r_a_max_m: float | None = None
     feedforward: bool = False
     law: str = 'barrier'
+    plan_at: str = 'robot'
     kdtree_above: int = 48
 
     def __post_init__(self) -> None:
@@ -57,6 +62,9 @@ class ControlParams:
             raise ParamsError(msg)
         if self.law not in LAWS:
             msg = f'control law must be one of {LAWS}; got {self.law!r}.'
+            raise ParamsError(msg)
+        if self.plan_at not in PLAN_AT:
+            msg = f'control plan_at must be one of {PLAN_AT}; got {self.plan_at!r}.'
             raise ParamsError(msg)
         if not isinstance(self.feedforward, bool):
             msg = f'control feedforward must be true or false; got {self.feedforward!r}.'
@@ -92,5 +100,6 @@ class ControlParams:
             keeping_gain=self.keeping_gain,
             k_ra_m3ps=self.k_ra_m3ps,
             feedforward=self.feedforward,
+            plan_at=self.plan_at,
             kdtree_above=self.kdtree_above,
         )
