@@ -251,3 +251,15 @@ def test_a_plan_file_is_flown_as_given_and_refused_elsewhere(tmp_path, capsys) -
         )
         == 2
     )
+
+
+def test_robotarium_compare_writes_the_table(tmp_path, capsys) -> None:
+    import json
+
+    assert main(['robotarium', 'compare', 'robotarium_curve', '--seeds', '1', '--out', str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert '| measure | planned | unplanned |' in out and '| expansion starts [s] |' in out
+    rows = json.loads((tmp_path / 'compare_robotarium_curve.json').read_text())
+    assert [row['planned'] for row in rows] == [True, False]
+    assert rows[1]['expansion_start_s'] is None and rows[0]['expansion_start_s'] > 0
+    assert (tmp_path / 'compare_robotarium_curve.md').read_text().count('\n') == 12

@@ -291,6 +291,27 @@ def robotarium_run(
     return EXIT_OK if hard == 0 else 1
 
 
+def robotarium_compare(name_or_path: str, out: Path, *, seeds: int = 5, plan_path: Path | None = None) -> int:
+    """Planned against unplanned over several initialization seeds; prints and writes the comparison table."""
+    import json
+
+    from robotarium_exp.compare import compare, comparison_table
+    from vtube_planning.geometry.scene import load_scene
+    from vtube_planning.swarm.metrics import strict_json
+
+    scene = load_scene(name_or_path)
+    plan = _plan_for(scene, plan_path=plan_path)
+    rows = compare(scene, plan, list(range(seeds)))
+    table = comparison_table(rows)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / f'compare_{scene.name}.md').write_text(table, encoding='utf-8')
+    (out / f'compare_{scene.name}.json').write_text(json.dumps(strict_json(rows), indent=1, allow_nan=False))
+    print(f'scene {scene.name}, V2 initialization seeds 0..{seeds - 1}, mean [min, max]:')
+    print(table)
+    print(f'written {out / f"compare_{scene.name}.md"}, {out / f"compare_{scene.name}.json"}')
+    return EXIT_OK
+
+
 def _seconds(value: float | None) -> str:
     return 'never' if value is None else f'{value:.1f} s'
 
@@ -496,6 +517,11 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument('--no-initialization', action='store_true', help='start at the initial conditions directly')
     run.add_argument('--seed', type=int, default=0, help='seed of the initialization (charger slots, escapes)')
     run.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
+    cmp_cmd = robo_commands.add_parser('compare', help='planned against unplanned over initialization seeds')
+    cmp_cmd.add_argument('scene', help='a Robotarium scene or a .toml file')
+    cmp_cmd.add_argument('--out', type=Path, required=True, help='folder for the table (.md) and the rows (.json)')
+    cmp_cmd.add_argument('--seeds', type=int, default=5, help='initialization seeds 0..n-1')
+    cmp_cmd.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan)')
     sub = commands.add_parser('submission', help='build and check the single file for the remote Robotarium')
     sub_commands = sub.add_subparsers(dest='submission_command', required=True, metavar='SUBCOMMAND')
     build_cmd = sub_commands.add_parser('build', help='write the submission file for a Robotarium scene')
@@ -566,6 +592,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return submission_build(args.scene, args.out, planning=not args.no_planning, plan_path=args.plan)
         if args.command == 'submission':
             return submission_check(args.file, seeds=args.seeds)
+        if args.command == 'robotarium' and args.robotarium_command == 'compare':
+            return robotarium_compare(args.scene, args.out, seeds=args.seeds, plan_path=args.plan)
         if args.command == 'robotarium':
             return robotarium_run(
                 args.scene,
