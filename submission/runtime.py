@@ -109,6 +109,8 @@ def run(data: dict, robotarium_module: Any, *, max_steps: int | None = None) -> 
         'iterations': int(iterations or 0),
         'min_center_distance_m': round(closest[0], 4),
         'barrier_correction_max_mps': round(float(np.max(log['barrier_correction'])), 4),
+        'band_dropped_steps': flight.safety.stats.band_dropped if flight.safety is not None else 0,
+        'filter_failures': flight.safety.stats.failures if flight.safety is not None else 0,
         'errors': {k: v for k, v in errors.items() if isinstance(v, int)},
     }
     print(json.dumps(summary))
