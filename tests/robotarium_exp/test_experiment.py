@@ -44,6 +44,7 @@ def test_the_plan_dips_and_the_swarm_expands_before_the_narrowing(runs) -> None:
     tracked = plan_tracking(planned, plan, scene)
     assert 0.0 < tracked['expansion_start_s'] < tracked['front_at_narrowing_s']
     assert tracked['approach']['density_error_mean'] <= 0.25
+    assert tracked['dip']['density_error_mean'] <= 0.25
     assert plan_tracking(unplanned, plan, scene)['expansion_start_s'] is None
 
 
