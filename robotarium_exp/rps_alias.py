@@ -28,6 +28,7 @@ MODULES = (
     '.utilities',
     '.utilities.barrier_certificates',
     '.utilities.controllers',
+    '.utilities.graph',
     '.utilities.misc',
     '.utilities.transformations',
 )
@@ -40,6 +41,7 @@ def install(*, classic: bool = False, seed: int | None = None, log_path: str | N
     original = sys.modules['rps.robotarium']
     cls = original.ClassicRobotarium if classic else original.Robotarium
     if seed is not None:
+        np.random.seed(seed)  # the script's own draws (random poses, random graphs), as rps takes them
         cls = type(
             cls.__name__, (cls,), {'__init__': functools.partialmethod(cls.__init__, rng=np.random.default_rng(seed))}
         )

@@ -1,1 +1,1 @@
-"""``rps.utilities``: transformations, barrier certificates, controllers, misc."""
+"""``rps.utilities``: transformations, barrier certificates, controllers, graphs, misc."""

@@ -67,6 +67,16 @@ def least_distance(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArra
     return np.asarray(u, dtype=float)
 
 
+def _solve_qp(n: int, vhat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
+    """V2's QP helper: argmin ||v - vhat||^2 subject to a v <= b, v stacked robot by robot; (2, n) or None."""
+    u = least_distance(
+        np.asarray(vhat, dtype=float).reshape(-1, order='F'),
+        np.asarray(a, dtype=float),
+        np.asarray(b, dtype=float).ravel(),
+    )
+    return None if u is None else u.reshape(2, n, order='F')
+
+
 class Certificate:
     """A barrier certificate: ``certificate(dxi, x) -> dxi`` for single integrators, with ``stats``."""
 

@@ -1,4 +1,10 @@
-"""``rps.utilities.controllers``: the position and pose controllers the initialization and user scripts use."""
+"""``rps.utilities.controllers``: the position and pose controllers the initialization and user scripts use.
+
+V2's names and keyword defaults. The pose controllers: the CLF law of Aicardi et al. (the error rotated into the
+goal's frame, approach angle alpha, heading law k alpha + gamma cos(alpha) sinc(alpha) (alpha + h theta)), with
+wheel-limit scaling; the hybrid law (approach with the heading law, then turn in place); and their *parking*
+wrappers, which hold a robot still once it is at its pose.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +13,8 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.rps.utilities.transformations import create_si_to_uni_dynamics
+from robotarium_exp.errors import RobotariumError
+from robotarium_exp.rps.utilities.transformations import create_si_to_uni_dynamics, create_si_to_uni_mapping
 
 FloatArray = NDArray[np.float64]
 
@@ -58,3 +65,120 @@ def create_pose_controller_hybrid(
         return np.where(approaching, dxu, rotate)
 
     return controller
+
+
+def create_uni_position_controller(
+    x_velocity_gain: float = 0.8,
+    y_velocity_gain: float = 0.8,
+    velocity_magnitude_limit: float = 0.15,
+    projection_distance: float = 0.03,
+) -> Callable[[FloatArray, FloatArray], FloatArray]:
+    """``f(states, points) -> dxu``: the single-integrator position controller on the points ``projection_distance``
+    ahead of the robots, through the near-identity map."""
+    si_controller = create_si_position_controller(x_velocity_gain, y_velocity_gain, velocity_magnitude_limit)
+    si_to_uni, uni_to_si_states = create_si_to_uni_mapping(projection_distance=projection_distance)
+
+    def controller(states: FloatArray, poses: FloatArray) -> FloatArray:
+        if states.shape[0] != 3:
+            raise RobotariumError('states must be 3xN.')
+        if poses.shape[0] != 2:
+            raise RobotariumError('poses must be 2xN.')
+        if poses.shape[1] != states.shape[1]:
+            raise RobotariumError('states and poses must have the same number of columns.')
+        return si_to_uni(si_controller(uni_to_si_states(states), poses), states)
+
+    return controller
+
+
+def create_pose_controller_clf(
+    approach_angle_gain: float = 1,
+    desired_angle_gain: float = 2.7,
+    rotation_error_gain: float = 1,
+    wheel_velocity_limit: float = 10.0,
+    wheel_radius: float = 0.016,
+    base_length: float = 0.105,
+) -> Callable[[FloatArray, FloatArray], FloatArray]:
+    """``f(states, poses) -> dxu``: the CLF pose controller, each robot's command scaled to the wheel limit."""
+    gamma, k, h = approach_angle_gain, desired_angle_gain, rotation_error_gain
+
+    def controller(states: FloatArray, poses: FloatArray) -> FloatArray:
+        if states.shape[0] != 3:
+            raise RobotariumError('states must be 3xN.')
+        if poses.shape[0] != 3:
+            raise RobotariumError('poses must be 3xN.')
+        if poses.shape[1] != states.shape[1]:
+            raise RobotariumError('states and poses must have the same number of columns.')
+        goal = poses[2]
+        dx, dy = poses[0] - states[0], poses[1] - states[1]
+        ex = np.cos(goal) * dx + np.sin(goal) * dy  # the position error in the goal's frame
+        ey = -np.sin(goal) * dx + np.cos(goal) * dy
+        e = np.hypot(ex, ey)
+        theta = np.arctan2(ey, ex)
+        alpha = np.angle(np.exp(1j * (theta - (states[2] - goal))))
+        sinc = np.where(np.abs(alpha) < 1e-6, 1.0, np.sin(alpha) / np.where(alpha == 0, 1.0, alpha))
+        v = gamma * e * np.cos(alpha)
+        omega = k * alpha + gamma * np.cos(alpha) * sinc * (alpha + h * theta)
+        wheels = np.abs(
+            np.vstack(
+                [
+                    v / wheel_radius - omega * base_length / (2 * wheel_radius),
+                    v / wheel_radius + omega * base_length / (2 * wheel_radius),
+                ]
+            )
+        ).max(axis=0)
+        scale = np.where(wheels > wheel_velocity_limit, wheel_velocity_limit / np.maximum(wheels, 1e-300), 1.0)
+        return np.vstack([v, omega]) * scale
+
+    return controller
+
+
+def _parking(
+    controller: Callable[[FloatArray, FloatArray], FloatArray], position_error: float, rotation_error: float
+) -> Callable[[FloatArray, FloatArray], FloatArray]:
+    """``controller`` with the commands of robots already at their pose set to zero."""
+
+    def parked(states: FloatArray, poses: FloatArray) -> FloatArray:
+        dxu = controller(states, poses)
+        near = np.hypot(*(states[:2] - poses[:2])) < position_error
+        aligned = np.abs(np.angle(np.exp(1j * (states[2] - poses[2])))) < rotation_error
+        dxu[:, near & aligned] = 0.0
+        return dxu
+
+    return parked
+
+
+def create_pose_parking_controller_clf(
+    approach_angle_gain: float = 1,
+    desired_angle_gain: float = 2.7,
+    rotation_error_gain: float = 1,
+    wheel_velocity_limit: float = 10.0,
+    wheel_radius: float = 0.016,
+    base_length: float = 0.105,
+    position_error: float = 0.05,
+    rotation_error: float = 0.2,
+) -> Callable[[FloatArray, FloatArray], FloatArray]:
+    """The CLF pose controller that holds a robot still once it is within the errors of its pose."""
+    clf = create_pose_controller_clf(
+        approach_angle_gain, desired_angle_gain, rotation_error_gain, wheel_velocity_limit, wheel_radius, base_length
+    )
+    return _parking(clf, position_error, rotation_error)
+
+
+def create_pose_parking_controller_hybrid(
+    linear_velocity_gain: float = 0.8,
+    angular_velocity_limit: float = np.pi,
+    velocity_magnitude_limit: float = 0.15,
+    position_error: float = 0.05,
+    position_epsilon: float = 0.01,
+    rotation_error: float = 0.2,
+) -> Callable[[FloatArray, FloatArray], FloatArray]:
+    """The hybrid pose controller that holds a robot still once it is within the errors of its pose."""
+    hybrid = create_pose_controller_hybrid(
+        linear_velocity_gain,
+        angular_velocity_limit,
+        velocity_magnitude_limit,
+        position_error,
+        position_epsilon,
+        rotation_error,
+    )
+    return _parking(hybrid, position_error, rotation_error)

@@ -33,22 +33,54 @@ def generate_initial_poses(
     return np.vstack([x[pick], y[pick], theta[pick]])
 
 
-def generate_random_poses(
+def _uniform(rng: np.random.Generator | None, size: int) -> FloatArray:
+    """Uniform draws in [0, 1): from ``rng``, or from numpy's global generator as the testbed's ``rps`` does (so a
+    script's ``np.random.seed`` holds)."""
+    return rng.random(size) if rng is not None else np.random.rand(size)
+
+
+def generate_random_positions(
     n: int, spacing: float = 0.5, width: float = 3.0, height: float = 1.8, *, rng: np.random.Generator | None = None
 ) -> FloatArray:
-    """N random poses (3xN) at least ``spacing`` apart in a width x height box (rejection sampling)."""
-    rng = rng if rng is not None else np.random.default_rng()
+    """N random positions (2xN) at least ``spacing`` apart in a width x height box centred at the origin.
+
+    Rejection sampling, up to 10,000 candidates. Raises :class:`RobotariumError` when N cannot fit.
+    """
+    if not (isinstance(n, int) and not isinstance(n, bool) and n > 0):
+        raise RobotariumError('N must be a positive integer.')
+    if not spacing > 0:
+        raise RobotariumError('spacing must be positive.')
+    if not (width > 0 and height > 0):
+        raise RobotariumError('width and height must be positive.')
+    most = int(np.floor(width * height / spacing**2))
+    if n > most:
+        msg = (
+            f'Cannot fit {n} positions with spacing {spacing:.2f} m into a {width:.2f} x {height:.2f} m area. '
+            f'Approximate maximum: {most}.'
+        )
+        raise RobotariumError(msg)
     points = np.zeros((2, 0))
     for _ in range(10_000):
         if points.shape[1] == n:
             break
-        candidate = rng.uniform([-width / 2, -height / 2], [width / 2, height / 2])
+        candidate = (_uniform(rng, 2) - 0.5) * np.array([width, height])
         if points.shape[1] == 0 or np.hypot(*(points - candidate[:, None])).min() >= spacing:
             points = np.hstack([points, candidate[:, None]])
     if points.shape[1] < n:
-        msg = f'could not place {n} robots {spacing} m apart in {width} x {height} m; lower N or the spacing.'
+        msg = (
+            f'Could not place {n} positions with spacing {spacing:.2f} m after 10000 attempts. '
+            'Try reducing N or spacing.'
+        )
         raise RobotariumError(msg)
-    return np.vstack([points, rng.uniform(-np.pi, np.pi, n)])
+    return points
+
+
+def generate_random_poses(
+    n: int, spacing: float = 0.5, width: float = 3.0, height: float = 1.8, *, rng: np.random.Generator | None = None
+) -> FloatArray:
+    """N random poses (3xN): :func:`generate_random_positions` and headings uniform in [-pi, pi)."""
+    points = generate_random_positions(n, spacing, width, height, rng=rng)
+    return np.vstack([points, _uniform(rng, n) * 2 * np.pi - np.pi])
 
 
 def generate_initial_conditions(
