@@ -51,6 +51,17 @@ class Robotarium:
     COLLISION_DIAMETER = ROBOTARIUM.collision_diameter_m
     COLLISION_OFFSET = ROBOTARIUM.collision_offset_m
     BOUNDARIES = ROBOTARIUM.arena_m
+    # V2's on-board sensor models (encoders, IMU, magnetometer, orientation): values and noise of its simulator
+    ENCODER_COUNTS_PER_REVOLUTION = 28
+    MOTOR_GEAR_RATIO = 100.37
+    ENCODER_NOISE_STD = 0.25
+    IMU_ORIENTATION = np.array([0.0594 - 0.00319, 0.0344628 - 0.0475, 0.0])
+    ACCELEROMETER_NOISE_STDS = np.array([0.012929, 0.012127, 0.052979])
+    GYRO_NOISE_STDS = np.array([0.001663, 0.001216, 0.002372])
+    MAGNETOMETER_NOISE_STDS = np.array([3.275843, 2.365798, 5.232685])
+    MAGNETOMETER_Z_AVG = -39.8594
+    MAGNETOMETER_XY_AVG = 6.0712
+    ORIENTATION_NOISE_STD = 0.310830
 
     def __init__(
         self,
@@ -104,6 +115,12 @@ class Robotarium:
             raise RobotariumError(msg)
         self.initial_conditions = ic.astype(float).copy()
         self._velocities = np.zeros((2, number_of_robots))
+        self._distances = np.full((7, number_of_robots), np.nan)  # no distance sensors simulated: NaN, as V2 off
+        self._accelerations = np.zeros((3, number_of_robots))
+        self._gyros = np.zeros((3, number_of_robots))
+        self._magnetic_fields = np.zeros((3, number_of_robots))
+        self._orientations = np.zeros(number_of_robots)
+        self._encoders = np.zeros((2, number_of_robots))
         self._errors: dict[str, int] = {
             'robots_outside_boundaries': 0,
             'robots_too_close': 0,
@@ -304,6 +321,61 @@ class Robotarium:
                 np.arctan2(np.sin(theta + self.TIME_STEP * dxu[1]), np.cos(theta + self.TIME_STEP * dxu[1])),
             ]
         )
+        self._simulate_sensors(dxu)
+
+    def _simulate_sensors(self, dxu: FloatArray) -> None:
+        """V2's on-board readings after a step, noise from ``np.random`` as V2 draws it.
+
+        Encoders count wheel revolutions (28 counts x 100.37 gear ratio per turn) with noise growing with the
+        square root of the counts. The accelerometer sees gravity and the centripetal term at the IMU's offset:
+        V2 differences the commands against themselves, so its translational and tangential terms are zero,
+        and so are ours. The gyro reads omega, the magnetometer a field rotating with the heading, the orientation
+        the heading in degrees [0, 360).
+        """
+        n = self.number_of_robots
+        delta = self.wheel_speeds(dxu) * self.TIME_STEP * self.ENCODER_COUNTS_PER_REVOLUTION * self.MOTOR_GEAR_RATIO
+        delta /= 2 * np.pi
+        delta += self.ENCODER_NOISE_STD * np.sqrt(np.maximum(np.abs(delta), 1.0)) * np.random.randn(*delta.shape)
+        self._encoders += np.round(delta)
+        omega = dxu[1]
+        imu = self.IMU_ORIENTATION
+        self._accelerations = np.vstack([-(omega**2) * imu[0], -(omega**2) * imu[1], np.full(n, -9.81)])
+        self._accelerations += self.ACCELEROMETER_NOISE_STDS[:, None] * np.random.randn(3, n)
+        self._gyros = np.vstack([np.zeros(n), np.zeros(n), omega]) + self.GYRO_NOISE_STDS[:, None] * np.random.randn(
+            3, n
+        )
+        theta = self.poses[2]
+        field = np.vstack(
+            [
+                self.MAGNETOMETER_XY_AVG * np.cos(theta),
+                -self.MAGNETOMETER_XY_AVG * np.sin(theta),
+                np.full(n, self.MAGNETOMETER_Z_AVG),
+            ]
+        )
+        self._magnetic_fields = field + self.MAGNETOMETER_NOISE_STDS[:, None] * np.random.randn(3, n)
+        degrees = np.degrees(theta) + self.ORIENTATION_NOISE_STD * np.random.randn(n)
+        self._orientations = np.mod(degrees, 360.0)
+
+    # ------------------------------------------------------------------ V2's sensor getters (copies)
+
+    def get_distances(self) -> FloatArray:
+        """Seven distance readings per robot (7xN): NaN without simulated distance sensors, as V2 returns them."""
+        return self._distances.copy()
+
+    def get_accelerations(self) -> FloatArray:
+        return self._accelerations.copy()
+
+    def get_gyros(self) -> FloatArray:
+        return self._gyros.copy()
+
+    def get_magnetic_fields(self) -> FloatArray:
+        return self._magnetic_fields.copy()
+
+    def get_orientations(self) -> FloatArray:
+        return self._orientations.copy()
+
+    def get_encoders(self) -> NDArray[np.int32]:
+        return self._encoders.astype(np.int32)
 
     def _initialize(self, goals: FloatArray) -> None:
         """V2's initialization: from the chargers to the goals under a unicycle barrier certificate (not validated)."""
