@@ -236,17 +236,27 @@ EXPANSION_THRESHOLD_M = 0.02
 """The expansion has started once the swarm's mean avoidance radius is this far above its initial value."""
 
 
+def expansion_times(arrays: dict[str, FloatArray], scene: Scene) -> tuple[float | None, float | None]:
+    """When the mean r_a first exceeds its initial value by ``EXPANSION_THRESHOLD_M``, and when the first robot
+    reaches the narrowing (s; None when it never happens)."""
+    from robotarium_exp.analysis.report import narrowing_start
+
+    r_a = arrays['r_a_m'].mean(axis=1)
+    expanded = np.flatnonzero(r_a >= r_a[0] + EXPANSION_THRESHOLD_M)
+    narrowing = np.flatnonzero(arrays['l_m'].max(axis=1) >= narrowing_start(scene))
+    t = arrays['t_s']
+    return (float(t[expanded[0]]) if expanded.size else None, float(t[narrowing[0]]) if narrowing.size else None)
+
+
 def plan_tracking(result: ExperimentResult, plan: Plan, scene: Scene) -> dict[str, Any]:
     """How a run followed its plan, phase by phase, and when the swarm expanded (strict JSON values).
 
     Phases by the arc length l_c of the swarm's centre, over the steps before any robot parks: ``approach``
     before the plan's (p7) binds, ``dip`` while it binds, ``narrow`` after. Per phase, the mean and largest
     relative density error |rho_r - rho*(l_c)| / rho*(l_c) and speed error |v - v*(l_c)| / v*(l_c) (v: the
-    flying robots' mean forward speed). ``expansion_start_s``: when the mean r_a first exceeds its initial value
-    by ``EXPANSION_THRESHOLD_M``; ``front_at_narrowing_s``: when the first robot reaches the narrowing.
+    flying robots' mean forward speed). ``expansion_start_s`` and ``front_at_narrowing_s``: see
+    :func:`expansion_times`.
     """
-    from robotarium_exp.analysis.report import narrowing_start
-
     a = result.arrays
     swarm = a['flying'].all(axis=1)
     center = a['l_m'].mean(axis=1)
@@ -269,11 +279,7 @@ def plan_tracking(result: ExperimentResult, plan: Plan, scene: Scene) -> dict[st
             'speed_error_mean': float(speed_err[mask].mean()) if mask.any() else None,
             'speed_error_max': float(speed_err[mask].max()) if mask.any() else None,
         }
-    r_a = a['r_a_m'].mean(axis=1)
-    expanded = np.flatnonzero(r_a >= r_a[0] + EXPANSION_THRESHOLD_M)
-    narrowing = np.flatnonzero(a['l_m'].max(axis=1) >= narrowing_start(scene))
-    out['expansion_start_s'] = float(a['t_s'][expanded[0]]) if expanded.size else None
-    out['front_at_narrowing_s'] = float(a['t_s'][narrowing[0]]) if narrowing.size else None
+    out['expansion_start_s'], out['front_at_narrowing_s'] = expansion_times(a, scene)
     return strict_json(out)
 
 

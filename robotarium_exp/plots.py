@@ -25,8 +25,7 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle, Rectangle
 
-    from robotarium_exp.analysis.report import narrowing_start
-    from robotarium_exp.experiment import EXPANSION_THRESHOLD_M
+    from robotarium_exp.experiment import expansion_times
 
     arrays = result.arrays
     t = arrays['t_s']
@@ -77,13 +76,12 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
     ra = arrays['r_a_m'].mean(axis=1)
     ax_ra.plot(t[swarm], ra[swarm], color='tab:purple', label='mean r_a')
     ax_ra.set_ylabel('r_a [m]')
-    expanded = np.flatnonzero(ra >= ra[0] + EXPANSION_THRESHOLD_M)
-    narrowing = np.flatnonzero(arrays['l_m'].max(axis=1) >= narrowing_start(scene))
+    expansion_s, narrowing_s = expansion_times(arrays, scene)
     for axis in (ax_rho, ax_v):
-        if expanded.size:
-            axis.axvline(t[expanded[0]], color='tab:purple', ls=':', lw=1.0, label='expansion starts')
-        if narrowing.size:
-            axis.axvline(t[narrowing[0]], color='k', ls=':', lw=1.0, label='front reaches the narrowing')
+        if expansion_s is not None:
+            axis.axvline(expansion_s, color='tab:purple', ls=':', lw=1.0, label='expansion starts')
+        if narrowing_s is not None:
+            axis.axvline(narrowing_s, color='k', ls=':', lw=1.0, label='front reaches the narrowing')
         axis.set_xlabel('time [s]')
         axis.legend(loc='upper right', fontsize=7)
     ax_rho.set_ylabel('density [1/m^2]')

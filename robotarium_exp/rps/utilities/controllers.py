@@ -67,6 +67,16 @@ def create_pose_controller_hybrid(
     return controller
 
 
+def _check_shapes(states: FloatArray, poses: FloatArray, pose_rows: int) -> None:
+    """rps's checks of a unicycle controller's arguments: states 3xN, goals ``pose_rows`` x N."""
+    if states.shape[0] != 3:
+        raise RobotariumError('states must be 3xN.')
+    if poses.shape[0] != pose_rows:
+        raise RobotariumError(f'poses must be {pose_rows}xN.')
+    if poses.shape[1] != states.shape[1]:
+        raise RobotariumError('states and poses must have the same number of columns.')
+
+
 def create_uni_position_controller(
     x_velocity_gain: float = 0.8,
     y_velocity_gain: float = 0.8,
@@ -79,12 +89,7 @@ def create_uni_position_controller(
     si_to_uni, uni_to_si_states = create_si_to_uni_mapping(projection_distance=projection_distance)
 
     def controller(states: FloatArray, poses: FloatArray) -> FloatArray:
-        if states.shape[0] != 3:
-            raise RobotariumError('states must be 3xN.')
-        if poses.shape[0] != 2:
-            raise RobotariumError('poses must be 2xN.')
-        if poses.shape[1] != states.shape[1]:
-            raise RobotariumError('states and poses must have the same number of columns.')
+        _check_shapes(states, poses, 2)
         return si_to_uni(si_controller(uni_to_si_states(states), poses), states)
 
     return controller
@@ -102,12 +107,7 @@ def create_pose_controller_clf(
     gamma, k, h = approach_angle_gain, desired_angle_gain, rotation_error_gain
 
     def controller(states: FloatArray, poses: FloatArray) -> FloatArray:
-        if states.shape[0] != 3:
-            raise RobotariumError('states must be 3xN.')
-        if poses.shape[0] != 3:
-            raise RobotariumError('poses must be 3xN.')
-        if poses.shape[1] != states.shape[1]:
-            raise RobotariumError('states and poses must have the same number of columns.')
+        _check_shapes(states, poses, 3)
         goal = poses[2]
         dx, dy = poses[0] - states[0], poses[1] - states[1]
         ex = np.cos(goal) * dx + np.sin(goal) * dy  # the position error in the goal's frame
