@@ -14,6 +14,7 @@ import numpy as np
 
 from robotarium_exp.experiment import ExperimentConfig, plan_tracking, run_experiment
 from robotarium_exp.rps.robotarium import Robotarium
+from robotarium_exp.rps_alias import seed_rps
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 
@@ -36,13 +37,8 @@ def compare(scene: Scene, plan: Plan, seeds: list[int]) -> list[dict[str, Any]]:
     rows = []
     for seed in seeds:
         for planned in (True, False):
-            result = run_experiment(
-                Robotarium,
-                scene,
-                plan if planned else None,
-                ExperimentConfig(planning=planned),
-                robotarium_kwargs={'rng': np.random.default_rng(seed)},
-            )
+            seed_rps(seed)  # the same V2 initialization draws for both modes
+            result = run_experiment(Robotarium, scene, plan if planned else None, ExperimentConfig(planning=planned))
             tracked = plan_tracking(result, plan, scene)
             rows.append(
                 {

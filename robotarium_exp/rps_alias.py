@@ -11,8 +11,8 @@ pose it hands out (a vtube ``.npz`` log, completed by the end-of-script call).
 
 from __future__ import annotations
 
-import functools
 import importlib
+import random
 import runpy
 import sys
 import types
@@ -25,12 +25,17 @@ from vtube_planning.swarm.log import LogWriter
 MODULES = (
     '',
     '.robotarium',
+    '.robotarium_abc',
     '.utilities',
     '.utilities.barrier_certificates',
     '.utilities.controllers',
     '.utilities.graph',
     '.utilities.misc',
     '.utilities.transformations',
+    '.examples',
+    '.examples.state_estimation',
+    '.examples.state_estimation.extended_kalman_filter',
+    '.examples.state_estimation.extended_kalman_filter.uni_ekf',
 )
 
 
@@ -41,10 +46,7 @@ def install(*, classic: bool = False, seed: int | None = None, log_path: str | N
     original = sys.modules['rps.robotarium']
     cls = original.ClassicRobotarium if classic else original.Robotarium
     if seed is not None:
-        np.random.seed(seed)  # the script's own draws (random poses, random graphs), as rps takes them
-        cls = type(
-            cls.__name__, (cls,), {'__init__': functools.partialmethod(cls.__init__, rng=np.random.default_rng(seed))}
-        )
+        seed_rps(seed)
     if log_path is not None:
         cls = recording(cls, log_path)
     module = types.ModuleType('rps.robotarium', original.__doc__)
@@ -52,6 +54,12 @@ def install(*, classic: bool = False, seed: int | None = None, log_path: str | N
     module.__dict__['Robotarium'] = cls
     sys.modules['rps.robotarium'] = module
     vars(sys.modules['rps'])['robotarium'] = module
+
+
+def seed_rps(seed: int) -> None:
+    """Seed what ``rps`` and the scripts draw from: Python's ``random`` (charger slots) and ``np.random``."""
+    random.seed(seed)
+    np.random.seed(seed)
 
 
 def recording(cls: type, log_path: str) -> type:

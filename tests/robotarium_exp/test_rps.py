@@ -12,6 +12,7 @@ import pytest
 
 from robotarium_exp.errors import RobotariumError
 from robotarium_exp.rps.robotarium import Robotarium
+from robotarium_exp.rps_alias import seed_rps
 
 ROOT = Path(__file__).resolve().parents[2]
 NOT_A_BOOL: Any = 'yes'  # a wrong argument type, passed on purpose (Any, so mypy lets it through)
@@ -83,31 +84,46 @@ def test_validation_counts_like_v2(capsys) -> None:
     r.debug()
     out = capsys.readouterr().out
     assert 'took approximately 0.07 real seconds' in out and 'Errors detected, your script will NOT run' in out
+    assert 'Simulation had 2 time steps where robots were too close (potential collision).' in out
     outside = ours(1, np.array([[1.65], [0.0], [0.0]]))
     outside.get_poses()
     outside.step()
     assert outside.errors['robots_outside_boundaries'] == 1
+    outside.debug()
+    assert 'Simulation had 1 time steps where robots were outside boundaries.' in capsys.readouterr().out
+    fast = ours(1, np.zeros((3, 1)))
+    for _ in range(4):
+        fast.get_poses()
+        fast.set_velocities(np.arange(1), np.array([[0.3], [0.0]]))  # 18.75 rad/s per wheel
+        fast.step()
+    fast.debug()
+    out = capsys.readouterr().out
+    assert 'No hard errors detected, your script will run on the Robotarium!' in out
+    assert 'WARNING: 4 out of 4 (~100%) timesteps had velocity command(s) exceed actuator limits.' in out
     clean = ours(1, np.zeros((3, 1)))
     clean.get_poses()
     clean.step()
     clean.debug()
-    assert 'No errors or warnings' in capsys.readouterr().out
-    clean.call_at_scripts_end()
-    assert 'No errors in your simulation! Acceptance of your experiment is likely!' in capsys.readouterr().out
+    assert (
+        'No errors or warnings in your simulation!  Your script will run on the Robotarium!' in capsys.readouterr().out
+    )
 
 
-def test_constants_in_both_spellings() -> None:
+def test_constants_are_v2s() -> None:
     r = ours(1, np.zeros((3, 1)))
-    assert r.TIME_STEP == r.time_step == 0.033
-    assert list(r.BOUNDARIES) == [-1.6, 1.6, -1.0, 1.0] and r.boundaries == [-1.6, -1.0, 3.2, 2.0]
-    assert r.MAX_WHEEL_VELOCITY == pytest.approx(12.5) and r.max_angular_velocity == pytest.approx(3.636, abs=1e-3)
+    assert r.TIME_STEP == 0.033 and r.BASE_LENGTH == 0.11 and r.WHEEL_RADIUS == 0.016
+    np.testing.assert_array_equal(r.BOUNDARIES * 0.5, [-0.8, 0.8, -0.5, 0.5])  # an array, as V2's
+    assert r.MAX_WHEEL_VELOCITY == pytest.approx(12.5) and r.MAX_ANGULAR_VELOCITY == pytest.approx(3.636, abs=1e-3)
 
 
 @pytest.mark.parametrize(
     ('make', 'match'),
     [
-        (lambda: Robotarium(number_of_robots=np.int64(3), sim_in_real_time=False), 'must be an integer type'),
-        (lambda: Robotarium(number_of_robots=51, sim_in_real_time=False), 'must be between 0 and 50'),
+        (
+            lambda: Robotarium(number_of_robots=np.int64(3), sim_in_real_time=False),
+            'NumberOfRobots must be an integer. Received type int64.',
+        ),
+        (lambda: Robotarium(number_of_robots=51, sim_in_real_time=False), r'Number of robots must be >= 0 and <= 50'),
         (
             lambda: Robotarium(
                 number_of_robots=2,
@@ -115,9 +131,16 @@ def test_constants_in_both_spellings() -> None:
                 initial_conditions=np.zeros((2, 2)),
                 skip_initialization=True,
             ),
-            'must of size 3xN',
+            r'initial_conditions must be a 3 x 2 array .* got shape \(2, 2\)',
         ),
-        (lambda: Robotarium(number_of_robots=2, show_figure=NOT_A_BOOL), 'show_figure must be a bool'),
+        (
+            lambda: Robotarium(number_of_robots=2, show_figure=NOT_A_BOOL),
+            'ShowFigure must be a boolean. Received type str.',
+        ),
+        (
+            lambda: Robotarium(number_of_robots=2, initial_conditions=[[0.0], [0.0], [0.0]]),
+            'InitialConditions must be a numpy ndarray. Received type list.',
+        ),
         (
             lambda: Robotarium(
                 number_of_robots=30,
@@ -133,6 +156,14 @@ def test_bad_construction_raises_what_rps_users_know(make, match: str) -> None:
         make()
 
 
+def test_unknown_keywords_are_ignored_with_a_warning_as_v2_ignores_them() -> None:
+    with pytest.warns(UserWarning, match=r"ignores the unknown keyword\(s\) \['show_figures'\]"):
+        r = Robotarium(number_of_robots=1, sim_in_real_time=False, skip_initialization=True, show_figures=True)
+    assert r.show_figure is False
+    with pytest.raises(TypeError):  # positional arguments are not V2's interface (its __init__ takes **kwargs)
+        Robotarium(1, False)  # type: ignore[misc]
+
+
 def test_call_order_is_enforced() -> None:
     r = ours()
     r.get_poses()
@@ -141,18 +172,22 @@ def test_call_order_is_enforced() -> None:
     r.step()
     with pytest.raises(RobotariumError, match=r'Make sure you call get_poses before calling step\(\)!'):
         r.step()
-    with pytest.raises(RobotariumError, match=r'2xk array .* got \(3, 2\)'):
+    with pytest.raises(RobotariumError, match=r'2xk array .* got shape \(3, 2\)'):
         r.set_velocities(np.arange(2), np.zeros((3, 2)))
+    with pytest.raises(RobotariumError, match=r'Column count of velocities \(3\) must be <= number_of_robots \(2\)'):
+        r.set_velocities(np.arange(2), np.zeros((2, 3)))
     with pytest.raises(RobotariumError, match='must be finite'):
         r.set_velocities(np.arange(2), np.array([[0.1, np.nan], [0.0, 0.0]]))
     poses = r.get_poses()
     poses[0] += 5.0  # a copy: changing it does not move the robots (V2)
-    assert r.poses[0, 0] == 0.0
+    r.step()
+    assert r.get_poses()[0, 0] == 0.0
 
 
 def test_initialization_drives_robots_from_the_chargers_to_the_initial_conditions() -> None:
     ic = np.array([[-1.0, -0.6, -0.2, 0.2, 0.6, 1.0], [0.0] * 6, [0.0] * 6])
-    r = Robotarium(number_of_robots=6, sim_in_real_time=False, initial_conditions=ic, rng=np.random.default_rng(3))
+    seed_rps(3)
+    r = Robotarium(number_of_robots=6, sim_in_real_time=False, initial_conditions=ic)
     poses = r.get_poses()
     assert np.hypot(*(poses[:2] - ic[:2])).max() <= 0.05
     assert np.abs(np.angle(np.exp(1j * (poses[2] - ic[2])))).max() <= 0.2

@@ -9,12 +9,32 @@ wrappers, which hold a robot still once it is at its pose.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.errors import RobotariumError
-from robotarium_exp.rps.utilities.transformations import create_si_to_uni_dynamics, create_si_to_uni_mapping
+from robotarium_exp.rps.utilities.transformations import (
+    create_si_to_uni_dynamics,
+    create_si_to_uni_dynamics_with_backwards_motion,
+    create_si_to_uni_mapping,
+    create_uni_to_si_mapping,
+)
+
+__all__ = [  # V2's module also hands out the transformations to ``from rps.utilities.controllers import *``
+    'create_pose_controller_clf',
+    'create_pose_controller_hybrid',
+    'create_pose_parking_controller_clf',
+    'create_pose_parking_controller_hybrid',
+    'create_si_position_controller',
+    'create_si_to_uni_dynamics',
+    'create_si_to_uni_dynamics_with_backwards_motion',
+    'create_si_to_uni_mapping',
+    'create_uni_position_controller',
+    'create_uni_to_si_mapping',
+    'np',
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -23,12 +43,18 @@ def create_si_position_controller(
     x_velocity_gain: float = 0.8, y_velocity_gain: float = 0.8, velocity_magnitude_limit: float = 0.15
 ) -> Callable[[FloatArray, FloatArray], FloatArray]:
     """``f(x, goals) -> dxi``: proportional single-integrator control, norm-clamped."""
+    for name, gain in (('x_velocity_gain', x_velocity_gain), ('y_velocity_gain', y_velocity_gain)):
+        if not (isinstance(gain, (int, float)) and gain > 0):
+            raise RobotariumError(f'{name} must be a positive number.')
+    if not (isinstance(velocity_magnitude_limit, (int, float)) and velocity_magnitude_limit >= 0):
+        raise RobotariumError('velocity_magnitude_limit must be non-negative.')
 
     def controller(x: FloatArray, goals: FloatArray) -> FloatArray:
+        _check_shapes(x, goals, 2, 2)
         dxi = np.vstack([x_velocity_gain * (goals[0] - x[0]), y_velocity_gain * (goals[1] - x[1])])
         norms = np.hypot(*dxi)
         over = norms > velocity_magnitude_limit
-        dxi[:, over] *= velocity_magnitude_limit / norms[over]
+        dxi[:, over] = velocity_magnitude_limit * dxi[:, over] / norms[over]
         return dxi
 
     return controller
@@ -41,36 +67,49 @@ def create_pose_controller_hybrid(
     position_error: float = 0.03,
     position_epsilon: float = 0.01,
     rotation_error: float = 0.05,
-) -> Callable[[FloatArray, FloatArray], FloatArray]:
-    """``f(states, poses) -> dxu``: approach the position with the heading law, then turn in place.
+) -> Callable[..., Any]:
+    """``f(states, poses[, in_approach_state]) -> dxu`` (or ``(dxu, approach_state)``): V2's two-phase law.
 
-    A robot switches to turning when within ``position_error`` of its goal and back to approaching when it drifts
-    beyond ``position_error + position_epsilon`` (hysteresis kept between calls).
+    Per robot, while in the approach phase and farther than ``position_error - position_epsilon``: drive to the
+    position with the heading law (:func:`create_si_to_uni_dynamics` with ``linear_velocity_gain``) on the
+    position error clamped to ``velocity_magnitude_limit`` (so at most 0.8 x 0.15 = 0.12 m/s by default).
+    Otherwise, while the heading is off by more than ``rotation_error``: turn in place at twice the heading error,
+    and stay out of the approach phase unless farther than ``position_error``. Otherwise: stop.
+
+    The phases are remembered between calls, one per robot, and restart (all approaching) whenever the number of
+    robots in a call changes, as V2's; pass ``in_approach_state`` (N values, 1 approaching, 0 not; updated in
+    place) to keep them yourself, and the phases are returned with the commands.
     """
-    approach = create_si_position_controller(linear_velocity_gain, linear_velocity_gain, velocity_magnitude_limit)
-    heading_law = create_si_to_uni_dynamics(1.0, angular_velocity_limit)
-    state: dict[str, NDArray[np.bool_]] = {}
+    heading_law = create_si_to_uni_dynamics(linear_velocity_gain, angular_velocity_limit)
+    remembered = {'approach_state': np.ones(0)}
 
-    def controller(states: FloatArray, poses: FloatArray) -> FloatArray:
+    def controller(states: FloatArray, poses: FloatArray, in_approach_state: FloatArray | None = None) -> Any:
         n = states.shape[1]
-        approaching = state.setdefault('approaching', np.ones(n, dtype=bool))
-        distance = np.hypot(*(states[:2] - poses[:2]))
-        approaching[distance <= position_error] = False
-        approaching[distance > position_error + position_epsilon] = True
-        dxu = heading_law(approach(states[:2], poses[:2]), states)
-        turn = np.angle(np.exp(1j * (poses[2] - states[2])))
-        rotate = np.vstack([np.zeros(n), np.clip(2.0 * turn, -angular_velocity_limit, angular_velocity_limit)])
-        rotate[1, np.abs(turn) <= rotation_error] = 0.0
-        dxu[1] = np.clip(dxu[1], -angular_velocity_limit, angular_velocity_limit)
-        return np.where(approaching, dxu, rotate)
+        if in_approach_state is not None:
+            approach_state = in_approach_state
+        else:
+            if remembered['approach_state'].shape[0] != n:
+                remembered['approach_state'] = np.ones(n)
+            approach_state = remembered['approach_state']
+        error = poses[:2] - states[:2]
+        distance = np.hypot(*error)
+        turn = np.arctan2(np.sin(poses[2] - states[2]), np.cos(poses[2] - states[2]))
+        approach = (approach_state != 0) & (distance > position_error - position_epsilon)
+        rotate = ~approach & (np.abs(turn) > rotation_error)
+        approach_state[rotate] = (distance[rotate] > position_error).astype(approach_state.dtype)
+        clamp = velocity_magnitude_limit / np.maximum(distance, velocity_magnitude_limit)
+        dxu = np.zeros((2, n))
+        dxu[:, approach] = heading_law(error * clamp, states)[:, approach]
+        dxu[1, rotate] = 2 * turn[rotate]
+        return (dxu, approach_state) if in_approach_state is not None else dxu
 
     return controller
 
 
-def _check_shapes(states: FloatArray, poses: FloatArray, pose_rows: int) -> None:
-    """rps's checks of a unicycle controller's arguments: states 3xN, goals ``pose_rows`` x N."""
-    if states.shape[0] != 3:
-        raise RobotariumError('states must be 3xN.')
+def _check_shapes(states: FloatArray, poses: FloatArray, pose_rows: int, state_rows: int = 3) -> None:
+    """V2's checks of a controller's arguments (its messages): states ``state_rows`` x N, goals ``pose_rows`` x N."""
+    if states.shape[0] != state_rows:
+        raise RobotariumError(f'states must be {state_rows}xN.')
     if poses.shape[0] != pose_rows:
         raise RobotariumError(f'poses must be {pose_rows}xN.')
     if poses.shape[1] != states.shape[1]:

@@ -1,4 +1,8 @@
-"""``rps.utilities.transformations`` of both generations, on :mod:`unicycle_mapping`."""
+"""``rps.utilities.transformations`` (V2): single-integrator commands to unicycles and back.
+
+The near-identity map (a point ``projection_distance`` ahead of the axle) is :mod:`unicycle_mapping`'s; the heading
+laws are V2's. Arguments are checked with V2's messages.
+"""
 
 from __future__ import annotations
 
@@ -7,69 +11,114 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from unicycle_mapping import si_to_uni, si_to_uni_states, uni_to_si, uni_to_si_states
+from robotarium_exp.errors import RobotariumError
+from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
 
 FloatArray = NDArray[np.float64]
 Map = Callable[[FloatArray, FloatArray], FloatArray]
 
 
-def create_si_to_uni_dynamics(linear_velocity_gain: float = 1, angular_velocity_limit: float = np.pi) -> Map:
-    """V2 heading law (not a diffeomorphism): v = k (h . u), omega = w_lim atan2(h_perp . u, h . u) / (pi / 2)."""
+def _check_gains(linear_velocity_gain: float, angular_velocity_limit: float) -> None:
+    if not (isinstance(linear_velocity_gain, (int, float)) and linear_velocity_gain > 0):
+        raise RobotariumError('linear_velocity_gain must be a positive number.')
+    if not (isinstance(angular_velocity_limit, (int, float)) and angular_velocity_limit >= 0):
+        raise RobotariumError('angular_velocity_limit must be non-negative.')
 
-    def dynamics(dxi: FloatArray, poses: FloatArray) -> FloatArray:
-        c, s = np.cos(poses[2]), np.sin(poses[2])
+
+def _check_projection(projection_distance: float) -> None:
+    if not (isinstance(projection_distance, (int, float)) and projection_distance > 0):
+        raise RobotariumError('projection_distance must be a positive number.')
+
+
+def _check_pair(commands: FloatArray, command_name: str, states: FloatArray, state_rows: int, state_name: str) -> None:
+    """V2's shape checks of a map's arguments: ``command_name`` 2xN, ``state_name`` ``state_rows`` x N."""
+    m, n = commands.shape
+    ms, ns = states.shape
+    if m != 2:
+        raise RobotariumError(f'{command_name} must be 2xN. Got {m}x{n}.')
+    if ms != state_rows:
+        raise RobotariumError(f'{state_name} must be {state_rows}xN. Got {ms}x{ns}.')
+    if n != ns:
+        raise RobotariumError(f'{command_name} and {state_name} must have the same number of columns ({n} vs {ns}).')
+
+
+def create_si_to_uni_dynamics(linear_velocity_gain: float = 1, angular_velocity_limit: float = np.pi) -> Map:
+    """The heading law (not a diffeomorphism): v = k (h . u), omega = w_lim atan2(h_perp . u, h . u) / (pi / 2)."""
+    _check_gains(linear_velocity_gain, angular_velocity_limit)
+
+    def si_to_uni_dyn(dxi: FloatArray, states: FloatArray) -> FloatArray:
+        _check_pair(dxi, 'dxi', states, 3, 'states')
+        c, s = np.cos(states[2]), np.sin(states[2])
         along = c * dxi[0] + s * dxi[1]
         across = -s * dxi[0] + c * dxi[1]
         return np.vstack(
             [linear_velocity_gain * along, angular_velocity_limit * np.arctan2(across, along) / (np.pi / 2)]
         )
 
-    return dynamics
+    return si_to_uni_dyn
 
 
 def create_si_to_uni_dynamics_with_backwards_motion(
     linear_velocity_gain: float = 1, angular_velocity_limit: float = np.pi
 ) -> Map:
-    """V2: the heading law, reversing when the command points more than 90 degrees away."""
-    forward = create_si_to_uni_dynamics(linear_velocity_gain, angular_velocity_limit)
+    """The heading law, driving backwards when the command is not strictly within 90 degrees of the heading.
 
-    def dynamics(dxi: FloatArray, poses: FloatArray) -> FloatArray:
-        flipped = poses.copy()
-        behind = np.cos(poses[2]) * dxi[0] + np.sin(poses[2]) * dxi[1] < 0
-        flipped[2, behind] += np.pi
-        dxu = forward(dxi, flipped)
-        dxu[0, behind] *= -1
-        return dxu
-
-    return dynamics
-
-
-def create_si_to_uni_mapping(
-    projection_distance: float = 0.05, angular_velocity_limit: float | None = None
-) -> tuple[Map, Callable[[FloatArray], FloatArray]]:
-    """``(si_to_uni_dyn(dxi, poses), uni_to_si_states(poses))``: the near-identity map.
-
-    V2 applies no limit to omega; the classic version clips it to ``angular_velocity_limit`` (pass it to get that).
+    Backwards, the law acts on the reversed heading. As in V2, omega is ``w_lim atan2(h_perp . u, v) / (pi / 2)``
+    with ``v = k (h . u)``: the gain enters the angle (unlike the forward law; equal for k = 1).
     """
+    _check_gains(linear_velocity_gain, angular_velocity_limit)
 
-    def si_to_uni_dyn(dxi: FloatArray, poses: FloatArray) -> FloatArray:
-        dxu = si_to_uni(dxi, poses, projection_distance)
-        if angular_velocity_limit is not None:
-            dxu[1] = np.clip(dxu[1], -angular_velocity_limit, angular_velocity_limit)
-        return dxu
+    def si_to_uni_dyn(dxi: FloatArray, states: FloatArray) -> FloatArray:
+        _check_pair(dxi, 'dxi', states, 3, 'states')
+        off = np.arctan2(dxi[1], dxi[0]) - states[2]
+        off = np.arctan2(np.sin(off), np.cos(off))
+        sign = np.where((off > -np.pi / 2) & (off < np.pi / 2), 1.0, -1.0)
+        heading = np.where(sign > 0, states[2], states[2] + np.pi)
+        c, s = np.cos(heading), np.sin(heading)
+        v = linear_velocity_gain * (c * dxi[0] + s * dxi[1])
+        omega = angular_velocity_limit * np.arctan2(-s * dxi[0] + c * dxi[1], v) / (np.pi / 2)
+        return np.vstack([sign * v, omega])
 
-    return si_to_uni_dyn, lambda poses: uni_to_si_states(poses, projection_distance)
+    return si_to_uni_dyn
+
+
+def create_si_to_uni_mapping(projection_distance: float = 0.05) -> tuple[Map, Callable[[FloatArray], FloatArray]]:
+    """``(si_to_uni_dyn(dxi, states), uni_to_si_states(states))``: the near-identity map and its points (2xN)."""
+    _check_projection(projection_distance)
+
+    def si_to_uni_dyn(dxi: FloatArray, states: FloatArray) -> FloatArray:
+        _check_pair(dxi, 'dxi', states, 3, 'states')
+        return si_to_uni(dxi, states, projection_distance)
+
+    def uni_to_si_states_(states: FloatArray) -> FloatArray:
+        if states.shape[0] != 3:
+            raise RobotariumError(f'states must be 3xN. Got {states.shape[0]}x{states.shape[1]}.')
+        return uni_to_si_states(states, projection_distance)
+
+    return si_to_uni_dyn, uni_to_si_states_
 
 
 def create_uni_to_si_mapping(projection_distance: float = 0.05) -> tuple[Map, Map]:
-    """V2: ``(uni_to_si_dyn(dxu, poses), si_to_uni_states(uni_states, si_states))``."""
+    """``(uni_to_si_dyn(dxu, states), si_to_uni_states(uni_states, si_states))``: the inverse pair.
 
-    def states(uni_states: FloatArray, si_states: FloatArray) -> FloatArray:
-        return si_to_uni_states(si_states, uni_states[2], projection_distance)
+    ``si_to_uni_states`` gives the axle positions (2xN) under the points ``si_states``.
+    """
+    _check_projection(projection_distance)
 
-    return (lambda dxu, poses: uni_to_si(dxu, poses, projection_distance)), states
+    def uni_to_si_dyn(dxu: FloatArray, states: FloatArray) -> FloatArray:
+        _check_pair(dxu, 'dxu', states, 3, 'states')
+        return uni_to_si(dxu, states, projection_distance)
 
+    def si_to_uni_states(uni_states: FloatArray, si_states: FloatArray) -> FloatArray:
+        m, n = uni_states.shape
+        if m != 3:
+            raise RobotariumError(f'uni_states must be 3xN. Got {m}x{n}.')
+        if si_states.shape[0] != 2:
+            raise RobotariumError(f'si_states must be 2xN. Got {si_states.shape[0]}x{si_states.shape[1]}.')
+        if si_states.shape[1] != n:
+            msg = f'uni_states and si_states must have the same number of columns ({n} vs {si_states.shape[1]}).'
+            raise RobotariumError(msg)
+        heading = np.vstack([np.cos(uni_states[2]), np.sin(uni_states[2])])
+        return si_states[:2] - projection_distance * heading
 
-def create_uni_to_si_dynamics(projection_distance: float = 0.05) -> Map:
-    """Classic: ``uni_to_si_dyn(dxu, poses)`` alone."""
-    return lambda dxu, poses: uni_to_si(dxu, poses, projection_distance)
+    return uni_to_si_dyn, si_to_uni_states

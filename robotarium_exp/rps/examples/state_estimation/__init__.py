@@ -1,0 +1,1 @@
+"""``rps.examples.state_estimation``: state-estimation helpers."""
