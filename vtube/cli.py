@@ -225,11 +225,11 @@ def robotarium_run(
     plan_path: Path | None = None,
 ) -> int:
     """Run the tube experiment on the bundled Robotarium simulator; print the verdict and metrics, write log and figure."""
-    import numpy as np
 
     from robotarium_exp.experiment import ExperimentConfig, plan_tracking, run_experiment
     from robotarium_exp.plots import experiment_figure
     from robotarium_exp.rps.robotarium import Robotarium
+    from robotarium_exp.rps_alias import seed_rps
     from robotarium_exp.spec import ROBOTARIUM
     from vtube_planning.geometry.scene import load_scene
     from vtube_planning.plots import save_figure
@@ -238,13 +238,14 @@ def robotarium_run(
     plan = _plan_for(scene, plan_path=plan_path) if planning else None
     mode = 'planned' if planning else 'unplanned'
     log = out / f'experiment_{scene.name}_{mode}.npz'
+    seed_rps(seed)  # V2's initialization draws from random and np.random
     result = run_experiment(
         Robotarium,
         scene,
         plan,
         ExperimentConfig(planning=planning, barrier=barrier),
         log_path=log,
-        robotarium_kwargs={'skip_initialization': not initialization, 'rng': np.random.default_rng(seed)},
+        robotarium_kwargs={'skip_initialization': not initialization},
     )
     e, m, b = result.errors, result.metrics, result.barrier
     hard = e['robots_too_close'] + e['robots_outside_boundaries']

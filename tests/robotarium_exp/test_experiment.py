@@ -8,11 +8,12 @@ import pytest
 from robotarium_exp.errors import ExperimentError
 from robotarium_exp.experiment import ExperimentConfig, initial_conditions, parking_slots, plan_tracking, run_experiment
 from robotarium_exp.rps.robotarium import Robotarium
+from robotarium_exp.rps_alias import seed_rps
 from vtube_planning import load_scene
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.swarm.log import read_log
 
-NO_INIT = {'skip_initialization': True, 'rng': np.random.default_rng(0)}
+NO_INIT = {'skip_initialization': True}
 
 
 @pytest.fixture(scope='module', params=['robotarium_trapezoid', 'robotarium_curve'])
@@ -77,9 +78,8 @@ def test_full_run_with_initialization_logs_every_step(tmp_path) -> None:
     scene = load_scene('robotarium_curve')
     plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
     log = tmp_path / 'run.npz'
-    result = run_experiment(
-        Robotarium, scene, plan, ExperimentConfig(), log_path=log, robotarium_kwargs={'rng': np.random.default_rng(1)}
-    )
+    seed_rps(1)
+    result = run_experiment(Robotarium, scene, plan, ExperimentConfig(), log_path=log)
     arrays, meta = read_log(log)
     assert arrays['positions_m'].shape == result.arrays['positions_m'].shape and meta['finished'] and meta['completed']
     assert meta['errors']['robots_too_close'] == 0 and meta['duration_s'] > arrays['t_s'][-1]

@@ -193,3 +193,36 @@ def test_initialization_drives_robots_from_the_chargers_to_the_initial_condition
     assert np.abs(np.angle(np.exp(1j * (poses[2] - ic[2])))).max() <= 0.2
     assert r.iterations == r.initialization_steps > 100  # they count towards the duration
     assert r.errors['robots_too_close'] == 0  # and are not validated
+
+
+# V2's own run of this loop (poses at steps 300 and 599, encoder counts at the end, np.random seeded with 0),
+# recorded by running the official simulator: numbers, not its code.
+V2_POSES_300 = [
+    [-1.6085876645005197, -0.4416531000670372, 0.07569255700819386, -0.08994821127470919, 0.8305421892725577],
+    [0.38549353369416545, -0.15909463051843123, 0.9267622718252739, 0.19134970277454197, 0.48665559783753193],
+    [1.6182725837933556, 1.2097857545887494, -2.5146414438881433, 1.2322693551847386, -0.8364046979344976],
+]
+V2_POSES_599 = [
+    [-1.360186740612, -0.42851762037698227, 0.3910636864703656, 0.2708358865153331, 0.7104752502616573],
+    [0.23727635331383592, 0.22844003017839898, 0.3492132112738552, 0.14377996357025596, 0.7568185817221518],
+    [2.654898675344493, 1.442880131437633, 2.4276917981332824, -0.00558517073666643, -1.1954969195960021],
+]
+V2_ENCODERS = [[-940, 6528, 5620, 2404, -6239], [7268, 7912, -286, -6955, -8290]]
+
+
+def test_the_same_commands_give_v2s_poses_and_encoder_counts() -> None:
+    """600 steps of commands over the wheel and turn limits, no barriers: poses to 1e-9 of V2's, counts equal."""
+    np.random.seed(0)
+    ic = np.array([[-1.0, -0.5, 0.0, 0.5, 1.0], [0.2, -0.3, 0.4, -0.1, 0.3], [0.0, 1.0, -2.0, 3.0, -0.5]])
+    r = ours(5, ic)
+    seen = []
+    for k in range(600):
+        seen.append(r.get_poses())
+        t = k * 0.033
+        r.set_velocities(
+            np.arange(5), np.vstack([0.25 * np.sin(t + np.arange(5)), 4.0 * np.cos(0.7 * t + np.arange(5))])
+        )
+        r.step()
+    np.testing.assert_allclose(seen[300], V2_POSES_300, atol=1e-9)
+    np.testing.assert_allclose(seen[599], V2_POSES_599, atol=1e-9)
+    np.testing.assert_array_equal(r.get_encoders(), V2_ENCODERS)  # the noise draws are V2's, in V2's order
