@@ -226,3 +226,22 @@ def test_the_same_commands_give_v2s_poses_and_encoder_counts() -> None:
     np.testing.assert_allclose(seen[300], V2_POSES_300, atol=1e-9)
     np.testing.assert_allclose(seen[599], V2_POSES_599, atol=1e-9)
     np.testing.assert_array_equal(r.get_encoders(), V2_ENCODERS)  # the noise draws are V2's, in V2's order
+
+
+# V2's initialization of one robot (no barrier QP for a single robot, so nothing but V2's algorithm and draws):
+# steps taken, pose and encoder counts at the end, for random.seed and np.random.seed 0 and 1, recorded by
+# running the official simulator.
+V2_SINGLE_ROBOT_INITIALIZATION = {
+    0: (352, [0.3002092069202918, 0.18022136106543116, 2.321504509382016], [30295, 32611]),
+    1: (512, [0.2843105215559242, 0.18811473317811148, 2.318266174480961], [45939, 48270]),
+}
+
+
+@pytest.mark.parametrize('seed', sorted(V2_SINGLE_ROBOT_INITIALIZATION))
+def test_the_initialization_is_v2s_step_for_step(seed: int) -> None:
+    steps, pose, encoders = V2_SINGLE_ROBOT_INITIALIZATION[seed]
+    seed_rps(seed)
+    r = Robotarium(number_of_robots=1, sim_in_real_time=False, initial_conditions=np.array([[0.3], [0.2], [2.5]]))
+    assert r.iterations == r.initialization_steps == steps
+    np.testing.assert_allclose(r.get_poses()[:, 0], pose, atol=1e-12)
+    np.testing.assert_array_equal(r.get_encoders()[:, 0], encoders)
