@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.errors import RobotariumError
-from robotarium_exp.rps.utilities.misc import at_pose, at_position
+from robotarium_exp.rps.utilities.misc import create_at_pose, create_at_position
 
 __all__ = [
     'at_pose',
@@ -71,6 +71,20 @@ def generate_initial_conditions(N: int, spacing: float = 0.3, width: float = 3, 
     column, row = np.divmod(cells, rows)
     headings = np.random.rand(N) * 2 * np.pi - np.pi
     return np.vstack([column * spacing - width / 2, row * spacing - height / 2, headings])
+
+
+def at_pose(
+    states: FloatArray, poses: FloatArray, position_error: float = 0.05, rotation_error: float = 0.2
+) -> tuple[NDArray[np.intp], ...]:
+    """Indices of the robots within ``position_error`` of their positions and ``rotation_error`` of their headings
+    (wrapped), as ``np.nonzero`` gives them (V2's check)."""
+    return np.nonzero(create_at_pose(position_error, rotation_error)(states, poses)[1])
+
+
+def at_position(states: FloatArray, points: FloatArray, position_error: float = 0.02) -> tuple[NDArray[np.intp], ...]:
+    """Indices of the robots (states 3xN) within ``position_error`` of their points (2xN). Classic's own version
+    cannot run (it checks the shape of an undefined name); this one does."""
+    return np.nonzero(create_at_position(position_error)(states[:2], points)[1])
 
 
 def determine_marker_size(robotarium_instance: Any, marker_size_meters: float) -> float:

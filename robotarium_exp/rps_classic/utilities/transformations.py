@@ -15,8 +15,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from robotarium_exp.rps.utilities import transformations as v2
-from robotarium_exp.rps.utilities.transformations import FloatArray, Map, create_uni_to_si_dynamics
+from robotarium_exp.rps.utilities.transformations import FloatArray, Map
+from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
 
 __all__ = [
     'create_si_to_uni_dynamics',
@@ -51,4 +51,15 @@ def create_si_to_uni_mapping(
 ) -> tuple[Map, Callable[[FloatArray], FloatArray]]:
     """``(si_to_uni_dyn(dxi, poses), uni_to_si_states(poses))``: the near-identity map, omega clipped to
     +/- ``angular_velocity_limit``."""
-    return v2.create_si_to_uni_mapping(projection_distance, angular_velocity_limit)
+
+    def si_to_uni_dyn(dxi: FloatArray, poses: FloatArray) -> FloatArray:
+        dxu = si_to_uni(dxi, poses, projection_distance)
+        dxu[1] = np.clip(dxu[1], -angular_velocity_limit, angular_velocity_limit)
+        return dxu
+
+    return si_to_uni_dyn, lambda poses: uni_to_si_states(poses, projection_distance)
+
+
+def create_uni_to_si_dynamics(projection_distance: float = 0.05) -> Map:
+    """``uni_to_si_dyn(dxu, poses)``: the velocities of the points ``projection_distance`` ahead of the robots."""
+    return lambda dxu, poses: uni_to_si(dxu, poses, projection_distance)
