@@ -99,7 +99,7 @@ def recording(cls: type, log_path: str) -> type:
 
         def _counts(self) -> tuple[dict[str, int], int]:
             """Validation counts and iterations of either generation (classic keeps them private, with texts)."""
-            if hasattr(self, 'debug'):
+            if hasattr(self, 'TIME_STEP'):  # V2
                 return self.errors, self.iterations
             return {k: v for k, v in self._errors.items() if isinstance(v, int)}, self._iterations
 
@@ -119,6 +119,9 @@ def recording(cls: type, log_path: str) -> type:
             self._log.flush(errors=errors, iterations=iterations, finished=True)
             return super().call_at_scripts_end()
 
+    for end_of_script in ('debug', 'call_at_scripts_end'):  # keep only the generation's own (scripts test for it)
+        if not hasattr(cls, end_of_script):
+            delattr(Recording, end_of_script)
     Recording.__name__ = cls.__name__
     return Recording
 
