@@ -17,7 +17,7 @@ from functools import partial
 import numpy as np
 
 from benchmarks._timing import timed
-from robotarium_exp.rps.robotarium import ClassicRobotarium
+from robotarium_exp.rps_classic.robotarium import Robotarium
 from submission.builder import build
 
 
@@ -25,8 +25,11 @@ def loop_times(namespace: dict, steps: int) -> list[float]:
     """Per-step seconds of the file's own flight (its inlined code, with its safety filter)."""
     data = namespace['DATA']
     n = int(data['n_robots'])
-    r = ClassicRobotarium(
-        number_of_robots=n, sim_in_real_time=False, initial_conditions=np.array(data['initial_conditions'])
+    r = Robotarium(  # the classic one: robots placed at the initial conditions
+        number_of_robots=n,
+        show_figure=False,
+        sim_in_real_time=False,
+        initial_conditions=np.array(data['initial_conditions'], dtype=float),
     )
     flight = namespace['build_flight'](data)
     dt = float(data['time_step_s'])

@@ -2,11 +2,16 @@
 
     python -m robotarium_exp.rps_alias [--classic] [--seed N] [--log FILE.npz] my_script.py [args...]
 
-or, inside Python, ``install()`` before the script imports ``rps``. By default ``rps.robotarium.Robotarium`` behaves
-as V2 (robots are driven from the chargers to the initial conditions); ``--classic`` gives the classic generation's
-behaviour (robots start exactly at the initial conditions), as the PyPI simulator does. ``--seed`` makes the
-simulator's randomness (charger slots, deadlock escapes) reproducible; ``--log`` makes the simulator record every
+or, inside Python, ``install()`` before the script imports ``rps``. By default ``rps`` is V2
+(:mod:`robotarium_exp.rps`: robots are driven from the chargers to the initial conditions, ``debug()``);
+``--classic`` makes it the classic generation, :mod:`robotarium_exp.rps_classic`, names and semantics (the PyPI
+``robotarium_python_simulator`` 0.0.0: ``call_at_scripts_end()``, ``rps.robotarium_abc``,
+``rps.utilities.barrier_certificates2``...). ``--seed`` seeds ``random`` and ``np.random``, what the scripts and both
+generations draw from (V2's charger slots and deadlock escapes, classic's random start poses); ``--log`` makes the simulator record every
 pose it hands out (a vtube ``.npz`` log, completed by the end-of-script call).
+
+A script that dies on ``np.mat`` (removed in numpy 2, used by several classic examples) gets a message naming the
+fix instead of a bare ``AttributeError``, and exit code 1.
 """
 
 from __future__ import annotations
@@ -15,6 +20,7 @@ import importlib
 import random
 import runpy
 import sys
+import traceback
 import types
 from typing import Any
 
@@ -37,14 +43,30 @@ MODULES = (
     '.examples.state_estimation.extended_kalman_filter',
     '.examples.state_estimation.extended_kalman_filter.uni_ekf',
 )
+"""The V2 package's modules (suffixes of ``rps``)."""
+
+CLASSIC_MODULES = (
+    '',
+    '.robotarium',
+    '.robotarium_abc',
+    '.utilities',
+    '.utilities.barrier_certificates',
+    '.utilities.barrier_certificates2',
+    '.utilities.controllers',
+    '.utilities.graph',
+    '.utilities.misc',
+    '.utilities.transformations',
+)
+"""The classic package's modules (no examples package; one more certificate module)."""
 
 
 def install(*, classic: bool = False, seed: int | None = None, log_path: str | None = None) -> None:
     """Register the bundled simulator's modules under the names ``rps``, ``rps.robotarium``, ``rps.utilities...``."""
-    for suffix in MODULES:
-        sys.modules['rps' + suffix] = importlib.import_module('robotarium_exp.rps' + suffix)
+    package, suffixes = ('robotarium_exp.rps_classic', CLASSIC_MODULES) if classic else ('robotarium_exp.rps', MODULES)
+    for suffix in suffixes:
+        sys.modules['rps' + suffix] = importlib.import_module(package + suffix)
     original = sys.modules['rps.robotarium']
-    cls = original.ClassicRobotarium if classic else original.Robotarium
+    cls = original.Robotarium
     if seed is not None:
         seed_rps(seed)
     if log_path is not None:
@@ -69,26 +91,37 @@ def recording(cls: type, log_path: str) -> type:
         def __init__(self, *args: Any, **kwargs: Any) -> None:
             super().__init__(*args, **kwargs)
             self._log = LogWriter(
-                log_path, {'kind': 'bundled robotarium', 'n_robots': self.number_of_robots, 'dt_s': self.TIME_STEP}
+                log_path, {'kind': 'bundled robotarium', 'n_robots': self.number_of_robots, 'dt_s': self._dt()}
             )
+
+        def _dt(self) -> float:
+            return float(getattr(self, 'TIME_STEP', None) or self.time_step)  # V2, classic
+
+        def _counts(self) -> tuple[dict[str, int], int]:
+            """Validation counts and iterations of either generation (classic keeps them private, with texts)."""
+            if hasattr(self, 'TIME_STEP'):  # V2
+                return self.errors, self.iterations
+            return {k: v for k, v in self._errors.items() if isinstance(v, int)}, self._iterations
 
         def get_poses(self) -> Any:
             poses = super().get_poses()
-            self._log.append(
-                t_s=(self.iterations - self.initialization_steps) * self.TIME_STEP,
-                positions_m=poses[:2],
-                headings_rad=poses[2],
-            )
+            steps = self._counts()[1] - getattr(self, 'initialization_steps', 0)
+            self._log.append(t_s=steps * self._dt(), positions_m=poses[:2], headings_rad=poses[2])
             return poses
 
         def debug(self) -> Any:
-            self._log.flush(errors=self.errors, iterations=self.iterations, finished=True)
+            errors, iterations = self._counts()
+            self._log.flush(errors=errors, iterations=iterations, finished=True)
             return super().debug()
 
         def call_at_scripts_end(self) -> Any:
-            self._log.flush(errors=self.errors, iterations=self.iterations, finished=True)
+            errors, iterations = self._counts()
+            self._log.flush(errors=errors, iterations=iterations, finished=True)
             return super().call_at_scripts_end()
 
+    for end_of_script in ('debug', 'call_at_scripts_end'):  # keep only the generation's own (scripts test for it)
+        if not hasattr(cls, end_of_script):
+            delattr(Recording, end_of_script)
     Recording.__name__ = cls.__name__
     return Recording
 
@@ -111,7 +144,26 @@ def main() -> None:
         raise SystemExit(2)
     install(classic=classic, seed=seed, log_path=log_path)
     sys.argv = args
-    runpy.run_path(sys.argv[0], run_name='__main__')
+    try:
+        runpy.run_path(sys.argv[0], run_name='__main__')
+    except AttributeError as error:
+        if not uses_np_mat(error):
+            raise
+        traceback.print_exc()
+        print(NP_MAT_MESSAGE.format(script=sys.argv[0], numpy=np.__version__), file=sys.stderr)
+        raise SystemExit(1) from None
+
+
+NP_MAT_MESSAGE = (
+    'rps_alias: {script} uses np.mat, which numpy 2 removed (numpy {numpy} is installed), so it fails on any '
+    "simulator. Fix: replace np.mat('1 2; 3 4') by np.asmatrix('1 2; 3 4'), or better by a plain array, "
+    'np.array([[1, 2], [3, 4]]).'
+)
+
+
+def uses_np_mat(error: AttributeError) -> bool:
+    """Whether ``error`` is numpy 2 refusing ``np.mat`` (its message names it; the attribute is ``mat``)."""
+    return getattr(error, 'name', None) == 'mat' or '`np.mat`' in str(error) or "attribute 'mat'" in str(error)
 
 
 if __name__ == '__main__':

@@ -160,14 +160,14 @@ def test_saved_arrays_load_without_pickle(tmp_path, monkeypatch) -> None:
     import importlib
     import sys
 
-    from robotarium_exp.rps import robotarium as ours
-    from robotarium_exp.rps_alias import MODULES
+    from robotarium_exp.rps_alias import CLASSIC_MODULES
+    from robotarium_exp.rps_classic import robotarium as classic
 
-    for suffix in MODULES:  # `import rps...` inside the runtime resolves to the bundled simulator, for this test only
-        monkeypatch.setitem(sys.modules, 'rps' + suffix, importlib.import_module('robotarium_exp.rps' + suffix))
+    for suffix in CLASSIC_MODULES:  # `import rps...` in the runtime resolves to the classic tree, for this test only
+        monkeypatch.setitem(sys.modules, 'rps' + suffix, importlib.import_module('robotarium_exp.rps_classic' + suffix))
 
     class Module:  # robots placed at the initial conditions
-        Robotarium = ours.ClassicRobotarium
+        Robotarium = classic.Robotarium
 
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv('VTUBE_HEADLESS', '1')

@@ -1,0 +1,1 @@
+"""Classic ``rps.utilities``: transformations, controllers, barrier certificates, graphs, misc."""
