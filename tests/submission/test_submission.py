@@ -13,6 +13,7 @@ import pytest
 
 from robotarium_exp.experiment import ExperimentConfig, run_experiment
 from robotarium_exp.rps.robotarium import Robotarium
+from robotarium_exp.rps_alias import seed_rps
 from robotarium_exp.spec import ROBOTARIUM
 from submission import runtime
 from submission.builder import SubmissionError, build, write
@@ -82,22 +83,18 @@ def test_the_inlined_step_is_the_library_step(tmp_path, control_line: str) -> No
 
 
 def test_the_submission_flies_the_bundled_experiment(tmp_path) -> None:
-    """Same scene variant, same initial conditions: the experiment and the built file on the classic simulator."""
+    """Same scene variant, same V2 initialization draws: the experiment and the built file fly the same poses."""
     path = variant(tmp_path, 'robotarium_trapezoid', 'law = "practical"')
     scene = load_scene(path)
-    experiment = run_experiment(
-        Robotarium,
-        scene,
-        plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name),
-        ExperimentConfig(),
-        robotarium_kwargs={'skip_initialization': True},
-    )
+    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+    seed_rps(0)
+    experiment = run_experiment(Robotarium, scene, plan, ExperimentConfig())
     work = tmp_path / 'testbed'
     work.mkdir()
     file = write(build(path), work / 'submission.py')
     env = dict(os.environ, VTUBE_HEADLESS='1')
     done = subprocess.run(
-        [sys.executable, '-m', 'robotarium_exp.rps_alias', '--classic', str(file)],
+        [sys.executable, '-m', 'robotarium_exp.rps_alias', '--seed', '0', str(file)],
         cwd=work,
         env=env,
         capture_output=True,
