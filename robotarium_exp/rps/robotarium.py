@@ -5,7 +5,8 @@
   checked with V2's messages (:class:`RobotariumError` is an ``AssertionError``, as V2's ``assert`` raises).
 * Call order ``get_poses() -> set_velocities(ids, dxu) -> step()`` enforced with the messages rps users know.
 * ``step()``: the verifier's counts (:meth:`ARobotarium._validate`), then per-wheel clipping, forward Euler at
-  0.033 s, then the on-board sensors. ``debug()`` prints V2's summary and verdict.
+  0.033 s, then the on-board sensors (and the distance sensors with ``use_distance_sensors=True``, which see the
+  other robots and the ``obstacles``, M x 2 x 2 line segments; :mod:`robotarium_exp.rps.utilities.sensors`). ``debug()`` prints V2's summary and verdict.
 * The initialization is V2's algorithm, step for step: robots start on charger slots drawn with Python's
   ``random`` and are driven to the initial conditions by V2's hybrid pose controller under a unicycle barrier
   certificate, with V2's deadlock escapes (random waypoints from ``np.random``). Those steps count towards the
@@ -29,6 +30,7 @@ from robotarium_exp.rps.robotarium_abc import ARobotarium
 from robotarium_exp.rps.utilities.barrier_certificates import create_uni_barrier_certificate
 from robotarium_exp.rps.utilities.controllers import create_pose_controller_hybrid
 from robotarium_exp.rps.utilities.misc import create_at_pose, generate_initial_poses, generate_random_poses
+from robotarium_exp.rps.utilities.sensors import simulate_distance_sensors
 
 FloatArray = NDArray[np.float64]
 
@@ -235,6 +237,19 @@ class Robotarium(ARobotarium):
         self._poses[1] += travel * np.sin(self._poses[2])
         self._poses[2] += self.TIME_STEP * self._velocities[1]
         self._poses[2] = np.arctan2(np.sin(self._poses[2]), np.cos(self._poses[2]))
+        if self._distance_sensors_enabled:
+            self._distances = simulate_distance_sensors(
+                poses=self._poses,
+                obstacles=self.obstacles,
+                distance_sensors_orientation=self.DISTANCE_SENSORS_ORIENTATION,
+                robot_diameter=self.ROBOT_DIAMETER,
+                robot_center_offset=self.CENTER_OFFSET,
+                distance_sensor_range=self.DISTANCE_SENSOR_RANGE,
+                distance_sensor_error=self.DISTANCE_SENSOR_ERROR,
+                distance_sensor_dropout_prob=self.DISTANCE_SENSOR_DROPOUT_PROB,
+                distance_sensor_outlier_prob=self.DISTANCE_SENSOR_OUTLIER_PROB,
+            )
+            self._distance_endpoints = self._calculate_endpoints(self._distances)
         self.simulate_encoder_readings()
         self.simulate_accelerations()
         self.simulate_gyros()
@@ -242,6 +257,8 @@ class Robotarium(ARobotarium):
         self.simulate_orientations()
         if self.show_figure:
             self._draw_robots()
+            if not self.initializing and self._distance_sensors_enabled:
+                self._draw_distances()
         if self.sim_in_real_time:
             remaining = self.TIME_STEP - (time.perf_counter() - self._previous_render_time)
             if remaining > 0:

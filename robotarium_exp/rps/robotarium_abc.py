@@ -239,12 +239,48 @@ class ARobotarium(ABC):
             self._robot_handle = ax.scatter(
                 self._poses[0], self._poses[1], s=60, color='gold', edgecolors='k', zorder=2
             )
+        colours = [self.robot_colormap()(i % 20) for i in range(self.number_of_robots) for _ in range(7)]
+        if self._distance_sensors_enabled and self.show_distance_endpoints:
+            self._endpoint_handle = ax.scatter(
+                np.full(len(colours), np.nan), np.full(len(colours), np.nan), s=50, c=colours, zorder=3
+            )
+        if self._distance_sensors_enabled and self.show_distance_rays:
+            from matplotlib.collections import LineCollection
+
+            self._ray_handle = ax.add_collection(LineCollection([], linewidths=0.5, colors=colours, zorder=2))
         if self.show_obstacles and self.obstacles is not None:
             for segment in np.asarray(self.obstacles, dtype=float):
                 ax.add_line(Line2D(segment[:, 0], segment[:, 1], linewidth=4, color='0.5'))
         plt.ion()
         plt.show()
         plt.subplots_adjust(left=0.01, right=0.99, bottom=0.01, top=0.99)
+
+    def _calculate_endpoints(self, distances: FloatArray) -> FloatArray:
+        """World points (2 x 7 x N) where the readings ``distances`` end; NaN where a sensor saw nothing.
+
+        As V2, the rays start at the sensors' mounts on the axle frame (the readings themselves are simulated from
+        the body centre ``CENTER_OFFSET`` ahead).
+        """
+        mounts = self.DISTANCE_SENSORS_ORIENTATION
+        c, s = np.cos(self._poses[2]), np.sin(self._poses[2])
+        x = c * mounts[0][:, None] - s * mounts[1][:, None] + self._poses[0]
+        y = s * mounts[0][:, None] + c * mounts[1][:, None] + self._poses[1]
+        angle = self._poses[2][None, :] + mounts[2][:, None]
+        seen = np.where(distances >= 0, distances, np.nan)
+        return np.stack([x + seen * np.cos(angle), y + seen * np.sin(angle)])
+
+    def _draw_distances(self) -> None:
+        """The readings' endpoints (one colour per robot) and, if asked, the rays from the mounts."""
+        ends = self._distance_endpoints
+        if self.show_distance_endpoints:
+            self._endpoint_handle.set_offsets(np.column_stack([ends[0].T.ravel(), ends[1].T.ravel()]))
+        if self.show_distance_rays:
+            mounts = self.DISTANCE_SENSORS_ORIENTATION
+            c, s = np.cos(self._poses[2]), np.sin(self._poses[2])
+            x = c * mounts[0][:, None] - s * mounts[1][:, None] + self._poses[0]
+            y = s * mounts[0][:, None] + c * mounts[1][:, None] + self._poses[1]
+            segments = np.stack([np.stack([x, y], axis=-1), np.stack([ends[0], ends[1]], axis=-1)], axis=2)
+            self._ray_handle.set_segments(segments.transpose(1, 0, 2, 3).reshape(-1, 2, 2))
 
     def _draw_robots(self) -> None:
         if self._robot_handle is not None:
