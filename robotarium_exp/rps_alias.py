@@ -37,6 +37,7 @@ MODULES = (
     '.utilities.controllers',
     '.utilities.graph',
     '.utilities.misc',
+    '.utilities.sensors',
     '.utilities.transformations',
     '.examples',
     '.examples.state_estimation',

@@ -823,13 +823,18 @@ FEASIBILITY_TOL = 1e-9
 
 @dataclass(frozen=True)
 class BarrierSpec:
-    """The QP's data: safety radius R, gain gamma, speed limit, boundary [xmin, xmax, ymin, ymax], polygon."""
+    """The QP's data: safety radius R, gain gamma, speed limit, boundary [xmin, xmax, ymin, ymax], polygon.
+
+    ``full_first_side``: V2's plain certificates put the polygon's first side (+x) at the limit and the other
+    seven at limit cos(pi/8); its boundary certificates put all eight at limit cos(pi/8).
+    """
 
     safety_radius: float
     barrier_gain: float
     magnitude_limit: float
     boundary: tuple[float, float, float, float] | None
     speed_polygon: bool
+    full_first_side: bool = True
 
 
 def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArray]:
@@ -866,12 +871,13 @@ def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArr
             a[row + robots, 2 * robots + axis] = sign
             b[row : row + n] = gain * room**3
             row += n
-    if spec.speed_polygon:  # rps V2: the first side at the limit, the other seven at limit cos(pi/8)
+    if spec.speed_polygon:  # rps V2: sides at limit cos(pi/8), the first one at the limit if full_first_side
         for side in range(POLYGON_SIDES):
             angle = 2 * math.pi * side / POLYGON_SIDES
             a[row + robots, 2 * robots] = math.cos(angle)
             a[row + robots, 2 * robots + 1] = math.sin(angle)
-            b[row : row + n] = spec.magnitude_limit * (1.0 if side == 0 else math.cos(math.pi / POLYGON_SIDES))
+            full = side == 0 and spec.full_first_side
+            b[row : row + n] = spec.magnitude_limit * (1.0 if full else math.cos(math.pi / POLYGON_SIDES))
             row += n
     return a, b
 

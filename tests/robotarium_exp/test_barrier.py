@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from robotarium_exp.rps.utilities import barrier_certificates as bc
+from robotarium_exp.rps_classic.utilities import barrier_certificates as classic
 from unicycle_mapping import uni_to_si_states
 
 TIGHT = {'tol_gap_abs': 1e-12, 'tol_gap_rel': 1e-12, 'tol_feas': 1e-12, 'tol_ktratio': 1e-10}
@@ -20,19 +21,21 @@ def tight_configuration(rng: np.random.Generator, n: int) -> tuple[np.ndarray, n
 
 
 def reference(u_hat: np.ndarray, x: np.ndarray, spec: bc.BarrierSpec) -> np.ndarray | None:
-    """The same QP with every row (no pruning), written with cvxpy and solved by Clarabel to 1e-12."""
+    """The same QP with every row (no pruning), written with cvxpy and solved by Clarabel to 1e-12.
+
+    V2's speed polygon, written out here: side k has outward normal at angle 2 pi k / 8 and sits at the limit
+    times cos(pi/8), except the first one of the plain certificates, at the limit.
+    """
     a, b = bc.barrier_rows(x, bc.BarrierSpec(spec.safety_radius, spec.barrier_gain, 1e9, spec.boundary, False))
-    norms = np.hypot(*u_hat)
-    scaled = u_hat * np.minimum(1.0, spec.magnitude_limit / np.maximum(norms, 1e-300))
-    rows, rhs = [a], [b]
-    if spec.speed_polygon:
-        poly_a, poly_b = bc.barrier_rows(x, bc.BarrierSpec(1e-9, 1e-9, spec.magnitude_limit, None, True))
-        rows.append(poly_a[-8 * x.shape[1] :])
-        rhs.append(poly_b[-8 * x.shape[1] :])
     u = cp.Variable(u_hat.size)
-    problem = cp.Problem(
-        cp.Minimize(cp.sum_squares(u - scaled.reshape(-1, order='F'))), [np.vstack(rows) @ u <= np.concatenate(rhs)]
-    )
+    constraints = [a @ u <= b]
+    if spec.speed_polygon:
+        for k in range(8):
+            normal = np.array([np.cos(2 * np.pi * k / 8), np.sin(2 * np.pi * k / 8)])
+            bound = spec.magnitude_limit * (1.0 if k == 0 and spec.full_first_side else np.cos(np.pi / 8))
+            for robot in range(x.shape[1]):
+                constraints.append(normal @ u[2 * robot : 2 * robot + 2] <= bound)
+    problem = cp.Problem(cp.Minimize(cp.sum_squares(u - u_hat.reshape(-1, order='F'))), constraints)
     problem.solve(solver=cp.CLARABEL, **TIGHT)
     if problem.status != cp.OPTIMAL:
         return None
@@ -71,7 +74,7 @@ def test_feasible_commands_pass_unchanged_and_far_pairs_are_pruned() -> None:
 
 
 def test_infeasible_state_is_counted_warned_and_zeroed() -> None:
-    certificate = bc.create_single_integrator_barrier_certificate_with_boundary()
+    certificate = classic.create_single_integrator_barrier_certificate_with_boundary()
     x = np.array([[1.59], [0.0]])  # inside the wall band: a command towards the wall is turned back
     u = certificate(np.array([[0.2], [0.0]]), x)
     assert u[0, 0] < 0.0
@@ -85,11 +88,11 @@ def test_infeasible_state_is_counted_warned_and_zeroed() -> None:
 
 def test_generation_names_and_defaults() -> None:
     assert bc.create_si_barrier_certificate().spec.safety_radius == 0.15
-    assert bc.create_single_integrator_barrier_certificate().spec.safety_radius == 0.17
-    assert not bc.create_single_integrator_barrier_certificate().spec.speed_polygon
+    assert classic.create_single_integrator_barrier_certificate().spec.safety_radius == 0.17
+    assert not classic.create_single_integrator_barrier_certificate().spec.speed_polygon
     uni_v2 = bc.create_uni_barrier_certificate_with_boundary()
     assert uni_v2.inner.spec.safety_radius == pytest.approx(0.12 + 2 * 0.03)
-    assert bc.create_unicycle_barrier_certificate().inner.spec.safety_radius == pytest.approx(0.12 + 0.05)
+    assert classic.create_unicycle_barrier_certificate().inner.spec.safety_radius == pytest.approx(0.12 + 0.05)
 
 
 def test_unicycle_certificate_keeps_projection_points_apart() -> None:
@@ -110,3 +113,34 @@ def test_bad_certificate_input() -> None:
         certificate(np.zeros((2, 3)), np.zeros((2, 2)))
     with pytest.raises(AssertionError, match='safety_radius must be a positive number'):
         bc.create_si_barrier_certificate(safety_radius=-1)
+
+
+def test_v2_semantics_lone_robot_polygon_sides_and_obstacles() -> None:
+    """A lone robot's command passes (V2 returns it before any QP); a command over the limit is cut by the
+    polygon, not pre-scaled: the +x side sits at the limit in the plain certificate, at limit cos(pi/8) with walls."""
+    lone = np.array([[0.5], [0.0]])
+    np.testing.assert_array_equal(bc.create_si_barrier_certificate()(lone, np.zeros((2, 1))), lone)
+    far = np.array([[0.0, 1.0], [0.0, 0.0]])
+    fast = np.array([[0.5, 0.0], [0.0, 0.0]])
+    plain = bc.create_si_barrier_certificate()(fast, far)
+    walled = bc.create_si_barrier_certificate_with_boundary()(fast, far)
+    np.testing.assert_allclose(plain[:, 0], [0.2, 0.0], atol=1e-9)
+    np.testing.assert_allclose(walled[:, 0], [0.2 * np.cos(np.pi / 8), 0.0], atol=1e-9)
+    diagonal = np.array([[0.5, 0.0], [0.5, 0.0]])  # projected onto the 45-degree side, not scaled along itself
+    np.testing.assert_allclose(
+        bc.create_si_barrier_certificate()(diagonal, far)[:, 0], [0.2 * np.cos(np.pi / 8) / np.sqrt(2)] * 2, atol=1e-9
+    )
+    # obstacles: points the unicycles keep clear of, as agents of the QP (V2's third argument)
+    certificate = bc.create_uni_barrier_certificate_with_boundary()
+    poses = np.array([[0.0, -1.0], [0.0, 0.5], [0.0, 0.0]])
+    ahead = np.array([[0.2, 0.0], [0.0, 0.0]])
+    obstacle = np.array([[0.03 + 0.19], [0.0]])  # 0.19 m ahead of robot 0's projection point: inside the 0.18 m band
+    free = certificate(ahead, poses)
+    blocked = certificate(ahead, poses, obstacle)
+    assert free[0, 0] == pytest.approx(0.2 * np.cos(np.pi / 8), abs=1e-9)
+    # V2 makes obstacle points agents of the QP with zero nominal speed, so they "give way" too: robot 0 and the
+    # point share the barrier, u_0 - u_obstacle <= c, and robot 0 keeps (0.2 + c) / 2 of its 0.2 m/s
+    c = 150.0 * (0.19**2 - 0.18**2) ** 3 / (2 * 0.19)
+    assert blocked[0, 0] == pytest.approx((0.2 + c) / 2, abs=1e-9)
+    np.testing.assert_allclose(blocked[:, 1], free[:, 1], atol=1e-9)  # robot 1 is far from it
+    assert blocked.shape == (2, 2)  # the obstacle's own column is dropped

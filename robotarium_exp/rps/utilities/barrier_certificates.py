@@ -1,4 +1,4 @@
-"""Barrier certificates of both ``rps`` generations on one exact, vectorised QP core.
+"""V2's barrier certificates on one exact, vectorised QP core (the classic ones build on it too).
 
 Every certificate solves ``min ||u - u_hat||^2`` subject to the pairwise barrier rows
 ``-2 (x_i - x_j)^T (u_i - u_j) <= gamma h_ij^3`` with ``h_ij = ||x_i - x_j||^2 - R^2``, optionally the boundary rows
@@ -11,12 +11,12 @@ cvxopt certificate, and it reports infeasibility instead of returning an approxi
 An infeasible or failed solve does what ``rps`` does (zero velocities, a warning) but is never silent: every
 certificate counts its solves and failures in ``certificate.stats``.
 
-Names and keyword defaults of both generations:
-
-* V2: ``create_si_barrier_certificate``, ``create_si_barrier_certificate_with_boundary``,
-  ``create_uni_barrier_certificate``, ``create_uni_barrier_certificate_with_boundary``;
-* classic: ``create_single_integrator_barrier_certificate``, ``..._with_boundary``,
-  ``create_unicycle_barrier_certificate``, ``..._with_boundary``.
+V2's names and keyword defaults: ``create_si_barrier_certificate``, ``create_si_barrier_certificate_with_boundary``,
+``create_uni_barrier_certificate``, ``create_uni_barrier_certificate_with_boundary`` (whose certificate also takes
+V2's ``obstacles``), and its QP helper ``_solve_qp``. As V2: the speed polygon, not a pre-scaling, limits the speed;
+a lone robot's command passes unchanged; the boundary certificates put all eight polygon sides at limit
+cos(pi/8). Where V2 differs: it solves with cvxopt stopped at a relative tolerance of 1e-2, so its answers lie
+within about that of the exact optimum returned here.
 """
 
 from __future__ import annotations
@@ -67,14 +67,14 @@ def least_distance(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArra
     return np.asarray(u, dtype=float)
 
 
-def _solve_qp(n: int, vhat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
-    """V2's QP helper: argmin ||v - vhat||^2 subject to a v <= b, v stacked robot by robot; (2, n) or None."""
+def _solve_qp(N: int, vhat: FloatArray, A: FloatArray, b: FloatArray) -> FloatArray | None:
+    """V2's QP helper: argmin ||v - vhat||^2 subject to A v <= b, v stacked robot by robot; (2, N) or None."""
     u = least_distance(
         np.asarray(vhat, dtype=float).reshape(-1, order='F'),
-        np.asarray(a, dtype=float),
+        np.asarray(A, dtype=float),
         np.asarray(b, dtype=float).ravel(),
     )
-    return None if u is None else u.reshape(2, n, order='F')
+    return None if u is None else u.reshape(2, N, order='F')
 
 
 class Certificate:
@@ -87,12 +87,16 @@ class Certificate:
     def __call__(self, dxi: FloatArray, x: FloatArray) -> FloatArray:
         dxi, x = _check_pair(dxi, x, 'dxi', 'x')
         n = dxi.shape[1]
-        if n < 2 and self.spec.boundary is None:
-            return dxi.copy()
-        norms = np.hypot(dxi[0], dxi[1])
-        over = norms > self.spec.magnitude_limit
-        dxi = dxi.copy()
-        dxi[:, over] *= self.spec.magnitude_limit / norms[over]
+        if self.spec.speed_polygon:  # V2: the polygon limits the speed; a lone robot's command passes unchanged
+            if n < 2:
+                return dxi.copy()
+        else:  # classic: no polygon, so the command is first scaled to the limit; a lone robot still meets walls
+            if n < 2 and self.spec.boundary is None:
+                return dxi.copy()
+            norms = np.hypot(dxi[0], dxi[1])
+            over = norms > self.spec.magnitude_limit
+            dxi = dxi.copy()
+            dxi[:, over] *= self.spec.magnitude_limit / norms[over]
         a, b = barrier_rows(x[:2], self.spec)
         self.stats.solves += 1
         self.stats.rows_last = a.shape[0]
@@ -117,11 +121,18 @@ class UnicycleCertificate:
     def stats(self) -> BarrierStats:
         return self.inner.stats
 
-    def __call__(self, dxu: FloatArray, x: FloatArray) -> FloatArray:
+    def __call__(self, dxu: FloatArray, x: FloatArray, obstacles: FloatArray | None = None) -> FloatArray:
+        """Safe commands; ``obstacles`` (2 x M points) join the QP as V2 has them: agents with zero nominal speed."""
         dxu, x = _check_pair(dxu, x, 'dxu', 'x', state_rows=3)
-        dxi = uni_to_si(dxu, x, self.d)
-        safe = self.inner(dxi, uni_to_si_states(x, self.d))
-        return si_to_uni(safe, x, self.d)
+        n = dxu.shape[1]
+        if n < 2 and self.inner.spec.speed_polygon:
+            return dxu.copy()
+        points, dxi = uni_to_si_states(x, self.d), uni_to_si(dxu, x, self.d)
+        if obstacles is not None and np.asarray(obstacles).size > 0:
+            others = np.asarray(obstacles, dtype=float)
+            points, dxi = np.hstack([points, others]), np.hstack([dxi, np.zeros_like(others)])
+        safe = self.inner(dxi, points)
+        return si_to_uni(safe[:, :n], x, self.d)
 
 
 def _check_pair(u: object, x: object, u_name: str, x_name: str, state_rows: int = 2) -> tuple[FloatArray, FloatArray]:
@@ -141,7 +152,13 @@ def _check_pair(u: object, x: object, u_name: str, x_name: str, state_rows: int 
 
 
 def _spec(
-    safety_radius: float, barrier_gain: float, magnitude_limit: float, boundary: object, polygon: bool
+    safety_radius: float,
+    barrier_gain: float,
+    magnitude_limit: float,
+    boundary: object,
+    polygon: bool,
+    *,
+    full_first_side: bool = True,
 ) -> BarrierSpec:
     for name, value in (
         ('safety_radius', safety_radius),
@@ -155,7 +172,9 @@ def _spec(
     if bounds is not None and len(bounds) != 4:
         msg = f'boundary_points must be [x_min, x_max, y_min, y_max]; got {boundary!r}.'
         raise RobotariumError(msg)
-    return BarrierSpec(float(safety_radius), float(barrier_gain), float(magnitude_limit), bounds, polygon)
+    return BarrierSpec(
+        float(safety_radius), float(barrier_gain), float(magnitude_limit), bounds, polygon, full_first_side
+    )
 
 
 # ---------------------------------------------------------------------- V2 names and defaults
@@ -174,9 +193,10 @@ def create_si_barrier_certificate_with_boundary(
     magnitude_limit: float = 0.2,
     boundary_points: object = None,
 ) -> Certificate:
-    """V2: pairwise and boundary barriers (default boundary [-1.7, 1.7, -1.1, 1.1], as V2) and the speed polygon."""
+    """V2: pairwise and boundary barriers (default boundary [-1.7, 1.7, -1.1, 1.1], as V2) and the speed polygon,
+    all eight sides at limit cos(pi/8)."""
     boundary = (-1.7, 1.7, -1.1, 1.1) if boundary_points is None else boundary_points
-    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, boundary, True))
+    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, boundary, True, full_first_side=False))
 
 
 def create_uni_barrier_certificate(
@@ -197,50 +217,11 @@ def create_uni_barrier_certificate_with_boundary(
     velocity_magnitude_limit: float = 0.2,
     boundary_points: object = None,
 ) -> UnicycleCertificate:
-    """V2: as above with the arena boundary (default: the arena of robotarium_exp.spec)."""
+    """V2: as above with the arena's boundary (V2's default) and the speed polygon's sides all at limit cos(pi/8).
+
+    The certificate takes V2's third argument, ``obstacles`` (2 x M points to keep clear of).
+    """
     boundary = ARENA if boundary_points is None else boundary_points
-    spec = _spec(safety_radius + 2 * projection_distance, barrier_gain, velocity_magnitude_limit, boundary, True)
-    return UnicycleCertificate(spec, projection_distance)
-
-
-# ---------------------------------------------------------------------- classic names and defaults
-
-
-def create_single_integrator_barrier_certificate(
-    barrier_gain: float = 100, safety_radius: float = 0.17, magnitude_limit: float = 0.2
-) -> Certificate:
-    """Classic: pairwise barriers, no speed polygon (the input is pre-scaled to the limit)."""
-    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, None, False))
-
-
-def create_single_integrator_barrier_certificate_with_boundary(
-    barrier_gain: float = 100,
-    safety_radius: float = 0.17,
-    magnitude_limit: float = 0.2,
-    boundary_points: object = ARENA,
-) -> Certificate:
-    """Classic: pairwise and boundary barriers."""
-    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, boundary_points, False))
-
-
-def create_unicycle_barrier_certificate(
-    barrier_gain: float = 100,
-    safety_radius: float = 0.12,
-    projection_distance: float = 0.05,
-    magnitude_limit: float = 0.2,
-) -> UnicycleCertificate:
-    """Classic: the SI certificate at projection points, radius safety_radius + d."""
-    spec = _spec(safety_radius + projection_distance, barrier_gain, magnitude_limit, None, False)
-    return UnicycleCertificate(spec, projection_distance)
-
-
-def create_unicycle_barrier_certificate_with_boundary(
-    barrier_gain: float = 100,
-    safety_radius: float = 0.12,
-    projection_distance: float = 0.05,
-    magnitude_limit: float = 0.2,
-    boundary_points: object = ARENA,
-) -> UnicycleCertificate:
-    """Classic: as above with the arena boundary."""
-    spec = _spec(safety_radius + projection_distance, barrier_gain, magnitude_limit, boundary_points, False)
+    radius = safety_radius + 2 * projection_distance
+    spec = _spec(radius, barrier_gain, velocity_magnitude_limit, boundary, True, full_first_side=False)
     return UnicycleCertificate(spec, projection_distance)

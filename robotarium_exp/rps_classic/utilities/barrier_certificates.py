@@ -31,8 +31,6 @@ from robotarium_exp.rps.utilities.barrier_certificates import (
     _check_pair,
     _solve_qp,
     _spec,
-    create_single_integrator_barrier_certificate,
-    create_single_integrator_barrier_certificate_with_boundary,
 )
 from robotarium_exp.rps_classic.utilities.barrier_certificates2 import RobustCertificate
 from robotarium_exp.rps_classic.utilities.transformations import create_si_to_uni_mapping, create_uni_to_si_dynamics
@@ -103,6 +101,23 @@ class ClassicUnicycleCertificate:
         dxu, x = _check_pair(dxu, x, 'dxu', 'x', state_rows=3)
         safe = self.inner(self.uni_to_si_dyn(dxu, x), self.uni_to_si_states(x))
         return self.si_to_uni_dyn(safe, x)
+
+
+def create_single_integrator_barrier_certificate(
+    barrier_gain: float = 100, safety_radius: float = 0.17, magnitude_limit: float = 0.2
+) -> Certificate:
+    """Pairwise barriers, no speed polygon (the input is first scaled to the limit)."""
+    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, None, False))
+
+
+def create_single_integrator_barrier_certificate_with_boundary(
+    barrier_gain: float = 100,
+    safety_radius: float = 0.17,
+    magnitude_limit: float = 0.2,
+    boundary_points: FloatArray = CLASSIC_BOUNDARY,
+) -> Certificate:
+    """Pairwise and boundary barriers (a lone robot still meets the walls)."""
+    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, boundary_points, False))
 
 
 def create_single_integrator_barrier_certificate2(
