@@ -116,3 +116,20 @@ def test_obstacles_rays_and_endpoints_are_drawn_headless() -> None:
     import matplotlib.pyplot as plt
 
     plt.close(r._fig)
+
+
+def test_the_verifier_does_not_count_obstacles_as_v2() -> None:
+    """V2's verifier knows robots and the arena only: driving through an obstacle segment counts nothing."""
+    r = Robotarium(
+        number_of_robots=1,
+        sim_in_real_time=False,
+        skip_initialization=True,
+        initial_conditions=np.array([[0.3], [0.0], [0.0]]),
+        obstacles=WALL_X,
+    )
+    for _ in range(40):  # 0.2 m/s for 1.3 s: through the wall at x = 0.5
+        r.get_poses()
+        r.set_velocities(np.arange(1), np.array([[0.2], [0.0]]))
+        r.step()
+    assert r.get_poses()[0, 0] > 0.5
+    assert r.errors == {'robots_outside_boundaries': 0, 'robots_too_close': 0, 'exceeded_actuator_limits': 0}
