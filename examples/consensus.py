@@ -2,8 +2,8 @@
 
 Each robot's control point (0.05 m ahead of its axle) follows the consensus law dx_i = sum over neighbours j of
 (x_j - x_i), at most 0.08 m/s, on the cycle graph's Laplacian (``rps.utilities.graph``); a unicycle barrier
-certificate keeps them apart as they gather, so they end in a tight cluster instead of one point. Prints the spread (largest distance
-from the centroid) before and after, then the Robotarium's verdict.
+certificate keeps them apart as they gather, so they end in a tight cluster instead of one point. Prints the
+spread (largest distance from the centroid) before and after, then the Robotarium's verdict.
 
     python -m robotarium_exp.rps_alias --seed 0 examples/consensus.py [--iterations N] [--show]
 """

@@ -6,9 +6,9 @@ or, inside Python, ``install()`` before the script imports ``rps``. By default `
 (:mod:`robotarium_exp.rps`: robots are driven from the chargers to the initial conditions, ``debug()``);
 ``--classic`` makes it the classic generation, :mod:`robotarium_exp.rps_classic`, names and semantics (the PyPI
 ``robotarium_python_simulator`` 0.0.0: ``call_at_scripts_end()``, ``rps.robotarium_abc``,
-``rps.utilities.barrier_certificates2``...). ``--seed`` seeds ``random`` and ``np.random``, what the scripts and both
-generations draw from (V2's charger slots and deadlock escapes, classic's random start poses); ``--log`` makes the simulator record every
-pose it hands out (a vtube ``.npz`` log, completed by the end-of-script call).
+``rps.utilities.barrier_certificates2``...). ``--seed`` seeds ``random`` and ``np.random``, what the scripts and
+both generations draw from (V2's charger slots and deadlock escapes, classic's random start poses); ``--log`` makes
+the simulator record every pose it hands out (a vtube ``.npz`` log, completed by the end-of-script call).
 
 A script that dies on ``np.mat`` (removed in numpy 2, used by several classic examples) gets a message naming the
 fix instead of a bare ``AttributeError``, and exit code 1.

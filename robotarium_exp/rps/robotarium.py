@@ -6,7 +6,8 @@
 * Call order ``get_poses() -> set_velocities(ids, dxu) -> step()`` enforced with the messages rps users know.
 * ``step()``: the verifier's counts (:meth:`ARobotarium._validate`), then per-wheel clipping, forward Euler at
   0.033 s, then the on-board sensors (and the distance sensors with ``use_distance_sensors=True``, which see the
-  other robots and the ``obstacles``, M x 2 x 2 line segments; :mod:`robotarium_exp.rps.utilities.sensors`). ``debug()`` prints V2's summary and verdict.
+  other robots and the ``obstacles``, M x 2 x 2 line segments; :mod:`robotarium_exp.rps.utilities.sensors`).
+  ``debug()`` prints V2's summary and verdict.
 * The initialization is V2's algorithm, step for step: robots start on charger slots drawn with Python's
   ``random`` and are driven to the initial conditions by V2's hybrid pose controller under a unicycle barrier
   certificate, with V2's deadlock escapes (random waypoints from ``np.random``). Those steps count towards the

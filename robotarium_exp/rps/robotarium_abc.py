@@ -34,7 +34,7 @@ class ARobotarium(ABC):
     BOUNDARIES = np.array(ROBOTARIUM.arena_m)
     """[x_min, x_max, y_min, y_max] as an array, as V2 (so ``r.BOUNDARIES * 0.5`` works)."""
     CENTER_OFFSET = 0.01
-    """How far forward of the axle a robot's body (a disc of ``ROBOT_DIAMETER``) is centred, for the distance sensors."""
+    """How far ahead of the axle a robot's body (a disc of ``ROBOT_DIAMETER``) is centred, for the distance sensors."""
 
     # V2's distance sensors: 7 per robot, mounted at (x, y) in the body frame and pointing at the angle in row 3
     DISTANCE_SENSOR_ERROR = 0.03

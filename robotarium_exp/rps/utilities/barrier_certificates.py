@@ -4,9 +4,9 @@ Every certificate solves ``min ||u - u_hat||^2`` subject to the pairwise barrier
 ``-2 (x_i - x_j)^T (u_i - u_j) <= gamma h_ij^3`` with ``h_ij = ||x_i - x_j||^2 - R^2``, optionally the boundary rows
 ``+/- u <= 0.4 gamma (distance to the wall - R/2)^3`` and (V2) the 8-sided speed polygon. The rows are built with
 numpy at once; with the speed polygon, pairs too far apart to ever bind are dropped (exactly: a row cannot be
-active once gamma h^3 >= 4 d u_max / cos(pi/8), ``docs/ecosystem.md`` §2). The QP is solved exactly by DAQP, a dual active-set
-solver (the package's one dependency beyond the scientific stack: about ten times faster than the testbed's
-cvxopt certificate, and it reports infeasibility instead of returning an approximate point).
+active once gamma h^3 >= 4 d u_max / cos(pi/8), ``docs/ecosystem.md`` §2). The QP is solved exactly by DAQP, a
+dual active-set solver (the package's one dependency beyond the scientific stack: about ten times faster than the
+testbed's cvxopt certificate, and it reports infeasibility instead of returning an approximate point).
 
 An infeasible or failed solve does what ``rps`` does (zero velocities, a warning) but is never silent: every
 certificate counts its solves and failures in ``certificate.stats``.
