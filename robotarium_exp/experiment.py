@@ -101,7 +101,8 @@ def initial_conditions(scene: Scene) -> FloatArray:
     """Entry formation (3xN): rows across the tube, headings along it, every pair at least the spec's spacing apart.
 
     Rows and columns start ``ROBOTARIUM.ic_spacing_m`` (0.4 m) apart along and across the tube; on a bend the inner
-    side converges, so the spacing grows until every pair keeps it.
+    side converges, so the spacing grows until every pair keeps it. Robots 0 and 1 are put where V2's initializer
+    cannot leave them stuck (:func:`order_for_v2_initializer`).
     """
     tube, n = scene.tube, scene.swarm.n_robots
     lam0 = float(tube.half_width(0.0))
@@ -128,7 +129,26 @@ def initial_conditions(scene: Scene) -> FloatArray:
             'initializes robots in; move the tube entrance inwards or use fewer robots.'
         )
         raise ExperimentError(msg)
-    return ic
+    return ic[:, order_for_v2_initializer(ic)]
+
+
+def order_for_v2_initializer(ic: FloatArray) -> list[int]:
+    """Robot order for V2's initializer: the two slots with the fewest neighbours, front first, as robots 0 and 1.
+
+    V2 chooses the robots it rescues from deadlocks with ``np.isin`` of their indices against the boolean "arrived"
+    mask, so robot 0 is never rescued while any robot is on its way and robot 1 never once any has arrived
+    (``docs/robotarium.md`` §2.6). A robot that ends its approach about 0.02 m from its slot, facing away from its
+    heading, can then rock between approaching and turning for good when a neighbour's barrier row bends its turn.
+    Slots with fewer neighbours within 1.25 x the spacing bend less. *Measured* on the trapezoid's formation with
+    the bundled V2 initializer: 7 of 458 seeds stuck with a middle slot as robot 1, none of 500 with the front
+    corners as robots 0 and 1 (90 % of the initializations within 82 s instead of 124 s).
+    """
+    n = ic.shape[1]
+    gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))
+    neighbours = (gaps < 1.25 * ROBOTARIUM.ic_spacing_m).sum(axis=0) - 1
+    ahead = ic[0] * np.cos(ic[2]) + ic[1] * np.sin(ic[2])  # how far along its heading: the front row first
+    first = sorted(range(n), key=lambda k: (neighbours[k], -round(float(ahead[k]), 6), k))[:2]
+    return first + [k for k in range(n) if k not in first]
 
 
 def _first_inside_box(scene: Scene) -> float:

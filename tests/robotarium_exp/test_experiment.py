@@ -5,8 +5,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from robotarium_exp.errors import ExperimentError
-from robotarium_exp.experiment import ExperimentConfig, initial_conditions, parking_slots, plan_tracking, run_experiment
+from robotarium_exp.errors import ExperimentError, RobotariumError
+from robotarium_exp.experiment import (
+    ExperimentConfig,
+    initial_conditions,
+    order_for_v2_initializer,
+    parking_slots,
+    plan_tracking,
+    run_experiment,
+)
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.rps_alias import seed_rps
 from vtube_planning import load_scene
@@ -97,3 +104,35 @@ def test_the_experiment_runs_on_the_pypi_robotarium_class() -> None:
     result = run_experiment(rps_robotarium.Robotarium, scene, plan, ExperimentConfig())
     assert result.completed and result.metrics.min_distance_m > 0.135
     assert not result.errors  # the PyPI simulator records nothing: no robot left the arena or came too close
+
+
+def test_robots_zero_and_one_take_the_front_corners() -> None:
+    """V2 never rescues robots 0 and 1 from a late deadlock: they get the slots with the fewest neighbours."""
+    ic = initial_conditions(load_scene('robotarium_trapezoid'))
+    gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))
+    neighbours = (gaps < 0.5).sum(axis=0) - 1
+    assert neighbours[0] == neighbours[1] == neighbours.min() == 2  # corners of the 2 x 3 formation
+    assert ic[0, 0] == ic[0, 1] == ic[0].max()  # both in the front row
+    grid = np.array([[0.0, 0.0, 0.0, -0.4, -0.4, -0.4], [-0.4, 0.0, 0.4, -0.4, 0.0, 0.4], [0.0] * 6])
+    order = order_for_v2_initializer(grid)
+    assert sorted(order) == list(range(6)) and set(order[:2]) == {0, 2}
+
+
+def test_a_seed_that_deadlocked_the_v2_initializer_now_completes() -> None:
+    """Trapezoid seed 38 left robots 0 and 1 rocking near their slots for good (also on the official V2); with
+    the front corners as robots 0 and 1 the same draws initialize in time."""
+    import robotarium_exp.rps.robotarium as simulator
+
+    ic = initial_conditions(load_scene('robotarium_trapezoid'))
+    as_before = ic[:, [0, 2, 1, 3, 4, 5]]  # the committed order until now: robot 1 in the middle of the front row
+    limit = simulator.INITIALIZATION_STEP_LIMIT
+    try:
+        simulator.INITIALIZATION_STEP_LIMIT = 8000
+        seed_rps(38)
+        with pytest.raises(RobotariumError, match='did not bring the robots'):
+            Robotarium(number_of_robots=6, sim_in_real_time=False, initial_conditions=as_before)
+        seed_rps(38)
+        r = Robotarium(number_of_robots=6, sim_in_real_time=False, initial_conditions=ic)
+        assert r.initialization_steps < 8000
+    finally:
+        simulator.INITIALIZATION_STEP_LIMIT = limit
