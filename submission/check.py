@@ -6,8 +6,12 @@
    ``robotarium-python-simulator`` when that is installed, each in a fresh process and folder; the file's JSON
    summary line and the simulator's counts are collected.
 3. The verdict: every run completes with zero robots too close, zero outside the boundaries and zero
-   actuator-limit steps. The duration to declare is the longest run (initialization included) times the
-   verifier's 1.5 margin, rounded up to 10 s; the robot count to declare is the file's.
+   actuator-limit steps. The robot count to declare is the file's.
+4. The duration to declare: the testbed's initializer runs first and counts, and it varies a lot from run to run,
+   so V2's initializer is run alone for the file's initial conditions over many seeds
+   (:mod:`robotarium_exp.initializer`). The declaration is its ``DECLARE_QUANTILE`` quantile plus the longest
+   experiment (the file's own steps), rounded up to 10 s; the verifier stops a run only beyond 1.5 times that. The
+   report gives the share of sampled runs (initializer plus experiment) that would overrun, and of stuck ones.
 """
 
 from __future__ import annotations
@@ -25,8 +29,15 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
+from robotarium_exp.initializer import InitializerSample, initializer_durations
 from robotarium_exp.spec import ROBOTARIUM
 from submission.errors import CheckError
+
+DECLARE_QUANTILE = 0.95
+"""Quantile of the initializer's durations that the declared duration covers without the verifier's margin."""
 
 COUNTS = {
     'too_close': ('robots_too_close', 'collision'),
@@ -67,17 +78,71 @@ class CheckReport:
     disallowed_imports: list[str] = field(default_factory=list)
     runs: list[RunReport] = field(default_factory=list)
     robots: int | None = None
+    initializer: InitializerSample | None = None
+    declaration_problem: str = ''
 
     @property
     def passed(self) -> bool:
-        return not self.disallowed_imports and bool(self.runs) and all(run.ok for run in self.runs)
+        runs_ok = bool(self.runs) and all(run.ok for run in self.runs)
+        return not self.disallowed_imports and runs_ok and not self.declaration_problem
+
+    @property
+    def experiment_s(self) -> float | None:
+        """The longest experiment of the runs, initialization excluded."""
+        steps = [run.summary['steps'] * run.summary['dt_s'] for run in self.runs if run.summary]
+        return max(steps) if steps else None
+
+    @property
+    def declaration(self) -> Declaration | None:
+        if self.initializer is None or self.experiment_s is None or self.declaration_problem:
+            return None
+        return declare(self.initializer, self.experiment_s)
 
     @property
     def declare_duration_s(self) -> int | None:
-        iterations = [run.summary['iterations'] for run in self.runs if run.summary]
-        if not iterations:
-            return None
-        return int(math.ceil(max(iterations) * ROBOTARIUM.time_step_s * ROBOTARIUM.duration_factor / 10.0) * 10)
+        return None if self.declaration is None else self.declaration.duration_s
+
+
+@dataclass(frozen=True)
+class Declaration:
+    """The duration to declare and what it rests on: the initializer's quantile, the experiment, the risks."""
+
+    duration_s: int
+    quantile_s: float
+    experiment_s: float
+    runs: int
+    overrun_share: float
+    stuck_share: float
+
+    def text(self) -> str:
+        return (
+            f'{self.duration_s} s: the {DECLARE_QUANTILE:.0%} quantile of the initializer over {self.runs} seeds '
+            f'({self.quantile_s:.1f} s) plus the experiment ({self.experiment_s:.1f} s); of the sampled runs '
+            f'{self.overrun_share:.1%} would overrun 1.5 x that and {self.stuck_share:.1%} did not initialize'
+        )
+
+
+def declare(initializer: InitializerSample, experiment_s: float) -> Declaration:
+    """The duration to declare for an initializer sample and an experiment's duration, and the measured risks.
+
+    Stuck runs count as infinitely long: they raise the quantile when they are more than 1 - DECLARE_QUANTILE of
+    the sample, and they always count as overruns.
+    """
+    if initializer.runs == 0:
+        raise CheckError('the initializer sample is empty; run it for at least one seed.')
+    durations = np.array(initializer.durations_s + (np.inf,) * len(initializer.stuck_seeds))
+    quantile = float(np.quantile(durations, DECLARE_QUANTILE, method='higher'))
+    if not math.isfinite(quantile):
+        msg = (
+            f'{len(initializer.stuck_seeds)} of {initializer.runs} initializations did not finish (seeds '
+            f'{list(initializer.stuck_seeds)}): no duration covers them; change the initial conditions.'
+        )
+        raise CheckError(msg)
+    duration = int(math.ceil((quantile + experiment_s) / 10.0) * 10)
+    overruns = float(np.mean(durations + experiment_s > ROBOTARIUM.duration_factor * duration))
+    return Declaration(
+        duration, quantile, experiment_s, initializer.runs, overruns, len(initializer.stuck_seeds) / initializer.runs
+    )
 
 
 def server_libraries() -> set[str]:
@@ -127,8 +192,17 @@ def run_file(path: Path, backend: str, seed: int | None, timeout_s: float = 900.
     return RunReport(backend, seed, summary, result.returncode, result.stderr[-400:])
 
 
-def check(path: str | Path, *, seeds: int = 3) -> CheckReport:
-    """Run the whole preflight on a submission file."""
+def file_initial_conditions(source: str) -> NDArray[np.float64]:
+    """The initial conditions a built file carries (its ``DATA['initial_conditions']``)."""
+    for node in ast.parse(source, feature_version=(3, 10)).body:
+        if isinstance(node, ast.Assign) and any(getattr(t, 'id', None) == 'DATA' for t in node.targets):
+            data = ast.literal_eval(node.value)
+            return np.array(data['initial_conditions'], dtype=float)
+    raise CheckError('the file has no DATA with initial_conditions; build it with `vtube submission build`.')
+
+
+def check(path: str | Path, *, seeds: int = 3, initializer_seeds: int = 50) -> CheckReport:
+    """Run the whole preflight on a submission file; the initializer alone over ``initializer_seeds`` seeds."""
     path = Path(path).resolve()
     if not path.is_file():
         msg = f'submission file {str(path)!r} does not exist; build one with `vtube submission build`.'
@@ -149,4 +223,10 @@ def check(path: str | Path, *, seeds: int = 3) -> CheckReport:
         report.runs.append(run_file(path, 'pypi', None))
     robots = {run.summary['robots'] for run in report.runs if run.summary}
     report.robots = robots.pop() if len(robots) == 1 else None
+    report.initializer = initializer_durations(file_initial_conditions(source), range(initializer_seeds))
+    if report.experiment_s is not None:
+        try:
+            declare(report.initializer, report.experiment_s)
+        except CheckError as err:
+            report.declaration_problem = str(err)
     return report

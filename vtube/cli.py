@@ -333,12 +333,12 @@ def submission_build(name_or_path: str, out: Path, *, planning: bool = True, pla
     return EXIT_OK
 
 
-def submission_check(path: Path, *, seeds: int = 3) -> int:
+def submission_check(path: Path, *, seeds: int = 3, initializer_seeds: int = 50) -> int:
     """Preflight a submission file; prints the report and returns 0 when it passes, 1 when not."""
     from robotarium_exp.spec import ROBOTARIUM
     from submission.check import COUNTS, check
 
-    report = check(path, seeds=seeds)
+    report = check(path, seeds=seeds, initializer_seeds=initializer_seeds)
     print(f'submission {report.path}')
     if report.disallowed_imports:
         print(f'  FAIL: imports missing on the Robotarium server: {", ".join(report.disallowed_imports)}')
@@ -359,10 +359,10 @@ def submission_check(path: Path, *, seeds: int = 3) -> int:
             f'{counts[2]:>9} {run.summary["min_center_distance_m"]:>13.3f} '
             f'{run.summary["iterations"] * ROBOTARIUM.time_step_s:>13.1f}'
         )
-    print(
-        f'  declare                {report.robots} robots, {report.declare_duration_s} s '
-        f"(longest run, initialization included, times the verifier's {ROBOTARIUM.duration_factor:g})"
-    )
+    declared = report.declaration
+    print(f'  declare                {report.robots} robots, ' + (declared.text() if declared else 'no duration'))
+    if report.declaration_problem:
+        print(f'  FAIL: {report.declaration_problem}')
     print(f'  verdict                {"PASS" if report.passed else "FAIL"}')
     return EXIT_OK if report.passed else 1
 
@@ -422,7 +422,10 @@ def demo(out: Path) -> int:
             'build the submission',
             lambda: submission_build(scene, out / 'submission' / 'experiment.py', plan_path=plan_path),
         ),
-        ('check the submission', lambda: submission_check(out / 'submission' / 'experiment.py', seeds=2)),
+        (
+            'check the submission',
+            lambda: submission_check(out / 'submission' / 'experiment.py', seeds=2, initializer_seeds=20),
+        ),
     ]
     for title, step in steps:
         print(f'\n== {title} ==')
@@ -535,6 +538,9 @@ def _parser() -> argparse.ArgumentParser:
     check_cmd = sub_commands.add_parser('check', help='preflight a submission on the simulators')
     check_cmd.add_argument('file', type=Path, help='the submission .py file')
     check_cmd.add_argument('--seeds', type=int, default=3, help='runs on the bundled simulator (seeds 0..n-1)')
+    check_cmd.add_argument(
+        '--initializer-seeds', type=int, default=50, help="V2's initializer alone, for the duration to declare"
+    )
     ana = commands.add_parser('analyze', help='metrics, figures and a report of returned or recorded data')
     ana.add_argument(
         'inputs', type=Path, nargs='+', help='a folder of vtube_*.npy, a .npz log, .bag files or a bag folder'
@@ -592,7 +598,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == 'submission' and args.submission_command == 'build':
             return submission_build(args.scene, args.out, planning=not args.no_planning, plan_path=args.plan)
         if args.command == 'submission':
-            return submission_check(args.file, seeds=args.seeds)
+            return submission_check(args.file, seeds=args.seeds, initializer_seeds=args.initializer_seeds)
         if args.command == 'robotarium' and args.robotarium_command == 'compare':
             return robotarium_compare(args.scene, args.out, seeds=args.seeds, plan_path=args.plan)
         if args.command == 'robotarium':

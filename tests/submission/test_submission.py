@@ -12,12 +12,14 @@ import numpy as np
 import pytest
 
 from robotarium_exp.experiment import ExperimentConfig, run_experiment
+from robotarium_exp.initializer import InitializerSample
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.rps_alias import seed_rps
 from robotarium_exp.spec import ROBOTARIUM
 from submission import runtime
 from submission.builder import SubmissionError, build, write
-from submission.check import check, imported_modules, static_check
+from submission.check import check, declare, imported_modules, static_check
+from submission.errors import CheckError
 from vtube_planning import SceneError, load_scene
 from vtube_planning.geometry.projection import SampledTube
 from vtube_planning.planning.planner import plan_convex
@@ -145,12 +147,17 @@ def test_submission_imports_only_what_the_server_has_and_parses_as_python_310(sc
 @pytest.mark.parametrize('scene', SCENES)
 def test_committed_submission_passes_the_preflight_on_both_simulators(scene: str) -> None:
     pytest.importorskip('rps.robotarium')  # the PyPI simulator (test extra)
-    report = check(ROOT / 'submissions' / f'vtube_{scene}.py', seeds=2)
+    report = check(ROOT / 'submissions' / f'vtube_{scene}.py', seeds=2, initializer_seeds=4)
     assert [run.backend for run in report.runs] == ['bundled', 'bundled', 'pypi']
     for run in report.runs:
         assert run.ok, (run.backend, run.seed, run.summary, run.stderr_tail)
         assert run.summary['min_center_distance_m'] > 0.135
-    assert report.passed and report.robots == 6 and report.declare_duration_s >= 30
+    assert report.passed and report.robots == 6
+    declared = report.declaration
+    assert declared is not None and report.initializer is not None and report.initializer.runs == 4
+    assert declared.duration_s >= max(report.initializer.durations_s) + declared.experiment_s - 10  # 4 seeds: max
+    for run in report.runs:  # every checked run fits the verifier's 1.5 x the declaration
+        assert run.summary['iterations'] * ROBOTARIUM.time_step_s <= 1.5 * declared.duration_s
 
 
 def test_saved_arrays_load_without_pickle(tmp_path, monkeypatch) -> None:
@@ -212,3 +219,18 @@ def test_too_many_robots(tmp_path) -> None:
     path.write_text(text.replace('n_robots = 6', 'n_robots = 24'))
     with pytest.raises(SubmissionError, match='has 24 robots; the Robotarium runs at most 20'):
         build(path)
+
+
+def test_the_declared_duration_covers_a_high_quantile_of_the_initializer() -> None:
+    """Synthetic samples: the 95 % quantile plus the experiment, rounded up to 10 s; risks as measured shares."""
+    spread = InitializerSample(tuple(float(k) for k in range(1, 101)), ())
+    plain = declare(spread, experiment_s=30.0)
+    assert plain.quantile_s == 96.0 and plain.duration_s == 130 and plain.overrun_share == 0.0
+    heavy = declare(InitializerSample((10.0,) * 90 + (500.0,) * 10, ()), experiment_s=30.0)
+    assert heavy.duration_s == 530  # a tail over 5 % is covered, not averaged away
+    tail = declare(InitializerSample((10.0,) * 97 + (2000.0,) * 3, ()), experiment_s=30.0)
+    assert tail.duration_s == 40 and tail.overrun_share == pytest.approx(0.03)  # beyond 1.5 x 40 s: reported
+    stuck = declare(InitializerSample((10.0,) * 98, (5, 9)), experiment_s=30.0)
+    assert stuck.stuck_share == pytest.approx(0.02) and stuck.overrun_share == pytest.approx(0.02)
+    with pytest.raises(CheckError, match=r'10 of 100 initializations did not finish .* change the initial'):
+        declare(InitializerSample((10.0,) * 90, tuple(range(10))), experiment_s=30.0)
