@@ -36,8 +36,9 @@ from robotarium_exp.initializer import InitializerSample, initializer_durations
 from robotarium_exp.spec import ROBOTARIUM
 from submission.errors import CheckError
 
-DECLARE_QUANTILE = 0.95
-"""Quantile of the initializer's durations that the declared duration covers without the verifier's margin."""
+DECLARE_QUANTILE = 0.99
+"""Quantile of the initializer's durations that the declared duration covers without the verifier's margin (with
+the default 50 seeds, the longest). At 0.95 the curve submission's sample left 2 % of its runs overrunning."""
 
 COUNTS = {
     'too_close': ('robots_too_close', 'collision'),
@@ -114,11 +115,11 @@ class Declaration:
     overrun_share: float
     stuck_share: float
 
-    def text(self) -> str:
+    def basis(self) -> str:
+        """What the duration rests on, in one line."""
         return (
-            f'{self.duration_s} s: the {DECLARE_QUANTILE:.0%} quantile of the initializer over {self.runs} seeds '
-            f'({self.quantile_s:.1f} s) plus the experiment ({self.experiment_s:.1f} s); of the sampled runs '
-            f'{self.overrun_share:.1%} would overrun 1.5 x that and {self.stuck_share:.1%} did not initialize'
+            f'initializer {DECLARE_QUANTILE:.0%} over {self.runs} seeds {self.quantile_s:.1f} s + experiment '
+            f'{self.experiment_s:.1f} s; overruns {self.overrun_share:.1%}, stuck {self.stuck_share:.1%}'
         )
 
 

@@ -360,7 +360,12 @@ def submission_check(path: Path, *, seeds: int = 3, initializer_seeds: int = 50)
             f'{run.summary["iterations"] * ROBOTARIUM.time_step_s:>13.1f}'
         )
     declared = report.declaration
-    print(f'  declare                {report.robots} robots, ' + (declared.text() if declared else 'no duration'))
+    print(
+        f'  declare                {report.robots} robots, '
+        + (f'{declared.duration_s} s' if declared else 'no duration')
+    )
+    if declared:
+        print(f'  duration from          {declared.basis()}')
     if report.declaration_problem:
         print(f'  FAIL: {report.declaration_problem}')
     print(f'  verdict                {"PASS" if report.passed else "FAIL"}')
