@@ -80,6 +80,7 @@ class CheckReport:
     runs: list[RunReport] = field(default_factory=list)
     robots: int | None = None
     initializer: InitializerSample | None = None
+    declaration: Declaration | None = None
     declaration_problem: str = ''
 
     @property
@@ -92,12 +93,6 @@ class CheckReport:
         """The longest experiment of the runs, initialization excluded."""
         steps = [run.summary['steps'] * run.summary['dt_s'] for run in self.runs if run.summary]
         return max(steps) if steps else None
-
-    @property
-    def declaration(self) -> Declaration | None:
-        if self.initializer is None or self.experiment_s is None or self.declaration_problem:
-            return None
-        return declare(self.initializer, self.experiment_s)
 
     @property
     def declare_duration_s(self) -> int | None:
@@ -227,7 +222,7 @@ def check(path: str | Path, *, seeds: int = 3, initializer_seeds: int = 50) -> C
     report.initializer = initializer_durations(file_initial_conditions(source), range(initializer_seeds))
     if report.experiment_s is not None:
         try:
-            declare(report.initializer, report.experiment_s)
+            report.declaration = declare(report.initializer, report.experiment_s)
         except CheckError as err:
             report.declaration_problem = str(err)
     return report
