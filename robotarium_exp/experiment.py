@@ -144,11 +144,37 @@ def order_for_v2_initializer(ic: FloatArray) -> list[int]:
     corners as robots 0 and 1 (90 % of the initializations within 82 s instead of 124 s).
     """
     n = ic.shape[1]
-    gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))
-    neighbours = (gaps < 1.25 * ROBOTARIUM.ic_spacing_m).sum(axis=0) - 1
+    neighbours = _neighbour_counts(ic)
     ahead = ic[0] * np.cos(ic[2]) + ic[1] * np.sin(ic[2])  # how far along its heading: the front row first
     first = sorted(range(n), key=lambda k: (neighbours[k], -round(float(ahead[k]), 6), k))[:2]
     return first + [k for k in range(n) if k not in first]
+
+
+def initializer_stall_risk(ic: FloatArray) -> str | None:
+    """Why V2's initializer may leave robots 0 and 1 stuck at these initial conditions (3xN), or None.
+
+    The risk is that of :func:`order_for_v2_initializer`: robots 0 and 1, which V2 never rescues from a deadlock,
+    sit at slots with more neighbours than the least crowded ones.
+    """
+    if ic.shape[1] < 3:
+        return None
+    neighbours = _neighbour_counts(ic)
+    have, least = sorted(neighbours[:2].tolist()), sorted(neighbours.tolist())[:2]
+    if have == least:
+        return None
+    radius = 1.25 * ROBOTARIUM.ic_spacing_m
+    return (
+        f'robots 0 and 1 start at slots with {have[0]} and {have[1]} neighbours within {radius:.2f} m, where slots '
+        f"with {least[0]} and {least[1]} exist. V2's initializer never rescues robots 0 and 1 from a deadlock, and "
+        'at a crowded slot they can stall for good (docs/robotarium.md §2.6). Put them at the least crowded slots: '
+        'reorder the robots with robotarium_exp.experiment.order_for_v2_initializer.'
+    )
+
+
+def _neighbour_counts(ic: FloatArray) -> NDArray[np.int_]:
+    """How many other slots lie within 1.25 x the spacing of each slot."""
+    gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))
+    return np.asarray((gaps < 1.25 * ROBOTARIUM.ic_spacing_m).sum(axis=0) - 1)
 
 
 def _first_inside_box(scene: Scene) -> float:

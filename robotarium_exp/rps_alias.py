@@ -1,6 +1,6 @@
 """Run an unchanged ``rps`` script on the bundled simulator: make ``import rps...`` resolve to ours.
 
-    python -m robotarium_exp.rps_alias [--classic] [--seed N] [--log FILE.npz] my_script.py [args...]
+    python -m robotarium_exp.rps_alias [--classic] [--seed N] [--log FILE.npz] [--exact-qp] my_script.py [args...]
 
 or, inside Python, ``install()`` before the script imports ``rps``. By default ``rps`` is V2
 (:mod:`robotarium_exp.rps`: robots are driven from the chargers to the initial conditions, ``debug()``);
@@ -8,7 +8,9 @@ or, inside Python, ``install()`` before the script imports ``rps``. By default `
 ``robotarium_python_simulator`` 0.0.0: ``call_at_scripts_end()``, ``rps.robotarium_abc``,
 ``rps.utilities.barrier_certificates2``...). ``--seed`` seeds ``random`` and ``np.random``, what the scripts and
 both generations draw from (V2's charger slots and deadlock escapes, classic's random start poses); ``--log`` makes
-the simulator record every pose it hands out (a vtube ``.npz`` log, completed by the end-of-script call).
+the simulator record every pose it hands out (a vtube ``.npz`` log, completed by the end-of-script call);
+``--exact-qp`` makes the barrier certificates solve their QPs exactly and faster, instead of as the testbed does
+(:func:`robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`).
 
 A script that dies on ``np.mat`` (removed in numpy 2, used by several classic examples) gets a message naming the
 fix instead of a bare ``AttributeError``, and exit code 1.
@@ -26,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from robotarium_exp.rps.utilities.barrier_certificates import use_qp_solver
 from vtube_planning.swarm.log import LogWriter
 
 MODULES = (
@@ -130,16 +133,19 @@ def recording(cls: type, log_path: str) -> type:
 def main() -> None:
     args = sys.argv[1:]
     classic, seed, log_path = False, None, None
-    while args and args[0] in ('--classic', '--seed', '--log'):
+    while args and args[0] in ('--classic', '--seed', '--log', '--exact-qp'):
         if args[0] == '--classic':
             classic, args = True, args[1:]
+        elif args[0] == '--exact-qp':
+            use_qp_solver('exact')
+            args = args[1:]
         elif args[0] == '--seed':
             seed, args = int(args[1]), args[2:]
         else:
             log_path, args = args[1], args[2:]
     if not args:
         print(
-            'usage: python -m robotarium_exp.rps_alias [--classic] [--seed N] [--log FILE] SCRIPT [ARGS...]',
+            'usage: python -m robotarium_exp.rps_alias [--classic] [--seed N] [--log FILE] [--exact-qp] SCRIPT [ARGS...]',
             file=sys.stderr,
         )
         raise SystemExit(2)

@@ -19,9 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from robotarium_exp.experiment import ExperimentConfig, flight_data, plain_data
+from robotarium_exp.experiment import ExperimentConfig, flight_data, initializer_stall_risk, plain_data
 from robotarium_exp.spec import ROBOTARIUM
 from submission import runtime
+from submission.check import Declaration
 from submission.errors import SubmissionError
 from vtube_planning.geometry.scene import Scene, load_scene
 from vtube_planning.planning.plan import Plan
@@ -42,8 +43,18 @@ class Submission:
     n_robots: int
 
 
-def build(name_or_path: str | Path | Scene, *, planning: bool = True, plan: Plan | None = None) -> Submission:
-    """The submission's source for a Robotarium scene (shipped name, .toml file or Scene); plans unless given one."""
+def build(
+    name_or_path: str | Path | Scene,
+    *,
+    planning: bool = True,
+    plan: Plan | None = None,
+    declaration: Declaration | None = None,
+) -> Submission:
+    """The submission's source for a Robotarium scene (shipped name, .toml file or Scene); plans unless given one.
+
+    ``declaration``: the duration to declare, as ``vtube submission check`` derived it for this file, recorded in
+    the header (``vtube submission build`` derives it unless told not to).
+    """
     scene = name_or_path if isinstance(name_or_path, Scene) else load_scene(name_or_path)
     _check_scene(scene)
     if plan is None:
@@ -54,11 +65,14 @@ def build(name_or_path: str | Path | Scene, *, planning: bool = True, plan: Plan
         ('parking slots', data['parking_slots']),
     ):
         _inside_arena(scene, name, np.asarray(points))
+    risk = initializer_stall_risk(np.asarray(data['initial_conditions']))
+    if risk is not None:
+        raise SubmissionError(f'scene {scene.name!r}: {risk}')
     left, right = scene.tube.boundaries(np.linspace(0.0, scene.tube.length_m, 120))
     data['tube_edges'] = np.stack([left.T, right.T])
     if not planning:
         data['plan'] = None
-    header = _header(scene, plan, planning)
+    header = _header(scene, plan, planning, declaration)
     source = '\n'.join(
         [
             header,
@@ -114,7 +128,7 @@ def _inside_arena(scene: Scene, what: str, points: np.ndarray) -> None:
         raise SubmissionError(msg)
 
 
-def _header(scene: Scene, plan: Any, planning: bool) -> str:
+def _header(scene: Scene, plan: Any, planning: bool, declaration: Declaration | None) -> str:
     certified = (
         'every constraint holds within 1e-6 (relative)'
         if plan.is_certified()
@@ -129,7 +143,13 @@ def _header(scene: Scene, plan: Any, planning: bool) -> str:
                 f'{"with" if planning else "without"} speed and density planning.'
             ),
             '',
-            'Declare on the web form: the robot count above, and the duration that `vtube submission check` reports.',
+            *(
+                declaration.header_lines(scene.swarm.n_robots)
+                if declaration
+                else [
+                    'Declare on the web form: the robot count above, and the duration `vtube submission check` derives.'
+                ]
+            ),
             f'Plan: convex slowness method, {plan.l_m.size} grid points, traversal time {plan.time_s:.2f} s; certificate:',
             f'{certified}. Arrays rounded to six significant digits.',
             'Method: Song, Gao, Quan, "Speed and Density Planning for a Speed-Constrained Robot Swarm Through a Virtual',

@@ -2,7 +2,8 @@
 
 Scene 'robotarium_trapezoid': Robotarium: narrowing trapezoidal tube. 6 robots, with speed and density planning.
 
-Declare on the web form: the robot count above, and the duration that `vtube submission check` reports.
+Declare on the web form: 6 robots and 380 s, derived by `vtube submission check`
+from initializer 99.5% over 200 seeds 318.6 s + experiment 61.0 s; overruns 0.0%, stuck 0.0%.
 Plan: convex slowness method, 197 grid points, traversal time 26.79 s; certificate:
 every constraint holds within 1e-6 (relative). Arrays rounded to six significant digits.
 Method: Song, Gao, Quan, "Speed and Density Planning for a Speed-Constrained Robot Swarm Through a Virtual
@@ -754,14 +755,19 @@ class BarrierSpec:
     full_first_side: bool = True
 
 
-def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArray]:
-    """Constraint rows A u <= b (u stacked robot by robot: [u_0x, u_0y, u_1x, ...]) for positions x (2, N)."""
+def barrier_rows(x: FloatArray, spec: BarrierSpec, *, prune: bool = True) -> tuple[FloatArray, FloatArray]:
+    """Constraint rows A u <= b (u stacked robot by robot: [u_0x, u_0y, u_1x, ...]) for positions x (2, N).
+
+    ``prune``: with the speed polygon, leave out the pairs too far apart to bind (exact for an exact solver; an
+    inexact one, like the testbed's, answers differently without them).
+    """
     n = x.shape[1]
     i, j = np.triu_indices(n, k=1)
     diff = x[:, i] - x[:, j]
     dist2 = np.einsum('ij,ij->j', diff, diff)
     b_pair = spec.barrier_gain * (dist2 - spec.safety_radius**2) ** 3
-    if spec.speed_polygon:  # exact pruning: |2 e.(u_i - u_j)| <= 2 d 2 u_max / cos(pi/8) < gamma h^3 never binds
+    if prune and spec.speed_polygon:
+        # exact pruning: |2 e.(u_i - u_j)| <= 2 d 2 u_max / cos(pi/8) < gamma h^3 never binds
         reach = 4.0 * np.sqrt(dist2) * spec.magnitude_limit / math.cos(math.pi / POLYGON_SIDES)
         keep = b_pair < reach
         i, j, diff, b_pair = i[keep], j[keep], diff[:, keep], b_pair[keep]

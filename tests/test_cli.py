@@ -182,11 +182,16 @@ def test_robotarium_run_prints_the_testbed_verdict(tmp_path, capsys) -> None:
 
 def test_submission_build_and_check(tmp_path, capsys) -> None:
     out = tmp_path / 'experiment.py'
-    assert main(['submission', 'build', 'robotarium_trapezoid', '--out', str(out)]) == 0
-    assert out.read_text().startswith('"""vtube: a speed- and density-planned robot swarm')
-    assert main(['submission', 'check', str(out), '--seeds', '1']) == 0
+    build = ['submission', 'build', 'robotarium_trapezoid', '--out', str(out), '--seeds', '1']
+    assert main([*build, '--initializer-seeds', '3']) == 0
     text = capsys.readouterr().out
     assert 'verdict                PASS' in text and 'declare                6 robots' in text
+    declared = text.split('the header records the declaration: 6 robots, ')[1].split(' s')[0]
+    assert f'Declare on the web form: 6 robots and {declared} s' in out.read_text()
+    assert main(['submission', 'check', str(out), '--seeds', '1', '--initializer-seeds', '3']) == 0
+    assert f'header records         {declared} s' in capsys.readouterr().out
+    assert main([*build, '--no-declare']) == 0
+    assert 'Declare on the web form: the robot count above' in out.read_text()
 
 
 def test_submission_build_refuses_a_scene_that_does_not_fit(tmp_path, capsys) -> None:

@@ -17,6 +17,7 @@ from unicycle_mapping.errors import MappingError
 from vtube_planning.errors import VtubeError
 
 if TYPE_CHECKING:
+    from submission.check import CheckReport
     from vtube_planning.geometry.scene import Scene
     from vtube_planning.params import SwarmParams
     from vtube_planning.planning.plan import Plan
@@ -317,32 +318,61 @@ def _seconds(value: float | None) -> str:
     return 'never' if value is None else f'{value:.1f} s'
 
 
-def submission_build(name_or_path: str, out: Path, *, planning: bool = True, plan_path: Path | None = None) -> int:
-    """Write the single-file submission for a Robotarium scene (planned here, or from ``plan_path``)."""
+def submission_build(
+    name_or_path: str,
+    out: Path,
+    *,
+    planning: bool = True,
+    plan_path: Path | None = None,
+    declare: bool = True,
+    seeds: int = 3,
+    initializer_seeds: int = 200,
+) -> int:
+    """Write the single-file submission for a Robotarium scene (planned here, or from ``plan_path``).
+
+    With ``declare``, the file is checked as ``vtube submission check`` does and rewritten with the duration to
+    declare, and how it was derived, in its header; a file that fails the check keeps no declaration.
+    """
     from submission.builder import build, write
+    from submission.check import check
     from vtube_planning.geometry.scene import load_scene
 
     scene = load_scene(name_or_path)
-    submission = build(scene, planning=planning, plan=_plan_for(scene, plan_path=plan_path))
+    plan = _plan_for(scene, plan_path=plan_path)
+    submission = build(scene, planning=planning, plan=plan)
     path = write(submission, out)
     print(
         f'submission for scene {submission.scene} ({submission.n_robots} robots, '
         f'{"with" if planning else "without"} planning): {path}'
     )
-    print(f'  check it before uploading:  vtube submission check {path}')
+    if not declare:
+        print(f'  check it before uploading:  vtube submission check {path}')
+        return EXIT_OK
+    report = check(path, seeds=seeds, initializer_seeds=initializer_seeds)
+    if not _print_check(report) or report.declaration is None:
+        print('  the file records no duration to declare: fix what failed and build again')
+        return 1
+    write(build(scene, planning=planning, plan=plan, declaration=report.declaration), out)
+    print(f'  the header records the declaration: {submission.n_robots} robots, {report.declaration.duration_s} s')
     return EXIT_OK
 
 
-def submission_check(path: Path, *, seeds: int = 3, initializer_seeds: int = 50) -> int:
+def submission_check(path: Path, *, seeds: int = 3, initializer_seeds: int = 200) -> int:
     """Preflight a submission file; prints the report and returns 0 when it passes, 1 when not."""
-    from robotarium_exp.spec import ROBOTARIUM
-    from submission.check import COUNTS, check
+    from submission.check import check
 
-    report = check(path, seeds=seeds, initializer_seeds=initializer_seeds)
+    return EXIT_OK if _print_check(check(path, seeds=seeds, initializer_seeds=initializer_seeds)) else 1
+
+
+def _print_check(report: CheckReport) -> bool:
+    """Print a preflight's report; whether it passed."""
+    from robotarium_exp.spec import ROBOTARIUM
+    from submission.check import COUNTS
+
     print(f'submission {report.path}')
     if report.disallowed_imports:
         print(f'  FAIL: imports missing on the Robotarium server: {", ".join(report.disallowed_imports)}')
-        return 1
+        return False
     print('  imports                only the standard library, numpy/scipy/matplotlib/cvxopt and rps: ok')
     print(
         f'  {"run":<16} {"done":>5} {"too close":>10} {"outside":>8} {"actuator":>9} {"min dist [m]":>13} '
@@ -366,10 +396,12 @@ def submission_check(path: Path, *, seeds: int = 3, initializer_seeds: int = 50)
     )
     if declared:
         print(f'  duration from          {declared.basis()}')
+    if report.header_declaration:
+        print(f'  header records         {report.header_declaration.duration_s} s')
     if report.declaration_problem:
         print(f'  FAIL: {report.declaration_problem}')
     print(f'  verdict                {"PASS" if report.passed else "FAIL"}')
-    return EXIT_OK if report.passed else 1
+    return report.passed
 
 
 def analyze(
@@ -424,12 +456,10 @@ def demo(out: Path) -> int:
         ('simulate with planning', lambda: simulate(scene, out / 'simulation', plan_path=plan_path)),
         ('simulate without planning', lambda: simulate(scene, out / 'simulation', planning=False)),
         (
-            'build the submission',
-            lambda: submission_build(scene, out / 'submission' / 'experiment.py', plan_path=plan_path),
-        ),
-        (
-            'check the submission',
-            lambda: submission_check(out / 'submission' / 'experiment.py', seeds=2, initializer_seeds=20),
+            'build and check the submission',
+            lambda: submission_build(
+                scene, out / 'submission' / 'experiment.py', plan_path=plan_path, seeds=2, initializer_seeds=20
+            ),
         ),
     ]
     for title, step in steps:
@@ -540,11 +570,18 @@ def _parser() -> argparse.ArgumentParser:
     build_cmd.add_argument(
         '--plan', type=Path, default=None, help='embed this plan file (vtube plan) instead of planning'
     )
+    build_cmd.add_argument(
+        '--no-declare', action='store_true', help='skip the check that derives the duration to declare'
+    )
+    build_cmd.add_argument('--seeds', type=int, default=3, help='checking runs on the bundled simulator')
+    build_cmd.add_argument(
+        '--initializer-seeds', type=int, default=200, help="V2's initializer alone, for the duration to declare"
+    )
     check_cmd = sub_commands.add_parser('check', help='preflight a submission on the simulators')
     check_cmd.add_argument('file', type=Path, help='the submission .py file')
     check_cmd.add_argument('--seeds', type=int, default=3, help='runs on the bundled simulator (seeds 0..n-1)')
     check_cmd.add_argument(
-        '--initializer-seeds', type=int, default=50, help="V2's initializer alone, for the duration to declare"
+        '--initializer-seeds', type=int, default=200, help="V2's initializer alone, for the duration to declare"
     )
     ana = commands.add_parser('analyze', help='metrics, figures and a report of returned or recorded data')
     ana.add_argument(
@@ -601,7 +638,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == 'demo':
             return demo(args.out)
         if args.command == 'submission' and args.submission_command == 'build':
-            return submission_build(args.scene, args.out, planning=not args.no_planning, plan_path=args.plan)
+            return submission_build(
+                args.scene,
+                args.out,
+                planning=not args.no_planning,
+                plan_path=args.plan,
+                declare=not args.no_declare,
+                seeds=args.seeds,
+                initializer_seeds=args.initializer_seeds,
+            )
         if args.command == 'submission':
             return submission_check(args.file, seeds=args.seeds, initializer_seeds=args.initializer_seeds)
         if args.command == 'robotarium' and args.robotarium_command == 'compare':

@@ -6,9 +6,10 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
+from robotarium_exp.errors import RobotariumError
 from robotarium_exp.rps.utilities import barrier_certificates as bc
 from robotarium_exp.rps_classic.utilities import barrier_certificates as classic
-from unicycle_mapping import uni_to_si_states
+from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
 
 TIGHT = {'tol_gap_abs': 1e-12, 'tol_gap_rel': 1e-12, 'tol_feas': 1e-12, 'tol_ktratio': 1e-10}
 
@@ -43,6 +44,7 @@ def reference(u_hat: np.ndarray, x: np.ndarray, spec: bc.BarrierSpec) -> np.ndar
     return u.value.reshape(2, -1, order='F')
 
 
+@pytest.mark.usefixtures('exact_qp')
 def test_two_hundred_tight_configurations() -> None:
     rng = np.random.default_rng(0)
     certificate = bc.create_si_barrier_certificate_with_boundary()
@@ -64,6 +66,7 @@ def test_two_hundred_tight_configurations() -> None:
     assert worst_difference <= 1e-6
 
 
+@pytest.mark.usefixtures('exact_qp')
 def test_feasible_commands_pass_unchanged_and_far_pairs_are_pruned() -> None:
     x = np.array([[0.0, 1.0, -1.0], [0.0, 0.5, -0.5]])
     u = np.array([[0.05, -0.05, 0.0], [0.0, 0.02, 0.1]])
@@ -73,6 +76,7 @@ def test_feasible_commands_pass_unchanged_and_far_pairs_are_pruned() -> None:
     assert a.shape[0] == 8 * 3  # no pair row: all farther than the distance at which a row can bind
 
 
+@pytest.mark.usefixtures('exact_qp')
 def test_infeasible_state_is_counted_warned_and_zeroed() -> None:
     certificate = classic.create_single_integrator_barrier_certificate_with_boundary()
     x = np.array([[1.59], [0.0]])  # inside the wall band: a command towards the wall is turned back
@@ -115,6 +119,7 @@ def test_bad_certificate_input() -> None:
         bc.create_si_barrier_certificate(safety_radius=-1)
 
 
+@pytest.mark.usefixtures('exact_qp')
 def test_v2_semantics_lone_robot_polygon_sides_and_obstacles() -> None:
     """A lone robot's command passes (V2 returns it before any QP); a command over the limit is cut by the
     polygon, not pre-scaled: the +x side sits at the limit in the plain certificate, at limit cos(pi/8) with walls."""
@@ -144,3 +149,82 @@ def test_v2_semantics_lone_robot_polygon_sides_and_obstacles() -> None:
     assert blocked[0, 0] == pytest.approx((0.2 + c) / 2, abs=1e-9)
     np.testing.assert_allclose(blocked[:, 1], free[:, 1], atol=1e-9)  # robot 1 is far from it
     assert blocked.shape == (2, 2)  # the obstacle's own column is dropped
+
+
+# ---------------------------------------------------------------------- the testbed's solver (the default)
+
+
+def v2_rows(points: np.ndarray, radius: float, gain: float, limit: float) -> tuple[np.ndarray, np.ndarray]:
+    """V2's plain certificate's rows as its source lays them out: each pair (i < j) in turn, then each robot's
+    eight polygon sides, counter-clockwise from +x; the first at the limit, the others at limit cos(pi/8)."""
+    n = points.shape[1]
+    rows, rhs = [], []
+    for i in range(n):
+        for j in range(i + 1, n):
+            diff = points[:, i] - points[:, j]
+            row = np.zeros(2 * n)
+            row[2 * i : 2 * i + 2], row[2 * j : 2 * j + 2] = -2 * diff, 2 * diff
+            rows.append(row)
+            rhs.append(gain * (diff @ diff - radius**2) ** 3)
+    for i in range(n):
+        for k in range(8):
+            row = np.zeros(2 * n)
+            row[2 * i : 2 * i + 2] = np.cos(k * np.pi / 4), np.sin(k * np.pi / 4)
+            rows.append(row)
+            rhs.append(limit if k == 0 else limit * np.cos(np.pi / 8))
+    return np.array(rows), np.array(rhs)
+
+
+def test_testbed_solver_answers_what_cvxopt_at_the_testbed_options_answers() -> None:
+    """The default certificate equals cvxopt run by hand on V2's own row layout, at V2's options."""
+    from cvxopt import matrix, solvers
+
+    assert bc.qp_solver() == 'testbed'
+    rng = np.random.default_rng(4)
+    certificate = bc.create_uni_barrier_certificate()
+    worst = 0.0
+    for _ in range(30):
+        n = int(rng.integers(2, 12))
+        x = np.vstack([rng.uniform(-0.5, 0.5, (2, n)), rng.uniform(-np.pi, np.pi, n)])
+        dxu = np.vstack([rng.uniform(-0.2, 0.2, n), rng.uniform(-3.0, 3.0, n)])
+        points, dxi = uni_to_si_states(x, 0.05), uni_to_si(dxu, x, 0.05)
+        a, b = v2_rows(points, 0.25, 100.0, 0.2)
+        options = {'show_progress': False, 'reltol': 1e-2, 'feastol': 1e-2, 'maxiters': 50}
+        solution = solvers.qp(
+            matrix(2.0 * np.eye(2 * n)),
+            matrix(-2.0 * dxi.reshape(-1, order='F')),
+            matrix(a),
+            matrix(b),
+            options=options,
+        )
+        assert solution['status'] == 'optimal'
+        by_hand = si_to_uni(np.array(solution['x']).reshape(2, n, order='F'), x, 0.05)
+        worst = max(worst, float(np.abs(certificate(dxu, x) - by_hand).max()))
+    assert worst <= 1e-9
+
+
+def test_testbed_answers_are_strictly_feasible_and_near_the_optimum() -> None:
+    """cvxopt stops early from the inside: every row holds, the answer within 0.02 m/s of the exact optimum."""
+    rng = np.random.default_rng(5)
+    certificate = bc.create_si_barrier_certificate_with_boundary()
+    worst_violation, worst_gap = -np.inf, 0.0
+    for _ in range(40):
+        x, u_hat = tight_configuration(rng, int(rng.integers(6, 21)))
+        testbed = certificate(u_hat, x)
+        previous = bc.use_qp_solver('exact')
+        try:
+            exact = certificate(u_hat, x)
+        finally:
+            bc.use_qp_solver(previous)
+        a, b = bc.barrier_rows(x, certificate.spec, prune=False)
+        worst_violation = max(worst_violation, float((a @ testbed.reshape(-1, order='F') - b).max()))
+        worst_gap = max(worst_gap, float(np.abs(testbed - exact).max()))
+    assert certificate.stats.failures == 0
+    assert worst_violation <= 0.0
+    assert 1e-5 < worst_gap <= 0.02  # not the optimum, but near it
+
+
+def test_unknown_qp_solver_is_refused_by_name() -> None:
+    with pytest.raises(RobotariumError, match="unknown QP solver 'osqp'; choose one of testbed, exact"):
+        bc.use_qp_solver('osqp')
+    assert bc.qp_solver() == 'testbed'

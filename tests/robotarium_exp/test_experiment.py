@@ -9,6 +9,7 @@ from robotarium_exp.errors import ExperimentError, RobotariumError
 from robotarium_exp.experiment import (
     ExperimentConfig,
     initial_conditions,
+    initializer_stall_risk,
     order_for_v2_initializer,
     parking_slots,
     plan_tracking,
@@ -116,6 +117,11 @@ def test_robots_zero_and_one_take_the_front_corners() -> None:
     grid = np.array([[0.0, 0.0, 0.0, -0.4, -0.4, -0.4], [-0.4, 0.0, 0.4, -0.4, 0.0, 0.4], [0.0] * 6])
     order = order_for_v2_initializer(grid)
     assert sorted(order) == list(range(6)) and set(order[:2]) == {0, 2}
+    assert initializer_stall_risk(grid[:, order]) is None
+    risk = initializer_stall_risk(grid)  # robot 1 in the middle of the front row, with 3 neighbours
+    assert risk is not None and risk.startswith('robots 0 and 1 start at slots with 2 and 3 neighbours within 0.50 m')
+    assert 'order_for_v2_initializer' in risk
+    assert initializer_stall_risk(grid[:, :2]) is None  # two robots: nothing to choose
 
 
 def test_a_seed_that_deadlocked_the_v2_initializer_now_completes() -> None:
@@ -125,6 +131,7 @@ def test_a_seed_that_deadlocked_the_v2_initializer_now_completes() -> None:
 
     ic = initial_conditions(load_scene('robotarium_trapezoid'))
     as_before = ic[:, [0, 2, 1, 3, 4, 5]]  # the committed order until now: robot 1 in the middle of the front row
+    assert initializer_stall_risk(as_before) is not None  # which the builder now refuses
     limit = simulator.INITIALIZATION_STEP_LIMIT
     try:
         simulator.INITIALIZATION_STEP_LIMIT = 8000

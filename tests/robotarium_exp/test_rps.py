@@ -245,3 +245,27 @@ def test_the_initialization_is_v2s_step_for_step(seed: int) -> None:
     assert r.iterations == r.initialization_steps == steps
     np.testing.assert_allclose(r.get_poses()[:, 0], pose, atol=1e-12)
     np.testing.assert_array_equal(r.get_encoders()[:, 0], encoders)
+
+
+@pytest.mark.parametrize(('flags', 'solver'), [([], 'testbed'), (['--exact-qp'], 'exact')])
+def test_the_alias_chooses_how_the_certificates_solve(tmp_path, flags: list[str], solver: str) -> None:
+    """A script's certificates answer as the testbed's unless ``--exact-qp`` asks for the exact optimum."""
+    script = tmp_path / 'which.py'
+    script.write_text(
+        'import numpy as np\n'
+        'from rps.utilities.barrier_certificates import create_si_barrier_certificate, qp_solver\n'
+        'x = np.array([[0.0, 1.0], [0.0, 0.0]])\n'
+        'u = create_si_barrier_certificate()(np.array([[0.1, 0.0], [0.0, 0.0]]), x)\n'
+        "print(qp_solver(), repr(float(u[0, 0])))\n",
+        encoding='utf-8',
+    )
+    result = subprocess.run(
+        [sys.executable, '-m', 'robotarium_exp.rps_alias', *flags, str(script)],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=ROOT,
+    )
+    name, first = result.stdout.split()
+    assert name == solver
+    assert (float(first) == 0.1) == (solver == 'exact')  # a feasible command: unchanged only when solved exactly

@@ -290,6 +290,35 @@ def test_graph_names_and_topological_neighbours() -> None:
 # ---------------------------------------------------------------------- barrier certificates
 
 
+@pytest.mark.parametrize(
+    'name',
+    [
+        'create_single_integrator_barrier_certificate',
+        'create_single_integrator_barrier_certificate2',
+        'create_single_integrator_barrier_certificate_with_boundary',
+        'create_unicycle_barrier_certificate',
+        'create_unicycle_barrier_certificate2',
+        'create_unicycle_barrier_certificate_with_boundary',
+    ],
+)
+def test_cvxopt_certificates_answer_as_the_official_classic_ones(name: str) -> None:
+    """With the testbed's solver (the default), classic's cvxopt certificates give the PyPI simulator's answers."""
+    official = pytest.importorskip('rps.utilities.barrier_certificates')  # PyPI robotarium-python-simulator
+    theirs, ours = getattr(official, name)(), getattr(certificates, name)()
+    unicycle = 'unicycle' in name
+    rng = np.random.default_rng(6)
+    worst = 0.0
+    for _ in range(20):
+        n = int(rng.integers(2, 10))
+        x = np.vstack([rng.uniform(-0.6, 0.6, (2, n)), rng.uniform(-np.pi, np.pi, n)])
+        if not unicycle:
+            x = x[:2]
+        u = np.vstack([rng.uniform(-0.2, 0.2, n), rng.uniform(-3, 3, n)]) if unicycle else rng.normal(0, 0.15, (2, n))
+        worst = max(worst, float(np.abs(np.asarray(theirs(u.copy(), x.copy())) - ours(u, x)).max()))
+    assert worst <= 1e-9
+
+
+@pytest.mark.usefixtures('exact_qp')
 def test_certificate2_uses_the_unsafe_gain_inside_the_radius() -> None:
     x = np.array([[0.0, 0.1], [0.0, 0.0]])  # 0.1 m apart, inside 0.17 m: h < 0
     request = np.array([[0.2, 0.0], [0.0, 0.0]])  # robot 0 drives into robot 1
@@ -305,6 +334,7 @@ def test_certificate2_uses_the_unsafe_gain_inside_the_radius() -> None:
     assert not np.allclose(plain, safe)
 
 
+@pytest.mark.usefixtures('exact_qp')
 def test_unicycle_certificate_maps_back_with_classic_clip() -> None:
     x = np.array([[0.0, 1.0], [0.0, 0.0], [0.0, np.pi / 2]])  # far apart: the certificate is inactive
     dxu = np.array([[0.05, 0.1], [3.4, -1.0]])  # at the points: speeds 0.177 and 0.112, under the limit

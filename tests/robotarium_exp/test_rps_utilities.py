@@ -102,6 +102,7 @@ def test_random_positions_are_spaced_and_seeded_by_numpy() -> None:
         generate_random_positions(40, spacing=0.5, width=2.0, height=2.0)
 
 
+@pytest.mark.usefixtures('exact_qp')
 def test_solve_qp_returns_the_projection_or_none() -> None:
     a = np.array([[1.0, 0.0, 0.0, 0.0]])
     np.testing.assert_allclose(

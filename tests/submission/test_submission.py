@@ -18,7 +18,7 @@ from robotarium_exp.rps_alias import seed_rps
 from robotarium_exp.spec import ROBOTARIUM
 from submission import runtime
 from submission.builder import SubmissionError, build, write
-from submission.check import check, declare, imported_modules, static_check
+from submission.check import Declaration, check, declare, imported_modules, static_check
 from submission.errors import CheckError
 from vtube_planning import SceneError, load_scene
 from vtube_planning.geometry.projection import SampledTube
@@ -128,8 +128,11 @@ def test_the_submission_flies_the_bundled_experiment(tmp_path) -> None:
 
 @pytest.mark.parametrize('scene', SCENES)
 def test_committed_submission_equals_a_fresh_build(scene: str) -> None:
+    """Byte for byte, given the declaration its header records (derived by the check over 200 seeds)."""
     committed = (ROOT / 'submissions' / f'vtube_{scene}.py').read_text(encoding='utf-8')
-    assert build(scene).source == committed, (
+    recorded = Declaration.from_header(committed)
+    assert recorded is not None and recorded.runs == 200 and recorded.stuck_share == 0.0
+    assert build(scene, declaration=recorded).source == committed, (
         f'rebuild with: vtube submission build {scene} --out submissions/vtube_{scene}.py'
     )
 
@@ -153,6 +156,8 @@ def test_committed_submission_passes_the_preflight_on_both_simulators(scene: str
         assert run.ok, (run.backend, run.seed, run.summary, run.stderr_tail)
         assert run.summary['min_center_distance_m'] > 0.135
     assert report.passed and report.robots == 6
+    assert report.header_declaration is not None  # 200 seeds: at least what 4 seeds derive
+    assert report.header_declaration.duration_s >= report.declaration.duration_s
     declared = report.declaration
     assert declared is not None and report.initializer is not None and report.initializer.runs == 4
     assert declared.duration_s >= max(report.initializer.durations_s) + declared.experiment_s - 10  # 4 seeds: max
@@ -222,15 +227,44 @@ def test_too_many_robots(tmp_path) -> None:
 
 
 def test_the_declared_duration_covers_a_high_quantile_of_the_initializer() -> None:
-    """Synthetic samples: the 99 % quantile plus the experiment, rounded up to 10 s; risks as measured shares."""
+    """Synthetic samples: the 99.5 % quantile plus the experiment, rounded up to 10 s; risks as measured shares."""
     spread = InitializerSample(tuple(float(k) for k in range(1, 201)), ())
     plain = declare(spread, experiment_s=30.0)
-    assert plain.quantile_s == 199.0 and plain.duration_s == 230 and plain.overrun_share == 0.0
+    assert plain.quantile_s == 200.0 and plain.duration_s == 230 and plain.overrun_share == 0.0  # 200: the longest
     heavy = declare(InitializerSample((10.0,) * 190 + (500.0,) * 10, ()), experiment_s=30.0)
-    assert heavy.duration_s == 530  # a tail over 1 % is covered, not averaged away
-    tail = declare(InitializerSample((10.0,) * 199 + (2000.0,), ()), experiment_s=30.0)
-    assert tail.duration_s == 40 and tail.overrun_share == pytest.approx(0.005)  # beyond 1.5 x 40 s: reported
-    stuck = declare(InitializerSample((10.0,) * 199, (5,)), experiment_s=30.0)
-    assert stuck.stuck_share == pytest.approx(0.005) and stuck.overrun_share == pytest.approx(0.005)
+    assert heavy.duration_s == 530  # a tail over 0.5 % is covered, not averaged away
+    tail = declare(InitializerSample((10.0,) * 399 + (2000.0,), ()), experiment_s=30.0)
+    assert tail.duration_s == 40 and tail.overrun_share == pytest.approx(0.0025)  # beyond 1.5 x 40 s: reported
+    stuck = declare(InitializerSample((10.0,) * 399, (5,)), experiment_s=30.0)
+    assert stuck.stuck_share == pytest.approx(0.0025) and stuck.overrun_share == pytest.approx(0.0025)
     with pytest.raises(CheckError, match=r'3 of 200 initializations did not finish .* change the initial'):
         declare(InitializerSample((10.0,) * 197, (1, 2, 3)), experiment_s=30.0)
+
+
+def test_the_header_records_the_declaration_and_the_check_reads_it_back(tmp_path) -> None:
+    declaration = declare(InitializerSample((20.0, 35.5, 80.25), ()), experiment_s=61.3)
+    source = build('robotarium_trapezoid', declaration=declaration).source
+    header = source[: source.index('from __future__')]
+    assert 'Declare on the web form: 6 robots and 150 s, derived by `vtube submission check`' in header
+    assert 'from initializer 99.5% over 3 seeds 80.2 s + experiment 61.3 s; overruns 0.0%, stuck 0.0%.' in header
+    recorded = Declaration.from_header(source)
+    assert recorded is not None and recorded.duration_s == 150 and recorded.runs == 3
+    assert build('robotarium_trapezoid', declaration=recorded).source == source  # the text round-trips
+    assert Declaration.from_header(build('robotarium_trapezoid').source) is None
+    short = declare(InitializerSample((1.0,), ()), experiment_s=1.0)  # 10 s: shorter than any real run
+    path = write(build('robotarium_trapezoid', declaration=short), tmp_path / 'short.py')
+    report = check(path, seeds=1, initializer_seeds=2)
+    assert not report.passed
+    assert report.declaration is not None and report.declaration.duration_s > 10
+    assert report.declaration_problem.startswith(
+        f'the header records 10 s, shorter than the {report.declaration.duration_s} s derived now; declare'
+    )
+
+
+def test_the_builder_refuses_initial_conditions_that_can_stall_the_initializer(monkeypatch) -> None:
+    """The old order (robot 1 in the middle of the front row) left trapezoid seed 38 stuck for good in V2."""
+    from robotarium_exp import experiment
+
+    monkeypatch.setattr(experiment, 'order_for_v2_initializer', lambda ic: list(range(ic.shape[1])))
+    with pytest.raises(SubmissionError, match=r"'robotarium_trapezoid': robots 0 and 1 start at slots with 2 and 3 "):
+        build('robotarium_trapezoid')

@@ -1,4 +1,4 @@
-"""Classic ``rps.utilities.barrier_certificates``: every classic certificate, on V2's exact DAQP core.
+"""Classic ``rps.utilities.barrier_certificates``: every classic certificate, on V2's QP core.
 
 Single integrators (``create_single_integrator_barrier_certificate``, ``..._with_boundary``): V2's classic-named
 certificates (pairwise rows, optional walls, no speed polygon; the input is first scaled to the magnitude limit).
@@ -14,7 +14,9 @@ Differential drive (``create_unicycle_differential_drive_barrier_certificate``, 
 certificate of :mod:`~robotarium_exp.rps_classic.utilities.barrier_certificates2`, with classic's defaults.
 Classic's version without walls cannot run (it calls a solver it never imports); this one does.
 
-Solver failures do what V2's certificates do here: a warning, zero velocities, a count in ``stats``.
+The QPs are solved as V2's are (:func:`~robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`): by
+default as classic solves them, with cvxopt at the testbed's tolerances, so they answer as classic's do. Solver
+failures do what V2's certificates do here: a warning, zero velocities, a count in ``stats``.
 """
 
 from __future__ import annotations

@@ -10,8 +10,8 @@ h with respect to robot k's wheel speeds,
 where each min is -disturbance (|g_k,1| + |g_k,2|); likewise between each robot and each obstacle point, and, with
 walls, p stays inside ``boundary_points`` (rows ``+/- pdot <= 0.4 gamma (room - R/2)^3``, no disturbance), every
 wheel within +/- ``wheel_vel_limit``. Among those wheel speeds it picks the ones closest to the request in the
-metric (v - v_hat)^2 + d^2 (omega - omega_hat)^2, exactly, by the least-distance QP of V2's certificates in the
-scaled variables (v, d omega).
+metric (v - v_hat)^2 + d^2 (omega - omega_hat)^2, exactly (classic solves these with quadprog, an exact solver),
+by the exact least-distance QP of V2's certificates in the scaled variables (v, d omega).
 
 Classic's implementation prints its solve time at every call (not reproduced) and sizes buffers by
 ``max_num_robots`` / ``max_num_obstacles`` (accepted here, not needed).
@@ -24,7 +24,7 @@ import warnings
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.rps.utilities.barrier_certificates import BarrierStats, FloatArray, _solve_qp
+from robotarium_exp.rps.utilities.barrier_certificates import BarrierStats, FloatArray, least_distance
 
 __all__ = ['RobustCertificate', 'create_robust_barriers']
 
@@ -99,14 +99,14 @@ class RobustCertificate:
         scale = np.tile([1.0, self.d], n)  # unknowns z = (v, d omega): the objective becomes |z - z_hat|^2
         self.stats.solves += 1
         self.stats.rows_last = a.shape[0]
-        z = _solve_qp(n, dxu * scale.reshape(n, 2).T, a / scale, b)
+        z = least_distance((dxu * scale.reshape(n, 2).T).reshape(-1, order='F'), a / scale, b)
         if z is None:
             self.stats.failures += 1
             message = f'robust barrier QP infeasible at solve {self.stats.solves}; commanding zero velocities'
             self.stats.messages.append(message)
             warnings.warn(f'QP failed. Commanding zero velocities. ({message})', RuntimeWarning, stacklevel=2)
             return np.zeros_like(dxu)
-        return z / scale.reshape(n, 2).T
+        return z.reshape(2, n, order='F') / scale.reshape(n, 2).T
 
     def _wall_rows(self, points: FloatArray, theta: FloatArray, boundary: FloatArray) -> tuple[FloatArray, FloatArray]:
         """``+/- pdot_y, +/- pdot_x <= 0.4 gamma (room - R/2)^3`` per robot, pdot = [cos, -d sin; sin, d cos] u."""
