@@ -256,7 +256,7 @@ def test_the_alias_chooses_how_the_certificates_solve(tmp_path, flags: list[str]
         'from rps.utilities.barrier_certificates import create_si_barrier_certificate, qp_solver\n'
         'x = np.array([[0.0, 1.0], [0.0, 0.0]])\n'
         'u = create_si_barrier_certificate()(np.array([[0.1, 0.0], [0.0, 0.0]]), x)\n'
-        "print(qp_solver(), repr(float(u[0, 0])))\n",
+        'print(qp_solver(), repr(float(u[0, 0])))\n',
         encoding='utf-8',
     )
     result = subprocess.run(
