@@ -215,6 +215,47 @@ def study(
     return EXIT_OK if all(e['claim_on_means'] for e in summary) else 1
 
 
+def ablation(
+    out: Path,
+    *,
+    scenes: Sequence[str],
+    sizes: Sequence[int],
+    seeds: int,
+    models: Sequence[str],
+    workers: int,
+) -> int:
+    """The ablation grid: grid.csv (one row per run, written as runs finish), grid.md and grid.png from it."""
+    import os
+    import time
+
+    from vtube_planning import plots
+    from vtube_planning.study import MODELS, RowWriter, grid_markdown, iter_grid, row_text
+
+    unknown = [m for m in models if m not in MODELS]
+    if unknown:
+        print(f'error: unknown robot model {unknown[0]!r}; choose from {", ".join(MODELS)}.', file=sys.stderr)
+        return 2
+    workers = workers or os.cpu_count() or 1
+    started = time.perf_counter()
+    writer = RowWriter(out / 'grid.csv')
+    rows = []
+    try:
+        for row in iter_grid(scenes, sizes, range(seeds), models=models, workers=workers):
+            writer.write(row)
+            rows.append(row)
+            print(row_text(row))
+    finally:
+        writer.close()
+    text = grid_markdown(rows)
+    (out / 'grid.md').write_text(text, encoding='utf-8')
+    figure = plots.save_figure(plots.paired_differences_figure(rows), out / 'grid.png')
+    print()
+    print(text)
+    print(f'{len(rows)} runs in {time.perf_counter() - started:.0f} s on {workers} processes')
+    print(f'written {out / "grid.csv"}, {out / "grid.md"}, {figure}')
+    return EXIT_OK
+
+
 def robotarium_run(
     name_or_path: str,
     out: Path,
@@ -495,6 +536,17 @@ def demo(out: Path) -> int:
     )
 
 
+def _sizes(text: str) -> list[int]:
+    try:
+        sizes = [int(part) for part in text.split(',')]
+    except ValueError:
+        sizes = []
+    if not sizes or min(sizes) < 1:
+        msg = f'--sizes must be comma-separated whole numbers >= 1, like 20,40,80; got {text!r}.'
+        raise VtubeError(msg)
+    return sizes
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog='vtube',
@@ -546,6 +598,15 @@ def _parser() -> argparse.ArgumentParser:
         action='store_true',
         help='add optimized flocking and NMPC on scenes C and D (NMPC: about a minute per run)',
     )
+    abl = commands.add_parser('ablation', help='what each part of the method buys: the ablation grid, with intervals')
+    abl.add_argument('--out', type=Path, required=True, help='folder for grid.csv, grid.md, grid.png')
+    abl.add_argument('--scenes', default='C,D', help='comma-separated scene names')
+    abl.add_argument('--sizes', default='20,40,80', help='comma-separated swarm sizes N')
+    abl.add_argument('--seeds', type=int, default=10, help='number of seeds (0..n-1)')
+    abl.add_argument(
+        '--models', default='paper,acceleration limits', help="robot models: 'paper' and/or 'acceleration limits'"
+    )
+    abl.add_argument('--workers', type=int, default=0, help='processes (default: one per core)')
     robo = commands.add_parser('robotarium', help='the tube experiment on the bundled Robotarium simulator')
     robo_commands = robo.add_subparsers(dest='robotarium_command', required=True, metavar='SUBCOMMAND')
     run = robo_commands.add_parser('run', help='run the experiment, print the testbed verdict and metrics')
@@ -660,6 +721,15 @@ def main(argv: Sequence[str] | None = None) -> int:
                 initialization=not args.no_initialization,
                 seed=args.seed,
                 plan_path=args.plan,
+            )
+        if args.command == 'ablation':
+            return ablation(
+                args.out,
+                scenes=args.scenes.split(','),
+                sizes=_sizes(args.sizes),
+                seeds=args.seeds,
+                models=args.models.split(','),
+                workers=args.workers,
             )
         if args.command == 'study':
             return study(

@@ -110,8 +110,9 @@ class SwarmParams:
         }
 
 
-PREDICTIVE_MODELS = ('local_width', 'rigid_shift')
-"""The two readings of the predictive density constraint (p7), ``docs/theory.md`` §7 A6 and §8.3."""
+PREDICTIVE_MODELS = ('local_width', 'rigid_shift', 'none')
+"""The two readings of the predictive density constraint (p7), ``docs/theory.md`` §7 A6 and §8.3, and ``'none'``,
+(p7) left out (the study's ablation: a plan without the pre-expansion it forces)."""
 
 
 @dataclass(frozen=True)
@@ -126,7 +127,7 @@ class PlanningOptions:
         Weight mu of the density term of the objective (p1); 1 is the paper's unweighted sum (A5).
     predictive_model
         Reading of (p7): ``'local_width'`` rho_f = rho lambda(l) / lambda(l + dl), or ``'rigid_shift'`` of the
-        swarm's whole footprint (``docs/theory.md`` §8.3).
+        swarm's whole footprint (``docs/theory.md`` §8.3); ``'none'`` leaves (p7) out.
     lookahead_m
         Look-ahead distance dl of (p7), > 0 (the paper leaves it unspecified, A6).
     v0_mps

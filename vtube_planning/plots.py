@@ -325,6 +325,32 @@ def study_figure(summary: list[dict[str, Any]], collision_distance_m: float) -> 
     return fig
 
 
+def paired_differences_figure(rows: list[dict[str, Any]]) -> Figure:
+    """The ablation grid's paired differences (a - b on the same seeds) with their 95 % intervals: one panel per
+    metric, one line per comparison and cell (scene, N, robot model); filled where the claim holds."""
+    from matplotlib.figure import Figure
+
+    from vtube_planning.study import CLAIMS, COMPARISONS, paired_table
+
+    table = paired_table(rows)
+    cells = list(dict.fromkeys((p['scene'], p['n_robots'], p['model']) for p in table))
+    labels = [f'{a} - {b}  |  {s}, N={n}, {m}' for a, b, _ in COMPARISONS for s, n, m in cells]
+    fig = Figure(figsize=(12.0, 1.2 + 0.22 * len(labels)), layout='constrained')
+    axes = fig.subplots(1, len(CLAIMS), sharey=True)
+    colors = {'holds': 'tab:blue', 'reversed': 'tab:red', 'does not hold': 'tab:gray'}
+    for ax, (metric, _, title) in zip(axes, CLAIMS, strict=True):
+        for p in (p for p in table if p['metric'] == metric):
+            k = labels.index(f'{p["a"]} - {p["b"]}  |  {p["scene"]}, N={p["n_robots"]}, {p["model"]}')
+            e, color = p['estimate'], colors[p['verdict']]
+            ax.hlines(k, e.low, e.high, color=color, lw=2)
+            ax.plot(e.value, k, 'o', color=color, mfc=color if p['verdict'] == 'holds' else 'white')
+        ax.axvline(0.0, color='k', lw=0.8)
+        ax.set_xlabel(f'difference in {title}')
+    axes[0].set_yticks(range(len(labels)), labels, fontsize=7)
+    axes[0].invert_yaxis()
+    return fig
+
+
 def save_figure(fig: Figure, path: str | Path, *, dpi: int = 120) -> Path:
     """Write a figure, creating the folder; returns the path written."""
     path = Path(path)

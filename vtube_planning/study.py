@@ -10,17 +10,28 @@ the paper's claim is that the planned method passes more safely (fewer collision
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
-from dataclasses import replace
+import csv
+import math
+import multiprocessing
+from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from vtube_planning.baselines.flocking import FlockingParams, flocking_command
 from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
-from vtube_planning.geometry.scene import load_scene
+from vtube_planning.geometry.scene import Scene, load_scene
+from vtube_planning.params import SwarmParams
+from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
-from vtube_planning.swarm.simulate import SimConfig, simulate
+from vtube_planning.stats import Estimate, cell_values, mean_interval, paired_difference, verdict
+from vtube_planning.swarm.control import ControlParams
+from vtube_planning.swarm.metrics import tracking_errors
+from vtube_planning.swarm.simulate import SimConfig, SimResult, default_constant_speed, simulate
 
 MODES = ('planning', 'no planning')
 BASELINE_MODES = ('flocking', 'flocking (v_min)', 'nmpc')
@@ -36,47 +47,26 @@ def run_study(
     progress: Callable[[str], None] | None = None,
     baselines: Iterable[str] = (),
 ) -> list[dict[str, Any]]:
-    """One row per scene, mode and seed with the passage's metrics; ``baselines`` from BASELINE_MODES."""
+    """One row per scene, mode and seed with the passage's metrics; ``baselines`` from BASELINE_MODES.
+
+    The paper's comparison as a slice of the ablation grid (:func:`run_grid`): the scenes' own swarm, the robot
+    model of ``config``, the modes 'planning' and 'no planning', and the baselines on scenes C and D.
+    """
     config = config or SimConfig()
+    model = 'acceleration limits' if config.acceleration_limits else 'paper'
     rows = []
     for name in scenes:
-        scene = load_scene(name)
-        plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
-        modes = MODES + (tuple(baselines) if scene.name in BASELINE_SCENES else ())
-        for seed in seeds:
-            for mode in modes:
-                law = _baseline_law(mode, scene, config.dt_s) if mode in BASELINE_MODES else None
-                result = simulate(
-                    scene.tube,
-                    scene.swarm,
-                    scene.control,
-                    plan=plan if mode == 'planning' else None,
-                    config=replace(config, seed=seed),
-                    baseline=law,
-                )
-                rows.append(
-                    {
-                        'scene': scene.name,
-                        'mode': mode,
-                        'seed': seed,
-                        **{k: getattr(result.metrics, k) for k in COLUMNS},
-                    }
-                )
-                if progress is not None:
-                    m = result.metrics
-                    progress(
-                        f'{scene.name} seed {seed} {mode:<11}: passing {m.passing_time_s:.2f} s, '
-                        f'min distance {m.min_distance_m:.3f} m, collisions {m.collision_pairs}'
-                    )
+        modes = MODES + (tuple(baselines) if load_scene(name).name in BASELINE_SCENES else ())
+        rows += run_grid([name], None, seeds, modes=modes, models=[model], config=config, progress=progress)
     return rows
 
 
-def _baseline_law(mode: str, scene: Any, dt_s: float) -> Callable[..., Any]:
+def _baseline_law(mode: str, scene: Scene, swarm: SwarmParams, dt_s: float) -> Callable[..., Any]:
     """The swarm law of a baseline, as the simulator's ``baseline`` hook: (positions, velocities, projection)."""
     if mode == 'nmpc':
-        swarm = NmpcSwarm(scene.tube, NmpcParams.for_swarm(scene.swarm))
-        return lambda positions, velocities, projection: swarm.command(positions, velocities, projection, dt_s)
-    params = FlockingParams.scaled(scene.swarm, speed_constrained=mode == 'flocking (v_min)')
+        nmpc = NmpcSwarm(scene.tube, NmpcParams.for_swarm(swarm))
+        return lambda positions, velocities, projection: nmpc.command(positions, velocities, projection, dt_s)
+    params = FlockingParams.scaled(swarm, speed_constrained=mode == 'flocking (v_min)')
     return lambda positions, velocities, projection: flocking_command(positions, velocities, projection, params)
 
 
@@ -180,3 +170,316 @@ def study_markdown(summary: list[dict[str, Any]], seeds: list[int], config: SimC
                     'collision pairs).'
                 )
     return '\n'.join(lines) + '\n'
+
+
+# ---------------------------------------------------------------------- the ablation grid
+
+
+@dataclass(frozen=True)
+class Ablation:
+    """Which parts of the method a mode keeps, all flown by the same simulator and swarm step.
+
+    ``plan``: the plan flown, ``'full'``, ``'without (p7)'`` (planned with ``predictive_model = 'none'``), ``'flat'``
+    (the full plan's grid with the constant speed and density rho_d: (a3) then tracks a flat rho_d) or ``'none'``
+    (constant speed, constant r_a); ``a3``: whether r_a follows (a3) (off: its gain and feed-forward are zero);
+    ``speed``: the constant forward speed of ``'flat'`` and ``'none'``, ``'mid'`` = (v_min + v_max) / 2 or
+    ``'v_max'``.
+    """
+
+    plan: str
+    a3: bool
+    speed: str = 'mid'
+
+
+ABLATIONS = {
+    'planning': Ablation('full', a3=True),
+    'planning without (p7)': Ablation('without (p7)', a3=True),
+    'planned speed, (a3) off': Ablation('full', a3=False),
+    'constant speed, (a3) to rho_d': Ablation('flat', a3=True),
+    'no planning': Ablation('none', a3=False),
+    'no planning at v_max': Ablation('none', a3=False, speed='v_max'),
+}
+MODELS = {'paper': False, 'acceleration limits': True}
+"""Robot models: the paper's p' = sat(v_c), or every robot also held to the acceleration limits (3), (4)."""
+GRID_SCENES = ('C', 'D')
+"""The scenes whose plans pre-expand (p7 binds before the narrowing); on A and B the plan is the same without it."""
+GRID_COLUMNS = (
+    'passing_time_s',
+    'min_distance_m',
+    'collision_pairs',
+    'tube_violation_steps',
+    'completed',
+    'density_error_per_m2',
+    'reversing_share',
+)
+
+
+@dataclass(frozen=True)
+class Setup:
+    """What one mode hands the simulator: the plan (or None), the control parameters, the constant speed."""
+
+    plan: Plan | None
+    control: ControlParams
+    constant_speed_mps: float | None
+    baseline: Callable[..., Any] | None = None
+
+
+def ablation_setup(
+    mode: str, scene: Scene, swarm: SwarmParams, plans: dict[tuple[str, int, str], Plan], dt_s: float
+) -> Setup:
+    """The simulator's inputs for ``mode`` (a key of ABLATIONS, or of BASELINE_MODES); ``plans`` caches the plans
+    by scene, N and (p7)."""
+    if mode in BASELINE_MODES:
+        return Setup(None, scene.control, None, _baseline_law(mode, scene, swarm, dt_s))
+    ablation = ABLATIONS[mode]
+    speed = default_constant_speed(swarm) if ablation.speed == 'mid' else swarm.v_max_mps
+    control = scene.control if ablation.a3 else replace(scene.control, k_ra_m3ps=0.0, feedforward=False)
+    if ablation.plan == 'none':
+        return Setup(None, control, speed)
+    model = 'none' if ablation.plan == 'without (p7)' else scene.planning.predictive_model
+    key = (scene.name, swarm.n_robots, model)
+    if key not in plans:
+        options = replace(scene.planning, predictive_model=model)
+        plans[key] = plan_convex(scene.tube, swarm, options, scene=scene.name)
+    plan = plans[key]
+    if ablation.plan == 'flat':
+        plan = replace(
+            plan,
+            speed_mps=np.full_like(plan.speed_mps, speed),
+            density_per_m2=np.full_like(plan.density_per_m2, swarm.rho_d_per_m2),
+            method='flat: constant speed, density rho_d',
+        )
+    return Setup(plan, control, None)
+
+
+def run_grid(
+    scenes: Iterable[str] = GRID_SCENES,
+    sizes: Iterable[int] | None = (20, 40, 80),
+    seeds: Iterable[int] = range(10),
+    *,
+    modes: Iterable[str] = tuple(ABLATIONS),
+    models: Iterable[str] = tuple(MODELS),
+    config: SimConfig | None = None,
+    progress: Callable[[str], None] | None = None,
+    workers: int = 1,
+) -> list[dict[str, Any]]:
+    """The ablation grid as a list of rows (:func:`iter_grid`), with a line per run to ``progress``."""
+    rows = []
+    for row in iter_grid(scenes, sizes, seeds, modes=modes, models=models, config=config, workers=workers):
+        rows.append(row)
+        if progress is not None:
+            progress(row_text(row))
+    return rows
+
+
+def iter_grid(
+    scenes: Iterable[str] = GRID_SCENES,
+    sizes: Iterable[int] | None = (20, 40, 80),
+    seeds: Iterable[int] = range(10),
+    *,
+    modes: Iterable[str] = tuple(ABLATIONS),
+    models: Iterable[str] = tuple(MODELS),
+    config: SimConfig | None = None,
+    workers: int = 1,
+) -> Iterator[dict[str, Any]]:
+    """The ablation grid: one tidy row per scene, mode, swarm size N (None: the scene's own), seed and robot model,
+    yielded as the runs finish.
+
+    Besides the passage's metrics a row holds the density error against the *full* plan's rho* (the same reference
+    for every mode: mean |rho - rho*(l_c)| while the swarm's centre is in the tube) and the share of in-tube
+    robot-steps moving backwards along the tube. ``workers`` processes share the runs (one task: every mode of one
+    scene, N, model and seed); the rows are the same, in the same order, for any number.
+    """
+    config = config or SimConfig()
+    modes = tuple(modes)
+    tasks = []
+    for name in scenes:
+        scene = load_scene(name)
+        for n in sizes or (scene.swarm.n_robots,):
+            tasks += [(name, int(n), model, seed, modes, config) for model in models for seed in seeds]
+    if workers <= 1:
+        for task in tasks:
+            yield from _grid_task(*task)
+        return
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context('spawn')) as pool:
+        for task_rows in pool.map(_grid_task, *zip(*tasks, strict=True)):
+            yield from task_rows
+
+
+def row_text(row: dict[str, Any]) -> str:
+    """One grid row in a line."""
+    return (
+        f'{row["scene"]} N={row["n_robots"]} {row["model"]} seed {row["seed"]} {row["mode"]}: passing '
+        f'{row["passing_time_s"]:.2f} s, min distance {row["min_distance_m"]:.3f} m, collisions {row["collision_pairs"]}'
+    )
+
+
+def _grid_task(
+    name: str, n: int, model: str, seed: int, modes: tuple[str, ...], config: SimConfig
+) -> list[dict[str, Any]]:
+    """Every mode of one scene, swarm size, robot model and seed."""
+    scene = load_scene(name)
+    swarm = replace(scene.swarm, n_robots=n)
+    plans: dict[tuple[str, int, str], Plan] = {}
+    reference = ablation_setup('planning', scene, swarm, plans, config.dt_s).plan
+    assert reference is not None  # the full plan
+    rows = []
+    for mode in modes:
+        setup = ablation_setup(mode, scene, swarm, plans, config.dt_s)
+        result = simulate(
+            scene.tube,
+            swarm,
+            setup.control,
+            plan=setup.plan,
+            config=replace(config, seed=seed, acceleration_limits=MODELS[model]),
+            constant_speed_mps=setup.constant_speed_mps,
+            baseline=setup.baseline,
+        )
+        row = {'scene': scene.name, 'mode': mode, 'n_robots': n, 'seed': seed, 'model': model}
+        row.update(_grid_metrics(result, reference, scene.tube.length_m))
+        rows.append(row)
+    return rows
+
+
+def _grid_metrics(result: SimResult, reference: Plan, length_m: float) -> dict[str, Any]:
+    m = result.metrics
+    tracking = tracking_errors(result.l_m, result.forward_speed_mps, result.density_per_m2, reference, length_m)
+    in_tube = (result.l_m >= 0.0) & (result.l_m <= length_m)
+    backwards = (result.forward_speed_mps < 0.0) & in_tube
+    return {
+        'passing_time_s': m.passing_time_s,
+        'min_distance_m': m.min_distance_m,
+        'collision_pairs': m.collision_pairs,
+        'tube_violation_steps': m.tube_violation_steps,
+        'completed': m.completed,
+        'density_error_per_m2': tracking.get('density_tracking_mean_per_m2', math.nan),
+        'reversing_share': float(backwards.sum() / max(1, in_tube.sum())),
+    }
+
+
+COMPARISONS = (
+    ('planning', 'no planning', "the paper's comparison"),
+    ('planning', 'no planning at v_max', 'the plan against the fastest constant speed'),
+    ('planning', 'planning without (p7)', 'what the pre-expansion (p7) buys'),
+    ('planning', 'planned speed, (a3) off', 'what (a3) buys on top of the planned speed'),
+    ('constant speed, (a3) to rho_d', 'no planning', 'what (a3) buys without a plan'),
+)
+"""Paired comparisons of the grid report: mode a against mode b on the same seeds, and what the difference means."""
+CLAIMS = (('passing_time_s', 'lower', 'passing time [s]'), ('min_distance_m', 'higher', 'min distance [m]'))
+
+
+def grid_markdown(rows: list[dict[str, Any]]) -> str:
+    """The grid's report: per scene, N and model, each mode's means with 95 % bootstrap intervals, then the paired
+    differences of COMPARISONS with their intervals and verdicts (a claim holds only where the interval excludes
+    zero)."""
+    lines: list[str] = []
+    cells = list(dict.fromkeys((r['scene'], r['n_robots'], r['model']) for r in rows))
+    for scene, n, model in cells:
+        sel = [r for r in rows if (r['scene'], r['n_robots'], r['model']) == (scene, n, model)]
+        modes = list(dict.fromkeys(r['mode'] for r in sel))
+        seeds = sorted({r['seed'] for r in sel})
+        lines += [
+            f'### Scene {scene}, N = {n}, {model} model ({len(seeds)} seeds)',
+            '',
+            (
+                '| mode | passing time [s] | min distance [m] | 5 % min distance [m] | collisions (pairs, all seeds) '
+                '| density error [1/m^2] | reversing robot-steps |'
+            ),
+            '|---|---|---|---|---|---|---|',
+        ]
+        for mode in modes:
+            values = {k: cell_values(sel, k, mode=mode) for k in ('passing_time_s', 'min_distance_m')}
+            extra = {k: cell_values(sel, k, mode=mode) for k in ('density_error_per_m2', 'reversing_share')}
+            collisions = int(cell_values(sel, 'collision_pairs', mode=mode).sum())
+            lines.append(
+                f'| {mode} | {_interval(values["passing_time_s"], 2)} | {_interval(values["min_distance_m"], 3)} | '
+                f'{_quantile(values["min_distance_m"])} | {collisions} | {_interval(extra["density_error_per_m2"], 3)} '
+                f'| {np.mean(extra["reversing_share"]):.1%} |'
+            )
+        lines += [
+            '',
+            '| comparison (a - b, same seeds) | ' + ' | '.join(t for _, _, t in CLAIMS) + ' |',
+            '|---|---|---|',
+        ]
+        differences = paired_table(sel)
+        for a, b, meaning in COMPARISONS:
+            if a not in modes or b not in modes:
+                continue
+            found = {p['metric']: p for p in differences if (p['a'], p['b']) == (a, b)}
+            cols = [
+                f'{found[m]["estimate"].text(3)}: {found[m]["verdict"]}' if m in found else 'n/a' for m, _, _ in CLAIMS
+            ]
+            lines.append(f'| {a} - {b} ({meaning}) | ' + ' | '.join(cols) + ' |')
+        lines.append('')
+    return '\n'.join(lines)
+
+
+def paired_table(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Per scene, N and model, the paired differences of COMPARISONS on each metric of CLAIMS: dicts with scene,
+    n_robots, model, a, b, metric, estimate (an :class:`~vtube_planning.stats.Estimate`) and verdict. Comparisons
+    whose modes are missing, or whose runs did not all complete, are left out."""
+    out = []
+    for scene, n, model in dict.fromkeys((r['scene'], r['n_robots'], r['model']) for r in rows):
+        sel = [r for r in rows if (r['scene'], r['n_robots'], r['model']) == (scene, n, model)]
+        for a, b, _ in COMPARISONS:
+            for metric, better, _ in CLAIMS:
+                diff = _paired(cell_values(sel, metric, mode=a), cell_values(sel, metric, mode=b))
+                if diff is not None:
+                    fields = {'scene': scene, 'n_robots': n, 'model': model, 'a': a, 'b': b, 'metric': metric}
+                    out.append(fields | {'estimate': diff, 'verdict': verdict(diff, better)})
+    return out
+
+
+def _interval(values: NDArray[np.float64], digits: int) -> str:
+    finite = values[np.isfinite(values)]
+    if finite.size < values.size:
+        return f'{finite.size} of {values.size} completed'
+    return mean_interval(values).text(digits) if values.size > 1 else f'{values[0]:.{digits}f}'
+
+
+def _quantile(values: NDArray[np.float64]) -> str:
+    return f'{np.quantile(values, 0.05):.3f}' if values.size else 'n/a'
+
+
+def _paired(a: NDArray[np.float64], b: NDArray[np.float64]) -> Estimate | None:
+    if a.size < 2 or a.size != b.size or not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+        return None
+    return paired_difference(a, b)
+
+
+class RowWriter:
+    """The tidy table as CSV, one line per run appended and flushed as it comes, so that an interrupted grid leaves
+    a readable file with every finished run; the columns are the first row's."""
+
+    def __init__(self, path: Path) -> None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        self.path = path
+        self._handle = path.open('w', newline='', encoding='utf-8')
+        self._writer: csv.DictWriter[str] | None = None
+
+    def write(self, row: dict[str, Any]) -> None:
+        if self._writer is None:
+            self._writer = csv.DictWriter(self._handle, fieldnames=list(row))
+            self._writer.writeheader()
+        self._writer.writerow(row)
+        self._handle.flush()
+
+    def close(self) -> None:
+        self._handle.close()
+
+
+def read_rows_csv(path: Path) -> list[dict[str, Any]]:
+    """Rows written by :class:`RowWriter`, with numbers and booleans typed again."""
+    with path.open(newline='', encoding='utf-8') as handle:
+        return [{k: _typed(v) for k, v in row.items()} for row in csv.DictReader(handle)]
+
+
+def _typed(text: str) -> Any:
+    if text in ('True', 'False'):
+        return text == 'True'
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text

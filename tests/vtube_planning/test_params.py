@@ -83,7 +83,7 @@ def test_params_error_is_a_value_error() -> None:
         ({'lookahead_m': -1.0}, 'lookahead_m must be a finite number > 0'),
         ({'v0_mps': 0.0}, 'v0_mps'),
         ({'density_weight': -0.1}, 'density_weight must be a finite number >= 0'),
-        ({'predictive_model': 'magic'}, "predictive_model must be one of \\('local_width', 'rigid_shift'\\)"),
+        ({'predictive_model': 'magic'}, "predictive_model must be one of \\('local_width', 'rigid_shift', 'none'\\)"),
     ],
 )
 def test_invalid_planning_options_raise(kwargs: dict, match: str) -> None:

@@ -48,12 +48,14 @@ def predicted_density(
     l_m, rho_per_m2
         Arc lengths of the swarm's centre and its densities, broadcast together.
     model
-        ``'local_width'`` or ``'rigid_shift'`` (see the module docstring).
+        ``'local_width'`` or ``'rigid_shift'`` (see the module docstring); ``'none'``: no prediction, rho_f = rho.
     """
     l_m = np.atleast_1d(np.asarray(l_m, dtype=float))
     rho = np.broadcast_to(np.asarray(rho_per_m2, dtype=float), l_m.shape)
     if model == 'local_width':
         return rho * np.asarray(tube.half_width(l_m)) / np.asarray(tube.half_width(l_m + lookahead_m))
+    if model == 'none':
+        return rho.copy()
     if model == 'rigid_shift':
         back, front = footprint(tube, l_m, rho, n_robots)
         return n_robots / swarm_area(tube, back + lookahead_m, front + lookahead_m, 0.0)

@@ -9,7 +9,7 @@ interval, not only at the grid points:
 * (p6): |rho_{k+1} - rho_k| <= a_rho dl min(w_k, w_{k+1})  (the interval's largest speed);
 * (p7), local width: c_k rho_i <= a_rho dl_p w_j for i, j in {k, k+1}, with c_k the largest
   |lambda(l) / lambda(l + dl_p) - 1| on the interval; rigid shift: the convex form of ``docs/theory.md`` §8.3 at the
-  grid points, with the footprint frozen at the previous iterate;
+  grid points, with the footprint frozen at the previous iterate; ``'none'`` leaves (p7) out (the study's ablation);
 * (p3): |v v'| = |w'| / w^3, so |w_{k+1} - w_k| <= a_v dl min(w_k, w_{k+1})^3. The right side is convex in w:
   the convex-concave procedure replaces w^3 by its tangent at the previous iterate (an under-estimate), so every
   iterate is feasible for the true (p3) and the objective decreases monotonically (Lipp and Boyd 2016).
@@ -204,7 +204,7 @@ class ConvexPlanner:
             for i in (slice(None, -1), slice(1, None)):
                 for j in (slice(None, -1), slice(1, None)):
                     cons.append(cp.multiply(ratio, rho[i]) <= budget * w[j])
-        else:
+        elif options.predictive_model == 'rigid_shift':
             # rho^2 |D| / (N + D rho) <= a_rho dl_p w, with the footprint change D frozen (docs/theory.md §8.3)
             self.footprint_gap = cp.Parameter(n, name='footprint_gap')
             self.footprint_root = cp.Parameter(n, nonneg=True, name='footprint_root')

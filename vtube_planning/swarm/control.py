@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from vtube_planning._validate import is_positive
+from vtube_planning._validate import is_positive, is_real
 from vtube_planning.errors import ParamsError
 from vtube_planning.params import SwarmParams
 from vtube_planning.swarm.step import LAWS, PLAN_AT, StepParams
@@ -28,7 +28,8 @@ class ControlParams:
         Gains k of the inter-robot avoidance and tube-keeping terms: m^3/s in the barrier law (V = k sigma / D,
         the group's code uses 1), m/s in the practical law (its largest push per neighbour or wall).
     k_ra_m3ps
-        Gain of the avoidance-radius law (a3), m/s per robot/m^2.
+        Gain of the avoidance-radius law (a3), m/s per robot/m^2, >= 0; 0 switches (a3) off (r_a keeps its initial
+        value unless ``feedforward`` raises it).
     r_a_max_m
         Cap of the avoidance radius (resolution A9); None means three times the initial r_a.
     feedforward
@@ -53,10 +54,13 @@ class ControlParams:
     kdtree_above: int = 48
 
     def __post_init__(self) -> None:
-        for name in ('avoidance_gain', 'keeping_gain', 'k_ra_m3ps'):
+        for name in ('avoidance_gain', 'keeping_gain'):
             if not is_positive(getattr(self, name)):
                 msg = f'control {name} must be a finite number > 0; got {getattr(self, name)!r}.'
                 raise ParamsError(msg)
+        if not is_real(self.k_ra_m3ps) or self.k_ra_m3ps < 0:
+            msg = f'control k_ra_m3ps must be a finite number >= 0 (0: (a3) off); got {self.k_ra_m3ps!r}.'
+            raise ParamsError(msg)
         if self.r_a_max_m is not None and not is_positive(self.r_a_max_m):
             msg = f'control r_a_max_m must be a finite number > 0 or omitted; got {self.r_a_max_m!r}.'
             raise ParamsError(msg)

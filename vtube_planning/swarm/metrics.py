@@ -119,6 +119,25 @@ def strict_json(value: Any) -> Any:
     return value
 
 
+def tracking_errors(
+    l_m: FloatArray, forward_speed_mps: FloatArray, density_per_m2: FloatArray, plan: Plan, length_m: float
+) -> dict[str, float]:
+    """|mean forward speed - v*(l_c)| and |density - rho*(l_c)| at the swarm centre's arc length l_c: mean and
+    max over the steps with the centre inside the tube (empty when it never is). Arrays as in passage_metrics."""
+    center = l_m.mean(axis=1)
+    inside = (center >= 0.0) & (center <= length_m)
+    if not inside.any():
+        return {}
+    speed_err = np.abs(forward_speed_mps.mean(axis=1) - plan.speed(center))[inside]
+    density_err = np.abs(density_per_m2 - plan.density(center))[inside]
+    return {
+        'speed_tracking_mean_mps': float(speed_err.mean()),
+        'speed_tracking_max_mps': float(speed_err.max()),
+        'density_tracking_mean_per_m2': float(density_err.mean()),
+        'density_tracking_max_per_m2': float(density_err.max()),
+    }
+
+
 def passage_metrics(
     t_s: FloatArray,
     positions_m: FloatArray,
@@ -167,17 +186,7 @@ def passage_metrics(
         speed_violations = int(np.sum((speed < low - SPEED_TOLERANCE) | (speed > high + SPEED_TOLERANCE)))
     tracking: dict[str, float] = {}
     if plan is not None and forward_speed_mps is not None and density_per_m2 is not None:
-        center = l_m.mean(axis=1)
-        inside = (center >= 0.0) & (center <= length_m)
-        if inside.any():
-            speed_err = np.abs(forward_speed_mps.mean(axis=1) - plan.speed(center))[inside]
-            density_err = np.abs(density_per_m2 - plan.density(center))[inside]
-            tracking = {
-                'speed_tracking_mean_mps': float(speed_err.mean()),
-                'speed_tracking_max_mps': float(speed_err.max()),
-                'density_tracking_mean_per_m2': float(density_err.mean()),
-                'density_tracking_max_per_m2': float(density_err.max()),
-            }
+        tracking = tracking_errors(l_m, forward_speed_mps, density_per_m2, plan, length_m)
     return PassageMetrics(
         passing_time_s=float(np.nanmax(exits) - np.nanmin(entry)) if completed and entered else math.nan,
         completed=completed,
