@@ -18,9 +18,7 @@ from vtube_planning.stats import (
 
 def test_the_mean_interval_covers_the_true_mean_about_95_percent_of_the_time() -> None:
     rng = np.random.default_rng(1)
-    covered = sum(
-        (e := mean_interval(rng.normal(3.0, 1.0, 20), seed=k)).low <= 3.0 <= e.high for k in range(200)
-    )
+    covered = sum((e := mean_interval(rng.normal(3.0, 1.0, 20), seed=k)).low <= 3.0 <= e.high for k in range(200))
     assert 176 <= covered <= 198  # 95 % of 200 is 190; BCa with n = 20 runs slightly narrow
 
 
