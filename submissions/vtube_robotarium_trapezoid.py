@@ -27,6 +27,7 @@ DATA = {'scene': 'robotarium_trapezoid',
           'v_min_mps': 0.04,
           'v_max_mps': 0.12,
           'law': 'barrier',
+          'saturation': 'radial',
           'avoidance_gain': 0.0005,
           'keeping_gain': 0.0005,
           'k_ra_m3ps': 0.02,
@@ -346,6 +347,10 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
 
 LAWS = ('practical', 'barrier')
+SATURATIONS = ('radial', 'forward')
+"""How the command meets the speed band: the paper's radial sat of the whole sum (A10: it can point backwards), or
+the forward-progress form v* t_c + sat(v_m + v_xy, v* - v_min) capped at v_max (``docs/theory.md`` §2.7), which
+keeps every robot moving forward at v_min or more."""
 PLAN_AT = ('robot', 'center')
 """Where every robot reads the plan: at its own arc length l_i, or at the swarm centre's (``docs/theory.md`` A16)."""
 BARRIER_EPS = 1e-6
@@ -396,6 +401,13 @@ def barrier_gain(x: ArrayLike, offset: float, d1: float, d2: ArrayLike, k: float
     return np.maximum(-dv, 0.0)
 
 
+def cap_norm(u: FloatArray, limit: ArrayLike) -> FloatArray:
+    """Columns of (2, N) ``u`` rescaled to a norm of at most ``limit`` (scalar or (N,)); shorter ones unchanged."""
+    speed = np.hypot(u[0], u[1])
+    limit = np.asarray(limit, dtype=float)
+    return u * np.where(speed > limit, limit / np.maximum(speed, 1e-300), 1.0)
+
+
 def saturate(u: FloatArray, v_min: float, v_max: float, fallback: FloatArray) -> FloatArray:
     """sat(u, v_min, v_max) column-wise on (2, N): radial rescaling into [v_min, v_max]; u = 0 -> v_min fallback."""
     speed = np.hypot(u[0], u[1])
@@ -423,6 +435,8 @@ class StepParams:
         The speed band of sat.
     law
         ``'barrier'`` or ``'practical'``.
+    saturation
+        ``'radial'`` (the paper's sat) or ``'forward'`` (the forward-progress form), ``SATURATIONS``.
     avoidance_gain, keeping_gain
         Gains of the avoidance and tube-keeping terms.
     k_ra_m3ps
@@ -442,6 +456,7 @@ class StepParams:
     v_min_mps: float
     v_max_mps: float
     law: str = 'barrier'
+    saturation: str = 'radial'
     avoidance_gain: float = 1.0
     keeping_gain: float = 1.0
     k_ra_m3ps: float = 5.0
@@ -574,7 +589,11 @@ def velocity_command(
     forward = forward_speed_mps * projection.tangent
     avoidance = avoidance_velocity(positions, r_a, params, members)
     keeping = tube_keeping_velocity(projection, r_a, params)
-    velocity = saturate(forward + avoidance + keeping, params.v_min_mps, params.v_max_mps, projection.tangent)
+    if params.saturation == 'forward':  # |v_c| >= t_c . v_c >= v* - (v* - v_min) = v_min, then capped at v_max
+        room = np.maximum(0.0, forward_speed_mps - params.v_min_mps)
+        velocity = cap_norm(forward + cap_norm(avoidance + keeping, room), params.v_max_mps)
+    else:
+        velocity = saturate(forward + avoidance + keeping, params.v_min_mps, params.v_max_mps, projection.tangent)
     return Command(velocity, forward, avoidance, keeping)
 
 

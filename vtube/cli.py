@@ -222,6 +222,7 @@ def ablation(
     sizes: Sequence[int],
     seeds: int,
     models: Sequence[str],
+    saturations: Sequence[str],
     workers: int,
 ) -> int:
     """The ablation grid: grid.csv (one row per run, written as runs finish), grid.md and grid.png from it."""
@@ -230,17 +231,20 @@ def ablation(
 
     from vtube_planning import plots
     from vtube_planning.study import MODELS, RowWriter, grid_markdown, iter_grid, row_text
+    from vtube_planning.swarm.step import SATURATIONS
 
-    unknown = [m for m in models if m not in MODELS]
-    if unknown:
-        print(f'error: unknown robot model {unknown[0]!r}; choose from {", ".join(MODELS)}.', file=sys.stderr)
-        return 2
+    for given, known, what in ((models, MODELS, 'robot model'), (saturations, SATURATIONS, 'saturation')):
+        unknown = [m for m in given if m not in known]
+        if unknown:
+            print(f'error: unknown {what} {unknown[0]!r}; choose from {", ".join(known)}.', file=sys.stderr)
+            return 2
     workers = workers or os.cpu_count() or 1
     started = time.perf_counter()
     writer = RowWriter(out / 'grid.csv')
     rows = []
     try:
-        for row in iter_grid(scenes, sizes, range(seeds), models=models, workers=workers):
+        grid = iter_grid(scenes, sizes, range(seeds), models=models, saturations=saturations, workers=workers)
+        for row in grid:
             writer.write(row)
             rows.append(row)
             print(row_text(row))
@@ -606,6 +610,9 @@ def _parser() -> argparse.ArgumentParser:
     abl.add_argument(
         '--models', default='paper,acceleration limits', help="robot models: 'paper' and/or 'acceleration limits'"
     )
+    abl.add_argument(
+        '--saturations', default='radial,forward', help="'radial' (the paper's sat) and/or 'forward' (never backwards)"
+    )
     abl.add_argument('--workers', type=int, default=0, help='processes (default: one per core)')
     robo = commands.add_parser('robotarium', help='the tube experiment on the bundled Robotarium simulator')
     robo_commands = robo.add_subparsers(dest='robotarium_command', required=True, metavar='SUBCOMMAND')
@@ -729,6 +736,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 sizes=_sizes(args.sizes),
                 seeds=args.seeds,
                 models=args.models.split(','),
+                saturations=args.saturations.split(','),
                 workers=args.workers,
             )
         if args.command == 'study':

@@ -333,14 +333,16 @@ def paired_differences_figure(rows: list[dict[str, Any]]) -> Figure:
     from vtube_planning.study import CLAIMS, COMPARISONS, paired_table
 
     table = paired_table(rows)
-    cells = list(dict.fromkeys((p['scene'], p['n_robots'], p['model']) for p in table))
-    labels = [f'{a} - {b}  |  {s}, N={n}, {m}' for a, b, _ in COMPARISONS for s, n, m in cells]
+    cells = list(dict.fromkeys((p['scene'], p['n_robots'], p['model'], p['saturation']) for p in table))
+    labels = [f'{a} - {b}  |  {s}, N={n}, {m}, {sat}' for a, b, _ in COMPARISONS for s, n, m, sat in cells]
     fig = Figure(figsize=(12.0, 1.2 + 0.22 * len(labels)), layout='constrained')
     axes = fig.subplots(1, len(CLAIMS), sharey=True)
     colors = {'holds': 'tab:blue', 'reversed': 'tab:red', 'does not hold': 'tab:gray'}
     for ax, (metric, _, title) in zip(axes, CLAIMS, strict=True):
         for p in (p for p in table if p['metric'] == metric):
-            k = labels.index(f'{p["a"]} - {p["b"]}  |  {p["scene"]}, N={p["n_robots"]}, {p["model"]}')
+            k = labels.index(
+                f'{p["a"]} - {p["b"]}  |  {p["scene"]}, N={p["n_robots"]}, {p["model"]}, {p["saturation"]}'
+            )
             e, color = p['estimate'], colors[p['verdict']]
             ax.hlines(k, e.low, e.high, color=color, lw=2)
             ax.plot(e.value, k, 'o', color=color, mfc=color if p['verdict'] == 'holds' else 'white')

@@ -259,13 +259,17 @@ def run_grid(
     *,
     modes: Iterable[str] = tuple(ABLATIONS),
     models: Iterable[str] = tuple(MODELS),
+    saturations: Iterable[str] | None = None,
     config: SimConfig | None = None,
     progress: Callable[[str], None] | None = None,
     workers: int = 1,
 ) -> list[dict[str, Any]]:
     """The ablation grid as a list of rows (:func:`iter_grid`), with a line per run to ``progress``."""
     rows = []
-    for row in iter_grid(scenes, sizes, seeds, modes=modes, models=models, config=config, workers=workers):
+    grid = iter_grid(
+        scenes, sizes, seeds, modes=modes, models=models, saturations=saturations, config=config, workers=workers
+    )
+    for row in grid:
         rows.append(row)
         if progress is not None:
             progress(row_text(row))
@@ -279,6 +283,7 @@ def iter_grid(
     *,
     modes: Iterable[str] = tuple(ABLATIONS),
     models: Iterable[str] = tuple(MODELS),
+    saturations: Iterable[str] | None = None,
     config: SimConfig | None = None,
     workers: int = 1,
 ) -> Iterator[dict[str, Any]]:
@@ -287,8 +292,9 @@ def iter_grid(
 
     Besides the passage's metrics a row holds the density error against the *full* plan's rho* (the same reference
     for every mode: mean |rho - rho*(l_c)| while the swarm's centre is in the tube) and the share of in-tube
-    robot-steps moving backwards along the tube. ``workers`` processes share the runs (one task: every mode of one
-    scene, N, model and seed); the rows are the same, in the same order, for any number.
+    robot-steps moving backwards along the tube. ``saturations`` (``SATURATIONS``; None: the scene's own) is how
+    the command meets the speed band. ``workers`` processes share the runs (one task: every mode of one scene, N,
+    model, saturation and seed); the rows are the same, in the same order, for any number.
     """
     config = config or SimConfig()
     modes = tuple(modes)
@@ -296,7 +302,9 @@ def iter_grid(
     for name in scenes:
         scene = load_scene(name)
         for n in sizes or (scene.swarm.n_robots,):
-            tasks += [(name, int(n), model, seed, modes, config) for model in models for seed in seeds]
+            for model in models:
+                for saturation in saturations or (scene.control.saturation,):
+                    tasks += [(name, int(n), model, saturation, seed, modes, config) for seed in seeds]
     if workers <= 1:
         for task in tasks:
             yield from _grid_task(*task)
@@ -309,16 +317,18 @@ def iter_grid(
 def row_text(row: dict[str, Any]) -> str:
     """One grid row in a line."""
     return (
-        f'{row["scene"]} N={row["n_robots"]} {row["model"]} seed {row["seed"]} {row["mode"]}: passing '
+        f'{row["scene"]} N={row["n_robots"]} {row["model"]} {row["saturation"]} sat seed {row["seed"]} {row["mode"]}: '
+        f'passing '
         f'{row["passing_time_s"]:.2f} s, min distance {row["min_distance_m"]:.3f} m, collisions {row["collision_pairs"]}'
     )
 
 
 def _grid_task(
-    name: str, n: int, model: str, seed: int, modes: tuple[str, ...], config: SimConfig
+    name: str, n: int, model: str, saturation: str, seed: int, modes: tuple[str, ...], config: SimConfig
 ) -> list[dict[str, Any]]:
-    """Every mode of one scene, swarm size, robot model and seed."""
+    """Every mode of one scene, swarm size, robot model, saturation and seed."""
     scene = load_scene(name)
+    scene = replace(scene, control=replace(scene.control, saturation=saturation))
     swarm = replace(scene.swarm, n_robots=n)
     plans: dict[tuple[str, int, str], Plan] = {}
     reference = ablation_setup('planning', scene, swarm, plans, config.dt_s).plan
@@ -335,7 +345,7 @@ def _grid_task(
             constant_speed_mps=setup.constant_speed_mps,
             baseline=setup.baseline,
         )
-        row = {'scene': scene.name, 'mode': mode, 'n_robots': n, 'seed': seed, 'model': model}
+        row = {'scene': scene.name, 'mode': mode, 'n_robots': n, 'seed': seed, 'model': model, 'saturation': saturation}
         row.update(_grid_metrics(result, reference, scene.tube.length_m))
         rows.append(row)
     return rows
@@ -373,13 +383,13 @@ def grid_markdown(rows: list[dict[str, Any]]) -> str:
     differences of COMPARISONS with their intervals and verdicts (a claim holds only where the interval excludes
     zero)."""
     lines: list[str] = []
-    cells = list(dict.fromkeys((r['scene'], r['n_robots'], r['model']) for r in rows))
-    for scene, n, model in cells:
-        sel = [r for r in rows if (r['scene'], r['n_robots'], r['model']) == (scene, n, model)]
+    for cell in dict.fromkeys(_cell(r) for r in rows):
+        scene, n, model, saturation = cell
+        sel = [r for r in rows if _cell(r) == cell]
         modes = list(dict.fromkeys(r['mode'] for r in sel))
         seeds = sorted({r['seed'] for r in sel})
         lines += [
-            f'### Scene {scene}, N = {n}, {model} model ({len(seeds)} seeds)',
+            f'### Scene {scene}, N = {n}, {model} model, {saturation} sat ({len(seeds)} seeds)',
             '',
             (
                 '| mode | passing time [s] | min distance [m] | 5 % min distance [m] | collisions (pairs, all seeds) '
@@ -419,15 +429,22 @@ def paired_table(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     n_robots, model, a, b, metric, estimate (an :class:`~vtube_planning.stats.Estimate`) and verdict. Comparisons
     whose modes are missing, or whose runs did not all complete, are left out."""
     out = []
-    for scene, n, model in dict.fromkeys((r['scene'], r['n_robots'], r['model']) for r in rows):
-        sel = [r for r in rows if (r['scene'], r['n_robots'], r['model']) == (scene, n, model)]
+    for cell in dict.fromkeys(_cell(r) for r in rows):
+        scene, n, model, saturation = cell
+        sel = [r for r in rows if _cell(r) == cell]
         for a, b, _ in COMPARISONS:
             for metric, better, _ in CLAIMS:
                 diff = _paired(cell_values(sel, metric, mode=a), cell_values(sel, metric, mode=b))
                 if diff is not None:
-                    fields = {'scene': scene, 'n_robots': n, 'model': model, 'a': a, 'b': b, 'metric': metric}
+                    fields = {'scene': scene, 'n_robots': n, 'model': model, 'saturation': saturation}
+                    fields |= {'a': a, 'b': b, 'metric': metric}
                     out.append(fields | {'estimate': diff, 'verdict': verdict(diff, better)})
     return out
+
+
+def _cell(row: dict[str, Any]) -> tuple[str, int, str, str]:
+    """What a row's mode is compared within: scene, N, robot model and saturation."""
+    return row['scene'], row['n_robots'], row['model'], row['saturation']
 
 
 def _interval(values: NDArray[np.float64], digits: int) -> str:

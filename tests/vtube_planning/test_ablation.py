@@ -62,21 +62,27 @@ def test_a3_off_keeps_every_avoidance_radius_and_a3_on_changes_them(setups) -> N
 def test_a_reduced_grid_end_to_end(tmp_path, capsys) -> None:
     out = tmp_path / 'grid'
     argv = ['ablation', '--out', str(out), '--scenes', 'C', '--sizes', '20', '--seeds', '2', '--models', 'paper']
+    argv += ['--saturations', 'radial,forward']
     assert main([*argv, '--workers', '1']) == 0
     rows = read_rows_csv(out / 'grid.csv')
-    assert len(rows) == 2 * len(ABLATIONS)
-    assert list(rows[0])[:5] == ['scene', 'mode', 'n_robots', 'seed', 'model']
+    assert len(rows) == 2 * 2 * len(ABLATIONS)
+    assert list(rows[0])[:6] == ['scene', 'mode', 'n_robots', 'seed', 'model', 'saturation']
     assert {r['mode'] for r in rows} == set(ABLATIONS) and {r['seed'] for r in rows} == {0, 1}
-    again = run_grid(['C'], [20], range(2), models=['paper'])
+    forward = [r for r in rows if r['saturation'] == 'forward']
+    assert len(forward) == len(rows) // 2 and all(r['reversing_share'] == 0.0 for r in forward)
+    radial_unplanned = [r for r in rows if r['saturation'] == 'radial' and r['mode'] == 'no planning']
+    assert all(r['reversing_share'] > 0.0 for r in radial_unplanned)  # the paper's sat reverses robots here
+    again = run_grid(['C'], [20], range(2), models=['paper'], saturations=['radial', 'forward'])
     for read, fresh in zip(rows, again, strict=True):  # the file holds what was run, typed back
         assert read.keys() == fresh.keys()
         for key, value in fresh.items():
             assert read[key] == (pytest.approx(value, nan_ok=True) if isinstance(value, float) else value)
     text = (out / 'grid.md').read_text()
-    assert '### Scene C, N = 20, paper model (2 seeds)' in text
+    assert '### Scene C, N = 20, paper model, radial sat (2 seeds)' in text
+    assert '### Scene C, N = 20, paper model, forward sat (2 seeds)' in text
     assert "| planning - no planning (the paper's comparison) |" in text
     assert (out / 'grid.png').read_bytes()[:4] == b'\x89PNG'
-    assert '12 runs in' in capsys.readouterr().out
+    assert '24 runs in' in capsys.readouterr().out
 
 
 def test_an_interrupted_grid_leaves_every_finished_row(tmp_path) -> None:
@@ -93,3 +99,5 @@ def test_bad_grid_arguments(tmp_path, capsys) -> None:
     assert '--sizes must be comma-separated whole numbers >= 1' in capsys.readouterr().err
     assert main(['ablation', '--out', str(tmp_path), '--models', 'paper,fast']) == 2
     assert "unknown robot model 'fast'" in capsys.readouterr().err
+    assert main(['ablation', '--out', str(tmp_path), '--saturations', 'clip']) == 2
+    assert "unknown saturation 'clip'; choose from radial, forward" in capsys.readouterr().err

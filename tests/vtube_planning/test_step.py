@@ -167,6 +167,35 @@ def test_commands_always_lie_in_the_speed_band() -> None:
         assert np.all(speed >= 2.0 - 1e-9) and np.all(speed <= 5.0 + 1e-9)
 
 
+def test_the_forward_progress_form_never_reverses_and_stays_in_the_band() -> None:
+    """Random crowds: forward component >= v_min, speed <= v_max; where the pushes fit the room v* - v_min the
+    command is v* t_c plus the pushes unchanged; where the paper's radial sat would send a robot backwards, it does
+    not."""
+    rng = np.random.default_rng(7)
+    tube = wide_tube(3.0)
+    forward_law = ControlParams(saturation='forward')
+    positions = np.vstack([rng.uniform(0, 20, 300), rng.uniform(-3.5, 3.5, 300)])
+    r_a, v_star = rng.uniform(0.8, 2.0, 300), rng.uniform(2, 5, 300)
+    command = command_at(positions, r_a, v_star, tube, forward_law)
+    tangent = tube.project(positions).tangent
+    along = np.einsum('ij,ij->j', command.velocity, tangent)
+    assert np.all(along >= 2.0 - 1e-9) and np.all(np.hypot(*command.velocity) <= 5.0 + 1e-9)
+    gentle = command_at(
+        positions,
+        r_a,
+        v_star,
+        tube,
+        ControlParams(law='practical', saturation='forward', avoidance_gain=0.2, keeping_gain=0.2),
+    )
+    pushes = gentle.avoidance + gentle.tube_keeping
+    small = (np.hypot(*pushes) <= v_star - 2.0) & (np.hypot(*(gentle.forward + pushes)) <= 5.0)
+    assert small.sum() > 20
+    np.testing.assert_allclose(gentle.velocity[:, small], (gentle.forward + pushes)[:, small], atol=1e-12)
+    radial = command_at(positions, r_a, v_star, tube, ControlParams())
+    backwards = np.einsum('ij,ij->j', radial.velocity, tangent) < 0
+    assert backwards.sum() > 5  # the crowd is tight enough for the radial sat to reverse some robots
+
+
 def test_kd_tree_and_all_pairs_give_the_same_law() -> None:
     rng = np.random.default_rng(1)
     positions = np.vstack([rng.uniform(0, 15, 400), rng.uniform(-3, 3, 400)])
@@ -222,6 +251,7 @@ def test_every_control_option_reaches_the_step() -> None:
         'r_a_max_m': 2.5,
         'feedforward': True,
         'law': 'practical',
+        'saturation': 'forward',
         'plan_at': 'center',
         'kdtree_above': 7,
     }

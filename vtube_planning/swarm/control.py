@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from vtube_planning._validate import is_positive, is_real
 from vtube_planning.errors import ParamsError
 from vtube_planning.params import SwarmParams
-from vtube_planning.swarm.step import LAWS, PLAN_AT, StepParams
+from vtube_planning.swarm.step import LAWS, PLAN_AT, SATURATIONS, StepParams
 
 # ---------------------------------------------------------------------- parameters
 
@@ -36,6 +36,9 @@ class ControlParams:
         Floor r_a,i by 1/sqrt(rho*(l_i)) - r_s, the lattice spacing that realises the planned density (§2.8).
     law
         ``'practical'`` (sigma-weighted, bounded) or ``'barrier'`` (gradients of the barrier functions).
+    saturation
+        ``'radial'``: the paper's sat of the whole command into [v_min, v_max], which can point a robot backwards
+        (A10); ``'forward'``: v* t_c + sat(v_m + v_xy, v* - v_min) capped at v_max, never backwards.
     plan_at
         Read the plan at each robot's arc length (``'robot'``, the paper) or at the swarm centre's (``'center'``,
         ``docs/theory.md`` A16): with ``'robot'`` a planned slow-down reaches the front first and compresses the
@@ -50,6 +53,7 @@ class ControlParams:
     r_a_max_m: float | None = None
     feedforward: bool = False
     law: str = 'barrier'
+    saturation: str = 'radial'
     plan_at: str = 'robot'
     kdtree_above: int = 48
 
@@ -66,6 +70,9 @@ class ControlParams:
             raise ParamsError(msg)
         if self.law not in LAWS:
             msg = f'control law must be one of {LAWS}; got {self.law!r}.'
+            raise ParamsError(msg)
+        if self.saturation not in SATURATIONS:
+            msg = f'control saturation must be one of {SATURATIONS}; got {self.saturation!r}.'
             raise ParamsError(msg)
         if self.plan_at not in PLAN_AT:
             msg = f'control plan_at must be one of {PLAN_AT}; got {self.plan_at!r}.'
@@ -100,6 +107,7 @@ class ControlParams:
             v_min_mps=swarm.v_min_mps,
             v_max_mps=swarm.v_max_mps,
             law=self.law,
+            saturation=self.saturation,
             avoidance_gain=self.avoidance_gain,
             keeping_gain=self.keeping_gain,
             k_ra_m3ps=self.k_ra_m3ps,

@@ -12,7 +12,9 @@ Every robot i at p_i, projected onto the tube (arc length l_i, tangent t_c, left
     v_m,i  = sum_j phi_m(|p_ij|; r_a,i) p_ij / |p_ij|            inter-robot avoidance, p_ij = p_i - p_j
     v_xy,i = -phi_t(d_i; r_a,i) sign(y_i) n,  d_i = lambda(l_i) - |y_i|   tube keeping (normal-only gradient)
 
-with the magnitudes of the *barrier* law (default), phi = -dV/dx of the Lyapunov-like barriers V_m, V_t of
+or, with ``saturation = 'forward'``, ``v_c,i = cap(v_f,i + sat(v_m,i + v_xy,i, v*(l_i) - v_min), v_max)`` (the
+forward-progress form of ``docs/theory.md`` §2.7: the forward component never drops below v_min), with the
+magnitudes of the *barrier* law (default), phi = -dV/dx of the Lyapunov-like barriers V_m, V_t of
 ``docs/theory.md`` §2.4 with sigma(x, 2 r_s, r_s + r_a,i) and sigma(d, r_s, r_a,i), or of the *practical* law
 of [b17], phi_m = k_m sigma(x, 2 r_s, r_s + r_a,i) and phi_t = k_t sigma(d, r_s, r_a,i). sat rescales radially
 into [v_min, v_max] (faithful, A10); a zero vector becomes v_min t_c.
@@ -39,6 +41,10 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
 
 LAWS = ('practical', 'barrier')
+SATURATIONS = ('radial', 'forward')
+"""How the command meets the speed band: the paper's radial sat of the whole sum (A10: it can point backwards), or
+the forward-progress form v* t_c + sat(v_m + v_xy, v* - v_min) capped at v_max (``docs/theory.md`` §2.7), which
+keeps every robot moving forward at v_min or more."""
 PLAN_AT = ('robot', 'center')
 """Where every robot reads the plan: at its own arc length l_i, or at the swarm centre's (``docs/theory.md`` A16)."""
 BARRIER_EPS = 1e-6
@@ -89,6 +95,13 @@ def barrier_gain(x: ArrayLike, offset: float, d1: float, d2: ArrayLike, k: float
     return np.maximum(-dv, 0.0)
 
 
+def cap_norm(u: FloatArray, limit: ArrayLike) -> FloatArray:
+    """Columns of (2, N) ``u`` rescaled to a norm of at most ``limit`` (scalar or (N,)); shorter ones unchanged."""
+    speed = np.hypot(u[0], u[1])
+    limit = np.asarray(limit, dtype=float)
+    return u * np.where(speed > limit, limit / np.maximum(speed, 1e-300), 1.0)
+
+
 def saturate(u: FloatArray, v_min: float, v_max: float, fallback: FloatArray) -> FloatArray:
     """sat(u, v_min, v_max) column-wise on (2, N): radial rescaling into [v_min, v_max]; u = 0 -> v_min fallback."""
     speed = np.hypot(u[0], u[1])
@@ -116,6 +129,8 @@ class StepParams:
         The speed band of sat.
     law
         ``'barrier'`` or ``'practical'``.
+    saturation
+        ``'radial'`` (the paper's sat) or ``'forward'`` (the forward-progress form), ``SATURATIONS``.
     avoidance_gain, keeping_gain
         Gains of the avoidance and tube-keeping terms.
     k_ra_m3ps
@@ -135,6 +150,7 @@ class StepParams:
     v_min_mps: float
     v_max_mps: float
     law: str = 'barrier'
+    saturation: str = 'radial'
     avoidance_gain: float = 1.0
     keeping_gain: float = 1.0
     k_ra_m3ps: float = 5.0
@@ -267,7 +283,11 @@ def velocity_command(
     forward = forward_speed_mps * projection.tangent
     avoidance = avoidance_velocity(positions, r_a, params, members)
     keeping = tube_keeping_velocity(projection, r_a, params)
-    velocity = saturate(forward + avoidance + keeping, params.v_min_mps, params.v_max_mps, projection.tangent)
+    if params.saturation == 'forward':  # |v_c| >= t_c . v_c >= v* - (v* - v_min) = v_min, then capped at v_max
+        room = np.maximum(0.0, forward_speed_mps - params.v_min_mps)
+        velocity = cap_norm(forward + cap_norm(avoidance + keeping, room), params.v_max_mps)
+    else:
+        velocity = saturate(forward + avoidance + keeping, params.v_min_mps, params.v_max_mps, projection.tangent)
     return Command(velocity, forward, avoidance, keeping)
 
 
