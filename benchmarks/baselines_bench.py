@@ -49,7 +49,7 @@ def main() -> None:
     print(f'  planned controller (projection + law)   {1e3 * t_planned:9.3f} ms')
     print(f'  optimized flocking (projection + law)   {1e3 * t_flocking:9.3f} ms')
     print(
-        f'  NMPC update (20 agents, SLSQP each)     {1e3 * t_nmpc:9.1f} ms, i.e. '
+        f'  NMPC update (20 agents, IPOPT each)     {1e3 * t_nmpc:9.1f} ms, i.e. '
         f'{1e3 * t_nmpc / steps_per_update:.1f} ms per 0.02 s step'
     )
 

@@ -36,7 +36,6 @@ from vtube_planning.swarm.simulate import SimConfig, SimResult, default_constant
 MODES = ('planning', 'no planning')
 BASELINE_MODES = ('flocking', 'flocking (v_min)', 'nmpc')
 BASELINE_SCENES = ('C', 'D')
-COLUMNS = ('passing_time_s', 'min_distance_m', 'collision_pairs', 'tube_violation_steps', 'completed')
 
 
 def run_study(
@@ -61,13 +60,16 @@ def run_study(
     return rows
 
 
-def _baseline_law(mode: str, scene: Scene, swarm: SwarmParams, dt_s: float) -> Callable[..., Any]:
-    """The swarm law of a baseline, as the simulator's ``baseline`` hook: (positions, velocities, projection)."""
+def _baseline_setup(mode: str, scene: Scene, swarm: SwarmParams, dt_s: float) -> Setup:
+    """A baseline's swarm law as the simulator's ``baseline`` hook (positions, velocities, projection), and for
+    NMPC its solver, whose convergence the grid reports."""
     if mode == 'nmpc':
         nmpc = NmpcSwarm(scene.tube, NmpcParams.for_swarm(swarm))
-        return lambda positions, velocities, projection: nmpc.command(positions, velocities, projection, dt_s)
+        law = lambda positions, velocities, projection: nmpc.command(positions, velocities, projection, dt_s)
+        return Setup(None, scene.control, None, law, nmpc)
     params = FlockingParams.scaled(swarm, speed_constrained=mode == 'flocking (v_min)')
-    return lambda positions, velocities, projection: flocking_command(positions, velocities, projection, params)
+    law = lambda positions, velocities, projection: flocking_command(positions, velocities, projection, params)
+    return Setup(None, scene.control, None, law)
 
 
 def summarise(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -203,15 +205,6 @@ MODELS = {'paper': False, 'acceleration limits': True}
 """Robot models: the paper's p' = sat(v_c), or every robot also held to the acceleration limits (3), (4)."""
 GRID_SCENES = ('C', 'D')
 """The scenes whose plans pre-expand (p7 binds before the narrowing); on A and B the plan is the same without it."""
-GRID_COLUMNS = (
-    'passing_time_s',
-    'min_distance_m',
-    'collision_pairs',
-    'tube_violation_steps',
-    'completed',
-    'density_error_per_m2',
-    'reversing_share',
-)
 
 
 @dataclass(frozen=True)
@@ -222,6 +215,7 @@ class Setup:
     control: ControlParams
     constant_speed_mps: float | None
     baseline: Callable[..., Any] | None = None
+    nmpc: NmpcSwarm | None = None
 
 
 def ablation_setup(
@@ -230,7 +224,7 @@ def ablation_setup(
     """The simulator's inputs for ``mode`` (a key of ABLATIONS, or of BASELINE_MODES); ``plans`` caches the plans
     by scene, N and (p7)."""
     if mode in BASELINE_MODES:
-        return Setup(None, scene.control, None, _baseline_law(mode, scene, swarm, dt_s))
+        return _baseline_setup(mode, scene, swarm, dt_s)
     ablation = ABLATIONS[mode]
     speed = default_constant_speed(swarm) if ablation.speed == 'mid' else swarm.v_max_mps
     control = scene.control if ablation.a3 else replace(scene.control, k_ra_m3ps=0.0, feedforward=False)
@@ -347,6 +341,7 @@ def _grid_task(
         )
         row = {'scene': scene.name, 'mode': mode, 'n_robots': n, 'seed': seed, 'model': model, 'saturation': saturation}
         row.update(_grid_metrics(result, reference, scene.tube.length_m))
+        row['nmpc_converged_share'] = setup.nmpc.converged_share if setup.nmpc is not None else math.nan
         rows.append(row)
     return rows
 
@@ -360,6 +355,7 @@ def _grid_metrics(result: SimResult, reference: Plan, length_m: float) -> dict[s
         'passing_time_s': m.passing_time_s,
         'min_distance_m': m.min_distance_m,
         'collision_pairs': m.collision_pairs,
+        'incursion_depth_m': max(0.0, m.collision_distance_m - m.min_distance_m),
         'tube_violation_steps': m.tube_violation_steps,
         'completed': m.completed,
         'density_error_per_m2': tracking.get('density_tracking_mean_per_m2', math.nan),

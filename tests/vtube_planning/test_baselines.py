@@ -6,16 +6,13 @@ import math
 
 import numpy as np
 import pytest
-from scipy.optimize import approx_fprime
 
 from vtube_planning import ArcPath, ArcPiece, ParamsError, SwarmParams, VirtualTube, WidthPart, WidthProfile
 from vtube_planning.baselines.flocking import FlockingParams, braking_curve, flocking_command
 from vtube_planning.baselines.nmpc import (
     NmpcParams,
     NmpcSwarm,
-    cost_gradients,
     rollout,
-    rollout_maps,
     stage_costs,
     wall_slack,
 )
@@ -128,26 +125,49 @@ def test_wall_constraint_by_hand() -> None:
     np.testing.assert_allclose(slack, [0.6 - 0.8, 0.6 + 0.1, 0.6 + 0.8, 0.6 - 0.1])  # the first is violated
 
 
-def test_cost_gradient_matches_finite_differences() -> None:
+def test_the_casadi_problem_is_the_numpy_cost_and_constraints() -> None:
+    """The NLP IPOPT solves, evaluated at random points, equals stage_costs, wall_slack and the separation."""
+    from vtube_planning.baselines.nmpc import AgentProblem
+
     params = NmpcParams()
+    tube = straight(2.0)
+    problem = AgentProblem(params, 3)
     rng = np.random.default_rng(0)
     h = params.horizon
-    a_p, a_v = rollout_maps(h, params.dt_s)
-    p0, v0 = rng.normal(size=2), rng.normal(size=2) + [2.0, 0.0]
-    others, tangent = rng.normal(size=(3, h, 2)), np.array([0.6, 0.8])
-
-    def total(x: np.ndarray) -> float:
-        u = x.reshape(h, 2)
+    for _ in range(5):
+        p0, v0 = rng.normal(size=2) + [3.0, 0.0], rng.normal(size=2) + [2.0, 0.0]
+        others, tangent = rng.normal(size=(3, h, 2)) + [3.0, 0.0], np.array([0.6, 0.8])
+        u = rng.normal(size=(h, 2))
         p, v = rollout(p0, v0, u, params.dt_s)
-        return sum(stage_costs(p, v, u, others, tangent, params).values())
+        walls = tube.project(p.T + 0.1)
+        f, g = problem.terms(u.ravel(), problem.pack(p0, v0, tangent, others, walls, params.wall_margin))
+        assert float(f) == pytest.approx(sum(stage_costs(p, v, u, others, tangent, params).values()), rel=1e-10)
+        room = walls.half_width_m - params.wall_margin
+        separation = (np.sum((others - p[None]) ** 2, axis=2) - params.d_safe**2).ravel()
+        expected = np.concatenate([wall_slack(p, walls.foot_m.T, walls.normal.T, room), separation])
+        np.testing.assert_allclose(np.asarray(g).ravel(), expected, rtol=1e-10, atol=1e-12)
 
-    x = rng.normal(size=2 * h)
-    u = x.reshape(h, 2)
-    p, v = rollout(p0, v0, u, params.dt_s)
-    d_p, d_v, d_u = cost_gradients(p, v, u, others, tangent, params)
-    exact = (a_p.T @ d_p + a_v.T @ d_v + d_u).ravel()
-    numeric = approx_fprime(x, total, 1e-6)
-    assert np.abs(exact - numeric).max() <= 1e-6 * np.abs(numeric).max()
+
+def test_nmpc_converges_and_never_applies_a_failed_solve() -> None:
+    tube = straight(2.0)
+    swarm = NmpcSwarm(tube, NmpcParams(v_max=2.0, v_ref=2.0, d_safe=0.8, d_ref=1.6))
+    positions = np.array([[1.0, 1.0, 3.0], [0.6, -0.6, 0.0]])
+    velocities = np.tile([[1.5], [0.0]], 3)
+    for _ in range(20):
+        velocities = swarm.command(positions, velocities, tube.project(positions), 0.05)
+        positions = positions + 0.05 * velocities
+    assert swarm.solves == 3 * 10 and swarm.converged == swarm.solves and swarm.fallbacks == 0
+    assert swarm.softened == 0  # room for everyone: no constraint had to give
+    # two agents already closer than d_safe: the constraint is softened (and counted), the solve still converges
+    tight = NmpcSwarm(tube, NmpcParams(v_max=2.0, v_ref=2.0, d_safe=0.8))
+    positions = np.array([[1.0, 1.2], [0.0, 0.0]])
+    tight.command(positions, np.zeros((2, 2)), tube.project(positions), 0.05)
+    assert tight.converged == tight.solves == 2 and tight.softened == 2
+    # a solve that does not converge (here: one iteration allowed) is not applied: the last converged plan is
+    stopped = NmpcSwarm(tube, NmpcParams(v_max=2.0, v_ref=2.0, max_iter=1))
+    stopped.command(positions, np.ones((2, 2)), tube.project(positions), 0.05)
+    assert stopped.fallbacks == stopped.solves == 2 and stopped.converged == 0
+    assert np.all(stopped.held == 0.0)  # no converged plan yet: zero acceleration, not IPOPT's iterate
 
 
 def test_nmpc_respects_the_linearised_wall_and_drives_along_the_tube() -> None:
