@@ -252,6 +252,7 @@ def test_every_control_option_reaches_the_step() -> None:
         'feedforward': True,
         'law': 'practical',
         'saturation': 'forward',
+        'density_padding': 'current',
         'plan_at': 'center',
         'kdtree_above': 7,
     }
@@ -274,3 +275,19 @@ def test_the_plan_read_at_the_swarm_centre_is_the_same_for_every_robot() -> None
         speeds[where] = step(positions, 0.02).forward_speed_mps
     np.testing.assert_allclose(speeds['robot'], plan.speed(positions[0]))
     np.testing.assert_allclose(speeds['center'], np.full(3, float(plan.speed(20.0))))
+
+
+def test_the_density_footprint_is_padded_by_the_initial_or_the_current_radius() -> None:
+    """A straight tube of half-width 10 m: the area between l_a and l_b is 20 (l_b - l_a) m^2."""
+    from vtube_planning.swarm.step import PlanProfile
+
+    tube = wide_tube()
+    plan = PlanProfile(np.array([0.0, 50.0]), np.full(2, 1.0 / 3.0), np.full(2, 1e-3))  # sparse plan: r_a grows
+    positions = np.array([[10.0, 14.0, 18.0], [0.0, 3.0, -3.0]])
+    for padding in ('initial', 'current'):
+        step = SwarmStep(tube, ControlParams(density_padding=padding).step_params(SWARM), 3, plan=plan)
+        first = step(positions, 0.5)
+        assert first.density_per_m2 == pytest.approx(3 / (20 * (8.0 + 2 * 0.8)))  # both: r_a still initial
+        step.r_a = np.array([1.0, 1.2, 1.4])  # (a3) has grown the radii
+        pad = 0.8 if padding == 'initial' else 1.2
+        assert step(positions, 0.5).density_per_m2 == pytest.approx(3 / (20 * (8.0 + 2 * pad)))

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from vtube_planning._validate import is_positive, is_real
 from vtube_planning.errors import ParamsError
 from vtube_planning.params import SwarmParams
-from vtube_planning.swarm.step import LAWS, PLAN_AT, SATURATIONS, StepParams
+from vtube_planning.swarm.step import DENSITY_PADDINGS, LAWS, PLAN_AT, SATURATIONS, StepParams
 
 # ---------------------------------------------------------------------- parameters
 
@@ -39,6 +39,9 @@ class ControlParams:
     saturation
         ``'radial'``: the paper's sat of the whole command into [v_min, v_max], which can point a robot backwards
         (A10); ``'forward'``: v* t_c + sat(v_m + v_xy, v* - v_min) capped at v_max, never backwards.
+    density_padding
+        The measured density N / S pads the swarm's footprint S at both ends by ``'initial'`` r_a (A7) or by the
+        ``'current'`` mean r_a.
     plan_at
         Read the plan at each robot's arc length (``'robot'``, the paper) or at the swarm centre's (``'center'``,
         ``docs/theory.md`` A16): with ``'robot'`` a planned slow-down reaches the front first and compresses the
@@ -54,6 +57,7 @@ class ControlParams:
     feedforward: bool = False
     law: str = 'barrier'
     saturation: str = 'radial'
+    density_padding: str = 'initial'
     plan_at: str = 'robot'
     kdtree_above: int = 48
 
@@ -73,6 +77,9 @@ class ControlParams:
             raise ParamsError(msg)
         if self.saturation not in SATURATIONS:
             msg = f'control saturation must be one of {SATURATIONS}; got {self.saturation!r}.'
+            raise ParamsError(msg)
+        if self.density_padding not in DENSITY_PADDINGS:
+            msg = f'control density_padding must be one of {DENSITY_PADDINGS}; got {self.density_padding!r}.'
             raise ParamsError(msg)
         if self.plan_at not in PLAN_AT:
             msg = f'control plan_at must be one of {PLAN_AT}; got {self.plan_at!r}.'
@@ -108,6 +115,7 @@ class ControlParams:
             v_max_mps=swarm.v_max_mps,
             law=self.law,
             saturation=self.saturation,
+            density_padding=self.density_padding,
             avoidance_gain=self.avoidance_gain,
             keeping_gain=self.keeping_gain,
             k_ra_m3ps=self.k_ra_m3ps,

@@ -41,6 +41,9 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
 
 LAWS = ('practical', 'barrier')
+DENSITY_PADDINGS = ('initial', 'current')
+"""How far the measured footprint extends beyond the last and the front robot: the initial r_a (fixed cells of
+Assumption 2, A7), or the swarm's current mean r_a (cells that grow with (a3))."""
 SATURATIONS = ('radial', 'forward')
 """How the command meets the speed band: the paper's radial sat of the whole sum (A10: it can point backwards), or
 the forward-progress form v* t_c + sat(v_m + v_xy, v* - v_min) capped at v_max (``docs/theory.md`` §2.7), which
@@ -131,6 +134,8 @@ class StepParams:
         ``'barrier'`` or ``'practical'``.
     saturation
         ``'radial'`` (the paper's sat) or ``'forward'`` (the forward-progress form), ``SATURATIONS``.
+    density_padding
+        Pad the measured footprint by the initial r_a or by the current mean r_a, ``DENSITY_PADDINGS``.
     avoidance_gain, keeping_gain
         Gains of the avoidance and tube-keeping terms.
     k_ra_m3ps
@@ -151,6 +156,7 @@ class StepParams:
     v_max_mps: float
     law: str = 'barrier'
     saturation: str = 'radial'
+    density_padding: str = 'initial'
     avoidance_gain: float = 1.0
     keeping_gain: float = 1.0
     k_ra_m3ps: float = 5.0
@@ -408,7 +414,8 @@ class SwarmStep:
         parked = self.slot_of >= 0
         members = ~parked
         swarm_l = l_m[members] if members.any() else l_m
-        density = swarm_density(self.tube, swarm_l, p.r_a_m)
+        radii = self.r_a[members] if members.any() else self.r_a
+        density = swarm_density(self.tube, swarm_l, p.r_a_m if p.density_padding == 'initial' else float(radii.mean()))
         l_plan = np.full(l_m.size, swarm_l.mean()) if p.plan_at == 'center' else l_m
         if self.plan is not None:
             forward_speed = self.plan.speed(l_plan)
