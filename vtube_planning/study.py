@@ -374,11 +374,43 @@ COMPARISONS = (
 CLAIMS = (('passing_time_s', 'lower', 'passing time [s]'), ('min_distance_m', 'higher', 'min distance [m]'))
 
 
+def verdict_summary(rows: list[dict[str, Any]]) -> str:
+    """Where each comparison's claim holds: per robot model and saturation, in how many cells (scene, N) the paired
+    interval says a beats b (+), cannot tell (=) or b beats a (-), for each metric of CLAIMS."""
+    table = paired_table(rows)
+    settings = list(dict.fromkeys((p['model'], p['saturation']) for p in table))
+    head = ' | '.join(f'{model} model, {sat} sat' for model, sat in settings)
+    lines = [
+        (
+            'Cells (scene, N) where a beats b (+), the interval includes zero (=), or b beats a (-); '
+            'T: passing time (shorter is better), D: minimum distance (larger is better).'
+        ),
+        '',
+        f'| comparison (a - b) | {head} |',
+        '|---|' + '---|' * len(settings),
+    ]
+    for a, b, meaning in COMPARISONS:
+        cols = []
+        for model, sat in settings:
+            counts = []
+            for (metric, _, _), letter in zip(CLAIMS, 'TD', strict=True):
+                found = [
+                    p['verdict']
+                    for p in table
+                    if (p['a'], p['b'], p['model'], p['saturation'], p['metric']) == (a, b, model, sat, metric)
+                ]
+                plus, same, minus = (found.count(v) for v in ('holds', 'does not hold', 'reversed'))
+                counts.append(f'{letter} +{plus} ={same} -{minus}')
+            cols.append(', '.join(counts))
+        lines.append(f'| {a} - {b} ({meaning}) | ' + ' | '.join(cols) + ' |')
+    return '\n'.join(lines) + '\n'
+
+
 def grid_markdown(rows: list[dict[str, Any]]) -> str:
-    """The grid's report: per scene, N and model, each mode's means with 95 % bootstrap intervals, then the paired
-    differences of COMPARISONS with their intervals and verdicts (a claim holds only where the interval excludes
-    zero)."""
-    lines: list[str] = []
+    """The grid's report: where each comparison holds (:func:`verdict_summary`), then per scene, N, model and
+    saturation each mode's means with 95 % bootstrap intervals and the paired differences of COMPARISONS with their
+    intervals and verdicts (a claim holds only where the interval excludes zero)."""
+    lines: list[str] = [verdict_summary(rows)]
     for cell in dict.fromkeys(_cell(r) for r in rows):
         scene, n, model, saturation = cell
         sel = [r for r in rows if _cell(r) == cell]

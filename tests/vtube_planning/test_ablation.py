@@ -78,6 +78,8 @@ def test_a_reduced_grid_end_to_end(tmp_path, capsys) -> None:
         for key, value in fresh.items():
             assert read[key] == (pytest.approx(value, nan_ok=True) if isinstance(value, float) else value)
     text = (out / 'grid.md').read_text()
+    assert '| comparison (a - b) | paper model, radial sat | paper model, forward sat |' in text
+    assert "| planning - no planning (the paper's comparison) | T +" in text  # 1 cell: T +k =m -n with k+m+n = 1
     assert '### Scene C, N = 20, paper model, radial sat (2 seeds)' in text
     assert '### Scene C, N = 20, paper model, forward sat (2 seeds)' in text
     assert "| planning - no planning (the paper's comparison) |" in text
@@ -101,3 +103,32 @@ def test_bad_grid_arguments(tmp_path, capsys) -> None:
     assert "unknown robot model 'fast'" in capsys.readouterr().err
     assert main(['ablation', '--out', str(tmp_path), '--saturations', 'clip']) == 2
     assert "unknown saturation 'clip'; choose from radial, forward" in capsys.readouterr().err
+
+
+def test_the_verdict_summary_counts_cells_on_synthetic_rows() -> None:
+    """Two cells: in N = 20 planning is 0.1 m safer and 1 s faster on every seed; in N = 40 nothing differs."""
+    from vtube_planning.study import paired_table, verdict_summary
+
+    rng = np.random.default_rng(0)
+    rows = []
+    for n, gain in ((20, 1.0), (40, 0.0)):
+        for seed in range(10):
+            base = {'scene': 'C', 'n_robots': n, 'seed': seed, 'model': 'paper', 'saturation': 'radial'}
+            spread = rng.normal(0.0, 0.02)
+            rows.append(base | {'mode': 'no planning', 'passing_time_s': 20.0, 'min_distance_m': 0.8 + spread})
+            rows.append(
+                base
+                | {
+                    'mode': 'planning',
+                    'passing_time_s': 20.0 - gain + rng.normal(0.0, 0.01) * gain,
+                    'min_distance_m': 0.8 + spread + 0.1 * gain + rng.normal(0.0, 0.005) * gain,
+                }
+            )
+    verdicts = {(p['n_robots'], p['metric']): p['verdict'] for p in paired_table(rows)}
+    assert verdicts == {
+        (20, 'passing_time_s'): 'holds',
+        (20, 'min_distance_m'): 'holds',
+        (40, 'passing_time_s'): 'does not hold',
+        (40, 'min_distance_m'): 'does not hold',
+    }
+    assert "| planning - no planning (the paper's comparison) | T +1 =1 -0, D +1 =1 -0 |" in verdict_summary(rows)
