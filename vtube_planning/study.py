@@ -406,11 +406,39 @@ def verdict_summary(rows: list[dict[str, Any]]) -> str:
     return '\n'.join(lines) + '\n'
 
 
+def mode_summary(rows: list[dict[str, Any]]) -> str:
+    """Per mode and setting (robot model, saturation), over every scene, N and seed: collision pairs, the runs
+    with any, and the range over cells of the share of robot-steps moving backwards."""
+    settings = list(dict.fromkeys((r['model'], r['saturation']) for r in rows))
+    lines = [
+        (
+            'Per mode over all cells and seeds: collision pairs (runs with any / runs); share of in-tube robot-steps '
+            'moving backwards, lowest and highest cell mean.'
+        ),
+        '',
+        '| mode | ' + ' | '.join(f'{m} model, {s} sat' for m, s in settings) + ' |',
+        '|---|' + '---|' * len(settings),
+    ]
+    for mode in dict.fromkeys(r['mode'] for r in rows):
+        cols = []
+        for model, sat in settings:
+            sel = [r for r in rows if (r['mode'], r['model'], r['saturation']) == (mode, model, sat)]
+            cells = dict.fromkeys((r['scene'], r['n_robots']) for r in sel)
+            backwards = [
+                np.mean([r['reversing_share'] for r in sel if (r['scene'], r['n_robots']) == c]) for c in cells
+            ]
+            hit = sum(r['collision_pairs'] > 0 for r in sel)
+            pairs = sum(r['collision_pairs'] for r in sel)
+            cols.append(f'{pairs} ({hit}/{len(sel)}); {min(backwards):.1%}-{max(backwards):.1%}')
+        lines.append(f'| {mode} | ' + ' | '.join(cols) + ' |')
+    return '\n'.join(lines) + '\n'
+
+
 def grid_markdown(rows: list[dict[str, Any]]) -> str:
     """The grid's report: where each comparison holds (:func:`verdict_summary`), then per scene, N, model and
     saturation each mode's means with 95 % bootstrap intervals and the paired differences of COMPARISONS with their
     intervals and verdicts (a claim holds only where the interval excludes zero)."""
-    lines: list[str] = [verdict_summary(rows)]
+    lines: list[str] = [verdict_summary(rows), mode_summary(rows)]
     for cell in dict.fromkeys(_cell(r) for r in rows):
         scene, n, model, saturation = cell
         sel = [r for r in rows if _cell(r) == cell]
