@@ -10,7 +10,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from robotarium_exp.errors import RobotariumExpError
 from unicycle_mapping.errors import MappingError
@@ -224,13 +224,14 @@ def ablation(
     models: Sequence[str],
     saturations: Sequence[str],
     workers: int,
+    report_only: bool = False,
 ) -> int:
-    """The ablation grid: grid.csv (one row per run, written as runs finish), grid.md and grid.png from it."""
+    """The ablation grid: grid.csv (one row per run, written as runs finish), grid.md and grid.png from it; with
+    ``report_only``, grid.md and grid.png again from an existing grid.csv."""
     import os
     import time
 
-    from vtube_planning import plots
-    from vtube_planning.study import MODELS, RowWriter, grid_markdown, iter_grid, row_text
+    from vtube_planning.study import MODELS, RowWriter, iter_grid, read_rows_csv, row_text
     from vtube_planning.swarm.step import SATURATIONS
 
     for given, known, what in ((models, MODELS, 'robot model'), (saturations, SATURATIONS, 'saturation')):
@@ -240,6 +241,12 @@ def ablation(
             return 2
     workers = workers or os.cpu_count() or 1
     started = time.perf_counter()
+    if report_only:
+        if not (out / 'grid.csv').is_file():
+            print(f'error: {out / "grid.csv"} does not exist; run `vtube ablation --out {out}` first.', file=sys.stderr)
+            return 2
+        rows = read_rows_csv(out / 'grid.csv')
+        return _grid_report(rows, out, f'{len(rows)} runs read from {out / "grid.csv"}')
     writer = RowWriter(out / 'grid.csv')
     rows = []
     try:
@@ -250,12 +257,19 @@ def ablation(
             print(row_text(row))
     finally:
         writer.close()
+    return _grid_report(rows, out, f'{len(rows)} runs in {time.perf_counter() - started:.0f} s on {workers} processes')
+
+
+def _grid_report(rows: list[dict[str, Any]], out: Path, what: str) -> int:
+    from vtube_planning import plots
+    from vtube_planning.study import grid_markdown
+
     text = grid_markdown(rows)
     (out / 'grid.md').write_text(text, encoding='utf-8')
     figure = plots.save_figure(plots.paired_differences_figure(rows), out / 'grid.png')
     print()
     print(text)
-    print(f'{len(rows)} runs in {time.perf_counter() - started:.0f} s on {workers} processes')
+    print(what)
     print(f'written {out / "grid.csv"}, {out / "grid.md"}, {figure}')
     return EXIT_OK
 
@@ -614,6 +628,9 @@ def _parser() -> argparse.ArgumentParser:
         '--saturations', default='radial,forward', help="'radial' (the paper's sat) and/or 'forward' (never backwards)"
     )
     abl.add_argument('--workers', type=int, default=0, help='processes (default: one per core)')
+    abl.add_argument(
+        '--report-only', action='store_true', help="write grid.md and grid.png again from the folder's grid.csv"
+    )
     robo = commands.add_parser('robotarium', help='the tube experiment on the bundled Robotarium simulator')
     robo_commands = robo.add_subparsers(dest='robotarium_command', required=True, metavar='SUBCOMMAND')
     run = robo_commands.add_parser('run', help='run the experiment, print the testbed verdict and metrics')
@@ -738,6 +755,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 models=args.models.split(','),
                 saturations=args.saturations.split(','),
                 workers=args.workers,
+                report_only=args.report_only,
             )
         if args.command == 'study':
             return study(

@@ -85,6 +85,10 @@ def test_a_reduced_grid_end_to_end(tmp_path, capsys) -> None:
     assert "| planning - no planning (the paper's comparison) |" in text
     assert (out / 'grid.png').read_bytes()[:4] == b'\x89PNG'
     assert '24 runs in' in capsys.readouterr().out
+    (out / 'grid.md').unlink()
+    assert main(['ablation', '--out', str(out), '--report-only']) == 0  # the report again, from the table alone
+    assert (out / 'grid.md').read_text() == text
+    assert '24 runs read from' in capsys.readouterr().out
 
 
 def test_an_interrupted_grid_leaves_every_finished_row(tmp_path) -> None:
@@ -103,6 +107,8 @@ def test_bad_grid_arguments(tmp_path, capsys) -> None:
     assert "unknown robot model 'fast'" in capsys.readouterr().err
     assert main(['ablation', '--out', str(tmp_path), '--saturations', 'clip']) == 2
     assert "unknown saturation 'clip'; choose from radial, forward" in capsys.readouterr().err
+    assert main(['ablation', '--out', str(tmp_path / 'none'), '--report-only']) == 2
+    assert 'grid.csv does not exist; run `vtube ablation --out' in capsys.readouterr().err
 
 
 def test_the_verdict_summary_counts_cells_on_synthetic_rows() -> None:
