@@ -6,6 +6,11 @@ per scene on the means over seeds and per seed: with planning the passing time i
 larger, and no two robots collide. With ``baselines``, scenes C and D also fly the paper's baselines (optimized
 flocking with v_min = 0 as the paper ran it and a speed-constrained variant; distributed NMPC), compared on safety:
 the paper's claim is that the planned method passes more safely (fewer collisions, larger minimum distance).
+
+The ablation grid (:func:`run_grid`, ``vtube ablation``) says where that comes from: modes that each switch one part
+of the method off on the same code path (ABLATIONS), over swarm sizes, seeds, robot models and saturations, one
+tidy row per run; :func:`grid_markdown` reports each cell with bootstrap intervals and the paired differences of
+COMPARISONS (:mod:`vtube_planning.stats`). The paper's comparison above is a slice of it (:func:`run_study`).
 """
 
 from __future__ import annotations
@@ -319,10 +324,10 @@ def iter_grid(
 
 def row_text(row: dict[str, Any]) -> str:
     """One grid row in a line."""
+    where = f'{row["scene"]} N={row["n_robots"]} {row["model"]} {row["saturation"]} sat seed {row["seed"]}'
     return (
-        f'{row["scene"]} N={row["n_robots"]} {row["model"]} {row["saturation"]} sat seed {row["seed"]} {row["mode"]}: '
-        f'passing '
-        f'{row["passing_time_s"]:.2f} s, min distance {row["min_distance_m"]:.3f} m, collisions {row["collision_pairs"]}'
+        f'{where} {row["mode"]}: passing {row["passing_time_s"]:.2f} s, min distance {row["min_distance_m"]:.3f} m, '
+        f'collisions {row["collision_pairs"]}'
     )
 
 
