@@ -227,7 +227,8 @@ def test_a_plan_file_is_flown_as_given_and_refused_elsewhere(tmp_path, capsys) -
     copy = tmp_path / 'copy.toml'
     copy.write_text((ROOT / 'vtube_planning' / 'scenes' / 'robotarium_trapezoid.toml').read_text(), encoding='utf-8')
     out = tmp_path / 'sub.py'
-    assert main(['submission', 'build', str(copy), '--plan', str(plan_file), '--out', str(out)]) == 0
+    build = ['submission', 'build', str(copy), '--plan', str(plan_file), '--out', str(out), '--no-declare']
+    assert main(build) == 0
     namespace: dict = {}
     exec(compile(out.read_text(), 'submission', 'exec'), namespace)  # noqa: S102 -- the file just built
     slowness = np.asarray(namespace['DATA']['plan']['slowness_spm'])
