@@ -20,6 +20,7 @@ TCNS 2 m/s in [0.5, 3.5], Robotarium k1 = v_max / 2).
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -28,7 +29,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from vtube_planning._validate import is_positive
+from vtube_planning._validate import is_positive, is_real
 from vtube_planning.errors import ParamsError
 from vtube_planning.geometry.tube import Projection, VirtualTube
 from vtube_planning.params import SwarmParams
@@ -39,6 +40,30 @@ from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics
 from vtube_planning.swarm.step import SwarmStep, swarm_density
 
 FloatArray = NDArray[np.float64]
+
+
+FAILURE_MODES = ('stop', 'coast')
+
+
+@dataclass(frozen=True)
+class RobotFailure:
+    """Robot ``robot`` fails once its arc length reaches ``at_m``: it stops dead (``'stop'``) or keeps the velocity
+    it had (``'coast'``), whatever it is commanded; the others see it and must avoid it."""
+
+    robot: int
+    at_m: float
+    mode: str = 'stop'
+
+    def __post_init__(self) -> None:
+        if isinstance(self.robot, bool) or not isinstance(self.robot, int) or self.robot < 0:
+            msg = f'the failing robot must be a robot index >= 0; got {self.robot!r}.'
+            raise ParamsError(msg)
+        if not is_real(self.at_m):
+            msg = f'the failure arc length at_m must be a finite number; got {self.at_m!r}.'
+            raise ParamsError(msg)
+        if self.mode not in FAILURE_MODES:
+            msg = f'failure mode must be one of {FAILURE_MODES}; got {self.mode!r}.'
+            raise ParamsError(msg)
 
 
 @dataclass(frozen=True)
@@ -60,6 +85,14 @@ class SimConfig:
     acceleration_limits
         Make every robot obey the tangential and normal acceleration limits (3), (4). Off by default: each robot
         moves at its saturated command, as in the paper's model.
+    pose_noise_m
+        Fault: the controller sees every position with Gaussian noise of this standard deviation (m, per axis, drawn
+        anew each step from a stream seeded by ``seed``); the metrics use the true positions. 0: off.
+    latency_steps
+        Fault: a command reaches the robots this many control periods after it was computed (until then they
+        keep their initial velocity). 0: off.
+    failure
+        Fault: a robot that fails at an arc length (:class:`RobotFailure`); None: off.
     """
 
     dt_s: float = 0.02
@@ -68,6 +101,9 @@ class SimConfig:
     jitter_m: float = 0.05
     log_every: int = 100
     acceleration_limits: bool = False
+    pose_noise_m: float = 0.0
+    latency_steps: int = 0
+    failure: RobotFailure | None = None
 
     def __post_init__(self) -> None:
         if not is_positive(self.dt_s):
@@ -78,6 +114,12 @@ class SimConfig:
             raise ParamsError(msg)
         if not (isinstance(self.jitter_m, (int, float)) and self.jitter_m >= 0):
             msg = f'simulation jitter_m must be >= 0; got {self.jitter_m!r}.'
+            raise ParamsError(msg)
+        if not (is_real(self.pose_noise_m) and self.pose_noise_m >= 0):
+            msg = f'simulation pose_noise_m must be a finite number >= 0 (0: no noise); got {self.pose_noise_m!r}.'
+            raise ParamsError(msg)
+        if isinstance(self.latency_steps, bool) or not isinstance(self.latency_steps, int) or self.latency_steps < 0:
+            msg = f'simulation latency_steps must be a whole number >= 0 (0: none); got {self.latency_steps!r}.'
             raise ParamsError(msg)
 
 
@@ -211,15 +253,25 @@ def simulate(
         length_m=tube.length_m,
     )
     log = LogWriter(log_path, description, flush_every=config.log_every)
+    if config.failure is not None and config.failure.robot >= n:
+        msg = f'the failing robot {config.failure.robot} does not exist: the swarm has robots 0..{n - 1}.'
+        raise ParamsError(msg)
+    noise = np.random.default_rng([config.seed, 1])  # its own stream: the formation's jitter stays the same
+    pending = deque([velocity] * config.latency_steps)  # commands computed, not yet applied
+    failed_velocity = None  # the failed robot's velocity from the failure on
     for step in range(steps + 1):
-        projection = tube.project(positions)
+        projection = tube.project(positions)  # the truth: logged and measured
+        seen, view = positions, projection
+        if config.pose_noise_m > 0:
+            seen = positions + config.pose_noise_m * noise.standard_normal(positions.shape)
+            view = tube.project(seen)
         if baseline is not None:
-            commanded = baseline(positions, velocity, projection)
-            density, r_a = swarm_density(tube, projection.l_m, swarm.r_a_m), stepper.r_a
-            done = bool(np.all(projection.l_m > tube.length_m))
+            commanded = baseline(seen, velocity, view)
+            density, r_a = swarm_density(tube, view.l_m, swarm.r_a_m), stepper.r_a
         else:
-            result = stepper(positions, config.dt_s, projection)
-            commanded, density, r_a, done = result.velocity, result.density_per_m2, result.r_a_m, result.done
+            result = stepper(seen, config.dt_s, view)
+            commanded, density, r_a = result.velocity, result.density_per_m2, result.r_a_m
+        done = bool(np.all(projection.l_m > tube.length_m))
         log.append(
             t_s=np.float64(step * config.dt_s),
             positions_m=positions,
@@ -233,10 +285,20 @@ def simulate(
         )
         if done or step == steps:
             break
+        if pending:
+            pending.append(commanded)
+            commanded = pending.popleft()
         if config.acceleration_limits:
             velocity = limit_acceleration(velocity, commanded, swarm.a_v_mps2, swarm.a_n_mps2, config.dt_s)
         else:
             velocity = commanded
+        failure = config.failure
+        if failure is not None:
+            if failed_velocity is None and projection.l_m[failure.robot] >= failure.at_m:
+                failed_velocity = np.zeros(2) if failure.mode == 'stop' else velocity[:, failure.robot].copy()
+            if failed_velocity is not None:
+                velocity = velocity.copy()
+                velocity[:, failure.robot] = failed_velocity
         positions = positions + config.dt_s * velocity
     arrays = log.arrays()
     metrics = passage_metrics(

@@ -1,0 +1,92 @@
+"""Fault models of the simulator: pose noise, command latency, a failing robot; each off by default and seeded."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from vtube_planning import ParamsError, load_scene
+from vtube_planning.planning.planner import plan_convex
+from vtube_planning.swarm.simulate import RobotFailure, SimConfig, simulate
+
+
+@pytest.fixture(scope='module')
+def scene_a():
+    scene = load_scene('A')
+    return scene, plan_convex(scene.tube, scene.swarm, scene.planning, scene='A')
+
+
+def recording_baseline(speed: float = 3.0):
+    """A law that drives along the tube at ``speed`` and records what the controller is shown."""
+    seen: list[np.ndarray] = []
+
+    def law(positions: np.ndarray, velocities: np.ndarray, projection) -> np.ndarray:
+        seen.append(positions.copy())
+        return speed * projection.tangent
+
+    return law, seen
+
+
+def test_pose_noise_is_what_the_controller_sees_with_the_stated_statistics(scene_a) -> None:
+    scene, _ = scene_a
+    law, seen = recording_baseline()
+    config = SimConfig(time_limit_s=4.0, pose_noise_m=0.05)
+    result = simulate(scene.tube, scene.swarm, scene.control, plan=None, config=config, baseline=law)
+    error = np.array(seen) - result.positions_m  # (T, 2, N): what it saw minus the truth
+    assert error.size > 3000
+    assert abs(error.mean()) < 0.003 and error.std() == pytest.approx(0.05, rel=0.05)
+    assert abs(np.corrcoef(error[:, 0].ravel(), error[:, 1].ravel())[0, 1]) < 0.05  # axes independent
+    clean = simulate(scene.tube, scene.swarm, scene.control, plan=None, config=SimConfig(time_limit_s=4.0))
+    np.testing.assert_array_equal(result.positions_m[0], clean.positions_m[0])  # the formation's draws unchanged
+    again = simulate(scene.tube, scene.swarm, scene.control, plan=None, config=config, baseline=recording_baseline()[0])
+    np.testing.assert_array_equal(again.positions_m, result.positions_m)  # seeded
+
+
+@pytest.mark.parametrize('latency', [1, 3])
+def test_commands_arrive_exactly_latency_periods_late(scene_a, latency: int) -> None:
+    scene, plan = scene_a
+    config = SimConfig(time_limit_s=3.0, latency_steps=latency)
+    result = simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=config)
+    v, u = result.velocities_mps, result.commands_mps  # v[k]: velocity during step k; u[k]: computed at step k
+    for k in range(1, latency + 1):
+        np.testing.assert_array_equal(v[k], v[0])  # nothing has arrived yet: the initial velocity
+    np.testing.assert_array_equal(v[latency + 1 :], u[: -latency - 1])  # v[k + 1] = u[k - latency]
+    prompt = simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=SimConfig(time_limit_s=3.0))
+    np.testing.assert_array_equal(prompt.velocities_mps[1:], prompt.commands_mps[:-1])  # latency 0: next step
+
+
+@pytest.mark.parametrize('mode', ['stop', 'coast'])
+def test_a_failed_robot_stops_or_coasts_and_the_others_pass_it(scene_a, mode: str) -> None:
+    scene, plan = scene_a
+    failure = RobotFailure(robot=0, at_m=8.0, mode=mode)
+    result = simulate(
+        scene.tube, scene.swarm, scene.control, plan=plan, config=SimConfig(time_limit_s=30.0, failure=failure)
+    )
+    k = int(np.argmax(result.l_m[:, 0] >= 8.0))  # the first step past the failure point
+    after = result.positions_m[k + 1 :, :, 0]
+    if mode == 'stop':
+        np.testing.assert_array_equal(after, np.broadcast_to(after[0], after.shape))
+        assert not result.metrics.completed  # it never leaves the tube
+    else:
+        steps = np.diff(after, axis=0)
+        np.testing.assert_allclose(steps, np.broadcast_to(steps[0], steps.shape), atol=1e-12)  # a straight line
+    others = np.hypot(*(result.positions_m[:, :, 1:] - result.positions_m[:, :, :1]).transpose(1, 0, 2))
+    assert others.min() > 2 * scene.swarm.r_p_m  # the others avoid it
+    out = result.l_m[-1, 1:] > scene.tube.length_m
+    if mode == 'coast':
+        assert out.all()  # every other robot passes it and leaves the tube
+    else:  # those still inside are held up right behind the dead robot
+        held = result.positions_m[-1, :, 1:][:, ~out] - result.positions_m[-1, :, :1]
+        assert out.sum() >= 15 and np.all(np.hypot(*held) < 2 * (scene.swarm.r_s_m + 3 * scene.swarm.r_a_m))
+
+
+def test_bad_fault_settings_are_refused(scene_a) -> None:
+    scene, plan = scene_a
+    with pytest.raises(ParamsError, match='pose_noise_m must be a finite number >= 0'):
+        SimConfig(pose_noise_m=-0.1)
+    with pytest.raises(ParamsError, match='latency_steps must be a whole number >= 0'):
+        SimConfig(latency_steps=True)
+    with pytest.raises(ParamsError, match="failure mode must be one of \\('stop', 'coast'\\)"):
+        RobotFailure(robot=0, at_m=1.0, mode='explode')
+    with pytest.raises(ParamsError, match='robots 0..19'):
+        simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=SimConfig(failure=RobotFailure(20, 1.0)))
