@@ -531,16 +531,24 @@ def neighbour_pairs(positions: FloatArray, radius: float, *, use_tree: bool) -> 
 
 
 def avoidance_velocity(
-    positions: FloatArray, r_a: FloatArray, params: StepParams, members: NDArray[np.bool_] | None = None
+    positions: FloatArray,
+    r_a: FloatArray,
+    params: StepParams,
+    members: NDArray[np.bool_] | None = None,
+    others: FloatArray | None = None,
 ) -> FloatArray:
     """v_m of every robot, (2, N): the sum over neighbours closer than r_s + r_a,i of phi_m times the unit p_ij.
 
     ``members`` (N,) restricts the pairs to robots of the swarm (parked robots have left it); None: all.
+    ``others`` (2, N): where each robot believes the others are (their last message, when messages drop); robot i
+    still knows its own position. None: everyone sees everyone where they are.
     """
     n = positions.shape[1]
     out = np.zeros_like(positions)
     if n < 2:
         return out
+    if others is not None:
+        return _avoidance_of_what_is_heard(positions, others, r_a, params, members)
     r_s = params.r_s_m
     i, j, dist = neighbour_pairs(positions, r_s + float(r_a.max()), use_tree=n > params.kdtree_above)
     if members is not None:
@@ -558,6 +566,29 @@ def avoidance_velocity(
         out[0] += np.bincount(me, weights=push[0], minlength=n)
         out[1] += np.bincount(me, weights=push[1], minlength=n)
     return out
+
+
+def _avoidance_of_what_is_heard(
+    positions: FloatArray, others: FloatArray, r_a: FloatArray, params: StepParams, members: NDArray[np.bool_] | None
+) -> FloatArray:
+    """v_m with robot i at p_i and robot j at q_j as i last heard it: all ordered pairs, dense (the fault study's
+    swarm sizes); with q = p it equals the pairwise form."""
+    r_s = params.r_s_m
+    diff = positions[:, :, None] - others[:, None, :]  # (2, N, N): p_i - q_j
+    dist = np.hypot(diff[0], diff[1])
+    np.fill_diagonal(dist, np.inf)
+    if members is not None:
+        dist[~members, :] = np.inf
+        dist[:, ~members] = np.inf
+    radius = np.broadcast_to(r_a[:, None], dist.shape)
+    near = dist < r_s + radius
+    gain = np.zeros_like(dist)
+    if params.law == 'practical':
+        gain[near] = params.avoidance_gain * sigma(dist[near], 2.0 * r_s, r_s + radius[near])[0]
+    else:
+        gain[near] = barrier_gain(dist[near], 2.0 * r_s, 2.0 * r_s, r_s + radius[near], params.avoidance_gain)
+    weight = np.where(near, gain / np.where(near, dist, 1.0), 0.0)
+    return np.einsum('ij,kij->ki', weight, diff)
 
 
 def tube_keeping_velocity(projection: Any, r_a: FloatArray, params: StepParams) -> FloatArray:
@@ -588,13 +619,14 @@ def velocity_command(
     projection: Any,
     params: StepParams,
     members: NDArray[np.bool_] | None = None,
+    others: FloatArray | None = None,
 ) -> Command:
     """The command v_c of every robot (eq. s1) at (2, N) positions with radii r_a (N,) and forward speeds (N,).
 
-    ``members``: the robots that avoid each other (see :func:`avoidance_velocity`).
+    ``members``, ``others``: the robots that avoid each other, and where they are heard (:func:`avoidance_velocity`).
     """
     forward = forward_speed_mps * projection.tangent
-    avoidance = avoidance_velocity(positions, r_a, params, members)
+    avoidance = avoidance_velocity(positions, r_a, params, members, others)
     keeping = tube_keeping_velocity(projection, r_a, params)
     if params.saturation == 'forward':  # |v_c| >= t_c . v_c >= v* - (v* - v_min) = v_min, then capped at v_max
         room = np.maximum(0.0, forward_speed_mps - params.v_min_mps)
@@ -701,8 +733,13 @@ class SwarmStep:
         self.r_a = np.full(n_robots, float(params.r_a_m))
         self.slot_of = np.full(n_robots, -1)
 
-    def __call__(self, points: FloatArray, dt_s: float, projection: Any = None) -> StepResult:
-        """The commands for robots at (2, N) ``points``; advances r_a and the parking assignment by ``dt_s``."""
+    def __call__(
+        self, points: FloatArray, dt_s: float, projection: Any = None, others: FloatArray | None = None
+    ) -> StepResult:
+        """The commands for robots at (2, N) ``points``; advances r_a and the parking assignment by ``dt_s``.
+
+        ``others`` (2, N): where the robots hear each other (their last messages); None: at ``points``.
+        """
         p = self.params
         points = np.asarray(points, dtype=float)
         if points.shape != (2, self.r_a.size):
@@ -729,7 +766,7 @@ class SwarmStep:
         else:
             forward_speed = np.full(l_m.size, self.constant_speed_mps)
         r_a = self.r_a
-        command = velocity_command(points, r_a, forward_speed, projection, p, members if parked.any() else None)
+        command = velocity_command(points, r_a, forward_speed, projection, p, members if parked.any() else None, others)
         velocity = command.velocity
         if self.slots is None:
             done = bool(exited.all())

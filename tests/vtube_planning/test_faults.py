@@ -90,3 +90,42 @@ def test_bad_fault_settings_are_refused(scene_a) -> None:
         RobotFailure(robot=0, at_m=1.0, mode='explode')
     with pytest.raises(ParamsError, match='robots 0..19'):
         simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=SimConfig(failure=RobotFailure(20, 1.0)))
+
+
+def test_avoidance_of_what_is_heard_equals_the_pairwise_law_when_everything_arrives() -> None:
+    from vtube_planning.swarm.control import ControlParams
+    from vtube_planning.swarm.step import avoidance_velocity
+
+    scene = load_scene('A')
+    rng = np.random.default_rng(3)
+    positions = np.vstack([rng.uniform(0, 12, 60), rng.uniform(-3, 3, 60)])
+    r_a = rng.uniform(0.8, 2.0, 60)
+    members = rng.random(60) > 0.2
+    for law in ('barrier', 'practical'):
+        params = ControlParams(law=law).step_params(scene.swarm)
+        pairwise = avoidance_velocity(positions, r_a, params, members)
+        heard = avoidance_velocity(positions, r_a, params, members, others=positions.copy())
+        assert np.abs(pairwise).max() > 0.1
+        np.testing.assert_allclose(heard, pairwise, rtol=1e-10, atol=1e-12)
+
+
+def test_dropped_messages_leave_the_stated_share_of_robots_heard_where_they_were(scene_a, monkeypatch) -> None:
+    from vtube_planning.swarm import step as step_module
+
+    scene, plan = scene_a
+    views: list[tuple[np.ndarray, np.ndarray]] = []
+    original = step_module.SwarmStep.__call__
+
+    def recording(self, points, dt_s, projection=None, others=None):
+        views.append((points.copy(), others.copy()))
+        return original(self, points, dt_s, projection, others)
+
+    monkeypatch.setattr(step_module.SwarmStep, '__call__', recording)
+    simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=SimConfig(time_limit_s=4.0, dropout=0.3))
+    stale = np.array([np.any(others != points, axis=0) for points, others in views[1:]])  # (T, N): heard elsewhere
+    assert stale.mean() == pytest.approx(0.3, abs=0.02)  # stale exactly while its last message was lost
+    for (points, others), (_, heard_before) in zip(views[1:], views[:-1], strict=True):
+        lost = np.any(others != points, axis=0)
+        np.testing.assert_array_equal(others[:, lost], heard_before[:, lost])  # the last message heard, unchanged
+    with pytest.raises(ParamsError, match='dropout must be a probability in \\[0, 1\\)'):
+        SimConfig(dropout=1.0)

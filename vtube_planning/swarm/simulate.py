@@ -93,6 +93,9 @@ class SimConfig:
         keep their initial velocity). 0: off.
     failure
         Fault: a robot that fails at an arc length (:class:`RobotFailure`); None: off.
+    dropout
+        Fault: each control period each robot's message is lost with this probability (seeded): its neighbours
+        then avoid it where they last heard it. 0: off. The planned controller only (the baselines hear everyone).
     """
 
     dt_s: float = 0.02
@@ -104,6 +107,7 @@ class SimConfig:
     pose_noise_m: float = 0.0
     latency_steps: int = 0
     failure: RobotFailure | None = None
+    dropout: float = 0.0
 
     def __post_init__(self) -> None:
         if not is_positive(self.dt_s):
@@ -117,6 +121,11 @@ class SimConfig:
             raise ParamsError(msg)
         if not (is_real(self.pose_noise_m) and self.pose_noise_m >= 0):
             msg = f'simulation pose_noise_m must be a finite number >= 0 (0: no noise); got {self.pose_noise_m!r}.'
+            raise ParamsError(msg)
+        if not (is_real(self.dropout) and 0.0 <= self.dropout < 1.0):
+            msg = (
+                f'simulation dropout must be a probability in [0, 1) (0: every message arrives); got {self.dropout!r}.'
+            )
             raise ParamsError(msg)
         if isinstance(self.latency_steps, bool) or not isinstance(self.latency_steps, int) or self.latency_steps < 0:
             msg = f'simulation latency_steps must be a whole number >= 0 (0: none); got {self.latency_steps!r}.'
@@ -253,10 +262,15 @@ def simulate(
         length_m=tube.length_m,
     )
     log = LogWriter(log_path, description, flush_every=config.log_every)
+    if baseline is not None and config.dropout > 0:
+        msg = 'dropped messages (dropout) act on the planned controller; fly the baseline with dropout = 0.'
+        raise ParamsError(msg)
     if config.failure is not None and config.failure.robot >= n:
         msg = f'the failing robot {config.failure.robot} does not exist: the swarm has robots 0..{n - 1}.'
         raise ParamsError(msg)
-    noise = np.random.default_rng([config.seed, 1])  # its own stream: the formation's jitter stays the same
+    noise = np.random.default_rng([config.seed, 1])  # own streams: the formation's jitter stays the same
+    losses = np.random.default_rng([config.seed, 2])
+    heard = positions.copy()  # where the robots last heard each other
     pending = deque([velocity] * config.latency_steps)  # commands computed, not yet applied
     failed_velocity = None  # the failed robot's velocity from the failure on
     for step in range(steps + 1):
@@ -269,7 +283,12 @@ def simulate(
             commanded = baseline(seen, velocity, view)
             density, r_a = swarm_density(tube, view.l_m, swarm.r_a_m), stepper.r_a
         else:
-            result = stepper(seen, config.dt_s, view)
+            others = None
+            if config.dropout > 0:
+                arrived = losses.random(n) >= config.dropout
+                heard[:, arrived] = seen[:, arrived]
+                others = heard
+            result = stepper(seen, config.dt_s, view, others)
             commanded, density, r_a = result.velocity, result.density_per_m2, result.r_a_m
         done = bool(np.all(projection.l_m > tube.length_m))
         log.append(
