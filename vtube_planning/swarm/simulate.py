@@ -77,7 +77,8 @@ class SimConfig:
     time_limit_s
         Stop here if some robot has not passed the exit; None means 4 (L + formation length) / v_min.
     seed
-        Seed of the jitter of the initial formation (the only randomness).
+        Seed of every draw: the initial formation's jitter, and the faults' noise and message losses (each its own
+        stream, so switching a fault on leaves the formation unchanged).
     jitter_m
         Standard deviation of the initial positions around the grid, m (0 for a perfect grid).
     log_every
