@@ -269,3 +269,14 @@ def test_robotarium_compare_writes_the_table(tmp_path, capsys) -> None:
     assert [row['planned'] for row in rows] == [True, False]
     assert rows[1]['expansion_start_s'] is None and rows[0]['expansion_start_s'] > 0
     assert (tmp_path / 'compare_robotarium_curve.md').read_text().count('\n') == 12
+
+
+@pytest.mark.parametrize('command', [['study', '--scenes', 'A', '--seeds', '1'], ['ablation', '--seeds', '1']])
+def test_an_unwritable_output_folder_is_refused_before_any_run(tmp_path, capsys, command: list[str]) -> None:
+    blocker = tmp_path / 'taken'
+    blocker.write_text('a file where the folder should go', encoding='utf-8')
+    assert main([*command, '--out', str(blocker / 'results')]) == 2
+    captured = capsys.readouterr()
+    assert captured.err.startswith(f'error: cannot write to {blocker / "results"} (')
+    assert 'choose another --out before any run starts.' in captured.err and len(captured.err.splitlines()) == 1
+    assert captured.out == ''  # not a single run was flown

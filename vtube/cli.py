@@ -198,6 +198,7 @@ def study(
     from vtube_planning.swarm.metrics import strict_json
     from vtube_planning.swarm.simulate import SimConfig
 
+    _writable_folder(out)
     config = SimConfig(acceleration_limits=acceleration_limits)
     seed_list = list(range(seeds))
     rows = run_study(scenes, seed_list, config=config, progress=print, baselines=BASELINE_MODES if baselines else ())
@@ -241,6 +242,7 @@ def ablation(
             return 2
     workers = workers or os.cpu_count() or 1
     started = time.perf_counter()
+    _writable_folder(out)
     if report_only:
         if not (out / 'grid.csv').is_file():
             print(f'error: {out / "grid.csv"} does not exist; run `vtube ablation --out {out}` first.', file=sys.stderr)
@@ -552,6 +554,18 @@ def demo(out: Path) -> int:
     return analyze(
         [returned], scene, out / 'report', plan_path=plan_path, compare=out / 'simulation' / f'sim_{scene}_planned.npz'
     )
+
+
+def _writable_folder(out: Path) -> None:
+    """Refuse, before any run starts, an output folder that cannot be created or written."""
+    probe = out / '.vtube-write-test'
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        probe.write_bytes(b'')
+        probe.unlink()
+    except OSError as err:
+        msg = f'cannot write to {out} ({err.strerror or err}); choose another --out before any run starts.'
+        raise OSError(msg) from err
 
 
 def _sizes(text: str) -> list[int]:
