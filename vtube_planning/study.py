@@ -7,7 +7,7 @@ larger, and no two robots collide. With ``baselines``, scenes C and D also fly t
 flocking with v_min = 0 as the paper ran it and a speed-constrained variant; distributed NMPC), compared on safety:
 the paper's claim is that the planned method passes more safely (fewer collisions, larger minimum distance).
 
-The ablation grid (:func:`run_grid`, ``vtube ablation``) says where that comes from: modes that each switch one part
+The ablation grid (:func:`iter_grid`, ``vtube ablation``) says where that comes from: modes that each switch one part
 of the method off on the same code path (ABLATIONS), over swarm sizes, seeds, robot models and saturations, one
 tidy row per run; :func:`grid_markdown` reports each cell with bootstrap intervals and the paired differences of
 COMPARISONS (:mod:`vtube_planning.stats`). The paper's comparison above is a slice of it (:func:`run_study`).
@@ -53,7 +53,7 @@ def run_study(
 ) -> list[dict[str, Any]]:
     """One row per scene, mode and seed with the passage's metrics; ``baselines`` from BASELINE_MODES.
 
-    The paper's comparison as a slice of the ablation grid (:func:`run_grid`): the scenes' own swarm, the robot
+    The paper's comparison as a slice of the ablation grid (:func:`iter_grid`): the scenes' own swarm, the robot
     model of ``config``, the modes 'planning' and 'no planning', and the baselines on scenes C and D.
     """
     config = config or SimConfig()
@@ -61,7 +61,10 @@ def run_study(
     rows = []
     for name in scenes:
         modes = MODES + (tuple(baselines) if load_scene(name).name in BASELINE_SCENES else ())
-        rows += run_grid([name], None, seeds, modes=modes, models=[model], config=config, progress=progress)
+        for row in iter_grid([name], None, seeds, modes=modes, models=[model], config=config):
+            rows.append(row)
+            if progress is not None:
+                progress(row_text(row))
     return rows
 
 
@@ -245,11 +248,7 @@ def ablation_setup(
     if ablation.plan == 'none':
         return Setup(None, control, speed)
     model = 'none' if ablation.plan == 'without (p7)' else scene.planning.predictive_model
-    key = (scene.name, swarm.n_robots, model)
-    if key not in plans:
-        options = replace(scene.planning, predictive_model=model)
-        plans[key] = plan_convex(scene.tube, swarm, options, scene=scene.name)
-    plan = plans[key]
+    plan = _cached_plan(scene, swarm, plans, model)
     if ablation.plan == 'flat':
         plan = replace(
             plan,
@@ -260,28 +259,12 @@ def ablation_setup(
     return Setup(plan, control, None)
 
 
-def run_grid(
-    scenes: Iterable[str] = GRID_SCENES,
-    sizes: Iterable[int] | None = (20, 40, 80),
-    seeds: Iterable[int] = range(10),
-    *,
-    modes: Iterable[str] = tuple(ABLATIONS),
-    models: Iterable[str] = tuple(MODELS),
-    saturations: Iterable[str] | None = None,
-    config: SimConfig | None = None,
-    progress: Callable[[str], None] | None = None,
-    workers: int = 1,
-) -> list[dict[str, Any]]:
-    """The ablation grid as a list of rows (:func:`iter_grid`), with a line per run to ``progress``."""
-    rows = []
-    grid = iter_grid(
-        scenes, sizes, seeds, modes=modes, models=models, saturations=saturations, config=config, workers=workers
-    )
-    for row in grid:
-        rows.append(row)
-        if progress is not None:
-            progress(row_text(row))
-    return rows
+def _cached_plan(scene: Scene, swarm: SwarmParams, plans: dict[tuple[str, int, str], Plan], model: str) -> Plan:
+    """The scene's plan for this swarm with (p7) read as ``model``, planned once per scene, N and model."""
+    key = (scene.name, swarm.n_robots, model)
+    if key not in plans:
+        plans[key] = plan_convex(scene.tube, swarm, replace(scene.planning, predictive_model=model), scene=scene.name)
+    return plans[key]
 
 
 def iter_grid(
@@ -339,8 +322,7 @@ def _grid_task(
     scene = replace(scene, control=replace(scene.control, saturation=saturation))
     swarm = replace(scene.swarm, n_robots=n)
     plans: dict[tuple[str, int, str], Plan] = {}
-    reference = ablation_setup('planning', scene, swarm, plans, config.dt_s).plan
-    assert reference is not None  # the full plan
+    reference = _cached_plan(scene, swarm, plans, scene.planning.predictive_model)  # the full plan
     rows = []
     for mode in modes:
         setup = ablation_setup(mode, scene, swarm, plans, config.dt_s)

@@ -9,7 +9,7 @@ import pytest
 
 from vtube.cli import main
 from vtube_planning import load_scene
-from vtube_planning.study import ABLATIONS, RowWriter, ablation_setup, read_rows_csv, run_grid
+from vtube_planning.study import ABLATIONS, RowWriter, ablation_setup, iter_grid, read_rows_csv
 from vtube_planning.swarm.simulate import SimConfig, default_constant_speed, simulate
 
 
@@ -72,7 +72,7 @@ def test_a_reduced_grid_end_to_end(tmp_path, capsys) -> None:
     assert len(forward) == len(rows) // 2 and all(r['reversing_share'] == 0.0 for r in forward)
     radial_unplanned = [r for r in rows if r['saturation'] == 'radial' and r['mode'] == 'no planning']
     assert all(r['reversing_share'] > 0.0 for r in radial_unplanned)  # the paper's sat reverses robots here
-    again = run_grid(['C'], [20], range(2), models=['paper'], saturations=['radial', 'forward'])
+    again = list(iter_grid(['C'], [20], range(2), models=['paper'], saturations=['radial', 'forward']))
     for read, fresh in zip(rows, again, strict=True):  # the file holds what was run, typed back
         assert read.keys() == fresh.keys()
         for key, value in fresh.items():
