@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import sys
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -18,12 +19,14 @@ from vtube_planning.errors import VtubeError
 
 if TYPE_CHECKING:
     from submission.check import CheckReport
+    from vtube_planning.campaign import Campaign
     from vtube_planning.geometry.scene import Scene
     from vtube_planning.params import SwarmParams
     from vtube_planning.planning.plan import Plan
 
 EXIT_OK = 0
 EXIT_BAD_INPUT = 2
+EXIT_INTERRUPTED = 130
 
 
 def scene_list() -> int:
@@ -187,24 +190,34 @@ def simulate(
 
 
 def study(
-    out: Path, *, scenes: Sequence[str], seeds: int, acceleration_limits: bool = False, baselines: bool = False
+    out: Path,
+    *,
+    scenes: Sequence[str],
+    seeds: int,
+    acceleration_limits: bool = False,
+    baselines: bool = False,
+    execution: Execution | None = None,
 ) -> int:
-    """The paper's comparison with and without planning; writes study.md, study.json and study.png."""
+    """The paper's comparison with and without planning, as a campaign in ``out`` (runs.csv, campaign.json; a
+    rerun resumes it); writes study.md, study.json and study.png."""
     import json
 
     from vtube_planning import plots
+    from vtube_planning.campaign import Campaign
     from vtube_planning.params import SwarmParams
-    from vtube_planning.study import BASELINE_MODES, run_study, study_markdown, summarise
+    from vtube_planning.study import BASELINE_MODES, BASELINE_SCENES, MODES, study_markdown, summarise
     from vtube_planning.swarm.metrics import strict_json
-    from vtube_planning.swarm.simulate import SimConfig
 
-    _writable_folder(out)
-    config = SimConfig(acceleration_limits=acceleration_limits)
-    seed_list = list(range(seeds))
-    rows = run_study(scenes, seed_list, config=config, progress=print, baselines=BASELINE_MODES if baselines else ())
+    common = {'seed': tuple(range(seeds)), 'model': ('acceleration limits' if acceleration_limits else 'paper',)}
+    grids = [common | {'scene': tuple(scenes), 'mode': MODES}]
+    compared = tuple(s for s in scenes if s in BASELINE_SCENES)
+    if baselines and compared:
+        grids.append(common | {'scene': compared, 'mode': MODES + BASELINE_MODES})
+    rows = _run_campaign(Campaign(tuple(grids), name='study'), out, execution or Execution())
+    if rows is None:
+        return EXIT_INTERRUPTED
     summary = summarise(rows)
-    text = study_markdown(summary, seed_list, config)
-    out.mkdir(parents=True, exist_ok=True)
+    text = study_markdown(summary, list(range(seeds)), acceleration_limits)
     (out / 'study.md').write_text(text, encoding='utf-8')
     (out / 'study.json').write_text(
         json.dumps(strict_json({'rows': rows, 'summary': summary}), indent=1, allow_nan=False), encoding='utf-8'
@@ -224,55 +237,101 @@ def ablation(
     seeds: int,
     models: Sequence[str],
     saturations: Sequence[str],
-    workers: int,
-    report_only: bool = False,
+    execution: Execution | None = None,
 ) -> int:
-    """The ablation grid: grid.csv (one row per run, written as runs finish), grid.md and grid.png from it; with
-    ``report_only``, grid.md and grid.png again from an existing grid.csv."""
+    """The ablation grid as a campaign in ``out`` (a rerun resumes it), and its report."""
+    from vtube_planning.campaign import Campaign
+    from vtube_planning.study import ABLATIONS
+
+    grid = {'scene': tuple(scenes), 'n_robots': tuple(sizes), 'seed': tuple(range(seeds)), 'model': tuple(models)}
+    grid |= {'saturation': tuple(saturations), 'mode': tuple(ABLATIONS)}
+    return campaign_run(Campaign((grid,), name='ablation'), out, execution)
+
+
+@dataclass(frozen=True)
+class Execution:
+    """Where a campaign's runs go: ``workers`` local processes (0: one per core), or the Dask scheduler at
+    ``scheduler`` (answering within ``timeout_s``); ``quiet``: no progress bar."""
+
+    workers: int = 0
+    scheduler: str | None = None
+    timeout_s: float = 10.0
+    quiet: bool = False
+
+
+def campaign_run(campaign: Campaign | Path, out: Path | None, execution: Execution | None = None) -> int:
+    """Run a campaign (a TOML file, or built by a command) into ``out``, resuming it, then write its report."""
+    from vtube_planning.campaign import Campaign
+
+    if isinstance(campaign, Path):
+        campaign = Campaign.from_toml(campaign)
+    if out is None:
+        msg = 'give the output folder: --out DIR.'
+        raise VtubeError(msg)
+    rows = _run_campaign(campaign, out, execution or Execution())
+    if rows is None:
+        return EXIT_INTERRUPTED
+    return campaign_report(out)
+
+
+def _run_campaign(campaign: Campaign, out: Path, execution: Execution) -> list[dict[str, Any]] | None:
+    """The campaign's rows after running what is missing (None if interrupted); checks the folder and connects to
+    the scheduler before any run, and prints one line of what was done."""
     import os
-    import time
 
-    from vtube_planning.study import MODELS, RowWriter, iter_grid, read_rows_csv, row_text
-    from vtube_planning.swarm.step import SATURATIONS
+    from vtube_planning.campaign import RUNS_FILE, run_campaign
+    from vtube_planning.executors import connect
 
-    for given, known, what in ((models, MODELS, 'robot model'), (saturations, SATURATIONS, 'saturation')):
-        unknown = [m for m in given if m not in known]
-        if unknown:
-            print(f'error: unknown {what} {unknown[0]!r}; choose from {", ".join(known)}.', file=sys.stderr)
-            return 2
-    workers = workers or os.cpu_count() or 1
-    started = time.perf_counter()
     _writable_folder(out)
-    if report_only:
-        if not (out / 'grid.csv').is_file():
-            print(f'error: {out / "grid.csv"} does not exist; run `vtube ablation --out {out}` first.', file=sys.stderr)
-            return 2
-        rows = read_rows_csv(out / 'grid.csv')
-        return _grid_report(rows, out, f'{len(rows)} runs read from {out / "grid.csv"}')
-    writer = RowWriter(out / 'grid.csv')
-    rows = []
+    points = campaign.points()  # a bad scene fails here, before any run
+    client = connect(execution.scheduler, execution.timeout_s) if execution.scheduler else None
+    workers = execution.workers or os.cpu_count() or 1
+    where = f'the Dask cluster at {execution.scheduler}' if client is not None else f'{workers} local processes'
     try:
-        grid = iter_grid(scenes, sizes, range(seeds), models=models, saturations=saturations, workers=workers)
-        for row in grid:
-            writer.write(row)
-            rows.append(row)
-            print(row_text(row))
+        outcome = run_campaign(
+            campaign, out, workers=workers, client=client, progress=False if execution.quiet else None
+        )
+    except KeyboardInterrupt:
+        print(
+            f'interrupted: every finished run is in {out / RUNS_FILE}; run the same command again to do the rest.',
+            file=sys.stderr,
+        )
+        return None
     finally:
-        writer.close()
-    return _grid_report(rows, out, f'{len(rows)} runs in {time.perf_counter() - started:.0f} s on {workers} processes')
+        if client is not None:
+            client.close()
+    print(
+        f'{campaign.name}: {len(points)} runs, {outcome.skipped} already done, {outcome.ran} run now on {where} '
+        f'in {outcome.seconds:.0f} s, {outcome.failed} failed; table {out / RUNS_FILE}'
+    )
+    for row in outcome.rows:
+        if row['error']:
+            print(f'  failed: {row["key"]} ({row["scene"]}, {row["mode"]}, seed {row["seed"]}): {row["error"]}')
+    return [row for row in outcome.rows if not row['error']]
 
 
-def _grid_report(rows: list[dict[str, Any]], out: Path, what: str) -> int:
+def campaign_report(out: Path) -> int:
+    """A campaign folder's tables and figures (report.md, differences.png, means.png), from its table alone."""
     from vtube_planning import plots
+    from vtube_planning.campaign import read_results
     from vtube_planning.study import grid_markdown
 
-    text = grid_markdown(rows)
-    (out / 'grid.md').write_text(text, encoding='utf-8')
-    figure = plots.save_figure(plots.paired_differences_figure(rows), out / 'grid.png')
+    campaign, rows, missing = read_results(out)
+    if not rows:
+        print(f'error: {out} holds no finished run yet; run the campaign first.', file=sys.stderr)
+        return EXIT_BAD_INPUT
+    head = f'Campaign {campaign.name!r}: {len(rows)} runs'
+    if missing:
+        head += f' ({missing} of the grid missing or failed: the tables are partial; rerun the campaign to finish)'
+    text = f'{head}.\n\n' + grid_markdown(rows)
+    (out / 'report.md').write_text(text, encoding='utf-8')
+    figures = [
+        plots.save_figure(plots.paired_differences_figure(rows), out / 'differences.png'),
+        plots.save_figure(plots.cell_means_figure(rows), out / 'means.png'),
+    ]
     print()
     print(text)
-    print(what)
-    print(f'written {out / "grid.csv"}, {out / "grid.md"}, {figure}')
+    print(f'written {out / "report.md"}, {", ".join(map(str, figures))}')
     return EXIT_OK
 
 
@@ -579,6 +638,21 @@ def _sizes(text: str) -> list[int]:
     return sizes
 
 
+def _execution_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('--workers', type=int, default=0, help='local processes (default: one per core)')
+    parser.add_argument(
+        '--scheduler', default=None, help='run on this Dask scheduler, tcp://HOST:PORT (vtube[cluster])'
+    )
+    parser.add_argument(
+        '--scheduler-timeout', type=float, default=10.0, help='seconds to wait for the scheduler (default 10)'
+    )
+    parser.add_argument('--quiet', action='store_true', help='no progress bar (none is drawn unless on a terminal)')
+
+
+def _execution(args: argparse.Namespace) -> Execution:
+    return Execution(args.workers, args.scheduler, args.scheduler_timeout, args.quiet)
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog='vtube',
@@ -621,7 +695,7 @@ def _parser() -> argparse.ArgumentParser:
     sim.add_argument('--animate', action='store_true', help='also write an animated GIF')
     sim.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
     stu = commands.add_parser('study', help="the paper's comparison on scenes A-D with and without planning")
-    stu.add_argument('--out', type=Path, required=True, help='folder for study.md, study.json, study.png')
+    stu.add_argument('--out', type=Path, required=True, help='folder for runs.csv, study.md, study.json, study.png')
     stu.add_argument('--seeds', type=int, default=5, help='number of seeds (0..n-1)')
     stu.add_argument('--scenes', default='A,B,C,D', help='comma-separated scene names')
     stu.add_argument('--acceleration-limits', action='store_true', help='apply (3), (4) to every robot')
@@ -630,8 +704,9 @@ def _parser() -> argparse.ArgumentParser:
         action='store_true',
         help='add optimized flocking and NMPC on scenes C and D (NMPC: about a minute per run)',
     )
+    _execution_arguments(stu)
     abl = commands.add_parser('ablation', help='what each part of the method buys: the ablation grid, with intervals')
-    abl.add_argument('--out', type=Path, required=True, help='folder for grid.csv, grid.md, grid.png')
+    abl.add_argument('--out', type=Path, required=True, help='folder for runs.csv, report.md and the figures')
     abl.add_argument('--scenes', default='C,D', help='comma-separated scene names')
     abl.add_argument('--sizes', default='20,40,80', help='comma-separated swarm sizes N')
     abl.add_argument('--seeds', type=int, default=10, help='number of seeds (0..n-1)')
@@ -641,10 +716,15 @@ def _parser() -> argparse.ArgumentParser:
     abl.add_argument(
         '--saturations', default='radial,forward', help="'radial' (the paper's sat) and/or 'forward' (never backwards)"
     )
-    abl.add_argument('--workers', type=int, default=0, help='processes (default: one per core)')
-    abl.add_argument(
-        '--report-only', action='store_true', help="write grid.md and grid.png again from the folder's grid.csv"
-    )
+    _execution_arguments(abl)
+    camp = commands.add_parser('campaign', help='run a study declared in a TOML file, anywhere, resumably')
+    camp_commands = camp.add_subparsers(dest='campaign_command', required=True, metavar='SUBCOMMAND')
+    camp_run = camp_commands.add_parser('run', help='run (or resume) a campaign and write its report')
+    camp_run.add_argument('file', type=Path, help='the campaign .toml file (see docs/faults/campaign.toml)')
+    camp_run.add_argument('--out', type=Path, required=True, help='folder for runs.csv, campaign.json and the report')
+    _execution_arguments(camp_run)
+    camp_report = camp_commands.add_parser('report', help="a campaign folder's tables and figures, from runs.csv")
+    camp_report.add_argument('folder', type=Path, help='the folder a campaign ran into')
     robo = commands.add_parser('robotarium', help='the tube experiment on the bundled Robotarium simulator')
     robo_commands = robo.add_subparsers(dest='robotarium_command', required=True, metavar='SUBCOMMAND')
     run = robo_commands.add_parser('run', help='run the experiment, print the testbed verdict and metrics')
@@ -768,8 +848,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 seeds=args.seeds,
                 models=args.models.split(','),
                 saturations=args.saturations.split(','),
-                workers=args.workers,
-                report_only=args.report_only,
+                execution=_execution(args),
             )
         if args.command == 'study':
             return study(
@@ -778,7 +857,12 @@ def main(argv: Sequence[str] | None = None) -> int:
                 seeds=args.seeds,
                 acceleration_limits=args.acceleration_limits,
                 baselines=args.baselines,
+                execution=_execution(args),
             )
+        if args.command == 'campaign' and args.campaign_command == 'run':
+            return campaign_run(args.file, args.out, _execution(args))
+        if args.command == 'campaign':
+            return campaign_report(args.folder)
         if args.scene_command == 'list':
             return scene_list()
         return scene_show(args.scene, args.out)

@@ -5,12 +5,17 @@ Tube* (arXiv:2310.00623). This package knows nothing of the Robotarium: it holds
 the swarm parameters and (in later modules) the planner, the controller and the simulator.
 """
 
+from importlib.metadata import version as _version
+
 from vtube_planning.errors import ParamsError, PlanError, SceneError, ShapeError, SolverError, TubeError, VtubeError
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
 from vtube_planning.geometry.scene import Scene, Workspace, list_scenes, load_scene
 from vtube_planning.geometry.tube import Projection, VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
 from vtube_planning.params import PlanningOptions, SwarmParams
+
+__version__ = _version('vtube')
+"""The installed package's version: one source of truth, the package metadata."""
 
 __all__ = [
     'ArcPath',
@@ -32,6 +37,7 @@ __all__ = [
     'WidthPart',
     'WidthProfile',
     'Workspace',
+    '__version__',
     'list_scenes',
     'load_scene',
 ]

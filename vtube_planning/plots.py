@@ -326,23 +326,25 @@ def study_figure(summary: list[dict[str, Any]], collision_distance_m: float) -> 
 
 
 def paired_differences_figure(rows: list[dict[str, Any]]) -> Figure:
-    """The ablation grid's paired differences (a - b on the same seeds) with their 95 % intervals: one panel per
-    metric, one line per comparison and cell (scene, N, robot model); filled where the claim holds."""
+    """A study's paired differences (a - b on the same seeds) with their 95 % intervals: one panel per metric, one
+    line per comparison and cell (scene, N, setting); filled where the claim holds."""
     from matplotlib.figure import Figure
 
-    from vtube_planning.study import CLAIMS, COMPARISONS, paired_table
+    from vtube_planning.study import CLAIMS, COMPARISONS, paired_table, setting_text
 
     table = paired_table(rows)
-    cells = list(dict.fromkeys((p['scene'], p['n_robots'], p['model'], p['saturation']) for p in table))
-    labels = [f'{a} - {b}  |  {s}, N={n}, {m}, {sat}' for a, b, _ in COMPARISONS for s, n, m, sat in cells]
+
+    def label(p: dict[str, Any]) -> str:
+        return f'{p["a"]} - {p["b"]}  |  {p["scene"]}, N={p["n_robots"]}, {setting_text(p)}'
+
+    present = list(dict.fromkeys(label(p) for p in table))
+    labels = [text for a, b, _ in COMPARISONS for text in present if text.startswith(f'{a} - {b}  |')]
     fig = Figure(figsize=(12.0, 1.2 + 0.22 * len(labels)), layout='constrained')
     axes = fig.subplots(1, len(CLAIMS), sharey=True)
     colors = {'holds': 'tab:blue', 'reversed': 'tab:red', 'does not hold': 'tab:gray'}
     for ax, (metric, _, title) in zip(axes, CLAIMS, strict=True):
         for p in (p for p in table if p['metric'] == metric):
-            k = labels.index(
-                f'{p["a"]} - {p["b"]}  |  {p["scene"]}, N={p["n_robots"]}, {p["model"]}, {p["saturation"]}'
-            )
+            k = labels.index(label(p))
             e, color = p['estimate'], colors[p['verdict']]
             ax.hlines(k, e.low, e.high, color=color, lw=2)
             ax.plot(e.value, k, 'o', color=color, mfc=color if p['verdict'] == 'holds' else 'white')
@@ -350,6 +352,60 @@ def paired_differences_figure(rows: list[dict[str, Any]]) -> Figure:
         ax.set_xlabel(f'difference in {title}')
     axes[0].set_yticks(range(len(labels)), labels, fontsize=7)
     axes[0].invert_yaxis()
+    return fig
+
+
+def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
+    """A study's means per cell and mode: one row of panels per scene; passing time and minimum distance (mean over
+    seeds with its 95 % interval; passing time over the runs that completed, hollow when some did not) and the
+    share of runs with a collision; one line per cell (N, setting), one colour per mode."""
+    from matplotlib.figure import Figure
+
+    from vtube_planning.stats import mean_interval
+    from vtube_planning.study import setting_text
+
+    scenes = list(dict.fromkeys(r['scene'] for r in rows))
+    modes = list(dict.fromkeys(r['mode'] for r in rows))
+    cells = {
+        s: list(dict.fromkeys(f'N={r["n_robots"]}, {setting_text(r)}' for r in rows if r['scene'] == s)) for s in scenes
+    }
+    height = sum(0.3 * len(c) + 0.9 for c in cells.values())
+    fig = Figure(figsize=(13.0, 1.0 + height), layout='constrained')
+    grid = fig.add_gridspec(len(scenes), 3, height_ratios=[len(cells[s]) + 2 for s in scenes], width_ratios=[2, 2, 1])
+    colors = {mode: f'C{k}' for k, mode in enumerate(modes)}
+    offsets = {mode: (k - 0.5 * (len(modes) - 1)) * 0.7 / max(1, len(modes)) for k, mode in enumerate(modes)}
+    for i, scene in enumerate(scenes):
+        panels = [fig.add_subplot(grid[i, j]) for j in range(3)]
+        for mode in modes:
+            for k, label in enumerate(cells[scene]):
+                sel = [
+                    r
+                    for r in rows
+                    if (r['scene'], r['mode']) == (scene, mode) and f'N={r["n_robots"]}, {setting_text(r)}' == label
+                ]
+                if not sel:
+                    continue
+                y = k + offsets[mode]
+                for ax, metric in zip(panels, ('passing_time_s', 'min_distance_m'), strict=False):
+                    values = np.array([r[metric] for r in sel], dtype=float)
+                    finite = values[np.isfinite(values)]
+                    if finite.size == 0:
+                        continue
+                    if finite.size > 1:
+                        e = mean_interval(finite)
+                        ax.hlines(y, e.low, e.high, color=colors[mode], lw=1.5)
+                    full = finite.size == values.size
+                    ax.plot(finite.mean(), y, 'o', ms=4, color=colors[mode], mfc=colors[mode] if full else 'white')
+                share = np.mean([r['collision_pairs'] > 0 for r in sel])
+                panels[2].barh(y, share, height=0.7 / max(1, len(modes)), color=colors[mode])
+        for ax, title in zip(panels, ('passing time [s]', 'min distance [m]', 'runs with a collision'), strict=True):
+            ax.set_yticks(range(len(cells[scene])), cells[scene] if ax is panels[0] else [], fontsize=7)
+            ax.set_ylim(len(cells[scene]) - 0.5, -0.5)
+            ax.set_title(f'scene {scene}: {title}', fontsize=9)
+            ax.grid(axis='x', color='0.9')
+        panels[2].set_xlim(0.0, 1.0)
+    handles = [fig.axes[0].plot([], [], 'o', color=colors[m], label=m)[0] for m in modes]
+    fig.legend(handles=handles, loc='outside lower center', ncols=min(len(modes), 6), fontsize=8)
     return fig
 
 

@@ -15,13 +15,9 @@ COMPARISONS (:mod:`vtube_planning.stats`). The paper's comparison above is a sli
 
 from __future__ import annotations
 
-import csv
 import math
-import multiprocessing
-from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import ProcessPoolExecutor
+from collections.abc import Callable
 from dataclasses import dataclass, replace
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -30,42 +26,17 @@ from numpy.typing import NDArray
 from vtube_planning.baselines.flocking import FlockingParams, flocking_command
 from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
 from vtube_planning.geometry.scene import Scene, load_scene
-from vtube_planning.params import SwarmParams
+from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.stats import Estimate, cell_values, mean_interval, paired_difference, verdict
 from vtube_planning.swarm.control import ControlParams
 from vtube_planning.swarm.metrics import tracking_errors
-from vtube_planning.swarm.simulate import SimConfig, SimResult, default_constant_speed, simulate
+from vtube_planning.swarm.simulate import RobotFailure, SimConfig, SimResult, default_constant_speed, simulate
 
 MODES = ('planning', 'no planning')
 BASELINE_MODES = ('flocking', 'flocking (v_min)', 'nmpc')
 BASELINE_SCENES = ('C', 'D')
-
-
-def run_study(
-    scenes: Iterable[str],
-    seeds: Iterable[int],
-    *,
-    config: SimConfig | None = None,
-    progress: Callable[[str], None] | None = None,
-    baselines: Iterable[str] = (),
-) -> list[dict[str, Any]]:
-    """One row per scene, mode and seed with the passage's metrics; ``baselines`` from BASELINE_MODES.
-
-    The paper's comparison as a slice of the ablation grid (:func:`iter_grid`): the scenes' own swarm, the robot
-    model of ``config``, the modes 'planning' and 'no planning', and the baselines on scenes C and D.
-    """
-    config = config or SimConfig()
-    model = 'acceleration limits' if config.acceleration_limits else 'paper'
-    rows = []
-    for name in scenes:
-        modes = MODES + (tuple(baselines) if load_scene(name).name in BASELINE_SCENES else ())
-        for row in iter_grid([name], None, seeds, modes=modes, models=[model], config=config):
-            rows.append(row)
-            if progress is not None:
-                progress(row_text(row))
-    return rows
 
 
 def _baseline_setup(mode: str, scene: Scene, swarm: SwarmParams, dt_s: float) -> Setup:
@@ -133,13 +104,16 @@ def summarise(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return out
 
 
-def study_markdown(summary: list[dict[str, Any]], seeds: list[int], config: SimConfig) -> str:
+def study_markdown(
+    summary: list[dict[str, Any]], seeds: list[int], acceleration_limits: bool, settings: RunSettings | None = None
+) -> str:
     """The comparison as a Markdown table, with the claim's verdict per scene."""
-    model = 'with the acceleration limits (3), (4) per robot' if config.acceleration_limits else "the paper's model"
+    settings = settings or RunSettings()
+    model = 'with the acceleration limits (3), (4) per robot' if acceleration_limits else "the paper's model"
     lines = [
         (
-            f'Scenes with and without planning, Table 1 swarm (N = 20), {model}, dt = {config.dt_s} s, '
-            f'seeds {seeds[0]}..{seeds[-1]} (initial jitter {config.jitter_m} m). Means over seeds, [min, max].'
+            f'Scenes with and without planning, Table 1 swarm (N = 20), {model}, dt = {settings.dt_s} s, '
+            f'seeds {seeds[0]}..{seeds[-1]} (initial jitter {settings.jitter_m} m). Means over seeds, [min, max].'
         ),
         '',
         (
@@ -235,11 +209,8 @@ class Setup:
     nmpc: NmpcSwarm | None = None
 
 
-def ablation_setup(
-    mode: str, scene: Scene, swarm: SwarmParams, plans: dict[tuple[str, int, str], Plan], dt_s: float
-) -> Setup:
-    """The simulator's inputs for ``mode`` (a key of ABLATIONS, or of BASELINE_MODES); ``plans`` caches the plans
-    by scene, N and (p7)."""
+def ablation_setup(mode: str, scene: Scene, swarm: SwarmParams, dt_s: float) -> Setup:
+    """The simulator's inputs for ``mode`` (a key of ABLATIONS, or of BASELINE_MODES)."""
     if mode in BASELINE_MODES:
         return _baseline_setup(mode, scene, swarm, dt_s)
     ablation = ABLATIONS[mode]
@@ -248,7 +219,7 @@ def ablation_setup(
     if ablation.plan == 'none':
         return Setup(None, control, speed)
     model = 'none' if ablation.plan == 'without (p7)' else scene.planning.predictive_model
-    plan = _cached_plan(scene, swarm, plans, model)
+    plan = _cached_plan(scene, swarm, model)
     if ablation.plan == 'flat':
         plan = replace(
             plan,
@@ -259,87 +230,83 @@ def ablation_setup(
     return Setup(plan, control, None)
 
 
-def _cached_plan(scene: Scene, swarm: SwarmParams, plans: dict[tuple[str, int, str], Plan], model: str) -> Plan:
-    """The scene's plan for this swarm with (p7) read as ``model``, planned once per scene, N and model."""
-    key = (scene.name, swarm.n_robots, model)
-    if key not in plans:
-        plans[key] = plan_convex(scene.tube, swarm, replace(scene.planning, predictive_model=model), scene=scene.name)
-    return plans[key]
+_PLANS: dict[tuple[str, SwarmParams, PlanningOptions], Plan] = {}
+"""The plans of this process (each worker of a study has its own), planned once per scene file, swarm and options."""
 
 
-def iter_grid(
-    scenes: Iterable[str] = GRID_SCENES,
-    sizes: Iterable[int] | None = (20, 40, 80),
-    seeds: Iterable[int] = range(10),
-    *,
-    modes: Iterable[str] = tuple(ABLATIONS),
-    models: Iterable[str] = tuple(MODELS),
-    saturations: Iterable[str] | None = None,
-    config: SimConfig | None = None,
-    workers: int = 1,
-) -> Iterator[dict[str, Any]]:
-    """The ablation grid: one tidy row per scene, mode, swarm size N (None: the scene's own), seed and robot model,
-    yielded as the runs finish.
-
-    Besides the passage's metrics a row holds the density error against the *full* plan's rho* (the same reference
-    for every mode: mean |rho - rho*(l_c)| while the swarm's centre is in the tube) and the share of in-tube
-    robot-steps moving backwards along the tube. ``saturations`` (``SATURATIONS``; None: the scene's own) is how
-    the command meets the speed band. ``workers`` processes share the runs (one task: every mode of one scene, N,
-    model, saturation and seed); the rows are the same, in the same order, for any number.
-    """
-    config = config or SimConfig()
-    modes = tuple(modes)
-    tasks = []
-    for name in scenes:
-        scene = load_scene(name)
-        for n in sizes or (scene.swarm.n_robots,):
-            for model in models:
-                for saturation in saturations or (scene.control.saturation,):
-                    tasks += [(name, int(n), model, saturation, seed, modes, config) for seed in seeds]
-    if workers <= 1:
-        for task in tasks:
-            yield from _grid_task(*task)
-        return
-    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context('spawn')) as pool:
-        for task_rows in pool.map(_grid_task, *zip(*tasks, strict=True)):
-            yield from task_rows
+def _cached_plan(scene: Scene, swarm: SwarmParams, model: str) -> Plan:
+    """The scene's plan for this swarm with (p7) read as ``model``."""
+    options = replace(scene.planning, predictive_model=model)
+    key = (scene.source, swarm, options)
+    if key not in _PLANS:
+        _PLANS[key] = plan_convex(scene.tube, swarm, options, scene=scene.name)
+    return _PLANS[key]
 
 
-def row_text(row: dict[str, Any]) -> str:
-    """One grid row in a line."""
-    where = f'{row["scene"]} N={row["n_robots"]} {row["model"]} {row["saturation"]} sat seed {row["seed"]}'
-    return (
-        f'{where} {row["mode"]}: passing {row["passing_time_s"]:.2f} s, min distance {row["min_distance_m"]:.3f} m, '
-        f'collisions {row["collision_pairs"]}'
+@dataclass(frozen=True)
+class Point:
+    """One run of a study: where (scene, swarm size N), how (mode of ABLATIONS or BASELINE_MODES, robot model of
+    MODELS, saturation of SATURATIONS), which seed, and which faults (:class:`~vtube_planning.swarm.simulate.SimConfig`;
+    ``failure``: 'none', or the failing robot's mode, 'stop' or 'coast', placed by :class:`RunSettings`).
+    ``n_robots`` and ``saturation`` None: the scene's own."""
+
+    scene: str
+    mode: str = 'planning'
+    n_robots: int | None = None
+    seed: int = 0
+    model: str = 'paper'
+    saturation: str | None = None
+    pose_noise_m: float = 0.0
+    latency_steps: int = 0
+    failure: str = 'none'
+    dropout: float = 0.0
+
+
+@dataclass(frozen=True)
+class RunSettings:
+    """What every run of a study shares: the simulator's step and initial jitter, and where the failing robot fails
+    (robot index ``failure_robot``, at ``failure_at`` times the tube's length)."""
+
+    dt_s: float = 0.02
+    jitter_m: float = 0.05
+    failure_robot: int = 0
+    failure_at: float = 0.5
+
+
+def run_point(point: Point, settings: RunSettings = RunSettings()) -> dict[str, Any]:
+    """Fly one run and measure it: the passage's metrics, the density error against the *full* plan's rho* (the
+    same reference for every mode: mean |rho - rho*(l_c)| while the swarm's centre is in the tube), the share of
+    in-tube robot-steps moving backwards, and NMPC's converged share (NaN for the other modes)."""
+    scene = load_scene(point.scene)
+    scene = replace(scene, control=replace(scene.control, saturation=point.saturation or scene.control.saturation))
+    swarm = replace(scene.swarm, n_robots=point.n_robots or scene.swarm.n_robots)
+    reference = _cached_plan(scene, swarm, scene.planning.predictive_model)  # the full plan
+    setup = ablation_setup(point.mode, scene, swarm, settings.dt_s)
+    failure = None
+    if point.failure != 'none':
+        failure = RobotFailure(settings.failure_robot, settings.failure_at * scene.tube.length_m, point.failure)
+    config = SimConfig(
+        dt_s=settings.dt_s,
+        jitter_m=settings.jitter_m,
+        seed=point.seed,
+        acceleration_limits=MODELS[point.model],
+        pose_noise_m=point.pose_noise_m,
+        latency_steps=point.latency_steps,
+        failure=failure,
+        dropout=point.dropout,
     )
-
-
-def _grid_task(
-    name: str, n: int, model: str, saturation: str, seed: int, modes: tuple[str, ...], config: SimConfig
-) -> list[dict[str, Any]]:
-    """Every mode of one scene, swarm size, robot model, saturation and seed."""
-    scene = load_scene(name)
-    scene = replace(scene, control=replace(scene.control, saturation=saturation))
-    swarm = replace(scene.swarm, n_robots=n)
-    plans: dict[tuple[str, int, str], Plan] = {}
-    reference = _cached_plan(scene, swarm, plans, scene.planning.predictive_model)  # the full plan
-    rows = []
-    for mode in modes:
-        setup = ablation_setup(mode, scene, swarm, plans, config.dt_s)
-        result = simulate(
-            scene.tube,
-            swarm,
-            setup.control,
-            plan=setup.plan,
-            config=replace(config, seed=seed, acceleration_limits=MODELS[model]),
-            constant_speed_mps=setup.constant_speed_mps,
-            baseline=setup.baseline,
-        )
-        row = {'scene': scene.name, 'mode': mode, 'n_robots': n, 'seed': seed, 'model': model, 'saturation': saturation}
-        row.update(_grid_metrics(result, reference, scene.tube.length_m))
-        row['nmpc_converged_share'] = setup.nmpc.converged_share if setup.nmpc is not None else math.nan
-        rows.append(row)
-    return rows
+    result = simulate(
+        scene.tube,
+        swarm,
+        setup.control,
+        plan=setup.plan,
+        config=config,
+        constant_speed_mps=setup.constant_speed_mps,
+        baseline=setup.baseline,
+    )
+    row = _grid_metrics(result, reference, scene.tube.length_m)
+    row['nmpc_converged_share'] = setup.nmpc.converged_share if setup.nmpc is not None else math.nan
+    return row
 
 
 def _grid_metrics(result: SimResult, reference: Plan, length_m: float) -> dict[str, Any]:
@@ -354,6 +321,7 @@ def _grid_metrics(result: SimResult, reference: Plan, length_m: float) -> dict[s
         'incursion_depth_m': max(0.0, m.collision_distance_m - m.min_distance_m),
         'tube_violation_steps': m.tube_violation_steps,
         'completed': m.completed,
+        'passed_share': m.robots_passed / m.robots_counted,
         'density_error_per_m2': tracking.get('density_tracking_mean_per_m2', math.nan),
         'reversing_share': float(backwards.sum() / max(1, in_tube.sum())),
     }
@@ -370,78 +338,104 @@ COMPARISONS = (
 CLAIMS = (('passing_time_s', 'lower', 'passing time [s]'), ('min_distance_m', 'higher', 'min distance [m]'))
 
 
+CELL_AXES = ('scene', 'n_robots', 'model', 'saturation', 'pose_noise_m', 'latency_steps', 'failure', 'dropout')
+"""What a row's mode is compared within (a cell): every field of :class:`Point` but the mode and the seed."""
+
+
+def _cell(row: dict[str, Any]) -> tuple[Any, ...]:
+    return tuple(row.get(axis) for axis in CELL_AXES)
+
+
+def setting_text(row: dict[str, Any]) -> str:
+    """A cell's setting in words, scene and N left out: the robot model, the saturation and the faults that are on."""
+    words = [f'{row["model"]} model', f'{row["saturation"]} sat']
+    if row.get('pose_noise_m'):
+        words.append(f'pose noise {row["pose_noise_m"]:g} m')
+    if row.get('latency_steps'):
+        words.append(f'latency {row["latency_steps"]} periods')
+    if row.get('failure') not in (None, 'none'):
+        words.append(f'a robot fails ({row["failure"]})')
+    if row.get('dropout'):
+        words.append(f'dropout {row["dropout"]:g}')
+    return ', '.join(words)
+
+
 def verdict_summary(rows: list[dict[str, Any]]) -> str:
-    """Where each comparison's claim holds: per robot model and saturation, in how many cells (scene, N) the paired
-    interval says a beats b (+), cannot tell (=) or b beats a (-), for each metric of CLAIMS."""
+    """Where each comparison's claim holds: per setting (:func:`setting_text`), in how many cells (scene, N) the
+    paired interval says a beats b (+), cannot tell (=) or b beats a (-), for each metric of CLAIMS."""
     table = paired_table(rows)
-    settings = list(dict.fromkeys((p['model'], p['saturation']) for p in table))
-    head = ' | '.join(f'{model} model, {sat} sat' for model, sat in settings)
+    settings = list(dict.fromkeys(setting_text(p) for p in table))
+    compared = [c for c in COMPARISONS if any((p['a'], p['b']) == c[:2] for p in table)]
     lines = [
         (
             'Cells (scene, N) where a beats b (+), the interval includes zero (=), or b beats a (-); '
             'T: passing time (shorter is better), D: minimum distance (larger is better).'
         ),
         '',
-        f'| comparison (a - b) | {head} |',
-        '|---|' + '---|' * len(settings),
+        '| setting | ' + ' | '.join(f'{a} - {b} ({meaning})' for a, b, meaning in compared) + ' |',
+        '|---|' + '---|' * len(compared),
     ]
-    for a, b, meaning in COMPARISONS:
+    for setting in settings:
         cols = []
-        for model, sat in settings:
+        for a, b, _ in compared:
             counts = []
             for (metric, _, _), letter in zip(CLAIMS, 'TD', strict=True):
                 found = [
                     p['verdict']
                     for p in table
-                    if (p['a'], p['b'], p['model'], p['saturation'], p['metric']) == (a, b, model, sat, metric)
+                    if (p['a'], p['b'], p['metric']) == (a, b, metric) and setting_text(p) == setting
                 ]
                 plus, same, minus = (found.count(v) for v in ('holds', 'does not hold', 'reversed'))
                 counts.append(f'{letter} +{plus} ={same} -{minus}')
             cols.append(', '.join(counts))
-        lines.append(f'| {a} - {b} ({meaning}) | ' + ' | '.join(cols) + ' |')
+        lines.append(f'| {setting} | ' + ' | '.join(cols) + ' |')
     return '\n'.join(lines) + '\n'
 
 
 def mode_summary(rows: list[dict[str, Any]]) -> str:
-    """Per mode and setting (robot model, saturation), over every scene, N and seed: collision pairs, the runs
-    with any, and the range over cells of the share of robot-steps moving backwards."""
-    settings = list(dict.fromkeys((r['model'], r['saturation']) for r in rows))
+    """Per setting and mode, over every scene, N and seed: collision pairs, the runs with any, the runs that did not
+    complete, and the range over cells (scene, N) of the share of robot-steps moving backwards."""
     lines = [
         (
-            'Per mode over all cells and seeds: collision pairs (runs with any / runs); share of in-tube robot-steps '
-            'moving backwards, lowest and highest cell mean.'
+            'Per setting and mode over all cells and seeds: collision pairs (runs with any / runs), runs that did not '
+            'complete, share of in-tube robot-steps moving backwards (lowest and highest cell mean).'
         ),
         '',
-        '| mode | ' + ' | '.join(f'{m} model, {s} sat' for m, s in settings) + ' |',
-        '|---|' + '---|' * len(settings),
+        '| setting | mode | collision pairs (runs with any / runs) | not completed | moving backwards |',
+        '|---|---|---|---|---|',
     ]
-    for mode in dict.fromkeys(r['mode'] for r in rows):
-        cols = []
-        for model, sat in settings:
-            sel = [r for r in rows if (r['mode'], r['model'], r['saturation']) == (mode, model, sat)]
+    for setting in dict.fromkeys(setting_text(r) for r in rows):
+        for mode in dict.fromkeys(r['mode'] for r in rows):
+            sel = [r for r in rows if r['mode'] == mode and setting_text(r) == setting]
+            if not sel:
+                continue
             cells = dict.fromkeys((r['scene'], r['n_robots']) for r in sel)
             backwards = [
                 np.mean([r['reversing_share'] for r in sel if (r['scene'], r['n_robots']) == c]) for c in cells
             ]
             hit = sum(r['collision_pairs'] > 0 for r in sel)
             pairs = sum(r['collision_pairs'] for r in sel)
-            cols.append(f'{pairs} ({hit}/{len(sel)}); {min(backwards):.1%}-{max(backwards):.1%}')
-        lines.append(f'| {mode} | ' + ' | '.join(cols) + ' |')
+            stuck = sum(not r['completed'] for r in sel)
+            lines.append(
+                f'| {setting} | {mode} | {pairs} ({hit}/{len(sel)}) | {stuck} | '
+                f'{min(backwards):.1%}-{max(backwards):.1%} |'
+            )
     return '\n'.join(lines) + '\n'
 
 
 def grid_markdown(rows: list[dict[str, Any]]) -> str:
-    """The grid's report: where each comparison holds (:func:`verdict_summary`), then per scene, N, model and
-    saturation each mode's means with 95 % bootstrap intervals and the paired differences of COMPARISONS with their
-    intervals and verdicts (a claim holds only where the interval excludes zero)."""
+    """A study's report: where each comparison holds (:func:`verdict_summary`), collisions per mode
+    (:func:`mode_summary`), then per cell (scene, N, setting) each mode's means with 95 % bootstrap intervals and
+    the paired differences of COMPARISONS with their intervals and verdicts (a claim holds only where the interval
+    excludes zero)."""
     lines: list[str] = [verdict_summary(rows), mode_summary(rows)]
     for cell in dict.fromkeys(_cell(r) for r in rows):
-        scene, n, model, saturation = cell
         sel = [r for r in rows if _cell(r) == cell]
         modes = list(dict.fromkeys(r['mode'] for r in sel))
         seeds = sorted({r['seed'] for r in sel})
+        first = sel[0]
         lines += [
-            f'### Scene {scene}, N = {n}, {model} model, {saturation} sat ({len(seeds)} seeds)',
+            f'### Scene {first["scene"]}, N = {first["n_robots"]}, {setting_text(first)} ({len(seeds)} seeds)',
             '',
             (
                 '| mode | passing time [s] | min distance [m] | 5 % min distance [m] | collisions (pairs, all seeds) '
@@ -460,15 +454,15 @@ def grid_markdown(rows: list[dict[str, Any]]) -> str:
                 f'{_interval(extra["density_error_per_m2"], 3)} '
                 f'| {np.mean(extra["reversing_share"]):.1%} |'
             )
-        lines += [
-            '',
-            '| comparison (a - b, same seeds) | ' + ' | '.join(t for _, _, t in CLAIMS) + ' |',
-            '|---|---|---|',
-        ]
         differences = paired_table(sel)
-        for a, b, meaning in COMPARISONS:
-            if a not in modes or b not in modes:
-                continue
+        compared = [c for c in COMPARISONS if any((p['a'], p['b']) == c[:2] for p in differences)]
+        if compared:
+            lines += [
+                '',
+                '| comparison (a - b, same seeds) | ' + ' | '.join(t for _, _, t in CLAIMS) + ' |',
+                '|---|---|---|',
+            ]
+        for a, b, meaning in compared:
             found = {p['metric']: p for p in differences if (p['a'], p['b']) == (a, b)}
             cols = [
                 f'{found[m]["estimate"].text(3)}: {found[m]["verdict"]}' if m in found else 'n/a' for m, _, _ in CLAIMS
@@ -479,26 +473,21 @@ def grid_markdown(rows: list[dict[str, Any]]) -> str:
 
 
 def paired_table(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """Per scene, N and model, the paired differences of COMPARISONS on each metric of CLAIMS: dicts with scene,
-    n_robots, model, a, b, metric, estimate (an :class:`~vtube_planning.stats.Estimate`) and verdict. Comparisons
-    whose modes are missing, or whose runs did not all complete, are left out."""
+    """Per cell (CELL_AXES), the paired differences of COMPARISONS on each metric of CLAIMS: dicts with the cell's
+    fields, a, b, metric, estimate (an :class:`~vtube_planning.stats.Estimate`) and verdict. Comparisons whose
+    modes are missing, or whose runs did not all complete, are left out."""
     out = []
     for cell in dict.fromkeys(_cell(r) for r in rows):
-        scene, n, model, saturation = cell
         sel = [r for r in rows if _cell(r) == cell]
+        fields = dict(zip(CELL_AXES, cell, strict=True))
         for a, b, _ in COMPARISONS:
             for metric, better, _ in CLAIMS:
                 diff = _paired(cell_values(sel, metric, mode=a), cell_values(sel, metric, mode=b))
                 if diff is not None:
-                    fields = {'scene': scene, 'n_robots': n, 'model': model, 'saturation': saturation}
-                    fields |= {'a': a, 'b': b, 'metric': metric}
-                    out.append(fields | {'estimate': diff, 'verdict': verdict(diff, better)})
+                    out.append(
+                        fields | {'a': a, 'b': b, 'metric': metric, 'estimate': diff, 'verdict': verdict(diff, better)}
+                    )
     return out
-
-
-def _cell(row: dict[str, Any]) -> tuple[str, int, str, str]:
-    """What a row's mode is compared within: scene, N, robot model and saturation."""
-    return row['scene'], row['n_robots'], row['model'], row['saturation']
 
 
 def _interval(values: NDArray[np.float64], digits: int) -> str:
@@ -516,41 +505,3 @@ def _paired(a: NDArray[np.float64], b: NDArray[np.float64]) -> Estimate | None:
     if a.size < 2 or a.size != b.size or not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
         return None
     return paired_difference(a, b)
-
-
-class RowWriter:
-    """The tidy table as CSV, one line per run appended and flushed as it comes, so that an interrupted grid leaves
-    a readable file with every finished run; the columns are the first row's."""
-
-    def __init__(self, path: Path) -> None:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        self.path = path
-        self._handle = path.open('w', newline='', encoding='utf-8')
-        self._writer: csv.DictWriter[str] | None = None
-
-    def write(self, row: dict[str, Any]) -> None:
-        if self._writer is None:
-            self._writer = csv.DictWriter(self._handle, fieldnames=list(row))
-            self._writer.writeheader()
-        self._writer.writerow(row)
-        self._handle.flush()
-
-    def close(self) -> None:
-        self._handle.close()
-
-
-def read_rows_csv(path: Path) -> list[dict[str, Any]]:
-    """Rows written by :class:`RowWriter`, with numbers and booleans typed again."""
-    with path.open(newline='', encoding='utf-8') as handle:
-        return [{k: _typed(v) for k, v in row.items()} for row in csv.DictReader(handle)]
-
-
-def _typed(text: str) -> Any:
-    if text in ('True', 'False'):
-        return text == 'True'
-    for kind in (int, float):
-        try:
-            return kind(text)
-        except ValueError:
-            pass
-    return text

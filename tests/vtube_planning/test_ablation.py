@@ -9,15 +9,15 @@ import pytest
 
 from vtube.cli import main
 from vtube_planning import load_scene
-from vtube_planning.study import ABLATIONS, RowWriter, ablation_setup, iter_grid, read_rows_csv
+from vtube_planning.campaign import read_results
+from vtube_planning.study import ABLATIONS, Point, ablation_setup, run_point
 from vtube_planning.swarm.simulate import SimConfig, default_constant_speed, simulate
 
 
 @pytest.fixture(scope='module')
 def setups():
     scene = load_scene('C')
-    plans: dict = {}
-    return scene, {mode: ablation_setup(mode, scene, scene.swarm, plans, 0.02) for mode in ABLATIONS}
+    return scene, {mode: ablation_setup(mode, scene, scene.swarm, 0.02) for mode in ABLATIONS}
 
 
 def test_each_mode_switches_exactly_the_part_it_names(setups) -> None:
@@ -64,51 +64,41 @@ def test_a_reduced_grid_end_to_end(tmp_path, capsys) -> None:
     argv = ['ablation', '--out', str(out), '--scenes', 'C', '--sizes', '20', '--seeds', '2', '--models', 'paper']
     argv += ['--saturations', 'radial,forward']
     assert main([*argv, '--workers', '1']) == 0
-    rows = read_rows_csv(out / 'grid.csv')
-    assert len(rows) == 2 * 2 * len(ABLATIONS)
-    assert list(rows[0])[:6] == ['scene', 'mode', 'n_robots', 'seed', 'model', 'saturation']
+    _, rows, missing = read_results(out)
+    assert len(rows) == 2 * 2 * len(ABLATIONS) and missing == 0
     assert {r['mode'] for r in rows} == set(ABLATIONS) and {r['seed'] for r in rows} == {0, 1}
     forward = [r for r in rows if r['saturation'] == 'forward']
     assert len(forward) == len(rows) // 2 and all(r['reversing_share'] == 0.0 for r in forward)
     radial_unplanned = [r for r in rows if r['saturation'] == 'radial' and r['mode'] == 'no planning']
     assert all(r['reversing_share'] > 0.0 for r in radial_unplanned)  # the paper's sat reverses robots here
-    again = list(iter_grid(['C'], [20], range(2), models=['paper'], saturations=['radial', 'forward']))
-    for read, fresh in zip(rows, again, strict=True):  # the file holds what was run, typed back
-        assert read.keys() == fresh.keys()
+    for row in rows[::5]:  # the table holds what one run measures, typed back
+        fields = ('scene', 'mode', 'n_robots', 'seed', 'model', 'saturation')
+        fresh = run_point(Point(**{f: row[f] for f in fields}))
         for key, value in fresh.items():
-            assert read[key] == (pytest.approx(value, nan_ok=True) if isinstance(value, float) else value)
-    text = (out / 'grid.md').read_text()
-    assert '| comparison (a - b) | paper model, radial sat | paper model, forward sat |' in text
-    assert "| planning - no planning (the paper's comparison) | T +" in text  # 1 cell: T +k =m -n with k+m+n = 1
+            assert row[key] == (pytest.approx(value, nan_ok=True) if isinstance(value, float) else value)
+    text = (out / 'report.md').read_text()
+    assert text.startswith("Campaign 'ablation': 24 runs.")
+    assert '| paper model, radial sat | T +' in text  # 1 cell per setting: T +k =m -n with k+m+n = 1
     assert '### Scene C, N = 20, paper model, radial sat (2 seeds)' in text
     assert '### Scene C, N = 20, paper model, forward sat (2 seeds)' in text
     assert "| planning - no planning (the paper's comparison) |" in text
-    assert (out / 'grid.png').read_bytes()[:4] == b'\x89PNG'
-    assert '24 runs in' in capsys.readouterr().out
-    (out / 'grid.md').unlink()
-    assert main(['ablation', '--out', str(out), '--report-only']) == 0  # the report again, from the table alone
-    assert (out / 'grid.md').read_text() == text
-    assert '24 runs read from' in capsys.readouterr().out
-
-
-def test_an_interrupted_grid_leaves_every_finished_row(tmp_path) -> None:
-    writer = RowWriter(tmp_path / 'grid.csv')
-    writer.write({'scene': 'C', 'mode': 'planning', 'seed': 0, 'completed': True, 'min_distance_m': 0.9})
-    writer.write({'scene': 'C', 'mode': 'no planning', 'seed': 0, 'completed': False, 'min_distance_m': 0.8})
-    rows = read_rows_csv(tmp_path / 'grid.csv')  # read while the grid still runs (or after it died)
-    writer.close()
-    assert rows[1] == {'scene': 'C', 'mode': 'no planning', 'seed': 0, 'completed': False, 'min_distance_m': 0.8}
+    for figure in ('differences.png', 'means.png'):
+        assert (out / figure).read_bytes()[:4] == b'\x89PNG'
+    assert 'ablation: 24 runs, 0 already done, 24 run now on 1 local processes' in capsys.readouterr().out
+    (out / 'report.md').unlink()
+    assert main(['campaign', 'report', str(out)]) == 0  # the report again, from the folder alone
+    assert (out / 'report.md').read_text() == text
+    assert main([*argv, '--workers', '1']) == 0  # the same command again: nothing left to run
+    assert '24 already done, 0 run now' in capsys.readouterr().out
 
 
 def test_bad_grid_arguments(tmp_path, capsys) -> None:
     assert main(['ablation', '--out', str(tmp_path), '--sizes', '20,x']) == 2
     assert '--sizes must be comma-separated whole numbers >= 1' in capsys.readouterr().err
     assert main(['ablation', '--out', str(tmp_path), '--models', 'paper,fast']) == 2
-    assert "unknown robot model 'fast'" in capsys.readouterr().err
+    assert "axes.model holds 'fast'; choose from 'paper', 'acceleration limits'." in capsys.readouterr().err
     assert main(['ablation', '--out', str(tmp_path), '--saturations', 'clip']) == 2
-    assert "unknown saturation 'clip'; choose from radial, forward" in capsys.readouterr().err
-    assert main(['ablation', '--out', str(tmp_path / 'none'), '--report-only']) == 2
-    assert 'grid.csv does not exist; run `vtube ablation --out' in capsys.readouterr().err
+    assert "axes.saturation holds 'clip'; choose from 'radial', 'forward'." in capsys.readouterr().err
 
 
 def test_the_verdict_summary_counts_cells_on_synthetic_rows() -> None:
@@ -137,4 +127,6 @@ def test_the_verdict_summary_counts_cells_on_synthetic_rows() -> None:
         (40, 'passing_time_s'): 'does not hold',
         (40, 'min_distance_m'): 'does not hold',
     }
-    assert "| planning - no planning (the paper's comparison) | T +1 =1 -0, D +1 =1 -0 |" in verdict_summary(rows)
+    text = verdict_summary(rows)
+    assert "| setting | planning - no planning (the paper's comparison) |" in text  # the only comparison flown
+    assert '| paper model, radial sat | T +1 =1 -0, D +1 =1 -0 |' in text

@@ -11,7 +11,8 @@ import pytest
 
 from vtube_planning import ParamsError, PlanError, SwarmParams, load_scene
 from vtube_planning.planning.planner import plan_convex
-from vtube_planning.study import run_study, summarise
+from vtube_planning.campaign import Campaign, run_campaign
+from vtube_planning.study import MODES, summarise
 from vtube_planning.swarm import simulate as simulate_module
 from vtube_planning.swarm.log import read_log
 from vtube_planning.swarm.metrics import passage_metrics
@@ -165,9 +166,10 @@ def test_bad_simulation_input_is_refused(scene_a) -> None:
     assert default_constant_speed(scene.swarm) == 3.5
 
 
-def test_reduced_study_reproduces_the_papers_claim() -> None:
+def test_reduced_study_reproduces_the_papers_claim(tmp_path) -> None:
     """The full study (scenes A-D, 5 seeds, flocking on C and D) runs in `vtube study --baselines`; here A and D, seed 0."""
-    summary = summarise(run_study(['A', 'D'], [0], baselines=('flocking', 'flocking (v_min)')))
+    grids = ({'scene': ('A', 'D'), 'mode': MODES}, {'scene': ('D',), 'mode': ('flocking', 'flocking (v_min)')})
+    summary = summarise(run_campaign(Campaign(grids), tmp_path, progress=False).rows)
     assert summary[0]['modes'] == ['planning', 'no planning']  # baselines only on the rapid scenes
     assert summary[1]['modes'] == ['planning', 'no planning', 'flocking', 'flocking (v_min)']
     assert summary[1]['flocking']['collision_pairs'] > 0 and summary[1]['safer_than']['flocking']

@@ -58,9 +58,12 @@ class PassageMetrics:
     Attributes
     ----------
     passing_time_s
-        First robot enters (l = 0) to last robot exits (l = L); NaN if some robot never exits.
+        First robot enters (l = 0) to last robot exits (l = L); NaN if some robot never exits. Robots that fail
+        (a simulated fault) do not count here, in ``completed`` nor in the tube violations.
     completed
-        Every robot exited.
+        Every (counted) robot exited.
+    robots_passed, robots_counted
+        How many of the counted robots exited, and how many were counted (the swarm, less a failed robot).
     first_entry_s, last_exit_s
         When the first robot entered and the last one exited (NaN when it did not happen).
     min_distance_m, min_distance_time_s
@@ -81,6 +84,8 @@ class PassageMetrics:
 
     passing_time_s: float
     completed: bool
+    robots_passed: int
+    robots_counted: int
     first_entry_s: float
     last_exit_s: float
     min_distance_m: float
@@ -152,6 +157,7 @@ def passage_metrics(
     forward_speed_mps: FloatArray | None = None,
     density_per_m2: FloatArray | None = None,
     plan: Plan | None = None,
+    counted: NDArray[np.bool_] | None = None,
 ) -> PassageMetrics:
     """The measures of a passage (see :class:`PassageMetrics`).
 
@@ -169,16 +175,20 @@ def passage_metrics(
         [v_min, v_max] and the commanded velocities (T, 2, N): their speeds are checked against the band.
     forward_speed_mps, density_per_m2, plan
         Each robot's speed along the tube (T, N), the measured density (T,) and the plan they track.
+    counted
+        The robots (N,) whose passage counts (entry, exit, completion, tube violations); None: all. Distances and
+        collisions count every robot.
     """
-    entry = crossing_times(t_s, l_m, 0.0)
-    exits = crossing_times(t_s, l_m, length_m)
+    counted = np.ones(l_m.shape[1], dtype=bool) if counted is None else counted
+    entry = crossing_times(t_s, l_m[:, counted], 0.0)
+    exits = crossing_times(t_s, l_m[:, counted], length_m)
     completed = bool(np.all(np.isfinite(exits)))
     entered = bool(np.isfinite(entry).any())
     min_dist = min_distance_over_time(positions_m)
     k_min = int(np.argmin(min_dist))
     pairs = close_pairs(positions_m, collision_distance_m) if positions_m.shape[2] > 1 else set()
     in_span = (l_m >= 0.0) & (l_m <= length_m)
-    outside = in_span & (clearance_m < body_radius_m)
+    outside = in_span & (clearance_m < body_radius_m) & counted
     speed_violations = None
     if commands_mps is not None and speed_band_mps is not None:
         speed = np.hypot(commands_mps[:, 0], commands_mps[:, 1])
@@ -190,6 +200,8 @@ def passage_metrics(
     return PassageMetrics(
         passing_time_s=float(np.nanmax(exits) - np.nanmin(entry)) if completed and entered else math.nan,
         completed=completed,
+        robots_passed=int(np.isfinite(exits).sum()),
+        robots_counted=int(counted.sum()),
         first_entry_s=float(np.nanmin(entry)) if entered else math.nan,
         last_exit_s=float(np.nanmax(exits)) if completed else math.nan,
         min_distance_m=float(min_dist[k_min]),
@@ -199,7 +211,9 @@ def passage_metrics(
         collision_steps=int(np.sum(min_dist < collision_distance_m)),
         tube_violation_steps=int(outside.sum()),
         robots_outside=int(outside.any(axis=0).sum()),
-        max_outside_m=float(max(0.0, body_radius_m - clearance_m[in_span].min())) if in_span.any() else 0.0,
+        max_outside_m=float(max(0.0, body_radius_m - clearance_m[in_span & counted].min()))
+        if (in_span & counted).any()
+        else 0.0,
         speed_violations=speed_violations,
         **tracking,
     )

@@ -93,7 +93,9 @@ class SimConfig:
         Fault: a command reaches the robots this many control periods after it was computed (until then they
         keep their initial velocity). 0: off.
     failure
-        Fault: a robot that fails at an arc length (:class:`RobotFailure`); None: off.
+        Fault: a robot that fails at an arc length (:class:`RobotFailure`); None: off. Once failed it no longer
+        counts for the passage (the run ends, and the passing time is taken, when the working robots have passed)
+        nor for tube violations, and it still counts for distances and collisions: the others must avoid it.
     dropout
         Fault: each control period each robot's message is lost with this probability (seeded): its neighbours
         then avoid it where they last heard it. 0: off. The planned controller only (the baselines hear everyone).
@@ -274,6 +276,7 @@ def simulate(
     heard = positions.copy()  # where the robots last heard each other
     pending = deque([velocity] * config.latency_steps)  # commands computed, not yet applied
     failed_velocity = None  # the failed robot's velocity from the failure on
+    working = np.ones(n, dtype=bool)  # robots that count for the passage
     for step in range(steps + 1):
         projection = tube.project(positions)  # the truth: logged and measured
         seen, view = positions, projection
@@ -291,7 +294,7 @@ def simulate(
                 others = heard
             result = stepper(seen, config.dt_s, view, others)
             commanded, density, r_a = result.velocity, result.density_per_m2, result.r_a_m
-        done = bool(np.all(projection.l_m > tube.length_m))
+        done = bool(np.all((projection.l_m > tube.length_m) | ~working))
         log.append(
             t_s=np.float64(step * config.dt_s),
             positions_m=positions,
@@ -316,6 +319,7 @@ def simulate(
         if failure is not None:
             if failed_velocity is None and projection.l_m[failure.robot] >= failure.at_m:
                 failed_velocity = np.zeros(2) if failure.mode == 'stop' else velocity[:, failure.robot].copy()
+                working[failure.robot] = False
             if failed_velocity is not None:
                 velocity = velocity.copy()
                 velocity[:, failure.robot] = failed_velocity
@@ -333,6 +337,7 @@ def simulate(
         forward_speed_mps=arrays['forward_speed_mps'],
         density_per_m2=arrays['density_per_m2'],
         plan=plan,
+        counted=working,
     )
     log.flush(metrics=metrics.to_json(), finished=True)
     return SimResult(**arrays, metrics=metrics, planned=plan is not None, meta=description)

@@ -1,0 +1,412 @@
+"""Campaigns: a study declared as axes, run anywhere, streamed to disk, resumable.
+
+A campaign (a TOML file for ``vtube campaign run``, or built by ``vtube study`` and ``vtube ablation``) names the
+values of each axis of :class:`~vtube_planning.study.Point` (scene, mode, swarm size, seed, robot model,
+saturation and the faults), the metrics to keep and what every run shares (:class:`~vtube_planning.study.RunSettings`)::
+
+    name = "faults"
+    metrics = ["passing_time_s", "min_distance_m", "collision_pairs", "tube_violation_steps", "completed"]
+
+    [axes]
+    scene = ["C", "D"]
+    mode = ["planning", "no planning"]
+    seed = 10                       # seeds 0..9 (or a list)
+    pose_noise_m = [0.0, 0.02, 0.05]
+
+    [settings]
+    failure_at = 0.5                # where a failing robot fails, times the tube's length
+
+Several grids (``[[grids]]`` tables of axes instead of one ``[axes]``, as ``vtube study`` builds for baselines
+flown on some scenes only) make one campaign whose runs are their products, in turn. The runs each have a stable key (a hash of everything that decides the run). Runs go to an
+executor (:mod:`vtube_planning.executors`: local processes or a Dask cluster) and each result is appended to
+``runs.csv`` in the output folder as it comes: the key, the parameters, the metrics, the wall time, the package
+version and, for a run that raised, its error (the other runs go on). ``campaign.json`` beside it records the
+campaign, so that a rerun of the same command skips the runs already done and ``vtube campaign report`` needs
+nothing but the folder. Rows that failed are run again on a rerun; a folder that holds another campaign is refused.
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import io
+import itertools
+import json
+import math
+import os
+import sys
+import time
+from collections.abc import Iterable, Mapping
+from dataclasses import asdict, dataclass, field, fields
+from pathlib import Path
+from typing import Any
+
+from vtube_planning import __version__
+from vtube_planning._validate import is_real
+from vtube_planning.errors import VtubeError
+from vtube_planning.executors import map_unordered
+from vtube_planning.geometry.scene import load_scene
+from vtube_planning.study import ABLATIONS, BASELINE_MODES, MODELS, Point, RunSettings, run_point
+from vtube_planning.swarm.simulate import FAILURE_MODES
+from vtube_planning.swarm.step import SATURATIONS
+
+if sys.version_info >= (3, 11):
+    import tomllib as _toml
+else:
+    import tomli as _toml
+
+
+class CampaignError(VtubeError, ValueError):
+    """A campaign that cannot be expanded or run: an unknown axis or metric, an empty grid, a folder that holds
+    another campaign."""
+
+
+AXES: dict[str, type] = {'scene': str, 'n_robots': int, 'model': str, 'saturation': str, 'pose_noise_m': float}
+AXES |= {'latency_steps': int, 'failure': str, 'dropout': float, 'seed': int, 'mode': str}
+"""The axes (the fields of :class:`Point`) in the order runs are expanded: a cell's modes and seeds are adjacent."""
+METRICS: dict[str, type] = {
+    'passing_time_s': float,
+    'min_distance_m': float,
+    'collision_pairs': int,
+    'incursion_depth_m': float,
+    'tube_violation_steps': int,
+    'completed': bool,
+    'passed_share': float,
+    'density_error_per_m2': float,
+    'reversing_share': float,
+    'nmpc_converged_share': float,
+}
+"""What a run measures (:func:`~vtube_planning.study.run_point`), and its type in the table."""
+RUNS_FILE, CAMPAIGN_FILE = 'runs.csv', 'campaign.json'
+_CHOICES = {
+    'mode': (*ABLATIONS, *BASELINE_MODES),
+    'model': tuple(MODELS),
+    'saturation': SATURATIONS,
+    'failure': ('none', *FAILURE_MODES),
+}
+
+
+Grid = Mapping[str, tuple[Any, ...]]
+"""The values of each axis of one grid (missing: :class:`Point`'s default; ``n_robots`` and ``saturation`` missing:
+each scene's own)."""
+
+
+@dataclass(frozen=True)
+class Campaign:
+    """A study: one or more grids (their runs in turn, each run once), the metrics kept, the settings every run
+    shares."""
+
+    grids: tuple[Grid, ...]
+    metrics: tuple[str, ...] = tuple(METRICS)
+    settings: RunSettings = field(default_factory=RunSettings)
+    name: str = 'campaign'
+
+    def __post_init__(self) -> None:
+        if not self.grids:
+            msg = 'the campaign has no grid: give an [axes] table, e.g. [axes] then scene = ["C", "D"].'
+            raise CampaignError(msg)
+        for grid in self.grids:
+            unknown = [axis for axis in grid if axis not in AXES]
+            if unknown:
+                msg = f'unknown axis {unknown[0]!r}; the axes are {", ".join(AXES)}.'
+                raise CampaignError(msg)
+            if 'scene' not in grid:
+                msg = 'a grid names no scene: give axes.scene, e.g. scene = ["C", "D"].'
+                raise CampaignError(msg)
+            for axis, values in grid.items():
+                _check_values(axis, values)
+        wrong = [m for m in self.metrics if m not in METRICS]
+        if wrong or not self.metrics:
+            msg = f'unknown metric {wrong[0]!r}' if wrong else 'the campaign keeps no metric'
+            raise CampaignError(f'{msg}; choose from {", ".join(METRICS)}.')
+        _check_settings(self.settings)
+
+    @classmethod
+    def from_toml(cls, path: Path) -> Campaign:
+        """Read a campaign file (see the module's documentation); scene files are found relative to it."""
+        try:
+            data = _toml.loads(path.read_text(encoding='utf-8'))
+        except FileNotFoundError as err:
+            msg = f'campaign file {str(path)!r} does not exist; give the path to a .toml campaign file.'
+            raise CampaignError(msg) from err
+        except (_toml.TOMLDecodeError, UnicodeDecodeError) as err:
+            msg = f'{path}: not a valid TOML file ({" ".join(str(err).split())}).'
+            raise CampaignError(msg) from err
+        try:
+            return cls.from_dict(data, base=path.parent)
+        except CampaignError as err:
+            raise CampaignError(f'{path}: {err}') from err
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], base: Path | None = None) -> Campaign:
+        """A campaign from its parsed TOML (or :meth:`to_json`); relative scene paths are taken from ``base``."""
+        unknown = [k for k in data if k not in ('name', 'axes', 'grids', 'metrics', 'settings')]
+        if unknown:
+            msg = f'unknown key {unknown[0]!r}; a campaign has name, axes (or grids), metrics and settings.'
+            raise CampaignError(msg)
+        if ('axes' in data) == ('grids' in data):
+            msg = 'give the axes once: one [axes] table, or several [[grids]] tables.'
+            raise CampaignError(msg)
+        grids = [data['axes']] if 'axes' in data else data['grids']
+        settings = data.get('settings', {})
+        tables = isinstance(grids, list) and all(isinstance(g, Mapping) for g in grids)
+        if not tables or not isinstance(settings, Mapping):
+            msg = '[axes] and [settings] must be tables, like [axes] then scene = ["C", "D"] on the next line.'
+            raise CampaignError(msg)
+        known = {f.name for f in fields(RunSettings)}
+        extra = [k for k in settings if k not in known]
+        if extra:
+            msg = f'unknown setting {extra[0]!r}; the settings are {", ".join(sorted(known))}.'
+            raise CampaignError(msg)
+        values = tuple({axis: _axis_values(axis, value, base) for axis, value in grid.items()} for grid in grids)
+        metrics = data.get('metrics', list(METRICS))
+        if not isinstance(metrics, list):
+            msg = f'metrics must be a list of names, like ["passing_time_s", "min_distance_m"]; got {metrics!r}.'
+            raise CampaignError(msg)
+        name = str(data.get('name', 'campaign'))
+        return cls(values, tuple(metrics), RunSettings(**settings), name)
+
+    @property
+    def columns(self) -> list[str]:
+        """The table's columns: the run's key, every axis, the metrics kept, wall time, version, error."""
+        return ['key', *AXES, *self.metrics, 'wall_s', 'version', 'error']
+
+    def points(self) -> list[Point]:
+        """Every run, grid after grid, each grid in the order of AXES, with each scene's own N and saturation
+        filled in; a run that two grids share is run once."""
+        points: dict[Point, None] = {}
+        for grid in self.grids:
+            for scene_name in grid['scene']:
+                scene = load_scene(scene_name)
+                own = {'n_robots': (scene.swarm.n_robots,), 'saturation': (scene.control.saturation,)}
+                axes = [grid.get(a) or own.get(a) or (getattr(Point, a),) for a in AXES if a != 'scene']
+                for combination in itertools.product(*axes):
+                    points[Point(scene_name, **dict(zip(list(AXES)[1:], combination, strict=True)))] = None
+        return list(points)
+
+    def to_json(self) -> dict[str, Any]:
+        """The campaign as recorded in ``campaign.json``."""
+        return {
+            'name': self.name,
+            'grids': [{axis: list(values) for axis, values in grid.items()} for grid in self.grids],
+            'metrics': list(self.metrics),
+            'settings': asdict(self.settings),
+        }
+
+
+def run_key(point: Point, settings: RunSettings) -> str:
+    """A run's stable key: a hash of its point and the campaign's settings (16 hex digits)."""
+    text = json.dumps({'point': asdict(point), 'settings': asdict(settings)}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _axis_values(axis: str, value: Any, base: Path | None) -> tuple[Any, ...]:
+    """An axis's values from TOML: a list (a seed count n stands for 0..n-1); scene files relative to ``base``."""
+    if axis == 'seed' and isinstance(value, int) and not isinstance(value, bool):
+        if value < 1:
+            msg = f'axes.seed = {value} runs no seed; give a count >= 1 (seeds 0..n-1) or a list of seeds.'
+            raise CampaignError(msg)
+        return tuple(range(value))
+    if not isinstance(value, list):
+        msg = f'axes.{axis} must be a list of values, like {axis} = [{_example(axis)}]; got {value!r}.'
+        raise CampaignError(msg)
+    if axis == 'scene' and base is not None:
+        return tuple(str(base / v) if isinstance(v, str) and v.endswith('.toml') else v for v in value)
+    return tuple(value)
+
+
+def _example(axis: str) -> str:
+    kind = AXES.get(axis, str)
+    return {int: '0, 1', float: '0.0, 0.02'}.get(kind, '"C", "D"' if axis == 'scene' else '"..."')
+
+
+def _check_values(axis: str, values: Iterable[Any]) -> None:
+    values = tuple(values)
+    if not values:
+        msg = f'axes.{axis} has no values, so the grid is empty; give at least one, like {axis} = [{_example(axis)}].'
+        raise CampaignError(msg)
+    kind = AXES[axis]
+    for value in values:
+        ok = isinstance(value, kind) and not isinstance(value, bool)
+        if kind is float:
+            ok = is_real(value)
+        if not ok:
+            msg = f'axes.{axis} holds {value!r}; its values must be {kind.__name__}s, like {axis} = [{_example(axis)}].'
+            raise CampaignError(msg)
+        if axis in _CHOICES and value not in _CHOICES[axis]:
+            msg = f'axes.{axis} holds {value!r}; choose from {", ".join(map(repr, _CHOICES[axis]))}.'
+            raise CampaignError(msg)
+        low = {'n_robots': 1, 'seed': 0, 'latency_steps': 0, 'pose_noise_m': 0.0, 'dropout': 0.0}.get(axis)
+        if low is not None and value < low or axis == 'dropout' and value >= 1.0:
+            bound = 'in [0, 1)' if axis == 'dropout' else f'>= {low}'
+            msg = f'axes.{axis} holds {value!r}; its values must be {bound}.'
+            raise CampaignError(msg)
+        if axis == 'scene':
+            load_scene(value)  # a SceneError names the file and the fix
+
+
+def _check_settings(settings: RunSettings) -> None:
+    checks = (
+        (is_real(settings.dt_s) and settings.dt_s > 0, 'dt_s must be a number > 0 (s)'),
+        (is_real(settings.jitter_m) and settings.jitter_m >= 0, 'jitter_m must be a number >= 0 (m)'),
+        (
+            isinstance(settings.failure_robot, int)
+            and not isinstance(settings.failure_robot, bool)
+            and settings.failure_robot >= 0,
+            'failure_robot must be a robot index >= 0',
+        ),
+        (is_real(settings.failure_at) and 0 <= settings.failure_at <= 1, 'failure_at must be in [0, 1] (of L)'),
+    )
+    for ok, text in checks:
+        if not ok:
+            msg = f'settings.{text}; got {asdict(settings)}.'
+            raise CampaignError(msg)
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What a campaign run did: ``rows`` (every run's row in the grid's order: done before, run now and failed),
+    how many were skipped as already done, run now and failed, and the seconds it took."""
+
+    rows: list[dict[str, Any]]
+    skipped: int
+    ran: int
+    failed: int
+    seconds: float
+
+
+def run_campaign(
+    campaign: Campaign,
+    out: Path,
+    *,
+    workers: int = 1,
+    client: Any = None,
+    progress: bool | None = None,
+) -> Outcome:
+    """Run every run of ``campaign`` not yet in ``out/runs.csv`` (:func:`~vtube_planning.executors.map_unordered`:
+    ``workers`` local processes, or the Dask ``client``), appending each row as it comes.
+
+    The folder is checked before any run starts: writable, and holding no other campaign. ``progress`` draws a bar
+    on stderr (runs done / total, failures, elapsed and remaining time); None: when stderr is a terminal. An
+    interruption leaves every finished row in the table; the same call again runs only the missing ones.
+    """
+    started = time.perf_counter()
+    points = campaign.points()
+    keys = [run_key(p, campaign.settings) for p in points]
+    done = _prepare_folder(campaign, out, set(keys))
+    todo = [(p, campaign.settings, campaign.metrics) for p, k in zip(points, keys, strict=True) if k not in done]
+    rows = dict(done)
+    failed = 0
+    from tqdm import tqdm
+
+    show = sys.stderr.isatty() if progress is None else progress
+    bar = tqdm(total=len(points), initial=len(points) - len(todo), unit='run', disable=not show, file=sys.stderr)
+    with (out / RUNS_FILE).open('a', newline='', encoding='utf-8') as handle, bar:
+        writer = csv.DictWriter(handle, fieldnames=campaign.columns)
+        for i, row in map_unordered(_execute, todo, workers=workers, client=client):
+            row = {'key': run_key(todo[i][0], campaign.settings), **asdict(todo[i][0]), **row}
+            writer.writerow(row)
+            handle.flush()
+            rows[row['key']] = row
+            failed += bool(row['error'])
+            bar.update()
+            bar.set_postfix(failed=failed, refresh=False)
+    ordered = [_typed_row(rows[k], campaign.columns) for k in keys]
+    return Outcome(ordered, len(points) - len(todo), len(todo), failed, time.perf_counter() - started)
+
+
+def _execute(job: tuple[Point, RunSettings, tuple[str, ...]]) -> dict[str, Any]:
+    """One run in a worker: its metrics, wall time and version; a run that raises gives its error instead."""
+    point, settings, metrics = job
+    started = time.perf_counter()
+    try:
+        measured = run_point(point, settings)
+        row: dict[str, Any] = {m: measured[m] for m in metrics} | {'error': ''}
+    except Exception as err:  # noqa: BLE001 - recorded in the table; the other runs go on
+        row = dict.fromkeys(metrics, '') | {'error': f'{type(err).__name__}: {" ".join(str(err).split())}'}
+    return row | {'wall_s': round(time.perf_counter() - started, 3), 'version': __version__}
+
+
+def _prepare_folder(campaign: Campaign, out: Path, keys: set[str]) -> dict[str, dict[str, Any]]:
+    """Check ``out`` before any run (writable, no other campaign in it), record the campaign there, and keep the
+    rows of runs already done (each rewritten whole: a line cut by an interruption, or a failed run, is dropped
+    and its run done again). Returns the done rows by key."""
+    recorded = out / CAMPAIGN_FILE
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        if recorded.is_file():
+            previous = json.loads(recorded.read_text(encoding='utf-8'))
+            if previous != campaign.to_json():
+                msg = (
+                    f'{out} holds the results of another campaign ({recorded} differs from this one); '
+                    'give another --out, or delete the folder to start again.'
+                )
+                raise CampaignError(msg)
+        done = {}
+        table = out / RUNS_FILE
+        if table.is_file():
+            with table.open(newline='', encoding='utf-8') as handle:
+                reader = csv.DictReader(handle)
+                if reader.fieldnames is not None and reader.fieldnames != campaign.columns:
+                    msg = f'{table} has other columns than this campaign; give another --out.'
+                    raise CampaignError(msg)
+                for row in reader:
+                    whole = None not in row.values() and None not in row
+                    if whole and row['key'] in keys and not row['error'] and row['version']:
+                        done[row['key']] = row
+        _write_atomically(recorded, json.dumps(campaign.to_json(), indent=1) + '\n')
+        _write_atomically(table, _csv_text(campaign.columns, done.values()))
+    except OSError as err:
+        msg = f'cannot write to {out} ({err.strerror or err}); choose another --out before any run starts.'
+        raise OSError(msg) from err
+    return done
+
+
+def _csv_text(columns: list[str], rows: Iterable[dict[str, Any]]) -> str:
+    text = io.StringIO(newline='')
+    writer = csv.DictWriter(text, fieldnames=columns)
+    writer.writeheader()
+    writer.writerows(rows)
+    return text.getvalue()
+
+
+def _write_atomically(path: Path, text: str) -> None:
+    """Write ``text`` to a temporary file beside ``path`` and rename it over: never a partial file at ``path``."""
+    temporary = path.with_name(f'.{path.name}.partial')
+    temporary.write_text(text, encoding='utf-8', newline='')
+    os.replace(temporary, path)
+
+
+def read_results(out: Path) -> tuple[Campaign, list[dict[str, Any]], int]:
+    """A campaign folder's campaign, its finished rows (typed, in the grid's order) and how many runs of the grid
+    are not among them (not done yet, or failed)."""
+    recorded, table = out / CAMPAIGN_FILE, out / RUNS_FILE
+    if not recorded.is_file() or not table.is_file():
+        msg = f'{out} holds no campaign ({CAMPAIGN_FILE} and {RUNS_FILE}); run `vtube campaign run FILE --out {out}`.'
+        raise CampaignError(msg)
+    campaign = Campaign.from_dict(json.loads(recorded.read_text(encoding='utf-8')))
+    with table.open(newline='', encoding='utf-8') as handle:
+        found = {
+            row['key']: row
+            for row in csv.DictReader(handle)
+            if None not in row.values() and None not in row and not row['error']
+        }
+    keys = [run_key(p, campaign.settings) for p in campaign.points()]
+    rows = [_typed_row(found[k], campaign.columns) for k in keys if k in found]
+    return campaign, rows, len(keys) - len(rows)
+
+
+def _typed_row(row: Mapping[str, Any], columns: list[str]) -> dict[str, Any]:
+    """A table row with each column of its known type again (numbers, booleans; an empty metric is NaN)."""
+    kinds: dict[str, type] = AXES | METRICS | {'wall_s': float}
+    return {c: _typed(row[c], kinds.get(c, str)) for c in columns}
+
+
+def _typed(value: Any, kind: type) -> Any:
+    if not isinstance(value, str):
+        return value
+    if kind is bool:
+        return value == 'True'
+    if kind in (int, float) and value == '':
+        return math.nan
+    return kind(value)

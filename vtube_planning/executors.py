@@ -1,0 +1,83 @@
+"""Where a study's independent runs execute: in this process, in local processes, or on a Dask cluster.
+
+:func:`map_unordered` hands each item to ``fn`` and yields ``(index, result)`` as the results come, in whatever
+order they finish; the caller stores each at once. One worker runs in this process (what tests patch and
+debuggers step into); more start fresh processes (``spawn``: nothing of the parent's state leaks into a run); a
+``dask.distributed.Client`` sends the items to its cluster, whose workers must have vtube installed. Stopping the
+iteration (an interrupt, an error in the caller) cancels what has not started.
+
+Dask is an optional extra (``pip install 'vtube[cluster]'``); :func:`connect` names it when it is missing.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from typing import Any
+
+from vtube_planning.errors import VtubeError
+
+
+class ExecutorError(VtubeError, RuntimeError):
+    """An executor that cannot be reached or set up (a Dask scheduler that does not answer, Dask not installed)."""
+
+
+def map_unordered(
+    fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 1, client: Any = None
+) -> Iterator[tuple[int, Any]]:
+    """``(i, fn(items[i]))`` for every item, as each finishes: in this process (``workers`` 1), in ``workers``
+    local processes, or on the cluster of the Dask ``client``. An exception raised by ``fn`` propagates."""
+    if client is not None:
+        yield from _dask(fn, items, client)
+    elif workers <= 1 or len(items) <= 1:
+        for i, item in enumerate(items):
+            yield i, fn(item)
+    else:
+        yield from _processes(fn, items, workers)
+
+
+def _processes(fn: Callable[[Any], Any], items: Sequence[Any], workers: int) -> Iterator[tuple[int, Any]]:
+    pool = ProcessPoolExecutor(min(workers, len(items)), mp_context=multiprocessing.get_context('spawn'))
+    futures: dict[Future[Any], int] = {pool.submit(fn, item): i for i, item in enumerate(items)}
+    try:
+        pending = set(futures)
+        while pending:
+            done, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for future in sorted(done, key=futures.__getitem__):
+                yield futures[future], future.result()
+    finally:
+        pool.shutdown(wait=False, cancel_futures=True)
+
+
+def _dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any) -> Iterator[tuple[int, Any]]:
+    from distributed import as_completed
+
+    futures = client.map(fn, list(items), pure=False)
+    index = {future.key: i for i, future in enumerate(futures)}
+    try:
+        for future in as_completed(futures):
+            yield index[future.key], future.result()
+    finally:
+        client.cancel(futures)
+
+
+def connect(address: str, timeout_s: float = 10.0) -> Any:
+    """A ``dask.distributed.Client`` of the scheduler at ``address`` (``tcp://HOST:PORT``), or a clear error within
+    ``timeout_s`` when none answers or Dask is not installed."""
+    try:
+        from distributed import Client
+    except ImportError as err:
+        msg = (
+            f'a Dask scheduler ({address}) needs the cluster extra: pip install "vtube[cluster]"; '
+            'or leave out --scheduler to run on local processes.'
+        )
+        raise ExecutorError(msg) from err
+    try:
+        return Client(address, timeout=timeout_s)
+    except (OSError, TimeoutError, ValueError) as err:
+        msg = (
+            f'no Dask scheduler answered at {address} within {timeout_s:g} s ({" ".join(str(err).split())}); '
+            'check the address, start one with `dask scheduler`, or raise --scheduler-timeout.'
+        )
+        raise ExecutorError(msg) from err
