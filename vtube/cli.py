@@ -11,7 +11,7 @@ import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robotarium_exp.errors import RobotariumExpError
 from unicycle_mapping.errors import MappingError
@@ -19,7 +19,7 @@ from vtube_planning.errors import VtubeError
 
 if TYPE_CHECKING:
     from submission.check import CheckReport
-    from vtube_planning.campaign import Campaign
+    from vtube_planning.campaign import Campaign, Outcome
     from vtube_planning.geometry.scene import Scene
     from vtube_planning.params import SwarmParams
     from vtube_planning.planning.plan import Plan
@@ -213,9 +213,10 @@ def study(
     compared = tuple(s for s in scenes if s in BASELINE_SCENES)
     if baselines and compared:
         grids.append(common | {'scene': compared, 'mode': MODES + BASELINE_MODES})
-    rows = _run_campaign(Campaign(tuple(grids), name='study'), out, execution or Execution())
-    if rows is None:
+    outcome = _run_campaign(Campaign(tuple(grids), name='study'), out, execution or Execution())
+    if outcome is None:
         return EXIT_INTERRUPTED
+    rows = [row for row in outcome.rows if not row['error']]
     summary = summarise(rows)
     text = study_markdown(summary, list(range(seeds)), acceleration_limits)
     (out / 'study.md').write_text(text, encoding='utf-8')
@@ -226,7 +227,7 @@ def study(
     print()
     print(text)
     print(f'written {out / "study.md"}, {out / "study.json"}, {figure}')
-    return EXIT_OK if all(e['claim_on_means'] for e in summary) else 1
+    return EXIT_OK if all(e['claim_on_means'] for e in summary) and not outcome.failed else 1
 
 
 def ablation(
@@ -260,23 +261,25 @@ class Execution:
 
 
 def campaign_run(campaign: Campaign | Path, out: Path | None, execution: Execution | None = None) -> int:
-    """Run a campaign (a TOML file, or built by a command) into ``out``, resuming it, then write its report."""
+    """Run a campaign (a TOML file, or built by a command) into ``out``, resuming it, then write its report; exit 1
+    when a run failed (its error is in the table; a rerun tries it again)."""
     from vtube_planning.campaign import Campaign
 
     if isinstance(campaign, Path):
         campaign = Campaign.from_toml(campaign)
+    out = out or campaign.out
     if out is None:
-        msg = 'give the output folder: --out DIR.'
+        msg = 'give the output folder: --out DIR, or out = "DIR" in the campaign file.'
         raise VtubeError(msg)
-    rows = _run_campaign(campaign, out, execution or Execution())
-    if rows is None:
+    outcome = _run_campaign(campaign, out, execution or Execution())
+    if outcome is None:
         return EXIT_INTERRUPTED
-    return campaign_report(out)
+    return max(campaign_report(out), 1 if outcome.failed else EXIT_OK)
 
 
-def _run_campaign(campaign: Campaign, out: Path, execution: Execution) -> list[dict[str, Any]] | None:
-    """The campaign's rows after running what is missing (None if interrupted); checks the folder and connects to
-    the scheduler before any run, and prints one line of what was done."""
+def _run_campaign(campaign: Campaign, out: Path, execution: Execution) -> Outcome | None:
+    """Run what is missing of the campaign (None if interrupted): checks the folder and connects to the scheduler
+    before any run, and prints one line of what was done and one per failed run."""
     import os
 
     from vtube_planning.campaign import RUNS_FILE, run_campaign
@@ -307,7 +310,7 @@ def _run_campaign(campaign: Campaign, out: Path, execution: Execution) -> list[d
     for row in outcome.rows:
         if row['error']:
             print(f'  failed: {row["key"]} ({row["scene"]}, {row["mode"]}, seed {row["seed"]}): {row["error"]}')
-    return [row for row in outcome.rows if not row['error']]
+    return outcome
 
 
 def campaign_report(out: Path) -> int:
@@ -721,7 +724,12 @@ def _parser() -> argparse.ArgumentParser:
     camp_commands = camp.add_subparsers(dest='campaign_command', required=True, metavar='SUBCOMMAND')
     camp_run = camp_commands.add_parser('run', help='run (or resume) a campaign and write its report')
     camp_run.add_argument('file', type=Path, help='the campaign .toml file (see docs/faults/campaign.toml)')
-    camp_run.add_argument('--out', type=Path, required=True, help='folder for runs.csv, campaign.json and the report')
+    camp_run.add_argument(
+        '--out',
+        type=Path,
+        default=None,
+        help="folder for runs.csv, campaign.json and the report (default: the file's out)",
+    )
     _execution_arguments(camp_run)
     camp_report = camp_commands.add_parser('report', help="a campaign folder's tables and figures, from runs.csv")
     camp_report.add_argument('folder', type=Path, help='the folder a campaign ran into')

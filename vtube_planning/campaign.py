@@ -5,6 +5,7 @@ values of each axis of :class:`~vtube_planning.study.Point` (scene, mode, swarm 
 saturation and the faults), the metrics to keep and what every run shares (:class:`~vtube_planning.study.RunSettings`)::
 
     name = "faults"
+    out = "results/faults"          # the output folder, relative to this file (--out overrides it)
     metrics = ["passing_time_s", "min_distance_m", "collision_pairs", "tube_violation_steps", "completed"]
 
     [axes]
@@ -100,6 +101,8 @@ class Campaign:
     metrics: tuple[str, ...] = tuple(METRICS)
     settings: RunSettings = field(default_factory=RunSettings)
     name: str = 'campaign'
+    out: Path | None = None
+    """Where it runs unless told otherwise (``out`` in the file, relative to it); not part of what it is."""
 
     def __post_init__(self) -> None:
         if not self.grids:
@@ -140,9 +143,9 @@ class Campaign:
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], base: Path | None = None) -> Campaign:
         """A campaign from its parsed TOML (or :meth:`to_json`); relative scene paths are taken from ``base``."""
-        unknown = [k for k in data if k not in ('name', 'axes', 'grids', 'metrics', 'settings')]
+        unknown = [k for k in data if k not in ('name', 'out', 'axes', 'grids', 'metrics', 'settings')]
         if unknown:
-            msg = f'unknown key {unknown[0]!r}; a campaign has name, axes (or grids), metrics and settings.'
+            msg = f'unknown key {unknown[0]!r}; a campaign has name, out, axes (or grids), metrics and settings.'
             raise CampaignError(msg)
         if ('axes' in data) == ('grids' in data):
             msg = 'give the axes once: one [axes] table, or several [[grids]] tables.'
@@ -164,7 +167,8 @@ class Campaign:
             msg = f'metrics must be a list of names, like ["passing_time_s", "min_distance_m"]; got {metrics!r}.'
             raise CampaignError(msg)
         name = str(data.get('name', 'campaign'))
-        return cls(values, tuple(metrics), RunSettings(**settings), name)
+        out = None if data.get('out') is None else (base or Path()) / str(data['out'])
+        return cls(values, tuple(metrics), RunSettings(**settings), name, out)
 
     @property
     def columns(self) -> list[str]:

@@ -387,6 +387,8 @@ def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
                     continue
                 y = k + offsets[mode]
                 for ax, metric in zip(panels, ('passing_time_s', 'min_distance_m'), strict=False):
+                    if metric not in sel[0]:
+                        continue
                     values = np.array([r[metric] for r in sel], dtype=float)
                     finite = values[np.isfinite(values)]
                     if finite.size == 0:
@@ -396,7 +398,7 @@ def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
                         ax.hlines(y, e.low, e.high, color=colors[mode], lw=1.5)
                     full = finite.size == values.size
                     ax.plot(finite.mean(), y, 'o', ms=4, color=colors[mode], mfc=colors[mode] if full else 'white')
-                share = np.mean([r['collision_pairs'] > 0 for r in sel])
+                share = np.mean([r.get('collision_pairs', 0) > 0 for r in sel])
                 panels[2].barh(y, share, height=0.7 / max(1, len(modes)), color=colors[mode])
         for ax, title in zip(panels, ('passing time [s]', 'min distance [m]', 'runs with a collision'), strict=True):
             ax.set_yticks(range(len(cells[scene])), cells[scene] if ax is panels[0] else [], fontsize=7)

@@ -393,34 +393,52 @@ def verdict_summary(rows: list[dict[str, Any]]) -> str:
 
 
 def mode_summary(rows: list[dict[str, Any]]) -> str:
-    """Per setting and mode, over every scene, N and seed: collision pairs, the runs with any, the runs that did not
-    complete, and the range over cells (scene, N) of the share of robot-steps moving backwards."""
+    """Per setting and mode, over every scene, N and seed: collision pairs and the runs with any, the runs that did
+    not complete, and the range over cells (scene, N) of the share of robot-steps moving backwards (the columns
+    whose metrics the rows hold)."""
+    columns = [c for c in _MODE_COLUMNS if c[0] in rows[0]]
     lines = [
-        (
-            'Per setting and mode over all cells and seeds: collision pairs (runs with any / runs), runs that did not '
-            'complete, share of in-tube robot-steps moving backwards (lowest and highest cell mean).'
-        ),
+        'Per setting and mode, over all cells and seeds:',
         '',
-        '| setting | mode | collision pairs (runs with any / runs) | not completed | moving backwards |',
-        '|---|---|---|---|---|',
+        '| setting | mode | ' + ' | '.join(header for _, header, _ in columns) + ' |',
+        '|---|---|' + '---|' * len(columns),
     ]
     for setting in dict.fromkeys(setting_text(r) for r in rows):
         for mode in dict.fromkeys(r['mode'] for r in rows):
             sel = [r for r in rows if r['mode'] == mode and setting_text(r) == setting]
-            if not sel:
-                continue
-            cells = dict.fromkeys((r['scene'], r['n_robots']) for r in sel)
-            backwards = [
-                np.mean([r['reversing_share'] for r in sel if (r['scene'], r['n_robots']) == c]) for c in cells
-            ]
-            hit = sum(r['collision_pairs'] > 0 for r in sel)
-            pairs = sum(r['collision_pairs'] for r in sel)
-            stuck = sum(not r['completed'] for r in sel)
-            lines.append(
-                f'| {setting} | {mode} | {pairs} ({hit}/{len(sel)}) | {stuck} | '
-                f'{min(backwards):.1%}-{max(backwards):.1%} |'
-            )
+            if sel:
+                lines.append(f'| {setting} | {mode} | ' + ' | '.join(text(sel) for _, _, text in columns) + ' |')
     return '\n'.join(lines) + '\n'
+
+
+def _backwards_range(sel: list[dict[str, Any]]) -> str:
+    cells = dict.fromkeys((r['scene'], r['n_robots']) for r in sel)
+    means = [np.mean([r['reversing_share'] for r in sel if (r['scene'], r['n_robots']) == c]) for c in cells]
+    return f'{min(means):.1%}-{max(means):.1%}'
+
+
+_MODE_COLUMNS: tuple[tuple[str, str, Callable[[list[dict[str, Any]]], str]], ...] = (
+    (
+        'collision_pairs',
+        'collision pairs (runs with any / runs)',
+        lambda sel: (
+            f'{sum(r["collision_pairs"] for r in sel)} ({sum(r["collision_pairs"] > 0 for r in sel)}/{len(sel)})'
+        ),
+    ),
+    ('completed', 'runs not completed', lambda sel: str(sum(not r['completed'] for r in sel))),
+    ('reversing_share', 'in-tube robot-steps moving backwards (lowest-highest cell mean)', _backwards_range),
+)
+_CELL_COLUMNS: tuple[tuple[str, str, Callable[[NDArray[np.float64]], str]], ...] = (
+    ('passing_time_s', 'passing time [s]', lambda v: _interval(v, 2)),
+    ('min_distance_m', 'min distance [m]', lambda v: _interval(v, 3)),
+    ('min_distance_m', '5 % min distance [m]', lambda v: f'{np.quantile(v, 0.05):.3f}'),
+    ('collision_pairs', 'collisions (pairs, all seeds)', lambda v: f'{int(v.sum())}'),
+    ('passed_share', 'robots through (mean)', lambda v: f'{np.mean(v):.0%}'),
+    ('tube_violation_steps', 'tube violations (robot-steps, mean)', lambda v: f'{np.mean(v):.0f}'),
+    ('density_error_per_m2', 'density error [1/m^2]', lambda v: _interval(v, 3)),
+    ('reversing_share', 'reversing robot-steps', lambda v: f'{np.mean(v):.1%}'),
+)
+"""The columns of the reports: metric, header, and how a selection's values are written."""
 
 
 def grid_markdown(rows: list[dict[str, Any]]) -> str:
@@ -434,26 +452,16 @@ def grid_markdown(rows: list[dict[str, Any]]) -> str:
         modes = list(dict.fromkeys(r['mode'] for r in sel))
         seeds = sorted({r['seed'] for r in sel})
         first = sel[0]
+        columns = [c for c in _CELL_COLUMNS if c[0] in first]
         lines += [
             f'### Scene {first["scene"]}, N = {first["n_robots"]}, {setting_text(first)} ({len(seeds)} seeds)',
             '',
-            (
-                '| mode | passing time [s] | min distance [m] | 5 % min distance [m] | collisions (pairs, all seeds) '
-                '| tube violations (robot-steps, mean) | density error [1/m^2] | reversing robot-steps |'
-            ),
-            '|---|---|---|---|---|---|---|---|',
+            '| mode | ' + ' | '.join(header for _, header, _ in columns) + ' |',
+            '|---|' + '---|' * len(columns),
         ]
         for mode in modes:
-            values = {k: cell_values(sel, k, mode=mode) for k in ('passing_time_s', 'min_distance_m')}
-            extra = {k: cell_values(sel, k, mode=mode) for k in ('density_error_per_m2', 'reversing_share')}
-            collisions = int(cell_values(sel, 'collision_pairs', mode=mode).sum())
-            lines.append(
-                f'| {mode} | {_interval(values["passing_time_s"], 2)} | {_interval(values["min_distance_m"], 3)} | '
-                f'{_quantile(values["min_distance_m"])} | {collisions} | '
-                f'{np.mean(cell_values(sel, "tube_violation_steps", mode=mode)):.0f} | '
-                f'{_interval(extra["density_error_per_m2"], 3)} '
-                f'| {np.mean(extra["reversing_share"]):.1%} |'
-            )
+            cols = [text(cell_values(sel, metric, mode=mode)) for metric, _, text in columns]
+            lines.append(f'| {mode} | ' + ' | '.join(cols) + ' |')
         differences = paired_table(sel)
         compared = [c for c in COMPARISONS if any((p['a'], p['b']) == c[:2] for p in differences)]
         if compared:
@@ -482,6 +490,8 @@ def paired_table(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
         fields = dict(zip(CELL_AXES, cell, strict=True))
         for a, b, _ in COMPARISONS:
             for metric, better, _ in CLAIMS:
+                if metric not in sel[0]:
+                    continue
                 diff = _paired(cell_values(sel, metric, mode=a), cell_values(sel, metric, mode=b))
                 if diff is not None:
                     out.append(
@@ -495,10 +505,6 @@ def _interval(values: NDArray[np.float64], digits: int) -> str:
     if finite.size < values.size:
         return f'{finite.size} of {values.size} completed'
     return mean_interval(values).text(digits) if values.size > 1 else f'{values[0]:.{digits}f}'
-
-
-def _quantile(values: NDArray[np.float64]) -> str:
-    return f'{np.quantile(values, 0.05):.3f}' if values.size else 'n/a'
 
 
 def _paired(a: NDArray[np.float64], b: NDArray[np.float64]) -> Estimate | None:

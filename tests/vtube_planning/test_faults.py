@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
 from vtube_planning import ParamsError, load_scene
 from vtube_planning.planning.planner import plan_convex
+from vtube_planning.swarm.metrics import passage_metrics
 from vtube_planning.swarm.simulate import RobotFailure, SimConfig, simulate
 
 
@@ -66,15 +69,17 @@ def test_a_failed_robot_stops_or_coasts_and_the_others_pass_it(scene_a, mode: st
     after = result.positions_m[k + 1 :, :, 0]
     if mode == 'stop':
         np.testing.assert_array_equal(after, np.broadcast_to(after[0], after.shape))
-        assert not result.metrics.completed  # it never leaves the tube
+        assert not result.metrics.completed  # robots held up behind it never leave the tube
     else:
         steps = np.diff(after, axis=0)
         np.testing.assert_allclose(steps, np.broadcast_to(steps[0], steps.shape), atol=1e-12)  # a straight line
     others = np.hypot(*(result.positions_m[:, :, 1:] - result.positions_m[:, :, :1]).transpose(1, 0, 2))
     assert others.min() > 2 * scene.swarm.r_p_m  # the others avoid it
     out = result.l_m[-1, 1:] > scene.tube.length_m
+    m = result.metrics  # the failed robot counts for distances, not for the passage
+    assert (m.robots_counted, m.robots_passed) == (19, out.sum()) and m.completed == out.all()
     if mode == 'coast':
-        assert out.all()  # every other robot passes it and leaves the tube
+        assert out.all() and np.isfinite(m.passing_time_s)  # every other robot passes it and leaves the tube
     else:  # those still inside are held up right behind the dead robot
         held = result.positions_m[-1, :, 1:][:, ~out] - result.positions_m[-1, :, :1]
         assert out.sum() >= 15 and np.all(np.hypot(*held) < 2 * (scene.swarm.r_s_m + 3 * scene.swarm.r_a_m))
@@ -129,3 +134,19 @@ def test_dropped_messages_leave_the_stated_share_of_robots_heard_where_they_were
         np.testing.assert_array_equal(others[:, lost], heard_before[:, lost])  # the last message heard, unchanged
     with pytest.raises(ParamsError, match='dropout must be a probability in \\[0, 1\\)'):
         SimConfig(dropout=1.0)
+
+
+def test_a_robot_left_out_of_the_count_does_not_hold_up_the_passage() -> None:
+    """Two robots on a 10 m tube at 1 m/s, one 2 m behind the other; the second stops at l = 5 m."""
+    t = np.arange(0.0, 20.0, 0.5)
+    l_m = np.column_stack([t - 1.0, np.minimum(t - 3.0, 5.0)])
+    positions = np.stack([l_m, np.zeros_like(l_m)], axis=1)  # along the x axis: (T, 2, N)
+    clearance = np.ones_like(l_m)
+    everyone = passage_metrics(t, positions, l_m, clearance, 10.0, collision_distance_m=0.1)
+    assert not everyone.completed and math.isnan(everyone.passing_time_s) and everyone.robots_passed == 1
+    first = passage_metrics(
+        t, positions, l_m, clearance, 10.0, collision_distance_m=0.1, counted=np.array([True, False])
+    )
+    assert first.completed and first.passing_time_s == pytest.approx(10.0)  # enters at 1 s, exits at 11 s
+    assert (first.robots_passed, first.robots_counted) == (1, 1)
+    assert first.min_distance_m == everyone.min_distance_m  # distances count every robot
