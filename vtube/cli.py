@@ -7,6 +7,7 @@ Every command is a plain function returning an exit code: 0 on success, 2 on bad
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -289,7 +290,9 @@ def _run_campaign(campaign: Campaign, out: Path, execution: Execution) -> Outcom
     points = campaign.points()  # a bad scene fails here, before any run
     client = connect(execution.scheduler, execution.timeout_s) if execution.scheduler else None
     workers = execution.workers or os.cpu_count() or 1
-    where = f'the Dask cluster at {execution.scheduler}' if client is not None else f'{workers} local processes'
+    where = f'{workers} local process' + ('es' if workers > 1 else '')
+    if client is not None:
+        where = f'the Dask cluster at {execution.scheduler}'
     try:
         outcome = run_campaign(
             campaign, out, workers=workers, client=client, progress=False if execution.quiet else None
@@ -641,13 +644,38 @@ def _sizes(text: str) -> list[int]:
     return sizes
 
 
+def _whole(text: str) -> int:
+    """An argparse type: a whole number >= 0."""
+    if not text.strip().isdigit():
+        msg = f'{text!r} is not a whole number >= 0'
+        raise argparse.ArgumentTypeError(msg)
+    return int(text)
+
+
+def _positive_seconds(text: str) -> float:
+    """An argparse type: a finite number of seconds > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        msg = f'{text!r} is not a number of seconds > 0'
+        raise argparse.ArgumentTypeError(msg)
+    return value
+
+
 def _execution_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument('--workers', type=int, default=0, help='local processes (default: one per core)')
+    parser.add_argument(
+        '--workers', type=_whole, default=0, help='local processes (default 0: one per core; 1: this process)'
+    )
     parser.add_argument(
         '--scheduler', default=None, help='run on this Dask scheduler, tcp://HOST:PORT (vtube[cluster])'
     )
     parser.add_argument(
-        '--scheduler-timeout', type=float, default=10.0, help='seconds to wait for the scheduler (default 10)'
+        '--scheduler-timeout',
+        type=_positive_seconds,
+        default=10.0,
+        help='seconds to wait for the scheduler (default 10)',
     )
     parser.add_argument('--quiet', action='store_true', help='no progress bar (none is drawn unless on a terminal)')
 
@@ -877,3 +905,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (VtubeError, RobotariumExpError, MappingError, OSError) as err:
         print('error: ' + ' '.join(str(err).split()), file=sys.stderr)
         return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print('interrupted.', file=sys.stderr)
+        return EXIT_INTERRUPTED

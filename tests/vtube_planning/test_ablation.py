@@ -84,7 +84,7 @@ def test_a_reduced_grid_end_to_end(tmp_path, capsys) -> None:
     assert "| planning - no planning (the paper's comparison) |" in text
     for figure in ('differences.png', 'means.png'):
         assert (out / figure).read_bytes()[:4] == b'\x89PNG'
-    assert 'ablation: 24 runs, 0 already done, 24 run now on 1 local processes' in capsys.readouterr().out
+    assert 'ablation: 24 runs, 0 already done, 24 run now on 1 local process in' in capsys.readouterr().out
     (out / 'report.md').unlink()
     assert main(['campaign', 'report', str(out)]) == 0  # the report again, from the folder alone
     assert (out / 'report.md').read_text() == text
