@@ -42,6 +42,8 @@ from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
+from tqdm import tqdm
+
 from vtube_planning import __version__
 from vtube_planning._validate import is_real
 from vtube_planning.errors import VtubeError
@@ -185,7 +187,14 @@ class Campaign:
                 own = {'n_robots': (scene.swarm.n_robots,), 'saturation': (scene.control.saturation,)}
                 axes = [grid.get(a) or own.get(a) or (getattr(Point, a),) for a in AXES if a != 'scene']
                 for combination in itertools.product(*axes):
-                    points[Point(scene_name, **dict(zip(list(AXES)[1:], combination, strict=True)))] = None
+                    point = Point(scene_name, **dict(zip(list(AXES)[1:], combination, strict=True)))
+                    if point.failure != 'none' and self.settings.failure_robot >= (point.n_robots or 0):
+                        msg = (
+                            f'settings.failure_robot = {self.settings.failure_robot} does not exist in a swarm of '
+                            f'{point.n_robots} robots (scene {scene_name}); choose an index below {point.n_robots}.'
+                        )
+                        raise CampaignError(msg)
+                    points[point] = None
         return list(points)
 
     def to_json(self) -> dict[str, Any]:
@@ -301,8 +310,6 @@ def run_campaign(
     todo = [(p, campaign.settings, campaign.metrics) for p, k in zip(points, keys, strict=True) if k not in done]
     rows = dict(done)
     failed = 0
-    from tqdm import tqdm
-
     show = sys.stderr.isatty() if progress is None else progress
     bar = tqdm(total=len(points), initial=len(points) - len(todo), unit='run', disable=not show, file=sys.stderr)
     with (out / RUNS_FILE).open('a', newline='', encoding='utf-8') as handle, bar:

@@ -99,6 +99,10 @@ BAD_CAMPAIGNS = {
     'unknown setting': (FAULTS + '[settings]\nspeed = 1\n', "unknown setting 'speed'; the settings are dt_s"),
     'bad setting': (FAULTS + '[settings]\nfailure_at = 2.0\n', 'settings.failure_at must be in [0, 1]'),
     'no scene': ('[axes]\nseed = 2\n', 'a grid names no scene: give axes.scene'),
+    'no such robot': (
+        FAULTS + 'failure = ["stop"]\n[settings]\nfailure_robot = 20\n',
+        'does not exist in a swarm of 20',
+    ),
     'not TOML': (FAULTS + '[axes\n', 'not a valid TOML file'),
 }
 
