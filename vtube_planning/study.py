@@ -1,18 +1,17 @@
-"""The paper's comparison: the same swarm through scenes A-D with and without planning, over several seeds.
+"""Studies of the method: one run (:class:`Point`, :func:`run_point`), the modes it compares, and the reports.
 
-For every scene and seed the swarm flies once with the plan (planned speed, r_a following (a3)) and once without
-(constant mid-range speed, constant r_a), from the same jittered initial formation. The paper's claim, checked
-per scene on the means over seeds and per seed: with planning the passing time is shorter, the minimum distance
-larger, and no two robots collide. With ``baselines``, scenes C and D also fly the paper's baselines (optimized
-flocking with v_min = 0 as the paper ran it and a speed-constrained variant; distributed NMPC), compared on safety:
-the paper's claim is that the planned method passes more safely (fewer collisions, larger minimum distance).
+The paper's comparison flies every scene and seed once with the plan (planned speed, r_a following (a3)) and once
+without (constant mid-range speed, constant r_a), from the same jittered initial formation. The paper's claim,
+checked per scene on the means over seeds and per seed (:func:`summarise`): with planning the passing time is
+shorter, the minimum distance larger, and no two robots collide. On scenes C and D the paper's baselines
+(optimized flocking with v_min = 0 as the paper ran it and a speed-constrained variant; distributed NMPC) are
+compared on safety: the paper's claim is that the planned method passes more safely.
 
-The ablation grid (:func:`iter_grid`, ``vtube ablation``) says where that comes from: modes that each switch one part
-of the method off on the same code path (ABLATIONS), over swarm sizes, seeds, robot models and saturations, one
-tidy row per run; :func:`grid_markdown` reports each cell with bootstrap intervals and the paired differences of
-COMPARISONS (:mod:`vtube_planning.stats`). The paper's comparison above is a slice of it (:func:`run_study`).
+The ablation modes (ABLATIONS) say where that comes from: each switches one part of the method off on the same
+code path. Over swarm sizes, seeds, robot models, saturations and the simulator's faults, one tidy row per run;
+:func:`grid_markdown` reports each cell with bootstrap intervals and the paired differences of COMPARISONS
+(:mod:`vtube_planning.stats`). Every study runs as a campaign (:mod:`vtube_planning.campaign`).
 """
-
 from __future__ import annotations
 
 import math
