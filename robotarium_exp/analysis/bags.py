@@ -155,7 +155,7 @@ def read_bag(
                         read_topics.add(c.topic)
                 chosen = [c for c in reader.connections if c.id in handlers]
                 failed: dict[int, list[Any]] = {}
-                for connection, t_ns, raw in reader.messages(connections=chosen):
+                for connection, t_ns, raw in reader.messages(connections=chosen) if chosen else ():  # (): all
                     try:
                         handlers[connection.id](raw, t_ns)
                     except Exception as err:  # noqa: BLE001 -- a message that does not decode costs its topic only
