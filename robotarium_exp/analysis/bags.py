@@ -17,6 +17,7 @@ types, ROS1 bags with the Noetic ones.
 
 from __future__ import annotations
 
+import math
 import re
 from collections import defaultdict
 from collections.abc import Callable
@@ -25,6 +26,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from robotarium_exp.analysis.trajectory import RobotSamples
 from robotarium_exp.errors import AnalysisError
@@ -45,6 +47,10 @@ DEFAULT_FRAME_PATTERN = r'^(?P<robot>.+)$'
 NO_FRAME = ''  # Pose2D has no header: it fits any world frame
 
 Row = tuple[int, int, float, float, float, float, float, float]  # stamp sec, nanosec, x, y, quaternion x, y, z, w
+FloatArray = NDArray[np.float64]
+Message = tuple[bytes, int]  # raw bytes and bag time (ns)
+BATCH = 256
+"""Messages of one connection decoded together: few enough to die young (cheap for the garbage collector)."""
 
 
 @dataclass
@@ -55,7 +61,14 @@ class _Poses:
     frame: str
     topic: str
     tf: bool
-    rows: list[Row] = field(default_factory=list)
+    chunks: list[FloatArray] = field(default_factory=list)  # (k, 8) rows: floats, so that no message object lives on
+
+    def add(self, rows: list[Row]) -> None:
+        if rows:
+            self.chunks.append(np.array(rows, dtype=float))  # seconds (< 2**31) and nanoseconds are exact as floats
+
+    def array(self) -> FloatArray:
+        return np.concatenate(self.chunks) if self.chunks else np.zeros((0, 8))
 
 
 @dataclass
@@ -68,8 +81,11 @@ class BagContents:
     ignored: list[dict[str, str]]
 
 
-def _deserializer(connection: Any, ros1: bool, defaults: Any, cache: dict[tuple[str, str], Any]) -> Callable:
-    """A function raw bytes -> message for one connection, from its own type definition (or the default types)."""
+def _deserializer(
+    connection: Any, ros1: bool, defaults: Any, cache: dict[tuple[str, str], Any]
+) -> Callable[[list[Message]], tuple[list[Any], list[int] | None, int, Exception | None]]:
+    """Messages of one connection decoded from its own type definition (or the default types): the messages, their
+    bag times (None when every message decoded: those of the batch), how many did not and the first error."""
     from rosbags.interfaces import MessageDefinitionFormat
     from rosbags.typesys import Stores, get_types_from_idl, get_types_from_msg, get_typestore
 
@@ -96,7 +112,21 @@ def _deserializer(connection: Any, ros1: bool, defaults: Any, cache: dict[tuple[
         store = cache[key]
     msgtype = connection.msgtype
     deserialize = store.deserialize_ros1 if ros1 else store.deserialize_cdr
-    return lambda raw: deserialize(raw, msgtype)
+
+    def decode(batch: list[Message]) -> tuple[list[Any], list[int] | None, int, Exception | None]:
+        try:
+            return [deserialize(raw, msgtype) for raw, _ in batch], None, 0, None  # None: the batch's bag times
+        except Exception:  # noqa: BLE001 -- decode one by one, to keep what can be read and count the rest
+            messages, times, failures, first = [], [], 0, None
+            for raw, t_ns in batch:
+                try:
+                    messages.append(deserialize(raw, msgtype))
+                    times.append(t_ns)
+                except Exception as err:  # noqa: BLE001 -- rosbags raises several kinds for a bad message
+                    failures, first = failures + 1, first or err
+            return messages, times, failures, first
+
+    return decode
 
 
 def _open(path: Path) -> tuple[Any, bool]:
@@ -154,14 +184,18 @@ def read_bag(
                         handlers[c.id] = handler
                         read_topics.add(c.topic)
                 chosen = [c for c in reader.connections if c.id in handlers]
-                failed: dict[int, list[Any]] = {}
+                batches: dict[int, list[Message]] = {c.id: [] for c in chosen}
+                failed: dict[int, list[Any]] = {c.id: [0, None] for c in chosen}
                 for connection, t_ns, raw in reader.messages(connections=chosen) if chosen else ():  # (): all
-                    try:
-                        handlers[connection.id](raw, t_ns)
-                    except Exception as err:  # noqa: BLE001 -- a message that does not decode costs its topic only
-                        failed.setdefault(connection.id, [connection.topic, 0, err])[1] += 1
-                for topic, count, problem in failed.values():
-                    ignored.append({'topic': topic, 'reason': f'{count} message(s) could not be decoded ({problem})'})
+                    batch = batches[connection.id]
+                    batch.append((raw, t_ns))
+                    if len(batch) == BATCH:
+                        _decode(handlers[connection.id], batch, failed[connection.id])
+                for c in chosen:
+                    _decode(handlers[c.id], batches[c.id], failed[c.id])
+                    if failed[c.id][0]:
+                        reason = f'{failed[c.id][0]} message(s) could not be decoded ({failed[c.id][1]})'
+                        ignored.append({'topic': c.topic, 'reason': reason})
         except (ReaderError1, ReaderError2, OSError, KeyError, ValueError) as err:
             msg = (
                 f'cannot read {path} as a ROS bag: {err}. ROS1 bags are .bag files; ROS2 bags are folders with '
@@ -187,6 +221,16 @@ def read_bag(
     return BagContents(samples, world, sorted(read_topics), ignored)
 
 
+def _decode(
+    handler: Callable[[list[Message]], tuple[int, Exception | None]], batch: list[Message], failed: list[Any]
+) -> None:
+    """Hand a batch of messages to its handler and empty it; count what did not decode (and the first error)."""
+    failures, problem = handler(batch)
+    failed[0] += failures
+    failed[1] = failed[1] or problem
+    batch.clear()
+
+
 def _pattern_for(topic: str) -> str:
     """A topic pattern that names a robot by the first part of ``topic``."""
     parts = topic.split('/')
@@ -207,8 +251,9 @@ def _handler(
     frame_re: re.Pattern[str],
     candidates: dict[tuple[str, str, str], _Poses],
     ignored: list[dict[str, str]],
-) -> Callable[[bytes, int], None] | None:
-    """What to do with each message of connection ``c``, or None (and the reason listed) when it is not read."""
+) -> Callable[[list[Message]], tuple[int, Exception | None]] | None:
+    """What to do with the messages of connection ``c`` (the count and first error of those that did not decode),
+    or None (and the reason listed) when it is not read."""
     if c.msgtype not in SUPPORTED:
         ignored.append({'topic': c.topic, 'reason': f'type {c.msgtype} is not read'})
         return None
@@ -223,52 +268,66 @@ def _handler(
             return None
         robot = match.group('robot') if match and 'robot' in match.groupdict() else c.topic
     try:
-        deserialize = _deserializer(c, ros1, defaults, cache)
+        decode = _deserializer(c, ros1, defaults, cache)
     except Exception as err:  # noqa: BLE001 -- rosbags raises several kinds for a definition it cannot parse
         ignored.append({'topic': c.topic, 'reason': f'type definition of {c.msgtype} cannot be read ({err})'})
         return None
 
-    def poses_of(name: str, frame: str) -> list[Row]:
+    def poses_of(name: str, frame: str) -> _Poses:
         key = (name, frame, c.topic)
         if key not in candidates:
             candidates[key] = _Poses(name, frame, c.topic, c.msgtype == TF_MESSAGE)
-        return candidates[key].rows
+        return candidates[key]
 
     if c.msgtype == TF_MESSAGE:
-        return _on_tf(c.topic, deserialize, frame_re, poses_of, ignored)
+        return _on_tf(c.topic, decode, frame_re, poses_of, ignored)
     name = c.topic if robot is None else robot
-    if c.msgtype == POSE_2D:
-        rows_2d = poses_of(name, NO_FRAME)
-
-        def on_pose_2d(raw: bytes, t_ns: int) -> None:
-            m = deserialize(raw)
-            sec, nanosec = divmod(int(t_ns), 1_000_000_000)
-            rows_2d.append((sec, nanosec, m.x, m.y, 0.0, 0.0, float(np.sin(m.theta / 2)), float(np.cos(m.theta / 2))))
-
-        return on_pose_2d
     odometry = c.msgtype == ODOMETRY
-    by_frame: dict[str, list[Row]] = {}
 
-    def on_pose(raw: bytes, t_ns: int) -> None:
-        m = deserialize(raw)
-        h = m.header
-        pose = m.pose.pose if odometry else m.pose
-        p, q = pose.position, pose.orientation
-        rows = by_frame.get(h.frame_id)
-        if rows is None:
-            rows = by_frame[h.frame_id] = poses_of(name, h.frame_id)
-        rows.append((h.stamp.sec, h.stamp.nanosec, p.x, p.y, q.x, q.y, q.z, q.w))
+    def on_poses(batch: list[Message]) -> tuple[int, Exception | None]:
+        messages, times, failures, problem = decode(batch)
+        if c.msgtype == POSE_2D:  # no header: the bag time, no frame
+            bag_times = [t for _, t in batch] if times is None else times
+            rows = [
+                (*divmod(t, 1_000_000_000), m.x, m.y, 0.0, 0.0, math.sin(m.theta / 2), math.cos(m.theta / 2))
+                for m, t in zip(messages, bag_times, strict=True)
+            ]
+            poses_of(name, NO_FRAME).add(rows)
+            return failures, problem
+        poses = [m.pose.pose for m in messages] if odometry else [m.pose for m in messages]
+        stamps = [m.header.stamp for m in messages]
+        rows = [
+            (
+                s.sec,
+                s.nanosec,
+                p.position.x,
+                p.position.y,
+                p.orientation.x,
+                p.orientation.y,
+                p.orientation.z,
+                p.orientation.w,
+            )
+            for s, p in zip(stamps, poses, strict=True)
+        ]
+        frames = [m.header.frame_id for m in messages]
+        kinds = set(frames)
+        if len(kinds) == 1:  # almost always
+            poses_of(name, frames[0]).add(rows)
+        else:
+            for frame in kinds:
+                poses_of(name, frame).add([r for r, f in zip(rows, frames, strict=True) if f == frame])
+        return failures, problem
 
-    return on_pose
+    return on_poses
 
 
 def _on_tf(
     topic: str,
-    deserialize: Callable[[bytes], Any],
+    decode: Callable[[list[Message]], tuple[list[Any], list[int] | None, int, Exception | None]],
     frame_re: re.Pattern[str],
-    poses_of: Callable[[str, str], list[Row]],
+    poses_of: Callable[[str, str], _Poses],
     ignored: list[dict[str, str]],
-) -> Callable[[bytes, int], None]:
+) -> Callable[[list[Message]], tuple[int, Exception | None]]:
     """Handler of a /tf topic: one candidate robot per child frame that matches the frame pattern."""
     names: dict[str, str | None] = {}
 
@@ -283,13 +342,19 @@ def _on_tf(
                 ignored.append({'topic': topic, 'frame': child, 'reason': 'does not match the frame pattern'})
         return names[child]
 
-    def on_tf(raw: bytes, t_ns: int) -> None:
-        for tr in deserialize(raw).transforms:
-            name = name_of(tr.child_frame_id)
-            if name is not None:
-                tl, q = tr.transform.translation, tr.transform.rotation
-                stamp = tr.header.stamp
-                poses_of(name, tr.header.frame_id).append((stamp.sec, stamp.nanosec, tl.x, tl.y, q.x, q.y, q.z, q.w))
+    def on_tf(batch: list[Message]) -> tuple[int, Exception | None]:
+        messages, _, failures, problem = decode(batch)
+        rows: dict[tuple[str, str], list[Row]] = defaultdict(list)
+        for message in messages:
+            for tr in message.transforms:
+                name = name_of(tr.child_frame_id)
+                if name is not None:
+                    tl, q, stamp = tr.transform.translation, tr.transform.rotation, tr.header.stamp
+                    row = (stamp.sec, stamp.nanosec, tl.x, tl.y, q.x, q.y, q.z, q.w)
+                    rows[name, tr.header.frame_id].append(row)
+        for (name, parent), chunk in rows.items():
+            poses_of(name, parent).add(chunk)
+        return failures, problem
 
     return on_tf
 
@@ -300,7 +365,8 @@ def _robots(
     """Robots from the candidate pose streams: /tf frames that move, and pose topics, in the world frame."""
     moving = []
     for poses in candidates.values():
-        if poses.tf and len({r[2:4] for r in poses.rows}) == 1:
+        xy = poses.array()[:, 2:4]
+        if poses.tf and np.all(xy == xy[0]):
             ignored.append({'topic': poses.topic, 'frame': poses.robot, 'reason': 'does not move'})
         else:
             moving.append(poses)
@@ -313,16 +379,16 @@ def _robots(
         )
         raise AnalysisError(msg)
     world = world_frame if world_frame is not None else (frames[0] if frames else None)
-    rows: dict[str, list[Row]] = defaultdict(list)
+    rows: dict[str, list[FloatArray]] = defaultdict(list)
     for poses in moving:
         if poses.frame in (world, NO_FRAME):
-            rows[poses.robot].extend(poses.rows)
+            rows[poses.robot].append(poses.array())
         else:
             where = {'topic': poses.topic, 'frame': poses.robot} if poses.tf else {'topic': poses.topic}
             ignored.append({**where, 'reason': f'pose in frame {poses.frame!r}, not the world frame {world!r}'})
     samples = {}
-    for robot, data in rows.items():
-        arr = np.asarray(data, dtype=float)  # seconds (< 2**31) and nanoseconds are exact as floats
+    for robot, parts in rows.items():
+        arr = np.concatenate(parts)
         stamps = arr[:, 0].astype(np.int64) * 1_000_000_000 + arr[:, 1].astype(np.int64)
         qx, qy, qz, qw = arr[:, 4], arr[:, 5], arr[:, 6], arr[:, 7]
         heading = np.arctan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
