@@ -583,7 +583,7 @@ def analyze(
         pair = ' and '.join(m['min_distance_pair'])
         closest = f'minimum distance {m["min_distance_m"]:.3f} m ({pair}, t = {m["min_distance_time_s"]:.2f} s)'
     else:
-        closest = 'no two robots seen at the same time'
+        closest = 'one robot: no distances' if trajectory.n_robots < 2 else 'no two robots seen at the same time'
     collisions = (
         f'{m["collision_pairs"]} pairs closer than {m["collision_distance_m"]:.3f} m'
         if m['collision_distance_m'] is not None
