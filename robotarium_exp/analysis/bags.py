@@ -49,8 +49,10 @@ NO_FRAME = ''  # Pose2D has no header: it fits any world frame
 Row = tuple[int, int, float, float, float, float, float, float]  # stamp sec, nanosec, x, y, quaternion x, y, z, w
 FloatArray = NDArray[np.float64]
 Message = tuple[bytes, int]  # raw bytes and bag time (ns)
-BATCH = 256
-"""Messages of one connection decoded together: few enough to die young (cheap for the garbage collector)."""
+BATCH = 64
+"""Messages of one connection decoded together: a list comprehension per batch saves Python's per-message work, and
+a batch small enough (a few hundred objects, under the collector's first threshold of 700) dies young; at 128 and
+above, the messages outlive collections and loading is 15-40 % slower (benchmarks/analysis_bench.py)."""
 
 
 @dataclass
