@@ -213,7 +213,7 @@ def test_analyze_a_bag_and_the_demo(tmp_path, capsys) -> None:
     assert capsys.readouterr().err.startswith('error: ')
     assert main(['demo', '--out', str(tmp_path / 'demo')]) == 0
     report = (tmp_path / 'demo' / 'report' / 'report.md').read_text()
-    assert '| collision pairs (< 2 r_p) | 0 |' in report and 'paths.png' in report
+    assert '| collision pairs | 0 |' in report and 'paths.png' in report
 
 
 def test_a_plan_file_is_flown_as_given_and_refused_elsewhere(tmp_path, capsys) -> None:

@@ -532,7 +532,7 @@ def _print_check(report: CheckReport) -> bool:
 
 def analyze(
     inputs: list[Path],
-    scene_name: str,
+    scene_name: str | None,
     out: Path,
     *,
     plan_path: Path | None = None,
@@ -540,31 +540,63 @@ def analyze(
     topic_pattern: str | None = None,
     frame_pattern: str | None = None,
     topics: list[str] | None = None,
+    world_frame: str | None = None,
+    max_gap: str | None = None,
     collision_distance_m: float | None = None,
 ) -> int:
-    """Analyse returned data (testbed folder, our logs, ROS bags) in a scene; write metrics, report and figures."""
+    """Analyse returned data (testbed folder, .mat file, our logs, ROS bags), in a scene or without a tube; write
+    metrics, report and figures."""
     from robotarium_exp.analysis.loaders import load_trajectory
     from robotarium_exp.analysis.report import analyse, write_report
+    from robotarium_exp.analysis.trajectory import DEFAULT_MAX_GAP, MaxGap
     from vtube_planning.geometry.scene import load_scene
 
-    scene = load_scene(scene_name)
-    plan = _plan_for(scene, plan_path=plan_path) if plan_path is not None else None
-    trajectory = load_trajectory(list(inputs), topic_pattern=topic_pattern, frame_pattern=frame_pattern, topics=topics)
-    results = {'data': (trajectory, analyse(trajectory, scene, plan, collision_distance_m=collision_distance_m))}
+    if plan_path is not None and scene_name is None:
+        print('error: --plan needs the scene it was made for (--scene).', file=sys.stderr)
+        return EXIT_BAD_INPUT
+    scene = load_scene(scene_name) if scene_name is not None else None
+    plan = _plan_for(scene, plan_path=plan_path) if plan_path is not None and scene is not None else None
+    gap = MaxGap.parse(max_gap) if max_gap is not None else DEFAULT_MAX_GAP
+    bag_options = {'topic_pattern': topic_pattern, 'frame_pattern': frame_pattern, 'topics': topics}
+    options = {
+        'scene': scene_name,
+        'plan': str(plan_path) if plan_path else None,
+        'max_gap': str(gap),
+        'collision_distance_m': collision_distance_m,
+        'world_frame': world_frame,
+        **bag_options,
+    }
+    trajectory = load_trajectory(list(inputs), max_gap=gap, world_frame=world_frame, **bag_options)
+    results = {'data': analyse(trajectory, scene, plan, collision_distance_m=collision_distance_m, options=options)}
     if compare is not None:
-        simulated = load_trajectory([compare])
-        results['comparison'] = (simulated, analyse(simulated, scene, plan, collision_distance_m=collision_distance_m))
+        simulated = load_trajectory([compare], max_gap=gap)
+        results['comparison'] = analyse(simulated, scene, plan, collision_distance_m=collision_distance_m)
     report = write_report(out, results, scene, plan)
-    m = results['data'][1]
+    m = results['data'].metrics
+    where = f'in scene {scene.name}' if scene is not None else 'without a tube'
     print(
-        f'analysis of {trajectory.source.get("kind")} {trajectory.source.get("path")} in scene {scene.name}: '
-        f'{trajectory.n_robots} robots, {m["frames"]} frames ({m["dropped_frames"]} dropped, {len(m["gaps"])} gaps)'
+        f'analysis of {trajectory.source.get("kind")} {trajectory.source.get("path")} {where}: '
+        f'{trajectory.n_robots} robots, {m["frames"]} frames ({m["complete_frames"]} with every robot), '
+        f'{len(m["gaps"])} gaps, {len(trajectory.source.get("ignored") or [])} topics/frames/variables ignored'
     )
-    passing = 'not every robot passed' if m['passing_time_s'] is None else f'passing time {m["passing_time_s"]:.2f} s'
-    print(
-        f'  {passing}, minimum distance {m["min_distance_m"]:.3f} m, '
-        f'{m["collision_pairs"]} collision pairs, {m["tube_violation_steps"]} tube violations'
+    if m['min_distance_m'] is not None:
+        pair = ' and '.join(m['min_distance_pair'])
+        closest = f'minimum distance {m["min_distance_m"]:.3f} m ({pair}, t = {m["min_distance_time_s"]:.2f} s)'
+    else:
+        closest = 'one robot: no distances' if trajectory.n_robots < 2 else 'no two robots seen at the same time'
+    collisions = (
+        f'{m["collision_pairs"]} pairs closer than {m["collision_distance_m"]:.3f} m'
+        if m['collision_distance_m'] is not None
+        else 'collisions not counted (give --collision-distance)'
     )
+    print(f'  {closest}, {collisions}')
+    if scene is not None:
+        passage = m['passage']
+        if m['passing_time_s'] is None:
+            print(f'  no passing time: {"; ".join(passage["unobserved"])}')
+        else:
+            print(f'  passing time {m["passing_time_s"]:.2f} s')
+        print(f'  {m["tube_violation_steps"]} tube violations (robot-frames)')
     print(f'  written {report}, {out / "metrics.json"}')
     return EXIT_OK
 
@@ -800,21 +832,30 @@ def _parser() -> argparse.ArgumentParser:
     )
     ana = commands.add_parser('analyze', help='metrics, figures and a report of returned or recorded data')
     ana.add_argument(
-        'inputs', type=Path, nargs='+', help='a folder of vtube_*.npy, a .npz log, .bag files or a bag folder'
+        'inputs',
+        type=Path,
+        nargs='+',
+        help='a folder of vtube_*.npy, a .npz log, a .mat file, .bag files, a ROS2 bag folder or .mcap/.db3 files',
     )
-    ana.add_argument('--scene', required=True, help='the scene the data was recorded in')
+    ana.add_argument('--scene', default=None, help='the scene the data was recorded in (omit: no tube metrics)')
     ana.add_argument('--out', type=Path, required=True, help='folder for metrics.json, report.md and figures')
     ana.add_argument('--plan', type=Path, default=None, help='a plan file (vtube plan) to track against')
     ana.add_argument('--compare', type=Path, default=None, help='a simulation log to show side by side')
     ana.add_argument('--topic', action='append', default=None, dest='topics', help='bag topic(s) to read')
     ana.add_argument('--topic-pattern', default=None, help='regex with a (?P<robot>...) group for bag topics')
     ana.add_argument('--frame-pattern', default=None, help='regex with a (?P<robot>...) group for /tf child frames')
+    ana.add_argument('--world-frame', default=None, help='reference frame of the robots (/tf parent, header.frame_id)')
+    ana.add_argument(
+        '--max-gap',
+        default=None,
+        help="longest hole in a robot's samples that is interpolated, e.g. 3periods (default), 0.25s, 250ms",
+    )
     ana.add_argument(
         '--collision-distance',
         type=float,
         default=None,
         dest='collision_distance_m',
-        help="centre distance counted as a collision (default: the scene's 2 r_p)",
+        help="centre distance counted as a collision (default: the scene's 2 r_p; none without a scene)",
     )
     dem = commands.add_parser('demo', help='the whole pipeline on the bundled simulator, into one report')
     dem.add_argument('--out', type=Path, required=True, help='folder for everything the demo writes')
@@ -848,6 +889,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 topic_pattern=args.topic_pattern,
                 frame_pattern=args.frame_pattern,
                 topics=args.topics,
+                world_frame=args.world_frame,
+                max_gap=args.max_gap,
                 collision_distance_m=args.collision_distance_m,
             )
         if args.command == 'demo':

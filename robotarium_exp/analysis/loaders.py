@@ -1,55 +1,126 @@
 """Load a :class:`~robotarium_exp.analysis.trajectory.Trajectory` from whatever an experiment returned.
 
 * a folder as downloaded from the Robotarium: the submission's ``vtube_t.npy`` and ``vtube_poses.npy``;
+* a ``.mat`` file a MATLAB script saved on the Robotarium (:mod:`robotarium_exp.analysis.matfiles`);
 * our own ``.npz`` logs (``vtube simulate``, ``vtube robotarium run``, the bundled simulator's pose log);
-* ROS1 ``.bag`` files and ROS2 bag folders (:mod:`robotarium_exp.analysis.bags`).
+* ROS1 ``.bag`` files, ROS2 bag folders, bare ``.mcap`` / ``.db3`` files and folders of them without
+  ``metadata.yaml`` (:mod:`robotarium_exp.analysis.bags`).
 
-Arrays load without pickle. A truncated or corrupt file is reported by name, with what else could be read.
+Arrays load without pickle. A truncated or corrupt file is reported by name, with what else could be read. Every
+loader records the files it read (:func:`input_record` gives their sizes and hashes).
 """
 
 from __future__ import annotations
 
+import hashlib
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from robotarium_exp.analysis.bags import read_bag
-from robotarium_exp.analysis.trajectory import Trajectory
+from robotarium_exp.analysis.matfiles import read_mat
+from robotarium_exp.analysis.trajectory import (
+    DEFAULT_MAX_GAP,
+    MaxGap,
+    RobotSamples,
+    Trajectory,
+    assemble,
+    seconds_to_ns,
+)
 from robotarium_exp.errors import AnalysisError
 from vtube_planning.errors import LogError
 from vtube_planning.swarm.log import read_log
 
 SUBMISSION_PREFIX = 'vtube_'
+ROS2_STORAGE = ('.mcap', '.db3')
+ACCEPTED = (
+    'a folder of vtube_*.npy files, a .npz log, a .mat file, .bag files, a ROS2 bag folder, or .mcap / .db3 files'
+)
 
 
-def load_trajectory(inputs: list[str | Path], **bag_options: Any) -> Trajectory:
-    """Dispatch on what ``inputs`` are (see the module docstring)."""
+def load_trajectory(inputs: list[str | Path], *, max_gap: MaxGap = DEFAULT_MAX_GAP, **bag_options: Any) -> Trajectory:
+    """Dispatch on what ``inputs`` are (see the module docstring); ``bag_options`` go to :func:`read_bag`."""
     paths = [Path(p) for p in inputs]
     if not paths:
-        msg = 'no input given; pass a folder of .npy files, a .npz log, or ROS bags.'
+        msg = f'no input given; pass {ACCEPTED}.'
         raise AnalysisError(msg)
+    for path in paths:
+        if not path.exists():
+            msg = f'{str(path)!r} does not exist.'
+            raise AnalysisError(msg)
+    bags = [bag for path in paths for bag in _bags_in(path)]
     first = paths[0]
-    if (first.is_dir() and (first / 'metadata.yaml').exists()) or first.suffix == '.bag':
-        return read_bag(paths, **bag_options)
-    if first.is_dir():
-        return load_submission_folder(first)
-    if first.suffix == '.npz':
-        return load_npz_log(first)
-    if not first.exists():
-        msg = f'{str(first)!r} does not exist.'
+    if bags:
+        if len(bags) < len(paths) and len(paths) > 1:
+            msg = f'{[str(p) for p in paths]}: give either ROS bags or one other input, not both.'
+            raise AnalysisError(msg)
+        contents = read_bag(bags, **bag_options)
+        files = [f for bag in bags for f in ([bag] if bag.is_file() else sorted(bag.iterdir()))]
+        source = {
+            'kind': 'ros bag',
+            'path': str(first),
+            'files': [str(f) for f in files],
+            'topics': contents.topics,
+            'world_frame': contents.world_frame,
+            'ignored': contents.ignored,
+        }
+        return assemble(contents.samples, source=source, max_gap=max_gap)
+    if len(paths) > 1:
+        msg = f'several inputs are read together only when they are ROS bags; analyse {str(first)!r} on its own.'
         raise AnalysisError(msg)
-    msg = f'cannot tell what {str(first)!r} is: expected a folder, a .npz log, a .bag file or a ROS2 bag folder.'
-    raise AnalysisError(msg)
+    if first.is_dir():
+        samples, source = load_submission_folder(first)
+    elif first.suffix == '.npz':
+        samples, source = load_npz_log(first)
+    elif first.suffix == '.mat':
+        t_s, poses, details = read_mat(first)
+        samples = _per_robot(t_s, poses)
+        source = {'kind': 'robotarium .mat', 'path': str(first), 'files': [str(first)], **details}
+    else:
+        msg = f'cannot tell what {str(first)!r} is: expected {ACCEPTED}.'
+        raise AnalysisError(msg)
+    return assemble(samples, source=source, max_gap=max_gap)
 
 
-def load_submission_folder(folder: Path) -> Trajectory:
+def _bags_in(path: Path) -> list[Path]:
+    """The bags ``path`` stands for: itself (a .bag, .mcap or .db3 file, a folder with metadata.yaml), or the
+    storage files of a folder without metadata.yaml that holds no submission files."""
+    if path.is_file():
+        return [path] if path.suffix in ('.bag', *ROS2_STORAGE) else []
+    if (path / 'metadata.yaml').exists():
+        return [path]
+    if any(path.glob(SUBMISSION_PREFIX + '*.npy')):
+        return []
+    return sorted(f for f in path.iterdir() if f.suffix in ('.bag', *ROS2_STORAGE))
+
+
+def input_record(files: list[str]) -> list[dict[str, Any]]:
+    """Path, size and SHA-256 of each file read."""
+    record = []
+    for name in files:
+        digest = hashlib.sha256()
+        with Path(name).open('rb') as stream:
+            for block in iter(lambda: stream.read(1 << 20), b''):
+                digest.update(block)
+        record.append({'path': name, 'bytes': Path(name).stat().st_size, 'sha256': digest.hexdigest()})
+    return record
+
+
+def _per_robot(t_s: np.ndarray, poses: np.ndarray) -> dict[str, RobotSamples]:
+    """Poses (T, 3, N) on stamps in seconds (T,) -> each robot's samples."""
+    stamps = seconds_to_ns(t_s)
+    return {f'robot_{k}': RobotSamples(stamps, poses[:, :2, k], poses[:, 2, k]) for k in range(poses.shape[2])}
+
+
+def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
     """The arrays a submission saved (``vtube_t.npy``, ``vtube_poses.npy``), as downloaded from the testbed."""
     files = sorted(folder.glob(SUBMISSION_PREFIX + '*.npy'))
     if not files:
+        held = sorted(f.name for f in folder.iterdir())[:10]
         msg = (
-            f'{str(folder)!r} holds no {SUBMISSION_PREFIX}*.npy files; download the data files of the experiment '
-            'into one folder.'
+            f'{str(folder)!r} holds no {SUBMISSION_PREFIX}*.npy files and no bag (it holds {held}); pass the folder '
+            f"the experiment's data files were downloaded into, or one file: {ACCEPTED}."
         )
         raise AnalysisError(msg)
     arrays, broken = {}, []
@@ -66,32 +137,34 @@ def load_submission_folder(folder: Path) -> Trajectory:
         )
         raise AnalysisError(msg)
     steps = min(arrays['t'].shape[0], arrays['poses'].shape[0])  # a save interrupted between two files
-    poses = arrays['poses'][:steps]
-    return Trajectory(
-        np.asarray(arrays['t'][:steps], dtype=float),
-        poses[:, :2],
-        poses[:, 2],
-        tuple(f'robot_{k}' for k in range(poses.shape[2])),
-        {
-            'kind': 'robotarium submission',
-            'path': str(folder),
-            'unreadable': broken,
-            'arrays': {k: list(v.shape) for k, v in arrays.items()},
-        },
-    )
+    source = {
+        'kind': 'robotarium submission',
+        'path': str(folder),
+        'files': [str(folder / f'{SUBMISSION_PREFIX}{name}.npy') for name in ('t', 'poses')],
+        'unreadable': broken,
+        'arrays': {k: list(v.shape) for k, v in arrays.items()},
+    }
+    return _per_robot(np.asarray(arrays['t'][:steps], dtype=float), arrays['poses'][:steps]), source
 
 
-def load_npz_log(path: Path) -> Trajectory:
+def load_npz_log(path: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
     """Our logs (:mod:`vtube_planning.swarm.log`): simulations, Robotarium experiments, the bundled simulator's."""
     try:
         arrays, meta = read_log(path)
     except LogError as err:
         raise AnalysisError(str(err)) from err
     positions = arrays['positions_m']
-    return Trajectory(
-        np.asarray(arrays['t_s'], dtype=float),
-        positions,
-        arrays.get('headings_rad'),
-        tuple(f'robot_{k}' for k in range(positions.shape[2])),
-        {'kind': 'vtube log', 'path': str(path), 'scene': meta.get('scene'), 'planned': meta.get('planned')},
-    )
+    headings = arrays.get('headings_rad')
+    stamps = seconds_to_ns(arrays['t_s'])
+    samples = {
+        f'robot_{k}': RobotSamples(stamps, positions[:, :, k], None if headings is None else headings[:, k])
+        for k in range(positions.shape[2])
+    }
+    source = {
+        'kind': 'vtube log',
+        'path': str(path),
+        'files': [str(path)],
+        'scene': meta.get('scene'),
+        'planned': meta.get('planned'),
+    }
+    return samples, source

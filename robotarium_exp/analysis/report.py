@@ -1,46 +1,39 @@
-"""Metrics and reports of a trajectory in a scene: the paper's measures, tracking against a plan, expansion.
+"""Metrics and reports of a trajectory, with or without a tube: distances, coverage, the passage, tracking.
 
-Works on any :class:`~robotarium_exp.analysis.trajectory.Trajectory` (testbed files, our logs, motion-capture bags), on
-the frames where every robot has a position; dropped frames and reported gaps are part of the result.
+Works on any :class:`~robotarium_exp.analysis.trajectory.Trajectory` (testbed files, our logs, motion-capture bags).
+Without a scene the result holds the measures that need no tube: robots, frames, each robot's coverage, gaps,
+pairwise distances and collisions. With a scene it adds the passage (:mod:`.passage`: a passing time only for a
+passage observed whole), tube violations over each robot's own coverage, the expansion before the narrowing and,
+with a plan, the tracking errors (on the frames where every robot has a position). The result records what was
+read (paths, sizes, hashes), the options and the package version, and is strict JSON (None for what is missing).
 """
 
 from __future__ import annotations
 
 import json
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from robotarium_exp.analysis.distances import PairDistances, pair_distances
+from robotarium_exp.analysis.loaders import input_record
+from robotarium_exp.analysis.passage import AlongTube, along_tube, observed_passage
 from robotarium_exp.analysis.trajectory import Trajectory
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
-from vtube_planning.swarm.metrics import passage_metrics, strict_json
-from vtube_planning.swarm.step import swarm_density
+from vtube_planning.swarm.metrics import strict_json, tracking_errors, tube_violations
 
 
-def along_tube(trajectory: Trajectory, scene: Scene) -> dict[str, np.ndarray]:
-    """Per complete frame: time, positions, arc lengths, clearances, speed along the tube, measured density."""
-    frames = trajectory.complete_frames()
-    t = trajectory.t_s[frames]
-    positions = trajectory.positions_m[frames]
-    steps, _, n = positions.shape
-    projection = scene.tube.project(positions.transpose(1, 0, 2).reshape(2, -1))
-    l_m = projection.l_m.reshape(steps, n)
-    clearance = projection.clearance_m.reshape(steps, n)
-    tangent = projection.tangent.reshape(2, steps, n)
-    velocity = np.gradient(positions, t, axis=0) if steps > 1 else np.zeros_like(positions)
-    forward = np.einsum('tin,itn->tn', velocity, tangent)
-    density = np.array([swarm_density(scene.tube, row, scene.swarm.r_a_m) for row in l_m])
-    return {
-        't_s': t,
-        'positions_m': positions,
-        'l_m': l_m,
-        'clearance_m': clearance,
-        'forward_speed_mps': forward,
-        'density_per_m2': density,
-        'dropped_frames': int((~frames).sum()),
-    }
+@dataclass(frozen=True)
+class Analysis:
+    """A trajectory, its distances, what the tube says of it (None without a scene), and the metrics (JSON)."""
+
+    trajectory: Trajectory
+    distances: PairDistances
+    along: AlongTube | None
+    metrics: dict[str, Any]
 
 
 def narrowing_start(scene: Scene) -> float:
@@ -51,83 +44,197 @@ def narrowing_start(scene: Scene) -> float:
 
 
 def analyse(
-    trajectory: Trajectory, scene: Scene, plan: Plan | None = None, *, collision_distance_m: float | None = None
-) -> dict[str, Any]:
-    """The measures of :func:`vtube_planning.swarm.metrics.passage_metrics` plus expansion, data quality and
-    source, as strict JSON values (no NaN).
+    trajectory: Trajectory,
+    scene: Scene | None = None,
+    plan: Plan | None = None,
+    *,
+    collision_distance_m: float | None = None,
+    options: dict[str, Any] | None = None,
+) -> Analysis:
+    """Measure ``trajectory`` (module docstring).
 
-    ``collision_distance_m`` overrides the scene's 2 r_p as the distance below which two robots collide.
+    ``collision_distance_m`` is the distance below which two robots collide: by default the scene's 2 r_p; without
+    a scene and without it, collisions are not counted (None).
     """
-    data = along_tube(trajectory, scene)
-    collision = 2.0 * scene.swarm.r_p_m if collision_distance_m is None else collision_distance_m
-    metrics = passage_metrics(
-        data['t_s'],
-        data['positions_m'],
-        data['l_m'],
-        data['clearance_m'],
-        scene.tube.length_m,
-        collision_distance_m=collision,
-        forward_speed_mps=data['forward_speed_mps'],
-        density_per_m2=data['density_per_m2'],
-        plan=plan,
-    ).to_json()
-    start = narrowing_start(scene)
-    extent = np.ptp(data['l_m'], axis=1)
-    k = int(np.argmax(data['l_m'].max(axis=1) >= start)) if np.any(data['l_m'].max(axis=1) >= start) else -1
+    from vtube_planning import __version__
+
+    ids = trajectory.robot_ids
+    collision = collision_distance_m if collision_distance_m is not None or scene is None else 2.0 * scene.swarm.r_p_m
+    distances = pair_distances(trajectory.positions_m, collision)
+    t = trajectory.t_s
+    pairs = [
+        {
+            'robots': [ids[i], ids[j]],
+            'common_frames': int(n),
+            'min_distance_m': float(d),
+            'time_s': float(t[k]) if k >= 0 else None,
+            'frames_closer': int(below) if collision is not None else None,
+        }
+        for i, j, n, d, k, below in zip(
+            distances.first,
+            distances.second,
+            distances.common_frames,
+            distances.min_m,
+            distances.min_frame,
+            distances.below,
+            strict=True,
+        )
+    ]
+    measured = np.isfinite(distances.min_m)
+    closest = pairs[int(np.argmin(np.where(measured, distances.min_m, np.inf)))] if measured.any() else None
+    colliding = [p['robots'] for p in pairs if collision is not None and p['frames_closer']]
+    complete = trajectory.complete_frames()
+    metrics: dict[str, Any] = {
+        'robots': trajectory.n_robots,
+        'robot_ids': list(ids),
+        'frames': int(t.size),
+        'complete_frames': int(complete.sum()),
+        'coverage': [asdict(c) for c in trajectory.coverage],
+        'gaps': [asdict(g) for g in trajectory.gaps],
+        'min_distance_m': closest['min_distance_m'] if closest else None,
+        'min_distance_pair': closest['robots'] if closest else None,
+        'min_distance_time_s': closest['time_s'] if closest else None,
+        'pairs_without_common_frames': [p['robots'] for p in pairs if not p['common_frames']],
+        'collision_distance_m': collision,
+        'collision_pairs': len(colliding) if collision is not None else None,
+        'colliding_pairs': colliding if collision is not None else None,
+        'collision_frames': distances.frames_below if collision is not None else None,
+        'pairs': pairs,
+    }
+    along = along_tube(trajectory, scene) if scene is not None else None
+    if scene is not None and along is not None:
+        metrics.update(_tube_metrics(trajectory, scene, plan, along))
     metrics.update(
         {
-            'robots': trajectory.n_robots,
-            'frames': int(data['t_s'].size),
-            'dropped_frames': data['dropped_frames'],
-            'gaps': [{'robot': g.robot, 'start_s': g.start_s, 'end_s': g.end_s} for g in trajectory.gaps],
-            'narrowing_start_m': start,
-            'extent_start_m': float(extent[0]),
-            'extent_at_narrowing_m': float(extent[k]) if k >= 0 else float('nan'),
             'source': trajectory.source,
+            'inputs': input_record(trajectory.source.get('files', [])),
+            'options': options or {},
+            'scene': scene.name if scene is not None else None,
+            'plan': plan is not None,
+            'vtube_version': __version__,
         }
     )
-    return strict_json(metrics)
+    return Analysis(trajectory, distances, along, strict_json(metrics))
 
 
-def write_report(
-    out: Path, results: dict[str, tuple[Trajectory, dict[str, Any]]], scene: Scene, plan: Plan | None
-) -> Path:
-    """metrics.json, report.md and the figures for one or more analysed trajectories (label -> result)."""
+def _tube_metrics(trajectory: Trajectory, scene: Scene, plan: Plan | None, along: AlongTube) -> dict[str, Any]:
+    """The passage, tube violations, expansion and tracking."""
+    length = scene.tube.length_m
+    passage = observed_passage(along, length, trajectory.robot_ids)
+    violation_steps, robots_outside, max_outside = tube_violations(along.l_m, along.clearance_m, length)
+    out: dict[str, Any] = {
+        'passing_time_s': passage.passing_time_s,
+        'completed': passage.passing_time_s is not None,
+        'passage': asdict(passage),
+        'first_entry_s': passage.first_entry_s,
+        'last_exit_s': passage.last_exit_s,
+        'robots_passed': passage.robots_passed,
+        'tube_violation_steps': violation_steps,
+        'robots_outside': robots_outside,
+        'max_outside_m': max_outside,
+    }
+    complete = along.complete
+    start = narrowing_start(scene)
+    out['narrowing_start_m'] = start
+    l_c = along.l_m[complete]
+    if l_c.size:
+        extent = np.ptp(l_c, axis=1)
+        reached = np.flatnonzero(l_c.max(axis=1) >= start)
+        out['extent_start_m'] = float(extent[0])
+        out['extent_at_narrowing_m'] = float(extent[reached[0]]) if reached.size else None
+    else:
+        out['extent_start_m'] = out['extent_at_narrowing_m'] = None
+    if plan is not None and l_c.size:
+        out.update(
+            tracking_errors(
+                l_c, along.forward_speed_mps[complete], along.density_per_m2[complete], plan, scene.tube.length_m
+            )
+        )
+    return out
+
+
+def write_report(out: Path, results: dict[str, Analysis], scene: Scene | None, plan: Plan | None) -> Path:
+    """metrics.json, report.md and the figures for one or more analysed trajectories (label -> analysis)."""
     from robotarium_exp.analysis.plots import analysis_figures
     from vtube_planning.plots import save_figure
 
     out.mkdir(parents=True, exist_ok=True)
     (out / 'metrics.json').write_text(
-        json.dumps({k: m for k, (_, m) in results.items()}, indent=1, allow_nan=False), encoding='utf-8'
+        json.dumps({k: a.metrics for k, a in results.items()}, indent=1, allow_nan=False), encoding='utf-8'
     )
     figures = {
         name: save_figure(fig, out / f'{name}.png').name for name, fig in analysis_figures(results, scene, plan).items()
     }
     rows = [
-        ('passing time [s]', 'passing_time_s', '.2f'),
+        ('robots', 'robots', 'd'),
+        ('frames (every robot present)', 'frames', 'd'),
         ('minimum distance [m]', 'min_distance_m', '.3f'),
-        ('collision pairs (< 2 r_p)', 'collision_pairs', 'd'),
-        ('tube violations [robot-steps]', 'tube_violation_steps', 'd'),
+        ('collision distance [m]', 'collision_distance_m', '.3f'),
+        ('collision pairs', 'collision_pairs', 'd'),
+        ('passing time [s]', 'passing_time_s', '.2f'),
+        ('tube violations [robot-frames]', 'tube_violation_steps', 'd'),
         ('swarm length at the narrowing [m]', 'extent_at_narrowing_m', '.3f'),
         ('speed tracking, mean [m/s]', 'speed_tracking_mean_mps', '.4f'),
         ('density tracking, mean [1/m^2]', 'density_tracking_mean_per_m2', '.3f'),
-        ('frames (dropped)', 'frames', 'd'),
     ]
     labels = list(results)
-    lines = [f'# Trajectory analysis: scene {scene.name}', '', f'Plan: {"given" if plan else "none"}. Sources:', '']
-    lines += [f'- {label}: {m["source"].get("kind")} `{m["source"].get("path")}`' for label, (_, m) in results.items()]
+    title = f'scene {scene.name}' if scene is not None else 'no tube (no scene given)'
+    lines = [f'# Trajectory analysis: {title}', '', f'Plan: {"given" if plan else "none"}. Sources:', '']
+    lines += [
+        f'- {label}: {a.metrics["source"].get("kind")} `{a.metrics["source"].get("path")}`'
+        for label, a in results.items()
+    ]
     lines += ['', '| measure | ' + ' | '.join(labels) + ' |', '|---|' + '---|' * len(labels)]
-    for title, key, fmt in rows:
+    for name, key, fmt in rows:
         cells = []
         for label in labels:
-            value = results[label][1].get(key)
-            cells.append('–' if value is None else format(value, fmt))
-        lines.append(f'| {title} | ' + ' | '.join(cells) + ' |')
-    for label in labels:
-        gaps = results[label][1]['gaps']
-        if gaps:
-            lines.append(f'\n{label}: {len(gaps)} gap(s) in the data, not interpolated: {gaps[:5]}')
+            m = results[label].metrics
+            value = m.get(key)
+            cell = '–' if value is None else format(value, fmt)
+            if key == 'frames':
+                cell += f' ({m["complete_frames"]})'
+            if key == 'min_distance_m' and value is not None:
+                cell += f' ({" - ".join(m["min_distance_pair"])}, t = {m["min_distance_time_s"]:.2f} s)'
+            cells.append(cell)
+        lines.append(f'| {name} | ' + ' | '.join(cells) + ' |')
+    for label, analysis in results.items():
+        lines += _notes(label, analysis.metrics)
     lines += [''] + [f'![{name}]({file})' for name, file in figures.items()] + ['']
     path = out / 'report.md'
     path.write_text('\n'.join(lines), encoding='utf-8')
     return path
+
+
+def _notes(label: str, m: dict[str, Any]) -> list[str]:
+    """Coverage, gaps, what was ignored and what of the passage was not observed, in words."""
+    lines = [
+        '',
+        f'## {label}',
+        '',
+        '| robot | samples | first [s] | last [s] | frames | missing: before, after, gaps |',
+    ]
+    lines.append('|---|---|---|---|---|---|')
+    for c in m['coverage']:
+        first = '–' if c['first_s'] is None else f'{c["first_s"]:.2f}'
+        last = '–' if c['last_s'] is None else f'{c["last_s"]:.2f}'
+        lines.append(
+            f'| {c["robot"]} | {c["samples"]} | {first} | {last} | {c["frames"]} | '
+            f'{c["before_first"]}, {c["after_last"]}, {c["in_gaps"]} |'
+        )
+    left_out = {k: sum(c[k] for c in m['coverage']) for k in ('repeated_stamps', 'non_finite')}
+    if any(left_out.values()):
+        lines.append(
+            f'\nSamples left out: {left_out["repeated_stamps"]} at a repeated stamp, '
+            f'{left_out["non_finite"]} with a NaN or infinite position.'
+        )
+    if m['gaps']:
+        lines.append(f'\n{len(m["gaps"])} gap(s), never interpolated across: {m["gaps"][:5]}')
+    ignored = m['source'].get('ignored') or []
+    if ignored:
+        lines.append(
+            f'\nIgnored ({len(ignored)}): ' + '; '.join(' '.join(str(v) for v in i.values()) for i in ignored[:20])
+        )
+    passage = m.get('passage')
+    if passage and passage['unobserved']:
+        lines.append('\nNo passing time: the passage was not observed whole: ' + '; '.join(passage['unobserved']) + '.')
+    return lines

@@ -1,30 +1,119 @@
-"""One trajectory type for every source: time stamps, positions (T, 2, N), headings, robot ids, provenance.
+"""One trajectory type for every source: frames, positions (T, 2, N), headings, robot ids, coverage, provenance.
 
-Sources differ in rate and completeness. :func:`on_common_stamps` puts robots sampled at different times onto
-one clock by linear interpolation, but never across a gap: samples inside a gap (more than ``gap_factor`` median
-periods without data) stay NaN and the gap is reported in ``Trajectory.gaps``.
+Sources differ in rate and completeness: robots start and stop at different times, drop out for seconds, and are
+stamped at their own instants. Loaders therefore hand over each robot's own samples (:class:`RobotSamples`, stamps
+in integer nanoseconds), and :func:`assemble` puts them on one clock without resampling: the frames are the union
+of every robot's stamps. A robot has a position at a frame when it has a sample there, or when the frame lies
+between two of its samples that are at most the largest bridged hole (:class:`MaxGap`) apart (linear
+interpolation); elsewhere its position is NaN. Nothing is dropped silently: every sample left out (a repeated
+stamp, a non-finite position) and every frame a robot misses (before its first sample, after its last, inside a
+gap) is counted in its :class:`Coverage`.
 """
 
 from __future__ import annotations
 
+import math
+import re
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from robotarium_exp.errors import AnalysisError
 
 FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+_MAX_GAP = re.compile(r'^\s*(?P<value>\d+(?:\.\d*)?|\.\d+)\s*(?P<unit>s|ms|periods?|p)\s*$')
+
+
+@dataclass(frozen=True)
+class MaxGap:
+    """The longest hole between two samples of a robot that is bridged by interpolation; a longer one is a gap.
+
+    Given in seconds or in periods (multiples of the robot's own median sample period), and compared exactly, in
+    integer nanoseconds: a hole of exactly the limit is bridged.
+    """
+
+    value: Fraction
+    unit: str
+
+    @classmethod
+    def parse(cls, text: str) -> MaxGap:
+        """``'3periods'`` (also ``'3p'``), ``'0.25s'`` or ``'250ms'``."""
+        match = _MAX_GAP.match(text)
+        if not match:
+            msg = f"max gap {text!r} is not a number with a unit; write e.g. '3periods', '0.25s' or '250ms'."
+            raise AnalysisError(msg)
+        value, unit = Fraction(match['value']), match['unit']
+        if unit == 'ms':
+            value, unit = value / 1000, 's'
+        return cls(value, 's' if unit == 's' else 'periods')
+
+    def limit_ns(self, period_ns: Fraction) -> int:
+        """The longest bridged hole in nanoseconds, for a robot whose median period is ``period_ns``."""
+        scale = period_ns if self.unit == 'periods' else Fraction(1_000_000_000)
+        return math.floor(self.value * scale)
+
+    def __str__(self) -> str:
+        return f'{float(self.value):g}{"s" if self.unit == "s" else "periods"}'
+
+
+DEFAULT_MAX_GAP = MaxGap(Fraction(3), 'periods')
+
+
+@dataclass(frozen=True)
+class RobotSamples:
+    """One robot's samples as recorded: stamps (k,) in integer nanoseconds (any order, repeats allowed), positions
+    (k, 2), headings (k,) or None."""
+
+    stamps_ns: IntArray
+    xy_m: FloatArray
+    heading_rad: FloatArray | None = None
 
 
 @dataclass(frozen=True)
 class Gap:
-    """A stretch without samples of one robot, in seconds."""
+    """A hole longer than the bridged limit in one robot's samples: the samples before and after it, in seconds."""
 
     robot: str
     start_s: float
     end_s: float
+
+
+@dataclass(frozen=True)
+class Coverage:
+    """What one robot contributes to a trajectory.
+
+    Attributes
+    ----------
+    samples
+        Samples used.
+    first_s, last_s
+        Its first and last sample (NaN without any).
+    frames
+        Frames at which it has a position.
+    before_first, after_last, in_gaps
+        Frames at which it has none, by reason.
+    repeated_stamps, non_finite
+        Samples left out: a second sample at a stamp already seen, a NaN or infinite position.
+    max_gap_s
+        The longest hole bridged for this robot.
+    """
+
+    robot: str
+    samples: int
+    first_s: float
+    last_s: float
+    frames: int
+    before_first: int
+    after_last: int
+    in_gaps: int
+    repeated_stamps: int
+    non_finite: int
+    max_gap_s: float
 
 
 @dataclass(frozen=True)
@@ -34,17 +123,19 @@ class Trajectory:
     Attributes
     ----------
     t_s
-        Time stamps in seconds from the first sample, (T,), increasing.
+        Time of each frame in seconds from the first one, (T,), increasing.
     positions_m
-        Positions, (T, 2, N); NaN where a robot has no data (inside a reported gap).
+        Positions, (T, 2, N); NaN where a robot has no position (see ``coverage``).
     headings_rad
         Headings, (T, N), when the source has them.
     robot_ids
         One name per robot (column).
     source
-        Where it came from: kind, path, topic names, anything the loader knows.
+        Where it came from: kind, paths, the files read, what was ignored and why.
     gaps
-        Stretches without data.
+        Holes longer than the bridged limit, never interpolated across.
+    coverage
+        Per robot: samples used and left out, frames with and without a position.
     """
 
     t_s: FloatArray
@@ -53,6 +144,7 @@ class Trajectory:
     robot_ids: tuple[str, ...]
     source: dict[str, Any] = field(default_factory=dict)
     gaps: tuple[Gap, ...] = ()
+    coverage: tuple[Coverage, ...] = ()
 
     def __post_init__(self) -> None:
         t, p = np.asarray(self.t_s), np.asarray(self.positions_m)
@@ -65,81 +157,111 @@ class Trajectory:
         if t.size == 0:
             msg = f'the trajectory from {self.source.get("path", "?")} has no samples.'
             raise AnalysisError(msg)
-        if np.any(np.diff(t) <= 0):
-            msg = f'time stamps must increase; {self.source.get("path", "?")} has repeated or decreasing stamps.'
-            raise AnalysisError(msg)
         if not np.all(np.isfinite(t)):
             msg = 'time stamps must be finite.'
+            raise AnalysisError(msg)
+        if np.any(np.diff(t) <= 0):
+            msg = f'time stamps must increase; {self.source.get("path", "?")} has repeated or decreasing stamps.'
             raise AnalysisError(msg)
 
     @property
     def n_robots(self) -> int:
         return len(self.robot_ids)
 
+    def present(self) -> NDArray[np.bool_]:
+        """Whether each robot has a position at each frame, (T, N)."""
+        return np.all(np.isfinite(self.positions_m), axis=1)
+
     def complete_frames(self) -> NDArray[np.bool_]:
-        """Steps at which every robot has a position, (T,)."""
-        return np.all(np.isfinite(self.positions_m), axis=(1, 2))
+        """Frames at which every robot has a position, (T,)."""
+        return np.all(self.present(), axis=1)
 
 
-def on_common_stamps(
-    samples: dict[str, tuple[FloatArray, FloatArray, FloatArray | None]],
-    *,
-    source: dict[str, Any],
-    rate_hz: float | None = None,
-    gap_factor: float = 3.0,
+def seconds_to_ns(t_s: ArrayLike) -> IntArray:
+    """Stamps in seconds (a file's float array) as integer nanoseconds, rounded to the nanosecond."""
+    return np.round(np.asarray(t_s, dtype=float) * 1e9).astype(np.int64)
+
+
+def _clean(rid: str, samples: RobotSamples) -> tuple[IntArray, FloatArray, FloatArray | None, int, int]:
+    """Sorted by stamp, non-finite positions and repeated stamps left out (and counted)."""
+    stamps = np.asarray(samples.stamps_ns, dtype=np.int64)
+    xy = np.asarray(samples.xy_m, dtype=float).reshape(-1, 2)
+    heading = None if samples.heading_rad is None else np.asarray(samples.heading_rad, dtype=float)
+    if stamps.ndim != 1 or xy.shape[0] != stamps.size or (heading is not None and heading.shape != stamps.shape):
+        msg = f'robot {rid!r}: {stamps.size} stamps but positions {xy.shape} and headings of another length.'
+        raise AnalysisError(msg)
+    order = np.argsort(stamps, kind='stable')
+    stamps, xy = stamps[order], xy[order]
+    heading = None if heading is None else heading[order]
+    finite = np.all(np.isfinite(xy), axis=1)
+    stamps, xy = stamps[finite], xy[finite]
+    heading = None if heading is None else heading[finite]
+    first = np.concatenate([[True], np.diff(stamps) > 0])
+    return (
+        stamps[first],
+        xy[first],
+        None if heading is None else heading[first],
+        int((~first).sum()),
+        int((~finite).sum()),
+    )
+
+
+def assemble(
+    samples: dict[str, RobotSamples], *, source: dict[str, Any], max_gap: MaxGap = DEFAULT_MAX_GAP
 ) -> Trajectory:
-    """Robots sampled at their own stamps -> one Trajectory on common stamps.
-
-    Parameters
-    ----------
-    samples
-        Per robot id: stamps in seconds (k,), positions (k, 2), headings (k,) or None.
-    rate_hz
-        Rate of the common stamps; defaults to the fastest robot's median rate.
-    gap_factor
-        A stretch longer than this many median periods without a sample is a gap.
-    """
+    """Robots sampled at their own stamps -> one :class:`Trajectory` on the union of their stamps (module doc)."""
     if not samples:
         msg = f'no robot data found in {source.get("path", "?")}; check the topic or frame pattern.'
         raise AnalysisError(msg)
     ids = tuple(sorted(samples))
-    periods = []
-    for rid in ids:
-        stamps = samples[rid][0]
-        if stamps.size < 2:
-            msg = f'robot {rid!r} has {stamps.size} sample(s) in {source.get("path", "?")}; at least 2 are needed.'
-            raise AnalysisError(msg)
-        periods.append(float(np.median(np.diff(stamps))))
-    period = 1.0 / rate_hz if rate_hz else min(periods)
-    start = max(samples[rid][0][0] for rid in ids)
-    stop = min(samples[rid][0][-1] for rid in ids)
-    if stop <= start:
-        msg = f'the robots in {source.get("path", "?")} have no time span in common.'
+    cleaned = {rid: _clean(rid, samples[rid]) for rid in ids}
+    used = [c[0] for c in cleaned.values() if c[0].size]
+    if not used:
+        msg = f'no robot in {source.get("path", "?")} has a finite position.'
         raise AnalysisError(msg)
-    shared = samples[ids[0]][0]
-    if all(samples[rid][0].shape == shared.shape and np.array_equal(samples[rid][0], shared) for rid in ids):
-        t = shared  # every robot sampled at the same instants: nothing to resample
-    else:
-        t = np.arange(start, stop + 0.5 * period, period)
-        t = t[t <= stop]
-    positions = np.full((t.size, 2, len(ids)), np.nan)
-    headings = np.full((t.size, len(ids)), np.nan) if all(samples[r][2] is not None for r in ids) else None
-    gaps = []
-    for k, (rid, own_period) in enumerate(zip(ids, periods, strict=True)):
-        stamps, xy, theta = samples[rid]
-        if not np.all(np.isfinite(xy)):
-            bad = int(np.argmax(~np.all(np.isfinite(xy), axis=1)))
-            msg = f'robot {rid!r} has a NaN or inf position at t = {stamps[bad]:.3f} s in {source.get("path", "?")}.'
-            raise AnalysisError(msg)
-        positions[:, 0, k] = np.interp(t, stamps, xy[:, 0])
-        positions[:, 1, k] = np.interp(t, stamps, xy[:, 1])
-        if headings is not None and theta is not None:
-            headings[:, k] = np.arctan2(np.interp(t, stamps, np.sin(theta)), np.interp(t, stamps, np.cos(theta)))
-        jumps = np.flatnonzero(np.diff(stamps) > gap_factor * own_period)
-        for j in jumps:
-            gaps.append(Gap(rid, float(stamps[j] - start), float(stamps[j + 1] - start)))
-            inside = (t > stamps[j]) & (t < stamps[j + 1])
-            positions[inside, :, k] = np.nan
-            if headings is not None:
-                headings[inside, k] = np.nan
-    return Trajectory(t - start, positions, headings, ids, source, tuple(gaps))
+    frames_ns = np.unique(np.concatenate(used))
+    origin = int(frames_ns[0])
+    seconds = np.asarray((frames_ns - origin) * 1e-9, dtype=np.float64)  # the one conversion to seconds
+    positions = np.full((frames_ns.size, 2, len(ids)), np.nan)
+    with_headings = all(c[2] is not None for c in cleaned.values())
+    headings = np.full((frames_ns.size, len(ids)), np.nan) if with_headings else None
+    gaps, coverage = [], []
+    for k, rid in enumerate(ids):
+        stamps, xy, heading, repeated, non_finite = cleaned[rid]
+        if not stamps.size:  # every sample left out: no position anywhere
+            nothing = Coverage(rid, 0, math.nan, math.nan, 0, frames_ns.size, 0, 0, repeated, non_finite, math.nan)
+            coverage.append(nothing)
+            continue
+        steps = np.diff(stamps)
+        limit = max_gap.limit_ns(Fraction(float(np.median(steps))) if steps.size else Fraction(0))
+        left = np.searchsorted(stamps, frames_ns, side='right') - 1  # last sample at or before each frame
+        at, nxt = np.clip(left, 0, stamps.size - 1), np.clip(left + 1, 0, stamps.size - 1)
+        before = left < 0
+        exact = ~before & (stamps[at] == frames_ns)
+        between = ~before & ~exact & (left < stamps.size - 1)
+        span = stamps[nxt] - stamps[at]
+        bridged = between & (span <= limit)
+        ok = exact | bridged
+        weight = np.where(bridged, (frames_ns - stamps[at]) / np.where(span > 0, span, 1), 0.0)
+        positions[ok, :, k] = (xy[at] + weight[:, None] * (xy[nxt] - xy[at]))[ok]
+        if headings is not None and heading is not None:
+            turn = np.angle(np.exp(1j * (heading[nxt] - heading[at])))
+            headings[ok, k] = np.angle(np.exp(1j * (heading[at] + weight * turn)))[ok]
+        for j in np.flatnonzero(steps > limit):
+            gaps.append(Gap(rid, (int(stamps[j]) - origin) * 1e-9, (int(stamps[j + 1]) - origin) * 1e-9))
+        coverage.append(
+            Coverage(
+                robot=rid,
+                samples=int(stamps.size),
+                first_s=(int(stamps[0]) - origin) * 1e-9,
+                last_s=(int(stamps[-1]) - origin) * 1e-9,
+                frames=int(ok.sum()),
+                before_first=int(before.sum()),
+                after_last=int((~before & ~exact & ~between).sum()),
+                in_gaps=int((between & ~bridged).sum()),
+                repeated_stamps=repeated,
+                non_finite=non_finite,
+                max_gap_s=limit * 1e-9,
+            )
+        )
+    return Trajectory(seconds, positions, headings, ids, source, tuple(gaps), tuple(coverage))

@@ -151,16 +151,58 @@ def test_frame_pattern_selects_robots_on_tf(tmp_path) -> None:
     assert trajectory.robot_ids == ('r1', 'r2')
 
 
-def test_gaps_are_reported_not_interpolated() -> None:
-    from robotarium_exp.analysis.trajectory import on_common_stamps
+def test_gaps_in_integer_nanoseconds_and_max_gap() -> None:
+    from fractions import Fraction
 
-    t = np.arange(100) * 0.01
-    keep = (t < 0.3) | (t > 0.5)
-    xy = np.stack([t, t], axis=1)
-    traj = on_common_stamps({'a': (t, xy, None), 'b': (t[keep], xy[keep], None)}, source={'path': 'x'})
-    assert len(traj.gaps) == 1 and traj.gaps[0].robot == 'b'
-    assert np.isnan(traj.positions_m[(traj.t_s > 0.3) & (traj.t_s < 0.5), 0, 1]).all()
-    assert traj.complete_frames().sum() < t.size
+    from robotarium_exp.analysis.trajectory import MaxGap, RobotSamples, assemble
+
+    period = 10_000_000  # 0.01 s
+    stamps = np.arange(100, dtype=np.int64) * period
+    keep = (stamps < 30 * period) | (stamps >= 32 * period)  # a hole of exactly 3 periods: bridged
+    keep &= (stamps < 60 * period) | (stamps > 64 * period)  # a hole of 6 periods: a gap
+    xy = np.stack([stamps * 1e-9, stamps * 2e-9], axis=1)
+    samples = {'a': RobotSamples(stamps, xy), 'b': RobotSamples(stamps[keep], xy[keep])}
+    traj = assemble(samples, source={'path': 'x'})
+    assert [(g.robot, round(g.start_s, 9), round(g.end_s, 9)) for g in traj.gaps] == [('b', 0.59, 0.65)]
+    np.testing.assert_allclose(traj.positions_m[30:32, :, 1], xy[30:32])  # robot a sets the frames; b on a line
+    assert np.isnan(traj.positions_m[60:65, 0, 1]).all() and np.isfinite(traj.positions_m[[59, 65], 0, 1]).all()
+    b = traj.coverage[1]
+    assert (b.samples, b.frames, b.in_gaps, b.before_first, b.after_last) == (93, 95, 5, 0, 0)
+    assert MaxGap.parse('250ms') == MaxGap(Fraction(1, 4), 's') and str(MaxGap.parse('2p')) == '2periods'
+    strict = assemble(samples, source={'path': 'x'}, max_gap=MaxGap.parse('0.029s'))
+    assert len(strict.gaps) == 2
+    with pytest.raises(AnalysisError, match="'3' is not a number with a unit"):
+        MaxGap.parse('3')
+
+
+def passage_of(x: np.ndarray, y: np.ndarray, dt: float = 0.1):
+    """Analysis in the trapezoid scene (a straight tube from x = -1.45 to 1.0 along y = 0) of robots at x, y (T, N)."""
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+    stamps = np.arange(x.shape[0], dtype=np.int64) * int(dt * 1e9)
+    samples = {f'r{k}': RobotSamples(stamps, np.stack([x[:, k], y[:, k]], axis=1)) for k in range(x.shape[1])}
+    return analyse(assemble(samples, source={'path': 'synthetic'}), load_scene('robotarium_trapezoid')).metrics
+
+
+def test_passing_time_only_for_an_observed_passage() -> None:
+    t = np.arange(400) * 0.1
+    lanes = np.array([-0.2, 0.0, 0.2])
+    x = -1.8 + 0.1 * t[:, None] - np.array([0.0, 0.3, 0.6])  # 0.1 m/s, the last robot 0.6 m behind
+    y = np.broadcast_to(lanes, x.shape)
+    m = passage_of(x, y)
+    first_in = (-1.45 + 1.8) / 0.1  # analytic, on the 0.1 s frames
+    last_out = (1.0 + 1.8 + 0.6) / 0.1
+    assert m['passing_time_s'] == pytest.approx(last_out - first_in, abs=0.1 + 1e-9)
+    assert m['passage']['unobserved'] == [] and m['completed']
+    past = passage_of(x + 3.5, y)  # every robot past the exit at the first frame
+    assert past['passing_time_s'] is None and not past['passage']['entrance_observed']
+    assert set(past['passage']['never_inside']) == {'r0', 'r1', 'r2'}
+    aside = y + np.array([0.0, 2.0, -2.0])  # two of three never enter
+    m = passage_of(x, aside)
+    assert m['passing_time_s'] is None and m['passage']['never_inside'] == ['r1', 'r2']
+    assert 'never seen inside the tube: r1, r2' in m['passage']['unobserved']
+    late = passage_of(x[:200], y[:200])  # the recording stops before the last robot leaves
+    assert late['passing_time_s'] is None and late['passage']['not_exited']
 
 
 def test_submission_files_analyse_like_the_simulator_log_of_the_same_run(tmp_path) -> None:
@@ -184,8 +226,8 @@ def test_submission_files_analyse_like_the_simulator_log_of_the_same_run(tmp_pat
     )
     assert '"completed": true' in run.stdout
     scene = load_scene('robotarium_trapezoid')
-    from_files = analyse(load_trajectory([tmp_path]), scene)
-    from_log = analyse(load_trajectory([tmp_path / 'sim.npz']), scene)
+    from_files = analyse(load_trajectory([tmp_path]), scene).metrics
+    from_log = analyse(load_trajectory([tmp_path / 'sim.npz']), scene).metrics
     for key in (
         'passing_time_s',
         'min_distance_m',
@@ -196,7 +238,7 @@ def test_submission_files_analyse_like_the_simulator_log_of_the_same_run(tmp_pat
     ):
         assert from_files[key] == pytest.approx(from_log[key], abs=1e-12)
     assert from_files['collision_pairs'] == 0 and from_files['tube_violation_steps'] == 0
-    strict = analyse(load_trajectory([tmp_path]), scene, collision_distance_m=1.0)  # a chosen, larger radius
+    strict = analyse(load_trajectory([tmp_path]), scene, collision_distance_m=1.0).metrics  # a larger radius
     assert strict['collision_distance_m'] == 1.0 and strict['collision_pairs'] > 0
 
 
@@ -217,9 +259,43 @@ def test_bad_input_gives_clear_errors(tmp_path) -> None:
     poses[4, 0, 1] = np.nan
     np.save(folder / 'vtube_poses.npy', poses)
     scene = load_scene('robotarium_trapezoid')
-    assert analyse(load_trajectory([folder]), scene)['dropped_frames'] == 1  # NaN poses are dropped and counted
+    nan_pose = analyse(load_trajectory([folder]), scene).metrics  # a NaN pose is left out and counted
+    assert [c['non_finite'] for c in nan_pose['coverage']] == [0, 1] and nan_pose['frames'] == 10
     (folder / 'vtube_poses.npy').write_bytes((folder / 'vtube_poses.npy').read_bytes()[:120])  # truncated
     with pytest.raises(AnalysisError, match=r"truncated or corrupt: \['vtube_poses.npy"):
         load_trajectory([folder])
     with pytest.raises(AnalysisError, match='does not exist'):
         load_trajectory([tmp_path / 'missing.csv'])
+
+
+def test_an_unreadable_type_costs_only_its_topic(tmp_path) -> None:
+    from rosbags.highlevel import AnyReader, AnyReaderError
+
+    path = write_bag(tmp_path / 'b', 'ros1', 'pose')
+    broken = tmp_path / 'broken.bag'
+    with Writer1(broken) as writer:  # a driver's own type whose definition no parser reads
+        conn = writer.add_connection(
+            '/driver/status', 'driver_msgs/msg/Status', msgdef='int32 [[ not a definition', md5sum='0' * 32
+        )
+        writer.write(conn, START_NS, b'\x00\x00\x00\x00')
+    with pytest.raises(AnyReaderError), AnyReader([path, broken]) as reader:  # rosbags alone refuses both bags
+        reader.connections  # noqa: B018
+    trajectory = load_trajectory([path, broken])
+    np.testing.assert_allclose(trajectory.positions_m, truth()[1], atol=1e-9)
+    assert trajectory.source['ignored'] == [
+        {'topic': '/driver/status', 'reason': 'type driver_msgs/msg/Status is not read'}
+    ]
+
+
+def test_analysis_without_a_tube(tmp_path, capsys) -> None:
+    from vtube.cli import main
+
+    path = write_bag(tmp_path / 'b', 'mcap', 'tf')
+    assert main(['analyze', str(path), '--out', str(tmp_path / 'a'), '--collision-distance', '0.31']) == 0
+    out = capsys.readouterr().out
+    assert 'without a tube' in out and 'passing time' not in out
+    _, xy, _ = truth()
+    gaps = [np.hypot(*(xy[:, :, i] - xy[:, :, j]).T) for i, j in ((0, 1), (0, 2), (1, 2))]
+    closest = int(np.argmin([g.min() for g in gaps]))
+    assert f'minimum distance {gaps[closest].min():.3f} m' in out
+    assert f'{sum(int(g.min() < 0.31) for g in gaps)} pairs closer than 0.310 m' in out

@@ -51,6 +51,24 @@ def crossing_times(t_s: FloatArray, l_m: FloatArray, at_m: float) -> FloatArray:
     return np.where(reached.any(axis=0), t_s[first], np.nan)
 
 
+def tube_violations(
+    l_m: FloatArray,
+    clearance_m: FloatArray,
+    length_m: float,
+    body_radius_m: float = 0.0,
+    counted: NDArray[np.bool_] | None = None,
+) -> tuple[int, int, float]:
+    """Robot-steps outside the tube while 0 <= l <= L (clearance below ``body_radius_m``), the robots that ever
+    were, and how far out at most (0 when none was), over the ``counted`` robots; NaN entries (no position) count
+    as neither inside nor outside."""
+    in_span = (l_m >= 0.0) & (l_m <= length_m)
+    if counted is not None:
+        in_span &= counted
+    outside = in_span & (clearance_m < body_radius_m)
+    deepest = float(max(0.0, body_radius_m - clearance_m[in_span].min())) if in_span.any() else 0.0
+    return int(outside.sum()), int(outside.any(axis=0).sum()), deepest
+
+
 @dataclass(frozen=True)
 class PassageMetrics:
     """The paper's measures of a passage through a tube, and tracking errors against a plan.
@@ -187,8 +205,7 @@ def passage_metrics(
     min_dist = min_distance_over_time(positions_m)
     k_min = int(np.argmin(min_dist))
     pairs = close_pairs(positions_m, collision_distance_m) if positions_m.shape[2] > 1 else set()
-    in_span = (l_m >= 0.0) & (l_m <= length_m)
-    outside = in_span & (clearance_m < body_radius_m) & counted
+    violation_steps, robots_outside, max_outside = tube_violations(l_m, clearance_m, length_m, body_radius_m, counted)
     speed_violations = None
     if commands_mps is not None and speed_band_mps is not None:
         speed = np.hypot(commands_mps[:, 0], commands_mps[:, 1])
@@ -209,11 +226,9 @@ def passage_metrics(
         collision_distance_m=float(collision_distance_m),
         collision_pairs=len(pairs),
         collision_steps=int(np.sum(min_dist < collision_distance_m)),
-        tube_violation_steps=int(outside.sum()),
-        robots_outside=int(outside.any(axis=0).sum()),
-        max_outside_m=float(max(0.0, body_radius_m - clearance_m[in_span & counted].min()))
-        if (in_span & counted).any()
-        else 0.0,
+        tube_violation_steps=violation_steps,
+        robots_outside=robots_outside,
+        max_outside_m=max_outside,
         speed_violations=speed_violations,
         **tracking,
     )
