@@ -12,6 +12,7 @@ code path. Over swarm sizes, seeds, robot models, saturations and the simulator'
 :func:`grid_markdown` reports each cell with bootstrap intervals and the paired differences of COMPARISONS
 (:mod:`vtube_planning.stats`). Every study runs as a campaign (:mod:`vtube_planning.campaign`).
 """
+
 from __future__ import annotations
 
 import math
