@@ -8,7 +8,8 @@ or, inside Python, ``install()`` before the script imports ``rps``. By default `
 ``robotarium_python_simulator`` 0.0.0: ``call_at_scripts_end()``, ``rps.robotarium_abc``,
 ``rps.utilities.barrier_certificates2``...). ``--seed`` seeds ``random`` and ``np.random``, what the scripts and
 both generations draw from (V2's charger slots and deadlock escapes, classic's random start poses); ``--log`` makes
-the simulator record every pose it hands out (a vtube ``.npz`` log, completed by the end-of-script call);
+the simulator record every pose it hands out (a vtube ``.npz`` log, completed by the end-of-script call; until
+then, and for a script that never makes it, the poses are in ``FILE.partial.npz``);
 ``--exact-qp`` makes the barrier certificates solve their QPs exactly and faster, instead of as the testbed does
 (:func:`robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`).
 

@@ -17,13 +17,27 @@ def test_rows_round_trip_and_flush_periodically(tmp_path) -> None:
     for k, positions in enumerate(rows):
         log.append(t_s=0.1 * k, positions_m=positions)
         positions[:] = 0.0  # the writer copied the row: the caller may reuse its buffer
-    arrays, meta = read_log(tmp_path / 'run.npz')
+    arrays, meta = read_log(tmp_path / 'run.partial.npz')  # unfinished: under the partial name
     assert arrays['positions_m'].shape == (4, 2, 3)  # the fifth row is not flushed yet
-    assert meta['version'] == LOG_VERSION and meta['kind'] == 'test'
+    assert meta['version'] == LOG_VERSION and meta['kind'] == 'test' and not (tmp_path / 'run.npz').exists()
     log.flush(finished=True)
+    assert not (tmp_path / 'run.partial.npz').exists()
     arrays, meta = read_log(tmp_path / 'run.npz')
     np.testing.assert_allclose(arrays['t_s'], 0.1 * np.arange(5))
     assert meta['finished'] and np.all(arrays['positions_m'] == log.arrays()['positions_m'])
+
+
+def test_an_interrupted_run_never_replaces_a_finished_log(tmp_path) -> None:
+    first = LogWriter(tmp_path / 'run.npz', {'kind': 'test'})
+    first.append(t_s=0.0, positions_m=np.ones((2, 2)))
+    first.flush(finished=True)
+    finished = (tmp_path / 'run.npz').read_bytes()
+    second = LogWriter(tmp_path / 'run.npz', {'kind': 'test'}, flush_every=1)
+    for k in range(3):  # a second run at the same path, interrupted after three rows
+        second.append(t_s=float(k), positions_m=np.zeros((2, 2)))
+    assert (tmp_path / 'run.npz').read_bytes() == finished
+    arrays, meta = read_log(tmp_path / 'run.partial.npz')
+    assert arrays['t_s'].tolist() == [0.0, 1.0, 2.0] and 'finished' not in meta
 
 
 def test_a_memory_log_writes_nothing(tmp_path) -> None:

@@ -9,8 +9,9 @@ the bundled simulator's pose recording (``python -m robotarium_exp.rps_alias --l
   ``n_robots``, ``dt_s``, and at the end ``finished`` with the run's results.
 
 A :class:`LogWriter` keeps the rows it has been given and rewrites the whole file every ``flush_every`` rows,
-atomically: the log on disk is always a complete, readable ``.npz``, and an interrupted run leaves every row up
-to its last flush. :func:`read_log` reads this version and the earlier ones (version 1 logs held ``poses``
+atomically, under a partial name (``run.partial.npz`` for ``run.npz``) until the run is finished: the file on disk
+is always a complete, readable ``.npz``, an interrupted run leaves every row up to its last flush in the partial
+file, and a finished log of an earlier run at the same path is replaced only by a finished one. :func:`read_log` reads this version and the earlier ones (version 1 logs held ``poses``
 (T, 3, N) instead of positions and headings), and names any other version it is given.
 """
 
@@ -68,13 +69,23 @@ class LogWriter:
         """Every row so far, stacked: (T, ...) per key."""
         return {key: np.stack(values) for key, values in self._rows.items()}
 
+    @property
+    def partial_path(self) -> Path | None:
+        """Where the log is written until it is finished."""
+        return None if self.path is None else self.path.with_name(f'{self.path.stem}.partial{self.path.suffix}')
+
     def flush(self, **extra_meta: Any) -> Path | None:
-        """Rewrite the log with every row so far (and extra metadata, e.g. final metrics)."""
+        """Rewrite the log with every row so far (and extra metadata, e.g. final metrics): to :attr:`partial_path`,
+        or with ``finished=True`` to the log's path, removing the partial file. Returns the file written."""
         self.meta.update(extra_meta)
-        if self.path is not None:
-            write_npz(self.path, self.arrays(), self.meta)
         self._pending = 0
-        return self.path
+        if self.path is None or self.partial_path is None:
+            return None
+        target = self.path if self.meta.get('finished') else self.partial_path
+        write_npz(target, self.arrays(), self.meta)
+        if target == self.path:
+            self.partial_path.unlink(missing_ok=True)
+        return target
 
 
 def read_log(path: str | Path) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
