@@ -180,6 +180,17 @@ def _neighbour_counts(ic: FloatArray) -> NDArray[np.int_]:
 def _first_inside_box(scene: Scene) -> float:
     """Smallest arc length whose whole cross-section (minus 0.1 m) lies inside the initialization box."""
     tube = scene.tube
+    x0, x1, y0, y1 = ROBOTARIUM.arena_m
+    left, right = tube.boundaries(np.linspace(0.0, tube.length_m, 2001))
+    edges = np.vstack([left, right])
+    if not (np.all((x0 <= edges[:, 0]) & (edges[:, 0] <= x1)) and np.all((y0 <= edges[:, 1]) & (edges[:, 1] <= y1))):
+        (lx, ly), (hx, hy) = edges.min(axis=0), edges.max(axis=0)
+        msg = (
+            f'scene {scene.name!r} does not fit the Robotarium arena [{x0:g}, {x1:g}] x [{y0:g}, {y1:g}] m: its tube '
+            f'spans [{lx:.2f}, {hx:.2f}] x [{ly:.2f}, {hy:.2f}] m. Use robotarium_trapezoid or robotarium_curve, or '
+            'a scene drawn inside the arena.'
+        )
+        raise ExperimentError(msg)
     for l_m in np.linspace(0.0, tube.length_m, 2001):
         left, right = tube.boundaries(float(l_m))
         if np.all(np.abs(np.vstack([left, right])) <= np.array(ROBOTARIUM.ic_box_m)):

@@ -230,11 +230,21 @@ def check(path: str | Path, *, seeds: int = 3, initializer_seeds: int = 200) -> 
     if not path.is_file():
         msg = f'submission file {str(path)!r} does not exist; build one with `vtube submission build`.'
         raise CheckError(msg)
-    source = path.read_text(encoding='utf-8')
+    if seeds < 1:
+        msg = (
+            "the duration to declare rests on runs with the testbed's initialization; check with seeds >= 1 "
+            f'(got {seeds}).'
+        )
+        raise CheckError(msg)
+    try:
+        source = path.read_text(encoding='utf-8')
+    except UnicodeDecodeError as err:
+        msg = f'{path} is not a Python source file (not UTF-8 text); give the .py file `vtube submission build` wrote.'
+        raise CheckError(msg) from err
     try:
         compile(source, str(path), 'exec')
         disallowed = static_check(source)
-    except SyntaxError as err:
+    except (SyntaxError, ValueError) as err:  # ValueError: NUL bytes in the source
         msg = f'{path} is not valid Python 3.10: {err}.'
         raise CheckError(msg) from err
     report = CheckReport(str(path), disallowed)

@@ -44,6 +44,8 @@ def scene_show(name_or_path: str, out: Path | None) -> int:
     """Load a scene (shipped name or .toml file), print its summary, and draw it to ``out`` when given."""
     from vtube_planning.geometry.scene import load_scene
 
+    if out is not None:
+        _figure_path(out)
     scene = load_scene(name_or_path)
     summary = scene.tube.summary()
     swarm = scene.swarm
@@ -653,6 +655,18 @@ def demo(out: Path) -> int:
     )
 
 
+def _figure_path(out: Path) -> None:
+    """Refuse, before any work, a figure file of a kind matplotlib cannot write."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    kinds = FigureCanvasBase.get_supported_filetypes()
+    if out.suffix.lstrip('.').lower() not in kinds:
+        msg = (
+            f'cannot write a figure to {out}: give a file ending in one of {", ".join("." + k for k in sorted(kinds))}.'
+        )
+        raise VtubeError(msg)
+
+
 def _writable_folder(out: Path) -> None:
     """Refuse, before any run starts, an output folder that cannot be created or written."""
     probe = out / '.vtube-write-test'
@@ -684,14 +698,35 @@ def _whole(text: str) -> int:
     return int(text)
 
 
-def _positive_seconds(text: str) -> float:
-    """An argparse type: a finite number of seconds > 0."""
+def _count(text: str) -> int:
+    """An argparse type: a whole number >= 1."""
+    value = _whole(text)
+    if value < 1:
+        msg = f'{text!r} is not a whole number >= 1'
+        raise argparse.ArgumentTypeError(msg)
+    return value
+
+
+def _regex(text: str) -> str:
+    """An argparse type: a regular expression Python can compile."""
+    import re
+
+    try:
+        re.compile(text)
+    except re.error as err:
+        msg = f'{text!r} is not a regular expression ({err})'
+        raise argparse.ArgumentTypeError(msg) from err
+    return text
+
+
+def _positive(text: str) -> float:
+    """An argparse type: a finite number > 0."""
     try:
         value = float(text)
     except ValueError:
         value = math.nan
     if not (math.isfinite(value) and value > 0):
-        msg = f'{text!r} is not a number of seconds > 0'
+        msg = f'{text!r} is not a number > 0'
         raise argparse.ArgumentTypeError(msg)
     return value
 
@@ -705,7 +740,7 @@ def _execution_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         '--scheduler-timeout',
-        type=_positive_seconds,
+        type=_positive,
         default=10.0,
         help='seconds to wait for the scheduler (default 10)',
     )
@@ -739,17 +774,17 @@ def _parser() -> argparse.ArgumentParser:
     )
     planner.add_argument(
         '--grid-step',
-        type=float,
+        type=_positive,
         default=None,
         dest='grid_step_m',
-        help="planning grid step in m (default: the scene's)",
+        help="planning grid step in m, > 0 (default: the scene's)",
     )
     sim = commands.add_parser('simulate', help='fly the swarm through a scene, with or without planning')
     sim.add_argument('scene', help='a shipped scene name or a .toml file')
     sim.add_argument('--out', type=Path, required=True, help='folder for the log, figures and GIF')
     sim.add_argument('--no-planning', action='store_true', help='constant mid-range speed and constant r_a')
-    sim.add_argument('--n', type=int, default=None, dest='n_robots', help="swarm size (default: the scene's)")
-    sim.add_argument('--seed', type=int, default=0, help='seed of the initial formation jitter')
+    sim.add_argument('--n', type=_count, default=None, dest='n_robots', help="swarm size, >= 1 (default: the scene's)")
+    sim.add_argument('--seed', type=_whole, default=0, help='seed of the initial formation jitter, >= 0')
     sim.add_argument(
         '--acceleration-limits',
         action='store_true',
@@ -759,7 +794,7 @@ def _parser() -> argparse.ArgumentParser:
     sim.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
     stu = commands.add_parser('study', help="the paper's comparison on scenes A-D with and without planning")
     stu.add_argument('--out', type=Path, required=True, help='folder for runs.csv, study.md, study.json, study.png')
-    stu.add_argument('--seeds', type=int, default=5, help='number of seeds (0..n-1)')
+    stu.add_argument('--seeds', type=_count, default=5, help='number of seeds n >= 1 (seeds 0..n-1)')
     stu.add_argument('--scenes', default='A,B,C,D', help='comma-separated scene names')
     stu.add_argument('--acceleration-limits', action='store_true', help='apply (3), (4) to every robot')
     stu.add_argument(
@@ -772,7 +807,7 @@ def _parser() -> argparse.ArgumentParser:
     abl.add_argument('--out', type=Path, required=True, help='folder for runs.csv, report.md and the figures')
     abl.add_argument('--scenes', default='C,D', help='comma-separated scene names')
     abl.add_argument('--sizes', default='20,40,80', help='comma-separated swarm sizes N')
-    abl.add_argument('--seeds', type=int, default=10, help='number of seeds (0..n-1)')
+    abl.add_argument('--seeds', type=_count, default=10, help='number of seeds n >= 1 (seeds 0..n-1)')
     abl.add_argument(
         '--models', default='paper,acceleration limits', help="robot models: 'paper' and/or 'acceleration limits'"
     )
@@ -801,12 +836,12 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument('--no-planning', action='store_true', help='constant mid-range speed and constant r_a')
     run.add_argument('--no-barrier', action='store_true', help='send the swarm commands without the certificate')
     run.add_argument('--no-initialization', action='store_true', help='start at the initial conditions directly')
-    run.add_argument('--seed', type=int, default=0, help='seed of the initialization (charger slots, escapes)')
+    run.add_argument('--seed', type=_whole, default=0, help='seed of the initialization (charger slots, escapes), >= 0')
     run.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
     cmp_cmd = robo_commands.add_parser('compare', help='planned against unplanned over initialization seeds')
     cmp_cmd.add_argument('scene', help='a Robotarium scene or a .toml file')
     cmp_cmd.add_argument('--out', type=Path, required=True, help='folder for the table (.md) and the rows (.json)')
-    cmp_cmd.add_argument('--seeds', type=int, default=5, help='initialization seeds 0..n-1')
+    cmp_cmd.add_argument('--seeds', type=_count, default=5, help='initialization seeds 0..n-1, n >= 1')
     cmp_cmd.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan)')
     sub = commands.add_parser('submission', help='build and check the single file for the remote Robotarium')
     sub_commands = sub.add_subparsers(dest='submission_command', required=True, metavar='SUBCOMMAND')
@@ -820,15 +855,23 @@ def _parser() -> argparse.ArgumentParser:
     build_cmd.add_argument(
         '--no-declare', action='store_true', help='skip the check that derives the duration to declare'
     )
-    build_cmd.add_argument('--seeds', type=int, default=3, help='checking runs on the bundled simulator')
+    build_cmd.add_argument('--seeds', type=_count, default=3, help='checking runs on the bundled simulator, >= 1')
     build_cmd.add_argument(
-        '--initializer-seeds', type=int, default=200, help="V2's initializer alone, for the duration to declare"
+        '--initializer-seeds',
+        type=_count,
+        default=200,
+        help="V2's initializer alone, for the duration to declare, >= 1",
     )
     check_cmd = sub_commands.add_parser('check', help='preflight a submission on the simulators')
     check_cmd.add_argument('file', type=Path, help='the submission .py file')
-    check_cmd.add_argument('--seeds', type=int, default=3, help='runs on the bundled simulator (seeds 0..n-1)')
     check_cmd.add_argument(
-        '--initializer-seeds', type=int, default=200, help="V2's initializer alone, for the duration to declare"
+        '--seeds', type=_count, default=3, help='runs on the bundled simulator (seeds 0..n-1), n >= 1'
+    )
+    check_cmd.add_argument(
+        '--initializer-seeds',
+        type=_count,
+        default=200,
+        help="V2's initializer alone, for the duration to declare, >= 1",
     )
     ana = commands.add_parser('analyze', help='metrics, figures and a report of returned or recorded data')
     ana.add_argument(
@@ -842,8 +885,12 @@ def _parser() -> argparse.ArgumentParser:
     ana.add_argument('--plan', type=Path, default=None, help='a plan file (vtube plan) to track against')
     ana.add_argument('--compare', type=Path, default=None, help='a simulation log to show side by side')
     ana.add_argument('--topic', action='append', default=None, dest='topics', help='bag topic(s) to read')
-    ana.add_argument('--topic-pattern', default=None, help='regex with a (?P<robot>...) group for bag topics')
-    ana.add_argument('--frame-pattern', default=None, help='regex with a (?P<robot>...) group for /tf child frames')
+    ana.add_argument(
+        '--topic-pattern', type=_regex, default=None, help='regex with a (?P<robot>...) group for bag topics'
+    )
+    ana.add_argument(
+        '--frame-pattern', type=_regex, default=None, help='regex with a (?P<robot>...) group for /tf child frames'
+    )
     ana.add_argument('--world-frame', default=None, help='reference frame of the robots (/tf parent, header.frame_id)')
     ana.add_argument(
         '--max-gap',
@@ -852,7 +899,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     ana.add_argument(
         '--collision-distance',
-        type=float,
+        type=_positive,
         default=None,
         dest='collision_distance_m',
         help="centre distance counted as a collision (default: the scene's 2 r_p; none without a scene)",
@@ -866,6 +913,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``vtube`` console script; returns the exit code."""
     args = _parser().parse_args(argv)
     try:
+        if args.command in ('plan', 'simulate', 'robotarium', 'analyze', 'demo'):
+            _writable_folder(args.out)  # before any work: campaigns check theirs in _run_campaign
         if args.command == 'plan':
             return plan(args.scene, args.out, args.method, args.grid_step_m)
         if args.command == 'simulate':

@@ -35,11 +35,26 @@ def write_npz(path: str | Path, arrays: dict[str, NDArray[Any]], meta: dict[str,
 def read_npz(path: str | Path, error: type[Exception], what: str) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
     """Arrays and metadata of a file written by :func:`write_npz`; ``error`` (naming ``what``) if unreadable."""
     path = Path(path)
+    hint = f'give a {what} as vtube writes it (.npz)'
     try:
-        with path.open('rb') as fh, np.load(fh, allow_pickle=False) as data:
-            arrays = {key: data[key] for key in data.files}
+        with path.open('rb') as fh:
+            loaded = np.load(fh, allow_pickle=False)
+            bare = not isinstance(loaded, np.lib.npyio.NpzFile)
+            if not bare:
+                with loaded as data:
+                    arrays = {key: data[key] for key in data.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as err:
+        msg = f'cannot read {what} {str(path)!r}: it is not an .npz archive, or it is damaged ({err}); {hint}.'
+        raise error(msg) from err
+    if bare:
+        msg = f'{str(path)!r} holds one bare array (.npy), not a {what}; {hint}.'
+        raise error(msg)
+    if META_KEY not in arrays:
+        msg = f'{str(path)!r} is an .npz archive without vtube metadata, not a {what}; {hint}.'
+        raise error(msg)
+    try:
         meta = json.loads(str(arrays.pop(META_KEY)))
-    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as err:
-        msg = f'cannot read {what} {str(path)!r}: {err}.'
+    except ValueError as err:
+        msg = f'cannot read {what} {str(path)!r}: its metadata is damaged ({err}); {hint}.'
         raise error(msg) from err
     return arrays, meta

@@ -136,7 +136,14 @@ def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[
             f'read: {read}.'
         )
         raise AnalysisError(msg)
-    steps = min(arrays['t'].shape[0], arrays['poses'].shape[0])  # a save interrupted between two files
+    t_s, poses = arrays['t'], arrays['poses']
+    if t_s.ndim != 1 or poses.ndim != 3 or poses.shape[1] != 3 or not np.issubdtype(poses.dtype, np.number):
+        msg = (
+            f'{str(folder)!r}: vtube_t.npy must hold the times (T,) and vtube_poses.npy the poses (T, 3, N) of numbers, '
+            f'as the submission saves them; got {t_s.dtype} {t_s.shape} and {poses.dtype} {poses.shape}.'
+        )
+        raise AnalysisError(msg)
+    steps = min(t_s.shape[0], poses.shape[0])  # a save interrupted between two files
     source = {
         'kind': 'robotarium submission',
         'path': str(folder),

@@ -131,10 +131,18 @@ def load_scene(name_or_path: str | Path) -> Scene:
     """
     path = Path(name_or_path)
     if path.suffix == '.toml' or path.exists():
+        if path.is_dir():
+            msg = f'{str(path)!r} is a folder, not a scene file; give a path to a .toml file or one of {list_scenes()}.'
+            raise SceneError(msg)
         if not path.is_file():
             msg = f'scene file {str(path)!r} does not exist; give a path to a .toml file or one of {list_scenes()}.'
             raise SceneError(msg)
-        return scene_from_text(path.read_text(encoding='utf-8'), name=path.stem, source=str(path))
+        try:
+            text = path.read_text(encoding='utf-8')
+        except UnicodeDecodeError as err:
+            msg = f'scene file {str(path)!r} is not UTF-8 text ({err.reason} at byte {err.start}); save it as UTF-8.'
+            raise SceneError(msg) from err
+        return scene_from_text(text, name=path.stem, source=str(path))
     shipped = {n.lower(): n for n in list_scenes()}
     key = str(name_or_path).lower()
     if key not in shipped:

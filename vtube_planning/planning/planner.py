@@ -46,6 +46,8 @@ from vtube_planning.swarm.step import swarm_area
 FloatArray = NDArray[np.float64]
 
 SUBSAMPLES = 20
+MAX_INTERVALS = 20_000
+"""The finest grid planned: 20,000 intervals (a 0.003 m step on scenes A-D, whose default grid has 240)."""
 """Samples per grid interval used to bound curvature and width ratios over the interval."""
 SOLVER_OPTIONS: dict[str, float] = {}
 """Clarabel options (its defaults suffice: the constraints are normalised to order one)."""
@@ -80,6 +82,13 @@ def discretise(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions) 
     """
     length = tube.length_m
     n_int = max(2, math.ceil(length / options.grid_step_m - 1e-9))
+    if n_int > MAX_INTERVALS:
+        msg = (
+            f'a grid step of {options.grid_step_m:g} m makes {n_int:,} intervals on this {length:g} m tube, more '
+            f'than the {MAX_INTERVALS:,} the planner takes (each is a few variables and constraints of every QP); '
+            f'use a grid step of at least {length / MAX_INTERVALS:.3g} m.'
+        )
+        raise PlanError(msg)
     l_m = np.linspace(0.0, length, n_int + 1)
     sub = np.linspace(l_m[:-1], l_m[1:], SUBSAMPLES + 1, axis=1)  # (K, S+1) samples of each interval
     inside = tube.center.breakpoints[(tube.center.breakpoints > 0) & (tube.center.breakpoints < length)]

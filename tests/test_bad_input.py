@@ -1,0 +1,100 @@
+"""Bad input through a real `vtube` process: exit code, one `error:` line, no traceback, nothing lost.
+
+Every case is one row of BAD: the command line (``{tmp}`` is a folder of prepared bad files), the exit code, and a
+phrase the message must contain. Each runs with a pre-existing output folder holding a file whose bytes must
+survive the failure.
+"""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+PRECIOUS = b'an earlier result that a failed command must not touch'
+
+BAD = [
+    ('negative seed', 'simulate A --out {out} --seed -1', 2, "argument --seed: '-1' is not a whole number >= 0"),
+    ('no seeds', 'study --out {out} --seeds 0', 2, "argument --seeds: '0' is not a whole number >= 1"),
+    ('no robots', 'simulate A --out {out} --n 0', 2, "argument --n: '0' is not a whole number >= 1"),
+    ('grid too fine', 'plan A --out {out} --grid-step 1e-6', 2, 'use a grid step of at least 0.003 m'),
+    ('negative grid step', 'plan A --out {out} --grid-step -1', 2, "argument --grid-step: '-1' is not a number > 0"),
+    ('figure kind', 'scene show A --out {tmp}/scene.foo', 2, 'give a file ending in one of .avif'),
+    ('unknown scene', 'simulate Z --out {out}', 2, "unknown scene 'Z'"),
+    ('folder as scene', 'scene show {tmp}', 2, 'is a folder, not a scene file'),
+    ('scene not UTF-8', 'scene show {tmp}/latin1.toml', 2, 'is not UTF-8 text'),
+    ('binary submission', 'submission check {tmp}/binary.py', 2, 'is not a Python source file'),
+    ('check without runs', 'submission check {tmp}/binary.py --seeds 0', 2, "'0' is not a whole number >= 1"),
+    ('npz not a plan', 'simulate A --out {out} --plan {tmp}/notaplan.npz', 2, 'without vtube metadata, not a plan'),
+    ('damaged plan', 'simulate A --out {out} --plan {tmp}/damaged.npz', 2, 'is not an .npz archive, or it is damaged'),
+    ('npy as plan', 'simulate A --out {out} --plan {tmp}/bare.npy', 2, 'holds one bare array (.npy), not a plan'),
+    ('poses of a wrong shape', 'analyze {tmp}/shapes --out {out}', 2, 'vtube_poses.npy the poses (T, 3, N)'),
+    ('random bytes bag', 'analyze {tmp}/random.bag --out {out}', 2, 'as a ROS bag'),
+    ('bad regex', 'analyze {tmp}/shapes --out {out} --topic-pattern (', 2, "'(' is not a regular expression"),
+    ('negative radius', 'analyze {tmp}/shapes --out {out} --collision-distance -1', 2, "'-1' is not a number > 0"),
+    ('output under a file', 'plan A --out {tmp}/binary.py/plan', 2, 'choose another --out before any run starts'),
+    ('scene off the arena', 'robotarium run A --out {out}', 2, 'does not fit the Robotarium arena'),
+    ('missing campaign', 'campaign run {tmp}/none.toml --out {out}', 2, 'does not exist; give the path to a .toml'),
+    ('negative workers', 'campaign run {tmp}/none.toml --workers -1', 2, "'-1' is not a whole number >= 0"),
+]
+
+
+@pytest.fixture(scope='module')
+def bad_files(tmp_path_factory) -> Path:
+    tmp = tmp_path_factory.mktemp('bad')
+    (tmp / 'latin1.toml').write_bytes(b'[tube.center]\npieces = [{ kind = "line", length_m = 10.0 }]\n# caf\xe9\n')
+    rng = np.random.default_rng(0)
+    (tmp / 'random.bag').write_bytes(rng.bytes(2000))
+    (tmp / 'binary.py').write_bytes(rng.bytes(500))
+    np.save(tmp / 'bare.npy', np.zeros((3, 3)))
+    np.savez(tmp / 'notaplan.npz', a=np.zeros(3))
+    (tmp / 'damaged.npz').write_bytes(b'PK\x03\x04 not a zip archive after all')
+    (tmp / 'shapes').mkdir()
+    np.save(tmp / 'shapes' / 'vtube_t.npy', np.zeros(5))
+    np.save(tmp / 'shapes' / 'vtube_poses.npy', np.zeros((5, 7)))
+    return tmp
+
+
+def vtube(args: list[str], **kwargs) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, '-m', 'vtube', *args], check=False, capture_output=True, text=True, **kwargs)
+
+
+@pytest.mark.parametrize(('case', 'command', 'code', 'phrase'), BAD, ids=[row[0] for row in BAD])
+def test_bad_input_gets_one_error_line_and_loses_nothing(bad_files, tmp_path, case, command, code, phrase) -> None:
+    out = tmp_path / 'out'
+    out.mkdir()
+    (out / 'earlier.npz').write_bytes(PRECIOUS)
+    args = [part.format(tmp=bad_files, out=out) for part in command.split()]
+    result = vtube(args, timeout=120)
+    assert result.returncode == code, result.stderr
+    errors = [line for line in result.stderr.splitlines() if 'error:' in line]
+    assert len(errors) == 1 and phrase in errors[0], result.stderr
+    assert 'Traceback' not in result.stderr
+    assert [p.name for p in out.iterdir()] == ['earlier.npz'] and (out / 'earlier.npz').read_bytes() == PRECIOUS
+
+
+def test_ctrl_c_keeps_the_finished_log_and_says_so_in_one_line(tmp_path) -> None:
+    out = tmp_path / 'out'
+    assert vtube(['simulate', 'A', '--out', str(out)], timeout=300).returncode == 0
+    log = out / 'sim_A_planned.npz'
+    finished = log.read_bytes()
+    process = subprocess.Popen(
+        [sys.executable, '-m', 'vtube', 'simulate', 'A', '--out', str(out), '--seed', '1'],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    partial = out / 'sim_A_planned.partial.npz'
+    deadline = time.monotonic() + 120.0
+    while not partial.exists() and time.monotonic() < deadline:  # interrupted mid-run, after its first flush
+        time.sleep(0.02)
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 130 and err.strip().splitlines() == ['interrupted.'], err
+    assert log.read_bytes() == finished  # the earlier, finished log is intact
+    assert partial.stat().st_size > 0  # and the interrupted run's rows are in the partial log
