@@ -365,6 +365,7 @@ def run_experiment(
     meta = {
         'kind': 'robotarium experiment',
         'scene': scene.name,
+        'tube_hash': scene.tube.fingerprint(),
         'planned': config.planning,
         'barrier': config.barrier,
         'n_robots': n,

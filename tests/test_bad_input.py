@@ -16,6 +16,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from vtube_planning import load_scene
+from vtube_planning.planning.planner import plan_convex
+from vtube_planning.swarm.simulate import SimConfig, simulate
+
 PRECIOUS = b'an earlier result that a failed command must not touch'
 
 BAD = [
@@ -33,6 +37,9 @@ BAD = [
     ('npz not a plan', 'simulate A --out {out} --plan {tmp}/notaplan.npz', 2, 'without vtube metadata, not a plan'),
     ('damaged plan', 'simulate A --out {out} --plan {tmp}/damaged.npz', 2, 'is not an .npz archive, or it is damaged'),
     ('npy as plan', 'simulate A --out {out} --plan {tmp}/bare.npy', 2, 'holds one bare array (.npy), not a plan'),
+    ('plan missing a field', 'simulate A --out {out} --plan {tmp}/cut_plan.npz', 2, "missing ['speed_mps']"),
+    ('plan of another scene', 'simulate B --out {out} --plan {tmp}/plan_A.npz', 2, "made for scene 'A'"),
+    ('log of another scene', 'analyze {tmp}/log_A.npz --scene B --out {out}', 2, "recorded in scene 'A', whose tube"),
     ('poses of a wrong shape', 'analyze {tmp}/shapes --out {out}', 2, 'vtube_poses.npy the poses (T, 3, N)'),
     ('random bytes bag', 'analyze {tmp}/random.bag --out {out}', 2, 'as a ROS bag'),
     ('bad regex', 'analyze {tmp}/shapes --out {out} --topic-pattern (', 2, "'(' is not a regular expression"),
@@ -54,6 +61,14 @@ def bad_files(tmp_path_factory) -> Path:
     np.save(tmp / 'bare.npy', np.zeros((3, 3)))
     np.savez(tmp / 'notaplan.npz', a=np.zeros(3))
     (tmp / 'damaged.npz').write_bytes(b'PK\x03\x04 not a zip archive after all')
+    scene = load_scene('A')
+    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene='A')
+    plan.save(tmp / 'plan_A.npz')
+    arrays = dict(np.load(tmp / 'plan_A.npz'))
+    np.savez(tmp / 'cut_plan.npz', **{k: v for k, v in arrays.items() if k != 'speed_mps'})
+    short = SimConfig(time_limit_s=1.0)
+    log = tmp / 'log_A.npz'
+    simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=short, log_path=log, meta={'scene': 'A'})
     (tmp / 'shapes').mkdir()
     np.save(tmp / 'shapes' / 'vtube_t.npy', np.zeros(5))
     np.save(tmp / 'shapes' / 'vtube_poses.npy', np.zeros((5, 7)))

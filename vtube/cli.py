@@ -569,6 +569,17 @@ def analyze(
         **bag_options,
     }
     trajectory = load_trajectory(list(inputs), max_gap=gap, world_frame=world_frame, **bag_options)
+    recorded = trajectory.source.get('tube_hash')
+    if scene is not None and recorded is not None and recorded != scene.tube.fingerprint():
+        name = trajectory.source.get('scene')
+        where = f'scene {name!r}, whose tube' if name else 'a tube that'
+        fix = f'--scene {name}' if name else 'the scene it was recorded in'
+        print(
+            f'error: the log was recorded in {where} is not the tube of scene {scene.name!r}; analyse it with '
+            f'{fix}, or leave --scene out for the tube-free metrics.',
+            file=sys.stderr,
+        )
+        return EXIT_BAD_INPUT
     results = {'data': analyse(trajectory, scene, plan, collision_distance_m=collision_distance_m, options=options)}
     if compare is not None:
         simulated = load_trajectory([compare], max_gap=gap)

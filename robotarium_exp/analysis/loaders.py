@@ -172,6 +172,7 @@ def load_npz_log(path: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
         'path': str(path),
         'files': [str(path)],
         'scene': meta.get('scene'),
+        'tube_hash': meta.get('tube_hash'),
         'planned': meta.get('planned'),
     }
     return samples, source

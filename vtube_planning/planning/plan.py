@@ -171,6 +171,25 @@ class Plan:
             )
             raise PlanError(msg)
         active = {k.removeprefix('active_'): arrays.pop(k) for k in list(arrays) if k.startswith('active_')}
+        fields = [
+            *('time_s', 'objective', 'certificate', 'method', 'status', 'iterations', 'solve_time_s', 'scene'),
+            *('swarm', 'options', 'tube_hash', 'extra'),
+        ]
+        missing = [name for name in ARRAYS if name not in arrays] + [name for name in fields if name not in meta]
+        extra = [name for name in arrays if name not in ARRAYS]
+        shapes = {name: arrays[name].shape for name in ARRAYS if name in arrays}
+        if missing or extra or len(set(shapes.values())) > 1 or any(len(shape) != 1 for shape in shapes.values()):
+            msg = (
+                f'plan file {str(path)!r} is damaged: expected the arrays {list(ARRAYS)} of one length and the '
+                f'fields {fields}; missing {missing}, unexpected {extra}, shapes {shapes}. Plan again with '
+                'vtube plan.'
+            )
+            raise PlanError(msg)
+        try:
+            swarm, options = SwarmParams(**meta['swarm']), PlanningOptions(**meta['options'])
+        except (TypeError, ValueError) as err:
+            msg = f'plan file {str(path)!r} records parameters this vtube does not know ({err}). Plan again with vtube plan.'
+            raise PlanError(msg) from err
         return cls(
             **arrays,
             time_s=meta['time_s'],
@@ -182,8 +201,8 @@ class Plan:
             iterations=meta['iterations'],
             solve_time_s=meta['solve_time_s'],
             scene=meta['scene'],
-            swarm=SwarmParams(**meta['swarm']),
-            options=PlanningOptions(**meta['options']),
+            swarm=swarm,
+            options=options,
             tube_hash=meta['tube_hash'],
             extra=meta['extra'],
         )

@@ -263,6 +263,7 @@ def simulate(
         swarm=asdict(swarm),
         control=asdict(control),
         length_m=tube.length_m,
+        tube_hash=tube.fingerprint(),
     )
     log = LogWriter(log_path, description, flush_every=config.log_every)
     if baseline is not None and config.dropout > 0:
