@@ -25,6 +25,7 @@ import re
 import subprocess
 import sys
 import tempfile
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -38,6 +39,8 @@ from robotarium_exp.spec import ROBOTARIUM
 from submission.errors import CheckError
 
 DECLARE_QUANTILE = 0.995
+RUN_TIMEOUT_S = 900.0
+"""How long one run of the file may take before the check stops it (the testbed's own limit is the declaration)."""
 """Quantile of the initializer's durations that the declared duration covers without the verifier's margin (with
 the default 200 seeds, the longest). The tail is heavy: on the trapezoid's initial conditions the longest of seeds
 0-49 is 148 s, of seeds 0-199 319 s, so the longest of 50 seeds left a run beyond 1.5 times the declaration."""
@@ -58,6 +61,8 @@ class RunReport:
     summary: dict[str, Any] | None
     returncode: int
     stderr_tail: str = ''
+    timed_out_s: float | None = None
+    """The time limit the run did not finish within (None: it finished)."""
 
     def count(self, key: str) -> int:
         errors = (self.summary or {}).get('errors', {})
@@ -197,17 +202,21 @@ def static_check(source: str) -> list[str]:
     return sorted(m for m in imported_modules(source) if m not in allowed)
 
 
-def run_file(path: Path, backend: str, seed: int | None, timeout_s: float = 900.0) -> RunReport:
-    """Run the submission in a fresh process and folder on 'bundled' (V2 initialization) or 'pypi'."""
+def run_file(path: Path, backend: str, seed: int | None, timeout_s: float = RUN_TIMEOUT_S) -> RunReport:
+    """Run the submission in a fresh process and folder on 'bundled' (V2 initialization) or 'pypi'; a run that
+    does not finish within ``timeout_s`` is stopped and reported so."""
     with tempfile.TemporaryDirectory() as folder:
         env = dict(os.environ, VTUBE_HEADLESS='1', MPLBACKEND='Agg')
         if backend == 'bundled':
             command = [sys.executable, '-m', 'robotarium_exp.rps_alias', '--seed', str(seed), str(path)]
         else:
             command = [sys.executable, str(path)]
-        result = subprocess.run(
-            command, cwd=folder, env=env, capture_output=True, text=True, timeout=timeout_s, check=False
-        )
+        try:
+            result = subprocess.run(
+                command, cwd=folder, env=env, capture_output=True, text=True, timeout=timeout_s, check=False
+            )
+        except subprocess.TimeoutExpired:
+            return RunReport(backend, seed, None, -1, timed_out_s=timeout_s)
     summary = None
     for line in result.stdout.splitlines():
         if line.startswith('{') and '"vtube_summary"' in line:
@@ -224,8 +233,16 @@ def file_initial_conditions(source: str) -> NDArray[np.float64]:
     raise CheckError('the file has no DATA with initial_conditions; build it with `vtube submission build`.')
 
 
-def check(path: str | Path, *, seeds: int = 3, initializer_seeds: int = 200) -> CheckReport:
-    """Run the whole preflight on a submission file; the initializer alone over ``initializer_seeds`` seeds."""
+def check(
+    path: str | Path,
+    *,
+    seeds: int = 3,
+    initializer_seeds: int = 200,
+    run_timeout_s: float = RUN_TIMEOUT_S,
+    progress: Callable[[str], None] | None = None,
+) -> CheckReport:
+    """Run the whole preflight on a submission file; the initializer alone over ``initializer_seeds`` seeds; each
+    run of the file stopped after ``run_timeout_s``; ``progress`` is told what starts."""
     path = Path(path).resolve()
     if not path.is_file():
         msg = f'submission file {str(path)!r} does not exist; build one with `vtube submission build`.'
@@ -250,13 +267,18 @@ def check(path: str | Path, *, seeds: int = 3, initializer_seeds: int = 200) -> 
     report = CheckReport(str(path), disallowed)
     if disallowed:
         return report
+    initial_conditions = file_initial_conditions(source)  # before any run: a file without them is refused
+    tell = progress or (lambda text: None)
     for seed in range(seeds):
-        report.runs.append(run_file(path, 'bundled', seed))
+        tell(f'running the file on the bundled simulator, seed {seed} (at most {run_timeout_s:g} s)')
+        report.runs.append(run_file(path, 'bundled', seed, run_timeout_s))
     if importlib.util.find_spec('rps') is not None:
-        report.runs.append(run_file(path, 'pypi', None))
+        tell(f'running the file on the PyPI simulator (at most {run_timeout_s:g} s)')
+        report.runs.append(run_file(path, 'pypi', None, run_timeout_s))
+    tell(f"V2's initializer alone for the file's initial conditions, {initializer_seeds} seeds")
     robots = {run.summary['robots'] for run in report.runs if run.summary}
     report.robots = robots.pop() if len(robots) == 1 else None
-    report.initializer = initializer_durations(file_initial_conditions(source), range(initializer_seeds))
+    report.initializer = initializer_durations(initial_conditions, range(initializer_seeds))
     report.header_declaration = Declaration.from_header(source)
     if report.experiment_s is not None:
         try:

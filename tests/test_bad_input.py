@@ -113,3 +113,22 @@ def test_ctrl_c_keeps_the_finished_log_and_says_so_in_one_line(tmp_path) -> None
     assert process.returncode == 130 and err.strip().splitlines() == ['interrupted.'], err
     assert log.read_bytes() == finished  # the earlier, finished log is intact
     assert partial.stat().st_size > 0  # and the interrupted run's rows are in the partial log
+
+
+def test_a_submission_that_never_ends_or_prints_nothing_is_reported_so(tmp_path) -> None:
+    data = "DATA = {'initial_conditions': [[0.0, 0.5], [0.0, 0.0], [0.0, 0.0]]}\n"
+    (tmp_path / 'forever.py').write_text(data + 'import time\nwhile True:\n    time.sleep(0.1)\n')
+    (tmp_path / 'silent.py').write_text(data + "print('hello')\n")
+    limits = ['--seeds', '1', '--initializer-seeds', '1', '--run-timeout', '3']
+    forever = vtube(['submission', 'check', str(tmp_path / 'forever.py'), *limits], timeout=120)
+    assert forever.returncode == 1 and 'Traceback' not in forever.stderr
+    assert (
+        'bundled seed 0   did not finish in 3 s' in forever.stdout and 'verdict                FAIL' in forever.stdout
+    )
+    assert 'seed 0 (at most 3 s)' in forever.stderr  # told before it waits
+    silent = vtube(['submission', 'check', str(tmp_path / 'silent.py'), *limits], timeout=120)
+    assert silent.returncode == 1 and 'ran, but printed no vtube summary' in silent.stdout
+    no_data = tmp_path / 'plain.py'
+    no_data.write_text('import time\nwhile True:\n    time.sleep(0.1)\n')
+    refused = vtube(['submission', 'check', str(no_data), *limits], timeout=60)
+    assert refused.returncode == 2 and 'no DATA with initial_conditions' in refused.stderr  # before any run

@@ -485,11 +485,20 @@ def submission_build(
     return EXIT_OK
 
 
-def submission_check(path: Path, *, seeds: int = 3, initializer_seeds: int = 200) -> int:
+def submission_check(
+    path: Path, *, seeds: int = 3, initializer_seeds: int = 200, run_timeout_s: float | None = None
+) -> int:
     """Preflight a submission file; prints the report and returns 0 when it passes, 1 when not."""
-    from submission.check import check
+    from submission.check import RUN_TIMEOUT_S, check
 
-    return EXIT_OK if _print_check(check(path, seeds=seeds, initializer_seeds=initializer_seeds)) else 1
+    report = check(
+        path,
+        seeds=seeds,
+        initializer_seeds=initializer_seeds,
+        run_timeout_s=run_timeout_s or RUN_TIMEOUT_S,
+        progress=lambda text: print(f'  ... {text}', file=sys.stderr, flush=True),
+    )
+    return EXIT_OK if _print_check(report) else 1
 
 
 def _print_check(report: CheckReport) -> bool:
@@ -508,6 +517,12 @@ def _print_check(report: CheckReport) -> bool:
     )
     for run in report.runs:
         label = f'{run.backend}' + (f' seed {run.seed}' if run.seed is not None else '')
+        if run.timed_out_s is not None:
+            print(f'  {label:<16} did not finish in {run.timed_out_s:g} s (raise --run-timeout if it should)')
+            continue
+        if run.summary is None and run.returncode == 0:
+            print(f'  {label:<16} ran, but printed no vtube summary: not a file built by `vtube submission build`')
+            continue
         if run.summary is None:
             print(f'  {label:<16} crashed (exit {run.returncode}): {run.stderr_tail.strip().splitlines()[-1:]}')
             continue
@@ -519,7 +534,7 @@ def _print_check(report: CheckReport) -> bool:
         )
     declared = report.declaration
     print(
-        f'  declare                {report.robots} robots, '
+        f'  declare                {report.robots or "?"} robots, '
         + (f'{declared.duration_s} s' if declared else 'no duration')
     )
     if declared:
@@ -679,15 +694,21 @@ def _figure_path(out: Path) -> None:
 
 
 def _writable_folder(out: Path) -> None:
-    """Refuse, before any run starts, an output folder that cannot be created or written."""
-    probe = out / '.vtube-write-test'
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-        probe.write_bytes(b'')
-        probe.unlink()
-    except OSError as err:
-        msg = f'cannot write to {out} ({err.strerror or err}); choose another --out before any run starts.'
-        raise OSError(msg) from err
+    """Refuse, before any run starts and without creating anything, an output folder that cannot be created or
+    written: its nearest existing ancestor must be a folder this process may write in."""
+    import os
+
+    existing = out
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    problem = None
+    if not existing.is_dir():
+        problem = f'{existing} is not a folder'
+    elif not os.access(existing, os.W_OK | os.X_OK):
+        problem = f'no permission to write in {existing}'
+    if problem is not None:
+        msg = f'cannot write to {out} ({problem}); choose another --out before any run starts.'
+        raise OSError(msg)
 
 
 def _sizes(text: str) -> list[int]:
@@ -884,6 +905,13 @@ def _parser() -> argparse.ArgumentParser:
         default=200,
         help="V2's initializer alone, for the duration to declare, >= 1",
     )
+    check_cmd.add_argument(
+        '--run-timeout',
+        type=_positive,
+        default=None,
+        dest='run_timeout_s',
+        help='seconds after which a run of the file is stopped and reported as not finished (default 900)',
+    )
     ana = commands.add_parser('analyze', help='metrics, figures and a report of returned or recorded data')
     ana.add_argument(
         'inputs',
@@ -966,7 +994,9 @@ def main(argv: Sequence[str] | None = None) -> int:
                 initializer_seeds=args.initializer_seeds,
             )
         if args.command == 'submission':
-            return submission_check(args.file, seeds=args.seeds, initializer_seeds=args.initializer_seeds)
+            return submission_check(
+                args.file, seeds=args.seeds, initializer_seeds=args.initializer_seeds, run_timeout_s=args.run_timeout_s
+            )
         if args.command == 'robotarium' and args.robotarium_command == 'compare':
             return robotarium_compare(args.scene, args.out, seeds=args.seeds, plan_path=args.plan)
         if args.command == 'robotarium':
