@@ -32,6 +32,13 @@ BAD = [
     ('unknown scene', 'simulate Z --out {out}', 2, "unknown scene 'Z'"),
     ('folder as scene', 'scene show {tmp}', 2, 'is a folder, not a scene file'),
     ('scene not UTF-8', 'scene show {tmp}/latin1.toml', 2, 'is not UTF-8 text'),
+    ('text waypoint', 'scene show {tmp}/text_waypoint.toml', 2, "must be numbers of metres within +-1e+06; [1.0, 'a']"),
+    (
+        'endless tube',
+        'simulate {tmp}/endless.toml --out {out}',
+        2,
+        'length_m in [tube.center.pieces[0]] must be at most',
+    ),
     ('binary submission', 'submission check {tmp}/binary.py', 2, 'is not a Python source file'),
     ('check without runs', 'submission check {tmp}/binary.py --seeds 0', 2, "'0' is not a whole number >= 1"),
     ('npz not a plan', 'simulate A --out {out} --plan {tmp}/notaplan.npz', 2, 'without vtube metadata, not a plan'),
@@ -55,6 +62,9 @@ BAD = [
 def bad_files(tmp_path_factory) -> Path:
     tmp = tmp_path_factory.mktemp('bad')
     (tmp / 'latin1.toml').write_bytes(b'[tube.center]\npieces = [{ kind = "line", length_m = 10.0 }]\n# caf\xe9\n')
+    width = '[tube.width]\nstart_m = 2.0\nparts = [{ kind = "constant" }]\n'
+    (tmp / 'text_waypoint.toml').write_text('[tube.center]\nwaypoints = [[0.0, 0.0], [1.0, "a"], [2.0, 0.0]]\n' + width)
+    (tmp / 'endless.toml').write_text('[tube.center]\npieces = [{ kind = "line", length_m = 1e300 }]\n' + width)
     rng = np.random.default_rng(0)
     (tmp / 'random.bag').write_bytes(rng.bytes(2000))
     (tmp / 'binary.py').write_bytes(rng.bytes(500))

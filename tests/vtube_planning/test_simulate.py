@@ -191,3 +191,13 @@ def test_planned_swarm_expands_before_the_narrowing(scene_a) -> None:
     assert result.r_a_m[before].mean() > 1.2 * scene.swarm.r_a_m  # (a3) grew r_a
     assert result.density_per_m2[before].min() < plan.density(10.0) * 1.05  # density reached the plan
     assert result.metrics.density_tracking_mean_per_m2 < 0.15
+
+
+def test_a_run_that_cannot_fit_in_memory_is_refused_before_it_starts(scene_a, monkeypatch) -> None:
+    scene, plan = scene_a
+    config = SimConfig(time_limit_s=10.0)  # 501 steps of 20 robots: 2 x 501 x 20 x 10 floats = 1.6 MB
+    monkeypatch.setattr(simulate_module, 'available_memory_bytes', lambda: 1_500_000)
+    with pytest.raises(ParamsError, match=r'flying 20 robots for up to 10 s .* more than the 0.0 GiB available'):
+        simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=config)
+    monkeypatch.setattr(simulate_module, 'available_memory_bytes', lambda: 1_700_000)
+    assert simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=config).t_s.size > 1

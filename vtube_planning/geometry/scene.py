@@ -237,6 +237,10 @@ class _Where:
         return float(value)
 
 
+MAX_COORDINATE_M = 1e6
+"""The largest coordinate a scene may use (1,000 km): beyond it the geometry's arithmetic loses its metres."""
+
+
 def _center(table: dict[str, Any], where: _Where) -> CenterCurve:
     path = 'tube.center'
     if ('pieces' in table) == ('waypoints' in table):
@@ -248,14 +252,22 @@ def _center(table: dict[str, Any], where: _Where) -> CenterCurve:
         if not isinstance(waypoints, list) or not all(isinstance(p, list) and len(p) == 2 for p in waypoints):
             msg = f'waypoints in [{path}] must be a list of [x, y] pairs; got {waypoints!r}.'
             raise where.fail(msg)
-        return SplineCurve(tuple(tuple(p) for p in waypoints))
+        bad = [p for p in waypoints if not all(is_real(v) and abs(v) <= MAX_COORDINATE_M for v in p)]
+        if bad:
+            msg = f'waypoints in [{path}] must be numbers of metres within +-{MAX_COORDINATE_M:g}; {bad[0]!r} is not.'
+            raise where.fail(msg)
+        return SplineCurve(tuple((float(p[0]), float(p[1])) for p in waypoints))
     where.keys(table, path, required=('pieces',), optional=('start_xy_m', 'heading_deg'))
     pieces = table['pieces']
     if not isinstance(pieces, list) or not pieces:
         msg = f'pieces in [{path}] must be a non-empty list of tables.'
         raise where.fail(msg)
     start = table.get('start_xy_m', [0.0, 0.0])
-    if not isinstance(start, list) or len(start) != 2 or not all(is_real(v) for v in start):
+    if (
+        not isinstance(start, list)
+        or len(start) != 2
+        or not all(is_real(v) and abs(v) <= MAX_COORDINATE_M for v in start)
+    ):
         msg = f'start_xy_m in [{path}] must be [x, y]; got {start!r}.'
         raise where.fail(msg)
     heading = where.number(table, 'heading_deg', path) if 'heading_deg' in table else 0.0
@@ -269,13 +281,21 @@ def _piece(piece: object, k: int, where: _Where) -> ArcPiece:
         raise where.fail(msg)
     if piece['kind'] == 'line':
         where.keys(piece, path, required=('kind', 'length_m'))
-        return ArcPiece(where.number(piece, 'length_m', path))
+        return ArcPiece(_metres(piece, 'length_m', path, where))
     where.keys(piece, path, required=('kind', 'radius_m', 'angle_deg'))
-    radius, angle = where.number(piece, 'radius_m', path), where.number(piece, 'angle_deg', path)
+    radius, angle = _metres(piece, 'radius_m', path, where), where.number(piece, 'angle_deg', path)
     if angle == 0.0 or radius <= 0.0:
         msg = f'{path}: an arc needs radius_m > 0 and angle_deg != 0 (positive turns left); got {radius}, {angle}.'
         raise where.fail(msg)
     return ArcPiece(radius * math.radians(abs(angle)), radius_m=radius, left=angle > 0)
+
+
+def _metres(table: dict[str, Any], key: str, path: str, where: _Where) -> float:
+    value = where.number(table, key, path)
+    if abs(value) > MAX_COORDINATE_M:
+        msg = f'{key} in [{path}] must be at most {MAX_COORDINATE_M:g} m; got {value:g}.'
+        raise where.fail(msg)
+    return value
 
 
 def _width(table: dict[str, Any], length_m: float, where: _Where) -> WidthProfile:

@@ -20,6 +20,7 @@ TCNS 2 m/s in [0.5, 3.5], Robotarium k1 = v_max / 2).
 from __future__ import annotations
 
 import math
+import os
 from collections import deque
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
@@ -198,6 +199,32 @@ def limit_acceleration(velocity: FloatArray, command: FloatArray, a_v: float, a_
     return new_speed * np.vstack([np.cos(heading), np.sin(heading)])
 
 
+LOGGED_FLOATS_PER_ROBOT = 10
+"""Per robot and step the simulation keeps positions, velocities and commands (2 each), r_a, l, clearance and the
+forward speed: 10 floats, twice while they are stacked into arrays."""
+
+
+def available_memory_bytes() -> int | None:
+    """The physical memory not in use now (None where the platform does not say)."""
+    try:
+        return int(os.sysconf('SC_AVPHYS_PAGES')) * int(os.sysconf('SC_PAGE_SIZE'))
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def _check_memory(steps: int, n: int, limit_s: float) -> None:
+    """Refuse a run whose trajectory, kept to the time limit, would not fit the memory available."""
+    need = 2 * steps * n * LOGGED_FLOATS_PER_ROBOT * 8
+    free = available_memory_bytes()
+    if free is not None and need > free:
+        msg = (
+            f'flying {n} robots for up to {limit_s:.0f} s (the time limit) keeps about {need / 2**30:.1f} GiB of '
+            f'trajectory in memory, more than the {free / 2**30:.1f} GiB available; fly fewer robots, or set a '
+            'shorter time_limit_s.'
+        )
+        raise ParamsError(msg)
+
+
 def simulate(
     tube: VirtualTube,
     swarm: SwarmParams,
@@ -253,6 +280,7 @@ def simulate(
     extent = float(np.ptp(tube.project(positions).l_m))
     limit = config.time_limit_s or 4.0 * (tube.length_m + extent + 2 * swarm.r_a_m) / swarm.v_min_mps
     steps = math.ceil(limit / config.dt_s)
+    _check_memory(steps + 1, n, limit)
     description = dict(
         meta or {},
         kind='simulation',
