@@ -244,6 +244,9 @@ def check(
     """Run the whole preflight on a submission file; the initializer alone over ``initializer_seeds`` seeds; each
     run of the file stopped after ``run_timeout_s``; ``progress`` is told what starts."""
     path = Path(path).resolve()
+    if path.is_dir():
+        msg = f'{str(path)!r} is a folder; give the submission .py file (vtube submission build writes one).'
+        raise CheckError(msg)
     if not path.is_file():
         msg = f'submission file {str(path)!r} does not exist; build one with `vtube submission build`.'
         raise CheckError(msg)

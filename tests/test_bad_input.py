@@ -48,6 +48,8 @@ BAD = [
     ('plan of another scene', 'simulate B --out {out} --plan {tmp}/plan_A.npz', 2, "made for scene 'A'"),
     ('log of another scene', 'analyze {tmp}/log_A.npz --scene B --out {out}', 2, "recorded in scene 'A', whose tube"),
     ('poses of a wrong shape', 'analyze {tmp}/shapes --out {out}', 2, 'vtube_poses.npy the poses (T, 3, N)'),
+    ('poses all NaN', 'analyze {tmp}/nan_poses --out {out}', 2, 'has a finite position'),
+    ('folder as submission', 'submission check {tmp}', 2, 'is a folder; give the submission .py file'),
     ('random bytes bag', 'analyze {tmp}/random.bag --out {out}', 2, 'as a ROS bag'),
     ('bad regex', 'analyze {tmp}/shapes --out {out} --topic-pattern (', 2, "'(' is not a regular expression"),
     ('negative radius', 'analyze {tmp}/shapes --out {out} --collision-distance -1', 2, "'-1' is not a number > 0"),
@@ -79,6 +81,9 @@ def bad_files(tmp_path_factory) -> Path:
     short = SimConfig(time_limit_s=1.0)
     log = tmp / 'log_A.npz'
     simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=short, log_path=log, meta={'scene': 'A'})
+    (tmp / 'nan_poses').mkdir()
+    np.save(tmp / 'nan_poses' / 'vtube_t.npy', 0.033 * np.arange(5))
+    np.save(tmp / 'nan_poses' / 'vtube_poses.npy', np.full((5, 3, 2), np.nan))
     (tmp / 'shapes').mkdir()
     np.save(tmp / 'shapes' / 'vtube_t.npy', np.zeros(5))
     np.save(tmp / 'shapes' / 'vtube_poses.npy', np.zeros((5, 7)))

@@ -196,7 +196,7 @@ def _clean(rid: str, samples: RobotSamples) -> tuple[IntArray, FloatArray, Float
     finite = np.all(np.isfinite(xy), axis=1)
     stamps, xy = stamps[finite], xy[finite]
     heading = None if heading is None else heading[finite]
-    first = np.concatenate([[True], np.diff(stamps) > 0])
+    first = np.concatenate([[True], np.diff(stamps) > 0])[: stamps.size]  # (none left: empty)
     return (
         stamps[first],
         xy[first],
