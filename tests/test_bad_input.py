@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from vtube_planning import load_scene
+from vtube_planning.npzfile import write_npz
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.swarm.simulate import SimConfig, simulate
 
@@ -48,6 +49,8 @@ BAD = [
     ('plan of another scene', 'simulate B --out {out} --plan {tmp}/plan_A.npz', 2, "made for scene 'A'"),
     ('log of another scene', 'analyze {tmp}/log_A.npz --scene B --out {out}', 2, "recorded in scene 'A', whose tube"),
     ('poses of a wrong shape', 'analyze {tmp}/shapes --out {out}', 2, 'vtube_poses.npy the poses (T, 3, N)'),
+    ('log of wrong shapes', 'analyze {tmp}/bad_log.npz --out {out}', 2, 'positions_m (T, 2, N); got (3,) and (4, 3)'),
+    ('unknown scene among many', 'study --out {out} --scenes A,Z --seeds 1', 2, "unknown scene 'Z'"),
     ('poses all NaN', 'analyze {tmp}/nan_poses --out {out}', 2, 'has a finite position'),
     ('folder as submission', 'submission check {tmp}', 2, 'is a folder; give the submission .py file'),
     ('random bytes bag', 'analyze {tmp}/random.bag --out {out}', 2, 'as a ROS bag'),
@@ -81,6 +84,8 @@ def bad_files(tmp_path_factory) -> Path:
     short = SimConfig(time_limit_s=1.0)
     log = tmp / 'log_A.npz'
     simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=short, log_path=log, meta={'scene': 'A'})
+    log_meta = {'format': 'vtube-trajectory', 'version': 2, 'kind': 'test'}
+    write_npz(tmp / 'bad_log.npz', {'t_s': np.arange(3.0), 'positions_m': np.zeros((4, 3))}, log_meta)
     (tmp / 'nan_poses').mkdir()
     np.save(tmp / 'nan_poses' / 'vtube_t.npy', 0.033 * np.arange(5))
     np.save(tmp / 'nan_poses' / 'vtube_poses.npy', np.full((5, 3, 2), np.nan))
@@ -125,7 +130,8 @@ def test_ctrl_c_keeps_the_finished_log_and_says_so_in_one_line(tmp_path) -> None
         time.sleep(0.02)
     process.send_signal(signal.SIGINT)
     _, err = process.communicate(timeout=60)
-    assert process.returncode == 130 and err.strip().splitlines() == ['interrupted.'], err
+    assert process.returncode == 130 and len(err.strip().splitlines()) == 1, err
+    assert err.startswith(f'interrupted: the steps flown so far are in {partial};'), err
     assert log.read_bytes() == finished  # the earlier, finished log is intact
     assert partial.stat().st_size > 0  # and the interrupted run's rows are in the partial log
 

@@ -144,15 +144,21 @@ def simulate(
     mode = 'planned' if planning else 'unplanned'
     config = SimConfig(seed=seed, acceleration_limits=acceleration_limits)
     log = out / f'sim_{scene.name}_{mode}.npz'
-    result = run(
-        scene.tube,
-        swarm,
-        scene.control,
-        plan=plan,
-        config=config,
-        log_path=log,
-        meta={'scene': scene.name, 'source': scene.source},
-    )
+    try:
+        result = run(
+            scene.tube,
+            swarm,
+            scene.control,
+            plan=plan,
+            config=config,
+            log_path=log,
+            meta={'scene': scene.name, 'source': scene.source},
+        )
+    except KeyboardInterrupt:
+        partial = log.with_name(f'{log.stem}.partial{log.suffix}')
+        kept = f'the steps flown so far are in {partial}' if partial.exists() else 'nothing was flown yet'
+        print(f'interrupted: {kept}; a finished log at {log} is left as it was.', file=sys.stderr)
+        return EXIT_INTERRUPTED
     m = result.metrics
     print(
         f'simulation of scene {scene.name} {"with" if planning else "without"} planning: N = {swarm.n_robots}, '

@@ -109,4 +109,11 @@ def read_log(path: str | Path) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]
     if missing:
         msg = f'{str(path)!r} is a vtube trajectory log without {missing} (it has {sorted(arrays)}).'
         raise LogError(msg)
+    t_s, positions = arrays['t_s'], arrays['positions_m']
+    if t_s.ndim != 1 or positions.ndim != 3 or positions.shape[:2] != (t_s.size, 2):
+        msg = (
+            f'{str(path)!r} is a damaged vtube trajectory log: t_s must be (T,) and positions_m (T, 2, N); got '
+            f'{t_s.shape} and {positions.shape}.'
+        )
+        raise LogError(msg)
     return arrays, meta
