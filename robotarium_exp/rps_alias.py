@@ -19,12 +19,14 @@ fix instead of a bare ``AttributeError``, and exit code 1.
 
 from __future__ import annotations
 
+import argparse
 import importlib
 import random
 import runpy
 import sys
 import traceback
 import types
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -131,27 +133,43 @@ def recording(cls: type, log_path: str) -> type:
     return Recording
 
 
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog='python -m robotarium_exp.rps_alias',
+        description="Run an unchanged Robotarium script with `import rps` resolved to vtube's simulator.",
+        epilog='Options go before the script; what follows the script is passed to it.',
+    )
+    parser.add_argument('--classic', action='store_true', help='the classic generation (call_at_scripts_end)')
+    parser.add_argument('--seed', type=_seed, default=None, help='seed random and np.random, >= 0 (default: none)')
+    parser.add_argument('--log', default=None, metavar='FILE.npz', help='record every pose handed out to this log')
+    parser.add_argument('--exact-qp', action='store_true', help='solve the certificates exactly (DAQP), not as V2')
+    parser.add_argument('command', nargs=argparse.REMAINDER, metavar='SCRIPT [ARGS ...]', help='the script to run')
+    return parser
+
+
+def _seed(text: str) -> int:
+    if not text.isdigit():
+        msg = f'{text!r} is not a whole number >= 0'
+        raise argparse.ArgumentTypeError(msg)
+    return int(text)
+
+
 def main() -> None:
-    args = sys.argv[1:]
-    classic, seed, log_path = False, None, None
-    while args and args[0] in ('--classic', '--seed', '--log', '--exact-qp'):
-        if args[0] == '--classic':
-            classic, args = True, args[1:]
-        elif args[0] == '--exact-qp':
-            use_qp_solver('exact')
-            args = args[1:]
-        elif args[0] == '--seed':
-            seed, args = int(args[1]), args[2:]
-        else:
-            log_path, args = args[1], args[2:]
-    if not args:
-        print(
-            'usage: python -m robotarium_exp.rps_alias [--classic] [--seed N] [--log FILE] [--exact-qp] SCRIPT [ARGS...]',
-            file=sys.stderr,
-        )
-        raise SystemExit(2)
-    install(classic=classic, seed=seed, log_path=log_path)
-    sys.argv = args
+    parser = _parser()
+    args = parser.parse_args()
+    if not args.command:
+        parser.error('give the script to run, e.g. python -m robotarium_exp.rps_alias my_script.py')
+    script = Path(args.command[0])
+    if not script.is_file():
+        parser.error(f'{script}: no such script; give the path of a Python file.')
+    try:
+        compile(script.read_bytes(), str(script), 'exec')
+    except (SyntaxError, ValueError) as err:  # ValueError: null bytes
+        parser.error(f'{script} is not a Python script ({err}).')
+    if args.exact_qp:
+        use_qp_solver('exact')
+    install(classic=args.classic, seed=args.seed, log_path=args.log)
+    sys.argv = list(args.command)
     try:
         runpy.run_path(sys.argv[0], run_name='__main__')
     except AttributeError as error:

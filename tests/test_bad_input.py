@@ -60,6 +60,10 @@ BAD = [
     ('scene off the arena', 'robotarium run A --out {out}', 2, 'does not fit the Robotarium arena'),
     ('missing campaign', 'campaign run {tmp}/none.toml --out {out}', 2, 'does not exist; give the path to a .toml'),
     ('negative workers', 'campaign run {tmp}/none.toml --workers -1', 2, "'-1' is not a whole number >= 0"),
+    ('alias without a script', 'rps_alias --seed 1', 2, 'give the script to run'),
+    ('alias, missing script', 'rps_alias {tmp}/none.py', 2, 'none.py: no such script'),
+    ('alias, bad seed', 'rps_alias --seed x {tmp}/binary.py', 2, "argument --seed: 'x' is not a whole number >= 0"),
+    ('alias, binary script', 'rps_alias {tmp}/binary.py', 2, 'binary.py is not a Python script'),
 ]
 
 
@@ -96,6 +100,10 @@ def bad_files(tmp_path_factory) -> Path:
 
 
 def vtube(args: list[str], **kwargs) -> subprocess.CompletedProcess:
+    """Run ``vtube ARGS``, or ``python -m robotarium_exp.rps_alias ARGS`` when the first word is ``rps_alias``."""
+    if args[0] == 'rps_alias':
+        args = ['-m', 'robotarium_exp.rps_alias', *args[1:]]
+        return subprocess.run([sys.executable, *args], check=False, capture_output=True, text=True, **kwargs)
     return subprocess.run([sys.executable, '-m', 'vtube', *args], check=False, capture_output=True, text=True, **kwargs)
 
 
