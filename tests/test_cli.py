@@ -280,3 +280,36 @@ def test_an_unwritable_output_folder_is_refused_before_any_run(tmp_path, capsys,
     assert captured.err.startswith(f'error: cannot write to {blocker / "results"} (')
     assert 'choose another --out before any run starts.' in captured.err and len(captured.err.splitlines()) == 1
     assert captured.out == ''  # not a single run was flown
+
+
+def test_version_is_the_package_metadata(capsys) -> None:
+    from importlib.metadata import version
+
+    import vtube
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(['--version'])
+    assert exit_info.value.code == 0 and capsys.readouterr().out.strip() == f'vtube {version("vtube")}'
+    assert vtube.__version__ == version('vtube')
+
+
+def test_help_shows_defaults_and_exit_codes(capsys) -> None:
+    with pytest.raises(SystemExit):
+        main(['simulate', '--help'])
+    text = ' '.join(capsys.readouterr().out.split())
+    assert 'seed of the initial formation jitter, >= 0 (default: 0)' in text
+    assert 'exit codes: 0 done, every check held; 1 a check or claim failed; 2 bad input' in text
+    assert '(default: None)' not in text and '(default: False)' not in text
+
+
+def test_a_shipped_scene_exported_is_the_same_scene_and_nothing_is_overwritten(tmp_path, capsys) -> None:
+    from vtube_planning import load_scene
+
+    path = tmp_path / 'mine.toml'
+    assert main(['scene', 'export', 'c', str(path)]) == 0
+    mine, shipped = load_scene(path), load_scene('C')
+    assert mine.tube.fingerprint() == shipped.tube.fingerprint() and mine.swarm == shipped.swarm
+    assert (mine.planning, mine.control) == (shipped.planning, shipped.control)
+    path.write_text('edited', encoding='utf-8')
+    assert main(['scene', 'export', 'C', str(path)]) == 2
+    assert 'exists; give another file name' in capsys.readouterr().err and path.read_text() == 'edited'

@@ -12,7 +12,7 @@ import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from robotarium_exp.errors import RobotariumExpError
 from unicycle_mapping.errors import MappingError
@@ -50,7 +50,10 @@ def scene_show(name_or_path: str, out: Path | None) -> int:
     summary = scene.tube.summary()
     swarm = scene.swarm
     print(f'scene {scene.name}: {scene.title}')
-    print(f'  source                {scene.source}')
+    source = scene.source
+    if source.startswith('<shipped>'):
+        source += f'  (vtube scene export {scene.name} FILE.toml writes a copy to edit)'
+    print(f'  source                {source}')
     print(f'  length                {summary["length_m"]:.3f} m')
     print(f'  half-width            {summary["half_width_min_m"]:.3f} .. {summary["half_width_max_m"]:.3f} m')
     print(f'  min curvature radius  {summary["curvature_radius_min_m"]:.3f} m')
@@ -66,6 +69,20 @@ def scene_show(name_or_path: str, out: Path | None) -> int:
 
         path = save_figure(scene_figure(scene), out)
         print(f'  figure                {path}')
+    return EXIT_OK
+
+
+def scene_export(name: str, path: Path) -> int:
+    """Write a shipped scene's TOML file to ``path``, to edit and use as a scene of one's own."""
+    from vtube_planning.geometry.scene import shipped_scene_text
+
+    spelled, text = shipped_scene_text(name)
+    if path.exists():
+        print(f'error: {path} exists; give another file name (nothing was written).', file=sys.stderr)
+        return EXIT_BAD_INPUT
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text, encoding='utf-8')
+    print(f'scene {spelled} written to {path}; edit it and pass the file where a scene is asked for')
     return EXIT_OK
 
 
@@ -789,11 +806,38 @@ def _execution(args: argparse.Namespace) -> Execution:
     return Execution(args.workers, args.scheduler, args.scheduler_timeout, args.quiet)
 
 
+EXIT_CODES = (
+    'exit codes: 0 done, every check held; 1 a check or claim failed; 2 bad input or refused work; 130 interrupted.'
+)
+
+
+class _HelpFormatter(argparse.HelpFormatter):
+    """Help that shows each option's default (when it has one worth showing)."""
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        text = action.help or ''
+        default = action.default
+        shown = not (default is None or default is False or default == argparse.SUPPRESS) and '(default' not in text
+        return f'{text} (default: %(default)s)' if shown and action.option_strings else text
+
+
+class _Parser(argparse.ArgumentParser):
+    """Every vtube (sub)command's parser: defaults in the help, the exit codes below it."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        kwargs.setdefault('formatter_class', _HelpFormatter)
+        kwargs.setdefault('epilog', EXIT_CODES)
+        super().__init__(*args, **kwargs)
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    from vtube_planning import __version__
+
+    parser = _Parser(
         prog='vtube',
         description='Speed and density planning for a speed-constrained robot swarm through a virtual tube.',
     )
+    parser.add_argument('--version', action='version', version=f'vtube {__version__}')
     commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
     scene = commands.add_parser('scene', help='list and draw scenes')
     scene_commands = scene.add_subparsers(dest='scene_command', required=True, metavar='SUBCOMMAND')
@@ -801,6 +845,9 @@ def _parser() -> argparse.ArgumentParser:
     show = scene_commands.add_parser('show', help="print a scene's summary and draw it")
     show.add_argument('scene', help='a shipped scene name (see `vtube scene list`) or a .toml file')
     show.add_argument('--out', type=Path, default=None, help='write the figure here (e.g. scene.png)')
+    export = scene_commands.add_parser('export', help="write a shipped scene's file, to edit")
+    export.add_argument('scene', help='a shipped scene name (see `vtube scene list`)')
+    export.add_argument('file', type=Path, help='the .toml file to write (must not exist)')
     planner = commands.add_parser('plan', help="plan speed and density along a scene's tube")
     planner.add_argument('scene', help='a shipped scene name (see `vtube scene list`) or a .toml file')
     planner.add_argument('--out', type=Path, required=True, help='folder for the plan file and its figure')
@@ -1040,6 +1087,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return campaign_report(args.folder)
         if args.scene_command == 'list':
             return scene_list()
+        if args.scene_command == 'export':
+            return scene_export(args.scene, args.file)
         return scene_show(args.scene, args.out)
     except (VtubeError, RobotariumExpError, MappingError, OSError) as err:
         print('error: ' + ' '.join(str(err).split()), file=sys.stderr)

@@ -143,13 +143,18 @@ def load_scene(name_or_path: str | Path) -> Scene:
             msg = f'scene file {str(path)!r} is not UTF-8 text ({err.reason} at byte {err.start}); save it as UTF-8.'
             raise SceneError(msg) from err
         return scene_from_text(text, name=path.stem, source=str(path))
+    name, text = shipped_scene_text(str(name_or_path))
+    return scene_from_text(text, name=name, source=f'<shipped>/{name}.toml')
+
+
+def shipped_scene_text(name: str) -> tuple[str, str]:
+    """A shipped scene's name as spelled in the package and its TOML text (to copy and edit)."""
     shipped = {n.lower(): n for n in list_scenes()}
-    key = str(name_or_path).lower()
-    if key not in shipped:
-        msg = f'unknown scene {str(name_or_path)!r}; shipped scenes are {list_scenes()}, or give a .toml path.'
+    if name.lower() not in shipped:
+        msg = f'unknown scene {name!r}; shipped scenes are {list_scenes()}, or give a .toml path.'
         raise SceneError(msg)
-    resource = resources.files(_SCENE_PACKAGE) / f'{shipped[key]}.toml'
-    return scene_from_text(resource.read_text(encoding='utf-8'), name=shipped[key], source=f'<shipped>/{resource.name}')
+    spelled = shipped[name.lower()]
+    return spelled, (resources.files(_SCENE_PACKAGE) / f'{spelled}.toml').read_text(encoding='utf-8')
 
 
 def scene_from_text(text: str, *, name: str, source: str) -> Scene:
