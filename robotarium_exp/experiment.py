@@ -348,8 +348,10 @@ def run_experiment(
     *,
     log_path: str | Path | None = None,
     robotarium_kwargs: dict[str, Any] | None = None,
+    log_meta: dict[str, Any] | None = None,
 ) -> ExperimentResult:
-    """Fly the scene's swarm through its tube on a Robotarium and park it beyond the exit."""
+    """Fly the scene's swarm through its tube on a Robotarium and park it beyond the exit; ``log_meta`` is added
+    to the log's description (provenance)."""
     config = config or ExperimentConfig()
     data = flight_data(scene, plan, config)
     tube, swarm, n = scene.tube, scene.swarm, scene.swarm.n_robots
@@ -363,6 +365,7 @@ def run_experiment(
     )
     flight = build_flight(data)
     meta = {
+        **(log_meta or {}),
         'kind': 'robotarium experiment',
         'scene': scene.name,
         'tube_hash': scene.tube.fingerprint(),

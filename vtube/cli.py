@@ -94,6 +94,7 @@ def plan(name_or_path: str, out: Path, method: str = 'convex', grid_step_m: floa
     from vtube_planning.planning.planner import plan_convex
     from vtube_planning.planning.polynomial import plan_polynomial
     from vtube_planning.plots import plan_figure, save_figure
+    from vtube_planning.provenance import copy_scene, provenance
 
     scene = load_scene(name_or_path)
     options = scene.planning if grid_step_m is None else replace(scene.planning, grid_step_m=grid_step_m)
@@ -117,9 +118,10 @@ def plan(name_or_path: str, out: Path, method: str = 'convex', grid_step_m: floa
     worst = ', '.join(f'{name} {value:.1e}' for name, value in result.certificate.items())
     verdict = 'certified' if result.is_certified() else 'NOT certified (violation above 1e-6)'
     print(f'  certificate           {verdict}: {worst}')
+    result = replace(result, extra=result.extra | {'provenance': provenance(scene=scene)})
     plan_path = result.save(out / f'plan_{scene.name}.npz')
     figure_path = save_figure(plan_figure(result), out / f'plan_{scene.name}.png')
-    print(f'  written               {plan_path}, {figure_path}')
+    print(f'  written               {plan_path}, {figure_path}, {copy_scene(scene, out)}')
     return EXIT_OK
 
 
@@ -152,6 +154,7 @@ def simulate(
 
     from vtube_planning import plots
     from vtube_planning.geometry.scene import load_scene
+    from vtube_planning.provenance import copy_scene, provenance
     from vtube_planning.swarm.simulate import SimConfig
     from vtube_planning.swarm.simulate import simulate as run
 
@@ -169,7 +172,11 @@ def simulate(
             plan=plan,
             config=config,
             log_path=log,
-            meta={'scene': scene.name, 'source': scene.source},
+            meta={
+                'scene': scene.name,
+                'source': scene.source,
+                'provenance': provenance(scene=scene, plan_file=plan_path, seeds=[seed]),
+            },
         )
     except KeyboardInterrupt:
         partial = log.with_name(f'{log.stem}.partial{log.suffix}')
@@ -211,6 +218,7 @@ def simulate(
         written.append(plots.save_figure(plots.tracking_figure(result, plan), f'{stem}_tracking.png'))
     if animate:
         written.append(plots.animate(result, scene.tube, f'{stem}.gif'))
+    written.append(copy_scene(scene, out))
     print(f'  {"written":<18} {", ".join(map(str, written))}')
     return EXIT_OK
 
@@ -385,6 +393,7 @@ def robotarium_run(
     from robotarium_exp.spec import ROBOTARIUM
     from vtube_planning.geometry.scene import load_scene
     from vtube_planning.plots import save_figure
+    from vtube_planning.provenance import copy_scene, provenance
 
     scene = load_scene(name_or_path)
     plan = _plan_for(scene, plan_path=plan_path) if planning else None
@@ -398,6 +407,7 @@ def robotarium_run(
         ExperimentConfig(planning=planning, barrier=barrier),
         log_path=log,
         robotarium_kwargs={'skip_initialization': not initialization},
+        log_meta={'provenance': provenance(scene=scene, plan_file=plan_path, seeds=[seed])},
     )
     e, m, b = result.errors, result.metrics, result.barrier
     hard = e['robots_too_close'] + e['robots_outside_boundaries']
@@ -440,7 +450,7 @@ def robotarium_run(
             f'narrowing at {_seconds(tracked["front_at_narrowing_s"])}'
         )
     figure = save_figure(experiment_figure(result, scene, plan), out / f'experiment_{scene.name}_{mode}.png')
-    print(f'  written                {log}, {figure}')
+    print(f'  written                {log}, {figure}, {copy_scene(scene, out)}')
     return EXIT_OK if hard == 0 else 1
 
 
@@ -590,6 +600,7 @@ def analyze(
     from robotarium_exp.analysis.report import analyse, write_report
     from robotarium_exp.analysis.trajectory import DEFAULT_MAX_GAP, MaxGap
     from vtube_planning.geometry.scene import load_scene
+    from vtube_planning.provenance import copy_scene
 
     if plan_path is not None and scene_name is None:
         print('error: --plan needs the scene it was made for (--scene).', file=sys.stderr)
@@ -623,6 +634,8 @@ def analyze(
         simulated = load_trajectory([compare], max_gap=gap)
         results['comparison'] = analyse(simulated, scene, plan, collision_distance_m=collision_distance_m)
     report = write_report(out, results, scene, plan)
+    if scene is not None:
+        copy_scene(scene, out)
     m = results['data'].metrics
     where = f'in scene {scene.name}' if scene is not None else 'without a tube'
     print(

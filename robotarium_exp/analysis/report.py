@@ -21,8 +21,10 @@ from robotarium_exp.analysis.distances import PairDistances, pair_distances
 from robotarium_exp.analysis.loaders import input_record
 from robotarium_exp.analysis.passage import AlongTube, along_tube, observed_passage
 from robotarium_exp.analysis.trajectory import Trajectory
+from vtube_planning import __version__
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
+from vtube_planning.provenance import provenance
 from vtube_planning.swarm.metrics import strict_json, tracking_errors, tube_violations
 
 
@@ -56,8 +58,6 @@ def analyse(
     ``collision_distance_m`` is the distance below which two robots collide: by default the scene's 2 r_p; without
     a scene and without it, collisions are not counted (None).
     """
-    from vtube_planning import __version__
-
     ids = trajectory.robot_ids
     collision = collision_distance_m if collision_distance_m is not None or scene is None else 2.0 * scene.swarm.r_p_m
     distances = pair_distances(trajectory.positions_m, collision)
@@ -112,6 +112,7 @@ def analyse(
             'scene': scene.name if scene is not None else None,
             'plan': plan is not None,
             'vtube_version': __version__,
+            'provenance': provenance(scene=scene),
         }
     )
     return Analysis(trajectory, distances, along, strict_json(metrics))
@@ -179,7 +180,19 @@ def write_report(out: Path, results: dict[str, Analysis], scene: Scene | None, p
     ]
     labels = list(results)
     title = f'scene {scene.name}' if scene is not None else 'no tube (no scene given)'
-    lines = [f'# Trajectory analysis: {title}', '', f'Plan: {"given" if plan else "none"}. Sources:', '']
+    first = next(iter(results.values())).metrics
+    made = first['provenance']
+    made_from = f'; scene file {made["scene_source"]} (sha256 {made["scene_sha256"][:16]})' if scene else ''
+    plan_file = first['options'].get('plan')
+    plan_text = 'none' if plan is None else f'`{plan_file}`' if plan_file else 'given'
+    lines = [
+        f'# Trajectory analysis: {title}',
+        '',
+        f'Made by vtube {made["vtube_version"]} on {made["utc"]} (UTC) with `{made["command"]}`{made_from}.',
+        '',
+        f'Plan: {plan_text}. Sources:',
+        '',
+    ]
     lines += [
         f'- {label}: {a.metrics["source"].get("kind")} `{a.metrics["source"].get("path")}`'
         for label, a in results.items()

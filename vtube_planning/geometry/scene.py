@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 import sys
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -102,6 +102,8 @@ class Scene:
         Optional rectangle the tube fits in.
     source
         The file the scene was read from.
+    text
+        The file's content, as read (what provenance records and copies beside results).
     """
 
     name: str
@@ -113,6 +115,7 @@ class Scene:
     control: ControlParams
     workspace: Workspace | None
     source: str
+    text: str = ''
 
 
 def list_scenes() -> list[str]:
@@ -165,7 +168,7 @@ def scene_from_text(text: str, *, name: str, source: str) -> Scene:
         msg = f'{source}: not valid TOML ({err}).'
         raise SceneError(msg) from err
     try:
-        return _build(data, name=name, source=source)
+        return replace(_build(data, name=name, source=source), text=text)
     except SceneError:
         raise
     except VtubeError as err:

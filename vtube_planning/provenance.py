@@ -1,0 +1,49 @@
+"""Where a result comes from: recorded in every file vtube writes (plans, logs, reports, submissions).
+
+:func:`provenance` gives the package version, the command line, the time (UTC), and when given the scene (its
+name, file and a hash of its content), the plan (a hash of its file) and the seeds. :func:`copy_scene` writes the
+scene's file beside the results, so that a folder of results says exactly what was flown.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import shlex
+import sys
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any
+
+from vtube_planning import __version__
+from vtube_planning.geometry.scene import Scene
+
+
+def sha256_of(data: bytes | str) -> str:
+    """The SHA-256 of bytes, or of text as UTF-8, in hex."""
+    return hashlib.sha256(data.encode('utf-8') if isinstance(data, str) else data).hexdigest()
+
+
+def provenance(
+    *, scene: Scene | None = None, plan_file: Path | None = None, seeds: list[int] | None = None
+) -> dict[str, Any]:
+    """The record of where a result comes from (module docstring); JSON-ready."""
+    record: dict[str, Any] = {
+        'vtube_version': __version__,
+        'command': shlex.join(['vtube' if k == 0 and a.endswith('vtube') else a for k, a in enumerate(sys.argv)]),
+        'utc': datetime.now(timezone.utc).isoformat(timespec='seconds'),
+    }
+    if scene is not None:
+        record |= {'scene': scene.name, 'scene_source': scene.source, 'scene_sha256': sha256_of(scene.text)}
+    if plan_file is not None:
+        record['plan_sha256'] = sha256_of(Path(plan_file).read_bytes())
+    if seeds is not None:
+        record['seeds'] = list(seeds)
+    return record
+
+
+def copy_scene(scene: Scene, folder: Path) -> Path:
+    """Write the scene's file into ``folder`` as ``scene_<name>.toml`` (the same bytes it was read from)."""
+    path = folder / f'scene_{scene.name}.toml'
+    folder.mkdir(parents=True, exist_ok=True)
+    path.write_text(scene.text, encoding='utf-8')
+    return path
