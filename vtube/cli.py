@@ -86,8 +86,15 @@ def scene_export(name: str, path: Path) -> int:
     return EXIT_OK
 
 
-def plan(name_or_path: str, out: Path, method: str = 'convex', grid_step_m: float | None = None) -> int:
-    """Plan speed and density for a scene; print the summary, write ``plan_<scene>.npz`` and its figure to ``out``."""
+def plan(
+    name_or_path: str,
+    out: Path,
+    method: str = 'convex',
+    grid_step_m: float | None = None,
+    json_out: dict[str, Any] | None = None,
+) -> int:
+    """Plan speed and density for a scene; print the summary, write ``plan_<scene>.npz`` and its figure to ``out``
+    (``json_out``, when given, receives the result for ``--json``)."""
     from dataclasses import replace
 
     from vtube_planning.geometry.scene import load_scene
@@ -122,6 +129,10 @@ def plan(name_or_path: str, out: Path, method: str = 'convex', grid_step_m: floa
     plan_path = result.save(out / f'plan_{scene.name}.npz')
     figure_path = save_figure(plan_figure(result), out / f'plan_{scene.name}.png')
     print(f'  written               {plan_path}, {figure_path}, {copy_scene(scene, out)}')
+    if json_out is not None:
+        json_out |= {'plan_file': str(plan_path), 'time_s': result.time_s, 'objective': result.objective}
+        json_out |= {'certificate': result.certificate, 'certified': result.is_certified()}
+        json_out |= {'provenance': result.extra['provenance']}
     return EXIT_OK
 
 
@@ -148,8 +159,10 @@ def simulate(
     acceleration_limits: bool = False,
     animate: bool = False,
     plan_path: Path | None = None,
+    json_out: dict[str, Any] | None = None,
 ) -> int:
-    """Fly the scene's swarm through its tube; print the metrics, write the log, figures and (optionally) a GIF."""
+    """Fly the scene's swarm through its tube; print the metrics, write the log, figures and (optionally) a GIF
+    (``json_out``, when given, receives the metrics for ``--json``)."""
     from dataclasses import replace
 
     from vtube_planning import plots
@@ -220,6 +233,8 @@ def simulate(
         written.append(plots.animate(result, scene.tube, f'{stem}.gif'))
     written.append(copy_scene(scene, out))
     print(f'  {"written":<18} {", ".join(map(str, written))}')
+    if json_out is not None:
+        json_out |= {'log': str(log), 'metrics': m.to_json(), 'provenance': result.meta['provenance']}
     return EXIT_OK
 
 
@@ -383,8 +398,10 @@ def robotarium_run(
     initialization: bool = True,
     seed: int = 0,
     plan_path: Path | None = None,
+    json_out: dict[str, Any] | None = None,
 ) -> int:
-    """Run the tube experiment on the bundled Robotarium simulator; print the verdict and metrics, write log and figure."""
+    """Run the tube experiment on the bundled Robotarium simulator; print the verdict and metrics, write log and
+    figure (``json_out``, when given, receives the verdict and metrics for ``--json``)."""
 
     from robotarium_exp.experiment import ExperimentConfig, plan_tracking, run_experiment
     from robotarium_exp.plots import experiment_figure
@@ -451,6 +468,9 @@ def robotarium_run(
         )
     figure = save_figure(experiment_figure(result, scene, plan), out / f'experiment_{scene.name}_{mode}.png')
     print(f'  written                {log}, {figure}, {copy_scene(scene, out)}')
+    if json_out is not None:
+        json_out |= {'log': str(log), 'would_run': hard == 0, 'errors': e, 'duration_s': result.duration_s}
+        json_out |= {'metrics': m.to_json()}
     return EXIT_OK if hard == 0 else 1
 
 
@@ -519,9 +539,15 @@ def submission_build(
 
 
 def submission_check(
-    path: Path, *, seeds: int = 3, initializer_seeds: int = 200, run_timeout_s: float | None = None
+    path: Path,
+    *,
+    seeds: int = 3,
+    initializer_seeds: int = 200,
+    run_timeout_s: float | None = None,
+    json_out: dict[str, Any] | None = None,
 ) -> int:
-    """Preflight a submission file; prints the report and returns 0 when it passes, 1 when not."""
+    """Preflight a submission file; prints the report and returns 0 when it passes, 1 when not (``json_out``, when
+    given, receives the verdict, the declaration and the runs for ``--json``)."""
     from submission.check import RUN_TIMEOUT_S, check
 
     report = check(
@@ -531,7 +557,15 @@ def submission_check(
         run_timeout_s=run_timeout_s or RUN_TIMEOUT_S,
         progress=lambda text: print(f'  ... {text}', file=sys.stderr, flush=True),
     )
-    return EXIT_OK if _print_check(report) else 1
+    passed = _print_check(report)
+    if json_out is not None:
+        json_out |= {'file': report.path, 'passed': passed, 'robots': report.robots}
+        json_out |= {'declare_duration_s': report.declare_duration_s, 'problem': report.declaration_problem or None}
+        json_out['runs'] = [
+            {'backend': r.backend, 'seed': r.seed, 'ok': r.ok, 'returncode': r.returncode, 'summary': r.summary}
+            for r in report.runs
+        ]
+    return EXIT_OK if passed else 1
 
 
 def _print_check(report: CheckReport) -> bool:
@@ -593,6 +627,7 @@ def analyze(
     world_frame: str | None = None,
     max_gap: str | None = None,
     collision_distance_m: float | None = None,
+    json_out: dict[str, Any] | None = None,
 ) -> int:
     """Analyse returned data (testbed folder, .mat file, our logs, ROS bags), in a scene or without a tube; write
     metrics, report and figures."""
@@ -662,6 +697,8 @@ def analyze(
             print(f'  passing time {m["passing_time_s"]:.2f} s')
         print(f'  {m["tube_violation_steps"]} tube violations (robot-frames)')
     print(f'  written {report}, {out / "metrics.json"}')
+    if json_out is not None:
+        json_out |= m  # what metrics.json holds under "data"
     return EXIT_OK
 
 
@@ -862,6 +899,7 @@ def _parser() -> argparse.ArgumentParser:
     export.add_argument('scene', help='a shipped scene name (see `vtube scene list`)')
     export.add_argument('file', type=Path, help='the .toml file to write (must not exist)')
     planner = commands.add_parser('plan', help="plan speed and density along a scene's tube")
+    planner.add_argument('--json', action='store_true', help='print the result as one JSON object on stdout')
     planner.add_argument('scene', help='a shipped scene name (see `vtube scene list`) or a .toml file')
     planner.add_argument('--out', type=Path, required=True, help='folder for the plan file and its figure')
     planner.add_argument(
@@ -878,6 +916,7 @@ def _parser() -> argparse.ArgumentParser:
         help="planning grid step in m, > 0 (default: the scene's)",
     )
     sim = commands.add_parser('simulate', help='fly the swarm through a scene, with or without planning')
+    sim.add_argument('--json', action='store_true', help='print the result as one JSON object on stdout')
     sim.add_argument('scene', help='a shipped scene name or a .toml file')
     sim.add_argument('--out', type=Path, required=True, help='folder for the log, figures and GIF')
     sim.add_argument('--no-planning', action='store_true', help='constant mid-range speed and constant r_a')
@@ -929,6 +968,7 @@ def _parser() -> argparse.ArgumentParser:
     robo = commands.add_parser('robotarium', help='the tube experiment on the bundled Robotarium simulator')
     robo_commands = robo.add_subparsers(dest='robotarium_command', required=True, metavar='SUBCOMMAND')
     run = robo_commands.add_parser('run', help='run the experiment, print the testbed verdict and metrics')
+    run.add_argument('--json', action='store_true', help='print the result as one JSON object on stdout')
     run.add_argument('scene', help='a Robotarium scene (robotarium_trapezoid, robotarium_curve) or a .toml file')
     run.add_argument('--out', type=Path, required=True, help='folder for the log and the figure')
     run.add_argument('--no-planning', action='store_true', help='constant mid-range speed and constant r_a')
@@ -961,6 +1001,7 @@ def _parser() -> argparse.ArgumentParser:
         help="V2's initializer alone, for the duration to declare, >= 1",
     )
     check_cmd = sub_commands.add_parser('check', help='preflight a submission on the simulators')
+    check_cmd.add_argument('--json', action='store_true', help='print the result as one JSON object on stdout')
     check_cmd.add_argument('file', type=Path, help='the submission .py file')
     check_cmd.add_argument(
         '--seeds', type=_count, default=3, help='runs on the bundled simulator (seeds 0..n-1), n >= 1'
@@ -979,6 +1020,7 @@ def _parser() -> argparse.ArgumentParser:
         help='seconds after which a run of the file is stopped and reported as not finished (default 900)',
     )
     ana = commands.add_parser('analyze', help='metrics, figures and a report of returned or recorded data')
+    ana.add_argument('--json', action='store_true', help='print the result as one JSON object on stdout')
     ana.add_argument(
         'inputs',
         type=Path,
@@ -1015,13 +1057,31 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``vtube`` console script; returns the exit code."""
+    """Entry point of the ``vtube`` console script; returns the exit code. With ``--json`` the command's readable
+    output goes to stderr and its result, one JSON object, to stdout."""
+    import contextlib
+    import json
+
+    from vtube_planning.swarm.metrics import strict_json
+
     args = _parser().parse_args(argv)
+    if not getattr(args, 'json', False):
+        return _dispatch(args, None)
+    result: dict[str, Any] = {}
+    with contextlib.redirect_stdout(sys.stderr):
+        code = _dispatch(args, result)
+    if result:
+        print(json.dumps(strict_json(result | {'exit_code': code}), allow_nan=False))
+    return code
+
+
+def _dispatch(args: argparse.Namespace, json_out: dict[str, Any] | None) -> int:
+    """Run the command ``args`` names; ``json_out`` receives its result for ``--json``."""
     try:
         if args.command in ('plan', 'simulate', 'robotarium', 'analyze', 'demo'):
             _writable_folder(args.out)  # before any work: campaigns check theirs in _run_campaign
         if args.command == 'plan':
-            return plan(args.scene, args.out, args.method, args.grid_step_m)
+            return plan(args.scene, args.out, args.method, args.grid_step_m, json_out)
         if args.command == 'simulate':
             return simulate(
                 args.scene,
@@ -1032,6 +1092,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 acceleration_limits=args.acceleration_limits,
                 animate=args.animate,
                 plan_path=args.plan,
+                json_out=json_out,
             )
         if args.command == 'analyze':
             return analyze(
@@ -1046,6 +1107,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 world_frame=args.world_frame,
                 max_gap=args.max_gap,
                 collision_distance_m=args.collision_distance_m,
+                json_out=json_out,
             )
         if args.command == 'demo':
             return demo(args.out)
@@ -1061,7 +1123,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             )
         if args.command == 'submission':
             return submission_check(
-                args.file, seeds=args.seeds, initializer_seeds=args.initializer_seeds, run_timeout_s=args.run_timeout_s
+                args.file,
+                seeds=args.seeds,
+                initializer_seeds=args.initializer_seeds,
+                run_timeout_s=args.run_timeout_s,
+                json_out=json_out,
             )
         if args.command == 'robotarium' and args.robotarium_command == 'compare':
             return robotarium_compare(args.scene, args.out, seeds=args.seeds, plan_path=args.plan)
@@ -1074,6 +1140,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 initialization=not args.no_initialization,
                 seed=args.seed,
                 plan_path=args.plan,
+                json_out=json_out,
             )
         if args.command == 'ablation':
             return ablation(
