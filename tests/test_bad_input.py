@@ -121,6 +121,7 @@ def test_bad_input_gets_one_error_line_and_loses_nothing(bad_files, tmp_path, ca
     assert [p.name for p in out.iterdir()] == ['earlier.npz'] and (out / 'earlier.npz').read_bytes() == PRECIOUS
 
 
+@pytest.mark.slow
 def test_ctrl_c_keeps_the_finished_log_and_says_so_in_one_line(tmp_path) -> None:
     out = tmp_path / 'out'
     assert vtube(['simulate', 'A', '--out', str(out)], timeout=300).returncode == 0
@@ -144,6 +145,7 @@ def test_ctrl_c_keeps_the_finished_log_and_says_so_in_one_line(tmp_path) -> None
     assert partial.stat().st_size > 0  # and the interrupted run's rows are in the partial log
 
 
+@pytest.mark.slow
 def test_a_submission_that_never_ends_or_prints_nothing_is_reported_so(tmp_path) -> None:
     data = "DATA = {'initial_conditions': [[0.0, 0.5], [0.0, 0.0], [0.0, 0.0]]}\n"
     (tmp_path / 'forever.py').write_text(data + 'import time\nwhile True:\n    time.sleep(0.1)\n')

@@ -180,6 +180,7 @@ def test_robotarium_run_prints_the_testbed_verdict(tmp_path, capsys) -> None:
     assert (tmp_path / 'experiment_robotarium_trapezoid_planned.png').read_bytes()[:4] == b'\x89PNG'
 
 
+@pytest.mark.slow
 def test_submission_build_and_check(tmp_path, capsys) -> None:
     out = tmp_path / 'experiment.py'
     build = ['submission', 'build', 'robotarium_trapezoid', '--out', str(out), '--seeds', '1']
@@ -200,6 +201,7 @@ def test_submission_build_refuses_a_scene_that_does_not_fit(tmp_path, capsys) ->
     assert main(['submission', 'check', str(tmp_path / 'missing.py')]) == 2
 
 
+@pytest.mark.slow
 def test_analyze_a_bag_and_the_demo(tmp_path, capsys) -> None:
     import json
 
@@ -259,6 +261,7 @@ def test_a_plan_file_is_flown_as_given_and_refused_elsewhere(tmp_path, capsys) -
     )
 
 
+@pytest.mark.slow
 def test_robotarium_compare_writes_the_table(tmp_path, capsys) -> None:
     import json
 
@@ -315,6 +318,7 @@ def test_a_shipped_scene_exported_is_the_same_scene_and_nothing_is_overwritten(t
     assert 'exists; give another file name' in capsys.readouterr().err and path.read_text() == 'edited'
 
 
+@pytest.mark.slow
 def test_every_artefact_records_where_it_comes_from(tmp_path, capsys) -> None:
     import hashlib
     import json

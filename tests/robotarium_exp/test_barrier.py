@@ -45,6 +45,7 @@ def reference(u_hat: np.ndarray, x: np.ndarray, spec: bc.BarrierSpec) -> np.ndar
 
 
 @pytest.mark.usefixtures('exact_qp')
+@pytest.mark.slow
 def test_two_hundred_tight_configurations() -> None:
     rng = np.random.default_rng(0)
     certificate = bc.create_si_barrier_certificate_with_boundary()

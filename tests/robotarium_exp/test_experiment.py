@@ -33,6 +33,7 @@ def runs(request):
     return scene, plan, planned, unplanned
 
 
+@pytest.mark.slow
 def test_zero_collisions_boundary_and_actuator_counts(runs) -> None:
     _, _, planned, unplanned = runs
     for result in (planned, unplanned):
@@ -82,6 +83,7 @@ def test_initial_conditions_are_spread_for_the_testbed() -> None:
         assert np.all(np.abs(slots[0]) <= 1.5) and np.all(np.abs(slots[1]) <= 0.85)
 
 
+@pytest.mark.slow
 def test_full_run_with_initialization_logs_every_step(tmp_path) -> None:
     scene = load_scene('robotarium_curve')
     plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
@@ -124,6 +126,7 @@ def test_robots_zero_and_one_take_the_front_corners() -> None:
     assert initializer_stall_risk(grid[:, :2]) is None  # two robots: nothing to choose
 
 
+@pytest.mark.slow
 def test_a_seed_that_deadlocked_the_v2_initializer_now_completes() -> None:
     """Trapezoid seed 38 left robots 0 and 1 rocking near their slots for good (also on the official V2); with
     the front corners as robots 0 and 1 the same draws initialize in time."""

@@ -27,9 +27,12 @@ from tests.robotarium_exp.realdata import (
 from vtube_planning.geometry.scene import scene_from_text
 
 REALDATA = realdata_folder()
-pytestmark = pytest.mark.skipif(
-    REALDATA is None, reason='the real recordings are not at ../shared/realdata and $VTUBE_REALDATA is not set'
-)
+pytestmark = [
+    pytest.mark.skipif(
+        REALDATA is None, reason='the real recordings are not at ../shared/realdata and $VTUBE_REALDATA is not set'
+    ),
+    pytest.mark.slow,  # MRCLAM's 285,000 samples written into two bags
+]
 RADIUS_M = 0.35  # an iRobot Create is 0.33 m across
 
 

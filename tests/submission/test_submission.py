@@ -84,6 +84,7 @@ def test_the_inlined_step_is_the_library_step(tmp_path, control_line: str) -> No
     assert np.any(library.r_a > data['step']['r_a_m'])  # the radii did move
 
 
+@pytest.mark.slow
 def test_the_submission_flies_the_bundled_experiment(tmp_path) -> None:
     """Same scene variant, same V2 initialization draws: the experiment and the built file fly the same poses."""
     path = variant(tmp_path, 'robotarium_trapezoid', 'law = "practical"')
@@ -148,6 +149,7 @@ def test_submission_imports_only_what_the_server_has_and_parses_as_python_310(sc
 
 
 @pytest.mark.parametrize('scene', SCENES)
+@pytest.mark.slow
 def test_committed_submission_passes_the_preflight_on_both_simulators(scene: str) -> None:
     pytest.importorskip('rps.robotarium')  # the PyPI simulator (test extra)
     report = check(ROOT / 'submissions' / f'vtube_{scene}.py', seeds=2, initializer_seeds=4)
@@ -241,6 +243,7 @@ def test_the_declared_duration_covers_a_high_quantile_of_the_initializer() -> No
         declare(InitializerSample((10.0,) * 197, (1, 2, 3)), experiment_s=30.0)
 
 
+@pytest.mark.slow
 def test_the_header_records_the_declaration_and_the_check_reads_it_back(tmp_path) -> None:
     declaration = declare(InitializerSample((20.0, 35.5, 80.25), ()), experiment_s=61.3)
     source = build('robotarium_trapezoid', declaration=declaration).source

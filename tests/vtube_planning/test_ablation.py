@@ -59,6 +59,7 @@ def test_a3_off_keeps_every_avoidance_radius_and_a3_on_changes_them(setups) -> N
     assert radii['planning'].max() > 1.2 * scene.swarm.r_a_m
 
 
+@pytest.mark.slow
 def test_a_reduced_grid_end_to_end(tmp_path, capsys) -> None:
     out = tmp_path / 'grid'
     argv = ['ablation', '--out', str(out), '--scenes', 'C', '--sizes', '20', '--seeds', '2', '--models', 'paper']

@@ -215,6 +215,7 @@ def comparable(rows: list[dict]) -> list[dict]:
     ]
 
 
+@pytest.mark.slow
 def test_local_processes_and_a_dask_cluster_give_the_same_rows(tmp_path) -> None:
     distributed = pytest.importorskip('distributed')
     campaign = Campaign.from_toml(write(tmp_path, SMALL.replace('seed = [0, 1]', 'seed = [0]')))
@@ -234,6 +235,7 @@ def run_cli(args: list[str], **kwargs) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, '-m', 'vtube', *args], text=True, **kwargs)
 
 
+@pytest.mark.slow
 def test_a_campaign_killed_by_a_signal_resumes_where_it_stopped(tmp_path) -> None:
     path, out = write(tmp_path, SMALL), tmp_path / 'out'
     argv = ['campaign', 'run', str(path), '--out', str(out), '--workers', '1']
@@ -257,6 +259,7 @@ def test_a_campaign_killed_by_a_signal_resumes_where_it_stopped(tmp_path) -> Non
     assert written <= set(table.read_text().splitlines())  # the runs done before are kept as they were
 
 
+@pytest.mark.slow
 def test_progress_is_drawn_on_a_terminal_and_not_on_a_pipe(tmp_path) -> None:
     import fcntl
     import pty

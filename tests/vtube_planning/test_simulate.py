@@ -167,6 +167,7 @@ def test_bad_simulation_input_is_refused(scene_a) -> None:
     assert default_constant_speed(scene.swarm) == 3.5
 
 
+@pytest.mark.slow
 def test_reduced_study_reproduces_the_papers_claim(tmp_path) -> None:
     """The full study (scenes A-D, 5 seeds, flocking on C and D) runs in `vtube study --baselines`; here A and D, seed 0."""
     grids = ({'scene': ('A', 'D'), 'mode': MODES}, {'scene': ('D',), 'mode': ('flocking', 'flocking (v_min)')})
