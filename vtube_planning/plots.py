@@ -170,6 +170,7 @@ def snapshots_figure(result: SimResult, tube: VirtualTube, *, title: str = '') -
     steps = snapshot_times(result)
     t_end = float(result.t_s[-1]) or 1.0
     r_p = float(result.meta['swarm']['r_p_m'])
+    label_y = float(points[:, 1].max()) + 2.0 * r_p  # the times in a row above everything drawn
     for k in steps:
         xy = result.positions_m[k].T
         color = cmap(float(result.t_s[k]) / t_end)
@@ -188,14 +189,15 @@ def snapshots_figure(result: SimResult, tube: VirtualTube, *, title: str = '') -
         )
         ax.annotate(
             f'{result.t_s[k]:.1f} s',
-            xy.mean(axis=0),
-            xytext=(0, 14),
-            textcoords='offset points',
+            (float(xy[:, 0].mean()), label_y),
             ha='center',
+            va='bottom',
             fontsize=7,
             color=color,
         )
     ax.autoscale_view()
+    low, high = ax.get_ylim()
+    ax.set_ylim(low, max(high, label_y + 0.12 * (high - low)))
     mode = 'with planning' if result.planned else 'without planning'
     ax.set_title(
         title

@@ -20,24 +20,49 @@ if TYPE_CHECKING:
     from vtube_planning.planning.plan import Plan
 
 
+SOURCES = {'data': 'the recording analysed', 'comparison': 'the simulation given with --compare'}
+"""What each source of a report is, in the figures' titles and legends."""
+
+
+def _named(label: str) -> str:
+    return f'{label} ({SOURCES[label]})' if label in SOURCES else label
+
+
 def analysis_figures(results: dict[str, Analysis], scene: Scene | None, plan: Plan | None) -> dict[str, Figure]:
-    """Paths with snapshots (one panel per source), tracking along l (with a scene), minimum distance over time."""
+    """Paths with snapshots (one panel per source, on the same axes, a colour bar of time), tracking along l (with a
+    scene), minimum distance over time."""
     from matplotlib import colormaps
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import Normalize
     from matplotlib.figure import Figure
 
     figures = {}
-    paths = Figure(figsize=(8.0, 3.6 * len(results)), layout='constrained')
     cmap = colormaps['viridis']
-    for ax, (label, a) in zip(np.atleast_1d(paths.subplots(len(results), 1)), results.items(), strict=True):
+    t_end = max(float(a.trajectory.t_s[-1]) for a in results.values()) or 1.0
+    drawn = [a.trajectory.positions_m.transpose(0, 2, 1).reshape(-1, 2) for a in results.values()]
+    if scene is not None:
+        drawn += list(scene.tube.boundaries(np.linspace(0.0, scene.tube.length_m, 200)))
+    points = np.vstack(drawn)
+    points = points[np.all(np.isfinite(points), axis=1)]
+    low, high = points.min(axis=0), points.max(axis=0)
+    pad = 0.05 * max(float(np.max(high - low)), 1e-3)
+    low, high = low - pad, high + pad  # every panel on the same axes: the sources compare by eye
+    panel_h = float(np.clip(7.0 * (high[1] - low[1]) / (high[0] - low[0]), 1.2, 6.0)) + 0.9
+    paths = Figure(figsize=(9.0, panel_h * len(results) + 0.3), layout='constrained')
+    axes = np.atleast_1d(paths.subplots(len(results), 1))
+    for ax, (label, a) in zip(axes, results.items(), strict=True):
         if scene is not None:
             draw_tube(ax, scene.tube, n_sections=8)
         p, t = a.trajectory.positions_m, a.trajectory.t_s
         for k in range(p.shape[2]):
             ax.plot(p[:, 0, k], p[:, 1, k], color='0.6', lw=0.6)
         for step in np.unique(np.linspace(0, t.size - 1, 7).astype(int)):
-            ax.scatter(*p[step], s=25, color=cmap(step / max(1, t.size - 1)), edgecolors='k', linewidths=0.3, zorder=3)
+            ax.scatter(*p[step], s=25, color=cmap(t[step] / t_end), edgecolors='k', linewidths=0.3, zorder=3)
+        ax.set_xlim(low[0], high[0])
+        ax.set_ylim(low[1], high[1])
         ax.set_aspect('equal')
-        ax.set_title(f'{label}: paths, snapshots coloured by time')
+        ax.set_title(f'{_named(label)}: paths, robots at seven instants', fontsize=10)
+    paths.colorbar(ScalarMappable(Normalize(0.0, t_end), cmap), ax=list(axes), label='time [s]', shrink=0.8)
     figures['paths'] = paths
     if scene is not None:
         tracking = Figure(figsize=(8.0, 5.5), layout='constrained')
@@ -48,22 +73,27 @@ def analysis_figures(results: dict[str, Analysis], scene: Scene | None, plan: Pl
             d = a.along
             center = d.l_m[d.complete].mean(axis=1)
             inside = (center >= 0) & (center <= scene.tube.length_m)
-            ax_v.plot(center[inside], d.forward_speed_mps[d.complete].mean(axis=1)[inside], label=f'{label}: v_a')
-            ax_rho.plot(center[inside], d.density_per_m2[d.complete][inside], label=f'{label}: rho_r')
+            speed = d.forward_speed_mps[d.complete].mean(axis=1)[inside]
+            ax_v.plot(center[inside], speed, label=_named(label))
+            ax_rho.plot(center[inside], d.density_per_m2[d.complete][inside], label=_named(label))
         if plan is not None:
             grid = np.linspace(0.0, plan.length_m, 1000)
-            ax_v.plot(grid, plan.speed(grid), 'k--', label='plan v*')
-            ax_rho.plot(grid, plan.density(grid), 'k--', label='plan rho*')
+            ax_v.plot(grid, plan.speed(grid), 'k--', label='the plan (v*, rho*)')
+            ax_rho.plot(grid, plan.density(grid), 'k--')
         ax_v.set_ylabel('speed along the tube [m/s]')
         ax_rho.set_ylabel('density [1/m^2]')
         ax_rho.set_xlabel('arc length of the swarm centre [m]')
+        tracking.legend(*ax_v.get_legend_handles_labels(), loc='outside lower center', ncols=3, fontsize=8)
         for ax in (ax_v, ax_rho):
-            ax.legend(fontsize=8)
+            ax.ticklabel_format(axis='y', useOffset=False)  # a flat line stays flat, not 1e-14 noise magnified
+            low, high = ax.get_ylim()
+            middle, half = 0.5 * (low + high), max(0.5 * (high - low), 0.05 * abs(0.5 * (low + high)), 1e-6)
+            ax.set_ylim(middle - half, middle + half)
         figures['tracking'] = tracking
     distance = Figure(figsize=(8.0, 3.5), layout='constrained')
     ax = distance.add_subplot()
     for label, a in results.items():
-        ax.plot(a.trajectory.t_s, a.distances.frame_min_m, label=label)
+        ax.plot(a.trajectory.t_s, a.distances.frame_min_m, label=_named(label))
     collision = next((a.metrics['collision_distance_m'] for a in results.values()), None)
     if collision is not None:
         ax.axhline(collision, color='tab:red', ls='--', label='collision distance')
