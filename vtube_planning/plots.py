@@ -137,13 +137,21 @@ def plan_figure(plan: Plan) -> Figure:
     ax_w.plot(l, plan.half_width_m, color='tab:blue')
     ax_w.plot(l, -plan.half_width_m, color='tab:blue')
     ax_w.set_ylabel('half-width [m]')
-    names = [k for k in ('v_max', 'v_min', 'p3', 'p4', 'p6', 'p7') if k in plan.active]
+    meaning = {
+        'v_max': 'v_max',
+        'v_min': 'v_min',
+        'p3': '(p3) acceleration',
+        'p4': '(p4) curvature',
+        'p6': '(p6) expansion rate',
+        'p7': '(p7) look-ahead',
+    }
+    names = [k for k in meaning if k in plan.active]
     for row, name in enumerate(names):
         mask = plan.active[name]
         ax_act.scatter(l[mask], np.full(int(mask.sum()), row), s=4, marker='s', color=f'C{row}')
-    ax_act.set_yticks(range(len(names)), names, fontsize=8)
+    ax_act.set_yticks(range(len(names)), [meaning[n] for n in names], fontsize=8)
     ax_act.set_ylim(-0.7, len(names) - 0.3)
-    ax_act.set_ylabel('active')
+    ax_act.set_title('where each constraint binds (holds with equality)', fontsize=9)
     ax_act.set_xlabel('arc length l [m]')
     ax_act.set_xlim(0.0, plan.length_m)
     return fig
