@@ -379,3 +379,15 @@ def test_json_output_parses_and_matches_what_is_written(tmp_path, capsys) -> Non
     assert {k: v for k, v in analysed.items() if k != 'exit_code'} == written
     assert main(['plan', 'Z', '--out', str(tmp_path / 'p'), '--json']) == 2  # an error: nothing on stdout
     assert capsys.readouterr().out == ''
+
+
+@pytest.mark.slow
+def test_simulate_draws_progress_on_a_terminal_only(tmp_path) -> None:
+    from tests.terminal import stderr_on_a_pipe, stderr_on_a_terminal
+
+    args = ['simulate', 'robotarium_trapezoid', '--animate']
+    code, drawn = stderr_on_a_terminal([*args, '--out', str(tmp_path / 'a')])
+    assert code == 0 and b'simulated:' in drawn and b'GIF frames:' in drawn
+    quiet = stderr_on_a_terminal([*args, '--out', str(tmp_path / 'b'), '--quiet'])
+    assert quiet[0] == 0 and b'simulated:' not in quiet[1]
+    assert stderr_on_a_pipe([*args, '--out', str(tmp_path / 'c')]) == (0, '')

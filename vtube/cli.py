@@ -160,6 +160,7 @@ def simulate(
     animate: bool = False,
     plan_path: Path | None = None,
     json_out: dict[str, Any] | None = None,
+    quiet: bool = False,
 ) -> int:
     """Fly the scene's swarm through its tube; print the metrics, write the log, figures and (optionally) a GIF
     (``json_out``, when given, receives the metrics for ``--json``)."""
@@ -177,20 +178,23 @@ def simulate(
     mode = 'planned' if planning else 'unplanned'
     config = SimConfig(seed=seed, acceleration_limits=acceleration_limits)
     log = out / f'sim_{scene.name}_{mode}.npz'
+    bar = _progress_bar('simulated', 's', quiet)
     try:
-        result = run(
-            scene.tube,
-            swarm,
-            scene.control,
-            plan=plan,
-            config=config,
-            log_path=log,
-            meta={
-                'scene': scene.name,
-                'source': scene.source,
-                'provenance': provenance(scene=scene, plan_file=plan_path, seeds=[seed]),
-            },
-        )
+        with bar:
+            result = run(
+                scene.tube,
+                swarm,
+                scene.control,
+                plan=plan,
+                config=config,
+                on_step=lambda t: bar.update(t - bar.n),
+                log_path=log,
+                meta={
+                    'scene': scene.name,
+                    'source': scene.source,
+                    'provenance': provenance(scene=scene, plan_file=plan_path, seeds=[seed]),
+                },
+            )
     except KeyboardInterrupt:
         partial = log.with_name(f'{log.stem}.partial{log.suffix}')
         kept = f'the steps flown so far are in {partial}' if partial.exists() else 'nothing was flown yet'
@@ -230,7 +234,8 @@ def simulate(
     if plan is not None:
         written.append(plots.save_figure(plots.tracking_figure(result, plan), f'{stem}_tracking.png'))
     if animate:
-        written.append(plots.animate(result, scene.tube, f'{stem}.gif'))
+        with _progress_bar('GIF frames', 'frame', quiet) as frames:
+            written.append(plots.animate(result, scene.tube, f'{stem}.gif', progress=lambda i, n: frames.update()))
     written.append(copy_scene(scene, out))
     print(f'  {"written":<18} {", ".join(map(str, written))}')
     if json_out is not None:
@@ -795,6 +800,13 @@ def _sizes(text: str) -> list[int]:
     return sizes
 
 
+def _progress_bar(what: str, unit: str, quiet: bool) -> Any:
+    """A progress bar on stderr, drawn only on a terminal and without ``--quiet``."""
+    from tqdm import tqdm
+
+    return tqdm(desc=what, unit=unit, disable=quiet or not sys.stderr.isatty(), file=sys.stderr, leave=False)
+
+
 def _whole(text: str) -> int:
     """An argparse type: a whole number >= 0."""
     if not text.strip().isdigit():
@@ -928,6 +940,7 @@ def _parser() -> argparse.ArgumentParser:
         help='make every robot obey the acceleration limits (3), (4), not only the plan',
     )
     sim.add_argument('--animate', action='store_true', help='also write an animated GIF')
+    sim.add_argument('--quiet', action='store_true', help='no progress bar (none is drawn unless on a terminal)')
     sim.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
     stu = commands.add_parser('study', help="the paper's comparison on scenes A-D with and without planning")
     stu.add_argument('--out', type=Path, required=True, help='folder for runs.csv, study.md, study.json, study.png')
@@ -1093,6 +1106,7 @@ def _dispatch(args: argparse.Namespace, json_out: dict[str, Any] | None) -> int:
                 animate=args.animate,
                 plan_path=args.plan,
                 json_out=json_out,
+                quiet=args.quiet,
             )
         if args.command == 'analyze':
             return analyze(

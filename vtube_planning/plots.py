@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -268,8 +269,17 @@ def distance_figure(results: dict[str, SimResult]) -> Figure:
     return fig
 
 
-def animate(result: SimResult, tube: VirtualTube, path: str | Path, *, frames: int = 120, fps: int = 15) -> Path:
-    """Write an animated GIF of the run (matplotlib's Pillow writer, no external encoder)."""
+def animate(
+    result: SimResult,
+    tube: VirtualTube,
+    path: str | Path,
+    *,
+    frames: int = 120,
+    fps: int = 15,
+    progress: Callable[[int, int], None] | None = None,
+) -> Path:
+    """Write an animated GIF of the run (matplotlib's Pillow writer, no external encoder); ``progress(i, n)`` is
+    told each frame written."""
     from matplotlib.animation import FuncAnimation, PillowWriter
     from matplotlib.figure import Figure
 
@@ -288,7 +298,8 @@ def animate(result: SimResult, tube: VirtualTube, path: str | Path, *, frames: i
         label.set_text(f't = {result.t_s[k]:.1f} s')
         return dots, label
 
-    FuncAnimation(fig, update, frames=steps, blit=False).save(path, writer=PillowWriter(fps=fps))
+    animation = FuncAnimation(fig, update, frames=steps, blit=False)
+    animation.save(path, writer=PillowWriter(fps=fps), progress_callback=progress)
     return path
 
 

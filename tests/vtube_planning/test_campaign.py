@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import csv
 import math
-import os
-import select
 import signal
 import subprocess
 import sys
@@ -16,6 +14,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.terminal import stderr_on_a_pipe, stderr_on_a_terminal
 from vtube.cli import main
 from vtube_planning import campaign as campaign_module
 from vtube_planning import load_scene
@@ -261,35 +260,7 @@ def test_a_campaign_killed_by_a_signal_resumes_where_it_stopped(tmp_path) -> Non
 
 @pytest.mark.slow
 def test_progress_is_drawn_on_a_terminal_and_not_on_a_pipe(tmp_path) -> None:
-    import fcntl
-    import pty
-    import struct
-    import termios
-
     path = write(tmp_path, SMALL.replace('seed = [0, 1]', 'seed = [0]').replace('[0, 2]', '[0]'))
-    main_fd, terminal = pty.openpty()
-    fcntl.ioctl(terminal, termios.TIOCSWINSZ, struct.pack('HHHH', 24, 100, 0, 0))  # a terminal 100 columns wide
-    process = run_cli(
-        ['campaign', 'run', str(path), '--out', str(tmp_path / 'a'), '--workers', '1'],
-        stdout=subprocess.DEVNULL,
-        stderr=terminal,
-    )
-    os.close(terminal)
-    drawn = b''
-    while True:  # read as it is written: a closed terminal may drop what was not read
-        ready, _, _ = select.select([main_fd], [], [], 0.1)
-        try:
-            chunk = os.read(main_fd, 4096) if ready else b''
-        except OSError:  # the terminal's other side closed
-            break
-        drawn += chunk
-        if not chunk and process.poll() is not None:
-            break
-    os.close(main_fd)
-    assert process.wait(timeout=300) == 0 and b'2/2' in drawn and b'failed=0' in drawn
-    piped = run_cli(
-        ['campaign', 'run', str(path), '--out', str(tmp_path / 'b'), '--workers', '1'],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-    )
-    assert piped.communicate(timeout=300)[1] == '' and piped.returncode == 0
+    code, drawn = stderr_on_a_terminal(['campaign', 'run', str(path), '--out', str(tmp_path / 'a'), '--workers', '1'])
+    assert code == 0 and b'2/2' in drawn and b'failed=0' in drawn
+    assert stderr_on_a_pipe(['campaign', 'run', str(path), '--out', str(tmp_path / 'b'), '--workers', '1']) == (0, '')

@@ -237,6 +237,7 @@ def simulate(
     log_path: str | Path | None = None,
     meta: dict[str, Any] | None = None,
     baseline: Callable[[FloatArray, FloatArray, Projection], FloatArray] | None = None,
+    on_step: Callable[[float], None] | None = None,
 ) -> SimResult:
     """Fly the swarm through the tube.
 
@@ -255,6 +256,8 @@ def simulate(
     baseline
         Another swarm law, ``baseline(positions, velocities, projection) -> commands`` (the paper's baselines,
         :mod:`vtube_planning.baselines.flocking`); with it, ``plan`` must be None and r_a stays constant.
+    on_step
+        Told the simulated time after every step (a progress bar).
     """
     config = config or SimConfig()
     step_params = control.step_params(swarm)
@@ -335,6 +338,8 @@ def simulate(
             forward_speed_mps=np.einsum('ij,ij->j', velocity, projection.tangent),
             density_per_m2=np.float64(density),
         )
+        if on_step is not None:
+            on_step(step * config.dt_s)
         if done or step == steps:
             break
         if pending:
