@@ -38,6 +38,7 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
     poses = arrays['positions_m']
     for k in range(poses.shape[2]):
         ax.plot(poses[:, 0, k], poses[:, 1, k], color='0.6', lw=0.6)
+    placed: list[float] = []  # the x of each time label so far
     for step in np.unique(np.linspace(0, t.size - 1, 7).astype(int)):
         color = cmap(step / max(1, t.size - 1))
         for k in range(poses.shape[2]):
@@ -46,24 +47,22 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
             if arrays['flying'][step, k]:
                 radius = float(arrays['r_a_m'][step, k])
                 ax.add_patch(Circle(center, radius, fill=False, ec=color, lw=0.6, ls='--', zorder=2))
-        ax.annotate(
-            f'{t[step]:.0f} s',
-            poses[step, :2].mean(axis=1),
-            xytext=(0, 16),
-            textcoords='offset points',
-            ha='center',
-            fontsize=7,
-            color=color,
-        )
+        # the times in a row above the arena, over each snapshot's centre (never under a robot), a second row up
+        # where two snapshots stand close
+        x = float(poses[step, 0].mean())
+        row = 1 if placed and abs(x - placed[-1]) < 0.2 else 0
+        placed.append(x if row == 0 else placed[-1] + 1.0)
+        ax.annotate(f'{t[step]:.0f} s', (x, ymax + 0.04 + 0.08 * row), ha='center', fontsize=7, color=color)
     ax.set_xlim(xmin - 0.1, xmax + 0.1)
-    ax.set_ylim(ymin - 0.1, ymax + 0.1)
+    ax.set_ylim(ymin - 0.1, ymax + 0.22)
     ax.set_aspect('equal')
     e, m = result.errors, result.metrics
     ax.set_title(
         f'{scene.name}, {"with" if result.meta["planned"] else "without"} planning: '
         f'{e.get("robots_too_close", 0)} too close, {e.get("robots_outside_boundaries", 0)} outside, '
-        f'{e.get("exceeded_actuator_limits", 0)} actuator; min distance {m.min_distance_m:.3f} m '
-        '(dashed: r_a)'
+        f'{e.get("exceeded_actuator_limits", 0)} actuator;\nmin distance {m.min_distance_m:.3f} m; '
+        "dashed circles: each robot's avoidance radius r_a",
+        fontsize=10,
     )
     swarm = arrays['flying'].all(axis=1)  # until the first robot parks
     center = arrays['l_m'].mean(axis=1)
@@ -83,8 +82,11 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
         if narrowing_s is not None:
             axis.axvline(narrowing_s, color='k', ls=':', lw=1.0, label='front reaches the narrowing')
         axis.set_xlabel('time [s]')
-        axis.legend(loc='upper right', fontsize=7)
+    handles, labels = ax_rho.get_legend_handles_labels()
+    more = ax_ra.get_legend_handles_labels()
+    above = {'loc': 'lower left', 'bbox_to_anchor': (0.0, 1.01), 'ncols': 3, 'fontsize': 7, 'frameon': False}
+    ax_rho.legend(handles + more[0], labels + more[1], **above)  # above the curves, never over them
+    ax_v.legend(**above)
     ax_rho.set_ylabel('density [1/m^2]')
     ax_v.set_ylabel('speed [m/s]')
-    ax_ra.legend(loc='lower right', fontsize=7)
     return fig
