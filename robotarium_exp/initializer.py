@@ -11,7 +11,7 @@ import contextlib
 import io
 import multiprocessing
 import os
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
@@ -36,20 +36,31 @@ class InitializerSample:
 
 
 def initializer_durations(
-    ic: NDArray[np.float64], seeds: Iterable[int], limit: int = 15_000, *, workers: int | None = None
+    ic: NDArray[np.float64],
+    seeds: Iterable[int],
+    limit: int = 15_000,
+    *,
+    workers: int | None = None,
+    seed_done: Callable[[], None] | None = None,
 ) -> InitializerSample:
     """Run V2's initializer for ``ic`` (3xN) once per seed; a run over ``limit`` steps counts as stuck.
 
     The seeds are shared among ``workers`` processes (default: one per core); the result does not depend on how
-    many.
+    many. ``seed_done`` is called as each seed's run ends (a progress bar).
     """
     seeds = list(seeds)
     workers = max(1, min(workers or os.cpu_count() or 1, len(seeds)))
+    done_one = seed_done or (lambda: None)
+    results = []
     if workers == 1:
-        results = [_one_seed(ic, seed, limit) for seed in seeds]
+        for seed in seeds:
+            results.append(_one_seed(ic, seed, limit))
+            done_one()
     else:
         with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context('spawn')) as pool:
-            results = list(pool.map(_one_seed, [ic] * len(seeds), seeds, [limit] * len(seeds)))
+            for duration in pool.map(_one_seed, [ic] * len(seeds), seeds, [limit] * len(seeds)):
+                results.append(duration)
+                done_one()
     done = tuple(duration for duration in results if duration is not None)
     stuck = tuple(seed for seed, duration in zip(seeds, results) if duration is None)
     return InitializerSample(done, stuck)

@@ -240,9 +240,11 @@ def check(
     initializer_seeds: int = 200,
     run_timeout_s: float = RUN_TIMEOUT_S,
     progress: Callable[[str], None] | None = None,
+    seed_done: Callable[[], None] | None = None,
 ) -> CheckReport:
     """Run the whole preflight on a submission file; the initializer alone over ``initializer_seeds`` seeds; each
-    run of the file stopped after ``run_timeout_s``; ``progress`` is told what starts."""
+    run of the file stopped after ``run_timeout_s``; ``progress`` is told what starts, ``seed_done`` each
+    initializer seed that ends."""
     path = Path(path).resolve()
     if path.is_dir():
         msg = f'{str(path)!r} is a folder; give the submission .py file (vtube submission build writes one).'
@@ -281,7 +283,7 @@ def check(
     tell(f"V2's initializer alone for the file's initial conditions, {initializer_seeds} seeds")
     robots = {run.summary['robots'] for run in report.runs if run.summary}
     report.robots = robots.pop() if len(robots) == 1 else None
-    report.initializer = initializer_durations(initial_conditions, range(initializer_seeds))
+    report.initializer = initializer_durations(initial_conditions, range(initializer_seeds), seed_done=seed_done)
     report.header_declaration = Declaration.from_header(source)
     if report.experiment_s is not None:
         try:

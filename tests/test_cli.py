@@ -391,3 +391,16 @@ def test_simulate_draws_progress_on_a_terminal_only(tmp_path) -> None:
     quiet = stderr_on_a_terminal([*args, '--out', str(tmp_path / 'b'), '--quiet'])
     assert quiet[0] == 0 and b'simulated:' not in quiet[1]
     assert stderr_on_a_pipe([*args, '--out', str(tmp_path / 'c')]) == (0, '')
+
+
+@pytest.mark.slow
+def test_submission_check_draws_the_initializer_on_a_terminal_only() -> None:
+    from tests.terminal import stderr_on_a_pipe, stderr_on_a_terminal
+
+    args = ['submission', 'check', str(ROOT / 'submissions' / 'vtube_robotarium_trapezoid.py'), '--seeds', '1']
+    args += ['--initializer-seeds', '4']
+    code, drawn = stderr_on_a_terminal(args)
+    assert code == 0 and b"V2's initializer: 100%" in drawn and b'4/4' in drawn
+    assert b'seed 0 (at most 900 s)' in drawn  # what starts is said before it waits
+    code, piped = stderr_on_a_pipe(args)
+    assert code == 0 and "V2's initializer:" not in piped and 'seed 0 (at most 900 s)' in piped

@@ -555,13 +555,26 @@ def submission_check(
     given, receives the verdict, the declaration and the runs for ``--json``)."""
     from submission.check import RUN_TIMEOUT_S, check
 
-    report = check(
-        path,
-        seeds=seeds,
-        initializer_seeds=initializer_seeds,
-        run_timeout_s=run_timeout_s or RUN_TIMEOUT_S,
-        progress=lambda text: print(f'  ... {text}', file=sys.stderr, flush=True),
-    )
+    bars: list[Any] = []  # the initializer's bar, drawn from its first seed on (on a terminal)
+
+    def seed_done() -> None:
+        if not bars:
+            bars.append(_progress_bar("V2's initializer", 'seed', quiet=False))
+            bars[0].reset(total=initializer_seeds)
+        bars[0].update()
+
+    try:
+        report = check(
+            path,
+            seeds=seeds,
+            initializer_seeds=initializer_seeds,
+            run_timeout_s=run_timeout_s or RUN_TIMEOUT_S,
+            progress=lambda text: print(f'  ... {text}', file=sys.stderr, flush=True),
+            seed_done=seed_done,
+        )
+    finally:
+        for bar in bars:
+            bar.close()
     passed = _print_check(report)
     if json_out is not None:
         json_out |= {'file': report.path, 'passed': passed, 'robots': report.robots}
