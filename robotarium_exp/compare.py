@@ -8,6 +8,7 @@ initialization (charger slots, deadlock escapes), so the runs differ in where th
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -32,8 +33,11 @@ COLUMNS = (
 )
 
 
-def compare(scene: Scene, plan: Plan, seeds: list[int]) -> list[dict[str, Any]]:
-    """One row per seed and mode (planned, unplanned) with the measures of ``COLUMNS``."""
+def compare(
+    scene: Scene, plan: Plan, seeds: list[int], run_done: Callable[[], None] | None = None
+) -> list[dict[str, Any]]:
+    """One row per seed and mode (planned, unplanned) with the measures of ``COLUMNS``; ``run_done`` is called
+    after each run (a progress bar)."""
     rows = []
     for seed in seeds:
         for planned in (True, False):
@@ -56,6 +60,8 @@ def compare(scene: Scene, plan: Plan, seeds: list[int]) -> list[dict[str, Any]]:
                     'testbed_errors': sum(result.errors.values()),
                 }
             )
+            if run_done is not None:
+                run_done()
     return rows
 
 

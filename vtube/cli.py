@@ -489,7 +489,9 @@ def robotarium_compare(name_or_path: str, out: Path, *, seeds: int = 5, plan_pat
 
     scene = load_scene(name_or_path)
     plan = _plan_for(scene, plan_path=plan_path)
-    rows = compare(scene, plan, list(range(seeds)))
+    with _progress_bar('experiments', 'run', quiet=False) as bar:
+        bar.reset(total=2 * seeds)
+        rows = compare(scene, plan, list(range(seeds)), run_done=bar.update)
     table = comparison_table(rows)
     out.mkdir(parents=True, exist_ok=True)
     (out / f'compare_{scene.name}.md').write_text(table, encoding='utf-8')
