@@ -17,7 +17,7 @@ from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.rps_alias import seed_rps
 from robotarium_exp.spec import ROBOTARIUM
 from submission import runtime
-from submission.builder import SubmissionError, build, write
+from submission.builder import BUILD_STAMP, SubmissionError, build, write
 from submission.check import Declaration, check, declare, imported_modules, static_check
 from submission.errors import CheckError
 from vtube_planning import SceneError, load_scene
@@ -133,9 +133,16 @@ def test_committed_submission_equals_a_fresh_build(scene: str) -> None:
     committed = (ROOT / 'submissions' / f'vtube_{scene}.py').read_text(encoding='utf-8')
     recorded = Declaration.from_header(committed)
     assert recorded is not None and recorded.runs == 200 and recorded.stuck_share == 0.0
-    assert build(scene, declaration=recorded).source == committed, (
+    fresh = build(scene, declaration=recorded).source
+    assert _unstamped(fresh) == _unstamped(committed), (
         f'rebuild with: vtube submission build {scene} --out submissions/vtube_{scene}.py'
     )
+    assert fresh.count(BUILD_STAMP) == 1 and fresh != _unstamped(fresh)  # the stamp is there, and only there
+
+
+def _unstamped(source: str) -> str:
+    """A built file without its build stamp (when and by which command: the one line that differs by build)."""
+    return '\n'.join(line for line in source.splitlines() if not line.startswith(BUILD_STAMP))
 
 
 @pytest.mark.parametrize('scene', SCENES)
