@@ -1090,13 +1090,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     import contextlib
     import json
 
+    from vtube_planning.provenance import command_line
     from vtube_planning.swarm.metrics import strict_json
 
     args = _parser().parse_args(argv)
+    words = ['vtube', *(sys.argv[1:] if argv is None else argv)]
     if not getattr(args, 'json', False):
-        return _dispatch(args, None)
+        with command_line(words):
+            return _dispatch(args, None)
     result: dict[str, Any] = {}
-    with contextlib.redirect_stdout(sys.stderr):
+    with contextlib.redirect_stdout(sys.stderr), command_line(words):
         code = _dispatch(args, result)
     if result:
         print(json.dumps(strict_json(result | {'exit_code': code}), allow_nan=False))

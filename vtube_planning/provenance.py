@@ -10,6 +10,9 @@ from __future__ import annotations
 import hashlib
 import shlex
 import sys
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
@@ -23,13 +26,27 @@ def sha256_of(data: bytes | str) -> str:
     return hashlib.sha256(data.encode('utf-8') if isinstance(data, str) else data).hexdigest()
 
 
+_COMMAND: ContextVar[tuple[str, ...] | None] = ContextVar('vtube_command', default=None)
+
+
+@contextmanager
+def command_line(words: Sequence[str]) -> Iterator[None]:
+    """Record ``words`` as the command line of everything written inside (the CLI's own arguments, which are not
+    ``sys.argv`` when it is called from Python)."""
+    token = _COMMAND.set(tuple(words))
+    try:
+        yield
+    finally:
+        _COMMAND.reset(token)
+
+
 def provenance(
     *, scene: Scene | None = None, plan_file: Path | None = None, seeds: list[int] | None = None
 ) -> dict[str, Any]:
     """The record of where a result comes from (module docstring); JSON-ready."""
     record: dict[str, Any] = {
         'vtube_version': __version__,
-        'command': shlex.join(['vtube' if k == 0 and a.endswith('vtube') else a for k, a in enumerate(sys.argv)]),
+        'command': shlex.join(_COMMAND.get() or sys.argv),
         'utc': datetime.now(timezone.utc).isoformat(timespec='seconds'),
     }
     if scene is not None:
