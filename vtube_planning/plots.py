@@ -387,9 +387,10 @@ def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
 
     scenes = list(dict.fromkeys(r['scene'] for r in rows))
     modes = list(dict.fromkeys(r['mode'] for r in rows))
-    cells = {
-        s: list(dict.fromkeys(f'N={r["n_robots"]}, {setting_text(r)}' for r in rows if r['scene'] == s)) for s in scenes
-    }
+    groups: dict[tuple[str, str, str], list[dict[str, Any]]] = {}  # (scene, mode, cell label): rows, in one pass
+    for r in rows:
+        groups.setdefault((r['scene'], r['mode'], f'N={r["n_robots"]}, {setting_text(r)}'), []).append(r)
+    cells = {s: list(dict.fromkeys(label for scene, _, label in groups if scene == s)) for s in scenes}
     height = sum(0.3 * len(c) + 0.9 for c in cells.values())
     fig = Figure(figsize=(13.0, 1.0 + height), layout='constrained')
     grid = fig.add_gridspec(len(scenes), 3, height_ratios=[len(cells[s]) + 2 for s in scenes], width_ratios=[2, 2, 1])
@@ -399,11 +400,7 @@ def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
         panels = [fig.add_subplot(grid[i, j]) for j in range(3)]
         for mode in modes:
             for k, label in enumerate(cells[scene]):
-                sel = [
-                    r
-                    for r in rows
-                    if (r['scene'], r['mode']) == (scene, mode) and f'N={r["n_robots"]}, {setting_text(r)}' == label
-                ]
+                sel = groups.get((scene, mode, label), [])
                 if not sel:
                     continue
                 y = k + offsets[mode]
