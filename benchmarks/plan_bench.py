@@ -1,18 +1,25 @@
-"""Planning time and objective of every shipped scene: convex method, polynomial method, SLSQP reference.
+"""Planning time and objective of every shipped scene: the banded solver beside the cvxpy reference, accuracy
+against the continuous optimum, and the other methods.
 
 Run from the repository root (it imports the SLSQP reference written in the tests):
 
-    python -m benchmarks.plan_bench [--repeats 3] [--slsqp-intervals 120]
+    python -m benchmarks.plan_bench [--repeats 5] [--slsqp-intervals 120] [--skip-others]
 
-Columns: the convex method at a 0.1 m grid (scaled by L/60 on the small Robotarium tubes); the polynomial
-(segmented cubic) method; the SLSQP reference on a coarser grid of K intervals beside the convex method on the
-same grid (same formulation, so equal objectives are expected); the speed-up of convex over SLSQP there.
-Times are medians over repeats, in one process; J is (p1) of the plan as used.
+1. Speed: the convex method at a 0.1 m grid (scaled by L/60 on the small Robotarium tubes), each convex subproblem
+   solved by the banded interior-point solver (the default) and by the cvxpy reference formulation, alternately in
+   one process: median times, both J, their difference, the banded plan's certificate and the speed-up.
+2. Accuracy (scenes A and C): J converges to the continuous optimum J* linearly in the grid step h (the halving
+   ratios are printed), so J* is estimated by Richardson extrapolation 2 J(h/16) - J(h/8) from the default h.
+   Printed: J at the default grid and its gap to J*, the uniform grid step that the first-order error model
+   needs for a 0.05 % gap, and J with the default grid refined where the constraints bind (``refinement = 8``).
+3. Other methods: the polynomial (segmented cubic) method; the SLSQP reference on a coarser grid of K intervals
+   beside the convex method on the same grid (same formulation, so equal objectives are expected).
 """
 
 from __future__ import annotations
 
 import argparse
+import itertools
 from dataclasses import replace
 from functools import partial
 
@@ -23,24 +30,67 @@ from vtube_planning.planning.plan import initial_conditions
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.planning.polynomial import plan_polynomial
 
+TARGET_GAP = 5e-4
+"""The issue's bound on J's relative gap to the continuous optimum at the default grid."""
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument('--repeats', type=int, default=3)
-    parser.add_argument('--slsqp-intervals', type=int, default=120)
-    args = parser.parse_args()
-    k = args.slsqp_intervals
+
+def speed(repeats: int) -> None:
     print(
-        f'{"scene":<21} {"step":>6} {"convex s":>9} {"J convex":>10} {"poly s":>7} {"J poly":>10} '
-        f'{"SLSQP@K s":>10} {"J SLSQP":>10} {"convex@K s":>11} {"J convex@K":>11} {"speed-up":>9}'
+        f'{"scene":<21} {"step":>6} {"cvxpy [ms]":>10} {"J cvxpy":>13} {"banded [ms]":>11} {"J banded":>13} '
+        f'{"|dJ|":>8} {"certificate":>11} {"speed-up":>8}'
     )
     for name in list_scenes():
         scene = load_scene(name)
         tube, swarm = scene.tube, scene.swarm
         step = 0.1 * tube.length_m / 60.0 if tube.length_m < 10.0 else 0.1
         fine = replace(scene.planning, grid_step_m=step)
-        t_convex, convex = timed(partial(plan_convex, tube, swarm, fine), args.repeats)
-        t_poly, poly = timed(partial(plan_polynomial, tube, swarm, scene.planning), args.repeats)
+        reference_runs, banded_runs = [], []
+        for _ in range(repeats):  # alternate, so that a change of machine load hits both alike
+            reference_runs.append(timed(partial(plan_convex, tube, swarm, fine, formulation='cvxpy'), 1))
+            banded_runs.append(timed(partial(plan_convex, tube, swarm, fine), 1))
+        t_ref = sorted(t for t, _ in reference_runs)[repeats // 2]
+        t_banded = sorted(t for t, _ in banded_runs)[repeats // 2]
+        ref, banded = reference_runs[-1][1], banded_runs[-1][1]
+        j_ref, j_banded = ref.objective['total'], banded.objective['total']
+        print(
+            f'{name:<21} {step:>6.4f} {1e3 * t_ref:>10.1f} {j_ref:>13.9f} {1e3 * t_banded:>11.1f} {j_banded:>13.9f} '
+            f'{abs(j_ref - j_banded):>8.1e} {banded.max_violation:>11.1e} {t_ref / t_banded:>7.1f}x'
+        )
+
+
+def accuracy(repeats: int) -> None:
+    print(
+        f'{"scene":<6} {"h [m]":>6} {"J(h)":>10} {"halving ratios":>18} {"J* (extrap.)":>12} {"gap":>8} '
+        f'{"h for 0.05 %":>12} {"J refined":>10} {"gap":>8} {"grid":>5} {"refined [ms]":>12}'
+    )
+    for name in ('A', 'C'):
+        scene = load_scene(name)
+        tube, swarm, options = scene.tube, scene.swarm, scene.planning
+        h = options.grid_step_m
+        values = [plan_convex(tube, swarm, replace(options, grid_step_m=h / 2**i)).objective['total'] for i in range(5)]
+        drops = [a - b for a, b in itertools.pairwise(values)]
+        ratios = ' '.join(f'{a / b:.2f}' for a, b in itertools.pairwise(drops))
+        optimum = 2.0 * values[4] - values[3]
+        gap = values[0] / optimum - 1.0
+        refined_options = replace(options, refinement=8)
+        t_refined, refined = timed(partial(plan_convex, tube, swarm, refined_options), repeats)
+        j_refined = refined.objective['total']
+        print(
+            f'{name:<6} {h:>6.3f} {values[0]:>10.5f} {ratios:>18} {optimum:>12.5f} {100 * gap:>7.3f}% '
+            f'{h * TARGET_GAP / gap:>12.4f} {j_refined:>10.5f} {100 * (j_refined / optimum - 1):>7.3f}% '
+            f'{refined.l_m.size - 1:>5} {1e3 * t_refined:>12.1f}'
+        )
+
+
+def others(repeats: int, k: int) -> None:
+    print(
+        f'{"scene":<21} {"poly s":>7} {"J poly":>10} {"SLSQP@K s":>10} {"J SLSQP":>10} {"convex@K s":>11} '
+        f'{"J convex@K":>11} {"speed-up":>9}'
+    )
+    for name in list_scenes():
+        scene = load_scene(name)
+        tube, swarm = scene.tube, scene.swarm
+        t_poly, poly = timed(partial(plan_polynomial, tube, swarm, scene.planning), repeats)
         v0, rho0 = initial_conditions(swarm, scene.planning)
         try:
             t_slsqp, (_, _, _, j_slsqp) = timed(
@@ -50,12 +100,25 @@ def main() -> None:
             print(f'{name:<21} SLSQP reference failed at K = {k}: {err}')
             t_slsqp, j_slsqp = float('nan'), float('nan')
         coarse = replace(scene.planning, grid_step_m=tube.length_m / k)
-        t_coarse, same = timed(partial(plan_convex, tube, swarm, coarse), args.repeats)
+        t_coarse, same = timed(partial(plan_convex, tube, swarm, coarse), repeats)
         print(
-            f'{name:<21} {step:>6.4f} {t_convex:>9.3f} {convex.objective["total"]:>10.5f} {t_poly:>7.3f} '
-            f'{poly.objective["total"]:>10.5f} {t_slsqp:>10.3f} {j_slsqp:>10.5f} {t_coarse:>11.3f} '
-            f'{same.objective["total"]:>11.5f} {t_slsqp / t_coarse:>8.1f}x'
+            f'{name:<21} {t_poly:>7.3f} {poly.objective["total"]:>10.5f} {t_slsqp:>10.3f} {j_slsqp:>10.5f} '
+            f'{t_coarse:>11.3f} {same.objective["total"]:>11.5f} {t_slsqp / t_coarse:>8.1f}x'
         )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--repeats', type=int, default=5)
+    parser.add_argument('--slsqp-intervals', type=int, default=120)
+    parser.add_argument('--skip-others', action='store_true', help='leave out the polynomial and SLSQP table')
+    args = parser.parse_args()
+    speed(args.repeats)
+    print()
+    accuracy(args.repeats)
+    if not args.skip_others:
+        print()
+        others(args.repeats, args.slsqp_intervals)
 
 
 if __name__ == '__main__':

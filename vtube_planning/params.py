@@ -134,6 +134,11 @@ class PlanningOptions:
         Initial average forward speed v_a(0); None means v_min (A15).
     rho0_per_m2
         Initial density rho_a(0); None means the square packing N / (2 n r_a)^2 of Assumption 2 (A15).
+    refinement
+        Split every grid interval where (p3), (p4), (p6) or (p7) binds into this many and plan again on that grid,
+        an integer >= 1 (1: the uniform grid only). The plan's J converges to the continuous optimum in the grid
+        step; refining where the constraints bind shrinks that error at a fraction of a uniformly finer grid's
+        size (``python -m benchmarks.plan_bench`` prints both).
     """
 
     grid_step_m: float = 0.25
@@ -142,6 +147,7 @@ class PlanningOptions:
     lookahead_m: float = 4.0
     v0_mps: float | None = None
     rho0_per_m2: float | None = None
+    refinement: int = 1
 
     def __post_init__(self) -> None:
         for name in ('grid_step_m', 'lookahead_m', 'v0_mps', 'rho0_per_m2'):
@@ -154,6 +160,9 @@ class PlanningOptions:
         weight = self.density_weight
         if not is_real(weight) or weight < 0:
             msg = f'planning option density_weight must be a finite number >= 0; got {weight!r}.'
+            raise ParamsError(msg)
+        if isinstance(self.refinement, bool) or not isinstance(self.refinement, int) or self.refinement < 1:
+            msg = f'planning option refinement must be a whole number >= 1; got {self.refinement!r}.'
             raise ParamsError(msg)
         if self.predictive_model not in PREDICTIVE_MODELS:
             msg = f'planning option predictive_model must be one of {PREDICTIVE_MODELS}; got {self.predictive_model!r}.'

@@ -182,6 +182,7 @@ def no_solver(monkeypatch):
         pytest.fail('the solver ran although infeasibility was known beforehand')
 
     monkeypatch.setattr(planner_module.ConvexPlanner, '__init__', forbidden)
+    monkeypatch.setattr(planner_module.BandedPlanner, '__init__', forbidden)
 
 
 @pytest.mark.parametrize(

@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 from vtube_planning.errors import PlanError, SolverError
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import PlanningOptions, SwarmParams
+from vtube_planning.planning.banded_qp import BandedPlanner
 from vtube_planning.planning.density import footprint
 from vtube_planning.planning.plan import (
     RHO_EPSILON,
@@ -69,27 +70,39 @@ class Problem:
     rho_start: FloatArray
 
     @property
-    def step_m(self) -> float:
-        return float(self.l_m[1] - self.l_m[0])
+    def dl_m(self) -> FloatArray:
+        """Lengths of the grid intervals, (K,)."""
+        return np.diff(self.l_m)
 
 
-def discretise(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions) -> Problem:
+def uniform_grid(length_m: float, step_m: float) -> FloatArray:
+    """The planning grid: equal intervals of at most ``step_m`` from 0 to ``length_m`` (or :class:`PlanError`)."""
+    n_int = max(2, math.ceil(length_m / step_m - 1e-9))
+    if n_int > MAX_INTERVALS:
+        msg = (
+            f'a grid step of {step_m:g} m makes {n_int:,} intervals on this {length_m:g} m tube, more '
+            f'than the {MAX_INTERVALS:,} the planner takes (each is a few variables and constraints of every QP); '
+            f'use a grid step of at least {length_m / MAX_INTERVALS:.3g} m.'
+        )
+        raise PlanError(msg)
+    return np.linspace(0.0, length_m, n_int + 1)
+
+
+def discretise(
+    tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, l_m: FloatArray | None = None
+) -> Problem:
     """Build the grid and the interval-wise data, and prove feasibility (or raise :class:`PlanError`).
+
+    The grid is ``options.grid_step_m`` uniform unless ``l_m`` (increasing, from 0 to the tube's length) is given.
 
     The slowest admissible speed profile (decelerate at a_v from v_0 down to v_min) and the fastest admissible
     expansion along it (density falling at a_rho until rho_epsilon) are the most permissive choices for every
     other constraint; if they violate one, the problem is infeasible there, and the message says where.
     """
     length = tube.length_m
-    n_int = max(2, math.ceil(length / options.grid_step_m - 1e-9))
-    if n_int > MAX_INTERVALS:
-        msg = (
-            f'a grid step of {options.grid_step_m:g} m makes {n_int:,} intervals on this {length:g} m tube, more '
-            f'than the {MAX_INTERVALS:,} the planner takes (each is a few variables and constraints of every QP); '
-            f'use a grid step of at least {length / MAX_INTERVALS:.3g} m.'
-        )
-        raise PlanError(msg)
-    l_m = np.linspace(0.0, length, n_int + 1)
+    if l_m is None:
+        l_m = uniform_grid(length, options.grid_step_m)
+    n_int = l_m.size - 1
     sub = np.linspace(l_m[:-1], l_m[1:], SUBSAMPLES + 1, axis=1)  # (K, S+1) samples of each interval
     inside = tube.center.breakpoints[(tube.center.breakpoints > 0) & (tube.center.breakpoints < length)]
     limit_sub = curvature_speed_limit(tube, swarm, sub.ravel()).reshape(sub.shape).min(axis=1)
@@ -117,11 +130,11 @@ def discretise(tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions) 
             f'widen the turn to r_t >= v_min^2 / a_n = {swarm.v_min_mps**2 / swarm.a_n_mps2:.4g} m or lower v_min.'
         )
         raise PlanError(msg)
-    dl = l_m[1] - l_m[0]
+    dl = np.diff(l_m)
     w_start = np.empty_like(l_m)
     w_start[0] = 1.0 / v0
     for k in range(n_int):  # decelerate as hard as (p3) allows, |dw| <= a_v dl w_k^3 while w increases
-        w_start[k + 1] = min(1.0 / swarm.v_min_mps, w_start[k] + swarm.a_v_mps2 * dl * w_start[k] ** 3)
+        w_start[k + 1] = min(1.0 / swarm.v_min_mps, w_start[k] + swarm.a_v_mps2 * dl[k] * w_start[k] ** 3)
     too_fast = np.flatnonzero(w_start * speed_cap < 1.0 - 1e-12)
     if too_fast.size:
         k = int(too_fast[0])
@@ -153,7 +166,7 @@ def _check_boundary_values(swarm: SwarmParams, v0: float, rho0: float, cap0: flo
         raise PlanError(msg)
 
 
-def _fastest_expansion(swarm: SwarmParams, rho0: float, w: FloatArray, dl: float) -> FloatArray:
+def _fastest_expansion(swarm: SwarmParams, rho0: float, w: FloatArray, dl: FloatArray) -> FloatArray:
     """Density falling as fast as (p6) allows along the slowness profile w, down to rho_epsilon."""
     rho = np.empty_like(w)
     rho[0] = rho0
@@ -186,11 +199,11 @@ class ConvexPlanner:
         self.problem = problem
         swarm, options = problem.swarm, problem.options
         n = problem.l_m.size
-        dl = problem.step_m
+        dl = problem.dl_m
         self.w = cp.Variable(n, name='w')
         self.rho = cp.Variable(n, name='rho')
-        # tangent of w^3 at the previous iterate, normalised: dw / (a_v dl wbar^3) <= 3 w / wbar - 2
-        self.inv_scale = cp.Parameter(n, nonneg=True, name='inv_scale')
+        # tangent of w^3 at the previous iterate, normalised: dw / (a_v dl wbar^3) <= 3 w / wbar - 2, at both ends
+        self.inv_scale = {end: cp.Parameter(n - 1, nonneg=True, name=f'inv_scale_{end}') for end in ('left', 'right')}
         self.slope = cp.Parameter(n, nonneg=True, name='slope')
         w, rho = self.w, self.rho
         dw = w[1:] - w[:-1]
@@ -202,10 +215,11 @@ class ConvexPlanner:
             w[0] == 1.0 / problem.v0_mps,
             rho[0] == problem.rho0_per_m2,
         ]
-        for j in (slice(None, -1), slice(1, None)):  # both ends of every interval
+        for end, j in (('left', slice(None, -1)), ('right', slice(1, None))):  # both ends of every interval
             tangent = cp.multiply(self.slope[j], w[j]) - 2.0
-            cons += [cp.multiply(self.inv_scale[j], dw) <= tangent, -cp.multiply(self.inv_scale[j], dw) <= tangent]
-            cons += [cp.abs(rho[1:] - rho[:-1]) <= swarm.a_rho * dl * w[j]]  # (p6)
+            inv_scale = self.inv_scale[end]
+            cons += [cp.multiply(inv_scale, dw) <= tangent, -cp.multiply(inv_scale, dw) <= tangent]
+            cons += [cp.abs(rho[1:] - rho[:-1]) <= cp.multiply(swarm.a_rho * dl, w[j])]  # (p6)
         self.footprint_gap = None
         if options.predictive_model == 'local_width':
             ratio = problem.width_ratio
@@ -222,17 +236,21 @@ class ConvexPlanner:
             t = swarm.a_rho * options.lookahead_m * w
             cons.append(cp.SOC(y + t, cp.vstack([2.0 * x, y - t]), axis=0))
         e = rho - swarm.rho_d_per_m2
-        time_term = dl * (cp.sum(w) - 0.5 * (w[0] + w[-1]))
-        density_term = (
-            options.density_weight
-            * dl
-            * (0.25 * cp.sum_squares(e[:-1] + e[1:]) + cp.sum_squares(e[1:] - e[:-1]) / 12.0)
+        node_dl = 0.5 * (np.concatenate([dl, [0.0]]) + np.concatenate([[0.0], dl]))
+        time_term = node_dl @ w
+        root = np.sqrt(dl)
+        density_term = options.density_weight * (
+            0.25 * cp.sum_squares(cp.multiply(root, e[:-1] + e[1:]))
+            + cp.sum_squares(cp.multiply(root, e[1:] - e[:-1])) / 12.0
         )
         self.cvx = cp.Problem(cp.Minimize(time_term + density_term), cons)
+        self.value = math.nan
 
     def set_tangent(self, w_bar: FloatArray, rho_bar: FloatArray) -> None:
         swarm, options = self.problem.swarm, self.problem.options
-        self.inv_scale.value = 1.0 / (swarm.a_v_mps2 * self.problem.step_m * w_bar**3)
+        dl = self.problem.dl_m
+        self.inv_scale['left'].value = 1.0 / (swarm.a_v_mps2 * dl * w_bar[:-1] ** 3)
+        self.inv_scale['right'].value = 1.0 / (swarm.a_v_mps2 * dl * w_bar[1:] ** 3)
         self.slope.value = 3.0 / w_bar
         if self.footprint_gap is not None:
             back, front = footprint(self.problem.tube, self.problem.l_m, rho_bar, swarm.n_robots)
@@ -250,7 +268,13 @@ class ConvexPlanner:
         if self.cvx.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
             msg = f'Clarabel returned status {self.cvx.status!r} on a planning subproblem shown feasible beforehand.'
             raise SolverError(msg)
+        self.value = float(self.cvx.value)
         return np.asarray(self.w.value, dtype=float), np.asarray(self.rho.value, dtype=float)
+
+
+FORMULATIONS = ('banded', 'cvxpy')
+"""How each convex subproblem is solved: the banded interior-point solver of :mod:`.banded_qp` (the linear
+readings of (p7); the rigid shift, a cone, always goes to cvxpy), or the cvxpy reference formulation."""
 
 
 def plan_convex(
@@ -261,15 +285,26 @@ def plan_convex(
     scene: str = '',
     max_iterations: int = 60,
     rtol: float = 1e-9,
+    formulation: str = 'banded',
+    start_m: float = 0.0,
 ) -> Plan:
     """Plan speed and density by the convex-concave procedure on the slowness form.
+
+    With ``options.refinement`` > 1 the plan on the uniform grid is followed by a second one on a grid whose
+    intervals where a rate or curvature constraint binds ((p3), (p4), (p6), (p7)) are split into that many: the
+    first plan is feasible on the finer grid and starts the second, which can only be faster.
 
     Parameters
     ----------
     max_iterations
-        Upper bound on convex-concave iterations.
+        Upper bound on convex-concave iterations (per grid).
     rtol
         Stop when the objective improves by less than this, relative.
+    formulation
+        One of ``FORMULATIONS``. The banded solver falls back to cvxpy if it ever fails (``plan.extra``
+        records the formulation that solved).
+    start_m
+        Plan the tube from this arc length on (replanning, :func:`replan`); 0 plans it all.
 
     Raises
     ------
@@ -278,34 +313,89 @@ def plan_convex(
     SolverError
         When the solver fails on a subproblem known to be feasible.
     """
+    if formulation not in FORMULATIONS:
+        msg = f'formulation must be one of {FORMULATIONS}; got {formulation!r}.'
+        raise ValueError(msg)
     started = time.perf_counter()
-    problem = discretise(tube, swarm, options)
-    planner = ConvexPlanner(problem)
-    w_bar, rho_bar = problem.w_start, problem.rho_start
-    previous = math.inf
-    status = 'iteration limit'
-    iterations = 0
-    for iterations in range(1, max_iterations + 1):  # the final count is reported below
-        planner.set_tangent(w_bar, rho_bar)
-        w_bar, rho_bar = planner.solve()
-        value = float(planner.cvx.value)
-        if previous - value <= rtol * max(1.0, abs(value)):
-            status = 'converged'
-            break
-        previous = value
-    return make_plan(
+    grid = start_m + uniform_grid(tube.length_m - start_m, options.grid_step_m)
+    problem = discretise(tube, swarm, options, grid)
+    w, rho, status, iterations, used = _convex_concave(problem, None, formulation, max_iterations, rtol)
+    if options.refinement > 1:
+        probe = make_plan(
+            tube,
+            swarm,
+            options,
+            grid,
+            1.0 / w,
+            rho,
+            method='convex',
+            status=status,
+            iterations=iterations,
+            solve_time_s=0.0,
+            scene=scene,
+        )
+        fine = refined_grid(grid, probe.active, options.refinement)
+        problem = discretise(tube, swarm, options, fine)
+        start = (np.interp(fine, grid, w), np.interp(fine, grid, rho))
+        w, rho, status, more, used = _convex_concave(problem, start, formulation, max_iterations, rtol)
+        iterations += more
+    plan = make_plan(
         tube,
         swarm,
         options,
         problem.l_m,
-        1.0 / w_bar,
-        rho_bar,
+        1.0 / w,
+        rho,
         method='convex',
         status=status,
         iterations=iterations,
         solve_time_s=time.perf_counter() - started,
         scene=scene,
     )
+    plan.extra['formulation'] = used
+    return plan
+
+
+def refined_grid(l_m: FloatArray, active: dict[str, NDArray[np.bool_]], factor: int) -> FloatArray:
+    """``l_m`` with every interval next to a grid point where (p3), (p4), (p6) or (p7) binds split into ``factor``."""
+    binds = active['p3'] | active['p4'] | active['p6'] | active['p7']
+    split = binds[:-1] | binds[1:]
+    parts = np.where(split, factor, 1)
+    pieces = [np.linspace(a, b, count + 1)[:-1] for a, b, count in zip(l_m[:-1], l_m[1:], parts, strict=True)]
+    return np.concatenate([*pieces, l_m[-1:]])
+
+
+def _convex_concave(
+    problem: Problem,
+    start: tuple[FloatArray, FloatArray] | None,
+    formulation: str,
+    max_iterations: int,
+    rtol: float,
+) -> tuple[FloatArray, FloatArray, str, int, str]:
+    """Iterate the convex subproblem from ``start`` (feasible; default the slowest profile) to convergence.
+
+    Returns the slowness, the density, the status, the iteration count and the formulation that solved.
+    """
+    banded = formulation == 'banded' and problem.options.predictive_model != 'rigid_shift'
+    planner: BandedPlanner | ConvexPlanner = BandedPlanner(problem) if banded else ConvexPlanner(problem)
+    w_bar, rho_bar = start if start is not None else (problem.w_start, problem.rho_start)
+    previous = math.inf
+    status = 'iteration limit'
+    iterations = 0
+    for iterations in range(1, max_iterations + 1):  # the final count is reported below
+        planner.set_tangent(w_bar, rho_bar)
+        try:
+            w_bar, rho_bar = planner.solve()
+        except SolverError:
+            if not banded:
+                raise
+            return _convex_concave(problem, start, 'cvxpy', max_iterations, rtol)
+        value = planner.value
+        if previous - value <= rtol * max(1.0, abs(value)):
+            status = 'converged'
+            break
+        previous = value
+    return w_bar, rho_bar, status, iterations, 'banded' if banded else 'cvxpy'
 
 
 def make_plan(

@@ -1,0 +1,257 @@
+"""The planner's convex subproblem solved by a primal-dual interior-point method on banded normal equations.
+
+This is the QP of the cvxpy formulation :class:`vtube_planning.planning.planner.ConvexPlanner` for the linear
+predictive models (``'local_width'`` and ``'none'``), written out as arrays. That formulation stays the readable
+reference (a test compares the two, plan for plan) and still solves the rigid-shift model, whose (p7) is a cone.
+
+Every constraint couples the unknowns of one grid interval at most, so with the unknowns interleaved as
+x = (w_0, rho_0, w_1, rho_1, ..., w_K, rho_K) each row touches four consecutive entries, x[2k : 2k + 4], and the
+normal matrix P + G' W G of an interior-point step is banded with three sub-diagonals: one LAPACK banded Cholesky
+factorisation (``dpbtrf``) costs tens of microseconds on a 600-interval grid, against the milliseconds of the
+general sparse KKT factorisation of a conic solver. Rows are stored per interval as a (K, rows, 4) array of their
+four coefficients (the bounds of grid point k + 1 sit in interval k), so that G is a CSR matrix of four entries per
+row and the normal matrix is assembled from (K, 4, 4) blocks, weighted sums of products of row entries.
+
+The method is Mehrotra's predictor-corrector (Nocedal and Wright 2006, §16.6) from an infeasible start: the first
+subproblem starts at the tangent point, each later one at the last solution (a warm start). w_0 and rho_0, fixed
+by the initial values, are held at their values. Dot products avoid BLAS, whose threads (above 10,000 entries)
+stall when another process holds the other core. Every inequality is imposed with a relative
+margin ``MARGIN``, so that the solution, which meets a constraint only to the solver's tolerance, satisfies the
+original constraint: the plan's certificate stays below 1e-8 while J moves by about ``MARGIN`` relative.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+from scipy.linalg.lapack import dpbtrf as _band_factor
+from scipy.linalg.lapack import dpbtrs as _band_solve
+
+from vtube_planning.errors import SolverError
+from vtube_planning.planning.plan import RHO_EPSILON
+
+if TYPE_CHECKING:
+    from vtube_planning.planning.planner import Problem
+
+FloatArray = NDArray[np.float64]
+
+MARGIN = 1e-9
+"""Relative tightening of every inequality, so that the solver's tolerance does not show in the certificate."""
+TOLERANCE = 1e-11
+"""Stop when the scaled primal and dual residuals and the mean complementarity are below this."""
+MAX_STEPS = 100
+"""Interior-point iterations before giving up (a well-posed subproblem takes 15 to 30)."""
+STEP_FRACTION = 0.995
+"""Fraction of the step to the boundary of the positive orthant taken at each iteration."""
+
+WARM_FLOOR = (1e-6, 1e-2)
+"""Bounds of the floor put under the warm start's slacks and multipliers (tuned on scenes A-D and Robotarium)."""
+
+# local slots of an interval's four unknowns, and the slot pairs of the lower triangle of a (4, 4) block
+W_LEFT, RHO_LEFT, W_RIGHT, RHO_RIGHT = range(4)
+SLOT_PAIRS = np.array([(i, j) for i in range(4) for j in range(i + 1)])
+
+
+class BandedPlanner:
+    """The QP of one convex-concave iteration (same interface as the cvxpy ``ConvexPlanner``)."""
+
+    def __init__(self, problem: Problem) -> None:
+        self.problem = problem
+        swarm, options = problem.swarm, problem.options
+        n = problem.l_m.size
+        k = n - 1
+        self.n, self.k = n, k
+        dl = np.diff(problem.l_m)
+        self.dl = dl
+        tight = 1.0 - MARGIN
+        rows: list[FloatArray] = []  # (K, 4) coefficients per row kind
+        rhs: list[FloatArray] = []  # (K,) right-hand sides
+
+        def add(coefficients: dict[int, FloatArray | float], b: FloatArray | float) -> None:
+            block = np.zeros((k, 4))
+            for slot, value in coefficients.items():
+                block[:, slot] = value
+            rows.append(block)
+            rhs.append(np.broadcast_to(np.asarray(b, dtype=float), (k,)).copy())
+
+        # (p3), linearised at the previous iterate: four rows per interval, values filled by set_tangent
+        self._p3 = slice(0, 4)
+        for _ in range(4):
+            add({}, -2.0)
+        # (p6): +-(rho_{k+1} - rho_k) - a_rho dl_k w_j <= 0 for j = k, k+1
+        rate = swarm.a_rho * dl * tight
+        for sign in (1.0, -1.0):
+            for end in (W_LEFT, W_RIGHT):
+                add({RHO_RIGHT: sign, RHO_LEFT: -sign, end: -rate}, 0.0)
+        if options.predictive_model == 'local_width':
+            # (p7), local width: ratio_k rho_i - a_rho dl_p w_j <= 0 for i, j in {k, k+1}
+            budget = swarm.a_rho * options.lookahead_m * tight
+            for density in (RHO_LEFT, RHO_RIGHT):
+                for end in (W_LEFT, W_RIGHT):
+                    add({density: problem.width_ratio, end: -budget}, 0.0)
+        elif options.predictive_model != 'none':
+            msg = f'the banded solver takes linear predictive models only, not {options.predictive_model!r}'
+            raise ValueError(msg)
+        # bounds of grid points 1..K (w_0 and rho_0 are fixed), grid point k + 1 in interval k's right slots:
+        # w in [(1 + margin) / cap, tight / v_min], rho in [(1 + margin) eps, tight rho_max]
+        low_w, high_w = (1.0 + MARGIN) / problem.speed_cap_mps[1:], tight / swarm.v_min_mps
+        add({W_RIGHT: -1.0}, -low_w)
+        add({W_RIGHT: 1.0}, high_w)
+        add({RHO_RIGHT: -1.0}, -RHO_EPSILON * (1.0 + MARGIN))
+        add({RHO_RIGHT: 1.0}, tight * swarm.rho_max_per_m2)
+        self.g = np.ascontiguousarray(np.stack(rows, axis=1))  # (K, rows, 4)
+        self.h = np.stack(rhs, axis=1)  # (K, rows)
+        self.fixed = np.array([1.0 / problem.v0_mps, problem.rho0_per_m2])
+        # objective: the time term (trapezoid, exact for w linear) and mu times the exact integral of (rho - rho_d)^2
+        # for rho linear, mu sum dl_k (e_k^2 + e_k e_{k+1} + e_{k+1}^2) / 3
+        node_dl = np.concatenate([dl, [0.0]]) + np.concatenate([[0.0], dl])
+        mu = options.density_weight
+        self.p_diag = mu * 2.0 * node_dl / 3.0  # on rho
+        self.p_off = mu * dl / 3.0  # between rho_k and rho_{k+1}
+        rho_d = swarm.rho_d_per_m2
+        self.q = np.zeros(2 * n)
+        self.q[0::2] = 0.5 * node_dl
+        self.q[1::2] = -rho_d * (
+            self.p_diag + np.concatenate([self.p_off, [0.0]]) + np.concatenate([[0.0], self.p_off])
+        )
+        self.constant = 0.5 * rho_d**2 * (self.p_diag.sum() + 2.0 * self.p_off.sum())
+        self.value = float('nan')
+        self.steps = 0  # interior-point iterations of the last solve
+        self._change = 1.0  # relative change of the objective at the last solve
+        self._last: tuple[FloatArray, FloatArray] | None = None  # the last solution and its multipliers
+        self._tangent = (problem.w_start, problem.rho_start)
+
+    def set_tangent(self, w_bar: FloatArray, rho_bar: FloatArray) -> None:
+        """Linearise (p3) at ``w_bar`` (normalised form dw / (a_v dl wbar^3) <= 3 w / wbar - 2, then rows scaled)."""
+        self._tangent = (w_bar, rho_bar)
+        a_v = self.problem.swarm.a_v_mps2 * (1.0 - MARGIN)
+        block = self.g[:, self._p3, :]
+        block[:] = 0.0
+        row = 0
+        for sign in (1.0, -1.0):
+            for end, w_end in ((W_LEFT, w_bar[:-1]), (W_RIGHT, w_bar[1:])):
+                inv_scale = sign / (a_v * self.dl * w_end**3)
+                block[:, row, W_RIGHT] += inv_scale
+                block[:, row, W_LEFT] -= inv_scale
+                block[:, row, end] -= 3.0 / w_end
+                row += 1
+
+    def solve(self) -> tuple[FloatArray, FloatArray]:
+        """Solve the current subproblem (rows scaled to unit largest coefficient); (p1) is left in :attr:`value`."""
+        scale = np.abs(self.g).max(axis=2)
+        scale[scale == 0.0] = 1.0
+        g = self.g / scale[:, :, None]
+        h = self.h / scale
+        x = self._solve(g, h)
+        w, rho = x[0::2].copy(), x[1::2].copy()
+        value = float(self.q @ x + 0.5 * x[1::2] @ self._p_times(x)[1::2]) + self.constant
+        self._change = abs(self.value - value) / abs(value) if np.isfinite(self.value) else 1.0
+        self.value = value
+        return w, rho
+
+    def _p_times(self, x: FloatArray) -> FloatArray:
+        out = np.zeros_like(x)
+        rho = x[1::2]
+        out[1::2] = self.p_diag * rho
+        out[1:-2:2] += self.p_off * rho[1:]
+        out[3::2] += self.p_off * rho[:-1]
+        return out
+
+    def _solve(self, g: FloatArray, h: FloatArray) -> FloatArray:
+        n2, k, rows = 2 * self.n, self.k, g.shape[1]
+        # G as a CSR matrix whose data are the (K, rows, 4) coefficients in order (columns 2k..2k+3 of each row)
+        columns = (2 * np.arange(k)[:, None, None] + np.arange(4)[None, None, :]).repeat(rows, axis=1)
+        big_g = sp.csr_matrix((g.ravel(), columns.ravel(), np.arange(0, 4 * k * rows + 1, 4)), shape=(k * rows, n2))
+        big_gt = big_g.T.tocsr()
+        products = np.ascontiguousarray((g[:, :, SLOT_PAIRS[:, 0]] * g[:, :, SLOT_PAIRS[:, 1]]).transpose(0, 2, 1))
+        h = h.ravel()
+        if self._last is None:  # the tangent point (feasible), slacks and multipliers at least the largest floor
+            x, z, floor = np.empty(n2), np.full_like(h, WARM_FLOOR[1]), WARM_FLOOR[1]
+            x[0::2], x[1::2] = self._tangent
+        else:
+            # warm start: the last solution, its slacks and multipliers kept off zero by about as much as the
+            # objective moved at the last convex-concave iteration (the tangent moves about that much)
+            floor = min(WARM_FLOOR[1], max(WARM_FLOOR[0], self._change))
+            x, z = self._last[0].copy(), np.maximum(self._last[1], floor)
+        x[:2] = self.fixed
+        s = np.maximum(h - big_g @ x, floor)
+        m = s.size
+        h_norm = 1.0 + np.abs(h).max()
+        q_norm = 1.0 + np.abs(self.q).max()
+        for step in range(1, MAX_STEPS + 1):
+            r_dual = self._p_times(x) + self.q + big_gt @ z
+            r_dual[:2] = 0.0
+            r_primal = big_g @ x + s - h
+            gap = float(np.sum(s * z)) / m  # not BLAS ddot, which threads above 10,000 entries
+            if (
+                np.abs(r_primal).max() <= TOLERANCE * h_norm
+                and np.abs(r_dual).max() <= TOLERANCE * q_norm
+                and gap <= TOLERANCE
+            ):
+                self.steps = step
+                self._last = (x.copy(), z.copy())
+                return x
+            factor = self._factor(products, (z / s).reshape(k, rows))
+            residuals = (r_primal, r_dual)
+            dx, ds, dz = _direction(big_g, big_gt, factor, s, z, residuals, s * z)
+            alpha = _largest_step(s, ds, z, dz)
+            gap_affine = float(np.sum((s + alpha * ds) * (z + alpha * dz))) / m
+            sigma = (gap_affine / gap) ** 3
+            dx, ds, dz = _direction(big_g, big_gt, factor, s, z, residuals, s * z + ds * dz - sigma * gap)
+            alpha = min(1.0, STEP_FRACTION * _largest_step(s, ds, z, dz))
+            x += alpha * dx
+            s += alpha * ds
+            z += alpha * dz
+        msg = (
+            f'the banded interior-point solver did not converge in {MAX_STEPS} iterations on a planning subproblem '
+            "shown feasible beforehand; plan with formulation='cvxpy' and report this scene."
+        )
+        raise SolverError(msg)
+
+    def _factor(self, products: FloatArray, weight: FloatArray) -> FloatArray:
+        """Lower banded Cholesky factor of P + G' W G, with the fixed w_0, rho_0 rows replaced by identity rows.
+
+        ``products`` holds g_ri g_rj for the ten slot pairs (i, j), i >= j, of every row: (K, 10, rows).
+        """
+        n2, k = 2 * self.n, self.k
+        blocks = (products * weight[:, None, :]).sum(axis=2).T  # the lower triangles of the (K, 4, 4) blocks
+        band = np.zeros((4, n2))
+        for (i, j), block in zip(SLOT_PAIRS, blocks, strict=True):
+            band[i - j, j : j + 2 * k : 2] += block
+        band[0, 1::2] += self.p_diag
+        band[2, 1:-2:2] += self.p_off
+        band[:, :2] = 0.0
+        band[0, :2] = 1.0
+        factor, info = _band_factor(band, lower=1, overwrite_ab=1)
+        if info != 0:
+            msg = f'the normal matrix of a planning subproblem is not positive definite (LAPACK dpbtrf info {info})'
+            raise SolverError(msg)
+        return factor
+
+
+def _direction(
+    big_g: sp.csr_matrix,
+    big_gt: sp.csr_matrix,
+    factor: FloatArray,
+    s: FloatArray,
+    z: FloatArray,
+    residuals: tuple[FloatArray, FloatArray],
+    r_comp: FloatArray,
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The Newton step (dx, ds, dz) for complementarity residual ``r_comp``, slacks eliminated (normal equations)."""
+    r_primal, r_dual = residuals
+    rhs = -r_dual - big_gt @ ((z * r_primal - r_comp) / s)
+    rhs[:2] = 0.0  # w_0 and rho_0 stay
+    dx, _ = _band_solve(factor, rhs, lower=1)
+    ds = -r_primal - big_g @ dx
+    dz = (-r_comp - z * ds) / s
+    return dx, ds, dz
+
+
+def _largest_step(s: FloatArray, ds: FloatArray, z: FloatArray, dz: FloatArray) -> float:
+    """The largest alpha in (0, 1] keeping s + alpha ds >= 0 and z + alpha dz >= 0 (s, z > 0)."""
+    shrink = max(float(np.max(-ds / s)), float(np.max(-dz / z)))
+    return 1.0 if shrink <= 1.0 else 1.0 / shrink
