@@ -49,7 +49,7 @@ from vtube_planning._validate import is_real
 from vtube_planning.errors import VtubeError
 from vtube_planning.executors import map_unordered
 from vtube_planning.geometry.scene import load_scene
-from vtube_planning.study import ABLATIONS, BASELINE_MODES, MODELS, Point, RunSettings, run_point
+from vtube_planning.study import ABLATIONS, BASELINE_MODES, MODELS, REPLANNING_MODES, Point, RunSettings, run_point
 from vtube_planning.swarm.simulate import FAILURE_MODES
 from vtube_planning.swarm.step import SATURATIONS
 
@@ -82,7 +82,7 @@ METRICS: dict[str, type] = {
 """What a run measures (:func:`~vtube_planning.study.run_point`), and its type in the table."""
 RUNS_FILE, CAMPAIGN_FILE = 'runs.csv', 'campaign.json'
 _CHOICES = {
-    'mode': (*ABLATIONS, *BASELINE_MODES),
+    'mode': (*ABLATIONS, *REPLANNING_MODES, *BASELINE_MODES),
     'model': tuple(MODELS),
     'saturation': SATURATIONS,
     'failure': ('none', *FAILURE_MODES),

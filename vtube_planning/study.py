@@ -176,12 +176,14 @@ class Ablation:
     (the full plan's grid with the constant speed and density rho_d: (a3) then tracks a flat rho_d) or ``'none'``
     (constant speed, constant r_a); ``a3``: whether r_a follows (a3) (off: its gain and feed-forward are zero);
     ``speed``: the constant forward speed of ``'flat'`` and ``'none'``, ``'mid'`` = (v_min + v_max) / 2 or
-    ``'v_max'``.
+    ``'v_max'``; ``replan_every_s``: replan the rest of the tube from the measured state this often while flying
+    (0: never; :class:`~vtube_planning.swarm.simulate.SimConfig`).
     """
 
     plan: str
     a3: bool
     speed: str = 'mid'
+    replan_every_s: float = 0.0
 
 
 ABLATIONS = {
@@ -192,6 +194,8 @@ ABLATIONS = {
     'no planning': Ablation('none', a3=False),
     'no planning at v_max': Ablation('none', a3=False, speed='v_max'),
 }
+REPLANNING_MODES = {'replanning every 0.5 s': Ablation('full', a3=True, replan_every_s=0.5)}
+"""Modes that replan online (not part of ``vtube ablation``'s grid; campaigns name them)."""
 MODELS = {'paper': False, 'acceleration limits': True}
 """Robot models: the paper's p' = sat(v_c), or every robot also held to the acceleration limits (3), (4)."""
 GRID_SCENES = ('C', 'D')
@@ -207,13 +211,14 @@ class Setup:
     constant_speed_mps: float | None
     baseline: Callable[..., Any] | None = None
     nmpc: NmpcSwarm | None = None
+    replan_every_s: float = 0.0
 
 
 def ablation_setup(mode: str, scene: Scene, swarm: SwarmParams, dt_s: float) -> Setup:
     """The simulator's inputs for ``mode`` (a key of ABLATIONS, or of BASELINE_MODES)."""
     if mode in BASELINE_MODES:
         return _baseline_setup(mode, scene, swarm, dt_s)
-    ablation = ABLATIONS[mode]
+    ablation = ABLATIONS[mode] if mode in ABLATIONS else REPLANNING_MODES[mode]
     speed = default_constant_speed(swarm) if ablation.speed == 'mid' else swarm.v_max_mps
     control = scene.control if ablation.a3 else replace(scene.control, k_ra_m3ps=0.0, feedforward=False)
     if ablation.plan == 'none':
@@ -227,7 +232,7 @@ def ablation_setup(mode: str, scene: Scene, swarm: SwarmParams, dt_s: float) -> 
             density_per_m2=np.full_like(plan.density_per_m2, swarm.rho_d_per_m2),
             method='flat: constant speed, density rho_d',
         )
-    return Setup(plan, control, None)
+    return Setup(plan, control, None, replan_every_s=ablation.replan_every_s)
 
 
 _PLANS: dict[tuple[str, SwarmParams, PlanningOptions], Plan] = {}
@@ -294,6 +299,7 @@ def run_point(point: Point, settings: RunSettings = RunSettings()) -> dict[str, 
         latency_steps=point.latency_steps,
         failure=failure,
         dropout=point.dropout,
+        replan_every_s=setup.replan_every_s,
     )
     result = simulate(
         scene.tube,
@@ -332,6 +338,7 @@ COMPARISONS = (
     ('planning', 'no planning at v_max', 'the plan against the fastest constant speed'),
     ('planning', 'planning without (p7)', 'what the pre-expansion (p7) buys'),
     ('planning', 'planned speed, (a3) off', 'what (a3) buys on top of the planned speed'),
+    ('replanning every 0.5 s', 'planning', 'what replanning online buys'),
     ('constant speed, (a3) to rho_d', 'no planning', 'what (a3) buys without a plan'),
 )
 """Paired comparisons of the grid report: mode a against mode b on the same seeds, and what the difference means."""

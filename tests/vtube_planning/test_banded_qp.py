@@ -78,7 +78,9 @@ def test_banded_solver_matches_the_reference_on_random_tubes_and_swarms(seed: in
     straight, arc = rng.uniform(3.0, 6.0), rng.uniform(3.0, 8.0)
     turn = ArcPiece(arc, radius_m=rng.uniform(8.0, 30.0))
     tube = VirtualTube(ArcPath((ArcPiece(straight), turn, ArcPiece(parts.sum() - straight - arc))), width)
-    swarm = SwarmParams(n_robots=int(rng.integers(5, 40)), a_v_mps2=rng.uniform(0.5, 3.0), a_n_mps2=rng.uniform(1.0, 4.0))
+    swarm = SwarmParams(
+        n_robots=int(rng.integers(5, 40)), a_v_mps2=rng.uniform(0.5, 3.0), a_n_mps2=rng.uniform(1.0, 4.0)
+    )
     options = PlanningOptions(
         grid_step_m=rng.uniform(0.15, 0.5), density_weight=rng.choice([0.0, 1.0, 30.0]), lookahead_m=3.0
     )

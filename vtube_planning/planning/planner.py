@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass, replace
 
 import cvxpy as cp
 import numpy as np
@@ -47,9 +47,9 @@ from vtube_planning.swarm.step import swarm_area
 FloatArray = NDArray[np.float64]
 
 SUBSAMPLES = 20
+"""Samples per grid interval used to bound curvature and width ratios over the interval."""
 MAX_INTERVALS = 20_000
 """The finest grid planned: 20,000 intervals (a 0.003 m step on scenes A-D, whose default grid has 240)."""
-"""Samples per grid interval used to bound curvature and width ratios over the interval."""
 SOLVER_OPTIONS: dict[str, float] = {}
 """Clarabel options (its defaults suffice: the constraints are normalised to order one)."""
 
@@ -354,6 +354,62 @@ def plan_convex(
     )
     plan.extra['formulation'] = used
     return plan
+
+
+@dataclass(frozen=True)
+class SwarmState:
+    """What replanning starts from: the swarm's arc length, average forward speed and density, measured now.
+
+    Parameters
+    ----------
+    arc_length_m
+        Where the swarm is along the tube (the mean arc length of its working robots), in [0, L).
+    speed_mps
+        Its average forward speed, m/s.
+    density_per_m2
+        Its measured density, robots/m^2.
+    n_robots
+        The robots still flying, when fewer than the plan was made for (a robot failed); None: the plan's swarm.
+    """
+
+    arc_length_m: float
+    speed_mps: float
+    density_per_m2: float
+    n_robots: int | None = None
+
+
+def replan(plan: Plan, state: SwarmState, tube: VirtualTube, *, formulation: str = 'banded') -> Plan:
+    """Plan the rest of the tube, from ``state.arc_length_m`` to its exit, starting from the measured state.
+
+    Same problem as ``plan`` (its swarm, options and constraints (p2)-(p7), its certificate), with the initial
+    values (p2)/(p5) taken from the state. A measured speed or density outside what the constraints admit at that
+    arc length (v in [v_min, min(v_max, sqrt(a_n r_t))], rho in [rho_epsilon, rho_max]) is clipped into it, so that
+    the plan starts feasibly; ``plan.extra['replanned_from']`` records the state as measured and as used.
+
+    Raises
+    ------
+    PlanError
+        When the state cannot be flown on: the tube's rest is shorter than two grid steps, or the swarm is too fast
+        to brake for a turn ahead, or the density cannot fall in time for a narrowing (the message says where).
+    """
+    plan.check_matches(tube, plan.swarm)
+    start = float(state.arc_length_m)
+    step = plan.options.grid_step_m
+    if not (np.isfinite(start) and 0.0 <= start <= tube.length_m - 2.0 * step):
+        msg = (
+            f'cannot replan from l = {start:g} m: the rest of the {tube.length_m:g} m tube must hold at least two grid '
+            f'steps of {step:g} m (replan from 0 to {tube.length_m - 2.0 * step:g} m).'
+        )
+        raise PlanError(msg)
+    swarm = plan.swarm if state.n_robots is None else replace(plan.swarm, n_robots=state.n_robots)
+    ahead = np.linspace(start, start + step, SUBSAMPLES + 1)
+    top = min(swarm.v_max_mps, float(curvature_speed_limit(tube, swarm, ahead).min()))
+    speed = float(np.clip(state.speed_mps, swarm.v_min_mps, top))
+    density = float(np.clip(state.density_per_m2, RHO_EPSILON, swarm.rho_max_per_m2))
+    options = replace(plan.options, v0_mps=speed, rho0_per_m2=density)
+    rest = plan_convex(tube, swarm, options, scene=plan.scene, formulation=formulation, start_m=start)
+    rest.extra['replanned_from'] = {'measured': asdict(state), 'speed_mps': speed, 'density_per_m2': density}
+    return rest
 
 
 def refined_grid(l_m: FloatArray, active: dict[str, NDArray[np.bool_]], factor: int) -> FloatArray:

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from vtube_planning.planning.plan import Plan
+from vtube_planning.swarm.step import PlanProfile
 
 FloatArray = NDArray[np.float64]
 
@@ -143,7 +144,11 @@ def strict_json(value: Any) -> Any:
 
 
 def tracking_errors(
-    l_m: FloatArray, forward_speed_mps: FloatArray, density_per_m2: FloatArray, plan: Plan, length_m: float
+    l_m: FloatArray,
+    forward_speed_mps: FloatArray,
+    density_per_m2: FloatArray,
+    plan: Plan | PlanProfile,
+    length_m: float,
 ) -> dict[str, float]:
     """|mean forward speed - v*(l_c)| and |density - rho*(l_c)| at the swarm centre's arc length l_c: mean and
     max over the steps with the centre inside the tube (empty when it never is). Arrays as in passage_metrics."""
@@ -174,7 +179,7 @@ def passage_metrics(
     commands_mps: FloatArray | None = None,
     forward_speed_mps: FloatArray | None = None,
     density_per_m2: FloatArray | None = None,
-    plan: Plan | None = None,
+    plan: Plan | PlanProfile | None = None,
     counted: NDArray[np.bool_] | None = None,
 ) -> PassageMetrics:
     """The measures of a passage (see :class:`PassageMetrics`).
@@ -192,7 +197,8 @@ def passage_metrics(
     speed_band_mps, commands_mps
         [v_min, v_max] and the commanded velocities (T, 2, N): their speeds are checked against the band.
     forward_speed_mps, density_per_m2, plan
-        Each robot's speed along the tube (T, N), the measured density (T,) and the plan they track.
+        Each robot's speed along the tube (T, N), the measured density (T,) and the plan they track (when it was
+        replanned, the plan as flown: ``Replanner.flown``).
     counted
         The robots (N,) whose passage counts (entry, exit, completion, tube violations); None: all. Distances and
         collisions count every robot.

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import os
+import time
 from collections import deque
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
@@ -31,14 +32,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning._validate import is_positive, is_real
-from vtube_planning.errors import ParamsError
+from vtube_planning.errors import ParamsError, PlanError
 from vtube_planning.geometry.tube import Projection, VirtualTube
 from vtube_planning.params import SwarmParams
 from vtube_planning.planning.plan import Plan
+from vtube_planning.planning.planner import SwarmState, replan
 from vtube_planning.swarm.control import ControlParams
 from vtube_planning.swarm.log import LogWriter
 from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics
-from vtube_planning.swarm.step import SwarmStep, swarm_density
+from vtube_planning.swarm.step import PlanProfile, SwarmStep, swarm_density
 
 FloatArray = NDArray[np.float64]
 
@@ -100,6 +102,11 @@ class SimConfig:
     dropout
         Fault: each control period each robot's message is lost with this probability (seeded): its neighbours
         then avoid it where they last heard it. 0: off. The planned controller only (the baselines hear everyone).
+    replan_every_s
+        Replan the rest of the tube this often (rounded to whole control periods) from the swarm's measured state,
+        :func:`~vtube_planning.planning.planner.replan`: the working robots' mean arc length and forward speed,
+        the measured density, and their number. Each call's wall time is kept (``SimResult.meta['replans']``).
+        0: fly the first plan throughout. Planned flights only.
     """
 
     dt_s: float = 0.02
@@ -112,6 +119,7 @@ class SimConfig:
     latency_steps: int = 0
     failure: RobotFailure | None = None
     dropout: float = 0.0
+    replan_every_s: float = 0.0
 
     def __post_init__(self) -> None:
         if not is_positive(self.dt_s):
@@ -130,6 +138,9 @@ class SimConfig:
             msg = (
                 f'simulation dropout must be a probability in [0, 1) (0: every message arrives); got {self.dropout!r}.'
             )
+            raise ParamsError(msg)
+        if not (is_real(self.replan_every_s) and self.replan_every_s >= 0):
+            msg = f'simulation replan_every_s must be a finite number >= 0 (0: never); got {self.replan_every_s!r}.'
             raise ParamsError(msg)
         if isinstance(self.latency_steps, bool) or not isinstance(self.latency_steps, int) or self.latency_steps < 0:
             msg = f'simulation latency_steps must be a whole number >= 0 (0: none); got {self.latency_steps!r}.'
@@ -225,6 +236,51 @@ def _check_memory(steps: int, n: int, limit_s: float) -> None:
         raise ParamsError(msg)
 
 
+class Replanner:
+    """Replans a flight every ``every`` control periods from the swarm's measured state, and keeps the record."""
+
+    def __init__(self, plan: Plan, tube: VirtualTube, every: int) -> None:
+        self.plan, self.tube, self.every = plan, tube, every
+        self.profiles = [plan.profile]
+        self.calls: list[dict[str, Any]] = []
+
+    def __call__(
+        self, step: int, l_m: FloatArray, forward_mps: FloatArray, density: float, working: NDArray[np.bool_]
+    ) -> PlanProfile | None:
+        """The new plan's profile at a replanning step (None otherwise, or when replanning failed)."""
+        flying = working & (l_m < self.tube.length_m)
+        if step == 0 or step % self.every or not flying.any():
+            return None
+        start = max(0.0, float(l_m[flying].mean()))
+        if start > self.tube.length_m - 2.0 * self.plan.options.grid_step_m:
+            return None  # the swarm is leaving: nothing left to plan
+        count = int(working.sum())
+        state = SwarmState(start, float(forward_mps[flying].mean()), density, None if working.all() else count)
+        started = time.perf_counter()
+        try:
+            rest = replan(self.plan, state, self.tube)
+        except PlanError as err:
+            self.calls.append({'step': step, 'from_m': start, 'wall_ms': _ms_since(started), 'error': str(err)})
+            return None
+        self.calls.append({'step': step, 'from_m': start, 'wall_ms': _ms_since(started), 'error': ''})
+        self.profiles.append(rest.profile)
+        return rest.profile
+
+    def flown(self) -> PlanProfile:
+        """The plan as flown: each replanned profile replaces the one before from the arc length it starts at."""
+        l_m, slowness, density = self.profiles[0].l_m, self.profiles[0].slowness_spm, self.profiles[0].density_per_m2
+        for later in self.profiles[1:]:
+            keep = l_m < later.l_m[0]
+            l_m = np.concatenate([l_m[keep], later.l_m])
+            slowness = np.concatenate([slowness[keep], later.slowness_spm])
+            density = np.concatenate([density[keep], later.density_per_m2])
+        return PlanProfile(l_m, slowness, density)
+
+
+def _ms_since(started: float) -> float:
+    return 1e3 * (time.perf_counter() - started)
+
+
 def simulate(
     tube: VirtualTube,
     swarm: SwarmParams,
@@ -266,6 +322,12 @@ def simulate(
         raise ParamsError(msg)
     if plan is not None:
         plan.check_matches(tube, swarm)
+    replanner = None
+    if config.replan_every_s > 0:
+        if plan is None:
+            msg = 'replanning (replan_every_s) needs a plan to start from; pass a plan or set replan_every_s = 0.'
+            raise ParamsError(msg)
+        replanner = Replanner(plan, tube, max(1, round(config.replan_every_s / config.dt_s)))
     forward_const = default_constant_speed(swarm) if constant_speed_mps is None else float(constant_speed_mps)
     if plan is None and not swarm.v_min_mps <= forward_const <= swarm.v_max_mps:
         msg = f'constant_speed_mps = {forward_const} lies outside [v_min, v_max] = [{swarm.v_min_mps}, {swarm.v_max_mps}].'
@@ -326,6 +388,11 @@ def simulate(
                 others = heard
             result = stepper(seen, config.dt_s, view, others)
             commanded, density, r_a = result.velocity, result.density_per_m2, result.r_a_m
+            if replanner is not None:
+                forward = np.einsum('ij,ij->j', velocity, view.tangent)
+                profile = replanner(step, view.l_m, forward, float(density), working)
+                if profile is not None:
+                    stepper.plan = profile
         done = bool(np.all((projection.l_m > tube.length_m) | ~working))
         log.append(
             t_s=np.float64(step * config.dt_s),
@@ -370,8 +437,10 @@ def simulate(
         commands_mps=arrays['commands_mps'],
         forward_speed_mps=arrays['forward_speed_mps'],
         density_per_m2=arrays['density_per_m2'],
-        plan=plan,
+        plan=plan if replanner is None else replanner.flown(),
         counted=working,
     )
+    if replanner is not None:
+        description['replans'] = replanner.calls
     log.flush(metrics=metrics.to_json(), finished=True)
     return SimResult(**arrays, metrics=metrics, planned=plan is not None, meta=description)
