@@ -144,6 +144,19 @@ def test_simulate_without_planning(tmp_path, capsys) -> None:
     assert (tmp_path / 'sim_A_unplanned.npz').exists() and not (tmp_path / 'sim_A_unplanned_tracking.png').exists()
 
 
+def test_simulate_replans_in_flight_and_reports_each_call(tmp_path, capsys) -> None:
+    import json
+
+    assert main(['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--replan-every', '1', '--json']) == 0
+    captured = capsys.readouterr()
+    replans = json.loads(captured.out)['replans']
+    made = [call for call in replans if not call['error']]
+    assert len(made) >= 5 and all(call['wall_ms'] > 0 and call['step'] % 50 == 0 for call in replans)
+    assert f'every 1 s: {len(made)} replans, median ' in captured.err
+    assert main(['simulate', 'C', '--out', str(tmp_path), '--no-planning', '--replan-every', '1']) == 2
+    assert 'replanning (replan_every_s) needs a plan' in capsys.readouterr().err
+
+
 def test_animation_is_a_gif(tmp_path) -> None:
     from vtube_planning.geometry.scene import load_scene
     from vtube_planning.plots import animate

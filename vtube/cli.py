@@ -159,6 +159,7 @@ def simulate(
     acceleration_limits: bool = False,
     animate: bool = False,
     plan_path: Path | None = None,
+    replan_every_s: float = 0.0,
     json_out: dict[str, Any] | None = None,
     quiet: bool = False,
 ) -> int:
@@ -176,7 +177,7 @@ def simulate(
     swarm = scene.swarm if n_robots is None else replace(scene.swarm, n_robots=n_robots)
     plan = _plan_for(scene, swarm, plan_path) if planning else None
     mode = 'planned' if planning else 'unplanned'
-    config = SimConfig(seed=seed, acceleration_limits=acceleration_limits)
+    config = SimConfig(seed=seed, acceleration_limits=acceleration_limits, replan_every_s=replan_every_s)
     log = out / f'sim_{scene.name}_{mode}.npz'
     bar = _progress_bar('simulated', 's', quiet)
     try:
@@ -223,6 +224,13 @@ def simulate(
                 (f'mean {m.density_tracking_mean_per_m2:.4f}, max {m.density_tracking_max_per_m2:.4f} /m^2'),
             ),
         ]
+    replans = result.meta.get('replans')
+    if replans is not None:
+        done = sorted(call['wall_ms'] for call in replans if not call['error'])
+        timing = f', median {done[len(done) // 2]:.0f} ms, largest {done[-1]:.0f} ms' if done else ''
+        infeasible = len(replans) - len(done)
+        summary = f'every {replan_every_s:g} s: {len(done)} replans{timing}; {infeasible} found the state infeasible'
+        rows.append(('replanning', f'{summary} and kept the plan'))
     for name, value in rows:
         print(f'  {name:<18} {value}')
     stem = out / f'sim_{scene.name}_{mode}'
@@ -240,6 +248,8 @@ def simulate(
     print(f'  {"written":<18} {", ".join(map(str, written))}')
     if json_out is not None:
         json_out |= {'log': str(log), 'metrics': m.to_json(), 'provenance': result.meta['provenance']}
+        if replans is not None:
+            json_out['replans'] = replans
     return EXIT_OK
 
 
@@ -957,6 +967,14 @@ def _parser() -> argparse.ArgumentParser:
     sim.add_argument('--animate', action='store_true', help='also write an animated GIF')
     sim.add_argument('--quiet', action='store_true', help='no progress bar (none is drawn unless on a terminal)')
     sim.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
+    sim.add_argument(
+        '--replan-every',
+        type=_positive,
+        default=0.0,
+        dest='replan_every_s',
+        metavar='S',
+        help='replan the rest of the tube every S seconds from the measured state, > 0 (default: never)',
+    )
     stu = commands.add_parser('study', help="the paper's comparison on scenes A-D with and without planning")
     stu.add_argument('--out', type=Path, required=True, help='folder for runs.csv, study.md, study.json, study.png')
     stu.add_argument('--seeds', type=_count, default=5, help='number of seeds n >= 1 (seeds 0..n-1)')
@@ -1123,6 +1141,7 @@ def _dispatch(args: argparse.Namespace, json_out: dict[str, Any] | None) -> int:
                 acceleration_limits=args.acceleration_limits,
                 animate=args.animate,
                 plan_path=args.plan,
+                replan_every_s=args.replan_every_s,
                 json_out=json_out,
                 quiet=args.quiet,
             )

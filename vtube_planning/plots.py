@@ -217,7 +217,8 @@ def snapshots_figure(result: SimResult, tube: VirtualTube, *, title: str = '') -
 
 
 def tracking_figure(result: SimResult, plan: Plan) -> Figure:
-    """Average forward speed v_a against v* and measured density rho_r against rho*, along the swarm centre."""
+    """Average forward speed v_a against v* and measured density rho_r against rho*, along the swarm centre (the plan
+    as flown, ``result.flown``, when the flight replanned)."""
     from matplotlib.figure import Figure
 
     center = result.l_m.mean(axis=1)
@@ -225,11 +226,13 @@ def tracking_figure(result: SimResult, plan: Plan) -> Figure:
     fig = Figure(figsize=(9.0, 6.5), layout='constrained')
     ax_v, ax_rho, ax_ra = fig.subplots(3, 1, sharex=True, height_ratios=[3, 3, 2])
     grid = np.linspace(0.0, plan.length_m, 2000)
-    ax_v.plot(grid, plan.speed(grid), color='tab:blue', ls='--', label='planned v*')
+    flown = result.flown or plan.profile
+    replanned = ' (as replanned)' if result.meta.get('replans') else ''
+    ax_v.plot(grid, flown.speed(grid), color='tab:blue', ls='--', label=f'planned v*{replanned}')
     ax_v.plot(center[inside], result.forward_speed_mps.mean(axis=1)[inside], color='tab:blue', label='swarm v_a')
     ax_v.set_ylabel('speed [m/s]')
     ax_v.legend(fontsize=8)
-    ax_rho.plot(grid, plan.density(grid), color='tab:green', ls='--', label='planned rho*')
+    ax_rho.plot(grid, flown.density(grid), color='tab:green', ls='--', label=f'planned rho*{replanned}')
     ax_rho.plot(center[inside], result.density_per_m2[inside], color='tab:green', label='measured rho_r')
     ax_rho.set_ylabel('density [1/m^2]')
     ax_rho.legend(fontsize=8)

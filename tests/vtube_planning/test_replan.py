@@ -98,7 +98,7 @@ def replanned_flight(scene_c):
 
 
 def test_the_flight_replans_every_period_from_its_measured_state(scene_c, replanned_flight) -> None:
-    scene, plan = scene_c
+    scene, _ = scene_c
     result = replanned_flight
     calls = result.meta['replans']
     steps = [c['step'] for c in calls]

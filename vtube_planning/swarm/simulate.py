@@ -152,7 +152,8 @@ class SimResult:
     """A simulated passage: per-step arrays and the metrics computed from them.
 
     Arrays have T rows (steps): ``t_s`` (T,), ``positions_m``, ``velocities_mps``, ``commands_mps`` (T, 2, N),
-    ``r_a_m``, ``l_m``, ``clearance_m``, ``forward_speed_mps`` (T, N), ``density_per_m2`` (T,).
+    ``r_a_m``, ``l_m``, ``clearance_m``, ``forward_speed_mps`` (T, N), ``density_per_m2`` (T,). ``flown`` is the
+    plan as flown (the plan's profile, or :meth:`Replanner.flown` when it was replanned; None without a plan).
     """
 
     t_s: FloatArray
@@ -167,6 +168,7 @@ class SimResult:
     metrics: PassageMetrics
     planned: bool
     meta: dict[str, Any] = field(default_factory=dict)
+    flown: PlanProfile | None = None
 
 
 def initial_formation(tube: VirtualTube, swarm: SwarmParams, rng: np.random.Generator, jitter_m: float) -> FloatArray:
@@ -426,6 +428,7 @@ def simulate(
                 velocity[:, failure.robot] = failed_velocity
         positions = positions + config.dt_s * velocity
     arrays = log.arrays()
+    flown = None if plan is None else plan.profile if replanner is None else replanner.flown()
     metrics = passage_metrics(
         arrays['t_s'],
         arrays['positions_m'],
@@ -437,10 +440,10 @@ def simulate(
         commands_mps=arrays['commands_mps'],
         forward_speed_mps=arrays['forward_speed_mps'],
         density_per_m2=arrays['density_per_m2'],
-        plan=plan if replanner is None else replanner.flown(),
+        plan=flown,
         counted=working,
     )
     if replanner is not None:
         description['replans'] = replanner.calls
     log.flush(metrics=metrics.to_json(), finished=True)
-    return SimResult(**arrays, metrics=metrics, planned=plan is not None, meta=description)
+    return SimResult(**arrays, metrics=metrics, planned=plan is not None, meta=description, flown=flown)
