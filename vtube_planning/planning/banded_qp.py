@@ -69,13 +69,15 @@ class BandedPlanner:
         tight = 1.0 - MARGIN
         rows: list[FloatArray] = []  # (K, 4) coefficients per row kind
         rhs: list[FloatArray] = []  # (K,) right-hand sides
+        needed: list[NDArray[np.bool_]] = []  # (K,) the intervals whose row of this kind can bind
 
-        def add(coefficients: dict[int, FloatArray | float], b: FloatArray | float) -> None:
+        def add(coefficients: dict[int, FloatArray | float], b: FloatArray | float, where: object = True) -> None:
             block = np.zeros((k, 4))
             for slot, value in coefficients.items():
                 block[:, slot] = value
             rows.append(block)
             rhs.append(np.broadcast_to(np.asarray(b, dtype=float), (k,)).copy())
+            needed.append(np.broadcast_to(np.asarray(where, dtype=bool), (k,)))
 
         # (p3), linearised at the previous iterate: four rows per interval, values filled by set_tangent
         self._p3 = slice(0, 4)
@@ -87,11 +89,12 @@ class BandedPlanner:
             for end in (W_LEFT, W_RIGHT):
                 add({RHO_RIGHT: sign, RHO_LEFT: -sign, end: -rate}, 0.0)
         if options.predictive_model == 'local_width':
-            # (p7), local width: ratio_k rho_i - a_rho dl_p w_j <= 0 for i, j in {k, k+1}
+            # (p7), local width: ratio_k rho_i - a_rho dl_p w_j <= 0 for i, j in {k, k+1}; left out where the width
+            # does not change over the look-ahead (ratio 0: the row says w >= 0, which the bounds imply)
             budget = swarm.a_rho * options.lookahead_m * tight
             for density in (RHO_LEFT, RHO_RIGHT):
                 for end in (W_LEFT, W_RIGHT):
-                    add({density: problem.width_ratio, end: -budget}, 0.0)
+                    add({density: problem.width_ratio, end: -budget}, 0.0, problem.width_ratio > 0.0)
         elif options.predictive_model != 'none':
             msg = f'the banded solver takes linear predictive models only, not {options.predictive_model!r}'
             raise ValueError(msg)
@@ -102,8 +105,11 @@ class BandedPlanner:
         add({W_RIGHT: 1.0}, high_w)
         add({RHO_RIGHT: -1.0}, -RHO_EPSILON * (1.0 + MARGIN))
         add({RHO_RIGHT: 1.0}, tight * swarm.rho_max_per_m2)
-        self.g = np.ascontiguousarray(np.stack(rows, axis=1))  # (K, rows, 4)
-        self.h = np.stack(rhs, axis=1)  # (K, rows)
+        self.g = np.ascontiguousarray(np.stack(rows, axis=1))  # (K, kinds, 4), every kind of row of every interval
+        self.h = np.stack(rhs, axis=1)  # (K, kinds)
+        self.kept = np.stack(needed, axis=1)  # (K, kinds): the rows imposed, in the order of their intervals
+        self.interval = np.nonzero(self.kept)[0]  # (m,) each imposed row's interval, ascending
+        self.first_row = np.searchsorted(self.interval, np.arange(k))  # (K,) where each interval's rows start
         self.fixed = np.array([1.0 / problem.v0_mps, problem.rho0_per_m2])
         # objective: the time term (trapezoid, exact for w linear) and mu times the exact integral of (rho - rho_d)^2
         # for rho linear, mu sum dl_k (e_k^2 + e_k e_{k+1} + e_{k+1}^2) / 3
@@ -141,11 +147,9 @@ class BandedPlanner:
 
     def solve(self) -> tuple[FloatArray, FloatArray]:
         """Solve the current subproblem (rows scaled to unit largest coefficient); (p1) is left in :attr:`value`."""
-        scale = np.abs(self.g).max(axis=2)
-        scale[scale == 0.0] = 1.0
-        g = self.g / scale[:, :, None]
-        h = self.h / scale
-        x = self._solve(g, h)
+        g, h = self.g[self.kept], self.h[self.kept]
+        scale = np.abs(g).max(axis=1)
+        x = self._solve(g / scale[:, None], h / scale)
         w, rho = x[0::2].copy(), x[1::2].copy()
         value = float(self.q @ x + 0.5 * x[1::2] @ self._p_times(x)[1::2]) + self.constant
         self._change = abs(self.value - value) / abs(value) if np.isfinite(self.value) else 1.0
@@ -161,13 +165,12 @@ class BandedPlanner:
         return out
 
     def _solve(self, g: FloatArray, h: FloatArray) -> FloatArray:
-        n2, k, rows = 2 * self.n, self.k, g.shape[1]
-        # G as a CSR matrix whose data are the (K, rows, 4) coefficients in order (columns 2k..2k+3 of each row)
-        columns = (2 * np.arange(k)[:, None, None] + np.arange(4)[None, None, :]).repeat(rows, axis=1)
-        big_g = sp.csr_matrix((g.ravel(), columns.ravel(), np.arange(0, 4 * k * rows + 1, 4)), shape=(k * rows, n2))
+        """Mehrotra's method on rows ``g`` (m, 4) (the coefficients of x[2k : 2k + 4], k each row's interval)."""
+        n2, m = 2 * self.n, h.size
+        columns = 2 * self.interval[:, None] + np.arange(4)
+        big_g = sp.csr_matrix((g.ravel(), columns.ravel(), np.arange(0, 4 * m + 1, 4)), shape=(m, n2))
         big_gt = big_g.T.tocsr()
-        products = np.ascontiguousarray((g[:, :, SLOT_PAIRS[:, 0]] * g[:, :, SLOT_PAIRS[:, 1]]).transpose(0, 2, 1))
-        h = h.ravel()
+        products = g[:, SLOT_PAIRS[:, 0]] * g[:, SLOT_PAIRS[:, 1]]  # (m, 10)
         if self._last is None:  # the tangent point (feasible), slacks and multipliers at least the largest floor
             x, z, floor = np.empty(n2), np.full_like(h, WARM_FLOOR[1]), WARM_FLOOR[1]
             x[0::2], x[1::2] = self._tangent
@@ -178,7 +181,6 @@ class BandedPlanner:
             x, z = self._last[0].copy(), np.maximum(self._last[1], floor)
         x[:2] = self.fixed
         s = np.maximum(h - big_g @ x, floor)
-        m = s.size
         h_norm = 1.0 + np.abs(h).max()
         q_norm = 1.0 + np.abs(self.q).max()
         for step in range(1, MAX_STEPS + 1):
@@ -194,7 +196,7 @@ class BandedPlanner:
                 self.steps = step
                 self._last = (x.copy(), z.copy())
                 return x
-            factor = self._factor(products, (z / s).reshape(k, rows))
+            factor = self._factor(products, z / s)
             residuals = (r_primal, r_dual)
             dx, ds, dz = _direction(big_g, big_gt, factor, s, z, residuals, s * z)
             alpha = _largest_step(s, ds, z, dz)
@@ -214,12 +216,12 @@ class BandedPlanner:
     def _factor(self, products: FloatArray, weight: FloatArray) -> FloatArray:
         """Lower banded Cholesky factor of P + G' W G, with the fixed w_0, rho_0 rows replaced by identity rows.
 
-        ``products`` holds g_ri g_rj for the ten slot pairs (i, j), i >= j, of every row: (K, 10, rows).
+        ``products`` holds g_ri g_rj for the ten slot pairs (i, j), i >= j, of every row: (m, 10).
         """
         n2, k = 2 * self.n, self.k
-        blocks = (products * weight[:, None, :]).sum(axis=2).T  # the lower triangles of the (K, 4, 4) blocks
+        blocks = np.add.reduceat(products * weight[:, None], self.first_row, axis=0)  # (K, 10) lower triangles
         band = np.zeros((4, n2))
-        for (i, j), block in zip(SLOT_PAIRS, blocks, strict=True):
+        for (i, j), block in zip(SLOT_PAIRS, blocks.T, strict=True):
             band[i - j, j : j + 2 * k : 2] += block
         band[0, 1::2] += self.p_diag
         band[2, 1:-2:2] += self.p_off
