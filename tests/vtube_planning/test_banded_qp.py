@@ -20,7 +20,7 @@ from vtube_planning import (
 )
 from vtube_planning.errors import ParamsError, PlanError, SolverError
 from vtube_planning.planning import banded_qp
-from vtube_planning.planning.plan import Plan
+from vtube_planning.planning.plan import Plan, certify
 from vtube_planning.planning.planner import (
     BandedPlanner,
     ConvexPlanner,
@@ -194,3 +194,38 @@ def test_refined_plan_is_no_slower_and_the_reference_agrees_on_its_non_uniform_g
 def test_refinement_must_be_a_whole_number_of_at_least_one(bad: object) -> None:
     with pytest.raises(ParamsError, match='refinement must be a whole number >= 1'):
         PlanningOptions(refinement=bad)  # type: ignore[arg-type]
+
+
+# ---------------------------------------------------------------------- the fastest admissible start
+
+
+@pytest.mark.parametrize('model', ['local_width', 'none'])
+@pytest.mark.parametrize('name', list_scenes())
+def test_the_fastest_start_is_admissible_and_no_admissible_profile_is_faster(name: str, model: str) -> None:
+    scene = load_scene(name)
+    options = replace(scene.planning, predictive_model=model)
+    problem = discretise(scene.tube, scene.swarm, options)
+    assert problem.fast_start is not None
+    w, rho = problem.fast_start
+    certificate, _ = certify(scene.tube, scene.swarm, options, problem.l_m, 1.0 / w, rho)
+    assert max(certificate.values()) <= 1e-12  # every constraint holds: the procedure may start there
+    plan = plan_convex(scene.tube, scene.swarm, options)
+    assert np.all(1.0 / plan.speed_mps >= w * (1 - 1e-7))  # the optimal plan is admissible, hence not faster
+
+
+@pytest.mark.parametrize('name', list_scenes())
+def test_both_starts_reach_the_same_plan_the_fastest_in_fewer_iterations(name: str) -> None:
+    scene = load_scene(name)
+    fast = plan_convex(scene.tube, scene.swarm, scene.planning)
+    slow = plan_convex(scene.tube, scene.swarm, scene.planning, start='slowest')
+    assert (fast.extra['start'], slow.extra['start']) == ('fastest', 'slowest')
+    assert fast.objective['total'] == pytest.approx(slow.objective['total'], rel=1e-8)
+    assert fast.iterations < slow.iterations
+
+
+def test_the_rigid_shift_reading_starts_from_the_slowest_profile_and_bad_starts_are_refused() -> None:
+    scene = load_scene('C')
+    rigid = plan_convex(scene.tube, scene.swarm, replace(scene.planning, predictive_model='rigid_shift'))
+    assert rigid.extra['start'] == 'slowest'
+    with pytest.raises(ValueError, match=r"start must be one of \('fastest', 'slowest'\)"):
+        plan_convex(scene.tube, scene.swarm, scene.planning, start='middle')

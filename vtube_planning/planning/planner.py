@@ -68,6 +68,7 @@ class Problem:
     rho0_per_m2: float
     w_start: FloatArray
     rho_start: FloatArray
+    fast_start: tuple[FloatArray, FloatArray] | None = None
 
     @property
     def dl_m(self) -> FloatArray:
@@ -148,7 +149,69 @@ def discretise(
     problem = Problem(tube, swarm, options, l_m, speed_cap, width_ratio, v0, rho0, w_start, rho_start)
     if options.predictive_model == 'local_width':
         _check_local_width(problem)
-    return problem
+    return replace(problem, fast_start=_fastest_admissible(problem))
+
+
+REPAIRS = 20
+"""Passes that slow the fastest admissible profile where (p7) needs it, before the slowest start is used instead."""
+
+
+def _fastest_admissible(problem: Problem) -> tuple[FloatArray, FloatArray] | None:
+    """A start near the optimum for the convex-concave procedure, or None where it cannot be had.
+
+    The fastest speed profile that (p2)-(p4) admit, as in time-optimal path parameterisation: from v_0, accelerate
+    at a_v up to the caps, and brake at a_v in time for each; with the density falling along it as fast as (p6)
+    allows. Where that is too fast for the local-width (p7), w >= ratio max(rho) / (a_rho dl_p), the speed cap is
+    lowered to what (p7) asks and the profile recomputed, for at most ``REPAIRS`` passes. Every constraint then
+    holds, so the procedure may start there. The rigid-shift (p7) is not checked here: it starts from the slowest
+    profile, as does a problem whose repairs do not settle.
+    """
+    swarm, options = problem.swarm, problem.options
+    if options.predictive_model == 'rigid_shift':
+        return None
+    dl = problem.dl_m
+    floor = 1.0 / problem.speed_cap_mps
+    for _ in range(REPAIRS):
+        w = _fastest_slowness(floor, 1.0 / problem.v0_mps, swarm.a_v_mps2 * dl)
+        if w is None or w.max() > 1.0 / swarm.v_min_mps:
+            return None
+        rho = _fastest_expansion(swarm, problem.rho0_per_m2, w, dl)
+        if options.predictive_model == 'none':
+            return w, rho
+        need = problem.width_ratio * np.maximum(rho[:-1], rho[1:]) / (swarm.a_rho * options.lookahead_m)
+        short = need > np.minimum(w[:-1], w[1:])
+        if not short.any():
+            return w, rho
+        floor[:-1][short] = np.maximum(floor[:-1][short], need[short])
+        floor[1:][short] = np.maximum(floor[1:][short], need[short])
+    return None
+
+
+def _fastest_slowness(floor: FloatArray, w0: float, rate: FloatArray) -> FloatArray | None:
+    """The least slowness profile with w >= ``floor``, w_0 = ``w0`` and (p3) exact: w_k - w_{k+1} <= rate_k w_{k+1}^3
+    (speeding up) and w_{k+1} - w_k <= rate_k w_k^3 (slowing down), rate = a_v dl; None when w_0 cannot brake in
+    time for the floor ahead."""
+
+    def least(target: float, c: float) -> float:  # the root of x + c x^3 = target, x in (0, target]
+        x = target
+        for _ in range(50):
+            step = (x + c * x**3 - target) / (1.0 + 3.0 * c * x**2)
+            x -= step
+            if abs(step) <= 1e-15 * x:
+                break
+        return x
+
+    w = [float(v) for v in floor]
+    rates = [float(c) for c in rate]
+    w[0] = w0
+    for k, c in enumerate(rates):  # accelerate as hard as (p3) allows
+        w[k + 1] = max(w[k + 1], least(w[k], c))
+    for k in range(len(rates) - 1, -1, -1):  # brake in time for what lies ahead
+        need = least(w[k + 1], c=rates[k])
+        if k == 0 and need > w0 * (1.0 + 1e-12):
+            return None
+        w[k] = max(w[k], need) if k else w0
+    return np.array(w)
 
 
 def _check_boundary_values(swarm: SwarmParams, v0: float, rho0: float, cap0: float) -> None:
@@ -272,6 +335,8 @@ class ConvexPlanner:
         return np.asarray(self.w.value, dtype=float), np.asarray(self.rho.value, dtype=float)
 
 
+STARTS = ('fastest', 'slowest')
+"""Where the convex-concave procedure may start (``plan_convex``'s ``start``)."""
 FORMULATIONS = ('banded', 'cvxpy')
 """How each convex subproblem is solved: the banded interior-point solver of :mod:`.banded_qp` (the linear
 readings of (p7); the rigid shift, a cone, always goes to cvxpy), or the cvxpy reference formulation."""
@@ -286,6 +351,7 @@ def plan_convex(
     max_iterations: int = 60,
     rtol: float = 1e-9,
     formulation: str = 'banded',
+    start: str = 'fastest',
     start_m: float = 0.0,
 ) -> Plan:
     """Plan speed and density by the convex-concave procedure on the slowness form.
@@ -303,6 +369,10 @@ def plan_convex(
     formulation
         One of ``FORMULATIONS``. The banded solver falls back to cvxpy if it ever fails (``plan.extra``
         records the formulation that solved).
+    start
+        Where the convex-concave procedure starts: ``'fastest'``, the fastest profile every constraint admits
+        (near the optimum: 2-5 iterations), where it can be had, else the slowest; ``'slowest'``, always the
+        slowest admissible profile (6-7 iterations; the benchmark's reference run). ``plan.extra`` records it.
     start_m
         Plan the tube from this arc length on (replanning, :func:`replan`); 0 plans it all.
 
@@ -316,10 +386,15 @@ def plan_convex(
     if formulation not in FORMULATIONS:
         msg = f'formulation must be one of {FORMULATIONS}; got {formulation!r}.'
         raise ValueError(msg)
+    if start not in STARTS:
+        msg = f'start must be one of {STARTS}; got {start!r}.'
+        raise ValueError(msg)
     started = time.perf_counter()
     grid = start_m + uniform_grid(tube.length_m - start_m, options.grid_step_m)
     problem = discretise(tube, swarm, options, grid)
-    w, rho, status, iterations, used = _convex_concave(problem, None, formulation, max_iterations, rtol)
+    begin = problem.fast_start if start == 'fastest' and problem.fast_start is not None else None
+    started_from = 'slowest' if begin is None else 'fastest'
+    w, rho, status, iterations, used = _convex_concave(problem, begin, formulation, max_iterations, rtol)
     if options.refinement > 1:
         probe = make_plan(
             tube,
@@ -336,8 +411,8 @@ def plan_convex(
         )
         fine = refined_grid(grid, probe.active, options.refinement)
         problem = discretise(tube, swarm, options, fine)
-        start = (np.interp(fine, grid, w), np.interp(fine, grid, rho))
-        w, rho, status, more, used = _convex_concave(problem, start, formulation, max_iterations, rtol)
+        coarse = (np.interp(fine, grid, w), np.interp(fine, grid, rho))
+        w, rho, status, more, used = _convex_concave(problem, coarse, formulation, max_iterations, rtol)
         iterations += more
     plan = make_plan(
         tube,
@@ -353,6 +428,7 @@ def plan_convex(
         scene=scene,
     )
     plan.extra['formulation'] = used
+    plan.extra['start'] = started_from
     return plan
 
 
