@@ -116,6 +116,15 @@ class SampledTube:
             length_m=self.length_m,
         )
 
+    def project_near(self, points_m: ArrayLike, near_l_m: ArrayLike) -> Projection:
+        """:meth:`project`; the arc lengths near the answer (the previous step's) are not needed.
+
+        The polyline's search is exhaustive and exact, and cheap at the testbed's sizes (a few robots, hundreds
+        of samples); this is the interface of the exact tube's warm start
+        (:meth:`~vtube_planning.geometry.tube.VirtualTube.project_near`), which the swarm step calls.
+        """
+        return self.project(points_m)
+
     def area(self, l_m: ArrayLike) -> FloatArray:
         """Cumulative area A(l), m^2; the straight extensions keep the end widths (negative before l = 0)."""
         l_m = np.asarray(l_m, dtype=float)
