@@ -190,6 +190,54 @@ def test_projection_of_shipped_scenes_is_the_closest_point(name: str) -> None:
     assert np.all(brute - found <= 0.5 * tube.length_m / 20000)  # dense search loses at most half its spacing
 
 
+def hairpin_tube() -> VirtualTube:
+    """Two 10 m legs 3 m apart joined by a half circle: the centre line comes back 3 m from itself."""
+    pieces = (ArcPiece(10.0), ArcPiece(math.pi * 1.5, 1.5), ArcPiece(10.0))
+    return VirtualTube(ArcPath(pieces), constant(20.0 + math.pi * 1.5, 0.6))
+
+
+def assert_same_projection(warm, cold) -> None:
+    np.testing.assert_allclose(warm.l_m, cold.l_m, rtol=0, atol=EXACT)
+    np.testing.assert_allclose(warm.y_m, cold.y_m, rtol=0, atol=EXACT)
+    np.testing.assert_allclose(warm.foot_m, cold.foot_m, rtol=0, atol=EXACT)
+    np.testing.assert_allclose(warm.tangent, cold.tangent, rtol=0, atol=EXACT)
+
+
+@pytest.mark.parametrize('name', ['D', 'robotarium_curve', 'robotarium_trapezoid', 'hairpin'])
+def test_warm_projection_is_the_cold_one_after_random_motions(name: str) -> None:
+    """Points in and around the tube, started from arc lengths moved by centimetres, metres or across the tube."""
+    tube = hairpin_tube() if name == 'hairpin' else load_scene(name).tube
+    rng = np.random.default_rng(5)
+    l = rng.uniform(-0.2 * tube.length_m, 1.2 * tube.length_m, 600)
+    y = rng.uniform(-1.5, 1.5, 600) * tube.half_width(l)
+    points = (tube.center_at(l) + y[:, None] * tube.normal(l)).T
+    cold = tube.project(points)
+    for jump_m in (0.01, 0.3, 3.0, tube.length_m):
+        assert_same_projection(tube.project_near(points, cold.l_m + rng.normal(0.0, jump_m, l.size)), cold)
+
+
+def test_warm_projection_falls_back_where_the_local_answer_is_the_wrong_leg() -> None:
+    """Robots that jump to the other leg of a hairpin: Newton from the old arc length converges on the old leg (a
+    stationary point, the wrong answer); the certificate rejects it and the global search finds the right leg."""
+    tube = hairpin_tube()
+    rng = np.random.default_rng(6)
+    l_old = rng.uniform(0.5, 9.5, 300)
+    l_new = tube.length_m - l_old + rng.uniform(-0.5, 0.5, 300)  # right across, on the other leg
+    points = (tube.center_at(l_new) + rng.uniform(-0.5, 0.5, 300)[:, None] * tube.normal(l_new)).T
+    cold = tube.project(points)
+    local, _, _, converged = tube._local_newton(points.T, l_old)
+    wrong = converged & (np.abs(local - cold.l_m) > 1.0)
+    assert wrong.sum() > 100  # the oracle sees the trap
+    assert_same_projection(tube.project_near(points, l_old), cold)
+    between = np.vstack([rng.uniform(0.0, 10.0, 300), rng.uniform(1.3, 1.7, 300)])  # near the medial axis
+    assert_same_projection(tube.project_near(between, np.clip(between[0], 0.0, 10.0)), tube.project(between))
+
+
+def test_warm_projection_checks_its_start() -> None:
+    with pytest.raises(ShapeError, match='near_l_m must be 3 finite arc lengths'):
+        straight_tube().project_near(np.zeros((2, 3)), np.zeros(2))
+
+
 # ---------------------------------------------------------------------- width and area
 
 

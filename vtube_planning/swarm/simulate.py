@@ -309,14 +309,12 @@ def simulate(
     pending = deque([velocity] * config.latency_steps)  # commands computed, not yet applied
     failed_velocity = None  # the failed robot's velocity from the failure on
     working = np.ones(n, dtype=bool)  # robots that count for the passage
-    projection = tube.project(positions)
     for step in range(steps + 1):
-        if step > 0:  # the truth, logged and measured; started from the last period's (the same, to 1e-12 m)
-            projection = tube.project_near(positions, projection.l_m)
+        projection = tube.project(positions)  # the truth: logged and measured
         seen, view = positions, projection
         if config.pose_noise_m > 0:
             seen = positions + config.pose_noise_m * noise.standard_normal(positions.shape)
-            view = tube.project_near(seen, projection.l_m)
+            view = tube.project(seen)
         if baseline is not None:
             commanded = baseline(seen, velocity, view)
             density, r_a = swarm_density(tube, view.l_m, swarm.r_a_m), stepper.r_a
