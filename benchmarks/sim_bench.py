@@ -22,8 +22,11 @@ import argparse
 import resource
 import subprocess
 import sys
-from dataclasses import replace
+from dataclasses import asdict, replace
 from functools import partial
+from pathlib import Path
+from types import ModuleType
+from typing import Any
 
 import numpy as np
 
@@ -41,6 +44,44 @@ from vtube_planning.swarm.step import (
 
 DENSE_UP_TO = 10_000
 """The dense avoidance reference is timed up to this many robots (10,000 take about 15 s)."""
+BEFORE_ISSUE = '130bc3a'
+"""The commit before issue 20's step work: its step (and the tube projection it called) is the baseline column."""
+
+
+def load_before(commit: str) -> tuple[ModuleType, ModuleType] | str:
+    """The modules ``tube`` and ``step`` as of ``commit``, read with ``git show`` and run as module objects of their
+    own (the rest of the package is today's; those two files are what the step work changed); or why not."""
+    root = Path(__file__).resolve().parents[1]
+    modules = []
+    for name, path in (('tube', 'vtube_planning/geometry/tube.py'), ('step', 'vtube_planning/swarm/step.py')):
+        try:
+            shown = subprocess.run(
+                ['git', 'show', f'{commit}:{path}'], cwd=root, capture_output=True, text=True, check=False
+            )
+        except OSError as error:
+            return f'git is unavailable ({error})'
+        if shown.returncode != 0:
+            return f'git show {commit}:{path} failed: {shown.stderr.strip()}'
+        module = ModuleType(f'_sim_bench_{commit}_{name}')
+        sys.modules[module.__name__] = module  # dataclasses look their module up
+        exec(compile(shown.stdout, f'{commit}:{path}', 'exec'), module.__dict__)  # noqa: S102 - the repository's own code
+        modules.append(module)
+    return modules[0], modules[1]
+
+
+def stepper_before(
+    before: tuple[ModuleType, ModuleType], tube: VirtualTube, params: StepParams, r_a: np.ndarray
+) -> Any:
+    """``stepper`` built from the old modules: the old tube on the same centre line and widths, the old step with
+    the same numbers except the neighbour search's crossover, which keeps the old default."""
+    old_tube, old_step = before
+    tube = old_tube.VirtualTube(tube.center, tube.width, tube.name)
+    numbers = {key: value for key, value in asdict(params).items() if key != 'kdtree_above'}
+    ends = np.array([0.0, tube.length_m])
+    plan = old_step.PlanProfile(ends, np.full(2, 1 / 3.0), np.full(2, 0.2))
+    step = old_step.SwarmStep(tube, old_step.StepParams(**numbers), r_a.size, plan=plan)
+    step.r_a = r_a.copy()
+    return step
 
 
 def crowd(n: int, rng: np.random.Generator) -> tuple[VirtualTube, np.ndarray]:
@@ -67,12 +108,12 @@ def reference(params: StepParams) -> StepParams:
     return replace(params, kdtree_above=0)
 
 
-def flying(step: SwarmStep, positions: np.ndarray, r_a: np.ndarray) -> partial[object]:
+def flying(step: Any, positions: np.ndarray, r_a: np.ndarray) -> partial[Any]:
     """One call of ``step`` per call, alternating between ``positions`` and their shift by one period (6 cm)."""
     frames = [positions, positions + np.array([[0.06], [0.0]])]
     count = [0]
 
-    def call() -> object:
+    def call() -> Any:
         count[0] += 1
         step.r_a = r_a  # the same radii each call: every call times the same law
         return step(frames[count[0] % 2], 0.02)
@@ -145,24 +186,35 @@ def main() -> None:
         peak_memory(args.peak_memory, args.repeats)
         return
     rng = np.random.default_rng(0)
+    before = load_before(BEFORE_ISSUE)
+    if isinstance(before, str):
+        print(f'no {BEFORE_ISSUE} column: {before}')
     print(
-        f'{"N":>6} {"step [ms]":>10} {"reference [ms]":>15} {"ratio":>7} {"dense avoidance [ms]":>21} '
-        f'{"ratio":>7} {"max |diff| [m/s]":>17}'
+        f'{"N":>6} {"step [ms]":>10} {BEFORE_ISSUE + " [ms]":>13} {"ratio":>7} {"|diff| [m/s]":>12} '
+        f'{"reference [ms]":>15} {"ratio":>7} {"dense avoidance [ms]":>21} {"ratio":>7} {"|diff| [m/s]":>12}'
     )
     sizes, times = [], []
     for n in args.sizes:
         tube, positions, r_a, params = setup(n, rng)
+        repeats = 20 * args.repeats if n < 1000 else args.repeats
         now = flying(stepper(tube, params, r_a), positions, r_a)
-        before = flying(stepper(tube, reference(params), r_a, warm_projection=False), positions, r_a)
-        now(), before()  # warm-up: the tube's k-d tree and warm-start tables, the first (cold) projection
-        t_step = 1e3 * timed(now, 20 * args.repeats if n < 1000 else args.repeats)[0]
-        t_ref = 1e3 * timed(before, 20 * args.repeats if n < 1000 else args.repeats)[0]
+        reference_step = flying(stepper(tube, reference(params), r_a, warm_projection=False), positions, r_a)
+        velocity = now().velocity  # warm-up: the tube's k-d tree and warm-start tables, the first (cold) projection
+        reference_step()
+        t_step = 1e3 * timed(now, repeats)[0]
+        t_ref = 1e3 * timed(reference_step, repeats)[0]
+        old = ' ' * 34
+        if not isinstance(before, str):
+            old_step = flying(stepper_before(before, tube, params, r_a), positions, r_a)
+            diff = np.abs(old_step().velocity - velocity).max()
+            t_old = 1e3 * timed(old_step, repeats)[0]
+            old = f'{t_old:>13.3f} {t_old / t_step:>6.2f}x {diff:>12.1e}'
         dense = ''
         if n <= DENSE_UP_TO:
             t_dense = 1e3 * timed(partial(dense_avoidance, positions, r_a, params), args.repeats // 2)[0]
-            diff = np.abs(avoidance_velocity(positions, r_a, params) - dense_avoidance(positions, r_a, params))
-            dense = f'{t_dense:>21.2f} {t_dense / t_step:>6.1f}x {diff.max():>17.1e}'
-        print(f'{n:>6} {t_step:>10.3f} {t_ref:>15.3f} {t_ref / t_step:>6.2f}x {dense}')
+            diff = np.abs(avoidance_velocity(positions, r_a, params) - dense_avoidance(positions, r_a, params)).max()
+            dense = f'{t_dense:>21.2f} {t_dense / t_step:>6.1f}x {diff:>12.1e}'
+        print(f'{n:>6} {t_step:>10.3f} {old} {t_ref:>15.3f} {t_ref / t_step:>6.2f}x {dense}')
         sizes.append(n)
         times.append(t_step)
     if args.big:
