@@ -40,6 +40,8 @@ _SLOPE_JUMP_TOL = 1e-9
 """Largest jump of d lambda / dl at a breakpoint still accepted as C^1."""
 _PROJECTION_XTOL = 1e-12
 """Absolute tolerance (m) of the arc length found by the projection's Newton iteration."""
+_LEFT = np.array([-1.0, 1.0])
+"""(t_x, t_y) reversed times this is the left normal (-t_y, t_x)."""
 _WARM_NEWTON_STEPS = 6
 """Newton steps of :meth:`VirtualTube.project_near` before a point is projected globally. From the previous
 control period's arc length (robots move centimetres) the step falls below 1e-12 m after 2 evaluations on straight
@@ -194,7 +196,7 @@ class VirtualTube:
         """
         xy = as_points(points_m, allow_single=True).T
         start = np.asarray(near_l_m, dtype=float)
-        if start.shape != (xy.shape[0],) or not np.all(np.isfinite(start)):
+        if start.shape != (xy.shape[0],) or not np.isfinite(start).all():
             msg = f'near_l_m must be {xy.shape[0]} finite arc lengths, one per point; got shape {start.shape}.'
             raise ShapeError(msg)
         l_m, pos, tan, found = self._local_newton(xy, start)
@@ -378,8 +380,8 @@ class _WarmTable:
 
     def nearest_sample(self, l_m: FloatArray) -> NDArray[np.intp]:
         """Index of the sample nearest to each arc length clipped to [0, L]."""
-        c = np.clip(l_m, self.l_m[0], self.l_m[-1])
-        i = np.clip(np.searchsorted(self.l_m, c), 1, self.l_m.size - 1)
+        c = np.minimum(np.maximum(l_m, self.l_m[0]), self.l_m[-1])
+        i = np.searchsorted(self.l_m[1:-1], c) + 1  # the first sample at or beyond c, from 1 to K - 1
         return i - (c - self.l_m[i - 1] < self.l_m[i] - c)
 
 
@@ -398,7 +400,7 @@ def _arc_lengths(values: ArrayLike, what: str = 'arc length') -> tuple[FloatArra
     if arr.ndim > 1:
         msg = f'{what} must be a scalar or a 1-D array of shape (k,); got shape {arr.shape}.'
         raise ShapeError(msg)
-    if not np.all(np.isfinite(arr)):
+    if not np.isfinite(arr).all():
         msg = f'{what} must be finite; got {arr[~np.isfinite(arr)][:3].tolist()}.'
         raise ShapeError(msg)
     return np.atleast_1d(arr), arr.ndim == 0
@@ -417,7 +419,7 @@ def _shape_points(points: FloatArray, scalar: bool) -> FloatArray:
 
 def _left(tangent: FloatArray) -> FloatArray:
     """Rotate (k, 2) unit vectors by +90 degrees."""
-    return np.stack([-tangent[:, 1], tangent[:, 0]], axis=-1)
+    return tangent[:, ::-1] * _LEFT
 
 
 def _sample_grid(tube: VirtualTube) -> FloatArray:

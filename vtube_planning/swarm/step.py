@@ -75,7 +75,7 @@ def sigma(x: ArrayLike, d1: ArrayLike, d2: ArrayLike) -> tuple[FloatArray, Float
     """
     x = np.asarray(x, dtype=float)
     band: FloatArray = np.asarray(d2, dtype=float) - np.asarray(d1, dtype=float)
-    t: FloatArray = np.clip((x - d1) / band, 0.0, 1.0)
+    t: FloatArray = np.minimum(np.maximum((x - d1) / band, 0.0), 1.0)  # np.clip's values, without its call cost
     value = 1.0 - t * t * (3.0 - 2.0 * t)
     slope = -6.0 * t * (1.0 - t) / band  # (-)0 outside (d1, d2), where t is clipped to 0 or 1
     return value, slope
@@ -88,17 +88,23 @@ def smooth_saturation(x: ArrayLike, eps: float) -> tuple[FloatArray, FloatArray]
     s outside the arc; the arc (width about 0.7 eps) is evaluated only where some x falls on it.
     """
     x = np.asarray(x, dtype=float)
-    x2 = 1.0 + eps / math.tan(math.radians(67.5))
-    x1 = x2 - eps * math.sin(math.radians(45.0))
+    x1, x2 = _saturation_corners(eps)
     value = np.array(np.minimum(x, 1.0))
     slope = np.array(x <= x1, dtype=float)
     arc = (x > x1) & (x < x2)
     if arc.any():
         on_arc = x[arc]
-        root = np.sqrt(np.clip(eps**2 - (on_arc - x2) ** 2, 0.0, None))  # > 0 inside the arc
+        root = np.sqrt(np.maximum(eps**2 - (on_arc - x2) ** 2, 0.0))  # > 0 inside the arc
         value[arc] = (1.0 - eps) + root
         slope[arc] = (x2 - on_arc) / root
     return value, slope
+
+
+@lru_cache(maxsize=4)
+def _saturation_corners(eps: float) -> tuple[float, float]:
+    """x1 and x2 of s(x, eps)."""
+    x2 = 1.0 + eps / math.tan(math.radians(67.5))
+    return x2 - eps * math.sin(math.radians(45.0)), x2
 
 
 def barrier_gain(x: ArrayLike, offset: float, d1: float, d2: ArrayLike, k: float) -> FloatArray:
@@ -126,7 +132,7 @@ def saturate(u: FloatArray, v_min: float, v_max: float, fallback: FloatArray) ->
     """sat(u, v_min, v_max) column-wise on (2, N): radial rescaling into [v_min, v_max]; u = 0 -> v_min fallback."""
     speed = np.hypot(u[0], u[1])
     zero = speed <= 1e-12
-    scale = np.where(zero, 0.0, np.clip(speed, v_min, v_max) / np.where(zero, 1.0, speed))
+    scale = np.where(zero, 0.0, np.minimum(np.maximum(speed, v_min), v_max) / np.where(zero, 1.0, speed))
     return np.where(zero, v_min * fallback, u * scale)
 
 
@@ -209,7 +215,8 @@ def swarm_area(tube: Any, l_back_m: ArrayLike, l_front_m: ArrayLike, pad_m: floa
     """Area (m^2) of the tube between ``l_back - pad`` and ``l_front + pad``, element-wise (``tube.area``: A(l))."""
     back = np.atleast_1d(np.asarray(l_back_m, dtype=float)) - pad_m
     front = np.atleast_1d(np.asarray(l_front_m, dtype=float)) + pad_m
-    front, back = np.broadcast_arrays(front, back)
+    if front.shape != back.shape:
+        front, back = np.broadcast_arrays(front, back)
     area = np.asarray(tube.area(np.concatenate([front, back])), dtype=float)  # one call: the step makes it each period
     return area[: front.size] - area[front.size :]
 
@@ -229,33 +236,28 @@ def swarm_density(tube: Any, l_m: ArrayLike, pad_m: float) -> float:
 # ---------------------------------------------------------------------- the law
 
 
-def neighbour_pairs(positions: FloatArray, radius: float, *, use_tree: bool) -> tuple[IntArray, IntArray, FloatArray]:
-    """Pairs (i < j) of columns of (2, N) positions closer than ``radius``, and their distances.
-
-    ``use_tree``: search a k-d tree (O(N log N) time, memory of the order of the pairs found), else test all
-    N (N - 1) / 2 pairs (O(N^2) time and memory: only for small swarms, see :data:`KDTREE_ABOVE`). Both return the
-    same pairs with distances computed by the same expression; only their order differs.
-    """
-    if use_tree:
-        # an unbalanced tree with uncompacted nodes builds about twice as fast (100,000 robots: 14 ms, not 31 ms)
-        # and finds the same pairs: robots are spread evenly, the tree needs no balancing
-        tree = cKDTree(positions.T, balanced_tree=False, compact_nodes=False)
-        pairs = tree.query_pairs(radius, output_type='ndarray')
-        i, j = pairs[:, 0], pairs[:, 1]
-    else:
-        i, j = _all_pairs(positions.shape[1])
+def neighbour_pairs(positions: FloatArray, radius: float) -> tuple[IntArray, IntArray, FloatArray]:
+    """Pairs (i < j) of columns of (2, N) positions closer than ``radius``, and their distances, from a k-d tree
+    (O(N log N) time, memory of the order of the pairs found)."""
+    # an unbalanced tree with uncompacted nodes builds about twice as fast (100,000 robots: 14 ms, not 31 ms)
+    # and finds the same pairs: robots are spread evenly, the tree needs no balancing
+    tree = cKDTree(positions.T, balanced_tree=False, compact_nodes=False)
+    pairs = tree.query_pairs(radius, output_type='ndarray')
+    i, j = pairs[:, 0], pairs[:, 1]
     dist = np.hypot(positions[0, i] - positions[0, j], positions[1, i] - positions[1, j])
     keep = dist < radius
     return i[keep], j[keep], dist[keep]
 
 
 @lru_cache(maxsize=8)
-def _all_pairs(n: int) -> tuple[IntArray, IntArray]:
-    """(i, j), i < j, of all pairs of n robots (read-only, kept for the next step of the same swarm)."""
+def _ordered_pairs(n: int) -> tuple[IntArray, IntArray]:
+    """(me, other) of all ordered pairs of n robots: every (i, j) with i < j, then every (j, i) in the same order
+    (read-only, kept for the next step of the same swarm)."""
     i, j = np.triu_indices(n, k=1)
-    i.flags.writeable = False
-    j.flags.writeable = False
-    return i, j
+    me, other = np.concatenate([i, j]), np.concatenate([j, i])
+    me.flags.writeable = False
+    other.flags.writeable = False
+    return me, other
 
 
 def avoidance_velocity(
@@ -271,9 +273,9 @@ def avoidance_velocity(
     ``others`` (2, N): where each robot believes the others are (their last message, when messages drop); robot i
     still knows its own position. None: everyone sees everyone where they are.
 
-    Neighbours are searched within r_s + max r_a: all pairs up to ``params.kdtree_above`` robots, a k-d tree above
-    (:data:`KDTREE_ABOVE`). Each pair then acts twice, once on each of its robots within that robot's own band
-    r_s + r_a,i; beyond it phi_m is exactly 0, so such halves are dropped before phi_m is evaluated.
+    Up to ``params.kdtree_above`` robots every pair is tested, above them a k-d tree finds the pairs within
+    r_s + max r_a (:data:`KDTREE_ABOVE`). Each pair then acts twice, once on each of its robots within that robot's
+    own band r_s + r_a,i; beyond it phi_m is exactly 0, so such halves are dropped before phi_m is evaluated.
     """
     n = positions.shape[1]
     if n < 2:
@@ -281,16 +283,19 @@ def avoidance_velocity(
     if others is not None:
         return _avoidance_of_what_is_heard(positions, others, r_a, params, members)
     r_s = params.r_s_m
-    i, j, dist = neighbour_pairs(positions, r_s + float(r_a.max()), use_tree=n > params.kdtree_above)
-    if members is not None:
-        keep = members[i] & members[j]
-        i, j, dist = i[keep], j[keep], dist[keep]
-    me, other, dist = np.concatenate([i, j]), np.concatenate([j, i]), np.concatenate([dist, dist])
+    if n > params.kdtree_above:
+        i, j, dist = neighbour_pairs(positions, r_s + float(r_a.max()))
+        me, other, dist = np.concatenate([i, j]), np.concatenate([j, i]), np.concatenate([dist, dist])
+    else:
+        me, other = _ordered_pairs(n)
+        dist = np.hypot(positions[0, me] - positions[0, other], positions[1, me] - positions[1, other])
     band = r_s + r_a[me]
     near = dist < band
+    if members is not None:
+        near &= members[me] & members[other]
     if not near.any():
         return np.zeros_like(positions)
-    firsts = int(np.count_nonzero(near[: i.size]))  # the pairs' first robots come first
+    firsts = int(np.count_nonzero(near[: me.size // 2]))  # the pairs' first robots come first
     me, other, dist, band = me[near], other[near], dist[near], band[near]
     if params.law == 'practical':
         gain = params.avoidance_gain * sigma(dist, 2.0 * r_s, band)[0]
@@ -489,7 +494,7 @@ class SwarmStep:
         if points.shape != (2, self.r_a.size):
             msg = f'points must have shape (2, {self.r_a.size}), one robot per column; got {points.shape}.'
             raise ValueError(msg)
-        if not np.all(np.isfinite(points)):
+        if not np.isfinite(points).all():
             msg = f'points of robots {np.flatnonzero(~np.isfinite(points).all(axis=0)).tolist()} are not finite.'
             raise ValueError(msg)
         if projection is None:
@@ -503,9 +508,8 @@ class SwarmStep:
             for k in np.flatnonzero(exited & (self.slot_of < 0)):
                 self.slot_of[k] = int((self.slot_of >= 0).sum())
         parked = self.slot_of >= 0
-        members = ~parked
-        swarm_l = l_m[members] if members.any() else l_m
-        radii = self.r_a[members] if members.any() else self.r_a
+        members = ~parked if parked.any() else None  # None: every robot flies the tube
+        swarm_l, radii = (l_m[members], self.r_a[members]) if members is not None and members.any() else (l_m, self.r_a)
         density = swarm_density(self.tube, swarm_l, p.r_a_m if p.density_padding == 'initial' else float(radii.mean()))
         l_plan = np.full(l_m.size, swarm_l.mean()) if p.plan_at == 'center' else l_m
         if self.plan is not None:
@@ -513,7 +517,7 @@ class SwarmStep:
         else:
             forward_speed = np.full(l_m.size, self.constant_speed_mps)
         r_a = self.r_a
-        command = velocity_command(points, r_a, forward_speed, projection, p, members if parked.any() else None, others)
+        command = velocity_command(points, r_a, forward_speed, projection, p, members, others)
         velocity = command.velocity
         if self.slots is None:
             done = bool(exited.all())
