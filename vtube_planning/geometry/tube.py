@@ -236,21 +236,25 @@ class VirtualTube:
         n = xy.shape[0]
         l_m, pos, tan = start.copy(), np.empty((n, 2)), np.empty((n, 2))
         found = np.zeros(n, dtype=bool)
-        active = np.arange(n)
-        for _ in range(_WARM_NEWTON_STEPS):
-            p, t, kappa = self.center.frame(l_m[active])
-            d = xy[active] - p
-            slope = 1.0 - kappa * (t[:, 0] * d[:, 1] - t[:, 1] * d[:, 0])
-            with np.errstate(divide='ignore', invalid='ignore'):
+        active: slice | NDArray[np.intp] = slice(None)  # every point, until some have converged
+        with np.errstate(divide='ignore', invalid='ignore'):
+            for _ in range(_WARM_NEWTON_STEPS):
+                p, t, kappa = self.center.frame(l_m[active])
+                d = xy[active] - p
+                slope = 1.0 - kappa * (t[:, 0] * d[:, 1] - t[:, 1] * d[:, 0])
                 step = -(d[:, 0] * t[:, 0] + d[:, 1] * t[:, 1]) / slope
-            done = (np.abs(step) <= _PROJECTION_XTOL) & (slope > 0.0)
-            settled = active[done]
-            pos[settled], tan[settled], found[settled] = p[done], t[done], True
-            going = ~done & (slope > 0.0) & np.isfinite(step)
-            active = active[going]
-            if active.size == 0:
-                break
-            l_m[active] -= step[going]
+                done = (np.abs(step) <= _PROJECTION_XTOL) & (slope > 0.0)
+                if done.all():  # the usual end: the points still going converge together
+                    pos[active], tan[active], found[active] = p, t, True
+                    break
+                going = ~done & (slope > 0.0) & np.isfinite(step)
+                index = np.arange(n)[active]
+                settled = index[done]
+                pos[settled], tan[settled], found[settled] = p[done], t[done], True
+                active = index[going]
+                if active.size == 0:
+                    break
+                l_m[active] -= step[going]
         return l_m, pos, tan, found
 
     def _projection(self, xy: FloatArray, l_m: FloatArray, pos: FloatArray, tan: FloatArray) -> Projection:
