@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from benchmarks._timing import timed
+from benchmarks._timing import timed, timed_together
 from vtube_planning import ArcPath, ArcPiece, SwarmParams, VirtualTube, WidthPart, WidthProfile
 from vtube_planning.swarm.control import ControlParams
 from vtube_planning.swarm.step import (
@@ -201,13 +201,13 @@ def main() -> None:
         reference_step = flying(stepper(tube, reference(params), r_a, warm_projection=False), positions, r_a)
         velocity = now().velocity  # warm-up: the tube's k-d tree and warm-start tables, the first (cold) projection
         reference_step()
-        t_step = 1e3 * timed(now, repeats)[0]
-        t_ref = 1e3 * timed(reference_step, repeats)[0]
         old = ' ' * 34
-        if not isinstance(before, str):
+        if isinstance(before, str):
+            t_step, t_ref = (1e3 * t for t in timed_together([now, reference_step], repeats))
+        else:
             old_step = flying(stepper_before(before, tube, params, r_a), positions, r_a)
             diff = np.abs(old_step().velocity - velocity).max()
-            t_old = 1e3 * timed(old_step, repeats)[0]
+            t_step, t_ref, t_old = (1e3 * t for t in timed_together([now, reference_step, old_step], repeats))
             old = f'{t_old:>13.3f} {t_old / t_step:>6.2f}x {diff:>12.1e}'
         dense = ''
         if n <= DENSE_UP_TO:
