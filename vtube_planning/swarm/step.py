@@ -70,14 +70,23 @@ between 60 and 80 robots; near it the two differ by about 10 %, so its exact pla
 def sigma(x: ArrayLike, d1: ArrayLike, d2: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """The C^1 cubic step sigma(x, d1, d2): 1 for x <= d1, 0 for x >= d2; returns (value, d/dx).
 
-    Shapes broadcast; written with few array operations because the step calls it on a handful of robots every
-    control period (its fixed cost per call matters more than its cost per element there).
+    Shapes broadcast. Written with few array operations, for the step calls it on a handful of robots every
+    control period (its fixed cost per call matters there), and in place, for it also calls it on the hundreds of
+    thousands of pairs of a large swarm (where every fresh array costs its page faults).
     """
     x = np.asarray(x, dtype=float)
     band: FloatArray = np.asarray(d2, dtype=float) - np.asarray(d1, dtype=float)
-    t: FloatArray = np.minimum(np.maximum((x - d1) / band, 0.0), 1.0)  # np.clip's values, without its call cost
-    value = 1.0 - t * t * (3.0 - 2.0 * t)
-    slope = -6.0 * t * (1.0 - t) / band  # (-)0 outside (d1, d2), where t is clipped to 0 or 1
+    t: FloatArray = np.divide(x - d1, band)
+    np.maximum(t, 0.0, out=t)  # np.clip(t, 0, 1)'s values, without its call cost
+    np.minimum(t, 1.0, out=t)
+    value = 2.0 * t  # 1 - t t (3 - 2 t)
+    np.subtract(3.0, value, out=value)
+    value *= t * t
+    np.subtract(1.0, value, out=value)
+    slope = -6.0 * t  # -6 t (1 - t) / band: (-)0 outside (d1, d2), where t is clipped to 0 or 1
+    np.subtract(1.0, t, out=t)
+    slope *= t
+    slope /= band
     return value, slope
 
 
@@ -89,7 +98,7 @@ def smooth_saturation(x: ArrayLike, eps: float) -> tuple[FloatArray, FloatArray]
     """
     x = np.asarray(x, dtype=float)
     x1, x2 = _saturation_corners(eps)
-    value = np.array(np.minimum(x, 1.0))
+    value = np.minimum(x, 1.0, out=np.empty(x.shape))  # an array also for a scalar x: written below
     slope = np.array(x <= x1, dtype=float)
     arc = (x > x1) & (x < x2)
     if arc.any():
@@ -115,10 +124,19 @@ def barrier_gain(x: ArrayLike, offset: float, d1: float, d2: ArrayLike, k: float
     """
     xs = np.maximum(np.asarray(x, dtype=float), 1e-9)
     s_val, s_slope = smooth_saturation(xs / offset, BARRIER_EPS)
-    den = (1.0 + BARRIER_EPS) * xs - offset * s_val
+    den = (1.0 + BARRIER_EPS) * xs  # (1 + eps) x - offset s
+    s_val *= offset
+    den -= s_val
     sig, sig_slope = sigma(xs, d1, d2)
-    dv = k * (sig_slope / den - sig * ((1.0 + BARRIER_EPS) - s_slope) / den**2)
-    return np.maximum(-dv, 0.0)
+    # -dV/dx = -k (sigma' / den - sigma ((1 + eps) - s') / den^2), in place (see sigma)
+    sig_slope /= den
+    np.subtract(1.0 + BARRIER_EPS, s_slope, out=s_slope)
+    sig *= s_slope
+    np.square(den, out=den)
+    sig /= den
+    sig_slope -= sig
+    sig_slope *= -k
+    return np.maximum(sig_slope, 0.0, out=sig_slope)
 
 
 def cap_norm(u: FloatArray, limit: ArrayLike) -> FloatArray:
@@ -251,7 +269,8 @@ def _differences(positions: FloatArray, i: IntArray, j: IntArray) -> tuple[Float
     """p_i - p_j (2, M) and its length (M,) for pairs (i, j) of columns of (2, N) positions."""
     diff = np.empty((2, i.size))
     for axis in (0, 1):  # gathered row by row: half the time of positions[:, i] on 100,000 robots
-        np.subtract(positions[axis].take(i), positions[axis].take(j), out=diff[axis])
+        np.take(positions[axis], i, out=diff[axis])
+        diff[axis] -= positions[axis].take(j)
     return diff, np.hypot(diff[0], diff[1])
 
 
@@ -292,26 +311,39 @@ def avoidance_velocity(
     else:
         i, j = _all_pairs(n)
         diff, dist = _differences(positions, i, j)
-    on_i, on_j = dist < r_s + r_a[i], dist < r_s + r_a[j]  # the pair's halves acting on i and on j
-    if members is not None:
-        both = members[i] & members[j]
-        on_i &= both
-        on_j &= both
-    me = np.concatenate([i[on_i], j[on_j]])  # first robots, then second robots: the sums' order in docs/'s runs
-    if me.size == 0:
+    both = None if members is None else members[i] & members[j]
+    halves = []  # the pair's halves acting on i (the first robots), then on j: the sums' order in docs/'s runs
+    for robot in (i, j):
+        band = r_a.take(robot)
+        band += r_s
+        near = dist < band
+        if both is not None:
+            near &= both
+        halves.append((robot, near, int(np.count_nonzero(near))))
+    firsts, size = halves[0][2], halves[0][2] + halves[1][2]
+    if size == 0:
         return np.zeros_like(positions)
-    dist = np.concatenate([dist[on_i], dist[on_j]])
-    band = r_s + r_a[me]
+    # arrays of the acting halves, filled in place (a large swarm pays page faults for every fresh array):
+    # bins = [me + offset, me + offset + 2n], offset n for the second robots: x and y sums of both halves apart
+    bins, near_dist, push = np.empty(2 * size, dtype=np.intp), np.empty(size), np.empty((2, size))
+    for part, (robot, near, _) in zip((slice(0, firsts), slice(firsts, size)), halves):
+        np.compress(near, robot, out=bins[part])
+        np.compress(near, dist, out=near_dist[part])
+        for axis in (0, 1):
+            np.compress(near, diff[axis], out=push[axis, part])
+    me = bins[:size]
+    np.negative(push[:, firsts:], out=push[:, firsts:])  # p_me - p_other
+    band = r_a.take(me)
+    band += r_s
     if params.law == 'practical':
-        gain = params.avoidance_gain * sigma(dist, 2.0 * r_s, band)[0]
+        gain = params.avoidance_gain * sigma(near_dist, 2.0 * r_s, band)[0]
     else:
-        gain = barrier_gain(dist, 2.0 * r_s, 2.0 * r_s, band, params.avoidance_gain)
-    away = np.concatenate([diff[:, on_i], -diff[:, on_j]], axis=1)  # p_me - p_other
-    push = gain * (away / np.maximum(dist, 1e-12))
-    # one bincount: bins [x of firsts, x of seconds, y of firsts, y of seconds], each n wide, then the two sums
-    bins = me.copy()
-    bins[np.count_nonzero(on_i) :] += n
-    sums = np.bincount(np.concatenate([bins, bins + 2 * n]), weights=push.ravel(), minlength=4 * n).reshape(2, 2, n)
+        gain = barrier_gain(near_dist, 2.0 * r_s, 2.0 * r_s, band, params.avoidance_gain)
+    push /= np.maximum(near_dist, 1e-12, out=near_dist)
+    push *= gain
+    me[firsts:] += n
+    np.add(me, 2 * n, out=bins[size:])
+    sums = np.bincount(bins, weights=push.ravel(), minlength=4 * n).reshape(2, 2, n)
     return cast(FloatArray, sums[:, 0] + sums[:, 1])  # weighted: floats
 
 
