@@ -1,6 +1,7 @@
-"""Time of one control step of the swarm controller against N: the step as it runs, beside its reference
-configuration (k-d tree always, cold projection: the step before the crossover and the warm start) and a dense
-all-pairs evaluation of the same avoidance law.
+"""Time of one control step of the swarm controller against N: the step as it runs, beside the step before issue 20
+(commit 130bc3a's ``step.py`` and ``tube.py``, read from git at run time), its reference configuration (k-d tree
+always, cold projection: the step before the crossover and the warm start) and a dense all-pairs evaluation of the
+same avoidance law.
 
 A control step is one call of the swarm step (:class:`vtube_planning.swarm.step.SwarmStep`) as the simulator
 makes it: project every robot onto the tube, evaluate the command (forward term, avoidance, tube keeping,
@@ -8,8 +9,9 @@ saturation), measure the density and advance r_a by (a3) against a constant plan
 jittered grid at about one robot per m^2 in a straight tube sized to hold them, so each has a few neighbours, as in
 a flying swarm; between calls they move back and forth by one period at 3 m/s along the tube, so the warm
 projection starts from the other position's arc lengths. The dense reference computes the avoidance term from all
-N^2 distances (in row blocks, to bound memory). All in one process; prints median milliseconds per step, the
-ratio reference / step, the growth exponent of the step time, the crossover of the neighbour search (all pairs
+N^2 distances (in row blocks, to bound memory). All in one process, the three steps called in turn (a load that
+comes and goes slows them alike); prints median milliseconds per step, the ratios 130bc3a / step and reference /
+step with the largest difference of the old step's commands from the step's, the growth exponent of the step time, the crossover of the neighbour search (all pairs
 against the k-d tree, the measurement behind ``KDTREE_ABOVE``), and a row of 100,000 robots with the peak memory
 of a process that builds them and runs a few steps.
 

@@ -59,9 +59,10 @@ KDTREE_ABOVE = 64
 """Swarms of more robots find their neighbours with a k-d tree, smaller ones test all pairs.
 
 Measured: ``python -m benchmarks.sim_bench`` times the avoidance term (neighbour search and phi_m) both ways on
-its jittered crowd of about one robot per m^2 (2-core VM, numpy 2, scipy's cKDTree): all pairs 0.092 / 0.106 ms
-at N = 50 / 60, the tree 0.105 / 0.111 ms; at N = 80 all pairs 0.138 ms, the tree 0.121 ms. The crossover lies
-between 60 and 80 robots; near it the two differ by about 10 %, so its exact place matters little."""
+its jittered crowd of about one robot per m^2 (2-core VM, numpy 2, scipy's cKDTree): all pairs 0.085 / 0.096 /
+0.107 ms at N = 50 / 60 / 70, the tree 0.103 / 0.109 / 0.111 ms; at N = 80 all pairs 0.120 ms, the tree 0.113 ms.
+The crossover lies between 70 and 80 robots; near it the two differ by under 10 %, so its exact place matters
+little (and keeping 64 keeps every swarm on the path, and the sums in the order, it had before)."""
 
 
 # ---------------------------------------------------------------------- scalar building blocks (theory §2.3)
@@ -319,18 +320,18 @@ def avoidance_velocity(
         near = dist < band
         if both is not None:
             near &= both
-        halves.append((robot, near, int(np.count_nonzero(near))))
-    firsts, size = halves[0][2], halves[0][2] + halves[1][2]
+        halves.append((robot, near.nonzero()[0]))
+    firsts, size = halves[0][1].size, halves[0][1].size + halves[1][1].size
     if size == 0:
         return np.zeros_like(positions)
     # arrays of the acting halves, filled in place (a large swarm pays page faults for every fresh array):
     # bins = [me + offset, me + offset + 2n], offset n for the second robots: x and y sums of both halves apart
     bins, near_dist, push = np.empty(2 * size, dtype=np.intp), np.empty(size), np.empty((2, size))
-    for part, (robot, near, _) in zip((slice(0, firsts), slice(firsts, size)), halves):
-        np.compress(near, robot, out=bins[part])
-        np.compress(near, dist, out=near_dist[part])
+    for part, (robot, acting) in zip((slice(0, firsts), slice(firsts, size)), halves):
+        robot.take(acting, out=bins[part])
+        dist.take(acting, out=near_dist[part])
         for axis in (0, 1):
-            np.compress(near, diff[axis], out=push[axis, part])
+            diff[axis].take(acting, out=push[axis, part])
     me = bins[:size]
     np.negative(push[:, firsts:], out=push[:, firsts:])  # p_me - p_other
     band = r_a.take(me)
