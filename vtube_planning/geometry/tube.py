@@ -248,13 +248,14 @@ class VirtualTube:
                     pos[active], tan[active], found[active] = p, t, True
                     break
                 going = ~done & (slope > 0.0) & np.isfinite(step)
-                index = np.arange(n)[active]
-                settled = index[done]
-                pos[settled], tan[settled], found[settled] = p[done], t[done], True
-                active = index[going]
-                if active.size == 0:
-                    break
-                l_m[active] -= step[going]
+                if not going.all():  # some converged or stopped: follow only the others from here
+                    index = np.arange(n)[active]
+                    settled = index[done]
+                    pos[settled], tan[settled], found[settled] = p[done], t[done], True
+                    active, step = index[going], step[going]
+                    if active.size == 0:
+                        break
+                l_m[active] -= step
         return l_m, pos, tan, found
 
     def _projection(self, xy: FloatArray, l_m: FloatArray, pos: FloatArray, tan: FloatArray) -> Projection:

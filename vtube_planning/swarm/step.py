@@ -270,7 +270,7 @@ def _differences(positions: FloatArray, i: IntArray, j: IntArray) -> tuple[Float
     """p_i - p_j (2, M) and its length (M,) for pairs (i, j) of columns of (2, N) positions."""
     diff = np.empty((2, i.size))
     for axis in (0, 1):  # gathered row by row: half the time of positions[:, i] on 100,000 robots
-        np.take(positions[axis], i, out=diff[axis])
+        positions[axis].take(i, out=diff[axis])
         diff[axis] -= positions[axis].take(j)
     return diff, np.hypot(diff[0], diff[1])
 
