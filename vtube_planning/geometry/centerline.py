@@ -53,8 +53,8 @@ class CenterCurve(ABC):
         clipped = np.minimum(np.maximum(l_m, 0.0), self.length_m)  # np.clip's values, at a fraction of its call cost
         pos, tan, kappa = self._inner(clipped)
         beyond = l_m - clipped
-        outside = beyond != 0.0
-        return pos + beyond[:, None] * tan, tan, np.where(outside, 0.0, kappa)
+        pos += beyond[:, None] * tan  # in place: every fresh array of a large swarm costs its page faults
+        return pos, tan, np.where(beyond != 0.0, 0.0, kappa)
 
 
 @dataclass(frozen=True)
@@ -150,7 +150,8 @@ class ArcPath(CenterCurve):
         kappa = self._kappa[k]
         theta0 = self._theta0[k]
         theta = theta0 + kappa * s
-        pos = self._p0[k] + _chord(s, kappa, theta0)
+        pos = self._p0[k]
+        pos += _chord(s, kappa, theta0)
         return pos, _unit(theta), kappa
 
 
@@ -160,10 +161,16 @@ def _chord(s: FloatArray, kappa: FloatArray | float, theta0: FloatArray | float)
     The chord of an arc of length s has length s sinc(kappa s / 2) and direction theta0 + kappa s / 2.
     """
     half = 0.5 * np.asarray(kappa) * s
-    x = np.pi * (half / np.pi)  # np.sinc(half / pi) written out, the same operations without its call overhead
-    x = np.where(x, x, _SINC_EPS)
-    chord = s * (np.sin(x) / x)
-    return chord[..., None] * _unit(np.asarray(theta0) + half)
+    x = half / np.pi  # np.sinc(half / pi) written out (pi (half / pi), zeros as eps, sin over itself): the same
+    x *= np.pi  # operations without its call overhead, in place (fresh arrays cost a large swarm page faults)
+    x[x == 0.0] = _SINC_EPS
+    chord = np.sin(x)
+    chord /= x
+    chord *= s
+    half += theta0  # the chord's direction
+    out = _unit(half)
+    out *= chord[..., None]
+    return out
 
 
 _SINC_EPS = float(np.finfo(float).eps)
