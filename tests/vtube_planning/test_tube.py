@@ -196,6 +196,11 @@ def hairpin_tube() -> VirtualTube:
     return VirtualTube(ArcPath(pieces), constant(20.0 + math.pi * 1.5, 0.6))
 
 
+def centre_projection(tube: VirtualTube, l_m: np.ndarray):
+    """The projection of the centre-line points at arc lengths ``l_m``: a warm start from exactly those."""
+    return tube.project(tube.center_at(l_m).T)
+
+
 def assert_same_projection(warm, cold) -> None:
     np.testing.assert_allclose(warm.l_m, cold.l_m, rtol=0, atol=EXACT)
     np.testing.assert_allclose(warm.y_m, cold.y_m, rtol=0, atol=EXACT)
@@ -213,7 +218,8 @@ def test_warm_projection_is_the_cold_one_after_random_motions(name: str) -> None
     points = (tube.center_at(l) + y[:, None] * tube.normal(l)).T
     cold = tube.project(points)
     for jump_m in (0.01, 0.3, 3.0, tube.length_m):
-        assert_same_projection(tube.project_near(points, cold.l_m + rng.normal(0.0, jump_m, l.size)), cold)
+        start = centre_projection(tube, cold.l_m + rng.normal(0.0, jump_m, l.size))
+        assert_same_projection(tube.project_near(points, start), cold)
 
 
 def test_warm_projection_falls_back_where_the_local_answer_is_the_wrong_leg() -> None:
@@ -225,17 +231,20 @@ def test_warm_projection_falls_back_where_the_local_answer_is_the_wrong_leg() ->
     l_new = tube.length_m - l_old + rng.uniform(-0.5, 0.5, 300)  # right across, on the other leg
     points = (tube.center_at(l_new) + rng.uniform(-0.5, 0.5, 300)[:, None] * tube.normal(l_new)).T
     cold = tube.project(points)
-    local, _, _, converged = tube._local_newton(points.T, l_old)
+    old = centre_projection(tube, l_old)
+    local, _, _, _, converged = tube._local_newton(points.T, old)
     wrong = converged & (np.abs(local - cold.l_m) > 1.0)
     assert wrong.sum() > 100  # the oracle sees the trap
-    assert_same_projection(tube.project_near(points, l_old), cold)
+    assert_same_projection(tube.project_near(points, old), cold)
     between = np.vstack([rng.uniform(0.0, 10.0, 300), rng.uniform(1.3, 1.7, 300)])  # near the medial axis
-    assert_same_projection(tube.project_near(between, np.clip(between[0], 0.0, 10.0)), tube.project(between))
+    start = centre_projection(tube, np.clip(between[0], 0.0, 10.0))
+    assert_same_projection(tube.project_near(between, start), tube.project(between))
 
 
 def test_warm_projection_checks_its_start() -> None:
-    with pytest.raises(ShapeError, match='near_l_m must be 3 finite arc lengths'):
-        straight_tube().project_near(np.zeros((2, 3)), np.zeros(2))
+    tube = straight_tube()
+    with pytest.raises(ShapeError, match='near must project 3 points'):
+        tube.project_near(np.zeros((2, 3)), tube.project(np.zeros((2, 2))))
 
 
 # ---------------------------------------------------------------------- width and area
@@ -412,3 +421,16 @@ def test_arc_length_functions_reject_bad_input() -> None:
         tube.half_width(np.array([1.0, np.inf]))
     with pytest.raises(ValueError, match='finite'):  # ShapeError is a ValueError
         tube.curvature(float('nan'))
+
+
+def test_a_projection_carries_the_curvature_at_its_feet() -> None:
+    """What a warm start begins with: kappa(l) at the foot, zero on the straight extensions beyond both ends."""
+    tube = hairpin_tube()
+    rng = np.random.default_rng(7)
+    l = rng.uniform(-3.0, tube.length_m + 3.0, 400)
+    points = (tube.center_at(l) + rng.uniform(-0.5, 0.5, 400)[:, None] * tube.normal(l)).T
+    for projection in (tube.project(points), tube.project_near(points, centre_projection(tube, l + 0.05))):
+        inside = (projection.l_m > 0.0) & (projection.l_m < tube.length_m)
+        np.testing.assert_array_equal(projection.curvature_per_m[~inside], 0.0)
+        np.testing.assert_allclose(projection.curvature_per_m[inside], tube.curvature(projection.l_m[inside]))
+    assert np.count_nonzero(tube.project(points).curvature_per_m) > 50  # the oracle sees the arc

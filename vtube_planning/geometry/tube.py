@@ -169,18 +169,18 @@ class VirtualTube:
         """
         xy = as_points(points_m, allow_single=True).T
         l_m = self._nearest_arc_lengths(xy)
-        pos, tan, _ = self.center.frame(l_m)
-        return self._projection(xy, l_m, pos, tan)
+        return self._projection(xy, l_m, *self.center.frame(l_m))
 
-    def project_near(self, points_m: ArrayLike, near_l_m: ArrayLike) -> Projection:
-        """:meth:`project`, started from arc lengths ``near_l_m`` (N,) close to the answer (the previous step's).
+    def project_near(self, points_m: ArrayLike, near: Projection) -> Projection:
+        """:meth:`project`, started from ``near``, a projection onto this tube of N points close to these (the
+        previous control period's): its arc lengths, and the centre line's frame there, which it carries.
 
         Same result as :meth:`project` (to about 1e-12 m), found without the global search for the points whose
         local answer is certainly the closest point of the whole curve; the others are projected globally.
 
         Notes
         -----
-        From l_0 = ``near_l_m``, plain Newton steps on ``g(l) = (gamma(l) - p) . t(l)`` (``g' = 1 - kappa y``), at
+        From l_0 = ``near.l_m``, plain Newton steps on ``g(l) = (gamma(l) - p) . t(l)`` (``g' = 1 - kappa y``), at
         most :data:`_WARM_NEWTON_STEPS`, until a step is below 1e-12 m; the answer is the last iterate, where the
         frame was evaluated. Its distance d = |p - gamma(l)| is then certified the global minimum by the table of
         :class:`_WarmTable` (sample s_i nearest to l, window W, bounds T_i and K_i): with q = |p - gamma(s_i)|,
@@ -195,11 +195,10 @@ class VirtualTube:
         robot jumped), the test fails and the point falls back to the global search instead of a wrong branch.
         """
         xy = as_points(points_m, allow_single=True).T
-        start = np.asarray(near_l_m, dtype=float)
-        if start.shape != (xy.shape[0],) or not np.isfinite(start).all():
-            msg = f'near_l_m must be {xy.shape[0]} finite arc lengths, one per point; got shape {start.shape}.'
+        if near.l_m.shape != (xy.shape[0],):
+            msg = f'near must project {xy.shape[0]} points, one per point projected; it projects {near.l_m.size}.'
             raise ShapeError(msg)
-        l_m, pos, tan, found = self._local_newton(xy, start)
+        l_m, pos, tan, kappa, found = self._local_newton(xy, near)
         table = self._warm_table
         i = table.nearest_sample(l_m)
         q = np.hypot(xy[:, 0] - table.points[i, 0], xy[:, 1] - table.points[i, 1])
@@ -209,8 +208,8 @@ class VirtualTube:
         if not certain.all():
             redo = np.flatnonzero(~certain)
             l_m[redo] = self._nearest_arc_lengths(xy[redo])
-            pos[redo], tan[redo], _ = self.center.frame(l_m[redo])
-        return self._projection(xy, l_m, pos, tan)
+            pos[redo], tan[redo], kappa[redo] = self.center.frame(l_m[redo])
+        return self._projection(xy, l_m, pos, tan, kappa)
 
     def _nearest_arc_lengths(self, xy: FloatArray) -> FloatArray:
         """The global search of :meth:`project`: nearest sample, then bracketed Newton between its neighbours."""
@@ -229,37 +228,43 @@ class VirtualTube:
         return bracketed_newton(residual, lo, hi, samples[k], xtol=_PROJECTION_XTOL)
 
     def _local_newton(
-        self, xy: FloatArray, start: FloatArray
-    ) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]:
-        """Newton on g(l) from ``start`` for (N, 2) points: arc lengths, positions and tangents there (N, 2), and
-        which points converged (a step below 1e-12 m within :data:`_WARM_NEWTON_STEPS` with g' > 0)."""
+        self, xy: FloatArray, near: Projection
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]:
+        """Newton on g(l) from ``near`` for (N, 2) points: arc lengths, positions and tangents (N, 2) and curvatures
+        there, and which points converged (a step below 1e-12 m within :data:`_WARM_NEWTON_STEPS` with g' > 0).
+
+        The first step uses the frame ``near`` carries (the frame at its arc lengths), the others evaluate it."""
         n = xy.shape[0]
-        l_m, pos, tan = start.copy(), np.empty((n, 2)), np.empty((n, 2))
+        l_m, pos, tan, curvature = near.l_m.copy(), np.empty((n, 2)), np.empty((n, 2)), np.empty(n)
         found = np.zeros(n, dtype=bool)
         active: slice | NDArray[np.intp] = slice(None)  # every point, until some have converged
+        p, t, kappa = near.foot_m.T, near.tangent.T, near.curvature_per_m
         with np.errstate(divide='ignore', invalid='ignore'):
             for _ in range(_WARM_NEWTON_STEPS):
-                p, t, kappa = self.center.frame(l_m[active])
                 d = xy[active] - p
                 slope = 1.0 - kappa * (t[:, 0] * d[:, 1] - t[:, 1] * d[:, 0])
                 step = -(d[:, 0] * t[:, 0] + d[:, 1] * t[:, 1]) / slope
                 done = (np.abs(step) <= _PROJECTION_XTOL) & (slope > 0.0)
                 if done.all():  # the usual end: the points still going converge together
-                    pos[active], tan[active], found[active] = p, t, True
+                    pos[active], tan[active], curvature[active], found[active] = p, t, kappa, True
                     break
                 going = ~done & (slope > 0.0) & np.isfinite(step)
                 if not going.all():  # some converged or stopped: follow only the others from here
                     index = np.arange(n)[active]
                     settled = index[done]
-                    pos[settled], tan[settled], found[settled] = p[done], t[done], True
-                    active, step = index[going], step[going]
-                    if active.size == 0:
+                    pos[settled], tan[settled], curvature[settled], found[settled] = p[done], t[done], kappa[done], True
+                    if not going.any():
                         break
+                    active, step = index[going], step[going]
                 l_m[active] -= step
-        return l_m, pos, tan, found
+                p, t, kappa = self.center.frame(l_m[active])
+        return l_m, pos, tan, curvature, found
 
-    def _projection(self, xy: FloatArray, l_m: FloatArray, pos: FloatArray, tan: FloatArray) -> Projection:
-        """The projection of (N, 2) points ``xy`` with feet at arc lengths ``l_m``, positions and tangents (N, 2)."""
+    def _projection(
+        self, xy: FloatArray, l_m: FloatArray, pos: FloatArray, tan: FloatArray, kappa: FloatArray
+    ) -> Projection:
+        """The projection of (N, 2) points ``xy`` with feet at arc lengths ``l_m``, positions and tangents (N, 2) and
+        curvatures (N,) there."""
         nrm = _left(tan)
         y = np.einsum('ij,ij->i', xy - pos, nrm)
         return Projection(
@@ -270,6 +275,7 @@ class VirtualTube:
             normal=nrm.T.copy(),
             half_width_m=self.width.value(l_m),
             length_m=self.length_m,
+            curvature_per_m=kappa,
         )
 
     @cached_property

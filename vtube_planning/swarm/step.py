@@ -476,7 +476,7 @@ class SwarmStep:
     Parameters
     ----------
     tube
-        Anything with ``project(points) -> Projection``, ``project_near(points, near_l_m) -> Projection``,
+        Anything with ``project(points) -> Projection``, ``project_near(points, near: Projection) -> Projection``,
         ``area(l)`` and ``length_m``: the exact
         :class:`~vtube_planning.geometry.tube.VirtualTube` or the testbed's
         :class:`~vtube_planning.geometry.projection.SampledTube`.
@@ -492,8 +492,8 @@ class SwarmStep:
     parking_slots
         Slots (2, N) beyond the exit for robots that leave the tube; None lets them fly on.
     warm_projection
-        Project the robots starting from their previous arc lengths (``tube.project_near``, the same arc lengths
-        to about 1e-12 m, certified or else searched globally) instead of searching the whole tube each period
+        Project the robots starting from their previous projection (``tube.project_near``: its arc lengths and the
+        frame there; the same arc lengths to about 1e-12 m, certified or else searched globally) instead of searching the whole tube each period
         (``tube.project``). Only when the step projects, i.e. is not given the projection.
     """
 
@@ -519,7 +519,7 @@ class SwarmStep:
         self.r_a = np.full(n_robots, float(params.r_a_m))
         self.slot_of = np.full(n_robots, -1)
         self.warm_projection = warm_projection
-        self._l_m: FloatArray | None = None  # the last projection's arc lengths, where the warm start begins
+        self._last: Any = None  # the last period's projection, where the warm start begins
 
     def __call__(
         self, points: FloatArray, dt_s: float, projection: Any = None, others: FloatArray | None = None
@@ -537,11 +537,12 @@ class SwarmStep:
             msg = f'points of robots {np.flatnonzero(~np.isfinite(points).all(axis=0)).tolist()} are not finite.'
             raise ValueError(msg)
         if projection is None:
-            if self.warm_projection and self._l_m is not None:
-                projection = self.tube.project_near(points, self._l_m)
+            if self.warm_projection and self._last is not None:
+                projection = self.tube.project_near(points, self._last)
             else:
                 projection = self.tube.project(points)
-        l_m = self._l_m = projection.l_m
+        self._last = projection
+        l_m = projection.l_m
         exited = l_m > self.tube.length_m  # past the exit: the swarm's passage is over for this robot
         if self.slots is not None:  # robots past the exit take the next free slot and leave the swarm
             for k in np.flatnonzero(exited & (self.slot_of < 0)):
