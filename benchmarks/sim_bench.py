@@ -50,12 +50,20 @@ BEFORE_ISSUE = '130bc3a'
 """The commit before issue 20's step work: its step (and the tube projection it called) is the baseline column."""
 
 
+BEFORE_FILES = {
+    'projection': 'vtube_planning/geometry/projection.py',
+    'tube': 'vtube_planning/geometry/tube.py',
+    'step': 'vtube_planning/swarm/step.py',
+}
+"""What the step work changed, in the order the old versions are loaded (each may import the ones before it)."""
+
+
 def load_before(commit: str) -> tuple[ModuleType, ModuleType] | str:
-    """The modules ``tube`` and ``step`` as of ``commit``, read with ``git show`` and run as module objects of their
-    own (the rest of the package is today's; those two files are what the step work changed); or why not."""
+    """The modules ``tube`` and ``step`` as of ``commit`` (with the ``projection`` they import), read with ``git
+    show`` and run as module objects of their own (the rest of the package is today's); or why not."""
     root = Path(__file__).resolve().parents[1]
-    modules = []
-    for name, path in (('tube', 'vtube_planning/geometry/tube.py'), ('step', 'vtube_planning/swarm/step.py')):
+    modules = {}
+    for name, path in BEFORE_FILES.items():
         try:
             shown = subprocess.run(
                 ['git', 'show', f'{commit}:{path}'], cwd=root, capture_output=True, text=True, check=False
@@ -64,11 +72,16 @@ def load_before(commit: str) -> tuple[ModuleType, ModuleType] | str:
             return f'git is unavailable ({error})'
         if shown.returncode != 0:
             return f'git show {commit}:{path} failed: {shown.stderr.strip()}'
+        source = shown.stdout
+        for loaded, module in modules.items():  # the old modules import each other, not today's
+            source = source.replace(
+                f'from {BEFORE_FILES[loaded][:-3].replace("/", ".")} import', f'from {module.__name__} import'
+            )
         module = ModuleType(f'_sim_bench_{commit}_{name}')
         sys.modules[module.__name__] = module  # dataclasses look their module up
-        exec(compile(shown.stdout, f'{commit}:{path}', 'exec'), module.__dict__)  # noqa: S102 - the repository's own code
-        modules.append(module)
-    return modules[0], modules[1]
+        exec(compile(source, f'{commit}:{path}', 'exec'), module.__dict__)  # noqa: S102 - the repository's own code
+        modules[name] = module
+    return modules['tube'], modules['step']
 
 
 def stepper_before(
