@@ -24,6 +24,7 @@ import argparse
 import resource
 import subprocess
 import sys
+import time
 from dataclasses import asdict, replace
 from functools import partial
 from pathlib import Path
@@ -180,13 +181,23 @@ def crossover(sizes: list[int], repeats: int) -> int | None:
 
 
 def peak_memory(n: int, steps: int) -> None:
-    """Build n robots and run ``steps`` steps; print the ms per step and this process's peak memory (MiB)."""
+    """Build n robots and run ``steps`` steps; print the median ms per step (wall clock, and the CPU time this
+    process used, which other processes' load does not inflate) and this process's peak memory (MiB)."""
     tube, positions, r_a, params = setup(n, np.random.default_rng(0))
     step = stepper(tube, params, r_a)
     call = flying(step, positions, r_a)
     call()  # the cold first projection, the tube's tables
     t_step = 1e3 * timed(call, steps)[0]
-    print(f'{t_step:.1f} {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f}')
+    cpu = sorted(process_time_of(call) for _ in range(max(1, steps)))
+    t_cpu = 1e3 * cpu[len(cpu) // 2]
+    print(f'{t_step:.1f} {t_cpu:.1f} {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f}')
+
+
+def process_time_of(call: Any) -> float:
+    """The CPU time (s) this process spends in one call of ``call``."""
+    start = time.process_time()
+    call()
+    return time.process_time() - start
 
 
 def main() -> None:
@@ -234,8 +245,10 @@ def main() -> None:
         times.append(t_step)
     if args.big:
         cmd = [sys.executable, '-m', 'benchmarks.sim_bench', '--peak-memory', str(args.big), '--repeats', '3']
-        t_big, rss = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout.split()
-        print(f'{args.big:>6} {float(t_big):>10.1f}   (peak memory of a process running it: {rss} MiB)')
+        t_big, t_cpu, rss = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout.split()
+        print(
+            f'{args.big:>6} {float(t_big):>10.1f}   (CPU time {t_cpu} ms; peak memory of a process running it: {rss} MiB)'
+        )
         sizes.append(args.big)
         times.append(float(t_big))
     big = np.array(sizes) >= 200
