@@ -200,11 +200,11 @@ class VirtualTube:
             raise ShapeError(msg)
         l_m, pos, tan, kappa, found = self._local_newton(xy, near)
         table = self._warm_table
-        i = table.nearest_sample(l_m)
-        q = np.hypot(xy[:, 0] - table.points[i, 0], xy[:, 1] - table.points[i, 1])
+        s, x, y, far, kappa_max = table.rows[table.nearest_sample(l_m)].T
+        q = np.hypot(xy[:, 0] - x, xy[:, 1] - y)
         d = np.hypot(xy[:, 0] - pos[:, 0], xy[:, 1] - pos[:, 1])
-        certain = found & (d < table.far_m[i] - q) & (table.kappa_max[i] * (q + table.window_m) < 1.0)
-        certain &= np.abs(l_m - table.l_m[i]) < table.window_m
+        certain = found & (d < far - q) & (kappa_max * (q + table.window_m) < 1.0)
+        certain &= np.abs(l_m - s) < table.window_m
         if not certain.all():
             redo = np.flatnonzero(~certain)
             l_m[redo] = self._nearest_arc_lengths(xy[redo])
@@ -390,10 +390,19 @@ class _WarmTable:
         return cls(samples, points, window, far, kappa_max)
 
     def nearest_sample(self, l_m: FloatArray) -> NDArray[np.intp]:
-        """Index of the sample nearest to each arc length clipped to [0, L]."""
-        c = np.minimum(np.maximum(l_m, self.l_m[0]), self.l_m[-1])
-        i = np.searchsorted(self.l_m[1:-1], c) + 1  # the first sample at or beyond c, from 1 to K - 1
-        return i - (c - self.l_m[i - 1] < self.l_m[i] - c)
+        """Index of a sample nearest to each arc length (the first or the last beyond the ends). Near a midpoint
+        between two samples either may come out: the certificate holds with any sample whose window contains l,
+        which :meth:`VirtualTube.project_near` checks."""
+        return np.searchsorted(self._midpoints, l_m, side='right')
+
+    @cached_property
+    def _midpoints(self) -> FloatArray:
+        return 0.5 * (self.l_m[:-1] + self.l_m[1:])
+
+    @cached_property
+    def rows(self) -> FloatArray:
+        """(K, 5): s_i, gamma(s_i), T_i and K_i side by side, gathered at once."""
+        return np.column_stack([self.l_m, self.points, self.far_m, self.kappa_max])
 
 
 def _ray_distance(points: FloatArray, base: FloatArray, direction: FloatArray, start: FloatArray) -> FloatArray:
