@@ -44,8 +44,9 @@ _LEFT = np.array([-1.0, 1.0])
 """(t_x, t_y) reversed times this is the left normal (-t_y, t_x)."""
 _WARM_NEWTON_STEPS = 6
 """Newton steps of :meth:`VirtualTube.project_near` before a point is projected globally. From the previous
-control period's arc length (robots move centimetres) the step falls below 1e-12 m after 2 evaluations on straight
-parts (where Newton is exact) and 3 to 4 on arcs (quadratic convergence)."""
+control period's projection (robots move centimetres) the step falls below 1e-12 m at the second step on straight
+parts (where Newton is exact) and the third or fourth on arcs (quadratic convergence); the first step uses the
+frame the previous projection carries, each further one evaluates the centre line's frame once."""
 
 
 @dataclass(frozen=True)
