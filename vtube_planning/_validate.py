@@ -33,7 +33,7 @@ def as_points(
         least = f' with N >= {min_count}' if min_count else ''
         msg = f'{name} must have shape (2, N){least} (one point per column); got {points.shape}.'
         raise ShapeError(msg)
-    if not np.all(np.isfinite(points)):
+    if not np.isfinite(points).all():
         bad = np.flatnonzero(~np.all(np.isfinite(points), axis=0))
         msg = f'{name} must be finite; {item} {bad[:5].tolist()} contain NaN or inf.'
         raise ShapeError(msg)

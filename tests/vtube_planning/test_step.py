@@ -4,6 +4,7 @@ tube against the exact one; the step as the submission inlines it against the li
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -11,7 +12,9 @@ import pytest
 from vtube_planning import ArcPath, ArcPiece, ParamsError, SwarmParams, VirtualTube, WidthPart, WidthProfile
 from vtube_planning.swarm.control import ControlParams
 from vtube_planning.swarm.step import (
+    KDTREE_ABOVE,
     Command,
+    PlanProfile,
     SwarmStep,
     avoidance_radius_rate,
     avoidance_velocity,
@@ -196,16 +199,47 @@ def test_the_forward_progress_form_never_reverses_and_stays_in_the_band() -> Non
     assert backwards.sum() > 5  # the crowd is tight enough for the radial sat to reverse some robots
 
 
-def test_kd_tree_and_all_pairs_give_the_same_law() -> None:
-    rng = np.random.default_rng(1)
-    positions = np.vstack([rng.uniform(0, 15, 400), rng.uniform(-3, 3, 400)])
-    r_a = rng.uniform(0.8, 1.6, 400)
-    dense = avoidance_velocity(positions, r_a, ControlParams(kdtree_above=10_000).step_params(SWARM))
-    tree = avoidance_velocity(positions, r_a, ControlParams(kdtree_above=0).step_params(SWARM))
-    np.testing.assert_allclose(tree, dense, rtol=1e-12, atol=1e-9)
-    i, j, _ = neighbour_pairs(positions, 1.5, use_tree=True)
-    k, m, _ = neighbour_pairs(positions, 1.5, use_tree=False)
-    assert sorted(zip(i.tolist(), j.tolist())) == sorted(zip(k.tolist(), m.tolist()))
+@pytest.mark.parametrize('n', [KDTREE_ABOVE // 2, 5 * KDTREE_ABOVE])
+def test_kd_tree_and_all_pairs_give_the_same_law(n: int) -> None:
+    """Below and above the crossover, each path forced: the same pairs and the same avoidance term."""
+    rng = np.random.default_rng(n)
+    side = np.sqrt(n)  # about one robot per m^2, so robots have neighbours within and beyond their bands
+    positions = np.vstack([rng.uniform(0, 2 * side, n), rng.uniform(0, 0.5 * side, n)])
+    r_a = rng.uniform(0.8, 1.6, n)
+    members = rng.random(n) > 0.1
+    for law in ('barrier', 'practical'):
+        dense = avoidance_velocity(positions, r_a, ControlParams(law=law, kdtree_above=n).step_params(SWARM), members)
+        tree = avoidance_velocity(positions, r_a, ControlParams(law=law, kdtree_above=0).step_params(SWARM), members)
+        assert np.count_nonzero(np.hypot(*dense)) > n // 4  # the test sees pushes
+        np.testing.assert_allclose(tree, dense, rtol=1e-12, atol=1e-12 * np.abs(dense).max())
+    i, j, diff, d = neighbour_pairs(positions, 1.5)
+    every = [(a, b, math.dist(positions[:, a], positions[:, b])) for a in range(n) for b in range(a + 1, n)]
+    assert sorted(zip(i.tolist(), j.tolist())) == [(a, b) for a, b, dist in every if dist < 1.5]
+    np.testing.assert_array_equal(diff, positions[:, i] - positions[:, j])
+    np.testing.assert_allclose(d, [math.dist(positions[:, a], positions[:, b]) for a, b in zip(i, j)], rtol=1e-15)
+
+
+def test_the_warm_step_commands_what_the_reference_step_does() -> None:
+    """The default step (all pairs or tree by N, warm projection) against the reference (tree, cold) on a curved
+    tube, robots moving: the same commands, radii and densities period after period."""
+    from vtube_planning import load_scene
+
+    scene = load_scene('D')
+    tube, n = scene.tube, 40
+    rng = np.random.default_rng(3)
+    l_m = rng.uniform(5.0, 15.0, n)
+    points = (tube.center_at(l_m) + rng.uniform(-1.5, 1.5, n)[:, None] * tube.normal(l_m)).T
+    params = ControlParams().step_params(SWARM)
+    plan = PlanProfile(np.array([0.0, tube.length_m]), np.array([0.4, 0.3]), np.array([0.3, 0.5]))
+    now = SwarmStep(tube, params, n, plan=plan)
+    before = SwarmStep(tube, replace(params, kdtree_above=0), n, plan=plan, warm_projection=False)
+    for _ in range(10):
+        a, b = now(points, 0.05), before(points, 0.05)
+        np.testing.assert_allclose(a.projection.l_m, b.projection.l_m, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(a.velocity, b.velocity, rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(a.r_a_m, b.r_a_m, rtol=0, atol=1e-12)
+        assert a.density_per_m2 == pytest.approx(b.density_per_m2, rel=1e-12)
+        points = points + 0.05 * a.velocity
 
 
 def test_avoidance_radius_law_only_expands() -> None:
@@ -263,7 +297,6 @@ def test_every_control_option_reaches_the_step() -> None:
 
 def test_the_plan_read_at_the_swarm_centre_is_the_same_for_every_robot() -> None:
     """plan_at='center': one forward speed for all (the plan at the mean arc length); 'robot': each its own."""
-    from vtube_planning.swarm.step import PlanProfile
 
     tube = wide_tube()
     ends = np.array([0.0, 50.0])
@@ -279,7 +312,6 @@ def test_the_plan_read_at_the_swarm_centre_is_the_same_for_every_robot() -> None
 
 def test_the_density_footprint_is_padded_by_the_initial_or_the_current_radius() -> None:
     """A straight tube of half-width 10 m: the area between l_a and l_b is 20 (l_b - l_a) m^2."""
-    from vtube_planning.swarm.step import PlanProfile
 
     tube = wide_tube()
     plan = PlanProfile(np.array([0.0, 50.0]), np.full(2, 1.0 / 3.0), np.full(2, 1e-3))  # sparse plan: r_a grows

@@ -190,6 +190,63 @@ def test_projection_of_shipped_scenes_is_the_closest_point(name: str) -> None:
     assert np.all(brute - found <= 0.5 * tube.length_m / 20000)  # dense search loses at most half its spacing
 
 
+def hairpin_tube() -> VirtualTube:
+    """Two 10 m legs 3 m apart joined by a half circle: the centre line comes back 3 m from itself."""
+    pieces = (ArcPiece(10.0), ArcPiece(math.pi * 1.5, 1.5), ArcPiece(10.0))
+    return VirtualTube(ArcPath(pieces), constant(20.0 + math.pi * 1.5, 0.6))
+
+
+def centre_projection(tube: VirtualTube, l_m: np.ndarray):
+    """The projection of the centre-line points at arc lengths ``l_m``: a warm start from exactly those."""
+    return tube.project(tube.center_at(l_m).T)
+
+
+def assert_same_projection(warm, cold) -> None:
+    np.testing.assert_allclose(warm.l_m, cold.l_m, rtol=0, atol=EXACT)
+    np.testing.assert_allclose(warm.y_m, cold.y_m, rtol=0, atol=EXACT)
+    np.testing.assert_allclose(warm.foot_m, cold.foot_m, rtol=0, atol=EXACT)
+    np.testing.assert_allclose(warm.tangent, cold.tangent, rtol=0, atol=EXACT)
+
+
+@pytest.mark.parametrize('name', ['D', 'robotarium_curve', 'robotarium_trapezoid', 'hairpin'])
+def test_warm_projection_is_the_cold_one_after_random_motions(name: str) -> None:
+    """Points in and around the tube, started from arc lengths moved by centimetres, metres or across the tube."""
+    tube = hairpin_tube() if name == 'hairpin' else load_scene(name).tube
+    rng = np.random.default_rng(5)
+    l = rng.uniform(-0.2 * tube.length_m, 1.2 * tube.length_m, 600)
+    y = rng.uniform(-1.5, 1.5, 600) * tube.half_width(l)
+    points = (tube.center_at(l) + y[:, None] * tube.normal(l)).T
+    cold = tube.project(points)
+    for jump_m in (0.01, 0.3, 3.0, tube.length_m):
+        start = centre_projection(tube, cold.l_m + rng.normal(0.0, jump_m, l.size))
+        assert_same_projection(tube.project_near(points, start), cold)
+
+
+def test_warm_projection_falls_back_where_the_local_answer_is_the_wrong_leg() -> None:
+    """Robots that jump to the other leg of a hairpin: Newton from the old arc length converges on the old leg (a
+    stationary point, the wrong answer); the certificate rejects it and the global search finds the right leg."""
+    tube = hairpin_tube()
+    rng = np.random.default_rng(6)
+    l_old = rng.uniform(0.5, 9.5, 300)
+    l_new = tube.length_m - l_old + rng.uniform(-0.5, 0.5, 300)  # right across, on the other leg
+    points = (tube.center_at(l_new) + rng.uniform(-0.5, 0.5, 300)[:, None] * tube.normal(l_new)).T
+    cold = tube.project(points)
+    old = centre_projection(tube, l_old)
+    local, _, _, _, converged = tube._local_newton(points.T, old)
+    wrong = converged & (np.abs(local - cold.l_m) > 1.0)
+    assert wrong.sum() > 100  # the oracle sees the trap
+    assert_same_projection(tube.project_near(points, old), cold)
+    between = np.vstack([rng.uniform(0.0, 10.0, 300), rng.uniform(1.3, 1.7, 300)])  # near the medial axis
+    start = centre_projection(tube, np.clip(between[0], 0.0, 10.0))
+    assert_same_projection(tube.project_near(between, start), tube.project(between))
+
+
+def test_warm_projection_checks_its_start() -> None:
+    tube = straight_tube()
+    with pytest.raises(ShapeError, match='near must project 3 points'):
+        tube.project_near(np.zeros((2, 3)), tube.project(np.zeros((2, 2))))
+
+
 # ---------------------------------------------------------------------- width and area
 
 
@@ -364,3 +421,16 @@ def test_arc_length_functions_reject_bad_input() -> None:
         tube.half_width(np.array([1.0, np.inf]))
     with pytest.raises(ValueError, match='finite'):  # ShapeError is a ValueError
         tube.curvature(float('nan'))
+
+
+def test_a_projection_carries_the_curvature_at_its_feet() -> None:
+    """What a warm start begins with: kappa(l) at the foot, zero on the straight extensions beyond both ends."""
+    tube = hairpin_tube()
+    rng = np.random.default_rng(7)
+    l = rng.uniform(-3.0, tube.length_m + 3.0, 400)
+    points = (tube.center_at(l) + rng.uniform(-0.5, 0.5, 400)[:, None] * tube.normal(l)).T
+    for projection in (tube.project(points), tube.project_near(points, centre_projection(tube, l + 0.05))):
+        inside = (projection.l_m > 0.0) & (projection.l_m < tube.length_m)
+        np.testing.assert_array_equal(projection.curvature_per_m[~inside], 0.0)
+        np.testing.assert_allclose(projection.curvature_per_m[inside], tube.curvature(projection.l_m[inside]))
+    assert np.count_nonzero(tube.project(points).curvature_per_m) > 50  # the oracle sees the arc

@@ -50,11 +50,11 @@ class CenterCurve(ABC):
         Beyond the ends the curve is the straight continuation along the end tangent.
         """
         l_m = np.asarray(l_m, dtype=float)
-        clipped = np.clip(l_m, 0.0, self.length_m)
+        clipped = np.minimum(np.maximum(l_m, 0.0), self.length_m)  # np.clip's values, at a fraction of its call cost
         pos, tan, kappa = self._inner(clipped)
         beyond = l_m - clipped
-        outside = beyond != 0.0
-        return pos + beyond[:, None] * tan, tan, np.where(outside, 0.0, kappa)
+        pos += beyond[:, None] * tan  # in place: every fresh array of a large swarm costs its page faults
+        return pos, tan, np.where(beyond != 0.0, 0.0, kappa)
 
 
 @dataclass(frozen=True)
@@ -112,6 +112,7 @@ class ArcPath(CenterCurve):
     _kappa: FloatArray = field(init=False, repr=False, compare=False)
     _theta0: FloatArray = field(init=False, repr=False, compare=False)
     _p0: FloatArray = field(init=False, repr=False, compare=False)
+    _joints: FloatArray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not self.pieces:
@@ -133,6 +134,7 @@ class ArcPath(CenterCurve):
         object.__setattr__(self, '_kappa', kappa)
         object.__setattr__(self, '_theta0', theta0)
         object.__setattr__(self, '_p0', np.array(p0))
+        object.__setattr__(self, '_joints', starts[1:-1].copy())  # where a piece ends and the next begins
 
     @property
     def length_m(self) -> float:
@@ -143,12 +145,14 @@ class ArcPath(CenterCurve):
         return self._starts.copy()
 
     def _inner(self, l_m: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-        k = np.clip(np.searchsorted(self._starts, l_m, side='right') - 1, 0, len(self.pieces) - 1)
+        k = np.searchsorted(self._joints, l_m, side='right')  # the piece; l = L belongs to the last one
         s = l_m - self._starts[k]
         kappa = self._kappa[k]
-        theta = self._theta0[k] + kappa * s
-        pos = self._p0[k] + _chord(s, kappa, self._theta0[k])
-        return pos, np.stack([np.cos(theta), np.sin(theta)], axis=-1), kappa
+        theta0 = self._theta0[k]
+        theta = theta0 + kappa * s
+        pos = self._p0[k]
+        pos += _chord(s, kappa, theta0)
+        return pos, _unit(theta), kappa
 
 
 def _chord(s: FloatArray, kappa: FloatArray | float, theta0: FloatArray | float) -> FloatArray:
@@ -157,9 +161,28 @@ def _chord(s: FloatArray, kappa: FloatArray | float, theta0: FloatArray | float)
     The chord of an arc of length s has length s sinc(kappa s / 2) and direction theta0 + kappa s / 2.
     """
     half = 0.5 * np.asarray(kappa) * s
-    chord = s * np.sinc(half / np.pi)
-    direction = np.asarray(theta0) + half
-    return np.stack([chord * np.cos(direction), chord * np.sin(direction)], axis=-1)
+    x = half / np.pi  # np.sinc(half / pi) written out (pi (half / pi), zeros as eps, sin over itself): the same
+    x *= np.pi  # operations without its call overhead, in place (fresh arrays cost a large swarm page faults)
+    x[x == 0.0] = _SINC_EPS
+    chord = np.sin(x)
+    chord /= x
+    chord *= s
+    half += theta0  # the chord's direction
+    out = _unit(half)
+    out *= chord[..., None]
+    return out
+
+
+_SINC_EPS = float(np.finfo(float).eps)
+"""What np.sinc puts in place of a zero argument."""
+
+
+def _unit(theta: FloatArray) -> FloatArray:
+    """(k, 2) unit vectors (cos theta, sin theta) of (k,) angles."""
+    out = np.empty((*np.shape(theta), 2))
+    np.cos(theta, out=out[..., 0])
+    np.sin(theta, out=out[..., 1])
+    return out
 
 
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(8)

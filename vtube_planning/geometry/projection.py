@@ -38,6 +38,9 @@ class Projection:
         lambda(l) at the foot, (N,).
     length_m
         The tube's length L.
+    curvature_per_m
+        Signed curvature kappa(l) of the centre line at the foot, (N,) (0 on the straight extensions); with the foot
+        and the tangent, the frame a warm start of the next projection begins with.
     """
 
     l_m: FloatArray
@@ -47,6 +50,7 @@ class Projection:
     normal: FloatArray
     half_width_m: FloatArray
     length_m: float
+    curvature_per_m: FloatArray
 
     @property
     def clearance_m(self) -> FloatArray:
@@ -114,7 +118,17 @@ class SampledTube:
             normal=normal,
             half_width_m=np.interp(l_m, self.l_m, self.half_width_m),
             length_m=self.length_m,
+            curvature_per_m=np.zeros(l_m.size),  # the polyline is straight between its samples
         )
+
+    def project_near(self, points_m: ArrayLike, near: Projection) -> Projection:
+        """:meth:`project`; the projection near the answer (the previous step's) is not needed.
+
+        The polyline's search is exhaustive and exact, and cheap at the testbed's sizes (a few robots, hundreds
+        of samples); this is the interface of the exact tube's warm start
+        (:meth:`~vtube_planning.geometry.tube.VirtualTube.project_near`), which the swarm step calls.
+        """
+        return self.project(points_m)
 
     def area(self, l_m: ArrayLike) -> FloatArray:
         """Cumulative area A(l), m^2; the straight extensions keep the end widths (negative before l = 0)."""

@@ -22,6 +22,7 @@ from functools import cached_property
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.ndimage import maximum_filter1d
 from scipy.spatial import cKDTree
 
 from vtube_planning._validate import as_points
@@ -39,6 +40,13 @@ _SLOPE_JUMP_TOL = 1e-9
 """Largest jump of d lambda / dl at a breakpoint still accepted as C^1."""
 _PROJECTION_XTOL = 1e-12
 """Absolute tolerance (m) of the arc length found by the projection's Newton iteration."""
+_LEFT = np.array([-1.0, 1.0])
+"""(t_x, t_y) reversed times this is the left normal (-t_y, t_x)."""
+_WARM_NEWTON_STEPS = 6
+"""Newton steps of :meth:`VirtualTube.project_near` before a point is projected globally. From the previous
+control period's projection (robots move centimetres) the step falls below 1e-12 m at the second step on straight
+parts (where Newton is exact) and the third or fourth on arcs (quadratic convergence); the first step uses the
+frame the previous projection carries, each further one evaluates the centre line's frame once."""
 
 
 @dataclass(frozen=True)
@@ -160,8 +168,52 @@ class VirtualTube:
         converges to 1e-12 m. The result is the exact closest point wherever ``1 - kappa y > 0`` near it, which
         holds for every point of a regular tube and for all points closer to the curve than its curvature radius.
         """
-        pts = as_points(points_m, allow_single=True)
-        xy = pts.T
+        xy = as_points(points_m, allow_single=True).T
+        l_m = self._nearest_arc_lengths(xy)
+        return self._projection(xy, l_m, *self.center.frame(l_m))
+
+    def project_near(self, points_m: ArrayLike, near: Projection) -> Projection:
+        """:meth:`project`, started from ``near``, a projection onto this tube of N points close to these (the
+        previous control period's): its arc lengths, and the centre line's frame there, which it carries.
+
+        Same result as :meth:`project` (to about 1e-12 m), found without the global search for the points whose
+        local answer is certainly the closest point of the whole curve; the others are projected globally.
+
+        Notes
+        -----
+        From l_0 = ``near.l_m``, plain Newton steps on ``g(l) = (gamma(l) - p) . t(l)`` (``g' = 1 - kappa y``), at
+        most :data:`_WARM_NEWTON_STEPS`, until a step is below 1e-12 m; the answer is the last iterate, where the
+        frame was evaluated. Its distance d = |p - gamma(l)| is then certified the global minimum by the table of
+        :class:`_WarmTable` (sample s_i nearest to l, window W, bounds T_i and K_i): with q = |p - gamma(s_i)|,
+
+        * every curve point with |l' - s_i| >= W is at least T_i - q from p (triangle inequality), so farther than
+          d when ``d < T_i - q``;
+        * on the window |l' - s_i| < W (which must contain l), ``|p - gamma(l')| < q + W``, so the distance's second
+          derivative ``1 - kappa y >= 1 - K_i (q + W) > 0`` when ``K_i (q + W) < 1``: the distance is strictly
+          convex there and its stationary point l is the window's only minimum.
+
+        Both strict, so l is the unique closest point: where the centre curve comes back close to itself (or a
+        robot jumped), the test fails and the point falls back to the global search instead of a wrong branch.
+        """
+        xy = as_points(points_m, allow_single=True).T
+        if near.l_m.shape != (xy.shape[0],):
+            msg = f'near must project {xy.shape[0]} points, one per point projected; it projects {near.l_m.size}.'
+            raise ShapeError(msg)
+        l_m, pos, tan, kappa, found = self._local_newton(xy, near)
+        table = self._warm_table
+        s, x, y, far, kappa_max = table.rows[table.nearest_sample(l_m)].T
+        q = np.hypot(xy[:, 0] - x, xy[:, 1] - y)
+        d = np.hypot(xy[:, 0] - pos[:, 0], xy[:, 1] - pos[:, 1])
+        certain = found & (d < far - q) & (kappa_max * (q + table.window_m) < 1.0)
+        certain &= np.abs(l_m - s) < table.window_m
+        if not certain.all():
+            redo = np.flatnonzero(~certain)
+            l_m[redo] = self._nearest_arc_lengths(xy[redo])
+            pos[redo], tan[redo], kappa[redo] = self.center.frame(l_m[redo])
+        return self._projection(xy, l_m, pos, tan, kappa)
+
+    def _nearest_arc_lengths(self, xy: FloatArray) -> FloatArray:
+        """The global search of :meth:`project`: nearest sample, then bracketed Newton between its neighbours."""
         samples = self._samples
         _, k = self._sample_tree.query(xy)
         reach = 1e6 * max(1.0, self.length_m)  # the straight extensions: Newton is exact there in one step
@@ -174,8 +226,46 @@ class VirtualTube:
             y = tan[:, 0] * d[:, 1] - tan[:, 1] * d[:, 0]
             return -np.einsum('ij,ij->i', d, tan), 1.0 - kappa * y
 
-        l_m = bracketed_newton(residual, lo, hi, samples[k], xtol=_PROJECTION_XTOL)
-        pos, tan, _ = self.center.frame(l_m)
+        return bracketed_newton(residual, lo, hi, samples[k], xtol=_PROJECTION_XTOL)
+
+    def _local_newton(
+        self, xy: FloatArray, near: Projection
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]:
+        """Newton on g(l) from ``near`` for (N, 2) points: arc lengths, positions and tangents (N, 2) and curvatures
+        there, and which points converged (a step below 1e-12 m within :data:`_WARM_NEWTON_STEPS` with g' > 0).
+
+        The first step uses the frame ``near`` carries (the frame at its arc lengths), the others evaluate it."""
+        n = xy.shape[0]
+        l_m, pos, tan, curvature = near.l_m.copy(), np.empty((n, 2)), np.empty((n, 2)), np.empty(n)
+        found = np.zeros(n, dtype=bool)
+        active: slice | NDArray[np.intp] = slice(None)  # every point, until some have converged
+        p, t, kappa = near.foot_m.T, near.tangent.T, near.curvature_per_m
+        with np.errstate(divide='ignore', invalid='ignore'):
+            for _ in range(_WARM_NEWTON_STEPS):
+                d = xy[active] - p
+                slope = 1.0 - kappa * (t[:, 0] * d[:, 1] - t[:, 1] * d[:, 0])
+                step = -(d[:, 0] * t[:, 0] + d[:, 1] * t[:, 1]) / slope
+                done = (np.abs(step) <= _PROJECTION_XTOL) & (slope > 0.0)
+                if done.all():  # the usual end: the points still going converge together
+                    pos[active], tan[active], curvature[active], found[active] = p, t, kappa, True
+                    break
+                going = ~done & (slope > 0.0) & np.isfinite(step)
+                if not going.all():  # some converged or stopped: follow only the others from here
+                    index = np.arange(n)[active]
+                    settled = index[done]
+                    pos[settled], tan[settled], curvature[settled], found[settled] = p[done], t[done], kappa[done], True
+                    if not going.any():
+                        break
+                    active, step = index[going], step[going]
+                l_m[active] -= step
+                p, t, kappa = self.center.frame(l_m[active])
+        return l_m, pos, tan, curvature, found
+
+    def _projection(
+        self, xy: FloatArray, l_m: FloatArray, pos: FloatArray, tan: FloatArray, kappa: FloatArray
+    ) -> Projection:
+        """The projection of (N, 2) points ``xy`` with feet at arc lengths ``l_m``, positions and tangents (N, 2) and
+        curvatures (N,) there."""
         nrm = _left(tan)
         y = np.einsum('ij,ij->i', xy - pos, nrm)
         return Projection(
@@ -186,7 +276,12 @@ class VirtualTube:
             normal=nrm.T.copy(),
             half_width_m=self.width.value(l_m),
             length_m=self.length_m,
+            curvature_per_m=kappa,
         )
+
+    @cached_property
+    def _warm_table(self) -> _WarmTable:
+        return _WarmTable.of(self)
 
     def fingerprint(self) -> str:
         """A hash of the tube's geometry (centre line and half-width at 2001 arc lengths, to 1e-9 m).
@@ -231,6 +326,93 @@ class VirtualTube:
         }
 
 
+# ---------------------------------------------------------------------- the warm projection's certificate
+
+
+@dataclass(frozen=True)
+class _WarmTable:
+    """Per sample s_i of the tube's sample grid, what :meth:`VirtualTube.project_near` certifies a local answer with.
+
+    Attributes
+    ----------
+    l_m, points
+        The samples s_i (K,) and gamma(s_i) (K, 2).
+    window_m
+        W = 2 lambda_max + 3 h, h the largest gap between samples: a point at the wall of a straight part has
+        q + d of about 2 lambda_max + h/2 against T_i of about W - h/2 there, so it certifies.
+    far_m
+        T_i (K,): a lower bound of |gamma(s_i) - gamma(l')| over all l' with |l' - s_i| >= W, the straight extensions
+        beyond both ends included: the exact distance to the far parts of the two rays, and for the curve between
+        samples the distance to the nearest sample s_j with |s_j - s_i| >= W - h/2 less h/2 (every curve point is
+        within h/2 of arc, hence of distance, of such a sample). inf where no such part exists.
+    kappa_max
+        K_i (K,): the largest |kappa| on the regularity check grid (4x finer than the samples, every breakpoint
+        included) within W + h of s_i (with whole sample intervals), zero beyond the ends. Exact for an
+        :class:`~vtube_planning.geometry.centerline.ArcPath` (curvature constant between breakpoints); for a
+        spline as fine as the regularity checks themselves.
+    """
+
+    l_m: FloatArray
+    points: FloatArray
+    window_m: float
+    far_m: FloatArray
+    kappa_max: FloatArray
+
+    @classmethod
+    def of(cls, tube: VirtualTube) -> _WarmTable:
+        samples = tube._samples
+        points, tangents, _ = tube.center.frame(samples)
+        length, size = tube.length_m, samples.size
+        gap = float(np.diff(samples).max())
+        grid = _check_grid(tube)
+        window = 2.0 * float(tube.width.value(grid).max()) + 3.0 * gap
+        reach = window - 0.5 * gap  # samples this far (in arc length) or farther bound the far curve
+        near = np.searchsorted(samples, samples + reach, 'left') - np.searchsorted(samples, samples - reach, 'right')
+        k = min(size, int(near.max()) + 1)  # the nearest far sample is among the k nearest samples
+        far = np.empty(size)
+        for start in range(0, size, 4096):
+            rows = slice(start, min(size, start + 4096))
+            dist, idx = tube._sample_tree.query(points[rows], k=k)
+            dist, idx = dist.reshape(-1, k), idx.reshape(-1, k)
+            outside = np.abs(samples[idx] - samples[rows, None]) >= reach
+            far[rows] = np.where(outside, dist, np.inf).min(axis=1) - 0.5 * gap
+        back = _ray_distance(points, points[0], -tangents[0], np.maximum(0.0, window - samples))
+        ahead = _ray_distance(points, points[-1], tangents[-1], np.maximum(0.0, samples + window - length))
+        far = np.minimum(far, np.minimum(back, ahead))
+        # largest |kappa| per sample interval, then over every interval within W + h of each sample (a superset)
+        kappa = np.abs(tube.center.frame(grid)[2])
+        starts = np.searchsorted(grid, samples[:-1])
+        per_interval = np.maximum(np.maximum.reduceat(kappa, starts), kappa[np.searchsorted(grid, samples[1:])])
+        lo = np.searchsorted(samples, samples - window - gap, 'right') - 1
+        hi = np.searchsorted(samples, samples + window + gap, 'left')
+        span = int(np.max(np.maximum(np.arange(size) - lo, hi - np.arange(size))))
+        padded = np.append(per_interval, per_interval[-1])  # interval i starts at sample i; the last sample's own
+        kappa_max = maximum_filter1d(padded, size=2 * span + 1, mode='nearest')
+        return cls(samples, points, window, far, kappa_max)
+
+    def nearest_sample(self, l_m: FloatArray) -> NDArray[np.intp]:
+        """Index of a sample nearest to each arc length (the first or the last beyond the ends). Near a midpoint
+        between two samples either may come out: the certificate holds with any sample whose window contains l,
+        which :meth:`VirtualTube.project_near` checks."""
+        return np.searchsorted(self._midpoints, l_m, side='right')
+
+    @cached_property
+    def _midpoints(self) -> FloatArray:
+        return 0.5 * (self.l_m[:-1] + self.l_m[1:])
+
+    @cached_property
+    def rows(self) -> FloatArray:
+        """(K, 5): s_i, gamma(s_i), T_i and K_i side by side, gathered at once."""
+        return np.column_stack([self.l_m, self.points, self.far_m, self.kappa_max])
+
+
+def _ray_distance(points: FloatArray, base: FloatArray, direction: FloatArray, start: FloatArray) -> FloatArray:
+    """Distance from each of (K, 2) points to its ray {base + u direction : u >= start} (unit direction)."""
+    u = np.maximum((points - base) @ direction, start)
+    foot = base + u[:, None] * direction
+    return np.hypot(points[:, 0] - foot[:, 0], points[:, 1] - foot[:, 1])
+
+
 # ---------------------------------------------------------------------- helpers
 
 
@@ -239,7 +421,7 @@ def _arc_lengths(values: ArrayLike, what: str = 'arc length') -> tuple[FloatArra
     if arr.ndim > 1:
         msg = f'{what} must be a scalar or a 1-D array of shape (k,); got shape {arr.shape}.'
         raise ShapeError(msg)
-    if not np.all(np.isfinite(arr)):
+    if not np.isfinite(arr).all():
         msg = f'{what} must be finite; got {arr[~np.isfinite(arr)][:3].tolist()}.'
         raise ShapeError(msg)
     return np.atleast_1d(arr), arr.ndim == 0
@@ -258,7 +440,7 @@ def _shape_points(points: FloatArray, scalar: bool) -> FloatArray:
 
 def _left(tangent: FloatArray) -> FloatArray:
     """Rotate (k, 2) unit vectors by +90 degrees."""
-    return np.stack([-tangent[:, 1], tangent[:, 0]], axis=-1)
+    return tangent[:, ::-1] * _LEFT
 
 
 def _sample_grid(tube: VirtualTube) -> FloatArray:

@@ -100,6 +100,8 @@ class WidthProfile:
     parts: tuple[WidthPart, ...]
     _poly: PPoly = field(init=False, repr=False, compare=False)
     _area: PPoly = field(init=False, repr=False, compare=False)
+    _length_m: float = field(init=False, repr=False, compare=False)
+    _end_m: float = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not is_positive(self.start_m):
@@ -122,11 +124,13 @@ class WidthProfile:
         poly = PPoly(np.array(coefs).T, np.array(breaks), extrapolate=False)
         object.__setattr__(self, '_poly', poly)
         object.__setattr__(self, '_area', poly.antiderivative())
+        object.__setattr__(self, '_length_m', float(poly.x[-1]))  # both read by every area and value call
+        object.__setattr__(self, '_end_m', float(poly(poly.x[-1])))
 
     @property
     def length_m(self) -> float:
         """Total arc length covered by the parts."""
-        return float(self._poly.x[-1])
+        return self._length_m
 
     @property
     def breakpoints(self) -> FloatArray:
@@ -135,7 +139,7 @@ class WidthProfile:
 
     def value(self, l_m: FloatArray) -> FloatArray:
         """lambda(l) in m for a 1-D array of arc lengths (end values continue outside [0, L])."""
-        return np.asarray(self._poly(np.clip(l_m, 0.0, self.length_m)), dtype=float)
+        return np.asarray(self._poly(np.minimum(np.maximum(l_m, 0.0), self._length_m)), dtype=float)
 
     def slope(self, l_m: FloatArray) -> FloatArray:
         """d lambda / dl (dimensionless) for a 1-D array of arc lengths (0 outside [0, L])."""
@@ -146,10 +150,10 @@ class WidthProfile:
     def area(self, l_m: FloatArray) -> FloatArray:
         """Cumulative area A(l) = integral_0^l 2 lambda in m^2 (negative for l < 0, as the extension's area)."""
         l_m = np.asarray(l_m, dtype=float)
-        length = self.length_m
-        inner = 2.0 * self._area(np.clip(l_m, 0.0, length))
+        length = self._length_m
+        inner = 2.0 * self._area(np.minimum(np.maximum(l_m, 0.0), length))
         before = 2.0 * self.start_m * np.minimum(l_m, 0.0)
-        after = 2.0 * self.end_m * np.maximum(l_m - length, 0.0)
+        after = 2.0 * self._end_m * np.maximum(l_m - length, 0.0)
         return inner + before + after
 
     def area_inverse(self, a_m2: FloatArray) -> FloatArray:
@@ -175,7 +179,7 @@ class WidthProfile:
     @property
     def end_m(self) -> float:
         """Half-width at l = L."""
-        return float(self._poly(self.length_m))
+        return self._end_m
 
     def continuity_defects(self) -> list[tuple[float, float, float]]:
         """Jumps of lambda and lambda' at interior breakpoints, as ``(l, value jump, slope jump)``.

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from vtube_planning._validate import is_positive, is_real
 from vtube_planning.errors import ParamsError
 from vtube_planning.params import SwarmParams
-from vtube_planning.swarm.step import DENSITY_PADDINGS, LAWS, PLAN_AT, SATURATIONS, StepParams
+from vtube_planning.swarm.step import DENSITY_PADDINGS, KDTREE_ABOVE, LAWS, PLAN_AT, SATURATIONS, StepParams
 
 # ---------------------------------------------------------------------- parameters
 
@@ -47,7 +47,8 @@ class ControlParams:
         ``docs/theory.md`` A16): with ``'robot'`` a planned slow-down reaches the front first and compresses the
         swarm just where the plan lowers its density.
     kdtree_above
-        Use a k-d tree for neighbours above this many robots, all pairs below.
+        Use a k-d tree for neighbours above this many robots, all pairs below (default: the measured crossover
+        :data:`~vtube_planning.swarm.step.KDTREE_ABOVE`; both give the same law).
     """
 
     avoidance_gain: float = 1.0
@@ -59,7 +60,7 @@ class ControlParams:
     saturation: str = 'radial'
     density_padding: str = 'initial'
     plan_at: str = 'robot'
-    kdtree_above: int = 48
+    kdtree_above: int = KDTREE_ABOVE
 
     def __post_init__(self) -> None:
         for name in ('avoidance_gain', 'keeping_gain'):

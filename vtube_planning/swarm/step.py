@@ -31,7 +31,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from functools import lru_cache
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -54,34 +55,66 @@ BARRIER_EPS = 1e-6
 """epsilon_m = epsilon_t = epsilon_s of the barrier functions (the group's code, ``docs/theory.md`` §2.5)."""
 PARKED_WITHIN_M = 0.03
 """A robot is parked when its control point is this close to its slot."""
+KDTREE_ABOVE = 64
+"""Swarms of more robots find their neighbours with a k-d tree, smaller ones test all pairs.
+
+Measured: ``python -m benchmarks.sim_bench`` times the avoidance term (neighbour search and phi_m) both ways on
+its jittered crowd of about one robot per m^2 (2-core VM, numpy 2, scipy's cKDTree): all pairs 0.085 / 0.096 /
+0.107 ms at N = 50 / 60 / 70, the tree 0.103 / 0.109 / 0.111 ms; at N = 80 all pairs 0.120 ms, the tree 0.113 ms.
+The crossover lies between 70 and 80 robots; near it the two differ by under 10 %, so its exact place matters
+little (and keeping 64 keeps every swarm on the path, and the sums in the order, it had before)."""
 
 
 # ---------------------------------------------------------------------- scalar building blocks (theory §2.3)
 
 
 def sigma(x: ArrayLike, d1: ArrayLike, d2: ArrayLike) -> tuple[FloatArray, FloatArray]:
-    """The C^1 cubic step sigma(x, d1, d2): 1 for x <= d1, 0 for x >= d2; returns (value, d/dx)."""
+    """The C^1 cubic step sigma(x, d1, d2): 1 for x <= d1, 0 for x >= d2; returns (value, d/dx).
+
+    Shapes broadcast. Written with few array operations, for the step calls it on a handful of robots every
+    control period (its fixed cost per call matters there), and in place, for it also calls it on the hundreds of
+    thousands of pairs of a large swarm (where every fresh array costs its page faults).
+    """
     x = np.asarray(x, dtype=float)
-    d1 = np.broadcast_to(np.asarray(d1, dtype=float), x.shape)
-    d2 = np.broadcast_to(np.asarray(d2, dtype=float), x.shape)
-    t = np.clip((x - d1) / (d2 - d1), 0.0, 1.0)
-    inside = (x > d1) & (x < d2)
-    value = 1.0 - t * t * (3.0 - 2.0 * t)
-    slope = np.where(inside, -6.0 * t * (1.0 - t) / (d2 - d1), 0.0)
+    band: FloatArray = np.asarray(d2, dtype=float) - np.asarray(d1, dtype=float)
+    t: FloatArray = np.divide(x - d1, band)
+    np.maximum(t, 0.0, out=t)  # np.clip(t, 0, 1)'s values, without its call cost
+    np.minimum(t, 1.0, out=t)
+    value = 2.0 * t  # 1 - t t (3 - 2 t)
+    np.subtract(3.0, value, out=value)
+    value *= t * t
+    np.subtract(1.0, value, out=value)
+    slope = -6.0 * t  # -6 t (1 - t) / band: (-)0 outside (d1, d2), where t is clipped to 0 or 1
+    np.subtract(1.0, t, out=t)
+    slope *= t
+    slope /= band
     return value, slope
 
 
 def smooth_saturation(x: ArrayLike, eps: float) -> tuple[FloatArray, FloatArray]:
-    """The C^1 saturation s(x, eps) of ``docs/theory.md`` §2.3 (x below x1, a circular arc, then 1); (value, d/dx)."""
+    """The C^1 saturation s(x, eps) of ``docs/theory.md`` §2.3 (x below x1, a circular arc, then 1); (value, d/dx).
+
+    Below x1 = x2 - eps sin 45deg (< 1) s = x, above x2 = 1 + eps / tan 67.5deg (> 1) s = 1, so ``min(x, 1)`` is
+    s outside the arc; the arc (width about 0.7 eps) is evaluated only where some x falls on it.
+    """
     x = np.asarray(x, dtype=float)
-    x2 = 1.0 + eps / math.tan(math.radians(67.5))
-    x1 = x2 - eps * math.sin(math.radians(45.0))
+    x1, x2 = _saturation_corners(eps)
+    value = np.minimum(x, 1.0, out=np.empty(x.shape))  # an array also for a scalar x: written below
+    slope = np.array(x <= x1, dtype=float)
     arc = (x > x1) & (x < x2)
-    root = np.sqrt(np.clip(eps**2 - (x - x2) ** 2, 0.0, None))
-    value = np.where(x <= x1, x, np.where(x >= x2, 1.0, (1.0 - eps) + root))
-    with np.errstate(divide='ignore', invalid='ignore'):
-        slope = np.where(x <= x1, 1.0, np.where(arc, (x2 - x) / root, 0.0))
+    if arc.any():
+        on_arc = x[arc]
+        root = np.sqrt(np.maximum(eps**2 - (on_arc - x2) ** 2, 0.0))  # > 0 inside the arc
+        value[arc] = (1.0 - eps) + root
+        slope[arc] = (x2 - on_arc) / root
     return value, slope
+
+
+@lru_cache(maxsize=4)
+def _saturation_corners(eps: float) -> tuple[float, float]:
+    """x1 and x2 of s(x, eps)."""
+    x2 = 1.0 + eps / math.tan(math.radians(67.5))
+    return x2 - eps * math.sin(math.radians(45.0)), x2
 
 
 def barrier_gain(x: ArrayLike, offset: float, d1: float, d2: ArrayLike, k: float) -> FloatArray:
@@ -92,10 +125,19 @@ def barrier_gain(x: ArrayLike, offset: float, d1: float, d2: ArrayLike, k: float
     """
     xs = np.maximum(np.asarray(x, dtype=float), 1e-9)
     s_val, s_slope = smooth_saturation(xs / offset, BARRIER_EPS)
-    den = (1.0 + BARRIER_EPS) * xs - offset * s_val
+    den = (1.0 + BARRIER_EPS) * xs  # (1 + eps) x - offset s
+    s_val *= offset
+    den -= s_val
     sig, sig_slope = sigma(xs, d1, d2)
-    dv = k * (sig_slope / den - sig * ((1.0 + BARRIER_EPS) - s_slope) / den**2)
-    return np.maximum(-dv, 0.0)
+    # -dV/dx = -k (sigma' / den - sigma ((1 + eps) - s') / den^2), in place (see sigma)
+    sig_slope /= den
+    np.subtract(1.0 + BARRIER_EPS, s_slope, out=s_slope)
+    sig *= s_slope
+    np.square(den, out=den)
+    sig /= den
+    sig_slope -= sig
+    sig_slope *= -k
+    return np.maximum(sig_slope, 0.0, out=sig_slope)
 
 
 def cap_norm(u: FloatArray, limit: ArrayLike) -> FloatArray:
@@ -109,7 +151,7 @@ def saturate(u: FloatArray, v_min: float, v_max: float, fallback: FloatArray) ->
     """sat(u, v_min, v_max) column-wise on (2, N): radial rescaling into [v_min, v_max]; u = 0 -> v_min fallback."""
     speed = np.hypot(u[0], u[1])
     zero = speed <= 1e-12
-    scale = np.where(zero, 0.0, np.clip(speed, v_min, v_max) / np.where(zero, 1.0, speed))
+    scale = np.where(zero, 0.0, np.minimum(np.maximum(speed, v_min), v_max) / np.where(zero, 1.0, speed))
     return np.where(zero, v_min * fallback, u * scale)
 
 
@@ -162,7 +204,7 @@ class StepParams:
     k_ra_m3ps: float = 5.0
     feedforward: bool = False
     plan_at: str = 'robot'
-    kdtree_above: int = 48
+    kdtree_above: int = KDTREE_ABOVE
 
 
 @dataclass(frozen=True)
@@ -192,7 +234,10 @@ def swarm_area(tube: Any, l_back_m: ArrayLike, l_front_m: ArrayLike, pad_m: floa
     """Area (m^2) of the tube between ``l_back - pad`` and ``l_front + pad``, element-wise (``tube.area``: A(l))."""
     back = np.atleast_1d(np.asarray(l_back_m, dtype=float)) - pad_m
     front = np.atleast_1d(np.asarray(l_front_m, dtype=float)) + pad_m
-    return np.asarray(tube.area(front), dtype=float) - np.asarray(tube.area(back), dtype=float)
+    if front.shape != back.shape:
+        front, back = np.broadcast_arrays(front, back)
+    area = np.asarray(tube.area(np.concatenate([front, back])), dtype=float)  # one call: the step makes it each period
+    return area[: front.size] - area[front.size :]
 
 
 def swarm_density(tube: Any, l_m: ArrayLike, pad_m: float) -> float:
@@ -210,17 +255,33 @@ def swarm_density(tube: Any, l_m: ArrayLike, pad_m: float) -> float:
 # ---------------------------------------------------------------------- the law
 
 
-def neighbour_pairs(positions: FloatArray, radius: float, *, use_tree: bool) -> tuple[IntArray, IntArray, FloatArray]:
-    """Pairs (i < j) of columns of (2, N) positions closer than ``radius``, and their distances."""
-    n = positions.shape[1]
-    if use_tree:
-        pairs = cKDTree(positions.T).query_pairs(radius, output_type='ndarray')
-        i, j = pairs[:, 0], pairs[:, 1]
-    else:
-        i, j = np.triu_indices(n, k=1)
-    dist = np.hypot(positions[0, i] - positions[0, j], positions[1, i] - positions[1, j])
-    keep = dist < radius
-    return i[keep], j[keep], dist[keep]
+def neighbour_pairs(positions: FloatArray, radius: float) -> tuple[IntArray, IntArray, FloatArray, FloatArray]:
+    """Pairs (i, j), i < j, of columns of (2, N) positions at most ``radius`` apart, found with a k-d tree
+    (O(N log N) time, memory of the order of the pairs found); with p_i - p_j (2, M) and |p_i - p_j| (M,)."""
+    # an unbalanced tree with uncompacted nodes builds about twice as fast (100,000 robots: 14 ms, not 31 ms)
+    # and finds the same pairs: robots are spread evenly, the tree needs no balancing
+    tree = cKDTree(positions.T, balanced_tree=False, compact_nodes=False)
+    pairs = tree.query_pairs(radius, output_type='ndarray').T
+    i, j = np.ascontiguousarray(pairs[0]), np.ascontiguousarray(pairs[1])  # contiguous: gathered from below
+    return (i, j, *_differences(positions, i, j))
+
+
+def _differences(positions: FloatArray, i: IntArray, j: IntArray) -> tuple[FloatArray, FloatArray]:
+    """p_i - p_j (2, M) and its length (M,) for pairs (i, j) of columns of (2, N) positions."""
+    diff = np.empty((2, i.size))
+    for axis in (0, 1):  # gathered row by row: half the time of positions[:, i] on 100,000 robots
+        positions[axis].take(i, out=diff[axis])
+        diff[axis] -= positions[axis].take(j)
+    return diff, np.hypot(diff[0], diff[1])
+
+
+@lru_cache(maxsize=8)
+def _all_pairs(n: int) -> tuple[IntArray, IntArray]:
+    """(i, j), i < j, of all pairs of n robots (read-only, kept for the next step of the same swarm)."""
+    i, j = np.triu_indices(n, k=1)
+    i.flags.writeable = False
+    j.flags.writeable = False
+    return i, j
 
 
 def avoidance_velocity(
@@ -235,30 +296,56 @@ def avoidance_velocity(
     ``members`` (N,) restricts the pairs to robots of the swarm (parked robots have left it); None: all.
     ``others`` (2, N): where each robot believes the others are (their last message, when messages drop); robot i
     still knows its own position. None: everyone sees everyone where they are.
+
+    Up to ``params.kdtree_above`` robots every pair is tested, above them a k-d tree finds the pairs within
+    r_s + max r_a (:data:`KDTREE_ABOVE`). Each pair then acts twice, once on each of its robots within that robot's
+    own band r_s + r_a,i; beyond it phi_m is exactly 0, so such halves are dropped before phi_m is evaluated.
     """
     n = positions.shape[1]
-    out = np.zeros_like(positions)
     if n < 2:
-        return out
+        return np.zeros_like(positions)
     if others is not None:
         return _avoidance_of_what_is_heard(positions, others, r_a, params, members)
     r_s = params.r_s_m
-    i, j, dist = neighbour_pairs(positions, r_s + float(r_a.max()), use_tree=n > params.kdtree_above)
-    if members is not None:
-        keep = members[i] & members[j]
-        i, j, dist = i[keep], j[keep], dist[keep]
-    if i.size == 0:
-        return out
-    unit = (positions[:, i] - positions[:, j]) / np.maximum(dist, 1e-12)  # from j to i
-    for me, other_sign, radius in ((i, 1.0, r_a[i]), (j, -1.0, r_a[j])):
-        if params.law == 'practical':
-            gain = params.avoidance_gain * sigma(dist, 2.0 * r_s, r_s + radius)[0]
-        else:
-            gain = barrier_gain(dist, 2.0 * r_s, 2.0 * r_s, r_s + radius, params.avoidance_gain)
-        push = other_sign * gain * unit
-        out[0] += np.bincount(me, weights=push[0], minlength=n)
-        out[1] += np.bincount(me, weights=push[1], minlength=n)
-    return out
+    if n > params.kdtree_above:
+        i, j, diff, dist = neighbour_pairs(positions, r_s + float(r_a.max()))
+    else:
+        i, j = _all_pairs(n)
+        diff, dist = _differences(positions, i, j)
+    both = None if members is None else members[i] & members[j]
+    halves = []  # the pair's halves acting on i (the first robots), then on j: the sums' order in docs/'s runs
+    for robot in (i, j):
+        band = r_a.take(robot)
+        band += r_s
+        near = dist < band
+        if both is not None:
+            near &= both
+        halves.append((robot, near.nonzero()[0]))
+    firsts, size = halves[0][1].size, halves[0][1].size + halves[1][1].size
+    if size == 0:
+        return np.zeros_like(positions)
+    # arrays of the acting halves, filled in place (a large swarm pays page faults for every fresh array):
+    # bins = [me + offset, me + offset + 2n], offset n for the second robots: x and y sums of both halves apart
+    bins, near_dist, push = np.empty(2 * size, dtype=np.intp), np.empty(size), np.empty((2, size))
+    for part, (robot, acting) in zip((slice(0, firsts), slice(firsts, size)), halves):
+        robot.take(acting, out=bins[part])
+        dist.take(acting, out=near_dist[part])
+        for axis in (0, 1):
+            diff[axis].take(acting, out=push[axis, part])
+    me = bins[:size]
+    np.negative(push[:, firsts:], out=push[:, firsts:])  # p_me - p_other
+    band = r_a.take(me)
+    band += r_s
+    if params.law == 'practical':
+        gain = params.avoidance_gain * sigma(near_dist, 2.0 * r_s, band)[0]
+    else:
+        gain = barrier_gain(near_dist, 2.0 * r_s, 2.0 * r_s, band, params.avoidance_gain)
+    push /= np.maximum(near_dist, 1e-12, out=near_dist)
+    push *= gain
+    me[firsts:] += n
+    np.add(me, 2 * n, out=bins[size:])
+    sums = np.bincount(bins, weights=push.ravel(), minlength=4 * n).reshape(2, 2, n)
+    return cast(FloatArray, sums[:, 0] + sums[:, 1])  # weighted: floats
 
 
 def _avoidance_of_what_is_heard(
@@ -389,7 +476,8 @@ class SwarmStep:
     Parameters
     ----------
     tube
-        Anything with ``project(points) -> Projection``, ``area(l)`` and ``length_m``: the exact
+        Anything with ``project(points) -> Projection``, ``project_near(points, near: Projection) -> Projection``,
+        ``area(l)`` and ``length_m``: the exact
         :class:`~vtube_planning.geometry.tube.VirtualTube` or the testbed's
         :class:`~vtube_planning.geometry.projection.SampledTube`.
     params
@@ -403,6 +491,10 @@ class SwarmStep:
         The forward speed without a plan.
     parking_slots
         Slots (2, N) beyond the exit for robots that leave the tube; None lets them fly on.
+    warm_projection
+        Project the robots starting from their previous projection (``tube.project_near``: its arc lengths and the
+        frame there; the same arc lengths to about 1e-12 m, certified or else searched globally) instead of searching the whole tube each period
+        (``tube.project``). Only when the step projects, i.e. is not given the projection.
     """
 
     def __init__(
@@ -414,6 +506,7 @@ class SwarmStep:
         plan: PlanProfile | None = None,
         constant_speed_mps: float | None = None,
         parking_slots: FloatArray | None = None,
+        warm_projection: bool = True,
     ) -> None:
         if plan is None and constant_speed_mps is None:
             msg = 'a swarm step without a plan needs constant_speed_mps, the forward speed to fly.'
@@ -425,6 +518,8 @@ class SwarmStep:
         self.slots = parking_slots
         self.r_a = np.full(n_robots, float(params.r_a_m))
         self.slot_of = np.full(n_robots, -1)
+        self.warm_projection = warm_projection
+        self._last: Any = None  # the last period's projection, where the warm start begins
 
     def __call__(
         self, points: FloatArray, dt_s: float, projection: Any = None, others: FloatArray | None = None
@@ -438,20 +533,23 @@ class SwarmStep:
         if points.shape != (2, self.r_a.size):
             msg = f'points must have shape (2, {self.r_a.size}), one robot per column; got {points.shape}.'
             raise ValueError(msg)
-        if not np.all(np.isfinite(points)):
+        if not np.isfinite(points).all():
             msg = f'points of robots {np.flatnonzero(~np.isfinite(points).all(axis=0)).tolist()} are not finite.'
             raise ValueError(msg)
         if projection is None:
-            projection = self.tube.project(points)
+            if self.warm_projection and self._last is not None:
+                projection = self.tube.project_near(points, self._last)
+            else:
+                projection = self.tube.project(points)
+        self._last = projection
         l_m = projection.l_m
         exited = l_m > self.tube.length_m  # past the exit: the swarm's passage is over for this robot
         if self.slots is not None:  # robots past the exit take the next free slot and leave the swarm
             for k in np.flatnonzero(exited & (self.slot_of < 0)):
                 self.slot_of[k] = int((self.slot_of >= 0).sum())
         parked = self.slot_of >= 0
-        members = ~parked
-        swarm_l = l_m[members] if members.any() else l_m
-        radii = self.r_a[members] if members.any() else self.r_a
+        members = ~parked if parked.any() else None  # None: every robot flies the tube
+        swarm_l, radii = (l_m[members], self.r_a[members]) if members is not None and members.any() else (l_m, self.r_a)
         density = swarm_density(self.tube, swarm_l, p.r_a_m if p.density_padding == 'initial' else float(radii.mean()))
         l_plan = np.full(l_m.size, swarm_l.mean()) if p.plan_at == 'center' else l_m
         if self.plan is not None:
@@ -459,7 +557,7 @@ class SwarmStep:
         else:
             forward_speed = np.full(l_m.size, self.constant_speed_mps)
         r_a = self.r_a
-        command = velocity_command(points, r_a, forward_speed, projection, p, members if parked.any() else None, others)
+        command = velocity_command(points, r_a, forward_speed, projection, p, members, others)
         velocity = command.velocity
         if self.slots is None:
             done = bool(exited.all())
