@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
@@ -54,51 +55,79 @@ class BarrierSpec:
 def barrier_rows(x: FloatArray, spec: BarrierSpec, *, prune: bool = True) -> tuple[FloatArray, FloatArray]:
     """Constraint rows A u <= b (u stacked robot by robot: [u_0x, u_0y, u_1x, ...]) for positions x (2, N).
 
-    ``prune``: with the speed polygon, leave out the pairs too far apart to bind (exact for an exact solver; an
+    ``prune``: with the speed polygon, leave out the rows too far from binding (exact for an exact solver; an
     inexact one, like the testbed's, answers differently without them).
     """
+    a, b, _ = keyed_barrier_rows(x, spec, prune=prune)
+    return a, b
+
+
+def keyed_barrier_rows(
+    x: FloatArray, spec: BarrierSpec, *, prune: bool = True
+) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:
+    """:func:`barrier_rows` and each row's key: its place in the unpruned layout (the pairs i < j in order, then
+    the four walls and the polygon's sides, each robot by robot), which names the same constraint from call to call.
+    """
     n = x.shape[1]
-    i, j = np.triu_indices(n, k=1)
+    i, j, wall_rows, polygon_rows, polygon_bounds = _row_layout(n, spec)
     diff = x[:, i] - x[:, j]
     dist2 = np.einsum('ij,ij->j', diff, diff)
     b_pair = spec.barrier_gain * (dist2 - spec.safety_radius**2) ** 3
-    if prune and spec.speed_polygon:
+    keys = [np.arange(i.size)]
+    polygon = prune and spec.speed_polygon
+    if polygon:
         # exact pruning: |2 e.(u_i - u_j)| <= 2 d 2 u_max / cos(pi/8) < gamma h^3 never binds
         reach = 4.0 * np.sqrt(dist2) * spec.magnitude_limit / math.cos(math.pi / POLYGON_SIDES)
-        keep = b_pair < reach
-        i, j, diff, b_pair = i[keep], j[keep], diff[:, keep], b_pair[keep]
-    n_pairs = i.size
-    n_walls = 4 * n if spec.boundary is not None else 0
-    n_sides = POLYGON_SIDES * n if spec.speed_polygon else 0
-    a = np.zeros((n_pairs + n_walls + n_sides, 2 * n))
-    b = np.empty(a.shape[0])
-    k = np.arange(n_pairs)
-    a[k, 2 * i], a[k, 2 * i + 1] = -2 * diff[0], -2 * diff[1]
-    a[k, 2 * j], a[k, 2 * j + 1] = 2 * diff[0], 2 * diff[1]
-    b[:n_pairs] = b_pair
-    robots = np.arange(n)
-    row = n_pairs
+        keys[0] = np.flatnonzero(b_pair < reach)
+        i, j, diff, b_pair = i[keys[0]], j[keys[0]], diff[:, keys[0]], b_pair[keys[0]]
+    pairs = np.zeros((i.size, n, 2))
+    pairs[np.arange(i.size), i] = -2 * diff.T
+    pairs[np.arange(i.size), j] = 2 * diff.T
+    blocks, bounds, offset = [pairs.reshape(i.size, 2 * n)], [b_pair], n * (n - 1) // 2
     if spec.boundary is not None:
         xmin, xmax, ymin, ymax = spec.boundary
         half, gain = spec.safety_radius / 2, 0.4 * spec.barrier_gain
-        for axis, sign, room in (
-            (1, 1.0, ymax - half - x[1]),
-            (1, -1.0, -ymin - half + x[1]),
-            (0, 1.0, xmax - half - x[0]),
-            (0, -1.0, -xmin - half + x[0]),
-        ):
-            a[row + robots, 2 * robots + axis] = sign
-            b[row : row + n] = gain * room**3
-            row += n
-    if spec.speed_polygon:  # rps V2: sides at limit cos(pi/8), the first one at the limit if full_first_side
-        for side in range(POLYGON_SIDES):
-            angle = 2 * math.pi * side / POLYGON_SIDES
-            a[row + robots, 2 * robots] = math.cos(angle)
-            a[row + robots, 2 * robots + 1] = math.sin(angle)
-            full = side == 0 and spec.full_first_side
-            b[row : row + n] = spec.magnitude_limit * (1.0 if full else math.cos(math.pi / POLYGON_SIDES))
-            row += n
-    return a, b
+        room = np.concatenate([ymax - half - x[1], -ymin - half + x[1], xmax - half - x[0], -xmin - half + x[0]])
+        b_wall = gain * room**3
+        # exact pruning: every side of the polygon is at most u_max out, so no component of u exceeds it
+        walls = np.flatnonzero(b_wall < spec.magnitude_limit) if polygon else np.arange(4 * n)
+        blocks.append(wall_rows[walls])
+        bounds.append(b_wall[walls])
+        keys.append(offset + walls)
+        offset += 4 * n
+    if spec.speed_polygon:
+        blocks.append(polygon_rows)
+        bounds.append(polygon_bounds)
+        keys.append(offset + np.arange(POLYGON_SIDES * n))
+    return np.concatenate(blocks), np.concatenate(bounds), np.concatenate(keys)
+
+
+@lru_cache(maxsize=32)
+def _row_layout(
+    n: int, spec: BarrierSpec
+) -> tuple[NDArray[np.intp], NDArray[np.intp], FloatArray, FloatArray, FloatArray]:
+    """What the rows of N robots share from call to call: the pairs, the walls' rows, the polygon's rows and sides.
+
+    Walls +y, -y, +x, -x and the polygon's sides (V2: at limit cos(pi/8), the first one at the limit if
+    ``full_first_side``), each robot by robot.
+    """
+    i, j = np.triu_indices(n, k=1)
+    robots = np.arange(n)
+    walls = np.zeros((4, n, 2 * n))
+    for block, (axis, sign) in enumerate(((1, 1.0), (1, -1.0), (0, 1.0), (0, -1.0))):
+        walls[block, robots, 2 * robots + axis] = sign
+    sides = np.zeros((POLYGON_SIDES, n, 2 * n))
+    bounds = np.empty((POLYGON_SIDES, n))
+    for side in range(POLYGON_SIDES):
+        angle = 2 * math.pi * side / POLYGON_SIDES
+        sides[side, robots, 2 * robots] = math.cos(angle)
+        sides[side, robots, 2 * robots + 1] = math.sin(angle)
+        full = side == 0 and spec.full_first_side
+        bounds[side] = spec.magnitude_limit * (1.0 if full else math.cos(math.pi / POLYGON_SIDES))
+    layout = i, j, walls.reshape(4 * n, 2 * n), sides.reshape(-1, 2 * n), bounds.ravel()
+    for array in layout:
+        array.flags.writeable = False  # shared by every call
+    return layout
 
 
 def least_distance_nnls(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:

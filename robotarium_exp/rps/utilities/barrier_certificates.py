@@ -34,7 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.errors import RobotariumError
-from robotarium_exp.safety import BarrierSpec, barrier_rows
+from robotarium_exp.safety import BarrierSpec, barrier_rows, keyed_barrier_rows
 from robotarium_exp.spec import ROBOTARIUM
 from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
 
@@ -55,6 +55,12 @@ class BarrierStats:
 
 DAQP_OPTIMAL = (1, 2)
 """DAQP exit flags of a solution (optimal, soft-optimal); negative flags are infeasible, cycling, limits."""
+
+DAQP_ACTIVE = 1
+"""DAQP's sense of a row in the starting working set."""
+
+KKT_TOL = 1e-12
+"""Largest violation of a unit row in an exact answer: DAQP's primal tolerance, and that of :func:`kkt_point`."""
 
 TESTBED_QP_OPTIONS = {'show_progress': False, 'reltol': 1e-2, 'feastol': 1e-2, 'maxiters': 50}
 """cvxopt's options in the testbed's certificates (V2 and classic alike)."""
@@ -86,15 +92,88 @@ def least_distance(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArra
     """argmin ||u - u_hat||^2 subject to a u <= b, exactly; None if the QP is infeasible or the solver fails."""
     if a.shape[0] == 0 or np.all(a @ u_hat <= b):
         return u_hat.copy()
-    scale = np.maximum(np.abs(a).max(axis=1), 1e-300)  # unit rows: the right sides span many orders of magnitude
-    rows = np.ascontiguousarray(a / scale[:, None])
-    upper = b / scale
-    lower = np.full(upper.shape, -1e30)
-    sense = np.zeros(upper.shape, dtype=np.int32)
-    u, _, flag, _ = daqp.solve(np.eye(u_hat.size), -u_hat, rows, upper, lower, sense, primal_tol=1e-12)
+    solved = _daqp(u_hat, a, b, _row_norms(a), np.zeros(0, dtype=np.intp))
+    return None if solved is None else solved[0]
+
+
+def warm_least_distance(
+    u_hat: FloatArray, a: FloatArray, b: FloatArray, seed: NDArray[np.intp]
+) -> tuple[FloatArray, NDArray[np.intp]] | None:
+    """:func:`least_distance` started from a guess of its active rows ``seed`` (indices into a), with the rows
+    active at the answer; None if the QP is infeasible or the solver fails.
+
+    In order: u_hat if it is feasible; the point on the seed's rows (without a seed, on the rows u_hat violates if
+    they are one or two), u = u_hat - A_seed^T lam with A_seed u = b_seed; DAQP warm started from the seed. Each is
+    returned only if it passes :func:`kkt_point`; else DAQP from scratch answers, as :func:`least_distance`.
+    """
+    slack = b - a @ u_hat
+    if a.shape[0] == 0 or slack.min() >= 0.0:
+        return u_hat.copy(), np.zeros(0, dtype=np.intp)
+    norms = _row_norms(a)
+    if seed.size == 0:
+        violated = np.flatnonzero(slack < 0.0)
+        seed = violated if violated.size <= 2 else seed
+    if seed.size > 0:
+        lam = _multipliers_on(u_hat, a[seed], b[seed])
+        found = None if lam is None else kkt_point(u_hat, a, b, norms, seed, lam)
+        if found is not None:
+            return found
+        warm = _daqp(u_hat, a, b, norms, seed)
+        found = None if warm is None else kkt_point(u_hat, a, b, norms, warm[1], warm[2])
+        if found is not None:
+            return found
+    cold = _daqp(u_hat, a, b, norms, np.zeros(0, dtype=np.intp))
+    return None if cold is None else cold[:2]
+
+
+def kkt_point(
+    u_hat: FloatArray, a: FloatArray, b: FloatArray, norms: FloatArray, active: NDArray[np.intp], lam: FloatArray
+) -> tuple[FloatArray, NDArray[np.intp]] | None:
+    """u = u_hat - a[active]^T lam and the rows with lam > 0, if u solves min ||u - u_hat||^2 subject to a u <= b;
+    else None.
+
+    u is stationary by construction; it is the optimum if the multipliers are non-negative, every row holds and
+    the active rows hold with equality (the KKT conditions, to :data:`KKT_TOL` times the row's norm).
+    """
+    if np.any(lam < 0.0):
+        return None
+    u = u_hat - a[active].T @ lam
+    residual = (a @ u - b) / norms
+    if residual.max() > KKT_TOL or np.abs(residual[active]).max(initial=0.0) > KKT_TOL:
+        return None
+    return u, active[lam > 0.0]
+
+
+def _multipliers_on(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
+    """lam of the nearest point to u_hat on every row (a u = b, u = u_hat - a^T lam); None if the rows are
+    dependent."""
+    try:
+        return np.linalg.solve(a @ a.T, a @ u_hat - b)
+    except np.linalg.LinAlgError:
+        return None
+
+
+def _row_norms(a: FloatArray) -> FloatArray:
+    return np.maximum(np.sqrt(np.einsum('ij,ij->i', a, a)), 1e-300)
+
+
+def _daqp(
+    u_hat: FloatArray, a: FloatArray, b: FloatArray, norms: FloatArray, start: NDArray[np.intp]
+) -> tuple[FloatArray, NDArray[np.intp], FloatArray] | None:
+    """DAQP on min ||u - u_hat||^2 subject to a u <= b from the working set ``start``: u, the rows with a non-zero
+    multiplier and their multipliers; None unless DAQP reports optimal.
+
+    DAQP sees unit rows: the right sides span many orders of magnitude.
+    """
+    sense = np.zeros(b.size, dtype=np.int32)
+    sense[start] = DAQP_ACTIVE
+    lower = np.full(b.shape, -1e30)
+    rows = a / norms[:, None]
+    u, _, flag, info = daqp.solve(np.eye(u_hat.size), -u_hat, rows, b / norms, lower, sense, primal_tol=KKT_TOL)
     if flag not in DAQP_OPTIMAL:
         return None
-    return np.asarray(u, dtype=float)
+    active = np.flatnonzero(info['lam'])
+    return np.asarray(u, dtype=float), active, info['lam'][active] / norms[active]
 
 
 def testbed_least_distance(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
@@ -135,6 +214,19 @@ class Certificate:
     def __init__(self, spec: BarrierSpec) -> None:
         self.spec = spec
         self.stats = BarrierStats()
+        self._active_keys = np.zeros(0, dtype=np.intp)
+        """The keys (:func:`keyed_barrier_rows`, ascending) of the rows active at the last exact answer."""
+        self._active_n = 0
+
+    def _warm_solve(self, u_hat: FloatArray, a: FloatArray, b: FloatArray, keys: NDArray[np.intp]) -> FloatArray | None:
+        """The exact answer (2, N), started from the rows active at the last one; None if infeasible."""
+        n, last = u_hat.size // 2, self._active_keys
+        seed = keys[:0]
+        if n == self._active_n and last.size > 0:  # keys ascend, so do the last active ones
+            seed = np.flatnonzero(last[np.minimum(np.searchsorted(last, keys), last.size - 1)] == keys)
+        solved = warm_least_distance(u_hat, a, b, seed)
+        self._active_n, self._active_keys = n, keys[:0] if solved is None else keys[solved[1]]
+        return None if solved is None else solved[0].reshape(2, n, order='F')
 
     def __call__(self, dxi: FloatArray, x: FloatArray) -> FloatArray:
         dxi, x = _check_pair(dxi, x, 'dxi', 'x')
@@ -149,10 +241,14 @@ class Certificate:
             over = norms > self.spec.magnitude_limit
             dxi = dxi.copy()
             dxi[:, over] *= self.spec.magnitude_limit / norms[over]
-        a, b = barrier_rows(x[:2], self.spec, prune=qp_solver() == 'exact')
         self.stats.solves += 1
+        if qp_solver() == 'exact':
+            a, b, keys = keyed_barrier_rows(x[:2], self.spec)
+            u = self._warm_solve(dxi.reshape(-1, order='F'), a, b, keys)
+        else:
+            a, b = barrier_rows(x[:2], self.spec, prune=False)
+            u = _solve_qp(n, dxi, a, b)
         self.stats.rows_last = a.shape[0]
-        u = _solve_qp(n, dxi, a, b)
         if u is None:
             self.stats.failures += 1
             message = f'barrier QP infeasible at solve {self.stats.solves}; commanding zero velocities'
