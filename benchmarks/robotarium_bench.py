@@ -2,12 +2,15 @@
 
     python -m benchmarks.robotarium_bench [--repeats 20]
 
-1. Time per certificate call for N = 6, 20, 50 robots in tight, trajectory-like states: ours solved exactly
+1. Time per certificate call for N = 6, 20, 50 robots in tight, independent random states: ours solved exactly
    (``use_qp_solver('exact')``: vectorised rows, exact pruning, DAQP) and as the testbed does (the default: cvxopt
    at the testbed's tolerances, every row) beside the PyPI simulator's cvxopt certificate
    (``create_single_integrator_barrier_certificate_with_boundary``) on the same states. Both are the
    single-integrator certificate with the arena boundary; ours also carries V2's speed polygon.
-2. A full 6-robot tube experiment (robotarium_curve, planning and barrier on, no initialization phase) run with
+2. The same along a trajectory (the robots of the tight grid cross to the mirrored grid, 30 steps a second), where
+   ours exact starts each call from the last call's active rows. Both tables give the largest difference of ours
+   exact from DAQP solving the same QP from scratch (``least_distance``).
+3. A full 6-robot tube experiment (robotarium_curve, planning and barrier on, no initialization phase) run with
    our Robotarium class beside the same experiment code with the PyPI ``Robotarium``.
 """
 
@@ -20,45 +23,98 @@ import numpy as np
 
 from robotarium_exp.experiment import ExperimentConfig, run_experiment
 from robotarium_exp.rps.robotarium import Robotarium
-from robotarium_exp.rps.utilities.barrier_certificates import create_si_barrier_certificate_with_boundary, use_qp_solver
+from robotarium_exp.rps.utilities.barrier_certificates import (
+    Certificate,
+    create_si_barrier_certificate_with_boundary,
+    least_distance,
+    use_qp_solver,
+)
+from robotarium_exp.safety import barrier_rows
 from vtube_planning import load_scene
 from vtube_planning.planning.planner import plan_convex
 
 
-def states(n: int, count: int, rng: np.random.Generator) -> list[tuple[np.ndarray, np.ndarray]]:
+def grid(n: int) -> np.ndarray:
     side = int(np.ceil(np.sqrt(n)))
     k = np.arange(n)
-    base = np.vstack([(k % side) * 0.2 - 0.1 * side, (k // side) * 0.2 - 0.1 * side])
+    return np.vstack([(k % side) * 0.2 - 0.1 * side, (k // side) * 0.2 - 0.1 * side])
+
+
+def states(n: int, count: int, rng: np.random.Generator) -> list[tuple[np.ndarray, np.ndarray]]:
+    base = grid(n)
     return [(base + 0.02 * rng.standard_normal(base.shape), rng.normal(0.0, 0.15, (2, n))) for _ in range(count)]
 
 
-def median_ms(fun, cases) -> float:
-    times = []
+def trajectory(n: int, count: int, rng: np.random.Generator) -> list[tuple[np.ndarray, np.ndarray]]:
+    """States of the grid's robots heading at 0.15 m/s for the mirrored grid, moved by the exact certificate."""
+    x = grid(n) + 0.02 * rng.standard_normal((2, n))
+    goals = -x
+    certificate = create_si_barrier_certificate_with_boundary(safety_radius=0.17)
+    previous = use_qp_solver('exact')
+    cases = []
+    for _ in range(count):
+        heading = goals - x
+        u = 0.15 * heading / np.maximum(np.hypot(*heading), 0.15) + 0.01 * rng.standard_normal((2, n))
+        cases.append((x, u))
+        x = x + 0.033 * certificate(u, x)
+    use_qp_solver(previous)
+    return cases
+
+
+def median_ms(fun, cases) -> tuple[float, list[np.ndarray]]:
+    """Median ms per call of fun on the states in order, and its answers."""
+    times, answers = [], []
     for x, u in cases:
         t0 = time.perf_counter()
-        fun(u.copy(), x)
+        answers.append(fun(u.copy(), x))
         times.append(time.perf_counter() - t0)
-    return 1e3 * float(np.median(times))
+    return 1e3 * float(np.median(times)), answers
+
+
+def from_scratch_difference(certificate: Certificate, cases, answers: list[np.ndarray]) -> float:
+    """The largest difference of the answers from DAQP solving the same QPs from scratch."""
+    worst = 0.0
+    for (x, u), answer in zip(cases, answers):
+        a, b = barrier_rows(x, certificate.spec)
+        cold = least_distance(u.reshape(-1, order='F'), a, b)
+        if cold is not None:
+            worst = max(worst, float(np.abs(answer - cold.reshape(u.shape, order='F')).max()))
+    return worst
+
+
+def table(title: str, cases_of, theirs) -> None:
+    print(title)
+    print(
+        f'{"N":>4} {"ours exact [ms]":>16} {"ours testbed [ms]":>18} {"PyPI cvxopt [ms]":>17} {"ratio exact":>12} '
+        f'{"max diff":>9}'
+    )
+    for n in (6, 20, 50):
+        cases = cases_of(n)
+        t_testbed = median_ms(create_si_barrier_certificate_with_boundary(safety_radius=0.17), cases)[0]
+        t_theirs = median_ms(theirs, cases)[0]
+        previous = use_qp_solver('exact')
+        ours = create_si_barrier_certificate_with_boundary(safety_radius=0.17)
+        t_exact, answers = median_ms(ours, cases)
+        difference = from_scratch_difference(ours, cases, answers)
+        use_qp_solver(previous)
+        print(
+            f'{n:>4} {t_exact:>16.3f} {t_testbed:>18.3f} {t_theirs:>17.3f} {t_theirs / t_exact:>11.1f}x '
+            f'{difference:>9.1e}'
+        )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--repeats', type=int, default=20)
+    parser.add_argument('--steps', type=int, default=60, help='states of the trajectory')
     args = parser.parse_args()
     from rps.robotarium import Robotarium as PypiRobotarium
     from rps.utilities.barrier_certificates import create_single_integrator_barrier_certificate_with_boundary
 
     rng = np.random.default_rng(0)
-    print(f'{"N":>4} {"ours exact [ms]":>16} {"ours testbed [ms]":>18} {"PyPI cvxopt [ms]":>17} {"ratio exact":>12}')
-    ours = create_si_barrier_certificate_with_boundary(safety_radius=0.17)
     theirs = create_single_integrator_barrier_certificate_with_boundary(safety_radius=0.17)
-    for n in (6, 20, 50):
-        cases = states(n, args.repeats, rng)
-        t_testbed, t_theirs = median_ms(ours, cases), median_ms(theirs, cases)
-        previous = use_qp_solver('exact')
-        t_exact = median_ms(ours, cases)
-        use_qp_solver(previous)
-        print(f'{n:>4} {t_exact:>16.3f} {t_testbed:>18.3f} {t_theirs:>17.3f} {t_theirs / t_exact:>11.1f}x')
+    table('independent states', lambda n: states(n, args.repeats, rng), theirs)
+    table('along a trajectory', lambda n: trajectory(n, args.steps, rng), theirs)
     scene = load_scene('robotarium_curve')
     plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
     config = ExperimentConfig()

@@ -229,3 +229,115 @@ def test_unknown_qp_solver_is_refused_by_name() -> None:
     with pytest.raises(RobotariumError, match="unknown QP solver 'osqp'; choose one of testbed, exact"):
         bc.use_qp_solver('osqp')
     assert bc.qp_solver() == 'testbed'
+
+
+# ---------------------------------------------------------------------- the exact solver's warm starts
+
+
+def cold_answer(certificate: bc.Certificate, u_hat: np.ndarray, x: np.ndarray) -> np.ndarray | None:
+    a, b = bc.barrier_rows(x, certificate.spec)
+    u = bc.least_distance(u_hat.reshape(-1, order='F'), a, b)
+    return None if u is None else u.reshape(2, -1, order='F')
+
+
+@pytest.mark.usefixtures('exact_qp')
+def test_warm_started_certificate_equals_the_cold_solve_along_trajectories_and_jumps() -> None:
+    """Along trajectories (the active set kept or changed by a few rows), and after jumps to unrelated states
+    (a stale seed), the certificate answers what DAQP from scratch answers; the seeded paths are taken."""
+    rng = np.random.default_rng(7)
+    taken = {'seeded': 0}
+    warm_least_distance = bc.warm_least_distance
+
+    def counting(
+        u_hat: np.ndarray, a: np.ndarray, b: np.ndarray, seed: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        taken['seeded'] += seed.size > 0
+        return warm_least_distance(u_hat, a, b, seed)
+
+    bc.warm_least_distance = counting
+    try:
+        worst = 0.0
+        for n in (4, 9, 16):
+            certificate = bc.create_si_barrier_certificate_with_boundary()
+            x, _ = tight_configuration(rng, n)
+            for step in range(60):
+                if step % 20 == 19:  # a jump: the last active rows belong to another state
+                    x, _ = tight_configuration(rng, n)
+                u_hat = 0.15 * (-x - 0.3 * x.mean(axis=1, keepdims=True)) / 0.5 + 0.01 * rng.standard_normal((2, n))
+                safe = certificate(u_hat, x)
+                expected = cold_answer(certificate, u_hat, x)
+                assert expected is not None
+                worst = max(worst, float(np.abs(safe - expected).max()))
+                x = x + 0.033 * safe
+            assert certificate.stats.failures == 0
+    finally:
+        bc.warm_least_distance = warm_least_distance
+    assert worst <= 1e-9
+    assert taken['seeded'] > 60
+
+
+def test_warm_least_distance_from_right_wrong_and_no_seeds() -> None:
+    """The exact answer and its active rows, whatever the seed: the true active rows, others, none."""
+    rng = np.random.default_rng(3)
+    spec = bc.create_si_barrier_certificate_with_boundary().spec
+    checked = 0
+    for _ in range(40):
+        x, u_hat = tight_configuration(rng, int(rng.integers(3, 13)))
+        a, b = bc.barrier_rows(x, spec)
+        flat = u_hat.reshape(-1, order='F')
+        expected = bc.least_distance(flat, a, b)
+        if expected is None:
+            continue
+        _, active = bc.warm_least_distance(flat, a, b, np.zeros(0, dtype=np.intp)) or (None, None)
+        assert active is not None
+        assert np.all(np.abs(a[active] @ expected - b[active]) <= 1e-9 * np.linalg.norm(a[active], axis=1))
+        for seed in (active, active[: active.size // 2], np.sort(rng.choice(b.size, 5, replace=False))):
+            solved = bc.warm_least_distance(flat, a, b, seed)
+            assert solved is not None
+            np.testing.assert_allclose(solved[0], expected, atol=1e-9)
+            np.testing.assert_array_equal(solved[1], active)
+        checked += 1
+    assert checked >= 30
+
+
+def test_warm_least_distance_trivial_closed_form_and_infeasible() -> None:
+    a = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
+    b = np.array([1.0, 1.0, 1.5])
+    none = np.zeros(0, dtype=np.intp)
+    u, active = bc.warm_least_distance(np.array([0.5, 0.5]), a, b, none) or (None, None)
+    np.testing.assert_array_equal(u, [0.5, 0.5])  # feasible: unchanged, nothing active
+    assert active is not None and active.size == 0
+    u, active = bc.warm_least_distance(np.array([2.0, 0.0]), a, b, none) or (None, None)
+    np.testing.assert_allclose(u, [1.0, 0.0], atol=1e-15)  # one row violated: the projection onto it
+    np.testing.assert_array_equal(active, [0])
+    u, active = bc.warm_least_distance(np.array([2.0, 2.0]), a, b, none) or (None, None)
+    np.testing.assert_allclose(u, [0.75, 0.75], atol=1e-15)  # three violated; only the diagonal binds
+    np.testing.assert_array_equal(active, [2])
+    u, active = bc.warm_least_distance(np.array([2.0, 0.9]), a, b, none) or (None, None)
+    np.testing.assert_allclose(u, [1.0, 0.5], atol=1e-15)  # two violated, both bind: the corner
+    np.testing.assert_array_equal(active, [0, 2])
+    opposite = np.array([[1.0, 0.0], [-1.0, 0.0]])
+    assert bc.warm_least_distance(np.zeros(2), opposite, np.array([-1.0, -1.0]), np.array([0, 1])) is None
+
+
+def test_kkt_point_refuses_negative_multipliers_violated_rows_and_slack_active_rows() -> None:
+    a = np.array([[1.0, 0.0], [0.0, 1.0]])
+    b = np.array([1.0, 1.0])
+    u_hat, norms = np.array([2.0, 0.5]), np.ones(2)
+    np.testing.assert_allclose(bc.kkt_point(u_hat, a, b, norms, np.array([0]), np.array([1.0])), [1.0, 0.5])
+    assert bc.kkt_point(u_hat, a, b, norms, np.array([0, 1]), np.array([1.0, -0.5])) is None  # lam < 0
+    assert bc.kkt_point(u_hat, a, b, norms, np.array([1]), np.array([0.0])) is None  # row 0 violated
+    assert bc.kkt_point(u_hat, a, b, norms, np.array([0]), np.array([1.5])) is None  # row 0 active but slack
+
+
+def test_row_keys_name_the_same_constraint_pruned_or_not() -> None:
+    rng = np.random.default_rng(2)
+    spec = bc.create_si_barrier_certificate_with_boundary().spec
+    for _ in range(10):
+        x, _ = tight_configuration(rng, 12)
+        x[0, 0] = 1.5  # near a wall: its row is kept
+        a, b, keys = bc.keyed_barrier_rows(x, spec)
+        a_all, b_all = bc.barrier_rows(x, spec, prune=False)
+        assert keys.size < b_all.size and np.all(np.diff(keys) > 0)
+        np.testing.assert_array_equal(a, a_all[keys])
+        np.testing.assert_array_equal(b, b_all[keys])

@@ -104,44 +104,47 @@ def warm_least_distance(
 
     In order: u_hat if it is feasible; the point on the seed's rows (without a seed, on the rows u_hat violates if
     they are one or two), u = u_hat - A_seed^T lam with A_seed u = b_seed; DAQP warm started from the seed. Each is
-    returned only if it passes :func:`kkt_point`; else DAQP from scratch answers, as :func:`least_distance`.
+    returned only if it meets the KKT conditions (:func:`kkt_point`); else DAQP from scratch answers, as
+    :func:`least_distance`. A seed whose rows u_hat mostly does not violate (the active rows of unrelated states,
+    not of the last step of a trajectory) is dropped: DAQP takes more iterations from it than from scratch.
     """
     slack = b - a @ u_hat
     if a.shape[0] == 0 or slack.min() >= 0.0:
         return u_hat.copy(), np.zeros(0, dtype=np.intp)
     norms = _row_norms(a)
+    if 4 * np.count_nonzero(slack[seed] >= 0.0) > seed.size:
+        seed = seed[:0]
     if seed.size == 0:
         violated = np.flatnonzero(slack < 0.0)
         seed = violated if violated.size <= 2 else seed
     if seed.size > 0:
         lam = _multipliers_on(u_hat, a[seed], b[seed])
-        found = None if lam is None else kkt_point(u_hat, a, b, norms, seed, lam)
-        if found is not None:
-            return found
+        u = None if lam is None else kkt_point(u_hat, a, b, norms, seed, lam)
+        if u is not None and lam is not None:
+            return u, seed[lam > 0.0]
         warm = _daqp(u_hat, a, b, norms, seed)
-        found = None if warm is None else kkt_point(u_hat, a, b, norms, warm[1], warm[2])
-        if found is not None:
-            return found
+        u = None if warm is None else kkt_point(u_hat, a, b, norms, warm[1], warm[2])
+        if u is not None and warm is not None:
+            return u, warm[1]
     cold = _daqp(u_hat, a, b, norms, np.zeros(0, dtype=np.intp))
     return None if cold is None else cold[:2]
 
 
 def kkt_point(
     u_hat: FloatArray, a: FloatArray, b: FloatArray, norms: FloatArray, active: NDArray[np.intp], lam: FloatArray
-) -> tuple[FloatArray, NDArray[np.intp]] | None:
-    """u = u_hat - a[active]^T lam and the rows with lam > 0, if u solves min ||u - u_hat||^2 subject to a u <= b;
-    else None.
+) -> FloatArray | None:
+    """u = u_hat - a[active]^T lam if it solves min ||u - u_hat||^2 subject to a u <= b, else None.
 
-    u is stationary by construction; it is the optimum if the multipliers are non-negative, every row holds and
-    the active rows hold with equality (the KKT conditions, to :data:`KKT_TOL` times the row's norm).
+    u is stationary by construction; it is the optimum if it meets the other KKT conditions: the multipliers are
+    non-negative, every row holds and the active rows hold with equality (to :data:`KKT_TOL` times the row's norm).
     """
     if np.any(lam < 0.0):
         return None
     u = u_hat - a[active].T @ lam
     residual = (a @ u - b) / norms
-    if residual.max() > KKT_TOL or np.abs(residual[active]).max(initial=0.0) > KKT_TOL:
+    if residual.max() > KKT_TOL or residual[active].min(initial=0.0) < -KKT_TOL:
         return None
-    return u, active[lam > 0.0]
+    return u
 
 
 def _multipliers_on(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
