@@ -11,7 +11,9 @@ Two ways to solve it (:func:`use_qp_solver`):
   the testbed's solver a script (and the initializer) runs as on the official simulators, step for step.
 - ``'exact'``: DAQP, a dual active-set solver, on the rows that can bind (with the speed polygon, a pair row cannot
   be active once gamma h^3 >= 4 d u_max / cos(pi/8), ``docs/ecosystem.md`` §2): the exact optimum, about ten times
-  faster, and infeasibility reported instead of an approximate point.
+  faster, and infeasibility reported instead of an approximate point. A certificate starts each solve from the rows
+  active at its last answer (:func:`warm_least_distance`): an answer so found is kept only if it meets the KKT
+  conditions, else DAQP solves from scratch.
 
 An infeasible or failed solve does what ``rps`` does (zero velocities, a warning) but is never silent: every
 certificate counts its solves and failures in ``certificate.stats``.
