@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -52,66 +53,111 @@ class BarrierSpec:
     full_first_side: bool = True
 
 
-def barrier_rows(x: FloatArray, spec: BarrierSpec, *, prune: bool = True) -> tuple[FloatArray, FloatArray]:
-    """Constraint rows A u <= b (u stacked robot by robot: [u_0x, u_0y, u_1x, ...]) for positions x (2, N).
-
-    ``prune``: with the speed polygon, leave out the rows too far from binding (exact for an exact solver; an
-    inexact one, like the testbed's, answers differently without them).
+def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArray]:
+    """Every constraint row A u <= b (u stacked robot by robot: [u_0x, u_0y, u_1x, ...]) for positions x (2, N), in
+    V2's order: the pairs i < j, then the four walls (+y, -y, +x, -x) and the polygon's sides, each robot by robot.
     """
-    a, b, _ = keyed_barrier_rows(x, spec, prune=prune)
-    return a, b
-
-
-def keyed_barrier_rows(
-    x: FloatArray, spec: BarrierSpec, *, prune: bool = True
-) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:
-    """:func:`barrier_rows` and each row's key: its place in the unpruned layout (the pairs i < j in order, then
-    the four walls and the polygon's sides, each robot by robot), which names the same constraint from call to call.
-    """
-    n = x.shape[1]
-    i, j, wall_rows, polygon_rows, polygon_bounds = _row_layout(n, spec)
-    diff = x[:, i] - x[:, j]
-    dist2 = np.einsum('ij,ij->j', diff, diff)
-    b_pair = spec.barrier_gain * (dist2 - spec.safety_radius**2) ** 3
-    keys = [np.arange(i.size)]
-    polygon = prune and spec.speed_polygon
-    if polygon:
-        # exact pruning: |2 e.(u_i - u_j)| <= 2 d 2 u_max / cos(pi/8) < gamma h^3 never binds
-        reach = 4.0 * np.sqrt(dist2) * spec.magnitude_limit / math.cos(math.pi / POLYGON_SIDES)
-        keys[0] = np.flatnonzero(b_pair < reach)
-        i, j, diff, b_pair = i[keys[0]], j[keys[0]], diff[:, keys[0]], b_pair[keys[0]]
-    pairs = np.zeros((i.size, n, 2))
-    pairs[np.arange(i.size), i] = -2 * diff.T
-    pairs[np.arange(i.size), j] = 2 * diff.T
-    blocks, bounds, offset = [pairs.reshape(i.size, 2 * n)], [b_pair], n * (n - 1) // 2
+    layout = _row_layout(x.shape[1], spec)
+    diff, _, b_pair = _pair_terms(x, spec, layout)
+    blocks, bounds = [_pair_rows(diff, layout.pairs)], [b_pair]
     if spec.boundary is not None:
         xmin, xmax, ymin, ymax = spec.boundary
         half, gain = spec.safety_radius / 2, 0.4 * spec.barrier_gain
         room = np.concatenate([ymax - half - x[1], -ymin - half + x[1], xmax - half - x[0], -xmin - half + x[0]])
-        b_wall = gain * room**3
-        # exact pruning: every side of the polygon is at most u_max out, so no component of u exceeds it
-        walls = np.flatnonzero(b_wall < spec.magnitude_limit) if polygon else np.arange(4 * n)
-        blocks.append(wall_rows[walls])
-        bounds.append(b_wall[walls])
-        keys.append(offset + walls)
-        offset += 4 * n
+        blocks.append(layout.wall_rows)
+        bounds.append(gain * room**3)
     if spec.speed_polygon:
-        blocks.append(polygon_rows)
-        bounds.append(polygon_bounds)
-        keys.append(offset + np.arange(POLYGON_SIDES * n))
-    return np.concatenate(blocks), np.concatenate(bounds), np.concatenate(keys)
+        blocks.append(layout.polygon_rows)
+        bounds.append(layout.polygon_bounds.ravel())
+    return np.concatenate(blocks), np.concatenate(bounds)
+
+
+class BoundedRows(NamedTuple):
+    """The same constraints as two-sided rows ``lower <= C u <= upper``, ``C = [I; a]``: the first 2N rows bound u's
+    own components (DAQP's simple bounds), the rows of ``a`` follow; ``keys`` name each row's constraint from call to
+    call (ascending: the 2N components, then the polygon's diagonal sides, then the pairs i < j by their place).
+    """
+
+    a: FloatArray
+    lower: FloatArray
+    upper: FloatArray
+    keys: NDArray[np.intp]
+
+
+def bounded_barrier_rows(x: FloatArray, spec: BarrierSpec) -> BoundedRows:
+    """:func:`barrier_rows` folded and pruned, the same feasible set: the walls and the polygon's sides along the
+    axes bound u's components, each two opposite diagonal sides make one two-sided row, and (with the polygon) the
+    pairs too far apart to bind are left out: ``|-2 e.(u_i - u_j)| <= 2 d 2 u_max / cos(pi/8) < gamma h^3``.
+    """
+    layout = _row_layout(x.shape[1], spec)
+    diff, dist2, b_pair = _pair_terms(x, spec, layout)
+    if spec.speed_polygon:
+        reach = 4.0 * spec.magnitude_limit / math.cos(math.pi / POLYGON_SIDES)
+        kept = np.flatnonzero(b_pair < reach * np.sqrt(dist2))
+        diff, b_pair = diff[:, kept], b_pair[kept]
+    else:
+        kept = np.arange(b_pair.size)
+    fixed = layout.fixed_keys.size
+    a = np.empty((fixed - x.size + kept.size, x.size))
+    a[: layout.diagonal_rows.shape[0]] = layout.diagonal_rows
+    _pair_rows(diff, layout.pairs[kept], out=a[layout.diagonal_rows.shape[0] :])
+    bounds = np.empty((2, fixed + kept.size))  # -lower, upper
+    bounds[:, :fixed] = layout.fixed_bounds
+    bounds[0, fixed:], bounds[1, fixed:] = np.inf, b_pair
+    if spec.boundary is not None:
+        # the walls: u's components within 0.4 gamma (distance to the wall - R/2)^3, on each side
+        room = layout.wall_offsets + layout.wall_signs * x.ravel(order='F')
+        np.minimum(bounds[:, : x.size], 0.4 * spec.barrier_gain * room**3, out=bounds[:, : x.size])
+    return BoundedRows(a, -bounds[0], bounds[1], np.concatenate([layout.fixed_keys, fixed + kept]))
+
+
+def _pair_terms(x: FloatArray, spec: BarrierSpec, layout: _Layout) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """x_i - x_j (2, pairs), its squared norm and the pair rows' right sides gamma h^3, h = ||x_i - x_j||^2 - R^2."""
+    diff = x @ layout.pairs.T
+    dist2 = diff[0] * diff[0] + diff[1] * diff[1]
+    h = dist2 - spec.safety_radius**2
+    return diff, dist2, spec.barrier_gain * h * h * h
+
+
+def _pair_rows(diff: FloatArray, pairs: FloatArray, out: FloatArray | None = None) -> FloatArray:
+    """The rows -2 (x_i - x_j)^T (u_i - u_j) of the pairs (rows of ``pairs``: +1 at i, -1 at j) with differences
+    diff (2, pairs), in ``out`` if given."""
+    p, n = pairs.shape
+    target = np.empty((p, 2 * n)) if out is None else out
+    np.multiply(pairs[:, :, None], -2.0 * diff.T[:, None, :], out=target.reshape(p, n, 2))
+    return target
+
+
+class _Layout(NamedTuple):
+    """What the rows of N robots share from call to call (:func:`_row_layout`)."""
+
+    pairs: FloatArray
+    """(N (N - 1) / 2, N): +1 at i and -1 at j for each pair i < j."""
+    wall_rows: FloatArray
+    polygon_rows: FloatArray
+    polygon_bounds: FloatArray
+    """(sides, N): side k's bound for each robot."""
+    diagonal_rows: FloatArray
+    fixed_bounds: FloatArray
+    """(2, 2N + diagonal rows): -lower and upper of the components (the polygon's sides along the axes, inf
+    without) and of the diagonal rows."""
+    fixed_keys: NDArray[np.intp]
+    """The keys of the components' bounds and the diagonal rows."""
+    wall_offsets: FloatArray
+    wall_signs: FloatArray
+    """The walls as bounds on u's components: ``offset + sign x`` (2, 2N) is the room to the low and the high wall
+    (R/2 in): x - low, high - x."""
 
 
 @lru_cache(maxsize=32)
-def _row_layout(
-    n: int, spec: BarrierSpec
-) -> tuple[NDArray[np.intp], NDArray[np.intp], FloatArray, FloatArray, FloatArray]:
-    """What the rows of N robots share from call to call: the pairs, the walls' rows, the polygon's rows and sides.
-
-    Walls +y, -y, +x, -x and the polygon's sides (V2: at limit cos(pi/8), the first one at the limit if
-    ``full_first_side``), each robot by robot.
+def _row_layout(n: int, spec: BarrierSpec) -> _Layout:
+    """The pairs, the walls' rows (+y, -y, +x, -x), the polygon's sides (V2: at limit cos(pi/8), the first one at the
+    limit if ``full_first_side``), each robot by robot, and the same sides as :class:`BoundedRows` has them: sides
+    0 and 4 (+x, -x) and 2 and 6 (+y, -y) bound the components, sides 1 and 5, 3 and 7 make two-sided rows.
     """
     i, j = np.triu_indices(n, k=1)
+    pairs = np.zeros((i.size, n))
+    pairs[np.arange(i.size), i], pairs[np.arange(i.size), j] = 1.0, -1.0
     robots = np.arange(n)
     walls = np.zeros((4, n, 2 * n))
     for block, (axis, sign) in enumerate(((1, 1.0), (1, -1.0), (0, 1.0), (0, -1.0))):
@@ -124,7 +170,27 @@ def _row_layout(
         sides[side, robots, 2 * robots + 1] = math.sin(angle)
         full = side == 0 and spec.full_first_side
         bounds[side] = spec.magnitude_limit * (1.0 if full else math.cos(math.pi / POLYGON_SIDES))
-    layout = i, j, walls.reshape(4 * n, 2 * n), sides.reshape(-1, 2 * n), bounds.ravel()
+    if spec.speed_polygon:
+        diagonal_rows = sides[[1, 3]].reshape(2 * n, 2 * n)
+        fixed_bounds = np.hstack(
+            [np.stack([bounds[[4, 6]].T.ravel(), bounds[[0, 2]].T.ravel()]), bounds[[5, 7, 1, 3]].reshape(2, 2 * n)]
+        )
+    else:
+        diagonal_rows, fixed_bounds = np.zeros((0, 2 * n)), np.full((2, 2 * n), np.inf)
+    xmin, xmax, ymin, ymax = spec.boundary or (-np.inf, np.inf, -np.inf, np.inf)
+    half = spec.safety_radius / 2
+    edges = np.tile([[xmin + half, ymin + half], [xmax - half, ymax - half]], n)
+    layout = _Layout(
+        pairs,
+        walls.reshape(4 * n, 2 * n),
+        sides.reshape(-1, 2 * n),
+        bounds,
+        diagonal_rows,
+        fixed_bounds,
+        np.arange(fixed_bounds.shape[1]),
+        edges * [[-1.0], [1.0]],
+        np.array([[1.0], [-1.0]]),
+    )
     for array in layout:
         array.flags.writeable = False  # shared by every call
     return layout

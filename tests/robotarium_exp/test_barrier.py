@@ -73,8 +73,8 @@ def test_feasible_commands_pass_unchanged_and_far_pairs_are_pruned() -> None:
     u = np.array([[0.05, -0.05, 0.0], [0.0, 0.02, 0.1]])
     certificate = bc.create_si_barrier_certificate()
     np.testing.assert_array_equal(certificate(u, x), u)
-    a, _ = bc.barrier_rows(x, certificate.spec)
-    assert a.shape[0] == 8 * 3  # no pair row: all farther than the distance at which a row can bind
+    rows = bc.bounded_barrier_rows(x, certificate.spec)
+    assert rows.a.shape[0] == 2 * 3  # the diagonal sides; no pair row: all farther than a row can bind from
 
 
 @pytest.mark.usefixtures('exact_qp')
@@ -217,7 +217,7 @@ def test_testbed_answers_are_strictly_feasible_and_near_the_optimum() -> None:
             exact = certificate(u_hat, x)
         finally:
             bc.use_qp_solver(previous)
-        a, b = bc.barrier_rows(x, certificate.spec, prune=False)
+        a, b = bc.barrier_rows(x, certificate.spec)
         worst_violation = max(worst_violation, float((a @ testbed.reshape(-1, order='F') - b).max()))
         worst_gap = max(worst_gap, float(np.abs(testbed - exact).max()))
     assert certificate.stats.failures == 0
@@ -249,10 +249,10 @@ def test_warm_started_certificate_equals_the_cold_solve_along_trajectories_and_j
     warm_least_distance = bc.warm_least_distance
 
     def counting(
-        u_hat: np.ndarray, a: np.ndarray, b: np.ndarray, seed: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray] | None:
+        u_hat: np.ndarray, rows: bc.BoundedRows, seed: np.ndarray, sides: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         taken['seeded'] += seed.size > 0
-        return warm_least_distance(u_hat, a, b, seed)
+        return warm_least_distance(u_hat, rows, seed, sides)
 
     bc.warm_least_distance = counting
     try:
@@ -276,68 +276,105 @@ def test_warm_started_certificate_equals_the_cold_solve_along_trajectories_and_j
     assert taken['seeded'] > 60
 
 
+def constraint_values(rows: bc.BoundedRows, u: np.ndarray) -> np.ndarray:
+    """C u of the bounded rows: u's components, then the general rows."""
+    return np.concatenate([u[: rows.lower.size - rows.a.shape[0]], rows.a @ u])
+
+
 def test_warm_least_distance_from_right_wrong_and_no_seeds() -> None:
-    """The exact answer and its active rows, whatever the seed: the true active rows, others, none."""
+    """The exact answer (that of DAQP on every row, unfolded) and its active rows at their sides, whatever the
+    seed: the true active rows, half of them, others at random sides, none."""
     rng = np.random.default_rng(3)
     spec = bc.create_si_barrier_certificate_with_boundary().spec
+    none = np.zeros(0, dtype=np.intp)
     checked = 0
     for _ in range(40):
         x, u_hat = tight_configuration(rng, int(rng.integers(3, 13)))
-        a, b = bc.barrier_rows(x, spec)
+        x[0, 0] = 1.45  # near the +x wall
         flat = u_hat.reshape(-1, order='F')
-        expected = bc.least_distance(flat, a, b)
+        expected = bc.least_distance(flat, *bc.barrier_rows(x, spec))
         if expected is None:
             continue
-        _, active = bc.warm_least_distance(flat, a, b, np.zeros(0, dtype=np.intp)) or (None, None)
-        assert active is not None
-        assert np.all(np.abs(a[active] @ expected - b[active]) <= 1e-9 * np.linalg.norm(a[active], axis=1))
-        for seed in (active, active[: active.size // 2], np.sort(rng.choice(b.size, 5, replace=False))):
-            solved = bc.warm_least_distance(flat, a, b, seed)
+        rows = bc.bounded_barrier_rows(x, spec)
+        _, active, lam = bc.warm_least_distance(flat, rows, none, none) or (None, None, None)
+        assert active is not None and lam is not None
+        at = np.where(lam > 0, rows.upper[active], rows.lower[active])
+        assert np.all(np.abs(constraint_values(rows, expected)[active] - at) <= 1e-9)
+        sides = np.where(lam > 0, 1, -1)
+        others = np.sort(rng.choice(rows.keys.size, 5, replace=False))
+        seeds = ((active, sides), (active[::2], sides[::2]), (others, rng.choice([-1, 1], 5)))
+        for seed, seed_sides in seeds:
+            solved = bc.warm_least_distance(flat, rows, seed, seed_sides)
             assert solved is not None
             np.testing.assert_allclose(solved[0], expected, atol=1e-9)
             np.testing.assert_array_equal(solved[1], active)
+            np.testing.assert_array_equal(np.sign(solved[2]), np.sign(lam))
         checked += 1
     assert checked >= 30
 
 
+def one_sided(a: np.ndarray, b: np.ndarray) -> bc.BoundedRows:
+    return bc.BoundedRows(a, np.full(b.size, -np.inf), b, np.arange(b.size))
+
+
 def test_warm_least_distance_trivial_closed_form_and_infeasible() -> None:
-    a = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
-    b = np.array([1.0, 1.0, 1.5])
+    rows = one_sided(np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]), np.array([1.0, 1.0, 1.5]))
     none = np.zeros(0, dtype=np.intp)
-    u, active = bc.warm_least_distance(np.array([0.5, 0.5]), a, b, none) or (None, None)
+    u, active, _ = bc.warm_least_distance(np.array([0.5, 0.5]), rows, none, none) or (None, None, None)
     np.testing.assert_array_equal(u, [0.5, 0.5])  # feasible: unchanged, nothing active
     assert active is not None and active.size == 0
-    u, active = bc.warm_least_distance(np.array([2.0, 0.0]), a, b, none) or (None, None)
+    u, active, _ = bc.warm_least_distance(np.array([2.0, 0.0]), rows, none, none) or (None, None, None)
     np.testing.assert_allclose(u, [1.0, 0.0], atol=1e-15)  # one row violated: the projection onto it
     np.testing.assert_array_equal(active, [0])
-    u, active = bc.warm_least_distance(np.array([2.0, 2.0]), a, b, none) or (None, None)
+    u, active, _ = bc.warm_least_distance(np.array([2.0, 2.0]), rows, none, none) or (None, None, None)
     np.testing.assert_allclose(u, [0.75, 0.75], atol=1e-15)  # three violated; only the diagonal binds
     np.testing.assert_array_equal(active, [2])
-    u, active = bc.warm_least_distance(np.array([2.0, 0.9]), a, b, none) or (None, None)
+    u, active, _ = bc.warm_least_distance(np.array([2.0, 0.9]), rows, none, none) or (None, None, None)
     np.testing.assert_allclose(u, [1.0, 0.5], atol=1e-15)  # two violated, both bind: the corner
     np.testing.assert_array_equal(active, [0, 2])
-    opposite = np.array([[1.0, 0.0], [-1.0, 0.0]])
-    assert bc.warm_least_distance(np.zeros(2), opposite, np.array([-1.0, -1.0]), np.array([0, 1])) is None
+    # two-sided: the component bounds -1 <= u_x <= 1, 0 <= u_y <= 2 and -1 <= u_x - u_y <= 1
+    box = bc.BoundedRows(np.array([[1.0, -1.0]]), np.array([-1.0, 0.0, -1.0]), np.array([1.0, 2.0, 1.0]), none)
+    u, active, lam = bc.warm_least_distance(np.array([-3.0, 0.5]), box, none, none) or (None, None, None)
+    np.testing.assert_allclose(u, [-1.0, 0.0], atol=1e-15)  # u_x and u_x - u_y at their lower bounds
+    np.testing.assert_array_equal(active, [0, 2])
+    assert lam is not None and np.all(lam < 0.0)
+    opposite = one_sided(np.array([[1.0, 0.0], [-1.0, 0.0]]), np.array([-1.0, -1.0]))
+    assert bc.warm_least_distance(np.zeros(2), opposite, np.array([0, 1]), np.array([1, 1])) is None
 
 
-def test_kkt_point_refuses_negative_multipliers_violated_rows_and_slack_active_rows() -> None:
-    a = np.array([[1.0, 0.0], [0.0, 1.0]])
-    b = np.array([1.0, 1.0])
-    u_hat, norms = np.array([2.0, 0.5]), np.ones(2)
-    np.testing.assert_allclose(bc.kkt_point(u_hat, a, b, norms, np.array([0]), np.array([1.0])), [1.0, 0.5])
-    assert bc.kkt_point(u_hat, a, b, norms, np.array([0, 1]), np.array([1.0, -0.5])) is None  # lam < 0
-    assert bc.kkt_point(u_hat, a, b, norms, np.array([1]), np.array([0.0])) is None  # row 0 violated
-    assert bc.kkt_point(u_hat, a, b, norms, np.array([0]), np.array([1.5])) is None  # row 0 active but slack
+def test_kkt_point_refuses_wrong_signs_violated_rows_and_slack_active_rows() -> None:
+    rows = one_sided(np.array([[1.0, 0.0], [0.0, 1.0]]), np.array([1.0, 1.0]))
+    u_hat = np.array([2.0, 0.5])
+    np.testing.assert_allclose(bc.kkt_point(u_hat, rows, np.array([0]), np.array([1.0])), [1.0, 0.5])
+    assert bc.kkt_point(u_hat, rows, np.array([0, 1]), np.array([1.0, -0.5])) is None  # lam < 0, no lower bound
+    assert bc.kkt_point(u_hat, rows, np.array([1]), np.array([0.0])) is None  # row 0 violated
+    assert bc.kkt_point(u_hat, rows, np.array([0]), np.array([1.5])) is None  # row 0 active but slack
+    box = bc.BoundedRows(np.zeros((0, 2)), np.array([-1.0, -1.0]), np.array([1.0, 1.0]), np.arange(2))
+    np.testing.assert_allclose(bc.kkt_point(np.array([-3.0, 0.0]), box, np.array([0]), np.array([-2.0])), [-1.0, 0.0])
+    assert bc.kkt_point(np.array([-3.0, 0.0]), box, np.array([0]), np.array([-4.0])) is None  # past the upper one
 
 
-def test_row_keys_name_the_same_constraint_pruned_or_not() -> None:
+def test_bounded_rows_hold_exactly_where_every_row_holds() -> None:
+    """The folded and pruned rows and V2's rows, every one, admit the same commands; a pair row's key names it."""
     rng = np.random.default_rng(2)
-    spec = bc.create_si_barrier_certificate_with_boundary().spec
-    for _ in range(10):
-        x, _ = tight_configuration(rng, 12)
-        x[0, 0] = 1.5  # near a wall: its row is kept
-        a, b, keys = bc.keyed_barrier_rows(x, spec)
-        a_all, b_all = bc.barrier_rows(x, spec, prune=False)
-        assert keys.size < b_all.size and np.all(np.diff(keys) > 0)
-        np.testing.assert_array_equal(a, a_all[keys])
-        np.testing.assert_array_equal(b, b_all[keys])
+    for certificate in (bc.create_si_barrier_certificate_with_boundary(), bc.create_si_barrier_certificate()):
+        for trial in range(20):  # tight states, and spread ones: pairs about as far apart as pruning starts
+            x = tight_configuration(rng, 12)[0] if trial % 2 else rng.uniform([[-1.5], [-0.9]], [[1.5], [0.9]], (2, 12))
+            x[0, 0] = 1.5  # near a wall
+            rows = bc.bounded_barrier_rows(x, certificate.spec)
+            a, b = bc.barrier_rows(x, certificate.spec)
+            assert np.all(np.diff(rows.keys) > 0)
+            pairs = rows.keys >= 4 * 12
+            np.testing.assert_array_equal(rows.a[pairs[24:]], a[rows.keys[pairs] - 4 * 12])
+            u = rng.normal(0.0, 0.15, (2000, 24)) * rng.choice([0.0, 0.001, 0.5, 1.0, 2.0], (2000, 1))
+            # and each pair heading for each other at the polygon's inner radius, the others still
+            i, j = np.triu_indices(12, k=1)
+            heading = (x[:, i] - x[:, j]) / np.hypot(*(x[:, i] - x[:, j])) * 0.2 * np.cos(np.pi / 8)
+            approach = np.zeros((i.size, 12, 2))
+            approach[np.arange(i.size), i], approach[np.arange(i.size), j] = -heading.T, heading.T
+            u = np.vstack([u, approach.reshape(i.size, 24)])
+            full = np.all(u @ a.T <= b, axis=1)
+            values = np.array([constraint_values(rows, command) for command in u])
+            bounded = np.all((values <= rows.upper) & (values >= rows.lower), axis=1)
+            np.testing.assert_array_equal(bounded, full)
+            assert 0 < full.sum() < full.size

@@ -9,11 +9,13 @@ Two ways to solve it (:func:`use_qp_solver`):
   as the testbed's certificates do. Its answers are not the optimum, and the difference matters: with the exact
   optimum the initializer's 90 % duration quantile was 15-25 % lower than V2's (``docs/robotarium.md`` §2.6). With
   the testbed's solver a script (and the initializer) runs as on the official simulators, step for step.
-- ``'exact'``: DAQP, a dual active-set solver, on the rows that can bind (with the speed polygon, a pair row cannot
-  be active once gamma h^3 >= 4 d u_max / cos(pi/8), ``docs/ecosystem.md`` §2): the exact optimum, about ten times
-  faster, and infeasibility reported instead of an approximate point. A certificate starts each solve from the rows
-  active at its last answer (:func:`warm_least_distance`): an answer so found is kept only if it meets the KKT
-  conditions, else DAQP solves from scratch.
+- ``'exact'``: DAQP, a dual active-set solver, on the same constraints folded (:func:`bounded_barrier_rows`: the
+  walls and the polygon's sides along the axes bound u's components, opposite diagonal sides make one two-sided row)
+  and without the pair rows that cannot bind (with the speed polygon, none can once gamma h^3 >= 4 d u_max /
+  cos(pi/8), ``docs/ecosystem.md`` §2): the exact optimum, more than ten times faster, and infeasibility reported
+  instead of an approximate point. A certificate starts each solve from the rows active at its last answer
+  (:func:`warm_least_distance`): an answer so found is kept only if it meets the KKT conditions, else DAQP solves
+  from scratch.
 
 An infeasible or failed solve does what ``rps`` does (zero velocities, a warning) but is never silent: every
 certificate counts its solves and failures in ``certificate.stats``.
@@ -36,7 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.errors import RobotariumError
-from robotarium_exp.safety import BarrierSpec, barrier_rows, keyed_barrier_rows
+from robotarium_exp.safety import BarrierSpec, BoundedRows, barrier_rows, bounded_barrier_rows
 from robotarium_exp.spec import ROBOTARIUM
 from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
 
@@ -59,10 +61,15 @@ DAQP_OPTIMAL = (1, 2)
 """DAQP exit flags of a solution (optimal, soft-optimal); negative flags are infeasible, cycling, limits."""
 
 DAQP_ACTIVE = 1
-"""DAQP's sense of a row in the starting working set."""
+"""DAQP's sense of a row in the starting working set (at its upper bound)."""
+
+DAQP_LOWER = 2
+"""DAQP's sense of a row at its lower bound (with :data:`DAQP_ACTIVE`: in the starting working set there)."""
 
 KKT_TOL = 1e-12
 """Largest violation of a unit row in an exact answer: DAQP's primal tolerance, and that of :func:`kkt_point`."""
+
+DAQP_OPTIONS = {'primal_tol': KKT_TOL}
 
 TESTBED_QP_OPTIONS = {'show_progress': False, 'reltol': 1e-2, 'feastol': 1e-2, 'maxiters': 50}
 """cvxopt's options in the testbed's certificates (V2 and classic alike)."""
@@ -76,7 +83,7 @@ def use_qp_solver(name: str) -> str:
 
     ``'testbed'`` (the default): cvxopt at the testbed's options on every row, as V2 and classic do, so a script's
     certificates answer what the testbed's (and the official simulators') answer, run for run; an answer is within
-    about 1e-2 of the optimum. ``'exact'``: DAQP on the rows that can bind, the exact optimum, about ten times faster.
+    about 1e-2 of the optimum. ``'exact'``: DAQP on the rows that can bind, the exact optimum, more than ten times faster.
     """
     if name not in QP_SOLVERS:
         msg = f'unknown QP solver {name!r}; choose one of {", ".join(QP_SOLVERS)}.'
@@ -94,91 +101,118 @@ def least_distance(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArra
     """argmin ||u - u_hat||^2 subject to a u <= b, exactly; None if the QP is infeasible or the solver fails."""
     if a.shape[0] == 0 or np.all(a @ u_hat <= b):
         return u_hat.copy()
-    solved = _daqp(u_hat, a, b, _row_norms(a), np.zeros(0, dtype=np.intp))
+    rows = BoundedRows(a, np.full(b.size, -np.inf), b, np.arange(b.size))
+    solved = _daqp(u_hat, rows, _NONE, _NONE)
     return None if solved is None else solved[0]
 
 
 def warm_least_distance(
-    u_hat: FloatArray, a: FloatArray, b: FloatArray, seed: NDArray[np.intp]
-) -> tuple[FloatArray, NDArray[np.intp]] | None:
-    """:func:`least_distance` started from a guess of its active rows ``seed`` (indices into a), with the rows
-    active at the answer; None if the QP is infeasible or the solver fails.
+    u_hat: FloatArray, rows: BoundedRows, seed: NDArray[np.intp], sides: NDArray[np.intp]
+) -> tuple[FloatArray, NDArray[np.intp], FloatArray] | None:
+    """argmin ||u - u_hat||^2 subject to ``rows.lower <= C u <= rows.upper`` (:class:`BoundedRows`), started from a
+    guess of its active rows ``seed`` (indices into C) at their ``sides`` (+1 upper, -1 lower): the answer, the
+    rows active at it and their multipliers (positive at the upper bound, negative at the lower); None if the QP is
+    infeasible or the solver fails.
 
     In order: u_hat if it is feasible; the point on the seed's rows (without a seed, on the rows u_hat violates if
-    they are one or two), u = u_hat - A_seed^T lam with A_seed u = b_seed; DAQP warm started from the seed. Each is
-    returned only if it meets the KKT conditions (:func:`kkt_point`); else DAQP from scratch answers, as
-    :func:`least_distance`. A seed whose rows u_hat mostly does not violate (the active rows of unrelated states,
-    not of the last step of a trajectory) is dropped: DAQP takes more iterations from it than from scratch.
+    they are one or two), u = u_hat - C_seed^T lam with C_seed u at the seed's sides; DAQP warm started from the
+    seed. Each is returned only if it meets the KKT conditions (:func:`kkt_point`); else DAQP from scratch answers.
+    A seed whose rows u_hat mostly does not violate (the active rows of unrelated states, not of the last step of a
+    trajectory) is dropped: DAQP takes more iterations from it than from scratch.
     """
-    slack = b - a @ u_hat
-    if a.shape[0] == 0 or slack.min() >= 0.0:
-        return u_hat.copy(), np.zeros(0, dtype=np.intp)
-    norms = _row_norms(a)
-    if 4 * np.count_nonzero(slack[seed] >= 0.0) > seed.size:
-        seed = seed[:0]
-    if seed.size == 0:
-        violated = np.flatnonzero(slack < 0.0)
-        seed = violated if violated.size <= 2 else seed
+    c_hat = _apply(rows, u_hat)
+    over, under = c_hat > rows.upper, c_hat < rows.lower
+    violated = np.flatnonzero(over | under)
+    if violated.size == 0:
+        return u_hat.copy(), _NONE, np.zeros(0)
+    if 4 * np.count_nonzero(~np.where(sides > 0, over[seed], under[seed])) > seed.size:
+        seed, sides = _NONE, _NONE
+    if seed.size == 0 and violated.size <= 2:
+        seed, sides = violated, np.where(over[violated], 1, -1)
     if seed.size > 0:
-        lam = _multipliers_on(u_hat, a[seed], b[seed])
-        u = None if lam is None else kkt_point(u_hat, a, b, norms, seed, lam)
+        lam = _multipliers_on(u_hat, rows, seed, sides)
+        u = None if lam is None else kkt_point(u_hat, rows, seed, lam)
         if u is not None and lam is not None:
-            return u, seed[lam > 0.0]
-        warm = _daqp(u_hat, a, b, norms, seed)
-        u = None if warm is None else kkt_point(u_hat, a, b, norms, warm[1], warm[2])
+            return u, seed[lam != 0.0], lam[lam != 0.0]
+        warm = _daqp(u_hat, rows, seed, sides)
+        u = None if warm is None else kkt_point(u_hat, rows, warm[1], warm[2])
         if u is not None and warm is not None:
-            return u, warm[1]
-    cold = _daqp(u_hat, a, b, norms, np.zeros(0, dtype=np.intp))
-    return None if cold is None else cold[:2]
+            return warm
+    return _daqp(u_hat, rows, _NONE, _NONE)
 
 
-def kkt_point(
-    u_hat: FloatArray, a: FloatArray, b: FloatArray, norms: FloatArray, active: NDArray[np.intp], lam: FloatArray
-) -> FloatArray | None:
-    """u = u_hat - a[active]^T lam if it solves min ||u - u_hat||^2 subject to a u <= b, else None.
+def kkt_point(u_hat: FloatArray, rows: BoundedRows, active: NDArray[np.intp], lam: FloatArray) -> FloatArray | None:
+    """u = u_hat - C[active]^T lam if it solves min ||u - u_hat||^2 subject to rows.lower <= C u <= rows.upper,
+    else None.
 
-    u is stationary by construction; it is the optimum if it meets the other KKT conditions: the multipliers are
-    non-negative, every row holds and the active rows hold with equality (to :data:`KKT_TOL` times the row's norm).
+    u is stationary by construction; it is the optimum if it meets the other KKT conditions: every row holds, and
+    each active row sits at the bound its multiplier's sign names (upper if positive, lower if negative), to
+    :data:`KKT_TOL` times the row's norm; a negative multiplier on a row without lower bound never does.
     """
-    if np.any(lam < 0.0):
+    u = u_hat - _dense(rows, active).T @ lam
+    value = _apply(rows, u)
+    norms = np.concatenate([np.ones(_bounded(rows)), np.sqrt(np.einsum('ij,ij->i', rows.a, rows.a))])
+    if np.max(np.maximum(value - rows.upper, rows.lower - value) / norms) > KKT_TOL:
         return None
-    u = u_hat - a[active].T @ lam
-    residual = (a @ u - b) / norms
-    if residual.max() > KKT_TOL or residual[active].min(initial=0.0) < -KKT_TOL:
+    at = np.where(lam > 0.0, rows.upper[active] - value[active], value[active] - rows.lower[active])
+    if np.any(at / norms[active] > KKT_TOL):
         return None
     return u
 
 
-def _multipliers_on(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
-    """lam of the nearest point to u_hat on every row (a u = b, u = u_hat - a^T lam); None if the rows are
-    dependent."""
+_NONE = np.zeros(0, dtype=np.intp)
+_NONE.flags.writeable = False
+
+
+def _bounded(rows: BoundedRows) -> int:
+    """How many of the rows bound u's components (the first ones)."""
+    return rows.lower.size - rows.a.shape[0]
+
+
+def _apply(rows: BoundedRows, u: FloatArray) -> FloatArray:
+    """C u."""
+    return np.concatenate([u[: _bounded(rows)], rows.a @ u])
+
+
+def _dense(rows: BoundedRows, which: NDArray[np.intp]) -> FloatArray:
+    """The rows ``which`` of C as a matrix."""
+    bounded = _bounded(rows)
+    general = which >= bounded
+    out = np.zeros((which.size, rows.a.shape[1]))
+    out[np.flatnonzero(~general), which[~general]] = 1.0
+    out[general] = rows.a[which[general] - bounded]
+    return out
+
+
+def _multipliers_on(
+    u_hat: FloatArray, rows: BoundedRows, which: NDArray[np.intp], sides: NDArray[np.intp]
+) -> FloatArray | None:
+    """lam of the nearest point to u_hat on the rows ``which`` at their sides (C_w u = t, u = u_hat - C_w^T lam);
+    None if the rows are dependent."""
+    c = _dense(rows, which)
+    target = np.where(sides > 0, rows.upper[which], rows.lower[which])
     try:
-        return np.linalg.solve(a @ a.T, a @ u_hat - b)
+        return np.linalg.solve(c @ c.T, c @ u_hat - target)
     except np.linalg.LinAlgError:
         return None
 
 
-def _row_norms(a: FloatArray) -> FloatArray:
-    return np.maximum(np.sqrt(np.einsum('ij,ij->i', a, a)), 1e-300)
-
-
 def _daqp(
-    u_hat: FloatArray, a: FloatArray, b: FloatArray, norms: FloatArray, start: NDArray[np.intp]
+    u_hat: FloatArray, rows: BoundedRows, start: NDArray[np.intp], sides: NDArray[np.intp]
 ) -> tuple[FloatArray, NDArray[np.intp], FloatArray] | None:
-    """DAQP on min ||u - u_hat||^2 subject to a u <= b from the working set ``start``: u, the rows with a non-zero
-    multiplier and their multipliers; None unless DAQP reports optimal.
+    """DAQP on min ||u - u_hat||^2 subject to rows.lower <= C u <= rows.upper from the working set ``start`` (at
+    ``sides``): u, the rows with a non-zero multiplier and their multipliers; None unless DAQP reports optimal.
 
-    DAQP sees unit rows: the right sides span many orders of magnitude.
+    DAQP scales the rows to unit norm itself (its primal tolerance is per unit row) and answers the multipliers of
+    the rows as given.
     """
-    sense = np.zeros(b.size, dtype=np.int32)
-    sense[start] = DAQP_ACTIVE
-    lower = np.full(b.shape, -1e30)
-    rows = a / norms[:, None]
-    u, _, flag, info = daqp.solve(np.eye(u_hat.size), -u_hat, rows, b / norms, lower, sense, primal_tol=KKT_TOL)
+    sense = np.zeros(rows.lower.size, dtype=np.int32)
+    sense[start] = np.where(sides > 0, DAQP_ACTIVE, DAQP_ACTIVE | DAQP_LOWER)
+    u, _, flag, info = daqp.solve(np.eye(u_hat.size), -u_hat, rows.a, rows.upper, rows.lower, sense, **DAQP_OPTIONS)
     if flag not in DAQP_OPTIMAL:
         return None
     active = np.flatnonzero(info['lam'])
-    return np.asarray(u, dtype=float), active, info['lam'][active] / norms[active]
+    return np.asarray(u, dtype=float), active, info['lam'][active]
 
 
 def testbed_least_distance(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
@@ -219,18 +253,24 @@ class Certificate:
     def __init__(self, spec: BarrierSpec) -> None:
         self.spec = spec
         self.stats = BarrierStats()
-        self._active_keys = np.zeros(0, dtype=np.intp)
-        """The keys (:func:`keyed_barrier_rows`, ascending) of the rows active at the last exact answer."""
+        self._active_keys = _NONE
+        """The keys (:class:`BoundedRows`, ascending) of the rows active at the last exact answer."""
+        self._active_sides = _NONE
+        """Their sides: +1 at the upper bound, -1 at the lower."""
         self._active_n = 0
 
-    def _warm_solve(self, u_hat: FloatArray, a: FloatArray, b: FloatArray, keys: NDArray[np.intp]) -> FloatArray | None:
+    def _warm_solve(self, u_hat: FloatArray, rows: BoundedRows) -> FloatArray | None:
         """The exact answer (2, N), started from the rows active at the last one; None if infeasible."""
         n, last = u_hat.size // 2, self._active_keys
-        seed = keys[:0]
+        seed, sides = _NONE, _NONE
         if n == self._active_n and last.size > 0:  # keys ascend, so do the last active ones
-            seed = np.flatnonzero(last[np.minimum(np.searchsorted(last, keys), last.size - 1)] == keys)
-        solved = warm_least_distance(u_hat, a, b, seed)
-        self._active_n, self._active_keys = n, keys[:0] if solved is None else keys[solved[1]]
+            place = np.minimum(np.searchsorted(last, rows.keys), last.size - 1)
+            seed = np.flatnonzero(last[place] == rows.keys)
+            sides = self._active_sides[place[seed]]
+        solved = warm_least_distance(u_hat, rows, seed, sides)
+        self._active_n = n
+        self._active_keys = _NONE if solved is None else rows.keys[solved[1]]
+        self._active_sides = _NONE if solved is None else np.where(solved[2] > 0.0, 1, -1)
         return None if solved is None else solved[0].reshape(2, n, order='F')
 
     def __call__(self, dxi: FloatArray, x: FloatArray) -> FloatArray:
@@ -248,12 +288,13 @@ class Certificate:
             dxi[:, over] *= self.spec.magnitude_limit / norms[over]
         self.stats.solves += 1
         if qp_solver() == 'exact':
-            a, b, keys = keyed_barrier_rows(x[:2], self.spec)
-            u = self._warm_solve(dxi.reshape(-1, order='F'), a, b, keys)
+            rows = bounded_barrier_rows(x[:2], self.spec)
+            u = self._warm_solve(dxi.reshape(-1, order='F'), rows)
+            self.stats.rows_last = rows.lower.size
         else:
-            a, b = barrier_rows(x[:2], self.spec, prune=False)
+            a, b = barrier_rows(x[:2], self.spec)
             u = _solve_qp(n, dxi, a, b)
-        self.stats.rows_last = a.shape[0]
+            self.stats.rows_last = a.shape[0]
         if u is None:
             self.stats.failures += 1
             message = f'barrier QP infeasible at solve {self.stats.solves}; commanding zero velocities'
