@@ -74,26 +74,31 @@ def trajectory(n: int, count: int, rng: np.random.Generator) -> list[tuple[np.nd
     return cases
 
 
+BLOCK = 10
+"""States each certificate solves in a row before the next one takes them."""
+
 ROUNDS = {6: 5, 20: 5, 50: 1}
 """Passes through the states per N (each certificate call times one state)."""
 
 
 def interleaved_ms(certificates: dict[str, Callable], cases, rounds: int) -> tuple[dict[str, float], list[np.ndarray]]:
-    """Median ms per call of each certificate, called in turn on each state, ``rounds`` times through the states;
-    and the answers of ``'exact'`` (the last round's: its warm start runs on)."""
+    """Median ms per call of each certificate, the certificates in turn on each :data:`BLOCK` of states, ``rounds``
+    times through the states; and the answers of ``'exact'`` (the last round's: its warm start runs on)."""
     times: dict[str, list[float]] = {name: [] for name in certificates}
     answers: list[np.ndarray] = []
     for _ in range(rounds):
         answers.clear()
-        for x, u in cases:
+        for start in range(0, len(cases), BLOCK):
             for name, certificate in certificates.items():
-                solver, command = use_qp_solver('exact' if name == 'exact' else 'testbed'), u.copy()
-                t0 = time.perf_counter()
-                answer = certificate(command, x)
-                times[name].append(time.perf_counter() - t0)
+                solver = use_qp_solver('exact' if name == 'exact' else 'testbed')
+                for x, u in cases[start : start + BLOCK]:
+                    command = u.copy()
+                    t0 = time.perf_counter()
+                    answer = certificate(command, x)
+                    times[name].append(time.perf_counter() - t0)
+                    if name == 'exact':
+                        answers.append(answer)
                 use_qp_solver(solver)
-                if name == 'exact':
-                    answers.append(answer)
     return {name: 1e3 * float(np.median(spent)) for name, spent in times.items()}, answers
 
 

@@ -73,9 +73,10 @@ def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArr
 
 
 class BoundedRows(NamedTuple):
-    """The same constraints as two-sided rows ``lower <= C u <= upper``, ``C = [I; a]``: the first 2N rows bound u's
-    own components (DAQP's simple bounds), the rows of ``a`` follow; ``keys`` name each row's constraint from call to
-    call (ascending: the 2N components, then the polygon's diagonal sides, then the pairs i < j by their place).
+    """The same constraints as two-sided rows ``lower <= C u <= upper``, ``C = [I; a]``, on u stacked component by
+    component (``[u_0x, ..., u_(N-1)x, u_0y, ...]``, i.e. ``dxi.ravel()``): the first 2N rows bound u's own
+    components (DAQP's simple bounds), the rows of ``a`` follow; ``keys`` name each row's constraint from call to call
+    (ascending: the 2N components, then the polygon's diagonal sides, then the pairs i < j by their place).
     """
 
     a: FloatArray
@@ -89,25 +90,27 @@ def bounded_barrier_rows(x: FloatArray, spec: BarrierSpec) -> BoundedRows:
     axes bound u's components, each two opposite diagonal sides make one two-sided row, and (with the polygon) the
     pairs too far apart to bind are left out: ``|-2 e.(u_i - u_j)| <= 2 d 2 u_max / cos(pi/8) < gamma h^3``.
     """
-    layout = _row_layout(x.shape[1], spec)
+    n = x.shape[1]
+    layout = _row_layout(n, spec)
     diff, dist2, b_pair = _pair_terms(x, spec, layout)
     if spec.speed_polygon:
         reach = 4.0 * spec.magnitude_limit / math.cos(math.pi / POLYGON_SIDES)
         kept = np.flatnonzero(b_pair < reach * np.sqrt(dist2))
-        diff, b_pair = diff[:, kept], b_pair[kept]
+        pairs, diff, b_pair = layout.pairs[kept], diff[:, kept], b_pair[kept]
     else:
-        kept = np.arange(b_pair.size)
-    fixed = layout.fixed_keys.size
-    a = np.empty((fixed - x.size + kept.size, x.size))
-    a[: layout.diagonal_rows.shape[0]] = layout.diagonal_rows
-    _pair_rows(diff, layout.pairs[kept], out=a[layout.diagonal_rows.shape[0] :])
+        kept, pairs = np.arange(b_pair.size), layout.pairs
+    diagonal, fixed = layout.diagonal_rows.shape[0], layout.fixed_keys.size
+    a = np.empty((diagonal + kept.size, 2 * n))
+    a[:diagonal] = layout.diagonal_rows
+    np.multiply(pairs, -2.0 * diff[0, :, None], out=a[diagonal:, :n])
+    np.multiply(pairs, -2.0 * diff[1, :, None], out=a[diagonal:, n:])
     bounds = np.empty((2, fixed + kept.size))  # -lower, upper
     bounds[:, :fixed] = layout.fixed_bounds
     bounds[0, fixed:], bounds[1, fixed:] = np.inf, b_pair
     if spec.boundary is not None:
         # the walls: u's components within 0.4 gamma (distance to the wall - R/2)^3, on each side
-        room = layout.wall_offsets + layout.wall_signs * x.ravel(order='F')
-        np.minimum(bounds[:, : x.size], 0.4 * spec.barrier_gain * room**3, out=bounds[:, : x.size])
+        room = layout.wall_offsets + layout.wall_signs * x.ravel()
+        np.minimum(bounds[:, : 2 * n], 0.4 * spec.barrier_gain * room * room * room, out=bounds[:, : 2 * n])
     return BoundedRows(a, -bounds[0], bounds[1], np.concatenate([layout.fixed_keys, fixed + kept]))
 
 
@@ -119,13 +122,11 @@ def _pair_terms(x: FloatArray, spec: BarrierSpec, layout: _Layout) -> tuple[Floa
     return diff, dist2, spec.barrier_gain * h * h * h
 
 
-def _pair_rows(diff: FloatArray, pairs: FloatArray, out: FloatArray | None = None) -> FloatArray:
-    """The rows -2 (x_i - x_j)^T (u_i - u_j) of the pairs (rows of ``pairs``: +1 at i, -1 at j) with differences
-    diff (2, pairs), in ``out`` if given."""
+def _pair_rows(diff: FloatArray, pairs: FloatArray) -> FloatArray:
+    """The rows -2 (x_i - x_j)^T (u_i - u_j) (u robot by robot) of the pairs (rows of ``pairs``: +1 at i, -1 at j)
+    with differences diff (2, pairs)."""
     p, n = pairs.shape
-    target = np.empty((p, 2 * n)) if out is None else out
-    np.multiply(pairs[:, :, None], -2.0 * diff.T[:, None, :], out=target.reshape(p, n, 2))
-    return target
+    return (pairs[:, :, None] * (-2.0 * diff.T[:, None, :])).reshape(p, 2 * n)
 
 
 class _Layout(NamedTuple):
@@ -145,8 +146,8 @@ class _Layout(NamedTuple):
     """The keys of the components' bounds and the diagonal rows."""
     wall_offsets: FloatArray
     wall_signs: FloatArray
-    """The walls as bounds on u's components: ``offset + sign x`` (2, 2N) is the room to the low and the high wall
-    (R/2 in): x - low, high - x."""
+    """The walls as bounds on u's components: ``offset + sign x.ravel()`` (2, 2N) is the room to the low and the
+    high wall (R/2 in): x - low, high - x."""
 
 
 @lru_cache(maxsize=32)
@@ -170,16 +171,14 @@ def _row_layout(n: int, spec: BarrierSpec) -> _Layout:
         sides[side, robots, 2 * robots + 1] = math.sin(angle)
         full = side == 0 and spec.full_first_side
         bounds[side] = spec.magnitude_limit * (1.0 if full else math.cos(math.pi / POLYGON_SIDES))
-    if spec.speed_polygon:
-        diagonal_rows = sides[[1, 3]].reshape(2 * n, 2 * n)
-        fixed_bounds = np.hstack(
-            [np.stack([bounds[[4, 6]].T.ravel(), bounds[[0, 2]].T.ravel()]), bounds[[5, 7, 1, 3]].reshape(2, 2 * n)]
-        )
+    if spec.speed_polygon:  # component by component: all x, then all y
+        diagonal_rows = sides[[1, 3]][:, :, np.r_[0 : 2 * n : 2, 1 : 2 * n : 2]].reshape(2 * n, 2 * n)
+        fixed_bounds = bounds[[4, 6, 5, 7, 0, 2, 1, 3]].reshape(2, 4 * n)
     else:
         diagonal_rows, fixed_bounds = np.zeros((0, 2 * n)), np.full((2, 2 * n), np.inf)
     xmin, xmax, ymin, ymax = spec.boundary or (-np.inf, np.inf, -np.inf, np.inf)
     half = spec.safety_radius / 2
-    edges = np.tile([[xmin + half, ymin + half], [xmax - half, ymax - half]], n)
+    edges = np.repeat([[xmin + half, ymin + half], [xmax - half, ymax - half]], n, axis=1)
     layout = _Layout(
         pairs,
         walls.reshape(4 * n, 2 * n),

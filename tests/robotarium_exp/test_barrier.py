@@ -291,10 +291,11 @@ def test_warm_least_distance_from_right_wrong_and_no_seeds() -> None:
     for _ in range(40):
         x, u_hat = tight_configuration(rng, int(rng.integers(3, 13)))
         x[0, 0] = 1.45  # near the +x wall
-        flat = u_hat.reshape(-1, order='F')
-        expected = bc.least_distance(flat, *bc.barrier_rows(x, spec))
+        flat = u_hat.ravel()  # the bounded rows' order: component by component
+        expected = bc.least_distance(u_hat.ravel(order='F'), *bc.barrier_rows(x, spec))
         if expected is None:
             continue
+        expected = expected.reshape(-1, 2).T.ravel()
         rows = bc.bounded_barrier_rows(x, spec)
         _, active, lam = bc.warm_least_distance(flat, rows, none, none) or (None, None, None)
         assert active is not None and lam is not None
@@ -365,7 +366,8 @@ def test_bounded_rows_hold_exactly_where_every_row_holds() -> None:
             a, b = bc.barrier_rows(x, certificate.spec)
             assert np.all(np.diff(rows.keys) > 0)
             pairs = rows.keys >= 4 * 12
-            np.testing.assert_array_equal(rows.a[pairs[24:]], a[rows.keys[pairs] - 4 * 12])
+            by_component = np.r_[0:24:2, 1:24:2]  # the bounded rows' u: all x, then all y
+            np.testing.assert_array_equal(rows.a[pairs[24:]], a[rows.keys[pairs] - 4 * 12][:, by_component])
             u = rng.normal(0.0, 0.15, (2000, 24)) * rng.choice([0.0, 0.001, 0.5, 1.0, 2.0], (2000, 1))
             # and each pair heading for each other at the polygon's inner radius, the others still
             i, j = np.triu_indices(12, k=1)
@@ -374,7 +376,7 @@ def test_bounded_rows_hold_exactly_where_every_row_holds() -> None:
             approach[np.arange(i.size), i], approach[np.arange(i.size), j] = -heading.T, heading.T
             u = np.vstack([u, approach.reshape(i.size, 24)])
             full = np.all(u @ a.T <= b, axis=1)
-            values = np.array([constraint_values(rows, command) for command in u])
+            values = np.array([constraint_values(rows, command[by_component]) for command in u])
             bounded = np.all((values <= rows.upper) & (values >= rows.lower), axis=1)
             np.testing.assert_array_equal(bounded, full)
             assert 0 < full.sum() < full.size

@@ -271,7 +271,7 @@ class Certificate:
         self._active_n = n
         self._active_keys = _NONE if solved is None else rows.keys[solved[1]]
         self._active_sides = _NONE if solved is None else np.where(solved[2] > 0.0, 1, -1)
-        return None if solved is None else solved[0].reshape(2, n, order='F')
+        return None if solved is None else solved[0].reshape(2, n)
 
     def __call__(self, dxi: FloatArray, x: FloatArray) -> FloatArray:
         dxi, x = _check_pair(dxi, x, 'dxi', 'x')
@@ -289,7 +289,7 @@ class Certificate:
         self.stats.solves += 1
         if qp_solver() == 'exact':
             rows = bounded_barrier_rows(x[:2], self.spec)
-            u = self._warm_solve(dxi.reshape(-1, order='F'), rows)
+            u = self._warm_solve(dxi.ravel(), rows)
             self.stats.rows_last = rows.lower.size
         else:
             a, b = barrier_rows(x[:2], self.spec)
@@ -342,7 +342,7 @@ def _check_pair(u: object, x: object, u_name: str, x_name: str, state_rows: int 
     if not (np.all(np.isfinite(u)) and np.all(np.isfinite(x))):
         msg = f'{u_name} and {x_name} must be finite.'
         raise RobotariumError(msg)
-    return u.astype(float), x.astype(float)
+    return np.asarray(u, dtype=float), np.asarray(x, dtype=float)
 
 
 def _spec(
