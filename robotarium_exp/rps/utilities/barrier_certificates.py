@@ -121,14 +121,14 @@ def warm_least_distance(
     trajectory) is dropped: DAQP takes more iterations from it than from scratch.
     """
     c_hat = _apply(rows, u_hat)
-    over, under = c_hat > rows.upper, c_hat < rows.lower
-    violated = np.flatnonzero(over | under)
+    side = (c_hat > rows.upper).view(np.int8) - (c_hat < rows.lower).view(np.int8)  # the side u_hat violates
+    violated = np.flatnonzero(side)
     if violated.size == 0:
         return u_hat.copy(), _NONE, np.zeros(0)
-    if 4 * np.count_nonzero(~np.where(sides > 0, over[seed], under[seed])) > seed.size:
+    if seed.size > 0 and 4 * np.count_nonzero(side[seed] != sides) > seed.size:
         seed, sides = _NONE, _NONE
     if seed.size == 0 and violated.size <= 2:
-        seed, sides = violated, np.where(over[violated], 1, -1)
+        seed, sides = violated, side[violated].astype(np.intp)
     if seed.size > 0:
         lam = _multipliers_on(u_hat, rows, seed, sides)
         u = None if lam is None else kkt_point(u_hat, rows, seed, lam)
@@ -207,7 +207,8 @@ def _daqp(
     the rows as given.
     """
     sense = np.zeros(rows.lower.size, dtype=np.int32)
-    sense[start] = np.where(sides > 0, DAQP_ACTIVE, DAQP_ACTIVE | DAQP_LOWER)
+    if start.size > 0:
+        sense[start] = np.where(sides > 0, DAQP_ACTIVE, DAQP_ACTIVE | DAQP_LOWER)
     u, _, flag, info = daqp.solve(np.eye(u_hat.size), -u_hat, rows.a, rows.upper, rows.lower, sense, **DAQP_OPTIONS)
     if flag not in DAQP_OPTIMAL:
         return None
