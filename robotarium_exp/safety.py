@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -72,7 +72,8 @@ def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArr
     return np.concatenate(blocks), np.concatenate(bounds)
 
 
-class BoundedRows(NamedTuple):
+@dataclass(frozen=True, eq=False)
+class BoundedRows:
     """The same constraints as two-sided rows ``lower <= C u <= upper``, ``C = [I; a]``, on u stacked component by
     component (``[u_0x, ..., u_(N-1)x, u_0y, ...]``, i.e. ``dxi.ravel()``): the first 2N rows bound u's own
     components (DAQP's simple bounds), the rows of ``a`` follow; ``keys`` name each row's constraint from call to call
@@ -83,6 +84,20 @@ class BoundedRows(NamedTuple):
     lower: FloatArray
     upper: FloatArray
     keys: NDArray[np.intp]
+
+    @property
+    def bounded(self) -> int:
+        """How many of the rows bound u's components (the first ones)."""
+        return self.lower.size - self.a.shape[0]
+
+    @cached_property
+    def norms(self) -> FloatArray:
+        """Each row's norm."""
+        return np.concatenate([np.ones(self.bounded), np.sqrt(np.square(self.a).sum(axis=1))])
+
+    def apply(self, u: FloatArray) -> FloatArray:
+        """C u."""
+        return np.concatenate([u[: self.bounded], self.a @ u])
 
 
 def bounded_barrier_rows(x: FloatArray, spec: BarrierSpec) -> BoundedRows:

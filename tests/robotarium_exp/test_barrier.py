@@ -276,11 +276,6 @@ def test_warm_started_certificate_equals_the_cold_solve_along_trajectories_and_j
     assert taken['seeded'] > 60
 
 
-def constraint_values(rows: bc.BoundedRows, u: np.ndarray) -> np.ndarray:
-    """C u of the bounded rows: u's components, then the general rows."""
-    return np.concatenate([u[: rows.lower.size - rows.a.shape[0]], rows.a @ u])
-
-
 def test_warm_least_distance_from_right_wrong_and_no_seeds() -> None:
     """The exact answer (that of DAQP on every row, unfolded) and its active rows at their sides, whatever the
     seed: the true active rows, half of them, others at random sides, none."""
@@ -300,7 +295,7 @@ def test_warm_least_distance_from_right_wrong_and_no_seeds() -> None:
         _, active, lam = bc.warm_least_distance(flat, rows, none, none) or (None, None, None)
         assert active is not None and lam is not None
         at = np.where(lam > 0, rows.upper[active], rows.lower[active])
-        assert np.all(np.abs(constraint_values(rows, expected)[active] - at) <= 1e-9)
+        assert np.all(np.abs(rows.apply(expected)[active] - at) <= 1e-9)
         sides = np.where(lam > 0, 1, -1)
         others = np.sort(rng.choice(rows.keys.size, 5, replace=False))
         seeds = ((active, sides), (active[::2], sides[::2]), (others, rng.choice([-1, 1], 5)))
@@ -318,7 +313,7 @@ def one_sided(a: np.ndarray, b: np.ndarray) -> bc.BoundedRows:
     return bc.BoundedRows(a, np.full(b.size, -np.inf), b, np.arange(b.size))
 
 
-def test_warm_least_distance_trivial_closed_form_and_infeasible() -> None:
+def test_warm_least_distance_trivial_projection_corner_two_sided_and_infeasible() -> None:
     rows = one_sided(np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]), np.array([1.0, 1.0, 1.5]))
     none = np.zeros(0, dtype=np.intp)
     u, active, _ = bc.warm_least_distance(np.array([0.5, 0.5]), rows, none, none) or (None, None, None)
@@ -376,7 +371,7 @@ def test_bounded_rows_hold_exactly_where_every_row_holds() -> None:
             approach[np.arange(i.size), i], approach[np.arange(i.size), j] = -heading.T, heading.T
             u = np.vstack([u, approach.reshape(i.size, 24)])
             full = np.all(u @ a.T <= b, axis=1)
-            values = np.array([constraint_values(rows, command[by_component]) for command in u])
+            values = np.array([rows.apply(command[by_component]) for command in u])
             bounded = np.all((values <= rows.upper) & (values >= rows.lower), axis=1)
             np.testing.assert_array_equal(bounded, full)
             assert 0 < full.sum() < full.size

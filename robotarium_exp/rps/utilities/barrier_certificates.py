@@ -114,29 +114,18 @@ def warm_least_distance(
     rows active at it and their multipliers (positive at the upper bound, negative at the lower); None if the QP is
     infeasible or the solver fails.
 
-    In order: u_hat if it is feasible; the point on the seed's rows (without a seed, on the rows u_hat violates if
-    they are one or two), u = u_hat - C_seed^T lam with C_seed u at the seed's sides; DAQP warm started from the
-    seed. Each is returned only if it meets the KKT conditions (:func:`kkt_point`); else DAQP from scratch answers.
-    A seed whose rows u_hat mostly does not violate (the active rows of unrelated states, not of the last step of a
-    trajectory) is dropped: DAQP takes more iterations from it than from scratch.
+    u_hat if it is feasible; else DAQP warm started from the seed, its answer kept only if it meets the KKT
+    conditions (:func:`kkt_point`); else DAQP from scratch. A seed whose rows u_hat mostly does not violate (the
+    active rows of unrelated states, not of the last step of a trajectory) is dropped: DAQP takes more iterations
+    from it than from scratch.
     """
-    c_hat = _apply(rows, u_hat)
+    c_hat = rows.apply(u_hat)
     side = (c_hat > rows.upper).view(np.int8) - (c_hat < rows.lower).view(np.int8)  # the side u_hat violates
-    violated = np.flatnonzero(side)
-    if violated.size == 0:
+    if not side.any():
         return u_hat.copy(), _NONE, np.zeros(0)
-    if seed.size > 0 and 4 * np.count_nonzero(side[seed] != sides) > seed.size:
-        seed, sides = _NONE, _NONE
-    if seed.size == 0 and violated.size <= 2:
-        seed, sides = violated, side[violated].astype(np.intp)
-    if seed.size > 0:
-        lam = _multipliers_on(u_hat, rows, seed, sides)
-        u = None if lam is None else kkt_point(u_hat, rows, seed, lam)
-        if u is not None and lam is not None:
-            return u, seed[lam != 0.0], lam[lam != 0.0]
+    if seed.size > 0 and 4 * np.count_nonzero(side[seed] != sides) <= seed.size:
         warm = _daqp(u_hat, rows, seed, sides)
-        u = None if warm is None else kkt_point(u_hat, rows, warm[1], warm[2])
-        if u is not None and warm is not None:
+        if warm is not None and kkt_point(u_hat, rows, warm[1], warm[2]) is not None:
             return warm
     return _daqp(u_hat, rows, _NONE, _NONE)
 
@@ -146,55 +135,25 @@ def kkt_point(u_hat: FloatArray, rows: BoundedRows, active: NDArray[np.intp], la
     else None.
 
     u is stationary by construction; it is the optimum if it meets the other KKT conditions: every row holds, and
-    each active row sits at the bound its multiplier's sign names (upper if positive, lower if negative), to
+    each row with a multiplier sits at the bound its sign names (upper if positive, lower if negative), to
     :data:`KKT_TOL` times the row's norm; a negative multiplier on a row without lower bound never does.
     """
-    u = u_hat - _dense(rows, active).T @ lam
-    value = _apply(rows, u)
-    norms = np.concatenate([np.ones(_bounded(rows)), np.sqrt(np.einsum('ij,ij->i', rows.a, rows.a))])
-    if np.max(np.maximum(value - rows.upper, rows.lower - value) / norms) > KKT_TOL:
+    general = active >= rows.bounded
+    u = u_hat - rows.a[active[general] - rows.bounded].T @ lam[general]
+    u[active[~general]] -= lam[~general]
+    value = rows.apply(u)
+    if np.max(np.maximum(value - rows.upper, rows.lower - value) / rows.norms) > KKT_TOL:
         return None
-    at = np.where(lam > 0.0, rows.upper[active] - value[active], value[active] - rows.lower[active])
-    if np.any(at / norms[active] > KKT_TOL):
+    at = np.where(
+        lam > 0.0, rows.upper[active] - value[active], np.where(lam < 0.0, value[active] - rows.lower[active], 0)
+    )
+    if np.any(at > KKT_TOL * rows.norms[active]):
         return None
     return u
 
 
 _NONE = np.zeros(0, dtype=np.intp)
 _NONE.flags.writeable = False
-
-
-def _bounded(rows: BoundedRows) -> int:
-    """How many of the rows bound u's components (the first ones)."""
-    return rows.lower.size - rows.a.shape[0]
-
-
-def _apply(rows: BoundedRows, u: FloatArray) -> FloatArray:
-    """C u."""
-    return np.concatenate([u[: _bounded(rows)], rows.a @ u])
-
-
-def _dense(rows: BoundedRows, which: NDArray[np.intp]) -> FloatArray:
-    """The rows ``which`` of C as a matrix."""
-    bounded = _bounded(rows)
-    general = which >= bounded
-    out = np.zeros((which.size, rows.a.shape[1]))
-    out[np.flatnonzero(~general), which[~general]] = 1.0
-    out[general] = rows.a[which[general] - bounded]
-    return out
-
-
-def _multipliers_on(
-    u_hat: FloatArray, rows: BoundedRows, which: NDArray[np.intp], sides: NDArray[np.intp]
-) -> FloatArray | None:
-    """lam of the nearest point to u_hat on the rows ``which`` at their sides (C_w u = t, u = u_hat - C_w^T lam);
-    None if the rows are dependent."""
-    c = _dense(rows, which)
-    target = np.where(sides > 0, rows.upper[which], rows.lower[which])
-    try:
-        return np.linalg.solve(c @ c.T, c @ u_hat - target)
-    except np.linalg.LinAlgError:
-        return None
 
 
 def _daqp(
