@@ -117,8 +117,7 @@ def bounded_barrier_rows(x: FloatArray, spec: BarrierSpec) -> BoundedRows:
     diagonal, fixed = layout.diagonal_rows.shape[0], layout.fixed_keys.size
     a = np.empty((diagonal + kept.size, 2 * n))
     a[:diagonal] = layout.diagonal_rows
-    np.multiply(pairs, -2.0 * diff[0, :, None], out=a[diagonal:, :n])
-    np.multiply(pairs, -2.0 * diff[1, :, None], out=a[diagonal:, n:])
+    np.multiply(pairs[:, None, :], -2.0 * diff.T[:, :, None], out=a[diagonal:].reshape(kept.size, 2, n))
     bounds = np.empty((2, fixed + kept.size))  # -lower, upper
     bounds[:, :fixed] = layout.fixed_bounds
     bounds[0, fixed:], bounds[1, fixed:] = np.inf, b_pair
@@ -132,9 +131,8 @@ def bounded_barrier_rows(x: FloatArray, spec: BarrierSpec) -> BoundedRows:
 def _pair_terms(x: FloatArray, spec: BarrierSpec, layout: _Layout) -> tuple[FloatArray, FloatArray, FloatArray]:
     """x_i - x_j (2, pairs), its squared norm and the pair rows' right sides gamma h^3, h = ||x_i - x_j||^2 - R^2."""
     diff = x @ layout.pairs.T
-    dist2 = diff[0] * diff[0] + diff[1] * diff[1]
-    h = dist2 - spec.safety_radius**2
-    return diff, dist2, spec.barrier_gain * h * h * h
+    dist2 = np.square(diff).sum(axis=0)
+    return diff, dist2, spec.barrier_gain * (dist2 - spec.safety_radius**2) ** 3
 
 
 def _pair_rows(diff: FloatArray, pairs: FloatArray) -> FloatArray:

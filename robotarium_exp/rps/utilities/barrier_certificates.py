@@ -12,10 +12,10 @@ Two ways to solve it (:func:`use_qp_solver`):
 - ``'exact'``: DAQP, a dual active-set solver, on the same constraints folded (:func:`bounded_barrier_rows`: the
   walls and the polygon's sides along the axes bound u's components, opposite diagonal sides make one two-sided row)
   and without the pair rows that cannot bind (with the speed polygon, none can once gamma h^3 >= 4 d u_max /
-  cos(pi/8), ``docs/ecosystem.md`` §2): the exact optimum, more than ten times faster, and infeasibility reported
-  instead of an approximate point. A certificate starts each solve from the rows active at its last answer
-  (:func:`warm_least_distance`): an answer so found is kept only if it meets the KKT conditions, else DAQP solves
-  from scratch.
+  cos(pi/8), ``docs/ecosystem.md`` §2): the exact optimum, about twenty times faster than the PyPI simulator's
+  certificate at N = 20, and infeasibility reported instead of an approximate point. A certificate starts each
+  solve from the rows active at its last answer (:func:`warm_least_distance`): an answer so found is kept only if
+  it meets the KKT conditions, else DAQP solves from scratch.
 
 An infeasible or failed solve does what ``rps`` does (zero velocities, a warning) but is never silent: every
 certificate counts its solves and failures in ``certificate.stats``.
@@ -70,6 +70,11 @@ KKT_TOL = 1e-12
 """Largest violation of a unit row in an exact answer: DAQP's primal tolerance, and that of :func:`kkt_point`."""
 
 DAQP_OPTIONS = {'primal_tol': KKT_TOL}
+"""DAQP's settings for the exact solves."""
+
+_NONE = np.zeros(0, dtype=np.intp)
+"""No rows: an empty seed, no active set."""
+_NONE.flags.writeable = False
 
 TESTBED_QP_OPTIONS = {'show_progress': False, 'reltol': 1e-2, 'feastol': 1e-2, 'maxiters': 50}
 """cvxopt's options in the testbed's certificates (V2 and classic alike)."""
@@ -83,7 +88,8 @@ def use_qp_solver(name: str) -> str:
 
     ``'testbed'`` (the default): cvxopt at the testbed's options on every row, as V2 and classic do, so a script's
     certificates answer what the testbed's (and the official simulators') answer, run for run; an answer is within
-    about 1e-2 of the optimum. ``'exact'``: DAQP on the rows that can bind, the exact optimum, more than ten times faster.
+    about 1e-2 of the optimum. ``'exact'``: DAQP on the rows that can bind, the exact optimum, about twenty times
+    faster than the PyPI simulator's certificate at N = 20.
     """
     if name not in QP_SOLVERS:
         msg = f'unknown QP solver {name!r}; choose one of {", ".join(QP_SOLVERS)}.'
@@ -150,10 +156,6 @@ def kkt_point(u_hat: FloatArray, rows: BoundedRows, active: NDArray[np.intp], la
     if np.any(at > KKT_TOL * rows.norms[active]):
         return None
     return u
-
-
-_NONE = np.zeros(0, dtype=np.intp)
-_NONE.flags.writeable = False
 
 
 def _daqp(
