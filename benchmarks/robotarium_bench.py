@@ -13,8 +13,10 @@
 3. A full 6-robot tube experiment (robotarium_curve, planning and barrier on, no initialization phase) run with
    our Robotarium class beside the same experiment code with the PyPI ``Robotarium``.
 
-The certificates are timed call by call in turn on each state (so a change of the machine's load hits all of them
-alike), over :data:`ROUNDS` passes through the states, and each column is the median of its calls. The process
+The certificates take turns on each block of :data:`BLOCK` states (so a change of the machine's load hits all of
+them alike, while each solves its block with its own code and data in cache, as in a control loop of its own; turns
+call by call timed mostly the cache misses of the fast certificate after the slow one), over :data:`ROUNDS` passes
+through the states, and each column is the median of its calls. The process
 runs OpenBLAS and OpenMP on one thread (``OPENBLAS_NUM_THREADS`` and ``OMP_NUM_THREADS`` are set to 1 below, before
 numpy is imported, unless already set): both sides use BLAS (numpy's for ours, cvxopt's own for theirs), and on
 matrices this small a second thread only adds hand-offs, doubling the times whenever the other core is busy.
@@ -78,7 +80,7 @@ BLOCK = 10
 """States each certificate solves in a row before the next one takes them."""
 
 ROUNDS = {6: 5, 20: 5, 50: 1}
-"""Passes through the states per N (each certificate call times one state)."""
+"""Passes through the states per N: one at N = 50, where a cvxopt call takes about 80 ms."""
 
 
 def interleaved_ms(certificates: dict[str, Callable], cases, rounds: int) -> tuple[dict[str, float], list[np.ndarray]]:
