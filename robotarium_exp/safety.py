@@ -61,11 +61,9 @@ def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArr
     diff, _, b_pair = _pair_terms(x, spec, layout)
     blocks, bounds = [_pair_rows(diff, layout.pairs)], [b_pair]
     if spec.boundary is not None:
-        xmin, xmax, ymin, ymax = spec.boundary
-        half, gain = spec.safety_radius / 2, 0.4 * spec.barrier_gain
-        room = np.concatenate([ymax - half - x[1], -ymin - half + x[1], xmax - half - x[0], -xmin - half + x[0]])
+        n, walls = x.shape[1], _wall_bounds(x, spec, layout)
         blocks.append(layout.wall_rows)
-        bounds.append(gain * room**3)
+        bounds.append(np.concatenate([walls[1, n:], walls[0, n:], walls[1, :n], walls[0, :n]]))
     if spec.speed_polygon:
         blocks.append(layout.polygon_rows)
         bounds.append(layout.polygon_bounds.ravel())
@@ -122,9 +120,7 @@ def bounded_barrier_rows(x: FloatArray, spec: BarrierSpec) -> BoundedRows:
     bounds[:, :fixed] = layout.fixed_bounds
     bounds[0, fixed:], bounds[1, fixed:] = np.inf, b_pair
     if spec.boundary is not None:
-        # the walls: u's components within 0.4 gamma (distance to the wall - R/2)^3, on each side
-        room = layout.wall_offsets + layout.wall_signs * x.ravel()
-        np.minimum(bounds[:, : 2 * n], 0.4 * spec.barrier_gain * room * room * room, out=bounds[:, : 2 * n])
+        np.minimum(bounds[:, : 2 * n], _wall_bounds(x, spec, layout), out=bounds[:, : 2 * n])
     return BoundedRows(a, -bounds[0], bounds[1], np.concatenate([layout.fixed_keys, fixed + kept]))
 
 
@@ -133,6 +129,13 @@ def _pair_terms(x: FloatArray, spec: BarrierSpec, layout: _Layout) -> tuple[Floa
     diff = x @ layout.pairs.T
     dist2 = np.square(diff).sum(axis=0)
     return diff, dist2, spec.barrier_gain * (dist2 - spec.safety_radius**2) ** 3
+
+
+def _wall_bounds(x: FloatArray, spec: BarrierSpec, layout: _Layout) -> FloatArray:
+    """The walls' bounds on u's components (2, 2N), component by component: 0.4 gamma (distance to the wall - R/2)^3
+    to the low walls (-x, -y; bounds on -u) and to the high ones (+x, +y; bounds on u)."""
+    room = layout.wall_offsets + layout.wall_signs * x.ravel()
+    return 0.4 * spec.barrier_gain * room**3
 
 
 def _pair_rows(diff: FloatArray, pairs: FloatArray) -> FloatArray:
