@@ -108,7 +108,7 @@ def bounded_barrier_rows(x: FloatArray, spec: BarrierSpec) -> BoundedRows:
     diff, dist2, b_pair = _pair_terms(x, spec, layout)
     if spec.speed_polygon:
         reach = 4.0 * spec.magnitude_limit / math.cos(math.pi / POLYGON_SIDES)
-        kept = np.flatnonzero(b_pair < reach * np.sqrt(dist2))
+        kept = (b_pair < reach * np.sqrt(dist2)).nonzero()[0]
         pairs, diff, b_pair = layout.pairs[kept], diff[:, kept], b_pair[kept]
     else:
         kept, pairs = np.arange(b_pair.size), layout.pairs

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import cvxopt
 import daqp
@@ -170,11 +171,17 @@ def _daqp(
     sense = np.zeros(rows.lower.size, dtype=np.int32)
     if start.size > 0:
         sense[start] = np.where(sides > 0, DAQP_ACTIVE, DAQP_ACTIVE | DAQP_LOWER)
-    u, _, flag, info = daqp.solve(np.eye(u_hat.size), -u_hat, rows.a, rows.upper, rows.lower, sense, **DAQP_OPTIONS)
+    u, _, flag, info = daqp.solve(_identity(u_hat.size), -u_hat, rows.a, rows.upper, rows.lower, sense, **DAQP_OPTIONS)
     if flag not in DAQP_OPTIMAL:
         return None
-    active = np.flatnonzero(info['lam'])
-    return np.asarray(u, dtype=float), active, info['lam'][active]
+    active = info['lam'].nonzero()[0]
+    return u, active, info['lam'][active]
+
+
+@lru_cache(maxsize=8)
+def _identity(n: int) -> FloatArray:
+    """The QP's Hessian for DAQP (writable, as DAQP's interface asks; DAQP only reads it)."""
+    return np.eye(n)
 
 
 def testbed_least_distance(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
@@ -301,7 +308,7 @@ def _check_pair(u: object, x: object, u_name: str, x_name: str, state_rows: int 
             f'{x_name} {x.shape}.'
         )
         raise RobotariumError(msg)
-    if not (np.all(np.isfinite(u)) and np.all(np.isfinite(x))):
+    if not (np.isfinite(u).all() and np.isfinite(x).all()):
         msg = f'{u_name} and {x_name} must be finite.'
         raise RobotariumError(msg)
     return np.asarray(u, dtype=float), np.asarray(x, dtype=float)
