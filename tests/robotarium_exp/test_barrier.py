@@ -73,8 +73,8 @@ def test_feasible_commands_pass_unchanged_and_far_pairs_are_pruned() -> None:
     u = np.array([[0.05, -0.05, 0.0], [0.0, 0.02, 0.1]])
     certificate = bc.create_si_barrier_certificate()
     np.testing.assert_array_equal(certificate(u, x), u)
-    a, _ = bc.barrier_rows(x, certificate.spec)
-    assert a.shape[0] == 8 * 3  # no pair row: all farther than the distance at which a row can bind
+    rows = bc.bounded_barrier_rows(x, certificate.spec)
+    assert rows.a.shape[0] == 2 * 3  # the diagonal sides; no pair row: all farther than a row can bind from
 
 
 @pytest.mark.usefixtures('exact_qp')
@@ -217,7 +217,7 @@ def test_testbed_answers_are_strictly_feasible_and_near_the_optimum() -> None:
             exact = certificate(u_hat, x)
         finally:
             bc.use_qp_solver(previous)
-        a, b = bc.barrier_rows(x, certificate.spec, prune=False)
+        a, b = bc.barrier_rows(x, certificate.spec)
         worst_violation = max(worst_violation, float((a @ testbed.reshape(-1, order='F') - b).max()))
         worst_gap = max(worst_gap, float(np.abs(testbed - exact).max()))
     assert certificate.stats.failures == 0
@@ -229,3 +229,149 @@ def test_unknown_qp_solver_is_refused_by_name() -> None:
     with pytest.raises(RobotariumError, match="unknown QP solver 'osqp'; choose one of testbed, exact"):
         bc.use_qp_solver('osqp')
     assert bc.qp_solver() == 'testbed'
+
+
+# ---------------------------------------------------------------------- the exact solver's warm starts
+
+
+def cold_answer(certificate: bc.Certificate, u_hat: np.ndarray, x: np.ndarray) -> np.ndarray | None:
+    a, b = bc.barrier_rows(x, certificate.spec)
+    u = bc.least_distance(u_hat.reshape(-1, order='F'), a, b)
+    return None if u is None else u.reshape(2, -1, order='F')
+
+
+@pytest.mark.usefixtures('exact_qp')
+def test_warm_started_certificate_equals_the_cold_solve_along_trajectories_and_jumps() -> None:
+    """Along trajectories (the active set kept or changed by a few rows), and after jumps to unrelated states
+    (a stale seed), the certificate answers what DAQP from scratch answers; the seeded paths are taken."""
+    rng = np.random.default_rng(7)
+    taken = {'seeded': 0}
+    warm_least_distance = bc.warm_least_distance
+
+    def counting(
+        u_hat: np.ndarray, rows: bc.BoundedRows, seed: np.ndarray, sides: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        taken['seeded'] += seed.size > 0
+        return warm_least_distance(u_hat, rows, seed, sides)
+
+    bc.warm_least_distance = counting
+    try:
+        worst = 0.0
+        for n in (4, 9, 16):
+            certificate = bc.create_si_barrier_certificate_with_boundary()
+            x, _ = tight_configuration(rng, n)
+            for step in range(60):
+                if step % 20 == 19:  # a jump: the last active rows belong to another state
+                    x, _ = tight_configuration(rng, n)
+                u_hat = 0.15 * (-x - 0.3 * x.mean(axis=1, keepdims=True)) / 0.5 + 0.01 * rng.standard_normal((2, n))
+                safe = certificate(u_hat, x)
+                expected = cold_answer(certificate, u_hat, x)
+                assert expected is not None
+                worst = max(worst, float(np.abs(safe - expected).max()))
+                x = x + 0.033 * safe
+            assert certificate.stats.failures == 0
+    finally:
+        bc.warm_least_distance = warm_least_distance
+    assert worst <= 1e-9
+    assert taken['seeded'] > 60
+
+
+def test_warm_least_distance_from_right_wrong_and_no_seeds() -> None:
+    """The exact answer (that of DAQP on every row, unfolded) and its active rows at their sides, whatever the
+    seed: the true active rows, half of them, others at random sides, none."""
+    rng = np.random.default_rng(3)
+    spec = bc.create_si_barrier_certificate_with_boundary().spec
+    none = np.zeros(0, dtype=np.intp)
+    checked = 0
+    for _ in range(40):
+        x, u_hat = tight_configuration(rng, int(rng.integers(3, 13)))
+        x[0, 0] = 1.45  # near the +x wall
+        flat = u_hat.ravel()  # the bounded rows' order: component by component
+        expected = bc.least_distance(u_hat.ravel(order='F'), *bc.barrier_rows(x, spec))
+        if expected is None:
+            continue
+        expected = expected.reshape(-1, 2).T.ravel()
+        rows = bc.bounded_barrier_rows(x, spec)
+        _, active, lam = bc.warm_least_distance(flat, rows, none, none) or (None, None, None)
+        assert active is not None and lam is not None
+        at = np.where(lam > 0, rows.upper[active], rows.lower[active])
+        assert np.all(np.abs(rows.apply(expected)[active] - at) <= 1e-9)
+        sides = np.where(lam > 0, 1, -1)
+        others = np.sort(rng.choice(rows.keys.size, 5, replace=False))
+        seeds = ((active, sides), (active[::2], sides[::2]), (others, rng.choice([-1, 1], 5)))
+        for seed, seed_sides in seeds:
+            solved = bc.warm_least_distance(flat, rows, seed, seed_sides)
+            assert solved is not None
+            np.testing.assert_allclose(solved[0], expected, atol=1e-9)
+            np.testing.assert_array_equal(solved[1], active)
+            np.testing.assert_array_equal(np.sign(solved[2]), np.sign(lam))
+        checked += 1
+    assert checked >= 30
+
+
+def one_sided(a: np.ndarray, b: np.ndarray) -> bc.BoundedRows:
+    return bc.BoundedRows(a, np.full(b.size, -np.inf), b, np.arange(b.size))
+
+
+def test_warm_least_distance_trivial_projection_corner_two_sided_and_infeasible() -> None:
+    rows = one_sided(np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]), np.array([1.0, 1.0, 1.5]))
+    none = np.zeros(0, dtype=np.intp)
+    u, active, _ = bc.warm_least_distance(np.array([0.5, 0.5]), rows, none, none) or (None, None, None)
+    np.testing.assert_array_equal(u, [0.5, 0.5])  # feasible: unchanged, nothing active
+    assert active is not None and active.size == 0
+    u, active, _ = bc.warm_least_distance(np.array([2.0, 0.0]), rows, none, none) or (None, None, None)
+    np.testing.assert_allclose(u, [1.0, 0.0], atol=1e-15)  # one row violated: the projection onto it
+    np.testing.assert_array_equal(active, [0])
+    u, active, _ = bc.warm_least_distance(np.array([2.0, 2.0]), rows, none, none) or (None, None, None)
+    np.testing.assert_allclose(u, [0.75, 0.75], atol=1e-15)  # three violated; only the diagonal binds
+    np.testing.assert_array_equal(active, [2])
+    u, active, _ = bc.warm_least_distance(np.array([2.0, 0.9]), rows, none, none) or (None, None, None)
+    np.testing.assert_allclose(u, [1.0, 0.5], atol=1e-15)  # two violated, both bind: the corner
+    np.testing.assert_array_equal(active, [0, 2])
+    # two-sided: the component bounds -1 <= u_x <= 1, 0 <= u_y <= 2 and -1 <= u_x - u_y <= 1
+    box = bc.BoundedRows(np.array([[1.0, -1.0]]), np.array([-1.0, 0.0, -1.0]), np.array([1.0, 2.0, 1.0]), none)
+    u, active, lam = bc.warm_least_distance(np.array([-3.0, 0.5]), box, none, none) or (None, None, None)
+    np.testing.assert_allclose(u, [-1.0, 0.0], atol=1e-15)  # u_x and u_x - u_y at their lower bounds
+    np.testing.assert_array_equal(active, [0, 2])
+    assert lam is not None and np.all(lam < 0.0)
+    opposite = one_sided(np.array([[1.0, 0.0], [-1.0, 0.0]]), np.array([-1.0, -1.0]))
+    assert bc.warm_least_distance(np.zeros(2), opposite, np.array([0, 1]), np.array([1, 1])) is None
+
+
+def test_kkt_point_refuses_wrong_signs_violated_rows_and_slack_active_rows() -> None:
+    rows = one_sided(np.array([[1.0, 0.0], [0.0, 1.0]]), np.array([1.0, 1.0]))
+    u_hat = np.array([2.0, 0.5])
+    np.testing.assert_allclose(bc.kkt_point(u_hat, rows, np.array([0]), np.array([1.0])), [1.0, 0.5])
+    assert bc.kkt_point(u_hat, rows, np.array([0, 1]), np.array([1.0, -0.5])) is None  # lam < 0, no lower bound
+    assert bc.kkt_point(u_hat, rows, np.array([1]), np.array([0.0])) is None  # row 0 violated
+    assert bc.kkt_point(u_hat, rows, np.array([0]), np.array([1.5])) is None  # row 0 active but slack
+    box = bc.BoundedRows(np.zeros((0, 2)), np.array([-1.0, -1.0]), np.array([1.0, 1.0]), np.arange(2))
+    np.testing.assert_allclose(bc.kkt_point(np.array([-3.0, 0.0]), box, np.array([0]), np.array([-2.0])), [-1.0, 0.0])
+    assert bc.kkt_point(np.array([-3.0, 0.0]), box, np.array([0]), np.array([-4.0])) is None  # past the upper one
+
+
+def test_bounded_rows_hold_exactly_where_every_row_holds() -> None:
+    """The folded and pruned rows and V2's rows, every one, admit the same commands; a pair row's key names it."""
+    rng = np.random.default_rng(2)
+    for certificate in (bc.create_si_barrier_certificate_with_boundary(), bc.create_si_barrier_certificate()):
+        for trial in range(20):  # tight states, and spread ones: pairs about as far apart as pruning starts
+            x = tight_configuration(rng, 12)[0] if trial % 2 else rng.uniform([[-1.5], [-0.9]], [[1.5], [0.9]], (2, 12))
+            x[0, 0] = 1.5  # near a wall
+            rows = bc.bounded_barrier_rows(x, certificate.spec)
+            a, b = bc.barrier_rows(x, certificate.spec)
+            assert np.all(np.diff(rows.keys) > 0)
+            pairs = rows.keys >= 4 * 12
+            by_component = np.r_[0:24:2, 1:24:2]  # the bounded rows' u: all x, then all y
+            np.testing.assert_array_equal(rows.a[pairs[24:]], a[rows.keys[pairs] - 4 * 12][:, by_component])
+            u = rng.normal(0.0, 0.15, (2000, 24)) * rng.choice([0.0, 0.001, 0.5, 1.0, 2.0], (2000, 1))
+            # and each pair heading for each other at the polygon's inner radius, the others still
+            i, j = np.triu_indices(12, k=1)
+            heading = (x[:, i] - x[:, j]) / np.hypot(*(x[:, i] - x[:, j])) * 0.2 * np.cos(np.pi / 8)
+            approach = np.zeros((i.size, 12, 2))
+            approach[np.arange(i.size), i], approach[np.arange(i.size), j] = -heading.T, heading.T
+            u = np.vstack([u, approach.reshape(i.size, 24)])
+            full = np.all(u @ a.T <= b, axis=1)
+            values = np.array([rows.apply(command[by_component]) for command in u])
+            bounded = np.all((values <= rows.upper) & (values >= rows.lower), axis=1)
+            np.testing.assert_array_equal(bounded, full)
+            assert 0 < full.sum() < full.size
