@@ -247,12 +247,17 @@ class Replanner:
         self.calls: list[dict[str, Any]] = []
 
     def __call__(
-        self, step: int, l_m: FloatArray, forward_mps: FloatArray, density: float, working: NDArray[np.bool_]
+        self, step: int, view: Projection, velocity: FloatArray, density: float, working: NDArray[np.bool_]
     ) -> PlanProfile | None:
-        """The new plan's profile at a replanning step (None otherwise, or when replanning failed)."""
-        flying = working & (l_m < self.tube.length_m)
-        if step == 0 or step % self.every or not flying.any():
+        """The new plan's profile at a replanning step (None otherwise, or when replanning failed), from what the
+        controller sees (``view``), the robots' velocities and the measured density."""
+        if step == 0 or step % self.every:
             return None
+        l_m = view.l_m
+        flying = working & (l_m < self.tube.length_m)
+        if not flying.any():
+            return None
+        forward_mps = np.einsum('ij,ij->j', velocity, view.tangent)
         start = max(0.0, float(l_m[flying].mean()))
         if start > self.tube.length_m - 2.0 * self.plan.options.grid_step_m:
             return None  # the swarm is leaving: nothing left to plan
@@ -391,8 +396,7 @@ def simulate(
             result = stepper(seen, config.dt_s, view, others)
             commanded, density, r_a = result.velocity, result.density_per_m2, result.r_a_m
             if replanner is not None:
-                forward = np.einsum('ij,ij->j', velocity, view.tangent)
-                profile = replanner(step, view.l_m, forward, float(density), working)
+                profile = replanner(step, view, velocity, float(density), working)
                 if profile is not None:
                     stepper.plan = profile
         done = bool(np.all((projection.l_m > tube.length_m) | ~working))
