@@ -117,11 +117,14 @@ def _saturation_corners(eps: float) -> tuple[float, float]:
     return x2 - eps * math.sin(math.radians(45.0)), x2
 
 
-def barrier_gain(x: ArrayLike, offset: float, d1: float, d2: ArrayLike, k: float) -> FloatArray:
+def barrier_gain(
+    x: ArrayLike, offset: FloatArray | float, d1: FloatArray | float, d2: ArrayLike, k: FloatArray | float
+) -> FloatArray:
     """-dV/dx of the barrier V = k sigma(x, d1, d2) / ((1 + eps) x - offset s(x / offset, eps)), theory §2.4.
 
-    ``offset`` is 2 r_s between robots (d1 = 2 r_s) and r_s at the wall (d1 = r_s). Non-negative; huge (about
-    k / (eps x^2)) inside the safety distance, zero beyond d2.
+    ``offset`` is 2 r_s between robots (d1 = 2 r_s) and r_s at the wall (d1 = r_s); each of them a number or an
+    array like x, element by element. Non-negative; huge (about k / (eps x^2)) inside the safety distance, zero
+    beyond d2.
     """
     xs = np.maximum(np.asarray(x, dtype=float), 1e-9)
     s_val, s_slope = smooth_saturation(xs / offset, BARRIER_EPS)
@@ -136,7 +139,7 @@ def barrier_gain(x: ArrayLike, offset: float, d1: float, d2: ArrayLike, k: float
     np.square(den, out=den)
     sig /= den
     sig_slope -= sig
-    sig_slope *= -k
+    sig_slope *= np.negative(k)
     return np.maximum(sig_slope, 0.0, out=sig_slope)
 
 
@@ -150,8 +153,12 @@ def cap_norm(u: FloatArray, limit: ArrayLike) -> FloatArray:
 def saturate(u: FloatArray, v_min: float, v_max: float, fallback: FloatArray) -> FloatArray:
     """sat(u, v_min, v_max) column-wise on (2, N): radial rescaling into [v_min, v_max]; u = 0 -> v_min fallback."""
     speed = np.hypot(u[0], u[1])
+    clipped = np.minimum(np.maximum(speed, v_min), v_max)
+    if speed.min() > 1e-12:  # the usual case, in fewer array operations
+        clipped /= speed
+        return u * clipped
     zero = speed <= 1e-12
-    scale = np.where(zero, 0.0, np.minimum(np.maximum(speed, v_min), v_max) / np.where(zero, 1.0, speed))
+    scale = np.where(zero, 0.0, clipped / np.where(zero, 1.0, speed))
     return np.where(zero, v_min * fallback, u * scale)
 
 
@@ -276,31 +283,44 @@ def _all_pairs(n: int) -> tuple[IntArray, IntArray, IntArray]:
     return pairs
 
 
-def avoidance_velocity(
-    positions: FloatArray,
-    r_a: FloatArray,
-    params: StepParams,
-    members: NDArray[np.bool_] | None = None,
-    others: FloatArray | None = None,
-) -> FloatArray:
-    """v_m of every robot, (2, N): the sum over neighbours closer than r_s + r_a,i of phi_m times the unit p_ij.
+def interaction_gains(
+    pair_dist: FloatArray, pair_band: FloatArray, clearance: FloatArray, r_a: FloatArray, params: StepParams
+) -> tuple[FloatArray, FloatArray]:
+    """The magnitudes of (s1)'s two pushes: phi_m of pairs at distances ``pair_dist`` (M,) with bands r_s + r_a of
+    the robot pushed, ``pair_band`` (M,), and phi_t of the walls at clearances ``clearance`` (K,) with bands ``r_a``
+    (K,). Both in one evaluation of the law: its fixed cost per call dominates a small swarm's step."""
+    m, k = pair_dist.size, clearance.size
+    r_s = params.r_s_m
+    x = np.concatenate([pair_dist, clearance])
+    d1 = np.repeat(np.array([2.0 * r_s, r_s]), [m, k])  # where the push saturates: 2 r_s between robots, r_s at walls
+    d2 = np.concatenate([pair_band, r_a])
+    gains = np.repeat(np.array([params.avoidance_gain, params.keeping_gain]), [m, k])
+    if params.law == 'practical':
+        gain = gains * sigma(x, d1, d2)[0]
+    else:
+        gain = barrier_gain(x, d1, d1, d2, gains)
+    return gain[:m], gain[m:]
 
-    ``members`` (N,) restricts the pairs to robots of the swarm (parked robots have left it); None: all.
-    ``others`` (2, N): where each robot believes the others are (their last message, when messages drop); robot i
-    still knows its own position. None: everyone sees everyone where they are.
+
+_NONE = np.empty(0)
+"""No pairs, or no walls, for :func:`interaction_gains` (read-only)."""
+_NONE.flags.writeable = False
+
+
+def _acting_halves(
+    positions: FloatArray, r_a: FloatArray, params: StepParams, members: NDArray[np.bool_] | None
+) -> tuple[IntArray, FloatArray, FloatArray, FloatArray]:
+    """The halves of pairs that push (the robot pushed within r_s + r_a of the other): their bins in
+    :func:`_summed_pushes`, p_pushed - p_other (2, M), distances (M,) and the pushed robots' bands r_s + r_a (M,).
 
     Up to ``params.kdtree_above`` robots every pair is tested, above them a k-d tree finds the pairs within
-    r_s + max r_a (:data:`KDTREE_ABOVE`). Each pair (i, j) then acts twice, once on i and once on j, each half
-    within its robot's own band r_s + r_a; beyond it phi_m is exactly 0, so such halves are dropped before phi_m
-    is evaluated. Every robot sums the halves acting on it as the first robot of their pair and as the second
-    apart, then adds the two sums (the order of the sums in docs/'s runs).
+    r_s + max r_a (:data:`KDTREE_ABOVE`). Each pair (i, j) acts twice, once on i and once on j, each half within its
+    robot's own band; beyond it phi_m is exactly 0, so such halves are dropped before phi_m is evaluated.
     """
     n = positions.shape[1]
-    if n < 2:
-        return np.zeros_like(positions)
-    if others is not None:
-        return _avoidance_of_what_is_heard(positions, others, r_a, params, members)
     r_s = params.r_s_m
+    if n < 2:
+        return np.empty(0, dtype=np.intp), np.empty((2, 0)), _NONE, _NONE
     if n > params.kdtree_above:
         i, j = neighbour_pairs(positions, r_s + float(r_a.max()))
         me = np.concatenate([i, j])
@@ -316,24 +336,45 @@ def avoidance_velocity(
         near &= members.take(i) & members.take(j)
     firsts = int(np.count_nonzero(near[0]))
     acting = near.ravel().nonzero()[0]  # halves acting on i, then on j
-    if acting.size == 0:
-        return np.zeros_like(positions)
-    bins = me.take(acting)  # the robot acted on, plus n for the halves acting on j; then y's bins, 2n further
+    bins = me.take(acting)  # the robot acted on, plus n for the halves acting on j
     bins[firsts:] += n
     band = band.ravel().take(acting)
     acting[firsts:] -= i.size  # the pairs
     push = diff.take(acting, axis=1)
     np.negative(push[:, firsts:], out=push[:, firsts:])  # acting on j: p_j - p_i
-    dist = dist.take(acting)
-    if params.law == 'practical':
-        gain = params.avoidance_gain * sigma(dist, 2.0 * r_s, band)[0]
-    else:
-        gain = barrier_gain(dist, 2.0 * r_s, 2.0 * r_s, band, params.avoidance_gain)
+    return bins, push, dist.take(acting), band
+
+
+def _summed_pushes(bins: IntArray, push: FloatArray, dist: FloatArray, gain: FloatArray, n: int) -> FloatArray:
+    """v_m (2, n) from the acting halves of :func:`_acting_halves` and their phi_m ``gain``: every robot sums the
+    halves acting on it as the first robot of their pair and as the second apart, then adds the two sums (the order
+    of the sums in docs/'s runs). ``push`` and ``dist`` are overwritten."""
     push /= np.maximum(dist, 1e-12, out=dist)
     push *= gain
+    # bins of x: [robot, robot + n] for the halves acting on the pair's first, second robot; y's bins 2n further
     sums = np.bincount(np.concatenate([bins, bins + 2 * n]), weights=push.ravel(), minlength=4 * n)
     sums = sums.reshape(2, 2, n)
     return cast(FloatArray, sums[:, 0] + sums[:, 1])  # weighted: floats
+
+
+def avoidance_velocity(
+    positions: FloatArray,
+    r_a: FloatArray,
+    params: StepParams,
+    members: NDArray[np.bool_] | None = None,
+    others: FloatArray | None = None,
+) -> FloatArray:
+    """v_m of every robot, (2, N): the sum over neighbours closer than r_s + r_a,i of phi_m times the unit p_ij.
+
+    ``members`` (N,) restricts the pairs to robots of the swarm (parked robots have left it); None: all.
+    ``others`` (2, N): where each robot believes the others are (their last message, when messages drop); robot i
+    still knows its own position. None: everyone sees everyone where they are.
+    """
+    if others is not None:
+        return _avoidance_of_what_is_heard(positions, others, r_a, params, members)
+    bins, push, dist, band = _acting_halves(positions, r_a, params, members)
+    gain = interaction_gains(dist, band, _NONE, _NONE, params)[0]
+    return _summed_pushes(bins, push, dist, gain, positions.shape[1])
 
 
 def _avoidance_of_what_is_heard(
@@ -351,23 +392,9 @@ def _avoidance_of_what_is_heard(
     radius = np.broadcast_to(r_a[:, None], dist.shape)
     near = dist < r_s + radius
     gain = np.zeros_like(dist)
-    if params.law == 'practical':
-        gain[near] = params.avoidance_gain * sigma(dist[near], 2.0 * r_s, r_s + radius[near])[0]
-    else:
-        gain[near] = barrier_gain(dist[near], 2.0 * r_s, 2.0 * r_s, r_s + radius[near], params.avoidance_gain)
+    gain[near] = interaction_gains(dist[near], r_s + radius[near], _NONE, _NONE, params)[0]
     weight = np.where(near, gain / np.where(near, dist, 1.0), 0.0)
     return np.einsum('ij,kij->ki', weight, diff)
-
-
-def tube_keeping_velocity(projection: Any, r_a: FloatArray, params: StepParams) -> FloatArray:
-    """v_xy of every robot, (2, N): phi_t(d_i) towards the centre line along the normal."""
-    d = projection.clearance_m
-    r_s = params.r_s_m
-    if params.law == 'practical':
-        gain = params.keeping_gain * sigma(d, r_s, r_a)[0]
-    else:
-        gain = barrier_gain(d, r_s, r_s, r_a, params.keeping_gain)
-    return -gain * np.sign(projection.y_m) * projection.normal
 
 
 @dataclass(frozen=True)
@@ -392,10 +419,18 @@ def velocity_command(
     """The command v_c of every robot (eq. s1) at (2, N) positions with radii r_a (N,) and forward speeds (N,).
 
     ``members``, ``others``: the robots that avoid each other, and where they are heard (:func:`avoidance_velocity`).
+    The tube keeping v_xy pushes each robot towards the centre line along the normal with phi_t(d_i).
     """
     forward = forward_speed_mps * projection.tangent
-    avoidance = avoidance_velocity(positions, r_a, params, members, others)
-    keeping = tube_keeping_velocity(projection, r_a, params)
+    clearance = projection.clearance_m
+    if others is None:
+        bins, push, dist, band = _acting_halves(positions, r_a, params, members)
+        pair_gain, wall_gain = interaction_gains(dist, band, clearance, r_a, params)
+        avoidance = _summed_pushes(bins, push, dist, pair_gain, positions.shape[1])
+    else:
+        avoidance = _avoidance_of_what_is_heard(positions, others, r_a, params, members)
+        wall_gain = interaction_gains(_NONE, _NONE, clearance, r_a, params)[1]
+    keeping = -wall_gain * np.sign(projection.y_m) * projection.normal
     if params.saturation == 'forward':  # |v_c| >= t_c . v_c >= v* - (v* - v_min) = v_min, then capped at v_max
         room = np.maximum(0.0, forward_speed_mps - params.v_min_mps)
         velocity = cap_norm(forward + cap_norm(avoidance + keeping, room), params.v_max_mps)
