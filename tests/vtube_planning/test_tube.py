@@ -232,7 +232,7 @@ def test_warm_projection_falls_back_where_the_local_answer_is_the_wrong_leg() ->
     points = (tube.center_at(l_new) + rng.uniform(-0.5, 0.5, 300)[:, None] * tube.normal(l_new)).T
     cold = tube.project(points)
     old = centre_projection(tube, l_old)
-    local, _, _, _, converged = tube._local_newton(points.T, old)
+    local, _, _, _, converged, _ = tube._local_newton(points, old)
     wrong = converged & (np.abs(local - cold.l_m) > 1.0)
     assert wrong.sum() > 100  # the oracle sees the trap
     assert_same_projection(tube.project_near(points, old), cold)

@@ -41,20 +41,11 @@ class CenterCurve(ABC):
         """Arc lengths (including 0 and L) between which the curvature is smooth."""
 
     @abstractmethod
-    def _inner(self, l_m: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """Position (k, 2), unit tangent (k, 2) and signed curvature (k,) for arc lengths in [0, L]."""
-
     def frame(self, l_m: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Position (k, 2), unit tangent (k, 2) and signed curvature (k,) for any real arc lengths (k,).
 
-        Beyond the ends the curve is the straight continuation along the end tangent.
+        Beyond the ends the curve is the straight continuation along the end tangent, with zero curvature.
         """
-        l_m = np.asarray(l_m, dtype=float)
-        clipped = np.minimum(np.maximum(l_m, 0.0), self.length_m)  # np.clip's values, at a fraction of its call cost
-        pos, tan, kappa = self._inner(clipped)
-        beyond = l_m - clipped
-        pos += beyond[:, None] * tan  # in place: every fresh array of a large swarm costs its page faults
-        return pos, tan, np.where(beyond != 0.0, 0.0, kappa)
 
 
 @dataclass(frozen=True)
@@ -109,10 +100,12 @@ class ArcPath(CenterCurve):
     start_xy_m: tuple[float, float] = (0.0, 0.0)
     heading_rad: float = 0.0
     _starts: FloatArray = field(init=False, repr=False, compare=False)
+    _joints: FloatArray = field(init=False, repr=False, compare=False)
+    _s0: FloatArray = field(init=False, repr=False, compare=False)
     _kappa: FloatArray = field(init=False, repr=False, compare=False)
+    _half_kappa: FloatArray = field(init=False, repr=False, compare=False)
     _theta0: FloatArray = field(init=False, repr=False, compare=False)
     _p0: FloatArray = field(init=False, repr=False, compare=False)
-    _joints: FloatArray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not self.pieces:
@@ -127,14 +120,30 @@ class ArcPath(CenterCurve):
         kappa = np.array([p.curvature for p in self.pieces], dtype=float)
         starts = np.concatenate([[0.0], np.cumsum(lengths)])
         theta0 = self.heading_rad + np.concatenate([[0.0], np.cumsum(kappa * lengths)])
+
+        def advance(p: FloatArray, s: float, k: int) -> FloatArray:  # along piece k from p, as frame() evaluates it
+            return _advance(p[None, :].copy(), np.array([s]), kappa[k], 0.5 * kappa[k], theta0[k])[0][0]
+
         p0 = [start]
         for k in range(len(self.pieces)):
-            p0.append(p0[-1] + _chord(lengths[k : k + 1], kappa[k], theta0[k])[0])
+            p0.append(advance(p0[-1], lengths[k], k))
+        # What frame() evaluates: the pieces, and before and after them the straight rays along the end tangents as
+        # two more pieces of zero curvature. A ray starts where the pieces' own formula puts the end (position and
+        # heading at l = 0 and at l = L), so frame() gives beyond the ends the end point plus (l - end) times the
+        # end tangent, the values of clipping l to [0, L] and continuing along the tangent, without the clipping's
+        # array operations (a small swarm's frame costs the number of numpy calls, not their arithmetic).
+        last, s_end = len(self.pieces) - 1, starts[-1] - starts[-2]
+        before, after = advance(start, 0.0, 0), advance(p0[last], s_end, last)
+        table_kappa = np.concatenate([[0.0], kappa, [0.0]])
         object.__setattr__(self, '_starts', starts)
-        object.__setattr__(self, '_kappa', kappa)
-        object.__setattr__(self, '_theta0', theta0)
-        object.__setattr__(self, '_p0', np.array(p0))
-        object.__setattr__(self, '_joints', starts[1:-1].copy())  # where a piece ends and the next begins
+        # where each piece of the table begins (searched with side='right'): l = L still belongs to the last piece
+        object.__setattr__(self, '_joints', np.concatenate([[0.0], starts[1:-1], [np.nextafter(starts[-1], np.inf)]]))
+        object.__setattr__(self, '_s0', np.concatenate([[0.0], starts]))  # where s = 0 on each piece of the table
+        object.__setattr__(self, '_kappa', table_kappa)
+        object.__setattr__(self, '_half_kappa', 0.5 * table_kappa)
+        theta_after = theta0[last] + kappa[last] * s_end
+        object.__setattr__(self, '_theta0', np.concatenate([theta0[:1], theta0[:-1], [theta_after]]))
+        object.__setattr__(self, '_p0', np.array([before, *p0[:-1], after]))
 
     @property
     def length_m(self) -> float:
@@ -144,45 +153,50 @@ class ArcPath(CenterCurve):
     def breakpoints(self) -> FloatArray:
         return self._starts.copy()
 
-    def _inner(self, l_m: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-        k = np.searchsorted(self._joints, l_m, side='right')  # the piece; l = L belongs to the last one
-        s = l_m - self._starts[k]
+    def frame(self, l_m: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        l_m = np.asarray(l_m, dtype=float)
+        k = self._joints.searchsorted(l_m, side='right')  # the piece of the table, the rays included
         kappa = self._kappa[k]
-        theta0 = self._theta0[k]
-        theta = theta0 + kappa * s
-        pos = self._p0[k]
-        pos += _chord(s, kappa, theta0)
-        return pos, _unit(theta), kappa
+        pos, tan = _advance(self._p0.take(k, axis=0), l_m - self._s0[k], kappa, self._half_kappa[k], self._theta0[k])
+        return pos, tan, kappa
 
 
-def _chord(s: FloatArray, kappa: FloatArray | float, theta0: FloatArray | float) -> FloatArray:
-    """Displacement (k, 2) after arc length s at constant curvature from heading theta0 (exact for kappa = 0).
+def _advance(
+    p0: FloatArray, s: FloatArray, kappa: FloatArray | float, half_kappa: FloatArray | float, theta0: FloatArray | float
+) -> tuple[FloatArray, FloatArray]:
+    """Position (k, 2) and unit tangent (k, 2) after arc length s (k,) at constant curvature kappa (half_kappa =
+    kappa / 2) from p0 (k, 2; overwritten: it becomes the position) at heading theta0 (exact for kappa = 0).
 
-    The chord of an arc of length s has length s sinc(kappa s / 2) and direction theta0 + kappa s / 2.
+    The tangent's heading is theta0 + kappa s; the chord of an arc of length s has length s sinc(kappa s / 2) and
+    direction theta0 + kappa s / 2.
     """
-    half = 0.5 * np.asarray(kappa) * s
-    x = half / np.pi  # np.sinc(half / pi) written out (pi (half / pi), zeros as eps, sin over itself): the same
-    x *= np.pi  # operations without its call overhead, in place (fresh arrays cost a large swarm page faults)
+    theta = kappa * s
+    theta += theta0
+    half = half_kappa * s
+    direction = half + theta0
+    x = half  # pi (half / pi) with zeros as eps: np.sinc's argument written out, without its call overhead
+    x /= np.pi
+    x *= np.pi
     x[x == 0.0] = _SINC_EPS
     chord = np.sin(x)
     chord /= x
     chord *= s
-    half += theta0  # the chord's direction
-    out = _unit(half)
-    out *= chord[..., None]
+    step = _unit(direction)
+    step *= chord[:, None]
+    p0 += step
+    return p0, _unit(theta)
+
+
+def _unit(theta: FloatArray) -> FloatArray:
+    """(k, 2) unit vectors (cos theta, sin theta) of (k,) angles."""
+    out = np.empty((theta.size, 2))
+    np.cos(theta, out[:, 0])
+    np.sin(theta, out[:, 1])
     return out
 
 
 _SINC_EPS = float(np.finfo(float).eps)
 """What np.sinc puts in place of a zero argument."""
-
-
-def _unit(theta: FloatArray) -> FloatArray:
-    """(k, 2) unit vectors (cos theta, sin theta) of (k,) angles."""
-    out = np.empty((*np.shape(theta), 2))
-    np.cos(theta, out=out[..., 0])
-    np.sin(theta, out=out[..., 1])
-    return out
 
 
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(8)
@@ -245,10 +259,15 @@ class SplineCurve(CenterCurve):
         """The arc lengths of the waypoints (the spline's curvature is C^0 there, smooth in between)."""
         return self._knot_l.copy()
 
-    def _inner(self, l_m: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-        u = self._u_of_l(l_m)
+    def frame(self, l_m: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        l_m = np.asarray(l_m, dtype=float)
+        clipped = np.minimum(np.maximum(l_m, 0.0), self.length_m)  # np.clip's values, at a fraction of its call cost
+        u = self._u_of_l(clipped)
         d1 = self._spline(u, 1)
         d2 = self._spline(u, 2)
         speed = np.hypot(d1[:, 0], d1[:, 1])
         kappa = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / speed**3
-        return self._spline(u), d1 / speed[:, None], kappa
+        pos, tan = self._spline(u), d1 / speed[:, None]
+        beyond = l_m - clipped  # the straight extensions
+        pos += beyond[:, None] * tan  # in place: every fresh array of a large swarm costs its page faults
+        return pos, tan, np.where(beyond != 0.0, 0.0, kappa)

@@ -42,6 +42,8 @@ _PROJECTION_XTOL = 1e-12
 """Absolute tolerance (m) of the arc length found by the projection's Newton iteration."""
 _LEFT = np.array([-1.0, 1.0])
 """(t_x, t_y) reversed times this is the left normal (-t_y, t_x)."""
+_LEFT_ROWS = _LEFT[:, None]
+""":data:`_LEFT` for tangents (2, N), one per column."""
 _WARM_NEWTON_STEPS = 6
 """Newton steps of :meth:`VirtualTube.project_near` before a point is projected globally. From the previous
 control period's projection (robots move centimetres) the step falls below 1e-12 m at the second step on straight
@@ -168,8 +170,8 @@ class VirtualTube:
         converges to 1e-12 m. The result is the exact closest point wherever ``1 - kappa y > 0`` near it, which
         holds for every point of a regular tube and for all points closer to the curve than its curvature radius.
         """
-        xy = as_points(points_m, allow_single=True).T
-        l_m = self._nearest_arc_lengths(xy)
+        xy = as_points(points_m, allow_single=True)
+        l_m = self._nearest_arc_lengths(xy.T)
         return self._projection(xy, l_m, *self.center.frame(l_m))
 
     def project_near(self, points_m: ArrayLike, near: Projection) -> Projection:
@@ -195,20 +197,24 @@ class VirtualTube:
         Both strict, so l is the unique closest point: where the centre curve comes back close to itself (or a
         robot jumped), the test fails and the point falls back to the global search instead of a wrong branch.
         """
-        xy = as_points(points_m, allow_single=True).T
-        if near.l_m.shape != (xy.shape[0],):
-            msg = f'near must project {xy.shape[0]} points, one per point projected; it projects {near.l_m.size}.'
+        xy = as_points(points_m, allow_single=True)
+        n = xy.shape[1]
+        if near.l_m.shape != (n,):
+            msg = f'near must project {n} points, one per point projected; it projects {near.l_m.size}.'
             raise ShapeError(msg)
-        l_m, pos, tan, kappa, found = self._local_newton(xy, near)
+        l_m, pos, tan, kappa, found, d = self._local_newton(xy, near)
         table = self._warm_table
-        s, x, y, far, kappa_max = table.rows[table.nearest_sample(l_m)].T
-        q = np.hypot(xy[:, 0] - x, xy[:, 1] - y)
-        d = np.hypot(xy[:, 0] - pos[:, 0], xy[:, 1] - pos[:, 1])
-        certain = found & (d < far - q) & (kappa_max * (q + table.window_m) < 1.0)
-        certain &= np.abs(l_m - s) < table.window_m
-        if not certain.all():
+        i = table.nearest_sample(l_m)
+        window = table.window_m
+        q = np.hypot(xy[0] - table.x_m[i], xy[1] - table.y_m[i])
+        certain = d < table.far_m[i] - q
+        certain &= table.kappa_max[i] * (q + window) < 1.0
+        certain &= np.abs(l_m - table.l_m[i]) < window
+        certain &= found
+        if np.count_nonzero(certain) < n:  # a count: the cheapest test of a small boolean array
             redo = np.flatnonzero(~certain)
-            l_m[redo] = self._nearest_arc_lengths(xy[redo])
+            l_m[redo] = self._nearest_arc_lengths(xy.T[redo])
+            pos, tan, kappa = pos.copy(), tan.copy(), kappa.copy()  # they may be near's frame, which stays as it is
             pos[redo], tan[redo], kappa[redo] = self.center.frame(l_m[redo])
         return self._projection(xy, l_m, pos, tan, kappa)
 
@@ -230,50 +236,45 @@ class VirtualTube:
 
     def _local_newton(
         self, xy: FloatArray, near: Projection
-    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.bool_]]:
-        """Newton on g(l) from ``near`` for (N, 2) points: arc lengths, positions and tangents (N, 2) and curvatures
-        there, and which points converged (a step below 1e-12 m within :data:`_WARM_NEWTON_STEPS` with g' > 0).
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.bool_], FloatArray]:
+        """Newton on g(l) from ``near`` for (2, N) points: arc lengths, positions and tangents (N, 2) and curvatures
+        there, which points converged (a step below 1e-12 m within :data:`_WARM_NEWTON_STEPS` with g' > 0), and the
+        points' distances to those positions.
 
-        The first step uses the frame ``near`` carries (the frame at its arc lengths), the others evaluate it."""
-        n = xy.shape[0]
-        l_m, pos, tan, curvature = near.l_m.copy(), np.empty((n, 2)), np.empty((n, 2)), np.empty(n)
-        found = np.zeros(n, dtype=bool)
-        active: slice | NDArray[np.intp] = slice(None)  # every point, until some have converged
-        p, t, kappa = near.foot_m.T, near.tangent.T, near.curvature_per_m
-        with np.errstate(divide='ignore', invalid='ignore'):
-            for _ in range(_WARM_NEWTON_STEPS):
-                d = xy[active] - p
-                slope = 1.0 - kappa * (t[:, 0] * d[:, 1] - t[:, 1] * d[:, 0])
-                step = -(d[:, 0] * t[:, 0] + d[:, 1] * t[:, 1]) / slope
-                done = (np.abs(step) <= _PROJECTION_XTOL) & (slope > 0.0)
-                if done.all():  # the usual end: the points still going converge together
-                    pos[active], tan[active], curvature[active], found[active] = p, t, kappa, True
-                    break
-                going = ~done & (slope > 0.0) & np.isfinite(step)
-                if not going.all():  # some converged or stopped: follow only the others from here
-                    index = np.arange(n)[active]
-                    settled = index[done]
-                    pos[settled], tan[settled], curvature[settled], found[settled] = p[done], t[done], kappa[done], True
-                    if not going.any():
-                        break
-                    active, step = index[going], step[going]
-                l_m[active] -= step
-                p, t, kappa = self.center.frame(l_m[active])
-        return l_m, pos, tan, curvature, found
+        The first step uses the frame ``near`` carries (the frame at its arc lengths), the others evaluate it. Every
+        point steps until all have converged or stopped: a small swarm's steps cost the number of numpy calls, which
+        following only the unconverged points would add to (a converged point's further steps are below 1e-12 m). A
+        point where g' <= 0 stops with the step NaN: its arc length stays NaN, which no comparison takes for a step
+        below 1e-12 m or above it, so it neither converges nor keeps the others going, and is projected globally."""
+        n = xy.shape[1]
+        x, y = xy[0], xy[1]
+        l_m, kappa = near.l_m.copy(), near.curvature_per_m.copy()  # copies: returned, and may be written to
+        pos, tan = near.foot_m.T, near.tangent.T
+        for k in range(_WARM_NEWTON_STEPS):
+            dx, dy = x - pos[:, 0], y - pos[:, 1]
+            tx, ty = tan[:, 0], tan[:, 1]
+            slope = 1.0 - kappa * (tx * dy - ty * dx)
+            step = np.divide(dx * tx + dy * ty, slope, out=np.full(n, np.nan), where=slope > 0.0)
+            size = np.abs(step)
+            if k == _WARM_NEWTON_STEPS - 1 or not np.count_nonzero(size > _PROJECTION_XTOL):  # NaN is not > either
+                break
+            l_m += step
+            pos, tan, kappa = self.center.frame(l_m)
+        return l_m, pos, tan, kappa, size <= _PROJECTION_XTOL, np.hypot(dx, dy)
 
     def _projection(
         self, xy: FloatArray, l_m: FloatArray, pos: FloatArray, tan: FloatArray, kappa: FloatArray
     ) -> Projection:
-        """The projection of (N, 2) points ``xy`` with feet at arc lengths ``l_m``, positions and tangents (N, 2) and
+        """The projection of (2, N) points ``xy`` with feet at arc lengths ``l_m``, positions and tangents (N, 2) and
         curvatures (N,) there."""
-        nrm = _left(tan)
-        y = np.einsum('ij,ij->i', xy - pos, nrm)
+        foot, tangent = pos.T.copy(), tan.T.copy()
+        normal = tangent[::-1] * _LEFT_ROWS
         return Projection(
             l_m=l_m,
-            y_m=y,
-            foot_m=pos.T.copy(),
-            tangent=tan.T.copy(),
-            normal=nrm.T.copy(),
+            y_m=np.einsum('ji,ji->i', xy - foot, normal),  # the same sums as over (N, 2) rows, bit for bit
+            foot_m=foot,
+            tangent=tangent,
+            normal=normal,
             half_width_m=self.width.value(l_m),
             length_m=self.length_m,
             curvature_per_m=kappa,
@@ -394,16 +395,21 @@ class _WarmTable:
         """Index of a sample nearest to each arc length (the first or the last beyond the ends). Near a midpoint
         between two samples either may come out: the certificate holds with any sample whose window contains l,
         which :meth:`VirtualTube.project_near` checks."""
-        return np.searchsorted(self._midpoints, l_m, side='right')
+        return self._midpoints.searchsorted(l_m, side='right')
 
     @cached_property
     def _midpoints(self) -> FloatArray:
         return 0.5 * (self.l_m[:-1] + self.l_m[1:])
 
     @cached_property
-    def rows(self) -> FloatArray:
-        """(K, 5): s_i, gamma(s_i), T_i and K_i side by side, gathered at once."""
-        return np.column_stack([self.l_m, self.points, self.far_m, self.kappa_max])
+    def x_m(self) -> FloatArray:
+        """The x of gamma(s_i), contiguous (gathered from it, not from ``points``' column)."""
+        return self.points[:, 0].copy()
+
+    @cached_property
+    def y_m(self) -> FloatArray:
+        """The y of gamma(s_i), contiguous."""
+        return self.points[:, 1].copy()
 
 
 def _ray_distance(points: FloatArray, base: FloatArray, direction: FloatArray, start: FloatArray) -> FloatArray:
@@ -421,7 +427,7 @@ def _arc_lengths(values: ArrayLike, what: str = 'arc length') -> tuple[FloatArra
     if arr.ndim > 1:
         msg = f'{what} must be a scalar or a 1-D array of shape (k,); got shape {arr.shape}.'
         raise ShapeError(msg)
-    if not np.isfinite(arr).all():
+    if np.count_nonzero(np.isfinite(arr)) < arr.size:  # a count: the cheapest test of a small boolean array
         msg = f'{what} must be finite; got {arr[~np.isfinite(arr)][:3].tolist()}.'
         raise ShapeError(msg)
     return np.atleast_1d(arr), arr.ndim == 0

@@ -151,7 +151,10 @@ class WidthProfile:
         """Cumulative area A(l) = integral_0^l 2 lambda in m^2 (negative for l < 0, as the extension's area)."""
         l_m = np.asarray(l_m, dtype=float)
         length = self._length_m
-        inner = 2.0 * self._area(np.minimum(np.maximum(l_m, 0.0), length))
+        clipped = np.minimum(np.maximum(l_m, 0.0), length)
+        inner = 2.0 * self._area(clipped)
+        if not np.count_nonzero(l_m - clipped):  # all in [0, L] (a swarm in its tube): the extensions add zeros,
+            return inner  # which change no bit of inner (A >= 0, and A(0) is +0.0, not -0.0)
         before = 2.0 * self.start_m * np.minimum(l_m, 0.0)
         after = 2.0 * self._end_m * np.maximum(l_m - length, 0.0)
         return inner + before + after

@@ -239,12 +239,13 @@ class PlanProfile:
 
 def swarm_area(tube: Any, l_back_m: ArrayLike, l_front_m: ArrayLike, pad_m: float) -> FloatArray:
     """Area (m^2) of the tube between ``l_back - pad`` and ``l_front + pad``, element-wise (``tube.area``: A(l))."""
-    back = np.atleast_1d(np.asarray(l_back_m, dtype=float)) - pad_m
-    front = np.atleast_1d(np.asarray(l_front_m, dtype=float)) + pad_m
+    front = np.asarray(l_front_m, dtype=float) + pad_m
+    back = np.asarray(l_back_m, dtype=float) - pad_m
     if front.shape != back.shape:
         front, back = np.broadcast_arrays(front, back)
-    area = np.asarray(tube.area(np.concatenate([front, back])), dtype=float)  # one call: the step makes it each period
-    return area[: front.size] - area[front.size :]
+    ends = np.array([front, back]).reshape(2, -1)  # (2, k); scalars as k = 1
+    area = np.asarray(tube.area(ends.ravel()), dtype=float).reshape(2, -1)  # one call: the step makes it each period
+    return area[0] - area[1]
 
 
 def swarm_density(tube: Any, l_m: ArrayLike, pad_m: float) -> float:
