@@ -293,9 +293,10 @@ def interaction_gains(
     m, k = pair_dist.size, clearance.size
     r_s = params.r_s_m
     x = np.concatenate([pair_dist, clearance])
-    d1 = np.repeat(np.array([2.0 * r_s, r_s]), [m, k])  # where the push saturates: 2 r_s between robots, r_s at walls
     d2 = np.concatenate([pair_band, r_a])
-    gains = np.repeat(np.array([params.avoidance_gain, params.keeping_gain]), [m, k])
+    d1, gains = np.empty(m + k), np.empty(m + k)  # written slice by slice: cheaper than np.repeat on small arrays
+    d1[:m], d1[m:] = 2.0 * r_s, r_s  # where the push saturates: 2 r_s between robots, r_s at walls
+    gains[:m], gains[m:] = params.avoidance_gain, params.keeping_gain
     if params.law == 'practical':
         gain = gains * sigma(x, d1, d2)[0]
     else:
@@ -557,7 +558,7 @@ class SwarmStep:
         if points.shape != (2, self.r_a.size):
             msg = f'points must have shape (2, {self.r_a.size}), one robot per column; got {points.shape}.'
             raise ValueError(msg)
-        if not np.isfinite(points).all():
+        if np.count_nonzero(np.isfinite(points)) < points.size:  # a count: the cheapest test of a small array
             msg = f'points of robots {np.flatnonzero(~np.isfinite(points).all(axis=0)).tolist()} are not finite.'
             raise ValueError(msg)
         if projection is None:
@@ -572,7 +573,7 @@ class SwarmStep:
             for k in np.flatnonzero(exited & (self.slot_of < 0)):
                 self.slot_of[k] = int((self.slot_of >= 0).sum())
         parked = self.slot_of >= 0
-        members = ~parked if parked.any() else None  # None: every robot flies the tube
+        members = ~parked if np.count_nonzero(parked) else None  # None: every robot flies the tube
         swarm_l, radii = (l_m[members], self.r_a[members]) if members is not None and members.any() else (l_m, self.r_a)
         density = swarm_density(self.tube, swarm_l, p.r_a_m if p.density_padding == 'initial' else float(radii.mean()))
         l_plan = np.full(l_m.size, swarm_l.mean()) if p.plan_at == 'center' else l_m
@@ -584,7 +585,7 @@ class SwarmStep:
         command = velocity_command(points, r_a, forward_speed, projection, p, members, others)
         velocity = command.velocity
         if self.slots is None:
-            done = bool(exited.all())
+            done = np.count_nonzero(exited) == exited.size
         else:
             velocity, done = self._park(self.slots, points, parked, velocity)
         if self.plan is not None:
