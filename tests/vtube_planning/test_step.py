@@ -20,6 +20,7 @@ from vtube_planning.swarm.step import (
     avoidance_velocity,
     barrier_gain,
     feedforward_radius,
+    interaction_gains,
     neighbour_pairs,
     next_radius,
     saturate,
@@ -115,11 +116,45 @@ def test_barrier_gain_is_minus_the_potential_derivative() -> None:
     assert barrier_gain(np.array([0.5]), 0.8, 0.8, np.array([1.2]), 1.0)[0] > 1e6  # inside the safety distance
 
 
+@pytest.mark.parametrize('law', ['barrier', 'practical'])
+def test_one_evaluation_of_the_law_gives_the_bits_of_separate_ones(law: str) -> None:
+    """Pairs (offset and d1 = 2 r_s, the avoidance gain) and walls (r_s, the keeping gain) in one call of the law,
+    element by element: exactly what each kind gives alone with scalar parameters (the simulator's runs depend on
+    these bits); with no pairs or no walls, the other kind alone."""
+    params = replace(PRACTICAL, law=law).step_params(SWARM)
+    r_s = params.r_s_m
+    rng = np.random.default_rng(7)
+    dist = rng.uniform(0.5, 1.6, 40)  # inside the safety distance 2 r_s, the band and beyond
+    band = r_s + rng.uniform(0.8, 1.2, 40)
+    clearance = rng.uniform(-0.1, 1.0, 12)
+    r_a = rng.uniform(0.8, 1.2, 12)
+    if law == 'barrier':
+        pairs = barrier_gain(dist, 2 * r_s, 2 * r_s, band, params.avoidance_gain)
+        walls = barrier_gain(clearance, r_s, r_s, r_a, params.keeping_gain)
+    else:
+        pairs = params.avoidance_gain * sigma(dist, 2 * r_s, band)[0]
+        walls = params.keeping_gain * sigma(clearance, r_s, r_a)[0]
+    assert np.count_nonzero(pairs) > 10 and np.count_nonzero(walls) > 3  # both kinds push
+    together = interaction_gains(dist, band, clearance, r_a, params)
+    np.testing.assert_array_equal(together[0], pairs)
+    np.testing.assert_array_equal(together[1], walls)
+    none = np.empty(0)
+    np.testing.assert_array_equal(interaction_gains(dist, band, none, none, params)[0], pairs)
+    np.testing.assert_array_equal(interaction_gains(none, none, clearance, r_a, params)[1], walls)
+
+
 def test_saturate_rescales_radially_into_the_speed_band() -> None:
     u = np.array([[0.5, 3.0, 30.0, 0.0], [0.0, 4.0, 40.0, 0.0]])
     fallback = np.array([[1.0] * 4, [0.0] * 4])
     v = saturate(u, 2.0, 5.0, fallback)
     np.testing.assert_allclose(v.T, [[2.0, 0.0], [3.0, 4.0], [3.0, 4.0], [2.0, 0.0]])
+    rng = np.random.default_rng(5)
+    u = rng.normal(0.0, 4.0, (2, 30))
+    with_zero = np.hstack([u, np.zeros((2, 1))])  # one zero command: the general path for every column
+    fallback = np.vstack([np.ones(31), np.zeros(31)])
+    np.testing.assert_array_equal(
+        saturate(u, 2.0, 5.0, fallback[:, :30]), saturate(with_zero, 2.0, 5.0, fallback)[:, :30]
+    )
 
 
 # ---------------------------------------------------------------------- the law, by hand
