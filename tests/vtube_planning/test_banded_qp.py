@@ -25,6 +25,7 @@ from vtube_planning.planning.planner import (
     BandedPlanner,
     ConvexPlanner,
     discretise,
+    fastest_admissible,
     plan_convex,
     refined_grid,
     uniform_grid,
@@ -228,8 +229,9 @@ def test_the_fastest_start_is_admissible_and_no_admissible_profile_is_faster(nam
     scene = load_scene(name)
     options = replace(scene.planning, predictive_model=model)
     problem = discretise(scene.tube, scene.swarm, options)
-    assert problem.fast_start is not None
-    w, rho = problem.fast_start
+    start = fastest_admissible(problem)
+    assert start is not None
+    w, rho = start
     certificate, _ = certify(scene.tube, scene.swarm, options, problem.l_m, 1.0 / w, rho)
     assert max(certificate.values()) <= 1e-12  # every constraint holds: the procedure may start there
     plan = plan_convex(scene.tube, scene.swarm, options)

@@ -68,7 +68,6 @@ class Problem:
     rho0_per_m2: float
     w_start: FloatArray
     rho_start: FloatArray
-    fast_start: tuple[FloatArray, FloatArray] | None = None
 
     @property
     def dl_m(self) -> FloatArray:
@@ -149,14 +148,14 @@ def discretise(
     problem = Problem(tube, swarm, options, l_m, speed_cap, width_ratio, v0, rho0, w_start, rho_start)
     if options.predictive_model == 'local_width':
         _check_local_width(problem)
-    return replace(problem, fast_start=_fastest_admissible(problem))
+    return problem
 
 
 REPAIRS = 20
 """Passes that slow the fastest admissible profile where (p7) needs it, before the slowest start is used instead."""
 
 
-def _fastest_admissible(problem: Problem) -> tuple[FloatArray, FloatArray] | None:
+def fastest_admissible(problem: Problem) -> tuple[FloatArray, FloatArray] | None:
     """A start near the optimum for the convex-concave procedure, or None where it cannot be had.
 
     The fastest speed profile that (p2)-(p4) admit, as in time-optimal path parameterisation: from v_0, accelerate
@@ -392,7 +391,7 @@ def plan_convex(
     started = time.perf_counter()
     grid = start_m + uniform_grid(tube.length_m - start_m, options.grid_step_m)
     problem = discretise(tube, swarm, options, grid)
-    begin = problem.fast_start if start == 'fastest' and problem.fast_start is not None else None
+    begin = fastest_admissible(problem) if start == 'fastest' else None
     started_from = 'slowest' if begin is None else 'fastest'
     w, rho, status, iterations, used = _convex_concave(problem, begin, formulation, max_iterations, rtol)
     if options.refinement > 1:
