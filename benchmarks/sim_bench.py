@@ -35,7 +35,7 @@ import numpy as np
 
 from benchmarks._timing import timed, timed_together
 from vtube_planning import ArcPath, ArcPiece, SwarmParams, VirtualTube, WidthPart, WidthProfile
-from vtube_planning.swarm.control import ControlParams
+from vtube_planning.params import ControlParams
 from vtube_planning.swarm.step import (
     KDTREE_ABOVE,
     PlanProfile,

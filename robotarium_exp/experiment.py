@@ -7,7 +7,7 @@ The experiment is the submission without the file: :func:`flight_data` turns a s
 the plain data a submission embeds (the tube sampled every centimetre, the plan's slowness and density, the step's
 parameters, initial conditions, parking slots, barrier and wheel limits), and both this module and the submitted
 file fly it with :func:`robotarium_exp.flight.build_flight` and :func:`robotarium_exp.flight.fly`. Every period
-is logged (:mod:`vtube_planning.swarm.log`: rewritten atomically, so an interrupted run leaves a readable file).
+is logged (:mod:`vtube_planning.log`: rewritten atomically, so an interrupted run leaves a readable file).
 The run ends when every robot has parked past the exit, or at the step limit.
 """
 
@@ -25,8 +25,8 @@ from robotarium_exp.errors import ExperimentError
 from robotarium_exp.flight import Period, Wheels, build_flight, fly
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.scene import Scene
+from vtube_planning.log import LogWriter
 from vtube_planning.planning.plan import Plan
-from vtube_planning.swarm.log import LogWriter
 from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics, strict_json
 from vtube_planning.swarm.simulate import default_constant_speed
 from vtube_planning.swarm.step import parking_slots as slots_beyond

@@ -8,8 +8,7 @@ or, inside Python, ``install()`` before the script imports ``rps``. By default `
 ``robotarium_python_simulator`` 0.0.0: ``call_at_scripts_end()``, ``rps.robotarium_abc``,
 ``rps.utilities.barrier_certificates2``...). ``--seed`` seeds ``random`` and ``np.random``, what the scripts and
 both generations draw from (V2's charger slots and deadlock escapes, classic's random start poses); ``--log`` makes
-the simulator record every pose it hands out (a vtube ``.npz`` log, completed by the end-of-script call; until
-then, and for a script that never makes it, the poses are in ``FILE.partial.npz``);
+the simulator record every pose it hands out (:mod:`robotarium_exp.recorder`);
 ``--exact-qp`` makes the barrier certificates solve their QPs exactly and faster, instead of as the testbed does
 (:func:`robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`).
 
@@ -27,12 +26,11 @@ import sys
 import traceback
 import types
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
+from robotarium_exp.recorder import recording
 from robotarium_exp.rps.utilities.barrier_certificates import use_qp_solver
-from vtube_planning.swarm.log import LogWriter
 
 MODULES = (
     '',
@@ -89,48 +87,6 @@ def seed_rps(seed: int) -> None:
     """Seed what ``rps`` and the scripts draw from: Python's ``random`` (charger slots) and ``np.random``."""
     random.seed(seed)
     np.random.seed(seed)
-
-
-def recording(cls: type, log_path: str) -> type:
-    """``cls`` that also writes every pose it hands out to a vtube trajectory log (completed at the script's end)."""
-
-    class Recording(cls):  # a subclass of the class chosen at run time
-        def __init__(self, *args: Any, **kwargs: Any) -> None:
-            super().__init__(*args, **kwargs)
-            self._log = LogWriter(
-                log_path, {'kind': 'bundled robotarium', 'n_robots': self.number_of_robots, 'dt_s': self._dt()}
-            )
-
-        def _dt(self) -> float:
-            return float(getattr(self, 'TIME_STEP', None) or self.time_step)  # V2, classic
-
-        def _counts(self) -> tuple[dict[str, int], int]:
-            """Validation counts and iterations of either generation (classic keeps them private, with texts)."""
-            if hasattr(self, 'TIME_STEP'):  # V2
-                return self.errors, self.iterations
-            return {k: v for k, v in self._errors.items() if isinstance(v, int)}, self._iterations
-
-        def get_poses(self) -> Any:
-            poses = super().get_poses()
-            steps = self._counts()[1] - getattr(self, 'initialization_steps', 0)
-            self._log.append(t_s=steps * self._dt(), positions_m=poses[:2], headings_rad=poses[2])
-            return poses
-
-        def debug(self) -> Any:
-            errors, iterations = self._counts()
-            self._log.flush(errors=errors, iterations=iterations, finished=True)
-            return super().debug()
-
-        def call_at_scripts_end(self) -> Any:
-            errors, iterations = self._counts()
-            self._log.flush(errors=errors, iterations=iterations, finished=True)
-            return super().call_at_scripts_end()
-
-    for end_of_script in ('debug', 'call_at_scripts_end'):  # keep only the generation's own (scripts test for it)
-        if not hasattr(cls, end_of_script):
-            delattr(Recording, end_of_script)
-    Recording.__name__ = cls.__name__
-    return Recording
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -127,7 +127,7 @@ def test_infeasible_plan_gives_exit_2_naming_constraint_and_arc_length(tmp_path,
 
 
 def test_simulate_prints_metrics_and_writes_log_and_figures(tmp_path, capsys) -> None:
-    from vtube_planning.swarm.log import read_log
+    from vtube_planning.log import read_log
 
     assert main(['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--seed', '3']) == 0
     text = capsys.readouterr().out
@@ -159,8 +159,8 @@ def test_simulate_replans_in_flight_and_reports_each_call(tmp_path, capsys) -> N
 
 def test_animation_is_a_gif(tmp_path) -> None:
     from vtube_planning.geometry.scene import load_scene
+    from vtube_planning.params import ControlParams
     from vtube_planning.plots import animate
-    from vtube_planning.swarm.control import ControlParams
     from vtube_planning.swarm.simulate import SimConfig, simulate
 
     scene = load_scene('A')
@@ -183,7 +183,7 @@ def test_study_writes_table_json_and_figure(tmp_path, capsys) -> None:
 
 
 def test_robotarium_run_prints_the_testbed_verdict(tmp_path, capsys) -> None:
-    from vtube_planning.swarm.log import read_log
+    from vtube_planning.log import read_log
 
     assert main(['robotarium', 'run', 'robotarium_trapezoid', '--out', str(tmp_path), '--no-initialization']) == 0
     text = capsys.readouterr().out
@@ -338,8 +338,8 @@ def test_every_artefact_records_where_it_comes_from(tmp_path, capsys) -> None:
     from importlib import resources
     from importlib.metadata import version
 
+    from vtube_planning.log import read_log
     from vtube_planning.planning.plan import Plan
-    from vtube_planning.swarm.log import read_log
 
     text = resources.files('vtube_planning.scenes').joinpath('robotarium_trapezoid.toml').read_text(encoding='utf-8')
     digest = hashlib.sha256(text.encode()).hexdigest()
@@ -379,7 +379,7 @@ def test_every_artefact_records_where_it_comes_from(tmp_path, capsys) -> None:
 def test_json_output_parses_and_matches_what_is_written(tmp_path, capsys) -> None:
     import json
 
-    from vtube_planning.swarm.log import read_log
+    from vtube_planning.log import read_log
 
     out = tmp_path / 's'
     assert main(['simulate', 'robotarium_curve', '--out', str(out), '--json']) == 0

@@ -26,11 +26,10 @@ from numpy.typing import NDArray
 from vtube_planning.baselines.flocking import FlockingParams, flocking_command
 from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
 from vtube_planning.geometry.scene import Scene, load_scene
-from vtube_planning.params import PlanningOptions, SwarmParams
+from vtube_planning.params import ControlParams, PlanningOptions, SwarmParams
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.stats import Estimate, cell_values, mean_interval, paired_difference, verdict
-from vtube_planning.swarm.control import ControlParams
 from vtube_planning.swarm.metrics import tracking_errors
 from vtube_planning.swarm.simulate import RobotFailure, SimConfig, SimResult, default_constant_speed, simulate
 

@@ -30,7 +30,7 @@ from robotarium_exp.analysis.trajectory import (
 )
 from robotarium_exp.errors import AnalysisError
 from vtube_planning.errors import LogError
-from vtube_planning.swarm.log import read_log
+from vtube_planning.log import read_log
 
 SUBMISSION_PREFIX = 'vtube_'
 ROS2_STORAGE = ('.mcap', '.db3')
@@ -155,7 +155,7 @@ def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[
 
 
 def load_npz_log(path: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
-    """Our logs (:mod:`vtube_planning.swarm.log`): simulations, Robotarium experiments, the bundled simulator's."""
+    """Our logs (:mod:`vtube_planning.log`): simulations, Robotarium experiments, the bundled simulator's."""
     try:
         arrays, meta = read_log(path)
     except LogError as err:

@@ -18,8 +18,8 @@ from robotarium_exp.experiment import (
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.rps_alias import seed_rps
 from vtube_planning import load_scene
+from vtube_planning.log import read_log
 from vtube_planning.planning.planner import plan_convex
-from vtube_planning.swarm.log import read_log
 
 NO_INIT = {'skip_initialization': True}
 

@@ -98,7 +98,7 @@ def test_bad_fault_settings_are_refused(scene_a) -> None:
 
 
 def test_avoidance_of_what_is_heard_equals_the_pairwise_law_when_everything_arrives() -> None:
-    from vtube_planning.swarm.control import ControlParams
+    from vtube_planning.params import ControlParams
     from vtube_planning.swarm.step import avoidance_velocity
 
     scene = load_scene('A')

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from vtube_planning.errors import LogError
+from vtube_planning.log import LOG_VERSION, LogWriter, read_log
 from vtube_planning.npzfile import write_npz
-from vtube_planning.swarm.log import LOG_VERSION, LogWriter, read_log
 
 
 def test_rows_round_trip_and_flush_periodically(tmp_path) -> None:

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from vtube_planning import ArcPath, ArcPiece, ParamsError, SwarmParams, VirtualTube, WidthPart, WidthProfile
-from vtube_planning.swarm.control import ControlParams
+from vtube_planning.params import ControlParams
 from vtube_planning.swarm.step import (
     KDTREE_ABOVE,
     Command,

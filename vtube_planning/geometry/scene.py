@@ -49,8 +49,7 @@ from vtube_planning.errors import SceneError, VtubeError
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
-from vtube_planning.params import PlanningOptions, SwarmParams
-from vtube_planning.swarm.control import ControlParams
+from vtube_planning.params import ControlParams, PlanningOptions, SwarmParams
 
 _SCENE_PACKAGE = 'vtube_planning.scenes'
 

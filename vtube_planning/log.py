@@ -1,7 +1,8 @@
 """The one trajectory log of vtube, written so that a crash loses little (format: :mod:`vtube_planning.npzfile`).
 
 Simulations (:mod:`vtube_planning.swarm.simulate`), Robotarium experiments (:mod:`robotarium_exp.experiment`) and
-the bundled simulator's pose recording (``python -m robotarium_exp.rps_alias --log``) all write this schema:
+the recorder of a run on a Robotarium class (:mod:`robotarium_exp.recorder`) all write this schema, and the analysis
+reads it; it sits below every room of the house so that each may use it:
 
 * arrays, one row per step: ``t_s`` (T,) and ``positions_m`` (T, 2, N), the robots' centres, always;
   ``headings_rad`` (T, N) for unicycles; whatever else the writer measured (commands, ``r_a_m``, ``l_m``, ...);
@@ -11,8 +12,9 @@ the bundled simulator's pose recording (``python -m robotarium_exp.rps_alias --l
 A :class:`LogWriter` keeps the rows it has been given and rewrites the whole file every ``flush_every`` rows,
 atomically, under a partial name (``run.partial.npz`` for ``run.npz``) until the run is finished: the file on disk
 is always a complete, readable ``.npz``, an interrupted run leaves every row up to its last flush in the partial
-file, and a finished log of an earlier run at the same path is replaced only by a finished one. :func:`read_log` reads this version and the earlier ones (version 1 logs held ``poses``
-(T, 3, N) instead of positions and headings), and names any other version it is given.
+file, and a finished log of an earlier run at the same path is replaced only by a finished one. :func:`read_log`
+reads this version and the earlier ones (version 1 logs held ``poses`` (T, 3, N) instead of positions and headings),
+and names any other version it is given.
 """
 
 from __future__ import annotations

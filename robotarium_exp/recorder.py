@@ -1,0 +1,54 @@
+"""The recorder of a run on a Robotarium class: every pose it hands out, written to a vtube trajectory log.
+
+:func:`recording` subclasses either generation of ``rps.robotarium.Robotarium`` (V2 or classic, chosen at run
+time); the log (:mod:`vtube_planning.log`) is completed with the validation counts by the end-of-script call, and
+until then, or for a script that never makes it, the poses are in ``FILE.partial.npz``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from vtube_planning.log import LogWriter
+
+
+def recording(cls: type, log_path: str) -> type:
+    """``cls`` that also writes every pose it hands out to a vtube trajectory log (completed at the script's end)."""
+
+    class Recording(cls):  # type: ignore[misc, unused-ignore]  # a subclass of the class chosen at run time
+        def __init__(self, *args: Any, **kwargs: Any) -> None:
+            super().__init__(*args, **kwargs)
+            self._log = LogWriter(
+                log_path, {'kind': 'bundled robotarium', 'n_robots': self.number_of_robots, 'dt_s': self._dt()}
+            )
+
+        def _dt(self) -> float:
+            return float(getattr(self, 'TIME_STEP', None) or self.time_step)  # V2, classic
+
+        def _counts(self) -> tuple[dict[str, int], int]:
+            """Validation counts and iterations of either generation (classic keeps them private, with texts)."""
+            if hasattr(self, 'TIME_STEP'):  # V2
+                return self.errors, self.iterations
+            return {k: v for k, v in self._errors.items() if isinstance(v, int)}, self._iterations
+
+        def get_poses(self) -> Any:
+            poses = super().get_poses()
+            steps = self._counts()[1] - getattr(self, 'initialization_steps', 0)
+            self._log.append(t_s=steps * self._dt(), positions_m=poses[:2], headings_rad=poses[2])
+            return poses
+
+        def debug(self) -> Any:
+            errors, iterations = self._counts()
+            self._log.flush(errors=errors, iterations=iterations, finished=True)
+            return super().debug()
+
+        def call_at_scripts_end(self) -> Any:
+            errors, iterations = self._counts()
+            self._log.flush(errors=errors, iterations=iterations, finished=True)
+            return super().call_at_scripts_end()
+
+    for end_of_script in ('debug', 'call_at_scripts_end'):  # keep only the generation's own (scripts test for it)
+        if not hasattr(cls, end_of_script):
+            delattr(Recording, end_of_script)
+    Recording.__name__ = cls.__name__
+    return Recording
