@@ -1,4 +1,37 @@
 """The tube experiment on the Robotarium: a compatible simulator, the experiment loop, trajectory analysis.
 
-Arrives with issues 6 and 8.
+:func:`run_experiment` flies a scene's plan on any Robotarium class (:mod:`.rps`, :mod:`.rps_classic`, the PyPI
+simulator); :mod:`.analysis` measures what comes back.
 """
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from vtube_planning._lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from robotarium_exp.errors import AnalysisError, ExperimentError, RobotariumError, RobotariumExpError
+    from robotarium_exp.experiment import ExperimentConfig, ExperimentResult, run_experiment
+    from robotarium_exp.spec import ROBOTARIUM, RobotariumSpec
+
+__all__ = [
+    'ROBOTARIUM',
+    'AnalysisError',
+    'ExperimentConfig',
+    'ExperimentError',
+    'ExperimentResult',
+    'RobotariumError',
+    'RobotariumExpError',
+    'RobotariumSpec',
+    'run_experiment',
+]
+
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        'robotarium_exp.errors': ('AnalysisError', 'ExperimentError', 'RobotariumError', 'RobotariumExpError'),
+        'robotarium_exp.experiment': ('ExperimentConfig', 'ExperimentResult', 'run_experiment'),
+        'robotarium_exp.spec': ('ROBOTARIUM', 'RobotariumSpec'),
+    },
+)

@@ -1,4 +1,37 @@
 """Builder and preflight check of the single self-contained file submitted to the remote Robotarium.
 
-Arrives with issue 7.
+:func:`build` writes the file; ``submission.check.check`` runs it on the bundled simulator (the function is not
+exported here, where ``check`` names its module).
 """
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from vtube_planning._lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from submission.builder import Submission, build, write
+    from submission.check import CheckReport, Declaration, RunReport, declare
+    from submission.errors import CheckError, SubmissionError
+
+__all__ = [
+    'CheckError',
+    'CheckReport',
+    'Declaration',
+    'RunReport',
+    'Submission',
+    'SubmissionError',
+    'build',
+    'declare',
+    'write',
+]
+
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        'submission.builder': ('Submission', 'build', 'write'),
+        'submission.check': ('CheckReport', 'Declaration', 'RunReport', 'declare'),
+        'submission.errors': ('CheckError', 'SubmissionError'),
+    },
+)

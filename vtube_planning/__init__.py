@@ -1,18 +1,41 @@
 """Speed and density planning for a speed-constrained robot swarm through a virtual tube.
 
 Implements Song, Gao, Quan, *Speed and Density Planning for a Speed-Constrained Robot Swarm Through a Virtual
-Tube* (arXiv:2310.00623). This package knows nothing of the Robotarium: it holds the tube geometry, the scenes,
-the swarm parameters and (in later modules) the planner, the controller and the simulator.
+Tube* (arXiv:2310.00623). This package knows nothing of the Robotarium: scene -> :func:`load_scene`, plan ->
+:func:`plan_convex` (a :class:`Plan`), fly -> :func:`simulate` (a :class:`SimResult`). Every name below is
+imported from its module on first use.
 """
 
-from importlib.metadata import version as _version
+from __future__ import annotations
 
-from vtube_planning.errors import ParamsError, PlanError, SceneError, ShapeError, SolverError, TubeError, VtubeError
-from vtube_planning.geometry.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
-from vtube_planning.geometry.scene import Scene, Workspace, list_scenes, load_scene
-from vtube_planning.geometry.tube import Projection, VirtualTube
-from vtube_planning.geometry.width import WidthPart, WidthProfile
-from vtube_planning.params import PlanningOptions, SwarmParams
+from importlib.metadata import version as _version
+from typing import TYPE_CHECKING
+
+from vtube_planning._lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from vtube_planning.errors import (
+        LogError,
+        ParamsError,
+        PlanError,
+        SceneError,
+        ShapeError,
+        SolverError,
+        TubeError,
+        VtubeError,
+    )
+    from vtube_planning.geometry.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
+    from vtube_planning.geometry.projection import Projection
+    from vtube_planning.geometry.scene import Scene, Workspace, list_scenes, load_scene
+    from vtube_planning.geometry.tube import VirtualTube
+    from vtube_planning.geometry.width import WidthPart, WidthProfile
+    from vtube_planning.log import LogWriter, read_log
+    from vtube_planning.params import ControlParams, PlanningOptions, SwarmParams
+    from vtube_planning.planning.plan import Plan
+    from vtube_planning.planning.planner import plan_convex, replan
+    from vtube_planning.swarm.metrics import PassageMetrics
+    from vtube_planning.swarm.simulate import SimConfig, SimResult, simulate
+    from vtube_planning.swarm.step import SwarmStep
 
 __version__ = _version('vtube')
 """The installed package's version: one source of truth, the package metadata."""
@@ -21,16 +44,24 @@ __all__ = [
     'ArcPath',
     'ArcPiece',
     'CenterCurve',
+    'ControlParams',
+    'LogError',
+    'LogWriter',
     'ParamsError',
+    'PassageMetrics',
+    'Plan',
     'PlanError',
     'PlanningOptions',
     'Projection',
     'Scene',
     'SceneError',
     'ShapeError',
+    'SimConfig',
+    'SimResult',
     'SolverError',
     'SplineCurve',
     'SwarmParams',
+    'SwarmStep',
     'TubeError',
     'VirtualTube',
     'VtubeError',
@@ -40,4 +71,36 @@ __all__ = [
     '__version__',
     'list_scenes',
     'load_scene',
+    'plan_convex',
+    'read_log',
+    'replan',
+    'simulate',
 ]
+
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        'vtube_planning.errors': (
+            'LogError',
+            'ParamsError',
+            'PlanError',
+            'SceneError',
+            'ShapeError',
+            'SolverError',
+            'TubeError',
+            'VtubeError',
+        ),
+        'vtube_planning.geometry.centerline': ('ArcPath', 'ArcPiece', 'CenterCurve', 'SplineCurve'),
+        'vtube_planning.geometry.projection': ('Projection',),
+        'vtube_planning.geometry.scene': ('Scene', 'Workspace', 'list_scenes', 'load_scene'),
+        'vtube_planning.geometry.tube': ('VirtualTube',),
+        'vtube_planning.geometry.width': ('WidthPart', 'WidthProfile'),
+        'vtube_planning.log': ('LogWriter', 'read_log'),
+        'vtube_planning.params': ('ControlParams', 'PlanningOptions', 'SwarmParams'),
+        'vtube_planning.planning.plan': ('Plan',),
+        'vtube_planning.planning.planner': ('plan_convex', 'replan'),
+        'vtube_planning.swarm.metrics': ('PassageMetrics',),
+        'vtube_planning.swarm.simulate': ('SimConfig', 'SimResult', 'simulate'),
+        'vtube_planning.swarm.step': ('SwarmStep',),
+    },
+)

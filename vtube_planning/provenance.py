@@ -15,10 +15,12 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from vtube_planning import __version__
-from vtube_planning.geometry.scene import Scene
+
+if TYPE_CHECKING:
+    from vtube_planning.geometry.scene import Scene
 
 
 def sha256_of(data: bytes | str) -> str:

@@ -5,3 +5,40 @@ the sources, :mod:`.distances` measures pairs over their common coverage, :mod:`
 a tube, and :mod:`.report` measures a trajectory (in a scene or without one) and writes metrics, report and
 figures (:mod:`.plots`).
 """
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from vtube_planning._lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from robotarium_exp.analysis.bags import read_bag
+    from robotarium_exp.analysis.loaders import load_npz_log, load_submission_folder, load_trajectory
+    from robotarium_exp.analysis.matfiles import read_mat
+    from robotarium_exp.analysis.report import Analysis, analyse, write_report
+    from robotarium_exp.analysis.trajectory import RobotSamples, Trajectory
+
+__all__ = [
+    'Analysis',
+    'RobotSamples',
+    'Trajectory',
+    'analyse',
+    'load_npz_log',
+    'load_submission_folder',
+    'load_trajectory',
+    'read_bag',
+    'read_mat',
+    'write_report',
+]
+
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        'robotarium_exp.analysis.bags': ('read_bag',),
+        'robotarium_exp.analysis.loaders': ('load_npz_log', 'load_submission_folder', 'load_trajectory'),
+        'robotarium_exp.analysis.matfiles': ('read_mat',),
+        'robotarium_exp.analysis.report': ('Analysis', 'analyse', 'write_report'),
+        'robotarium_exp.analysis.trajectory': ('RobotSamples', 'Trajectory'),
+    },
+)

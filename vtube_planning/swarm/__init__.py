@@ -1,1 +1,36 @@
-"""The swarm: one control step (numpy and scipy only), its parameters, the simulator, metrics, trajectory logs."""
+"""The swarm: one control step (numpy and scipy only), the simulator, its metrics.
+
+The simulator itself is :func:`vtube_planning.simulate` (here ``simulate`` names its module).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from vtube_planning._lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics, tracking_errors
+    from vtube_planning.swarm.simulate import RobotFailure, SimConfig, SimResult
+    from vtube_planning.swarm.step import PlanProfile, StepParams, SwarmStep
+
+__all__ = [
+    'PassageMetrics',
+    'PlanProfile',
+    'RobotFailure',
+    'SimConfig',
+    'SimResult',
+    'StepParams',
+    'SwarmStep',
+    'passage_metrics',
+    'tracking_errors',
+]
+
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        'vtube_planning.swarm.metrics': ('PassageMetrics', 'passage_metrics', 'tracking_errors'),
+        'vtube_planning.swarm.simulate': ('RobotFailure', 'SimConfig', 'SimResult'),
+        'vtube_planning.swarm.step': ('PlanProfile', 'StepParams', 'SwarmStep'),
+    },
+)
