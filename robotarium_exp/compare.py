@@ -9,6 +9,7 @@ initialization (charger slots, deadlock escapes), so the runs differ in where th
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
@@ -18,6 +19,7 @@ from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.rps_alias import seed_rps
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
+from vtube_planning.swarm.metrics import strict_json
 
 COLUMNS = (
     ('passing time [s]', 'passing_time_s', '.1f'),
@@ -33,11 +35,33 @@ COLUMNS = (
 )
 
 
+@dataclass(frozen=True)
+class ComparisonRow:
+    """One run of the comparison: its seed and mode, and the measures of ``COLUMNS`` (None: did not happen)."""
+
+    seed: int
+    planned: bool
+    passing_time_s: float
+    min_distance_m: float
+    tube_violation_steps: int
+    intervention_m: float
+    band_percent: float
+    approach_percent: float | None
+    dip_percent: float | None
+    expansion_start_s: float | None
+    front_at_narrowing_s: float | None
+    testbed_errors: int
+
+    def to_json(self) -> dict[str, Any]:
+        """The row as strict JSON: NaN and infinities become None."""
+        json: dict[str, Any] = strict_json(asdict(self))
+        return json
+
+
 def compare(
     scene: Scene, plan: Plan, seeds: list[int], run_done: Callable[[], None] | None = None
-) -> list[dict[str, Any]]:
-    """One row per seed and mode (planned, unplanned) with the measures of ``COLUMNS``; ``run_done`` is called
-    after each run (a progress bar)."""
+) -> list[ComparisonRow]:
+    """One row per seed and mode (planned, unplanned); ``run_done`` is called after each run (a progress bar)."""
     rows = []
     for seed in seeds:
         for planned in (True, False):
@@ -45,33 +69,33 @@ def compare(
             result = run_experiment(Robotarium, scene, plan if planned else None, ExperimentConfig(planning=planned))
             tracked = plan_tracking(result, plan, scene)
             rows.append(
-                {
-                    'seed': seed,
-                    'planned': planned,
-                    'passing_time_s': result.metrics.passing_time_s,
-                    'min_distance_m': result.metrics.min_distance_m,
-                    'tube_violation_steps': result.metrics.tube_violation_steps,
-                    'intervention_m': result.barrier['intervention_m'],
-                    'band_percent': 100.0 * result.barrier['band_share'],
-                    'approach_percent': _percent(tracked['approach']['density_error_mean']),
-                    'dip_percent': _percent(tracked['dip']['density_error_mean']),
-                    'expansion_start_s': tracked['expansion_start_s'],
-                    'front_at_narrowing_s': tracked['front_at_narrowing_s'],
-                    'testbed_errors': sum(result.errors.values()),
-                }
+                ComparisonRow(
+                    seed=seed,
+                    planned=planned,
+                    passing_time_s=result.metrics.passing_time_s,
+                    min_distance_m=result.metrics.min_distance_m,
+                    tube_violation_steps=result.metrics.tube_violation_steps,
+                    intervention_m=result.barrier['intervention_m'],
+                    band_percent=100.0 * result.barrier['band_share'],
+                    approach_percent=_percent(tracked['approach']['density_error_mean']),
+                    dip_percent=_percent(tracked['dip']['density_error_mean']),
+                    expansion_start_s=tracked['expansion_start_s'],
+                    front_at_narrowing_s=tracked['front_at_narrowing_s'],
+                    testbed_errors=sum(result.errors.values()),
+                )
             )
             if run_done is not None:
                 run_done()
     return rows
 
 
-def comparison_table(rows: list[dict[str, Any]]) -> str:
+def comparison_table(rows: list[ComparisonRow]) -> str:
     """Markdown: one row per measure, planned and unplanned as 'mean [min, max]' over the seeds."""
     lines = ['| measure | planned | unplanned |', '|---|---|---|']
     for title, key, fmt in COLUMNS:
         cells = []
         for planned in (True, False):
-            values = [r[key] for r in rows if r['planned'] is planned and r[key] is not None]
+            values = [getattr(r, key) for r in rows if r.planned is planned and getattr(r, key) is not None]
             if not values:
                 cells.append('never' if key == 'expansion_start_s' else '–')
                 continue

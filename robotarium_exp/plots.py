@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -10,6 +10,7 @@ from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.plots import draw_tube
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
     from robotarium_exp.experiment import ExperimentResult
@@ -21,16 +22,22 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
     """The paper's Robotarium figure: the arena with the tube, paths and snapshots (colour = time) with every robot's
     avoidance radius drawn; below, the planned and measured density, speed and r_a over time, with the moment
     the expansion starts and the moment the front reaches the narrowing."""
-    from matplotlib import colormaps
     from matplotlib.figure import Figure
-    from matplotlib.patches import Circle, Rectangle
 
-    from robotarium_exp.experiment import expansion_times
+    fig = Figure(figsize=(9.0, 10.5), layout='constrained')
+    ax, ax_rho, ax_v = fig.subplots(3, 1, height_ratios=[2.2, 1, 1], sharex=False)
+    _arena_panel(ax, result, scene)
+    _time_panels(ax_rho, ax_v, result, scene, plan)
+    return fig
+
+
+def _arena_panel(ax: Axes, result: ExperimentResult, scene: Scene) -> None:
+    """The arena, the tube, the paths and seven snapshots of the robots with their avoidance radii."""
+    from matplotlib import colormaps
+    from matplotlib.patches import Circle, Rectangle
 
     arrays = result.arrays
     t = arrays['t_s']
-    fig = Figure(figsize=(9.0, 10.5), layout='constrained')
-    ax, ax_rho, ax_v = fig.subplots(3, 1, height_ratios=[2.2, 1, 1], sharex=False)
     draw_tube(ax, scene.tube, n_sections=8)
     xmin, xmax, ymin, ymax = ROBOTARIUM.arena_m
     ax.add_patch(Rectangle((xmin, ymin), xmax - xmin, ymax - ymin, fill=False, ec='k', lw=1.2))
@@ -47,8 +54,7 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
             if arrays['flying'][step, k]:
                 radius = float(arrays['r_a_m'][step, k])
                 ax.add_patch(Circle(center, radius, fill=False, ec=color, lw=0.6, ls='--', zorder=2))
-        # the times in a row above the arena, over each snapshot's centre (never under a robot), a second row up
-        # where two snapshots stand close
+        # the times in a row above the arena, over each snapshot's centre; a second row where two stand close
         x = float(poses[step, 0].mean())
         row = 1 if placed and abs(x - placed[-1]) < 0.2 else 0
         placed.append(x if row == 0 else placed[-1] + 1.0)
@@ -64,6 +70,15 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
         "dashed circles: each robot's avoidance radius r_a",
         fontsize=10,
     )
+
+
+def _time_panels(ax_rho: Axes, ax_v: Axes, result: ExperimentResult, scene: Scene, plan: Plan | None) -> None:
+    """Density and r_a, and speed, over time while every robot flies, planned and measured, with the moments the
+    expansion starts and the front reaches the narrowing."""
+    from robotarium_exp.experiment import expansion_times
+
+    arrays = result.arrays
+    t = arrays['t_s']
     swarm = arrays['flying'].all(axis=1)  # until the first robot parks
     center = arrays['l_m'].mean(axis=1)
     ax_rho.plot(t[swarm], arrays['density_per_m2'][swarm], color='tab:green', label='measured density')
@@ -84,9 +99,14 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
         axis.set_xlabel('time [s]')
     handles, labels = ax_rho.get_legend_handles_labels()
     more = ax_ra.get_legend_handles_labels()
-    above = {'loc': 'lower left', 'bbox_to_anchor': (0.0, 1.01), 'ncols': 3, 'fontsize': 7, 'frameon': False}
+    above: dict[str, Any] = {
+        'loc': 'lower left',
+        'bbox_to_anchor': (0.0, 1.01),
+        'ncols': 3,
+        'fontsize': 7,
+        'frameon': False,
+    }
     ax_rho.legend(handles + more[0], labels + more[1], **above)  # above the curves, never over them
     ax_v.legend(**above)
     ax_rho.set_ylabel('density [1/m^2]')
     ax_v.set_ylabel('speed [m/s]')
-    return fig

@@ -2,8 +2,8 @@
 
 :mod:`.trajectory` is the one type every source becomes, :mod:`.loaders`, :mod:`.bags` and :mod:`.matfiles` read
 the sources, :mod:`.distances` measures pairs over their common coverage, :mod:`.passage` sees the trajectory from
-a tube, and :mod:`.report` measures a trajectory (in a scene or without one) and writes metrics, report and
-figures (:mod:`.plots`).
+a tube, :mod:`.report` measures a trajectory (in a scene or without one) into :mod:`.metrics` and writes
+``metrics.json``, ``report.md`` and the figures (:mod:`.plots`).
 """
 
 from __future__ import annotations
@@ -16,13 +16,20 @@ if TYPE_CHECKING:
     from robotarium_exp.analysis.bags import read_bag
     from robotarium_exp.analysis.loaders import load_npz_log, load_submission_folder, load_trajectory
     from robotarium_exp.analysis.matfiles import read_mat
+    from robotarium_exp.analysis.metrics import PairMeasure, RecordingMetrics, TrackingErrors, TubeMetrics
     from robotarium_exp.analysis.report import Analysis, analyse, write_report
-    from robotarium_exp.analysis.trajectory import RobotSamples, Trajectory
+    from robotarium_exp.analysis.trajectory import DEFAULT_MAX_GAP, MaxGap, RobotSamples, Trajectory
 
 __all__ = [
+    'DEFAULT_MAX_GAP',
     'Analysis',
+    'MaxGap',
+    'PairMeasure',
+    'RecordingMetrics',
     'RobotSamples',
+    'TrackingErrors',
     'Trajectory',
+    'TubeMetrics',
     'analyse',
     'load_npz_log',
     'load_submission_folder',
@@ -38,7 +45,8 @@ __getattr__, __dir__ = lazy_exports(
         'robotarium_exp.analysis.bags': ('read_bag',),
         'robotarium_exp.analysis.loaders': ('load_npz_log', 'load_submission_folder', 'load_trajectory'),
         'robotarium_exp.analysis.matfiles': ('read_mat',),
+        'robotarium_exp.analysis.metrics': ('PairMeasure', 'RecordingMetrics', 'TrackingErrors', 'TubeMetrics'),
         'robotarium_exp.analysis.report': ('Analysis', 'analyse', 'write_report'),
-        'robotarium_exp.analysis.trajectory': ('RobotSamples', 'Trajectory'),
+        'robotarium_exp.analysis.trajectory': ('DEFAULT_MAX_GAP', 'MaxGap', 'RobotSamples', 'Trajectory'),
     },
 )

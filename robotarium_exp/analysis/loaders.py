@@ -13,6 +13,7 @@ loader records the files it read (:func:`input_record` gives their sizes and has
 from __future__ import annotations
 
 import hashlib
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -95,7 +96,19 @@ def _bags_in(path: Path) -> list[Path]:
     return sorted(f for f in path.iterdir() if f.suffix in ('.bag', *ROS2_STORAGE))
 
 
-def input_record(files: list[str]) -> list[dict[str, Any]]:
+@dataclass(frozen=True)
+class InputFile:
+    """A file an analysis read: its path, size and SHA-256."""
+
+    path: str
+    size_bytes: int
+    sha256: str
+
+    def to_json(self) -> dict[str, str | int]:
+        return {'path': self.path, 'bytes': self.size_bytes, 'sha256': self.sha256}
+
+
+def input_record(files: list[str]) -> tuple[InputFile, ...]:
     """Path, size and SHA-256 of each file read."""
     record = []
     for name in files:
@@ -103,8 +116,8 @@ def input_record(files: list[str]) -> list[dict[str, Any]]:
         with Path(name).open('rb') as stream:
             for block in iter(lambda: stream.read(1 << 20), b''):
                 digest.update(block)
-        record.append({'path': name, 'bytes': Path(name).stat().st_size, 'sha256': digest.hexdigest()})
-    return record
+        record.append(InputFile(name, Path(name).stat().st_size, digest.hexdigest()))
+    return tuple(record)
 
 
 def _per_robot(t_s: np.ndarray, poses: np.ndarray) -> dict[str, RobotSamples]:

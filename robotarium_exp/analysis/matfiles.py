@@ -62,7 +62,7 @@ def read_mat(path: Path) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
 
 
 def _matlab_layout(poses: np.ndarray) -> bool:
-    return poses.shape[0] == 3
+    return bool(poses.shape[0] == 3)
 
 
 def _pose_array(path: Path, arrays: dict[str, np.ndarray], objects: list[str]) -> tuple[str, np.ndarray]:

@@ -29,14 +29,21 @@ def _named(label: str) -> str:
 
 
 def analysis_figures(results: dict[str, Analysis], scene: Scene | None, plan: Plan | None) -> dict[str, Figure]:
-    """Paths with snapshots (one panel per source, on the same axes, a colour bar of time), tracking along l (with a
-    scene), minimum distance over time."""
+    """Paths with snapshots, tracking along l (with a scene), minimum distance over time."""
+    figures = {'paths': _paths_figure(results, scene)}
+    if scene is not None:
+        figures['tracking'] = _tracking_figure(results, scene, plan)
+    figures['distance'] = _distance_figure(results)
+    return figures
+
+
+def _paths_figure(results: dict[str, Analysis], scene: Scene | None) -> Figure:
+    """One panel per source, on the same axes, robots at seven instants coloured by time (a colour bar)."""
     from matplotlib import colormaps
     from matplotlib.cm import ScalarMappable
     from matplotlib.colors import Normalize
     from matplotlib.figure import Figure
 
-    figures = {}
     cmap = colormaps['viridis']
     t_end = max(float(a.trajectory.t_s[-1]) for a in results.values()) or 1.0
     drawn = [a.trajectory.positions_m.transpose(0, 2, 1).reshape(-1, 2) for a in results.values()]
@@ -63,42 +70,52 @@ def analysis_figures(results: dict[str, Analysis], scene: Scene | None, plan: Pl
         ax.set_aspect('equal')
         ax.set_title(f'{_named(label)}: paths, robots at seven instants', fontsize=10)
     paths.colorbar(ScalarMappable(Normalize(0.0, t_end), cmap), ax=list(axes), label='time [s]', shrink=0.8)
-    figures['paths'] = paths
-    if scene is not None:
-        tracking = Figure(figsize=(8.0, 5.5), layout='constrained')
-        ax_v, ax_rho = tracking.subplots(2, 1, sharex=True)
-        for label, a in results.items():
-            if a.along is None:
-                continue
-            d = a.along
-            center = d.l_m[d.complete].mean(axis=1)
-            inside = (center >= 0) & (center <= scene.tube.length_m)
-            speed = d.forward_speed_mps[d.complete].mean(axis=1)[inside]
-            ax_v.plot(center[inside], speed, label=_named(label))
-            ax_rho.plot(center[inside], d.density_per_m2[d.complete][inside], label=_named(label))
-        if plan is not None:
-            grid = np.linspace(0.0, plan.length_m, 1000)
-            ax_v.plot(grid, plan.speed(grid), 'k--', label='the plan (v*, rho*)')
-            ax_rho.plot(grid, plan.density(grid), 'k--')
-        ax_v.set_ylabel('speed along the tube [m/s]')
-        ax_rho.set_ylabel('density [1/m^2]')
-        ax_rho.set_xlabel('arc length of the swarm centre [m]')
-        tracking.legend(*ax_v.get_legend_handles_labels(), loc='outside lower center', ncols=3, fontsize=8)
-        for ax in (ax_v, ax_rho):
-            ax.ticklabel_format(axis='y', useOffset=False)  # a flat line stays flat, not 1e-14 noise magnified
-            low, high = ax.get_ylim()
-            middle, half = 0.5 * (low + high), max(0.5 * (high - low), 0.05 * abs(0.5 * (low + high)), 1e-6)
-            ax.set_ylim(middle - half, middle + half)
-        figures['tracking'] = tracking
+    return paths
+
+
+def _tracking_figure(results: dict[str, Analysis], scene: Scene, plan: Plan | None) -> Figure:
+    """Mean forward speed and density against the swarm centre's arc length, and the plan's."""
+    from matplotlib.figure import Figure
+
+    tracking = Figure(figsize=(8.0, 5.5), layout='constrained')
+    ax_v, ax_rho = tracking.subplots(2, 1, sharex=True)
+    for label, a in results.items():
+        if a.along is None:
+            continue
+        d = a.along
+        center = d.l_m[d.complete].mean(axis=1)
+        inside = (center >= 0) & (center <= scene.tube.length_m)
+        speed = d.forward_speed_mps[d.complete].mean(axis=1)[inside]
+        ax_v.plot(center[inside], speed, label=_named(label))
+        ax_rho.plot(center[inside], d.density_per_m2[d.complete][inside], label=_named(label))
+    if plan is not None:
+        grid = np.linspace(0.0, plan.length_m, 1000)
+        ax_v.plot(grid, plan.speed(grid), 'k--', label='the plan (v*, rho*)')
+        ax_rho.plot(grid, plan.density(grid), 'k--')
+    ax_v.set_ylabel('speed along the tube [m/s]')
+    ax_rho.set_ylabel('density [1/m^2]')
+    ax_rho.set_xlabel('arc length of the swarm centre [m]')
+    tracking.legend(*ax_v.get_legend_handles_labels(), loc='outside lower center', ncols=3, fontsize=8)
+    for ax in (ax_v, ax_rho):
+        ax.ticklabel_format(axis='y', useOffset=False)  # a flat line stays flat, not 1e-14 noise magnified
+        low, high = ax.get_ylim()
+        middle, half = 0.5 * (low + high), max(0.5 * (high - low), 0.05 * abs(0.5 * (low + high)), 1e-6)
+        ax.set_ylim(middle - half, middle + half)
+    return tracking
+
+
+def _distance_figure(results: dict[str, Analysis]) -> Figure:
+    """The smallest distance between two robots over time, and the collision distance."""
+    from matplotlib.figure import Figure
+
     distance = Figure(figsize=(8.0, 3.5), layout='constrained')
     ax = distance.add_subplot()
     for label, a in results.items():
         ax.plot(a.trajectory.t_s, a.distances.frame_min_m, label=_named(label))
-    collision = next((a.metrics['collision_distance_m'] for a in results.values()), None)
+    collision = next((a.metrics.collision_distance_m for a in results.values()), None)
     if collision is not None:
         ax.axhline(collision, color='tab:red', ls='--', label='collision distance')
     ax.set_xlabel('time [s]')
     ax.set_ylabel('minimum distance [m]')
     ax.legend(fontsize=8)
-    figures['distance'] = distance
-    return figures
+    return distance

@@ -170,11 +170,13 @@ class Trajectory:
 
     def present(self) -> NDArray[np.bool_]:
         """Whether each robot has a position at each frame, (T, N)."""
-        return np.all(np.isfinite(self.positions_m), axis=1)
+        present: NDArray[np.bool_] = np.all(np.isfinite(self.positions_m), axis=1)
+        return present
 
     def complete_frames(self) -> NDArray[np.bool_]:
         """Frames at which every robot has a position, (T,)."""
-        return np.all(self.present(), axis=1)
+        complete: NDArray[np.bool_] = np.all(self.present(), axis=1)
+        return complete
 
 
 def seconds_to_ns(t_s: ArrayLike) -> IntArray:

@@ -70,29 +70,7 @@ class Robotarium(ARobotarium):
                 f'Robotarium() ignores the unknown keyword(s) {sorted(unknown)}, as V2 does; check the spelling.',
                 stacklevel=2,
             )
-        for name, value, kind in (
-            ('NumberOfRobots', number_of_robots, 'an integer'),
-            ('ShowFigure', show_figure, 'a boolean'),
-            ('SimInRealTime', sim_in_real_time, 'a boolean'),
-            ('UseDistanceSensors', use_distance_sensors, 'a boolean'),
-        ):
-            expected = int if kind == 'an integer' else bool
-            if not isinstance(value, expected) or (expected is int and isinstance(value, bool)):
-                msg = f'{name} must be {kind}. Received type {type(value).__name__}.'
-                raise RobotariumError(msg)
-        if not isinstance(initial_conditions, np.ndarray):
-            msg = f'InitialConditions must be a numpy ndarray. Received type {type(initial_conditions).__name__}.'
-            raise RobotariumError(msg)
-        if not 0 <= number_of_robots <= 50:
-            raise RobotariumError('Number of robots must be >= 0 and <= 50')
-        if initial_conditions.size > 0 and (
-            initial_conditions.shape != (3, number_of_robots) or not np.all(np.isfinite(initial_conditions))
-        ):
-            msg = (
-                f'initial_conditions must be a 3 x {number_of_robots} array [x; y; theta] of finite values; '
-                f'got shape {initial_conditions.shape}.'
-            )
-            raise RobotariumError(msg)
+        _check_arguments(number_of_robots, show_figure, sim_in_real_time, use_distance_sensors, initial_conditions)
         charger_poses = generate_initial_poses(
             number_of_robots,
             width=float(self.BOUNDARIES[1] - self.BOUNDARIES[0] - self.ROBOT_DIAMETER),
@@ -165,26 +143,11 @@ class Robotarium(ARobotarium):
         last_deadlock_poses = x.copy()
         waypointing = np.zeros(n, dtype=bool)
         waypoints = generate_random_poses(n, spacing=0.4, width=2.75, height=1.75)
-        xmin, xmax, ymin, ymax = self.BOUNDARIES
-
-        def escape(i: int) -> FloatArray:
-            return np.array(
-                [
-                    np.random.uniform(low=min(x[0, i] + 0.25, xmax), high=max(x[0, i] - 0.25, xmin)),
-                    np.random.uniform(low=min(x[1, i] + 0.25, ymax), high=max(x[1, i] - 0.25, ymin)),
-                    np.random.uniform(low=-np.pi, high=np.pi),
-                ]
-            )
 
         self.step()
         while not at_pose(x, initial_conditions)[0]:
             if self._iteration > INITIALIZATION_STEP_LIMIT:
-                msg = (
-                    f'the initialization did not bring the robots to their initial conditions within '
-                    f'{INITIALIZATION_STEP_LIMIT} steps (V2 would hang here); space the initial conditions at least '
-                    '0.4 m apart inside |x| <= 1.375, |y| <= 0.875 (docs/robotarium.md §2.6).'
-                )
-                raise RobotariumError(msg)
+                raise _stuck()
             x = self.get_poses()
             dxu = controller(x, initial_conditions)
             arrived = at_pose(x, initial_conditions)[1]
@@ -196,11 +159,11 @@ class Robotarium(ARobotarium):
                     if moved > DEADLOCK_EPSILON_M:
                         waypointing[i] = False
                     elif step - timers[i] > DEADLOCK_STEPS:
-                        waypoints[:, i] = escape(i)
+                        waypoints[:, i] = _escape_waypoint(x, i, self.BOUNDARIES)
                         timers[i] = step
                 elif step - timers[i] > DEADLOCK_STEPS and moved < DEADLOCK_EPSILON_M:
                     waypointing[i] = True
-                    waypoints[:, i] = escape(i)
+                    waypoints[:, i] = _escape_waypoint(x, i, self.BOUNDARIES)
                     timers[i] = step
                 elif (
                     moved > DEADLOCK_EPSILON_M
@@ -336,3 +299,58 @@ class Robotarium(ARobotarium):
             if outside:
                 print(f'\t Simulation had {outside} time steps where robots were outside boundaries.')
             print('\nPlease fix the noted errors in your simulation; otherwise, your experiment will be rejected.')
+
+
+def _check_arguments(
+    number_of_robots: int,
+    show_figure: bool,
+    sim_in_real_time: bool,
+    use_distance_sensors: bool,
+    initial_conditions: FloatArray,
+) -> None:
+    """V2's checks of the constructor's arguments, with its messages."""
+    for name, value, kind in (
+        ('NumberOfRobots', number_of_robots, 'an integer'),
+        ('ShowFigure', show_figure, 'a boolean'),
+        ('SimInRealTime', sim_in_real_time, 'a boolean'),
+        ('UseDistanceSensors', use_distance_sensors, 'a boolean'),
+    ):
+        expected = int if kind == 'an integer' else bool
+        if not isinstance(value, expected) or (expected is int and isinstance(value, bool)):
+            msg = f'{name} must be {kind}. Received type {type(value).__name__}.'
+            raise RobotariumError(msg)
+    if not isinstance(initial_conditions, np.ndarray):
+        msg = f'InitialConditions must be a numpy ndarray. Received type {type(initial_conditions).__name__}.'
+        raise RobotariumError(msg)
+    if not 0 <= number_of_robots <= 50:
+        raise RobotariumError('Number of robots must be >= 0 and <= 50')
+    if initial_conditions.size > 0 and (
+        initial_conditions.shape != (3, number_of_robots) or not np.all(np.isfinite(initial_conditions))
+    ):
+        msg = (
+            f'initial_conditions must be a 3 x {number_of_robots} array [x; y; theta] of finite values; '
+            f'got shape {initial_conditions.shape}.'
+        )
+        raise RobotariumError(msg)
+
+
+def _escape_waypoint(x: FloatArray, i: int, boundaries: FloatArray) -> FloatArray:
+    """V2's deadlock escape for robot ``i`` at poses ``x``: a random waypoint within 0.25 m (np.random)."""
+    xmin, xmax, ymin, ymax = boundaries
+    return np.array(
+        [
+            np.random.uniform(low=min(x[0, i] + 0.25, xmax), high=max(x[0, i] - 0.25, xmin)),
+            np.random.uniform(low=min(x[1, i] + 0.25, ymax), high=max(x[1, i] - 0.25, ymin)),
+            np.random.uniform(low=-np.pi, high=np.pi),
+        ]
+    )
+
+
+def _stuck() -> RobotariumError:
+    """The error of an initialization that did not finish within ``INITIALIZATION_STEP_LIMIT`` steps."""
+    msg = (
+        f'the initialization did not bring the robots to their initial conditions within '
+        f'{INITIALIZATION_STEP_LIMIT} steps (V2 would hang here); space the initial conditions at least '
+        '0.4 m apart inside |x| <= 1.375, |y| <= 0.875 (docs/robotarium.md §2.6).'
+    )
+    return RobotariumError(msg)

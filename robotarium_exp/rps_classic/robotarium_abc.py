@@ -48,6 +48,44 @@ def _require(condition: bool, message: str) -> None:
         raise RobotariumError(message)
 
 
+def _check_arguments(
+    number_of_robots: int, show_figure: bool, sim_in_real_time: bool, initial_conditions: FloatArray
+) -> None:
+    """Classic's checks of the constructor's arguments, with its messages."""
+    _require(
+        isinstance(number_of_robots, int),
+        'The number of robots used argument (number_of_robots) provided to create the Robotarium object must be '
+        f'an integer type. Recieved type {type(number_of_robots).__name__!r}.',
+    )
+    _require(
+        isinstance(initial_conditions, np.ndarray),
+        'The initial conditions array argument (initial_conditions) provided to create the Robotarium object '
+        f'must be a numpy ndarray. Recieved type {type(initial_conditions).__name__!r}.',
+    )
+    _require(
+        isinstance(show_figure, bool),
+        'The display figure window argument (show_figure) provided to create the Robotarium object must be '
+        f'boolean type. Recieved type {type(show_figure).__name__!r}.',
+    )
+    _require(  # classic names the type of show_figure in this message; so do we
+        isinstance(sim_in_real_time, bool),
+        'The simulation running at 0.033s per loop (sim_real_time) provided to create the Robotarium object must '
+        f'be boolean type. Recieved type {type(show_figure).__name__!r}.',
+    )
+    _require(
+        0 <= number_of_robots <= 50,
+        f'Requested {number_of_robots!r} robots to be used when creating the Robotarium object. The deployed '
+        'number of robots must be between 0 and 50.',
+    )
+    if initial_conditions.size > 0:
+        _require(
+            initial_conditions.shape == (3, number_of_robots),
+            'Initial conditions provided when creating the Robotarium object must of size 3xN, where N is the '
+            f'number of robots used. Expected a 3 x {number_of_robots!r} array but recieved a '
+            f'{initial_conditions.shape[0]!r} x {initial_conditions.shape[1]!r} array.',
+        )
+
+
 class RobotariumABC(ABC):
     """The classic simulator's common part; :class:`~robotarium_exp.rps_classic.robotarium.Robotarium` adds
     ``get_poses``, ``step`` and the report."""
@@ -59,38 +97,7 @@ class RobotariumABC(ABC):
         sim_in_real_time: bool = True,
         initial_conditions: FloatArray = np.array([]),  # noqa: B008 - classic's default, never mutated (empty)
     ) -> None:
-        _require(
-            isinstance(number_of_robots, int),
-            'The number of robots used argument (number_of_robots) provided to create the Robotarium object must be '
-            f'an integer type. Recieved type {type(number_of_robots).__name__!r}.',
-        )
-        _require(
-            isinstance(initial_conditions, np.ndarray),
-            'The initial conditions array argument (initial_conditions) provided to create the Robotarium object '
-            f'must be a numpy ndarray. Recieved type {type(initial_conditions).__name__!r}.',
-        )
-        _require(
-            isinstance(show_figure, bool),
-            'The display figure window argument (show_figure) provided to create the Robotarium object must be '
-            f'boolean type. Recieved type {type(show_figure).__name__!r}.',
-        )
-        _require(  # classic names the type of show_figure in this message; so do we
-            isinstance(sim_in_real_time, bool),
-            'The simulation running at 0.033s per loop (sim_real_time) provided to create the Robotarium object must '
-            f'be boolean type. Recieved type {type(show_figure).__name__!r}.',
-        )
-        _require(
-            0 <= number_of_robots <= 50,
-            f'Requested {number_of_robots!r} robots to be used when creating the Robotarium object. The deployed '
-            'number of robots must be between 0 and 50.',
-        )
-        if initial_conditions.size > 0:
-            _require(
-                initial_conditions.shape == (3, number_of_robots),
-                'Initial conditions provided when creating the Robotarium object must of size 3xN, where N is the '
-                f'number of robots used. Expected a 3 x {number_of_robots!r} array but recieved a '
-                f'{initial_conditions.shape[0]!r} x {initial_conditions.shape[1]!r} array.',
-            )
+        _check_arguments(number_of_robots, show_figure, sim_in_real_time, initial_conditions)
         self.number_of_robots = number_of_robots
         self.show_figure = show_figure
         self.initial_conditions = initial_conditions

@@ -181,7 +181,9 @@ def passage_of(x: np.ndarray, y: np.ndarray, dt: float = 0.1):
 
     stamps = np.arange(x.shape[0], dtype=np.int64) * int(dt * 1e9)
     samples = {f'r{k}': RobotSamples(stamps, np.stack([x[:, k], y[:, k]], axis=1)) for k in range(x.shape[1])}
-    return analyse(assemble(samples, source={'path': 'synthetic'}), load_scene('robotarium_trapezoid')).metrics
+    return analyse(
+        assemble(samples, source={'path': 'synthetic'}), load_scene('robotarium_trapezoid')
+    ).metrics.to_json()
 
 
 def test_passing_time_only_for_an_observed_passage() -> None:
@@ -205,6 +207,27 @@ def test_passing_time_only_for_an_observed_passage() -> None:
     assert late['passing_time_s'] is None and late['passage']['not_exited']
 
 
+def test_typed_metrics_and_their_json_agree() -> None:
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+    t = np.arange(400) * 0.1
+    x = -1.8 + 0.1 * t[:, None] - np.array([0.0, 0.3, 0.6])
+    y = np.broadcast_to(np.array([-0.2, 0.0, 0.2]), x.shape)
+    stamps = np.arange(400, dtype=np.int64) * 100_000_000
+    samples = {f'r{k}': RobotSamples(stamps, np.stack([x[:, k], y[:, k]], axis=1)) for k in range(3)}
+    trajectory = assemble(samples, source={'path': 'synthetic'})
+    m = analyse(trajectory, load_scene('robotarium_trapezoid')).metrics
+    data = m.to_json()
+    assert m.tube is not None and m.tube.passage.passing_time_s == data['passing_time_s'] is not None
+    assert m.closest is not None and list(m.closest.robots) == data['min_distance_pair']
+    assert m.collision_pairs == data['collision_pairs'] == 0 and m.tube.tracking is None
+    assert 'speed_tracking_mean_mps' not in data and data['plan'] is False
+    tube_free = analyse(trajectory).metrics
+    assert tube_free.tube is None and tube_free.colliding_pairs is None
+    assert 'passage' not in tube_free.to_json()
+    assert [p['frames_closer'] for p in tube_free.to_json()['pairs']] == [None, None, None]
+
+
 def test_submission_files_analyse_like_the_simulator_log_of_the_same_run(tmp_path) -> None:
     run = subprocess.run(
         [
@@ -226,8 +249,8 @@ def test_submission_files_analyse_like_the_simulator_log_of_the_same_run(tmp_pat
     )
     assert '"completed": true' in run.stdout
     scene = load_scene('robotarium_trapezoid')
-    from_files = analyse(load_trajectory([tmp_path]), scene).metrics
-    from_log = analyse(load_trajectory([tmp_path / 'sim.npz']), scene).metrics
+    from_files = analyse(load_trajectory([tmp_path]), scene).metrics.to_json()
+    from_log = analyse(load_trajectory([tmp_path / 'sim.npz']), scene).metrics.to_json()
     for key in (
         'passing_time_s',
         'min_distance_m',
@@ -238,7 +261,7 @@ def test_submission_files_analyse_like_the_simulator_log_of_the_same_run(tmp_pat
     ):
         assert from_files[key] == pytest.approx(from_log[key], abs=1e-12)
     assert from_files['collision_pairs'] == 0 and from_files['tube_violation_steps'] == 0
-    strict = analyse(load_trajectory([tmp_path]), scene, collision_distance_m=1.0).metrics  # a larger radius
+    strict = analyse(load_trajectory([tmp_path]), scene, collision_distance_m=1.0).metrics.to_json()  # a larger radius
     assert strict['collision_distance_m'] == 1.0 and strict['collision_pairs'] > 0
 
 
@@ -259,7 +282,7 @@ def test_bad_input_gives_clear_errors(tmp_path) -> None:
     poses[4, 0, 1] = np.nan
     np.save(folder / 'vtube_poses.npy', poses)
     scene = load_scene('robotarium_trapezoid')
-    nan_pose = analyse(load_trajectory([folder]), scene).metrics  # a NaN pose is left out and counted
+    nan_pose = analyse(load_trajectory([folder]), scene).metrics.to_json()  # a NaN pose is left out and counted
     assert [c['non_finite'] for c in nan_pose['coverage']] == [0, 1] and nan_pose['frames'] == 10
     (folder / 'vtube_poses.npy').write_bytes((folder / 'vtube_poses.npy').read_bytes()[:120])  # truncated
     with pytest.raises(AnalysisError, match=r"truncated or corrupt: \['vtube_poses.npy"):

@@ -83,7 +83,7 @@ def test_mrclam_robots_frames_gaps_and_the_collision_after_one_log_ends(mrclam, 
     ends = {r: (s[-1] - mrclam['frames'][0]) * 1e-9 for r, (s, _) in samples.items()}
     assert coverage['Robot1'].last_s == pytest.approx(ends['Robot1'], abs=1e-9)
     assert min(ends.values()) < max(ends.values()) - 120  # Robot1's log ends about 128 s early
-    m = analyse(trajectory, collision_distance_m=RADIUS_M).metrics
+    m = analyse(trajectory, collision_distance_m=RADIUS_M).metrics.to_json()
     (a, b), (d, t_ns, _) = min(mrclam['pairs'].items(), key=lambda kv: kv[1][0])
     assert m['min_distance_pair'] == [a, b]
     assert m['min_distance_m'] == pytest.approx(d, abs=1e-9)
@@ -104,7 +104,7 @@ def test_mrclam_robots_frames_gaps_and_the_collision_after_one_log_ends(mrclam, 
 
 def test_mrclam_pairs_measured_without_interpolation_agree(mrclam) -> None:
     """At the stamps two robots share, their distance needs no interpolation: never below the pair's minimum."""
-    m = analyse(mrclam['ros1']).metrics
+    m = analyse(mrclam['ros1']).metrics.to_json()
     assert m['collision_pairs'] is None and 'passage' not in m  # no scene, no radius: tube-free metrics only
     samples = mrclam['samples']
     for pair in m['pairs']:
@@ -189,7 +189,7 @@ def test_passage_observability_on_two_tracked_bodies(tube, observed) -> None:
     trajectory = load_trajectory([bag], topic_pattern=r'^/(?P<robot>[^/]+)/world$')
     assert trajectory.t_s.size == frames.size
     assert len(trajectory.gaps) == sum(int((np.diff(s) > 3 * np.median(np.diff(s))).sum()) for s, _ in samples.values())
-    m = analyse(trajectory, scene).metrics
+    m = analyse(trajectory, scene).metrics.to_json()
     truth = oracle_observed((frames - frames[0]) * 1e-9, where, *tube)
     passage = m['passage']
     assert passage['entrance_observed'] == truth['entrance']
