@@ -419,3 +419,25 @@ def test_submission_check_draws_the_initializer_on_a_terminal_only() -> None:
     assert b'seed 0 (at most 900 s)' in drawn  # what starts is said before it waits
     code, piped = stderr_on_a_pipe(args)
     assert code == 0 and "V2's initializer:" not in piped and 'seed 0 (at most 900 s)' in piped
+
+
+def test_a_submission_runs_in_this_process_and_leaves_it_as_it_was(tmp_path) -> None:
+    import os
+    import sys
+
+    from vtube.pipeline import run_on_bundled
+
+    script = tmp_path / 'script.py'
+    script.write_text("import os, rps.robotarium\nprint(os.environ['VTUBE_HEADLESS'], rps.robotarium.Robotarium)\n")
+    before, cwd, headless = (
+        {k for k in sys.modules if k.split('.')[0] == 'rps'},
+        os.getcwd(),
+        os.getenv('VTUBE_HEADLESS'),
+    )
+    returned = run_on_bundled(script, tmp_path / 'returned')
+    assert returned.ok and "1 <class 'robotarium_exp.rps.robotarium.Robotarium'>" in returned.log.read_text()
+    assert {k for k in sys.modules if k.split('.')[0] == 'rps'} == before and os.getcwd() == cwd
+    assert os.getenv('VTUBE_HEADLESS') == headless
+    script.write_text("raise ValueError('no robots')\n")
+    failed = run_on_bundled(script, tmp_path / 'failed')
+    assert not failed.ok and 'ValueError: no robots' in failed.log.read_text()

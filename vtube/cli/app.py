@@ -1,0 +1,118 @@
+"""``main``: the parser built from the commands, the dispatch through :data:`COMMANDS`, errors as exit codes."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from contextlib import AbstractContextManager, nullcontext, redirect_stdout
+from typing import Any
+
+from robotarium_exp.errors import RobotariumExpError
+from unicycle_mapping.errors import MappingError
+from vtube.cli import analyze, demo, plan, robotarium, scene, simulate, study, submission
+from vtube.cli.command import EXIT_BAD_INPUT, EXIT_INTERRUPTED, BadInput, Command
+from vtube.cli.render import error, interrupted, render
+from vtube_planning.errors import VtubeError
+
+COMMANDS: dict[str, Command[Any]] = {
+    command.words: command
+    for command in (
+        *scene.COMMANDS,
+        plan.COMMAND,
+        simulate.COMMAND,
+        *study.COMMANDS,
+        *robotarium.COMMANDS,
+        *submission.COMMANDS,
+        analyze.COMMAND,
+        demo.COMMAND,
+    )
+}
+"""Every command by its words, in the order the help lists them."""
+
+GROUPS = {
+    'scene': 'list and draw scenes',
+    'campaign': 'run a study declared in a TOML file, anywhere, resumably',
+    'robotarium': 'the tube experiment on the bundled Robotarium simulator',
+    'submission': 'build and check the single file for the remote Robotarium',
+}
+"""The help of each first word that has subcommands."""
+
+REFUSALS = (VtubeError, RobotariumExpError, MappingError, OSError, BadInput)
+"""Errors that are bad input: one ``error:`` line, exit 2."""
+
+EXIT_CODES = (
+    'exit codes: 0 done, every check held; 1 a check or claim failed; 2 bad input or refused work; 130 interrupted.'
+)
+
+
+class HelpFormatter(argparse.HelpFormatter):
+    """Help that shows each option's default (when it has one worth showing)."""
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        text = action.help or ''
+        default = action.default
+        shown = not (default is None or default is False or default == argparse.SUPPRESS) and '(default' not in text
+        return f'{text} (default: %(default)s)' if shown and action.option_strings else text
+
+
+class Parser(argparse.ArgumentParser):
+    """Every vtube (sub)command's parser: defaults in the help, the exit codes below it."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        kwargs.setdefault('formatter_class', HelpFormatter)
+        kwargs.setdefault('epilog', EXIT_CODES)
+        super().__init__(*args, **kwargs)
+
+
+def parser() -> argparse.ArgumentParser:
+    """The parser of every command in :data:`COMMANDS`; a parsed command's words are its ``command``."""
+    from vtube_planning import __version__
+
+    top = Parser(
+        prog='vtube',
+        description='Speed and density planning for a speed-constrained robot swarm through a virtual tube.',
+    )
+    top.add_argument('--version', action='version', version=f'vtube {__version__}')
+    first_words = top.add_subparsers(dest='group', required=True, metavar='COMMAND')
+    groups: dict[str, argparse._SubParsersAction[Parser]] = {}
+    for words, command in COMMANDS.items():
+        first, _, second = words.partition(' ')
+        if not second:
+            sub = first_words.add_parser(first, help=command.help)
+        else:
+            if first not in groups:
+                group = first_words.add_parser(first, help=GROUPS[first])
+                groups[first] = group.add_subparsers(dest='subcommand', required=True, metavar='SUBCOMMAND')
+            sub = groups[first].add_parser(second, help=command.help)
+        if command.json:
+            sub.add_argument('--json', action='store_true', help='print the result as one JSON object on stdout')
+        command.arguments(sub)
+        sub.set_defaults(command=words)
+    return top
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``vtube`` console script; returns the exit code. With ``--json`` the command's readable
+    output goes to stderr and its result, one JSON object, to stdout."""
+    from vtube_planning.provenance import command_line
+
+    args = parser().parse_args(argv)
+    command = COMMANDS[args.command]
+    as_json = command.json and args.json
+    try:
+        with command_line(['vtube', *(sys.argv[1:] if argv is None else argv)]):
+            with _stdout_to_stderr(as_json):
+                result = command.run(args)
+            return render(command.view(result), as_json=as_json)
+    except REFUSALS as err:
+        error(str(err))
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt as stop:
+        interrupted(str(stop))
+        return EXIT_INTERRUPTED
+
+
+def _stdout_to_stderr(on: bool) -> AbstractContextManager[object]:
+    """While a command runs with ``--json``, whatever it prints goes to stderr: stdout holds the JSON alone."""
+    return redirect_stdout(sys.stderr) if on else nullcontext()

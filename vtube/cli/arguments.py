@@ -1,0 +1,95 @@
+"""Argument types and checks shared by the commands: numbers, patterns, lists, output folders, figure files."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import re
+from pathlib import Path
+
+from vtube.cli.command import BadInput
+
+
+def whole(text: str) -> int:
+    """An argparse type: a whole number >= 0."""
+    if not text.strip().isdigit():
+        msg = f'{text!r} is not a whole number >= 0'
+        raise argparse.ArgumentTypeError(msg)
+    return int(text)
+
+
+def count(text: str) -> int:
+    """An argparse type: a whole number >= 1."""
+    value = whole(text)
+    if value < 1:
+        msg = f'{text!r} is not a whole number >= 1'
+        raise argparse.ArgumentTypeError(msg)
+    return value
+
+
+def positive(text: str) -> float:
+    """An argparse type: a finite number > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        msg = f'{text!r} is not a number > 0'
+        raise argparse.ArgumentTypeError(msg)
+    return value
+
+
+def regex(text: str) -> str:
+    """An argparse type: a regular expression Python can compile."""
+    try:
+        re.compile(text)
+    except re.error as err:
+        msg = f'{text!r} is not a regular expression ({err})'
+        raise argparse.ArgumentTypeError(msg) from err
+    return text
+
+
+def words(text: str) -> tuple[str, ...]:
+    """A comma-separated list of names."""
+    return tuple(text.split(','))
+
+
+def parse_sizes(text: str) -> tuple[int, ...]:
+    """A comma-separated list of swarm sizes >= 1 (checked after parsing: a refusal is one ``error:`` line)."""
+    try:
+        values = tuple(int(part) for part in text.split(','))
+    except ValueError:
+        values = ()
+    if not values or min(values) < 1:
+        msg = f'--sizes must be comma-separated whole numbers >= 1, like 20,40,80; got {text!r}.'
+        raise BadInput(msg)
+    return values
+
+
+def writable_folder(out: Path) -> None:
+    """Refuse, before any work and without creating anything, an output folder that cannot be created or written:
+    its nearest existing ancestor must be a folder this process may write in."""
+    existing = out
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    problem = None
+    if not existing.is_dir():
+        problem = f'{existing} is not a folder'
+    elif not os.access(existing, os.W_OK | os.X_OK):
+        problem = f'no permission to write in {existing}'
+    if problem is not None:
+        msg = f'cannot write to {out} ({problem}); choose another --out before any run starts.'
+        raise BadInput(msg)
+
+
+def figure_file(out: Path) -> None:
+    """Refuse, before any work, a figure file of a kind matplotlib cannot write."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    kinds = FigureCanvasBase.get_supported_filetypes()
+    if out.suffix.lstrip('.').lower() not in kinds:
+        msg = (
+            f'cannot write a figure to {out}: give a file ending in one of {", ".join("." + k for k in sorted(kinds))}.'
+        )
+        raise BadInput(msg)

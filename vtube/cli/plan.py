@@ -1,0 +1,69 @@
+"""``vtube plan``: speed and density along a scene's tube (:func:`vtube.pipeline.plan_scene`)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from vtube.cli.arguments import positive, writable_folder
+from vtube.cli.command import Command, View
+
+if TYPE_CHECKING:
+    from vtube.pipeline import Planned
+
+
+def plan_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('scene', help='a shipped scene name (see `vtube scene list`) or a .toml file')
+    parser.add_argument('--out', type=Path, required=True, help='folder for the plan file and its figure')
+    parser.add_argument(
+        '--method',
+        choices=('convex', 'polynomial'),
+        default='convex',
+        help="convex: slowness form (default); polynomial: the paper's cubic segments",
+    )
+    parser.add_argument(
+        '--grid-step',
+        type=positive,
+        default=None,
+        dest='grid_step_m',
+        help="planning grid step in m, > 0 (default: the scene's)",
+    )
+
+
+def plan(args: argparse.Namespace) -> Planned:
+    from vtube.pipeline import plan_scene
+
+    writable_folder(args.out)
+    return plan_scene(args.scene, args.out, method=args.method, grid_step_m=args.grid_step_m)
+
+
+def plan_view(planned: Planned) -> View:
+    plan, scene = planned.plan, planned.scene
+    k = int(plan.density_per_m2.argmin())
+    worst = ', '.join(f'{name} {value:.1e}' for name, value in plan.certificate.items())
+    verdict = 'certified' if plan.is_certified() else 'NOT certified (violation above 1e-6)'
+    lines = (
+        (
+            f'plan for scene {scene.name} ({planned.method}, {plan.l_m.size} grid points, {plan.status} after '
+            f'{plan.iterations} iterations, {plan.solve_time_s:.3f} s)'
+        ),
+        f'  traversal time        {plan.time_s:.4f} s',
+        (
+            f'  objective J           {plan.objective["total"]:.6f}  (time {plan.objective["time_s"]:.6f} + '
+            f'density {plan.objective["density"]:.6f})'
+        ),
+        f'  speed                 {plan.speed_mps.min():.4g} .. {plan.speed_mps.max():.4g} m/s',
+        (
+            f'  density               min {plan.density_per_m2[k]:.4g} at l = {plan.l_m[k]:.3f} m, '
+            f'rho_d = {scene.swarm.rho_d_per_m2:g} /m^2'
+        ),
+        f'  certificate           {verdict}: {worst}',
+        f'  written               {planned.plan_file}, {planned.figure}, {planned.scene_copy}',
+    )
+    data = {'plan_file': str(planned.plan_file), 'time_s': plan.time_s, 'objective': plan.objective}
+    data |= {'certificate': plan.certificate, 'certified': plan.is_certified()}
+    return View(lines, data | {'provenance': plan.extra['provenance']})
+
+
+COMMAND = Command('plan', "plan speed and density along a scene's tube", plan_arguments, plan, plan_view, json=True)

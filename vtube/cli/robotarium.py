@@ -1,0 +1,200 @@
+"""``vtube robotarium run|compare``: the tube experiment on the bundled Robotarium simulator."""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from vtube.cli.arguments import count, whole, writable_folder
+from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
+from vtube.cli.render import progress_bar
+
+if TYPE_CHECKING:
+    from robotarium_exp.experiment import ExperimentConfig, ExperimentResult
+    from robotarium_exp.verdict import VerifierVerdict
+    from vtube_planning.geometry.scene import Scene
+
+
+@dataclass(frozen=True)
+class RobotariumRun:
+    """An experiment flown on the bundled simulator, the testbed's verdict on it, how it followed its plan (None:
+    unplanned) and the files written: log, figure, the scene's copy."""
+
+    scene: Scene
+    config: ExperimentConfig
+    result: ExperimentResult
+    verdict: VerifierVerdict
+    tracking: dict[str, Any] | None
+    written: tuple[Path, Path, Path]
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Planned against unplanned over initialization seeds 0..seeds-1: the table and the files written."""
+
+    scene: str
+    seeds: int
+    table: str
+    written: tuple[Path, Path]
+
+
+def experiment_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('scene', help='a Robotarium scene (robotarium_trapezoid, robotarium_curve) or a .toml file')
+    parser.add_argument('--out', type=Path, required=True, help='folder for the log and the figure')
+    parser.add_argument('--no-planning', action='store_true', help='constant mid-range speed and constant r_a')
+    parser.add_argument('--no-barrier', action='store_true', help='send the swarm commands without the certificate')
+    parser.add_argument('--no-initialization', action='store_true', help='start at the initial conditions directly')
+    parser.add_argument(
+        '--seed', type=whole, default=0, help='seed of the initialization (charger slots, escapes), >= 0'
+    )
+    parser.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
+
+
+def experiment(args: argparse.Namespace) -> RobotariumRun:
+    """Run the tube experiment on the bundled Robotarium simulator; write its log, figure and the scene's copy."""
+    from robotarium_exp.experiment import ExperimentConfig, plan_tracking, run_experiment
+    from robotarium_exp.plots import experiment_figure
+    from robotarium_exp.rps.robotarium import Robotarium
+    from robotarium_exp.rps_alias import seed_rps
+    from robotarium_exp.verdict import testbed_verdict
+    from vtube.pipeline import plan_for
+    from vtube_planning.geometry.scene import load_scene
+    from vtube_planning.plots import save_figure
+    from vtube_planning.provenance import copy_scene, provenance
+
+    out: Path = args.out
+    writable_folder(out)
+    scene = load_scene(args.scene)
+    plan = None if args.no_planning else plan_for(scene, plan_file=args.plan)
+    config = ExperimentConfig(planning=not args.no_planning, barrier=not args.no_barrier)
+    stem = f'experiment_{scene.name}_{"planned" if config.planning else "unplanned"}'
+    seed_rps(args.seed)  # V2's initialization draws from random and np.random
+    result = run_experiment(
+        Robotarium,
+        scene,
+        plan,
+        config,
+        log_path=out / f'{stem}.npz',
+        robotarium_kwargs={'skip_initialization': args.no_initialization},
+        log_meta={'provenance': provenance(scene=scene, plan_file=args.plan, seeds=[args.seed])},
+    )
+    tracking = plan_tracking(result, plan, scene) if plan is not None else None
+    figure = save_figure(experiment_figure(result, scene, plan), out / f'{stem}.png')
+    written = (out / f'{stem}.npz', figure, copy_scene(scene, out))
+    return RobotariumRun(scene, config, result, testbed_verdict(result), tracking, written)
+
+
+def experiment_view(run: RobotariumRun) -> View:
+    verdict, m, b = run.verdict, run.result.metrics, run.result.barrier
+    said = 'would run on the Robotarium' if verdict.would_run else 'would NOT run on the Robotarium'
+    lines = [
+        (
+            f'Robotarium experiment, scene {run.scene.name}, {"with" if run.config.planning else "without"} planning, '
+            f'barrier {"on" if run.config.barrier else "off"}: {said}'
+        ),
+        f'  too close (pair-steps) {verdict.too_close}',
+        f'  outside boundaries     {verdict.outside}',
+        f'  actuator-limit steps   {verdict.actuator}',
+        (
+            f'  duration               {verdict.duration_s:.1f} s (initialization included: declare at least '
+            f'{verdict.declare_at_least_s:.0f} s)'
+        ),
+        f'  passing time           {m.passing_time_s:.2f} s; parked: {"yes" if run.result.completed else "no"}',
+        f'  minimum distance       {m.min_distance_m:.3f} m between centres',
+        f'  tube violations        {m.tube_violation_steps} robot-steps',
+        (
+            f'  safety filter          correction mean {b["correction_mean_mps"]:.4f}, max {b["correction_max_mps"]:.4f} '
+            f'm/s, total {b["intervention_m"]:.2f} m; failures {b["failures"]}'
+        ),
+        (
+            f'  speed band             {100 * b["band_share"]:.2f} % of flying robot-steps in [v_min, v_max] '
+            f'({100 * b["band_share_held"]:.2f} % where the filter kept it; band dropped in '
+            f'{100 * b["band_dropped_share"]:.2f} % of steps)'
+        ),
+    ]
+    if run.tracking is not None:
+        lines += _tracking_lines(run.tracking)
+    lines.append(f'  written                {", ".join(map(str, run.written))}')
+    data = {'log': str(run.written[0]), 'would_run': verdict.would_run, 'errors': run.result.errors}
+    data |= {'duration_s': verdict.duration_s, 'metrics': m.to_json()}
+    return View(tuple(lines), data, exit_code=EXIT_OK if verdict.would_run else EXIT_FAILED)
+
+
+def _tracking_lines(tracked: dict[str, Any]) -> list[str]:
+    """How the run followed its plan, phase by phase, and when the swarm expanded."""
+    lines = [
+        f'  tracking, {phase:<12} density error mean {100 * ph["density_error_mean"]:.0f} % '
+        f'(max {100 * ph["density_error_max"]:.0f} %), speed error mean {100 * ph["speed_error_mean"]:.0f} %'
+        for phase, ph in ((phase, tracked[phase]) for phase in ('approach', 'dip', 'narrow'))
+        if ph['steps']
+    ]
+    lines.append(
+        f'  expansion              starts at {_seconds(tracked["expansion_start_s"])}; the front reaches the '
+        f'narrowing at {_seconds(tracked["front_at_narrowing_s"])}'
+    )
+    return lines
+
+
+def _seconds(value: float | None) -> str:
+    return 'never' if value is None else f'{value:.1f} s'
+
+
+def comparison_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('scene', help='a Robotarium scene or a .toml file')
+    parser.add_argument('--out', type=Path, required=True, help='folder for the table (.md) and the rows (.json)')
+    parser.add_argument('--seeds', type=count, default=5, help='initialization seeds 0..n-1, n >= 1')
+    parser.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan)')
+
+
+def comparison(args: argparse.Namespace) -> Comparison:
+    """Planned against unplanned over several initialization seeds; writes the table and the rows."""
+    import json
+
+    from robotarium_exp.compare import compare, comparison_table
+    from vtube.pipeline import plan_for
+    from vtube_planning.geometry.scene import load_scene
+    from vtube_planning.swarm.metrics import strict_json
+
+    out: Path = args.out
+    writable_folder(out)
+    scene = load_scene(args.scene)
+    plan = plan_for(scene, plan_file=args.plan)
+    with progress_bar('experiments', 'run') as bar:
+        bar.reset(total=2 * args.seeds)
+        rows = compare(scene, plan, list(range(args.seeds)), run_done=bar.update)
+    table = comparison_table(rows)
+    out.mkdir(parents=True, exist_ok=True)
+    written = (out / f'compare_{scene.name}.md', out / f'compare_{scene.name}.json')
+    written[0].write_text(table, encoding='utf-8')
+    written[1].write_text(json.dumps(strict_json(rows), indent=1, allow_nan=False))
+    return Comparison(scene.name, args.seeds, table, written)
+
+
+def comparison_view(result: Comparison) -> View:
+    lines = (
+        f'scene {result.scene}, V2 initialization seeds 0..{result.seeds - 1}, mean [min, max]:',
+        result.table,
+        f'written {result.written[0]}, {result.written[1]}',
+    )
+    return View(lines)
+
+
+COMMANDS = (
+    Command(
+        'robotarium run',
+        'run the experiment, print the testbed verdict and metrics',
+        experiment_arguments,
+        experiment,
+        experiment_view,
+        json=True,
+    ),
+    Command(
+        'robotarium compare',
+        'planned against unplanned over initialization seeds',
+        comparison_arguments,
+        comparison,
+        comparison_view,
+    ),
+)

@@ -1,0 +1,113 @@
+"""``vtube simulate``: the swarm flown through a scene (:func:`vtube.pipeline.simulate_scene`)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from vtube.cli.arguments import count, positive, whole, writable_folder
+from vtube.cli.command import Command, View
+from vtube.cli.render import progress_bars
+
+if TYPE_CHECKING:
+    from vtube.pipeline import Simulated
+
+
+def simulate_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('scene', help='a shipped scene name or a .toml file')
+    parser.add_argument('--out', type=Path, required=True, help='folder for the log, figures and GIF')
+    parser.add_argument('--no-planning', action='store_true', help='constant mid-range speed and constant r_a')
+    parser.add_argument(
+        '--n', type=count, default=None, dest='n_robots', help="swarm size, >= 1 (default: the scene's)"
+    )
+    parser.add_argument('--seed', type=whole, default=0, help='seed of the initial formation jitter, >= 0')
+    parser.add_argument(
+        '--acceleration-limits',
+        action='store_true',
+        help='make every robot obey the acceleration limits (3), (4), not only the plan',
+    )
+    parser.add_argument('--animate', action='store_true', help='also write an animated GIF')
+    parser.add_argument('--quiet', action='store_true', help='no progress bar (none is drawn unless on a terminal)')
+    parser.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
+    parser.add_argument(
+        '--replan-every',
+        type=positive,
+        default=0.0,
+        dest='replan_every_s',
+        metavar='S',
+        help='replan the rest of the tube every S seconds from the measured state, > 0 (default: never)',
+    )
+
+
+def simulate(args: argparse.Namespace) -> Simulated:
+    from vtube.pipeline import simulate_scene
+    from vtube_planning.swarm.simulate import SimConfig
+
+    writable_folder(args.out)
+    return simulate_scene(
+        args.scene,
+        args.out,
+        planning=not args.no_planning,
+        n_robots=args.n_robots,
+        plan_file=args.plan,
+        config=SimConfig(
+            seed=args.seed, acceleration_limits=args.acceleration_limits, replan_every_s=args.replan_every_s
+        ),
+        animate=args.animate,
+        progress=progress_bars(quiet=args.quiet),
+    )
+
+
+def simulate_view(simulated: Simulated) -> View:
+    result, config, m = simulated.result, simulated.config, simulated.result.metrics
+    rows = [
+        ('passing time', f'{m.passing_time_s:.3f} s' + ('' if m.completed else ' (not every robot exited)')),
+        ('minimum distance', f'{m.min_distance_m:.4f} m at t = {m.min_distance_time_s:.2f} s'),
+        ('collisions', f'{m.collision_pairs} pairs closer than 2 r_p = {m.collision_distance_m:g} m'),
+        (
+            'tube violations',
+            f'{m.tube_violation_steps} robot-steps, {m.robots_outside} robots, up to {m.max_outside_m:.3f} m outside',
+        ),
+        ('speed violations', f'{m.speed_violations} commands outside [v_min, v_max]'),
+    ]
+    if m.speed_tracking_mean_mps is not None:
+        rows += [
+            ('speed tracking', f'mean {m.speed_tracking_mean_mps:.3f}, max {m.speed_tracking_max_mps:.3f} m/s'),
+            (
+                'density tracking',
+                f'mean {m.density_tracking_mean_per_m2:.4f}, max {m.density_tracking_max_per_m2:.4f} /m^2',
+            ),
+        ]
+    replans: list[dict[str, Any]] | None = result.meta.get('replans')
+    if replans is not None:
+        rows.append(('replanning', _replanning(replans, config.replan_every_s)))
+    rows.append(('written', ', '.join(map(str, simulated.written))))
+    head = (
+        f'simulation of scene {simulated.scene.name} {"with" if result.planned else "without"} planning: '
+        f'N = {simulated.swarm.n_robots}, seed {config.seed}, {result.t_s.size} steps of {config.dt_s} s'
+    )
+    data = {'log': str(simulated.log), 'metrics': m.to_json(), 'provenance': result.meta['provenance']}
+    if replans is not None:
+        data['replans'] = replans
+    return View((head, *(f'  {name:<18} {value}' for name, value in rows)), data)
+
+
+def _replanning(replans: list[dict[str, Any]], every_s: float) -> str:
+    """The replanning calls in one line: how many, how long, how many found the state infeasible."""
+    done = sorted(call['wall_ms'] for call in replans if not call['error'])
+    timing = f', median {done[len(done) // 2]:.0f} ms, largest {done[-1]:.0f} ms' if done else ''
+    infeasible = len(replans) - len(done)
+    return (
+        f'every {every_s:g} s: {len(done)} replans{timing}; {infeasible} found the state infeasible and kept the plan'
+    )
+
+
+COMMAND = Command(
+    'simulate',
+    'fly the swarm through a scene, with or without planning',
+    simulate_arguments,
+    simulate,
+    simulate_view,
+    json=True,
+)

@@ -1,0 +1,175 @@
+"""``vtube submission build|check``: the single file for the remote Robotarium, and its preflight."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from vtube.cli.arguments import count, positive
+from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
+from vtube.cli.render import progress_bar, tell
+
+if TYPE_CHECKING:
+    from tqdm import tqdm
+
+    from submission.check import CheckReport, RunReport
+    from submission.declared import WrittenSubmission
+
+
+def initializer_seeds_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        '--initializer-seeds', type=count, default=200, help="V2's initializer alone, for the duration to declare, >= 1"
+    )
+
+
+def build_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('scene', help='robotarium_trapezoid, robotarium_curve or a .toml file')
+    parser.add_argument('--out', type=Path, required=True, help='the .py file to write')
+    parser.add_argument('--no-planning', action='store_true', help='constant speed and r_a (the comparison)')
+    parser.add_argument('--plan', type=Path, default=None, help='embed this plan file (vtube plan) instead of planning')
+    parser.add_argument('--no-declare', action='store_true', help='skip the check that derives the duration to declare')
+    parser.add_argument('--seeds', type=count, default=3, help='checking runs on the bundled simulator, >= 1')
+    initializer_seeds_argument(parser)
+
+
+def build(args: argparse.Namespace) -> WrittenSubmission:
+    """Write the submission for a Robotarium scene; unless ``--no-declare``, checked and rewritten with the
+    duration to declare (:func:`vtube.pipeline.build_submission`)."""
+    from vtube.pipeline import build_submission
+
+    return build_submission(
+        args.scene,
+        args.out,
+        planning=not args.no_planning,
+        plan_file=args.plan,
+        declare=not args.no_declare,
+        seeds=args.seeds,
+        initializer_seeds=args.initializer_seeds,
+    )
+
+
+def build_view(written: WrittenSubmission) -> View:
+    sub = written.submission
+    head = (
+        f'submission for scene {sub.scene} ({sub.n_robots} robots, {"with" if sub.planned else "without"} '
+        f'planning): {written.path}'
+    )
+    if written.report is None:
+        return View((head, f'  check it before uploading:  vtube submission check {written.path}'))
+    lines = (head, *check_lines(written.report))
+    if written.declaration is None:
+        return View(
+            (*lines, '  the file records no duration to declare: fix what failed and build again'), None, EXIT_FAILED
+        )
+    declared = f'  the header records the declaration: {sub.n_robots} robots, {written.declaration.duration_s} s'
+    return View((*lines, declared))
+
+
+def preflight_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('file', type=Path, help='the submission .py file')
+    parser.add_argument('--seeds', type=count, default=3, help='runs on the bundled simulator (seeds 0..n-1), n >= 1')
+    initializer_seeds_argument(parser)
+    parser.add_argument(
+        '--run-timeout',
+        type=positive,
+        default=None,
+        dest='run_timeout_s',
+        help='seconds after which a run of the file is stopped and reported as not finished (default 900)',
+    )
+
+
+def preflight(args: argparse.Namespace) -> CheckReport:
+    """Preflight a submission file; the initializer's bar is drawn from its first seed on (on a terminal)."""
+    from submission.check import RUN_TIMEOUT_S, check
+
+    bars: list[tqdm] = []
+
+    def seed_done() -> None:
+        if not bars:
+            bars.append(progress_bar("V2's initializer", 'seed'))
+            bars[0].reset(total=args.initializer_seeds)
+        bars[0].update()
+
+    try:
+        return check(
+            args.file,
+            seeds=args.seeds,
+            initializer_seeds=args.initializer_seeds,
+            run_timeout_s=args.run_timeout_s or RUN_TIMEOUT_S,
+            progress=tell,
+            seed_done=seed_done,
+        )
+    finally:
+        for bar in bars:
+            bar.close()
+
+
+def preflight_view(report: CheckReport) -> View:
+    """The report; exit 0 when the file passes, 1 when not."""
+    data = {'file': report.path, 'passed': report.passed, 'robots': report.robots}
+    data |= {'declare_duration_s': report.declare_duration_s, 'problem': report.declaration_problem or None}
+    data['runs'] = [
+        {'backend': r.backend, 'seed': r.seed, 'ok': r.ok, 'returncode': r.returncode, 'summary': r.summary}
+        for r in report.runs
+    ]
+    return View(tuple(check_lines(report)), data, EXIT_OK if report.passed else EXIT_FAILED)
+
+
+def check_lines(report: CheckReport) -> list[str]:
+    """A preflight's report in lines: imports, one row per run, the declaration, the verdict."""
+    lines = [f'submission {report.path}']
+    if report.disallowed_imports:
+        return [*lines, f'  FAIL: imports missing on the Robotarium server: {", ".join(report.disallowed_imports)}']
+    lines.append('  imports                only the standard library, numpy/scipy/matplotlib/cvxopt and rps: ok')
+    lines.append(
+        f'  {"run":<16} {"done":>5} {"too close":>10} {"outside":>8} {"actuator":>9} {"min dist [m]":>13} '
+        f'{"duration [s]":>13}'
+    )
+    lines += [_run_line(run) for run in report.runs]
+    declared = report.declaration
+    lines.append(
+        f'  declare                {report.robots or "?"} robots, '
+        + (f'{declared.duration_s} s' if declared else 'no duration')
+    )
+    if declared:
+        lines.append(f'  duration from          {declared.basis()}')
+    if report.header_declaration:
+        lines.append(f'  header records         {report.header_declaration.duration_s} s')
+    if report.declaration_problem:
+        lines.append(f'  FAIL: {report.declaration_problem}')
+    lines.append(f'  verdict                {"PASS" if report.passed else "FAIL"}')
+    return lines
+
+
+def _run_line(run: RunReport) -> str:
+    """One run of the file: what it did, or why it did not finish."""
+    from robotarium_exp.spec import ROBOTARIUM
+    from submission.check import COUNTS
+
+    label = f'{run.backend}' + (f' seed {run.seed}' if run.seed is not None else '')
+    if run.timed_out_s is not None:
+        return f'  {label:<16} did not finish in {run.timed_out_s:g} s (raise --run-timeout if it should)'
+    if run.summary is None and run.returncode == 0:
+        return f'  {label:<16} ran, but printed no vtube summary: not a file built by `vtube submission build`'
+    if run.summary is None:
+        return f'  {label:<16} crashed (exit {run.returncode}): {run.stderr_tail.strip().splitlines()[-1:]}'
+    counts = [run.count(key) for key in COUNTS]
+    return (
+        f'  {label:<16} {"yes" if run.summary["completed"] else "no":>5} {counts[0]:>10} {counts[1]:>8} '
+        f'{counts[2]:>9} {run.summary["min_center_distance_m"]:>13.3f} '
+        f'{run.summary["iterations"] * ROBOTARIUM.time_step_s:>13.1f}'
+    )
+
+
+COMMANDS = (
+    Command('submission build', 'write the submission file for a Robotarium scene', build_arguments, build, build_view),
+    Command(
+        'submission check',
+        'preflight a submission on the simulators',
+        preflight_arguments,
+        preflight,
+        preflight_view,
+        json=True,
+    ),
+)

@@ -1,0 +1,324 @@
+"""From a scene to a report, one stage at a time: plan, simulate, build, run, analyse.
+
+Each stage writes its files and returns a typed record of what it did. The commands ``vtube plan``, ``simulate``,
+``submission build`` and ``analyze`` are these stages; :func:`demo` runs them in turn on the default Robotarium
+scene, with the submission run in this process on the bundled simulator as the testbed would run it.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import runpy
+import sys
+import traceback
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import AbstractContextManager, contextmanager, redirect_stderr, redirect_stdout
+from dataclasses import dataclass, replace
+from pathlib import Path
+from types import ModuleType
+from typing import Literal
+
+from robotarium_exp.analysis.loaders import load_trajectory
+from robotarium_exp.analysis.recorded_tube import check_recorded_tube
+from robotarium_exp.analysis.report import Analysis, analyse, write_report
+from robotarium_exp.analysis.trajectory import DEFAULT_MAX_GAP, MaxGap
+from robotarium_exp.errors import AnalysisError
+from robotarium_exp.rps_alias import install
+from submission.declared import WrittenSubmission, write_submission
+from vtube_planning import plots
+from vtube_planning.geometry.scene import Scene, load_scene
+from vtube_planning.params import SwarmParams
+from vtube_planning.planning.plan import Plan
+from vtube_planning.planning.planner import plan_convex
+from vtube_planning.planning.polynomial import plan_polynomial
+from vtube_planning.provenance import copy_scene, provenance
+from vtube_planning.swarm.log import LogWriter
+from vtube_planning.swarm.simulate import SimConfig, SimResult, simulate
+
+PlanMethod = Literal['convex', 'polynomial']
+Tick = Callable[[float], None]
+"""Told how far a long stage has come (simulated seconds, frames written)."""
+Progress = Callable[[str, str], AbstractContextManager[Tick]]
+"""Opens the display of a long stage's progress (what, unit) and gives its tick."""
+
+DEMO_SCENE = 'robotarium_curve'
+
+
+@contextmanager
+def no_progress(what: str, unit: str) -> Iterator[Tick]:
+    """Progress shown nowhere."""
+    yield lambda value: None
+
+
+def plan_for(scene: Scene, swarm: SwarmParams | None = None, plan_file: Path | None = None) -> Plan:
+    """The plan read from ``plan_file`` (refused unless it was made for this scene and swarm), else a new one."""
+    swarm = swarm or scene.swarm
+    if plan_file is None:
+        return plan_convex(scene.tube, swarm, scene.planning, scene=scene.name)
+    loaded = Plan.load(plan_file)
+    loaded.check_matches(scene.tube, swarm, scene.planning, scene=scene.name)
+    return loaded
+
+
+@dataclass(frozen=True)
+class Planned:
+    """A scene's plan (its provenance recorded) and the files written: the plan, its figure, the scene's copy."""
+
+    scene: Scene
+    plan: Plan
+    method: PlanMethod
+    plan_file: Path
+    figure: Path
+    scene_copy: Path
+
+
+def plan_scene(
+    name_or_path: str | Path, out: Path, *, method: PlanMethod = 'convex', grid_step_m: float | None = None
+) -> Planned:
+    """Plan speed and density for a scene (on its grid, or one of ``grid_step_m``); write ``plan_<scene>.npz``,
+    its figure and the scene's copy to ``out``."""
+    scene = load_scene(name_or_path)
+    options = scene.planning if grid_step_m is None else replace(scene.planning, grid_step_m=grid_step_m)
+    solve = {'convex': plan_convex, 'polynomial': plan_polynomial}[method]
+    plan = solve(scene.tube, scene.swarm, options, scene=scene.name)
+    plan = replace(plan, extra=plan.extra | {'provenance': provenance(scene=scene)})
+    plan_file = plan.save(out / f'plan_{scene.name}.npz')
+    figure = plots.save_figure(plots.plan_figure(plan), out / f'plan_{scene.name}.png')
+    return Planned(scene, plan, method, plan_file, figure, copy_scene(scene, out))
+
+
+@dataclass(frozen=True)
+class Simulated:
+    """A simulated passage of ``swarm`` through ``scene`` with ``config``, and the files written: the log, the
+    figures, the GIF when asked for, the scene's copy."""
+
+    scene: Scene
+    swarm: SwarmParams
+    config: SimConfig
+    result: SimResult
+    written: tuple[Path, ...]
+
+    @property
+    def log(self) -> Path:
+        return self.written[0]
+
+
+class SimulationInterrupted(KeyboardInterrupt):
+    """Ctrl-C during a simulation; its text says where the steps flown so far are."""
+
+
+def simulate_scene(
+    name_or_path: str | Path,
+    out: Path,
+    *,
+    planning: bool = True,
+    n_robots: int | None = None,
+    plan_file: Path | None = None,
+    config: SimConfig | None = None,
+    animate: bool = False,
+    progress: Progress = no_progress,
+) -> Simulated:
+    """Fly the scene's swarm (of ``n_robots``, default the scene's) through its tube, with its plan (from
+    ``plan_file``, or planned here) or without; write the log, figures, a GIF when asked for and the scene's copy
+    to ``out``."""
+    scene = load_scene(name_or_path)
+    swarm = scene.swarm if n_robots is None else replace(scene.swarm, n_robots=n_robots)
+    plan = plan_for(scene, swarm, plan_file) if planning else None
+    config = config or SimConfig()
+    mode = 'planned' if planning else 'unplanned'
+    stem, log = out / f'sim_{scene.name}_{mode}', out / f'sim_{scene.name}_{mode}.npz'
+    made = provenance(scene=scene, plan_file=plan_file, seeds=[config.seed])
+    try:
+        with progress('simulated', 's') as tick:
+            result = simulate(
+                scene.tube,
+                swarm,
+                scene.control,
+                plan=plan,
+                config=config,
+                on_step=tick,
+                log_path=log,
+                meta={'scene': scene.name, 'source': scene.source, 'provenance': made},
+            )
+    except KeyboardInterrupt:
+        partial = LogWriter(log, {}).partial_path
+        kept = f'the steps flown so far are in {partial}' if partial and partial.exists() else 'nothing was flown yet'
+        raise SimulationInterrupted(f'interrupted: {kept}; a finished log at {log} is left as it was.') from None
+    written = [
+        log,
+        plots.save_figure(plots.snapshots_figure(result, scene.tube), f'{stem}_snapshots.png'),
+        plots.save_figure(plots.distance_figure({mode: result}), f'{stem}_distance.png'),
+    ]
+    if plan is not None:
+        written.append(plots.save_figure(plots.tracking_figure(result, plan), f'{stem}_tracking.png'))
+    if animate:
+        with progress('GIF frames', 'frame') as tick:
+            written.append(plots.animate(result, scene.tube, f'{stem}.gif', progress=lambda i, n: tick(i + 1)))
+    written.append(copy_scene(scene, out))
+    return Simulated(scene, swarm, config, result, tuple(written))
+
+
+def build_submission(
+    name_or_path: str | Path,
+    out: Path,
+    *,
+    planning: bool = True,
+    plan_file: Path | None = None,
+    declare: bool = True,
+    seeds: int = 3,
+    initializer_seeds: int = 200,
+) -> WrittenSubmission:
+    """Write the single-file submission for a Robotarium scene (its plan from ``plan_file``, or planned here) to
+    ``out``; with ``declare``, preflighted and rewritten with the duration to declare
+    (:func:`submission.declared.write_submission`)."""
+    scene = load_scene(name_or_path)
+    plan = plan_for(scene, plan_file=plan_file)
+    return write_submission(
+        scene, out, plan, planning=planning, declare=declare, seeds=seeds, initializer_seeds=initializer_seeds
+    )
+
+
+@dataclass(frozen=True)
+class Returned:
+    """A submission run as the testbed would: the folder it saved its files in, the log of what it printed, and
+    whether it ended without an error."""
+
+    folder: Path
+    log: Path
+    ok: bool
+
+
+def run_on_bundled(script: Path, folder: Path, *, seed: int = 0) -> Returned:
+    """Run a submission file in this process on the bundled V2 simulator (``rps`` resolved to ours, ``random`` and
+    ``np.random`` seeded with ``seed``, no figure) in ``folder``, where it saves its files; what it prints goes to
+    ``folder/log.txt``."""
+    script = script.resolve()
+    folder.mkdir(parents=True, exist_ok=True)
+    printed, complained = io.StringIO(), io.StringIO()
+    ok = True
+    with _as_on_the_testbed(folder, seed), redirect_stdout(printed), redirect_stderr(complained):
+        try:
+            runpy.run_path(str(script), run_name='__main__')
+        except SystemExit as stop:
+            ok = stop.code in (None, 0)
+        except Exception:  # noqa: BLE001 -- the script's error is its run's outcome, told in its log
+            traceback.print_exc()
+            ok = False
+    log = folder / 'log.txt'
+    log.write_text(printed.getvalue() + complained.getvalue(), encoding='utf-8')
+    return Returned(folder, log, ok)
+
+
+@contextmanager
+def _as_on_the_testbed(folder: Path, seed: int) -> Iterator[None]:
+    """Inside: ``import rps`` is the bundled V2 simulator (:func:`robotarium_exp.rps_alias.install`), the working
+    folder is ``folder`` and the submission runs headless; all three are restored after."""
+    import robotarium_exp.rps as package
+
+    def ours() -> dict[str, ModuleType]:
+        return {name: module for name, module in sys.modules.items() if name == 'rps' or name.startswith('rps.')}
+
+    saved, cwd, headless = ours(), Path.cwd(), os.environ.get('VTUBE_HEADLESS')
+    install(seed=seed)
+    os.environ['VTUBE_HEADLESS'] = '1'
+    os.chdir(folder)
+    try:
+        yield
+    finally:
+        os.chdir(cwd)
+        if headless is None:
+            del os.environ['VTUBE_HEADLESS']
+        else:
+            os.environ['VTUBE_HEADLESS'] = headless
+        for name in ours():
+            del sys.modules[name]
+        sys.modules.update(saved)
+        package.robotarium = sys.modules['robotarium_exp.rps.robotarium']
+
+
+@dataclass(frozen=True)
+class AnalysisOptions:
+    """How data is read and measured: in a scene (None: no tube metrics), against a plan file (needs the scene),
+    beside a log (``compare``); the bags' topics and frames, the world frame, the longest gap interpolated (text:
+    ``3periods``, ``0.25s``) and the distance counted as a collision (default: the scene's 2 r_p)."""
+
+    scene: str | None = None
+    plan_file: Path | None = None
+    compare: Path | None = None
+    topic_pattern: str | None = None
+    frame_pattern: str | None = None
+    topics: tuple[str, ...] | None = None
+    world_frame: str | None = None
+    max_gap: str | None = None
+    collision_distance_m: float | None = None
+
+
+@dataclass(frozen=True)
+class Analysed:
+    """Data measured (``data``; ``comparison``: the log shown beside it) and the report and metrics written."""
+
+    scene: Scene | None
+    data: Analysis
+    comparison: Analysis | None
+    report: Path
+    metrics_file: Path
+
+
+def analyse_data(inputs: Sequence[Path], out: Path, options: AnalysisOptions | None = None) -> Analysed:
+    """Measure returned or recorded data (testbed folder, .mat file, our logs, ROS bags); write metrics, report,
+    figures and the scene's copy to ``out``."""
+    options = options or AnalysisOptions()
+    if options.plan_file is not None and options.scene is None:
+        raise AnalysisError('a plan file needs the scene it was made for; give the scene too.')
+    scene = load_scene(options.scene) if options.scene is not None else None
+    plan = plan_for(scene, plan_file=options.plan_file) if scene is not None and options.plan_file else None
+    gap = MaxGap.parse(options.max_gap) if options.max_gap is not None else DEFAULT_MAX_GAP
+    topics = list(options.topics) if options.topics is not None else None
+    bags = {'topic_pattern': options.topic_pattern, 'frame_pattern': options.frame_pattern, 'topics': topics}
+    recorded = {
+        'scene': options.scene,
+        'plan': str(options.plan_file) if options.plan_file else None,
+        'max_gap': str(gap),
+        'collision_distance_m': options.collision_distance_m,
+        'world_frame': options.world_frame,
+        **bags,
+    }
+    trajectory = load_trajectory(list(inputs), max_gap=gap, world_frame=options.world_frame, **bags)
+    if scene is not None:
+        check_recorded_tube(trajectory, scene)
+    distance = options.collision_distance_m
+    results = {'data': analyse(trajectory, scene, plan, collision_distance_m=distance, options=recorded)}
+    if options.compare is not None:
+        simulated = load_trajectory([options.compare], max_gap=gap)
+        results['comparison'] = analyse(simulated, scene, plan, collision_distance_m=distance)
+    report = write_report(out, results, scene, plan)
+    if scene is not None:
+        copy_scene(scene, out)
+    return Analysed(scene, results['data'], results.get('comparison'), report, out / 'metrics.json')
+
+
+DemoStage = Planned | Simulated | WrittenSubmission | Returned | Analysed
+
+
+def demo(out: Path, *, progress: Progress = no_progress) -> Iterator[DemoStage]:
+    """The whole way on :data:`DEMO_SCENE` with the bundled simulator, into ``out``: plan; simulate with the plan
+    and without; build and check the submission; run it as the testbed would; analyse what it returns beside the
+    planned simulation. Yields each stage's result as it ends and stops after a submission that records no
+    declaration or a run that failed."""
+    planned = plan_scene(DEMO_SCENE, out / 'plan')
+    yield planned
+    flown = simulate_scene(DEMO_SCENE, out / 'simulation', plan_file=planned.plan_file, progress=progress)
+    yield flown
+    yield simulate_scene(DEMO_SCENE, out / 'simulation', planning=False, progress=progress)
+    path = out / 'submission' / 'experiment.py'
+    built = build_submission(DEMO_SCENE, path, plan_file=planned.plan_file, seeds=2, initializer_seeds=20)
+    yield built
+    if built.declaration is None:
+        return
+    returned = run_on_bundled(built.path, out / 'returned')
+    yield returned
+    if not returned.ok:
+        return
+    options = AnalysisOptions(scene=DEMO_SCENE, plan_file=planned.plan_file, compare=flown.log)
+    yield analyse_data([returned.folder], out / 'report', options)
