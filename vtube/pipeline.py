@@ -28,12 +28,12 @@ from robotarium_exp.rps_alias import install
 from submission.declared import WrittenSubmission, write_submission
 from vtube_planning import plots
 from vtube_planning.geometry.scene import Scene, load_scene
+from vtube_planning.log import LogWriter
 from vtube_planning.params import SwarmParams
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.planning.polynomial import plan_polynomial
 from vtube_planning.provenance import copy_scene, provenance
-from vtube_planning.swarm.log import LogWriter
 from vtube_planning.swarm.simulate import SimConfig, SimResult, simulate
 
 PlanMethod = Literal['convex', 'polynomial']

@@ -75,29 +75,30 @@ def analyze_view(analysed: Analysed) -> View:
     lines = [
         (
             f'analysis of {source.get("kind")} {source.get("path")} {where}: {trajectory.n_robots} robots, '
-            f'{m["frames"]} frames ({m["complete_frames"]} with every robot), {len(m["gaps"])} gaps, '
+            f'{m.frames} frames ({m.complete_frames} with every robot), {len(m.gaps)} gaps, '
             f'{len(source.get("ignored") or [])} topics/frames/variables ignored'
         )
     ]
-    if m['min_distance_m'] is not None:
-        pair = ' and '.join(m['min_distance_pair'])
-        closest = f'minimum distance {m["min_distance_m"]:.3f} m ({pair}, t = {m["min_distance_time_s"]:.2f} s)'
+    if m.closest is not None:
+        pair = ' and '.join(m.closest.robots)
+        closest = f'minimum distance {m.closest.min_distance_m:.3f} m ({pair}, t = {m.closest.time_s:.2f} s)'
     else:
         closest = 'one robot: no distances' if trajectory.n_robots < 2 else 'no two robots seen at the same time'
     collisions = (
-        f'{m["collision_pairs"]} pairs closer than {m["collision_distance_m"]:.3f} m'
-        if m['collision_distance_m'] is not None
+        f'{m.collision_pairs} pairs closer than {m.collision_distance_m:.3f} m'
+        if m.collision_distance_m is not None
         else 'collisions not counted (give --collision-distance)'
     )
     lines.append(f'  {closest}, {collisions}')
-    if scene is not None:
-        if m['passing_time_s'] is None:
-            lines.append(f'  no passing time: {"; ".join(m["passage"]["unobserved"])}')
+    if m.tube is not None:
+        passage = m.tube.passage
+        if passage.passing_time_s is None:
+            lines.append(f'  no passing time: {"; ".join(passage.unobserved)}')
         else:
-            lines.append(f'  passing time {m["passing_time_s"]:.2f} s')
-        lines.append(f'  {m["tube_violation_steps"]} tube violations (robot-frames)')
+            lines.append(f'  passing time {passage.passing_time_s:.2f} s')
+        lines.append(f'  {m.tube.tube_violation_steps} tube violations (robot-frames)')
     lines.append(f'  written {analysed.report}, {analysed.metrics_file}')
-    return View(tuple(lines), m)  # the JSON object: what metrics.json holds under "data"
+    return View(tuple(lines), m.to_json())  # the JSON object: what metrics.json holds under "data"
 
 
 COMMAND = Command(

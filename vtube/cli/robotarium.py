@@ -155,7 +155,6 @@ def comparison(args: argparse.Namespace) -> Comparison:
     from robotarium_exp.compare import compare, comparison_table
     from vtube.pipeline import plan_for
     from vtube_planning.geometry.scene import load_scene
-    from vtube_planning.swarm.metrics import strict_json
 
     out: Path = args.out
     writable_folder(out)
@@ -168,7 +167,7 @@ def comparison(args: argparse.Namespace) -> Comparison:
     out.mkdir(parents=True, exist_ok=True)
     written = (out / f'compare_{scene.name}.md', out / f'compare_{scene.name}.json')
     written[0].write_text(table, encoding='utf-8')
-    written[1].write_text(json.dumps(strict_json(rows), indent=1, allow_nan=False))
+    written[1].write_text(json.dumps([row.to_json() for row in rows], indent=1, allow_nan=False))
     return Comparison(scene.name, args.seeds, table, written)
 
 
