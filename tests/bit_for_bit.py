@@ -395,8 +395,17 @@ def environment() -> dict[str, str]:
 def environment_differences(reference: dict[str, str]) -> str:
     """How this environment differs from ``reference`` ('' when it is the same)."""
     here = environment()
-    keys = sorted(set(here) | set(reference))
-    return '; '.join(f'{k}: {reference.get(k)!r} -> {here.get(k)!r}' for k in keys if here.get(k) != reference.get(k))
+    changed = []
+    for key in sorted(set(here) | set(reference)):
+        old, new = reference.get(key), here.get(key)
+        if old == new:
+            continue
+        if key == 'numpy_simd' and old is not None and new is not None:
+            gone, added = sorted(set(old.split()) - set(new.split())), sorted(set(new.split()) - set(old.split()))
+            changed.append(f'{key}: ' + ' '.join([f'-{f}' for f in gone] + [f'+{f}' for f in added]))
+        else:
+            changed.append(f'{key}: {old!r} -> {new!r}')
+    return '; '.join(changed)
 
 
 # ---------------------------------------------------------------------- comparison
@@ -415,14 +424,20 @@ def _candidates(records: dict[str, Any]) -> dict[str, str]:
 def _where(name: str, old: dict[str, Any], new: dict[str, Any], arrays: Arrays, reference: Arrays | None) -> str:
     """Where array ``name`` first differs: the step and the largest deviation (with the reference arrays), else
     the first differing block of steps."""
-    if old['shape'] != new['shape']:
-        return f'{name}: shape {old["shape"]} -> {new["shape"]}'
-    if reference is not None and name in reference and name in arrays:
+    shape = '' if old['shape'] == new['shape'] else f'shape {old["shape"]} -> {new["shape"]}'
+    if reference is not None and name in reference and name in arrays and old['shape'][1:] == new['shape'][1:]:
         a, b = np.asarray(reference[name], dtype=np.float64), np.asarray(arrays[name], dtype=np.float64)
+        if a.ndim:
+            a, b = a[: min(len(a), len(b))], b[: min(len(a), len(b))]
         differ = ~((a == b) | (np.isnan(a) & np.isnan(b)))
         rows = np.flatnonzero(differ.reshape(len(a), -1).any(axis=1)) if a.ndim else np.array([0])
         deviation = np.nanmax(np.abs(a - b)[differ]) if differ.any() else 0.0
-        return f'{name}: first differs at step {rows[0]} of {len(a)}, max abs deviation {deviation:.3g}'
+        if not rows.size:
+            return f'{name}: {shape}, the same bits over the common steps'
+        where = f'first differs at step {rows[0]}, max abs deviation {deviation:.3g}'
+        return f'{name}: {shape}, {where}' if shape else f'{name}: {where}'
+    if shape:
+        return f'{name}: {shape}'
     old_blocks, new_blocks = old.get('blocks', '').split(), new.get('blocks', '').split()
     first = next((k for k, (x, y) in enumerate(zip(old_blocks, new_blocks, strict=False)) if x != y), None)
     if first is None:
