@@ -16,7 +16,8 @@ import time
 from pathlib import Path
 from typing import Any
 
-from vtube_planning.campaign import Campaign, run_campaign
+from vtube_planning.campaign import Campaign
+from vtube_planning.campaign_runner import run_campaign
 from vtube_planning.study import MODES
 
 

@@ -28,7 +28,8 @@ from functools import partial
 from benchmarks._timing import timed
 from tests.vtube_planning.slsqp_reference import slsqp_plan
 from vtube_planning import list_scenes, load_scene
-from vtube_planning.planning.plan import Plan, initial_conditions
+from vtube_planning.planning.constraints import initial_conditions
+from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.planning.polynomial import plan_polynomial
 

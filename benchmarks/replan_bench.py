@@ -22,8 +22,10 @@ import numpy as np
 from benchmarks._timing import timed
 from vtube_planning import load_scene
 from vtube_planning.errors import PlanError
-from vtube_planning.planning.planner import SwarmState, plan_convex, replan
-from vtube_planning.swarm.simulate import RobotFailure, SimConfig, simulate
+from vtube_planning.planning.plan import SwarmState
+from vtube_planning.planning.planner import plan_convex, replan
+from vtube_planning.swarm.faults import RobotFailure
+from vtube_planning.swarm.simulate import SimConfig, simulate
 
 EVERY_S = 0.5
 

@@ -351,7 +351,7 @@ def test_every_artefact_records_where_it_comes_from(tmp_path, capsys) -> None:
 
     assert main(['plan', 'robotarium_trapezoid', '--out', str(tmp_path / 'p')]) == 0
     plan_file = tmp_path / 'p' / 'plan_robotarium_trapezoid.npz'
-    recorded(Plan.load(plan_file).extra['provenance'])
+    recorded(Plan.load(plan_file).provenance)
     assert (tmp_path / 'p' / 'scene_robotarium_trapezoid.toml').read_text(encoding='utf-8') == text
     run = ['robotarium', 'run', 'robotarium_trapezoid', '--no-initialization', '--plan', str(plan_file)]
     assert main([*run, '--out', str(tmp_path / 'r'), '--seed', '3']) == 0

@@ -18,39 +18,27 @@ saturation and the faults), the metrics to keep and what every run shares (:clas
     failure_at = 0.5                # where a failing robot fails, times the tube's length
 
 Several grids (``[[grids]]`` tables of axes instead of one ``[axes]``, as ``vtube study`` builds for baselines
-flown on some scenes only) make one campaign whose runs are their products, in turn. The runs each have a stable key (a hash of everything that decides the run). Runs go to an
-executor (:mod:`vtube_planning.executors`: local processes or a Dask cluster) and each result is appended to
-``runs.csv`` in the output folder as it comes: the key, the parameters, the metrics, the wall time, the package
-version and, for a run that raised, its error (the other runs go on). ``campaign.json`` beside it records the
-campaign, so that a rerun of the same command skips the runs already done and ``vtube campaign report`` needs
-nothing but the folder. Rows that failed are run again on a rerun; a folder that holds another campaign is refused.
+flown on some scenes only) make one campaign whose runs are their products, in turn. Each run has a stable key (a
+hash of everything that decides the run). Runs are made by :mod:`vtube_planning.campaign_runner` and stored in the
+campaign's folder (:mod:`vtube_planning.campaign_store`).
 """
 
 from __future__ import annotations
 
-import csv
 import hashlib
-import io
 import itertools
 import json
-import math
-import os
 import sys
-import time
 from collections.abc import Iterable, Mapping
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from tqdm import tqdm
-
-from vtube_planning import __version__
 from vtube_planning._validate import is_real
 from vtube_planning.errors import VtubeError
-from vtube_planning.executors import map_unordered
 from vtube_planning.geometry.scene import load_scene
-from vtube_planning.study import ABLATIONS, BASELINE_MODES, MODELS, REPLANNING_MODES, Point, RunSettings, run_point
-from vtube_planning.swarm.simulate import FAILURE_MODES
+from vtube_planning.study import ABLATIONS, BASELINE_MODES, MODELS, REPLANNING_MODES, Point, RunSettings
+from vtube_planning.swarm.faults import FAILURE_MODES
 from vtube_planning.swarm.step import SATURATIONS
 
 if sys.version_info >= (3, 11):
@@ -80,7 +68,6 @@ METRICS: dict[str, type] = {
     'nmpc_converged_share': float,
 }
 """What a run measures (:func:`~vtube_planning.study.run_point`), and its type in the table."""
-RUNS_FILE, CAMPAIGN_FILE = 'runs.csv', 'campaign.json'
 _CHOICES = {
     'mode': (*ABLATIONS, *REPLANNING_MODES, *BASELINE_MODES),
     'model': tuple(MODELS),
@@ -274,150 +261,3 @@ def _check_settings(settings: RunSettings) -> None:
         if not ok:
             msg = f'settings.{text}; got {asdict(settings)}.'
             raise CampaignError(msg)
-
-
-@dataclass(frozen=True)
-class Outcome:
-    """What a campaign run did: ``rows`` (every run's row in the grid's order: done before, run now and failed),
-    how many were skipped as already done, run now and failed, and the seconds it took."""
-
-    rows: list[dict[str, Any]]
-    skipped: int
-    ran: int
-    failed: int
-    seconds: float
-
-
-def run_campaign(
-    campaign: Campaign,
-    out: Path,
-    *,
-    workers: int = 1,
-    client: Any = None,
-    progress: bool | None = None,
-) -> Outcome:
-    """Run every run of ``campaign`` not yet in ``out/runs.csv`` (:func:`~vtube_planning.executors.map_unordered`:
-    ``workers`` local processes, or the Dask ``client``), appending each row as it comes.
-
-    The folder is checked before any run starts: writable, and holding no other campaign. ``progress`` draws a bar
-    on stderr (runs done / total, failures, elapsed and remaining time); None: when stderr is a terminal. An
-    interruption leaves every finished row in the table; the same call again runs only the missing ones.
-    """
-    started = time.perf_counter()
-    points = campaign.points()
-    keys = [run_key(p, campaign.settings) for p in points]
-    done = _prepare_folder(campaign, out, set(keys))
-    todo = [(p, campaign.settings, campaign.metrics) for p, k in zip(points, keys, strict=True) if k not in done]
-    rows = dict(done)
-    failed = 0
-    show = sys.stderr.isatty() if progress is None else progress
-    bar = tqdm(total=len(points), initial=len(points) - len(todo), unit='run', disable=not show, file=sys.stderr)
-    with (out / RUNS_FILE).open('a', newline='', encoding='utf-8') as handle, bar:
-        writer = csv.DictWriter(handle, fieldnames=campaign.columns)
-        for i, row in map_unordered(_execute, todo, workers=workers, client=client):
-            row = {'key': run_key(todo[i][0], campaign.settings), **asdict(todo[i][0]), **row}
-            writer.writerow(row)
-            handle.flush()
-            rows[row['key']] = row
-            failed += bool(row['error'])
-            bar.update()
-            bar.set_postfix(failed=failed, refresh=False)
-    ordered = [_typed_row(rows[k], campaign.columns) for k in keys]
-    return Outcome(ordered, len(points) - len(todo), len(todo), failed, time.perf_counter() - started)
-
-
-def _execute(job: tuple[Point, RunSettings, tuple[str, ...]]) -> dict[str, Any]:
-    """One run in a worker: its metrics, wall time and version; a run that raises gives its error instead."""
-    point, settings, metrics = job
-    started = time.perf_counter()
-    try:
-        measured = run_point(point, settings)
-        row: dict[str, Any] = {m: measured[m] for m in metrics} | {'error': ''}
-    except Exception as err:  # noqa: BLE001 - recorded in the table; the other runs go on
-        row = dict.fromkeys(metrics, '') | {'error': f'{type(err).__name__}: {" ".join(str(err).split())}'}
-    return row | {'wall_s': round(time.perf_counter() - started, 3), 'version': __version__}
-
-
-def _prepare_folder(campaign: Campaign, out: Path, keys: set[str]) -> dict[str, dict[str, Any]]:
-    """Check ``out`` before any run (writable, no other campaign in it), record the campaign there, and keep the
-    rows of runs already done (each rewritten whole: a line cut by an interruption, or a failed run, is dropped
-    and its run done again). Returns the done rows by key."""
-    recorded = out / CAMPAIGN_FILE
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-        if recorded.is_file():
-            previous = json.loads(recorded.read_text(encoding='utf-8'))
-            if previous != campaign.to_json():
-                msg = (
-                    f'{out} holds the results of another campaign ({recorded} differs from this one); '
-                    'give another --out, or delete the folder to start again.'
-                )
-                raise CampaignError(msg)
-        done = {}
-        table = out / RUNS_FILE
-        if table.is_file():
-            with table.open(newline='', encoding='utf-8') as handle:
-                reader = csv.DictReader(handle)
-                if reader.fieldnames is not None and reader.fieldnames != campaign.columns:
-                    msg = f'{table} has other columns than this campaign; give another --out.'
-                    raise CampaignError(msg)
-                for row in reader:
-                    whole = None not in row.values() and None not in row
-                    if whole and row['key'] in keys and not row['error'] and row['version']:
-                        done[row['key']] = row
-        _write_atomically(recorded, json.dumps(campaign.to_json(), indent=1) + '\n')
-        _write_atomically(table, _csv_text(campaign.columns, done.values()))
-    except OSError as err:
-        msg = f'cannot write to {out} ({err.strerror or err}); choose another --out before any run starts.'
-        raise OSError(msg) from err
-    return done
-
-
-def _csv_text(columns: list[str], rows: Iterable[dict[str, Any]]) -> str:
-    text = io.StringIO(newline='')
-    writer = csv.DictWriter(text, fieldnames=columns)
-    writer.writeheader()
-    writer.writerows(rows)
-    return text.getvalue()
-
-
-def _write_atomically(path: Path, text: str) -> None:
-    """Write ``text`` to a temporary file beside ``path`` and rename it over: never a partial file at ``path``."""
-    temporary = path.with_name(f'.{path.name}.partial')
-    temporary.write_text(text, encoding='utf-8', newline='')
-    os.replace(temporary, path)
-
-
-def read_results(out: Path) -> tuple[Campaign, list[dict[str, Any]], int]:
-    """A campaign folder's campaign, its finished rows (typed, in the grid's order) and how many runs of the grid
-    are not among them (not done yet, or failed)."""
-    recorded, table = out / CAMPAIGN_FILE, out / RUNS_FILE
-    if not recorded.is_file() or not table.is_file():
-        msg = f'{out} holds no campaign ({CAMPAIGN_FILE} and {RUNS_FILE}); run `vtube campaign run FILE --out {out}`.'
-        raise CampaignError(msg)
-    campaign = Campaign.from_dict(json.loads(recorded.read_text(encoding='utf-8')))
-    with table.open(newline='', encoding='utf-8') as handle:
-        found = {
-            row['key']: row
-            for row in csv.DictReader(handle)
-            if None not in row.values() and None not in row and not row['error']
-        }
-    keys = [run_key(p, campaign.settings) for p in campaign.points()]
-    rows = [_typed_row(found[k], campaign.columns) for k in keys if k in found]
-    return campaign, rows, len(keys) - len(rows)
-
-
-def _typed_row(row: Mapping[str, Any], columns: list[str]) -> dict[str, Any]:
-    """A table row with each column of its known type again (numbers, booleans; an empty metric is NaN)."""
-    kinds: dict[str, type] = AXES | METRICS | {'wall_s': float}
-    return {c: _typed(row[c], kinds.get(c, str)) for c in columns}
-
-
-def _typed(value: Any, kind: type) -> Any:
-    if not isinstance(value, str):
-        return value
-    if kind is bool:
-        return value == 'True'
-    if kind in (int, float) and value == '':
-        return math.nan
-    return kind(value)

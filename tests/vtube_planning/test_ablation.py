@@ -9,7 +9,7 @@ import pytest
 
 from vtube.cli import main
 from vtube_planning import load_scene
-from vtube_planning.campaign import read_results
+from vtube_planning.campaign_store import read_results
 from vtube_planning.study import ABLATIONS, Point, ablation_setup, run_point
 from vtube_planning.swarm.simulate import SimConfig, default_constant_speed, simulate
 
@@ -104,7 +104,7 @@ def test_bad_grid_arguments(tmp_path, capsys) -> None:
 
 def test_the_verdict_summary_counts_cells_on_synthetic_rows() -> None:
     """Two cells: in N = 20 planning is 0.1 m safer and 1 s faster on every seed; in N = 40 nothing differs."""
-    from vtube_planning.study import paired_table, verdict_summary
+    from vtube_planning.study_report import paired_table, verdict_summary
 
     rng = np.random.default_rng(0)
     rows = []

@@ -20,16 +20,13 @@ from vtube_planning import (
 )
 from vtube_planning.errors import ParamsError, PlanError, SolverError
 from vtube_planning.planning import banded_qp
-from vtube_planning.planning.plan import Plan, certify
-from vtube_planning.planning.planner import (
-    BandedPlanner,
-    ConvexPlanner,
-    discretise,
-    fastest_admissible,
-    plan_convex,
-    refined_grid,
-    uniform_grid,
-)
+from vtube_planning.planning.banded_qp import BandedPlanner
+from vtube_planning.planning.constraints import certify
+from vtube_planning.planning.cvxpy_qp import ConvexPlanner
+from vtube_planning.planning.fastest_start import fastest_admissible
+from vtube_planning.planning.plan import Plan
+from vtube_planning.planning.planner import plan_convex
+from vtube_planning.planning.problem import discretise, refined_grid, uniform_grid
 
 CERTIFICATE = 1e-8  # the issue's bound for the banded planner
 
@@ -41,7 +38,7 @@ def assert_same_plan(banded: Plan, reference: Plan, *, density: bool = True) -> 
     tolerance (1e-8 on the objective) leaves it accurate to about 1e-5: it is compared to 1e-4 of rho_max, and not
     at all (``density=False``) when its weight is zero and any feasible density is optimal.
     """
-    assert banded.extra['formulation'] == 'banded' and reference.extra['formulation'] == 'cvxpy'
+    assert banded.solved.formulation == 'banded' and reference.solved.formulation == 'cvxpy'
     j = reference.objective['total']
     assert banded.objective['total'] == pytest.approx(j, rel=1e-8)
     np.testing.assert_array_equal(banded.l_m, reference.l_m)
@@ -60,7 +57,7 @@ def test_banded_solver_plans_what_the_cvxpy_reference_plans(name: str, model: st
     banded = plan_convex(scene.tube, scene.swarm, options)
     reference = plan_convex(scene.tube, scene.swarm, options, formulation='cvxpy')
     assert_same_plan(banded, reference)
-    assert banded.iterations == reference.iterations  # the same convex-concave path
+    assert banded.solved.iterations == reference.solved.iterations  # the same convex-concave path
 
 
 @pytest.mark.parametrize(('name', 'step_m'), [('robotarium_curve', 0.1), ('robotarium_trapezoid', 0.01)])
@@ -151,14 +148,14 @@ def test_a_failing_banded_solve_falls_back_to_the_reference(monkeypatch) -> None
 
     monkeypatch.setattr(banded_qp.BandedPlanner, 'solve', failing)
     plan = plan_convex(scene.tube, scene.swarm, scene.planning)
-    assert plan.extra['formulation'] == 'cvxpy'
+    assert plan.solved.formulation == 'cvxpy'
     assert plan.objective['total'] == expected.objective['total']
 
 
 def test_rigid_shift_is_solved_by_the_reference_and_bad_formulations_are_refused() -> None:
     scene = load_scene('A')
     rigid = plan_convex(scene.tube, scene.swarm, replace(scene.planning, predictive_model='rigid_shift'))
-    assert rigid.extra['formulation'] == 'cvxpy'
+    assert rigid.solved.formulation == 'cvxpy'
     with pytest.raises(ValueError, match=r"formulation must be one of \('banded', 'cvxpy'\)"):
         plan_convex(scene.tube, scene.swarm, scene.planning, formulation='osqp')
     with pytest.raises(ValueError, match='linear predictive models only'):
@@ -243,14 +240,14 @@ def test_both_starts_reach_the_same_plan_the_fastest_in_fewer_iterations(name: s
     scene = load_scene(name)
     fast = plan_convex(scene.tube, scene.swarm, scene.planning)
     slow = plan_convex(scene.tube, scene.swarm, scene.planning, start='slowest')
-    assert (fast.extra['start'], slow.extra['start']) == ('fastest', 'slowest')
+    assert (fast.solved.start, slow.solved.start) == ('fastest', 'slowest')
     assert fast.objective['total'] == pytest.approx(slow.objective['total'], rel=1e-8)
-    assert fast.iterations < slow.iterations
+    assert fast.solved.iterations < slow.solved.iterations
 
 
 def test_the_rigid_shift_reading_starts_from_the_slowest_profile_and_bad_starts_are_refused() -> None:
     scene = load_scene('C')
     rigid = plan_convex(scene.tube, scene.swarm, replace(scene.planning, predictive_model='rigid_shift'))
-    assert rigid.extra['start'] == 'slowest'
+    assert rigid.solved.start == 'slowest'
     with pytest.raises(ValueError, match=r"start must be one of \('fastest', 'slowest'\)"):
         plan_convex(scene.tube, scene.swarm, scene.planning, start='middle')

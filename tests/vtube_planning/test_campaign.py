@@ -16,9 +16,11 @@ import pytest
 
 from tests.terminal import stderr_on_a_pipe, stderr_on_a_terminal
 from vtube.cli import main
-from vtube_planning import campaign as campaign_module
+from vtube_planning import campaign_runner as campaign_module
 from vtube_planning import load_scene
-from vtube_planning.campaign import METRICS, RUNS_FILE, Campaign, read_results, run_campaign, run_key
+from vtube_planning.campaign import METRICS, Campaign, run_key
+from vtube_planning.campaign_runner import run_campaign
+from vtube_planning.campaign_store import RUNS_FILE, read_results
 from vtube_planning.study import Point, RunSettings
 
 FAULTS = """

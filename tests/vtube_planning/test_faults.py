@@ -9,8 +9,9 @@ import pytest
 
 from vtube_planning import ParamsError, load_scene
 from vtube_planning.planning.planner import plan_convex
+from vtube_planning.swarm.faults import RobotFailure
 from vtube_planning.swarm.metrics import passage_metrics
-from vtube_planning.swarm.simulate import RobotFailure, SimConfig, simulate
+from vtube_planning.swarm.simulate import SimConfig, simulate
 
 
 @pytest.fixture(scope='module')

@@ -21,9 +21,12 @@ from vtube_planning import (
     load_scene,
 )
 from vtube_planning.planning import planner as planner_module
-from vtube_planning.planning.plan import Plan, initial_conditions
-from vtube_planning.planning.planner import ConvexPlanner, discretise, plan_convex
+from vtube_planning.planning.constraints import initial_conditions
+from vtube_planning.planning.cvxpy_qp import ConvexPlanner
+from vtube_planning.planning.plan import Plan
+from vtube_planning.planning.planner import plan_convex
 from vtube_planning.planning.polynomial import plan_polynomial
+from vtube_planning.planning.problem import discretise
 
 from .slsqp_reference import slsqp_plan
 
@@ -83,7 +86,7 @@ def test_circular_tube_binds_p4_at_sqrt_an_r(radius_m: float) -> None:
 def test_first_convex_concave_iterate_is_already_feasible() -> None:
     scene = load_scene('D')
     plan = plan_convex(scene.tube, scene.swarm, scene.planning, max_iterations=1)
-    assert plan.iterations == 1 and plan.status == 'iteration limit'
+    assert plan.solved.iterations == 1 and plan.solved.status == 'iteration limit'
     assert plan.is_certified(CERTIFIED)
     full = plan_convex(scene.tube, scene.swarm, scene.planning)
     assert full.objective['total'] <= plan.objective['total']  # and the procedure only improves
@@ -102,7 +105,7 @@ def test_subproblem_is_built_once_and_parameterised() -> None:
 @pytest.mark.parametrize('name', list_scenes())
 def test_every_shipped_scene_plans_certified(name: str, shipped_plans: dict[str, Plan]) -> None:
     plan = shipped_plans[name]
-    assert plan.status == 'converged'
+    assert plan.solved.status == 'converged'
     assert plan.max_violation <= CERTIFIED, plan.certificate
     scene = load_scene(name)
     v0, rho0 = initial_conditions(scene.swarm, scene.planning)
@@ -158,8 +161,9 @@ def test_convex_beats_polynomial_and_slsqp_on_scene_a() -> None:
 def test_polynomial_plan_is_c1_cubic_segments() -> None:
     scene = load_scene('B')
     plan = plan_polynomial(scene.tube, scene.swarm, scene.planning)
-    assert plan.status == 'converged' and plan.extra['p3_slack'] < 1e-8
-    assert abs(plan.extra['objective_polynomial'] - plan.objective['total']) < 1e-3  # sampled vs exact
+    fit = plan.solved.polynomial
+    assert plan.solved.status == 'converged' and fit is not None and fit.p3_slack < 1e-8
+    assert abs(fit.objective - plan.objective['total']) < 1e-3  # sampled vs exact
     assert plan.certificate['p2'] <= CERTIFIED and plan.certificate['p4'] <= CERTIFIED  # control-point bounds
 
 

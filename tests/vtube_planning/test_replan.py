@@ -2,14 +2,19 @@
 
 from __future__ import annotations
 
+from dataclasses import asdict
+
 import numpy as np
 import pytest
 
 from vtube_planning import load_scene
 from vtube_planning.errors import ParamsError, PlanError
-from vtube_planning.planning.plan import Plan, objective_terms
-from vtube_planning.planning.planner import SwarmState, plan_convex, replan
-from vtube_planning.swarm.simulate import Replanner, RobotFailure, SimConfig, simulate
+from vtube_planning.planning.constraints import objective_terms
+from vtube_planning.planning.plan import Plan, SwarmState
+from vtube_planning.planning.planner import plan_convex, replan
+from vtube_planning.swarm.faults import RobotFailure
+from vtube_planning.swarm.replanner import Replanner
+from vtube_planning.swarm.simulate import SimConfig, simulate
 
 
 @pytest.fixture(scope='module')
@@ -40,7 +45,7 @@ def test_replanning_from_a_point_of_an_optimal_plan_gives_its_tail(scene_c, k: i
     tail = objective_terms(plan.l_m[k:], plan.speed_mps[k:], plan.density_per_m2[k:], plan.swarm, plan.options)
     assert rest.objective['total'] == pytest.approx(tail['total'], rel=1e-8)
     np.testing.assert_allclose(rest.speed_mps, plan.speed_mps[k:], rtol=1e-5)
-    assert rest.max_violation <= 1e-8 and rest.extra['formulation'] == 'banded'
+    assert rest.max_violation <= 1e-8 and rest.solved.formulation == 'banded'
 
 
 def test_a_measured_state_outside_the_constraints_is_clipped_into_them(scene_c) -> None:
@@ -48,7 +53,7 @@ def test_a_measured_state_outside_the_constraints_is_clipped_into_them(scene_c) 
     rest = replan(plan, SwarmState(5.0, 9.0, 3.0), scene.tube)
     swarm = plan.swarm
     assert rest.speed_mps[0] == pytest.approx(swarm.v_max_mps) and rest.density_per_m2[0] == swarm.rho_max_per_m2
-    assert rest.extra['replanned_from']['measured'] == {
+    assert asdict(rest.solved.replanned_from.measured) == {
         'arc_length_m': 5.0,
         'speed_mps': 9.0,
         'density_per_m2': 3.0,

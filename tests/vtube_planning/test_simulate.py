@@ -10,10 +10,12 @@ import numpy as np
 import pytest
 
 from vtube_planning import ParamsError, PlanError, SwarmParams, load_scene
-from vtube_planning.campaign import Campaign, run_campaign
+from vtube_planning.campaign import Campaign
+from vtube_planning.campaign_runner import run_campaign
 from vtube_planning.log import read_log
 from vtube_planning.planning.planner import plan_convex
-from vtube_planning.study import MODES, summarise
+from vtube_planning.study import MODES
+from vtube_planning.study_report import summarise
 from vtube_planning.swarm import simulate as simulate_module
 from vtube_planning.swarm.metrics import passage_metrics
 from vtube_planning.swarm.simulate import SimConfig, default_constant_speed, simulate

@@ -7,10 +7,8 @@ A point of the plane is written ``p = gamma(l) + y n(l)`` with arc length l, uni
 * functions of arc length follow the path convention: scalar l -> (2,) or float, array (k,) -> (k, 2) or (k,);
 * functions of robots follow the Robotarium convention: points (2, N), one robot per column.
 
-Construction checks the regularity conditions of ``docs/theory.md`` §3.2 and raises :class:`TubeError` naming the arc
-length of the first violation: lambda |kappa| < 1 (R2), no two distant cross-sections intersect (R3), lambda is
-C^1 (R4). lambda > 0 holds by construction: every width part is monotone between positive values, which
-:class:`~vtube_planning.geometry.width.WidthProfile` checks with the arc length of the offending part.
+Construction checks the regularity conditions of ``docs/theory.md`` §3.2 (:mod:`.regularity`) and raises
+:class:`TubeError` naming the arc length of the first violation.
 """
 
 from __future__ import annotations
@@ -22,7 +20,6 @@ from functools import cached_property
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.ndimage import maximum_filter1d
 from scipy.spatial import cKDTree
 
 from vtube_planning._validate import as_points
@@ -30,14 +27,14 @@ from vtube_planning.errors import ShapeError, TubeError
 from vtube_planning.geometry._roots import bracketed_newton
 from vtube_planning.geometry.centerline import CenterCurve
 from vtube_planning.geometry.projection import Projection, SampledTube
+from vtube_planning.geometry.regularity import check_grid, check_regularity
+from vtube_planning.geometry.warm_table import WarmTable
 from vtube_planning.geometry.width import WidthProfile
 
 FloatArray = NDArray[np.float64]
 
 _LENGTH_RTOL = 1e-9
 """Relative tolerance between the centre line's length and the width profile's."""
-_SLOPE_JUMP_TOL = 1e-9
-"""Largest jump of d lambda / dl at a breakpoint still accepted as C^1."""
 _PROJECTION_XTOL = 1e-12
 """Absolute tolerance (m) of the arc length found by the projection's Newton iteration."""
 _LEFT = np.array([-1.0, 1.0])
@@ -45,10 +42,8 @@ _LEFT = np.array([-1.0, 1.0])
 _LEFT_ROWS = _LEFT[:, None]
 """:data:`_LEFT` for tangents (2, N), one per column."""
 _WARM_NEWTON_STEPS = 6
-"""Newton steps of :meth:`VirtualTube.project_near` before a point is projected globally. From the previous
-control period's projection (robots move centimetres) the step falls below 1e-12 m at the second step on straight
-parts (where Newton is exact) and the third or fourth on arcs (quadratic convergence); the first step uses the
-frame the previous projection carries, each further one evaluates the centre line's frame once."""
+"""Newton steps of :meth:`VirtualTube.project_near` before a point is projected globally (the first uses the frame
+the previous projection carries, each further one evaluates the centre line's frame once)."""
 
 
 @dataclass(frozen=True)
@@ -85,7 +80,7 @@ class VirtualTube:
             )
             raise TubeError(msg)
         object.__setattr__(self, '_samples', _sample_grid(self))
-        _check_regularity(self)
+        check_regularity(self.center, self.width, self._samples, self.name)
 
     # ------------------------------------------------------------------ evaluation along the arc length
 
@@ -186,7 +181,7 @@ class VirtualTube:
         From l_0 = ``near.l_m``, plain Newton steps on ``g(l) = (gamma(l) - p) . t(l)`` (``g' = 1 - kappa y``), at
         most :data:`_WARM_NEWTON_STEPS`, until a step is below 1e-12 m; the answer is the last iterate, where the
         frame was evaluated. Its distance d = |p - gamma(l)| is then certified the global minimum by the table of
-        :class:`_WarmTable` (sample s_i nearest to l, window W, bounds T_i and K_i): with q = |p - gamma(s_i)|,
+        :class:`~vtube_planning.geometry.warm_table.WarmTable` (sample s_i nearest to l, window W, bounds T_i and K_i): with q = |p - gamma(s_i)|,
 
         * every curve point with |l' - s_i| >= W is at least T_i - q from p (triangle inequality), so farther than
           d when ``d < T_i - q``;
@@ -281,8 +276,8 @@ class VirtualTube:
         )
 
     @cached_property
-    def _warm_table(self) -> _WarmTable:
-        return _WarmTable.of(self)
+    def _warm_table(self) -> WarmTable:
+        return WarmTable.of(self.center, self.width, self._samples, self._sample_tree)
 
     def fingerprint(self) -> str:
         """A hash of the tube's geometry (centre line and half-width at 2001 arc lengths, to 1e-9 m).
@@ -313,7 +308,7 @@ class VirtualTube:
 
     def summary(self) -> dict[str, float]:
         """Length, half-width range, smallest curvature radius, largest lambda |kappa| and area (SI units)."""
-        grid = _check_grid(self)
+        grid = check_grid(self.center, self.width, self._samples)
         lam = self.width.value(grid)
         kappa = np.abs(self.center.frame(grid)[2])
         kmax = float(kappa.max())
@@ -325,98 +320,6 @@ class VirtualTube:
             'lambda_kappa_max': float((lam * kappa).max()),
             'area_m2': float(self.width.area(np.array([self.length_m]))[0]),
         }
-
-
-# ---------------------------------------------------------------------- the warm projection's certificate
-
-
-@dataclass(frozen=True)
-class _WarmTable:
-    """Per sample s_i of the tube's sample grid, what :meth:`VirtualTube.project_near` certifies a local answer with.
-
-    Attributes
-    ----------
-    l_m, points
-        The samples s_i (K,) and gamma(s_i) (K, 2).
-    window_m
-        W = 2 lambda_max + 3 h, h the largest gap between samples: a point at the wall of a straight part has
-        q + d of about 2 lambda_max + h/2 against T_i of about W - h/2 there, so it certifies.
-    far_m
-        T_i (K,): a lower bound of |gamma(s_i) - gamma(l')| over all l' with |l' - s_i| >= W, the straight extensions
-        beyond both ends included: the exact distance to the far parts of the two rays, and for the curve between
-        samples the distance to the nearest sample s_j with |s_j - s_i| >= W - h/2 less h/2 (every curve point is
-        within h/2 of arc, hence of distance, of such a sample). inf where no such part exists.
-    kappa_max
-        K_i (K,): the largest |kappa| on the regularity check grid (4x finer than the samples, every breakpoint
-        included) within W + h of s_i (with whole sample intervals), zero beyond the ends. Exact for an
-        :class:`~vtube_planning.geometry.centerline.ArcPath` (curvature constant between breakpoints); for a
-        spline as fine as the regularity checks themselves.
-    """
-
-    l_m: FloatArray
-    points: FloatArray
-    window_m: float
-    far_m: FloatArray
-    kappa_max: FloatArray
-
-    @classmethod
-    def of(cls, tube: VirtualTube) -> _WarmTable:
-        samples = tube._samples
-        points, tangents, _ = tube.center.frame(samples)
-        length, size = tube.length_m, samples.size
-        gap = float(np.diff(samples).max())
-        grid = _check_grid(tube)
-        window = 2.0 * float(tube.width.value(grid).max()) + 3.0 * gap
-        reach = window - 0.5 * gap  # samples this far (in arc length) or farther bound the far curve
-        near = np.searchsorted(samples, samples + reach, 'left') - np.searchsorted(samples, samples - reach, 'right')
-        k = min(size, int(near.max()) + 1)  # the nearest far sample is among the k nearest samples
-        far = np.empty(size)
-        for start in range(0, size, 4096):
-            rows = slice(start, min(size, start + 4096))
-            dist, idx = tube._sample_tree.query(points[rows], k=k)
-            dist, idx = dist.reshape(-1, k), idx.reshape(-1, k)
-            outside = np.abs(samples[idx] - samples[rows, None]) >= reach
-            far[rows] = np.where(outside, dist, np.inf).min(axis=1) - 0.5 * gap
-        back = _ray_distance(points, points[0], -tangents[0], np.maximum(0.0, window - samples))
-        ahead = _ray_distance(points, points[-1], tangents[-1], np.maximum(0.0, samples + window - length))
-        far = np.minimum(far, np.minimum(back, ahead))
-        # largest |kappa| per sample interval, then over every interval within W + h of each sample (a superset)
-        kappa = np.abs(tube.center.frame(grid)[2])
-        starts = np.searchsorted(grid, samples[:-1])
-        per_interval = np.maximum(np.maximum.reduceat(kappa, starts), kappa[np.searchsorted(grid, samples[1:])])
-        lo = np.searchsorted(samples, samples - window - gap, 'right') - 1
-        hi = np.searchsorted(samples, samples + window + gap, 'left')
-        span = int(np.max(np.maximum(np.arange(size) - lo, hi - np.arange(size))))
-        padded = np.append(per_interval, per_interval[-1])  # interval i starts at sample i; the last sample's own
-        kappa_max = maximum_filter1d(padded, size=2 * span + 1, mode='nearest')
-        return cls(samples, points, window, far, kappa_max)
-
-    def nearest_sample(self, l_m: FloatArray) -> NDArray[np.intp]:
-        """Index of a sample nearest to each arc length (the first or the last beyond the ends). Near a midpoint
-        between two samples either may come out: the certificate holds with any sample whose window contains l,
-        which :meth:`VirtualTube.project_near` checks."""
-        return self._midpoints.searchsorted(l_m, side='right')
-
-    @cached_property
-    def _midpoints(self) -> FloatArray:
-        return 0.5 * (self.l_m[:-1] + self.l_m[1:])
-
-    @cached_property
-    def x_m(self) -> FloatArray:
-        """The x of gamma(s_i), contiguous (gathered from it, not from ``points``' column)."""
-        return self.points[:, 0].copy()
-
-    @cached_property
-    def y_m(self) -> FloatArray:
-        """The y of gamma(s_i), contiguous."""
-        return self.points[:, 1].copy()
-
-
-def _ray_distance(points: FloatArray, base: FloatArray, direction: FloatArray, start: FloatArray) -> FloatArray:
-    """Distance from each of (K, 2) points to its ray {base + u direction : u >= start} (unit direction)."""
-    u = np.maximum((points - base) @ direction, start)
-    foot = base + u[:, None] * direction
-    return np.hypot(points[:, 0] - foot[:, 0], points[:, 1] - foot[:, 1])
 
 
 # ---------------------------------------------------------------------- helpers
@@ -446,7 +349,8 @@ def _shape_points(points: FloatArray, scalar: bool) -> FloatArray:
 
 def _left(tangent: FloatArray) -> FloatArray:
     """Rotate (k, 2) unit vectors by +90 degrees."""
-    return tangent[:, ::-1] * _LEFT
+    rotated: FloatArray = tangent[:, ::-1] * _LEFT
+    return rotated
 
 
 def _sample_grid(tube: VirtualTube) -> FloatArray:
@@ -461,65 +365,3 @@ def _sample_grid(tube: VirtualTube) -> FloatArray:
     spacing = max(spacing, length / 200_000)
     n = math.ceil(length / spacing) + 1
     return np.unique(np.concatenate([np.linspace(0.0, length, n), tube.center.breakpoints]))
-
-
-def _check_grid(tube: VirtualTube) -> FloatArray:
-    """Dense arc lengths for the regularity checks: 4x the sample density, and both sides of every breakpoint."""
-    samples = tube._samples
-    fine = np.linspace(0.0, tube.length_m, 4 * (samples.size - 1) + 1)
-    breaks = np.concatenate([tube.center.breakpoints, tube.width.breakpoints])
-    eps = 1e-9 * max(1.0, tube.length_m)
-    grid = np.concatenate([fine, breaks, breaks - eps, breaks + eps])
-    return np.unique(np.clip(grid, 0.0, tube.length_m))
-
-
-def _check_regularity(tube: VirtualTube) -> None:
-    name = f'tube {tube.name!r}' if tube.name else 'tube'
-    for l_knot, jump_value, jump_slope in tube.width.continuity_defects():
-        if abs(jump_value) > _SLOPE_JUMP_TOL * max(1.0, tube.length_m) or abs(jump_slope) > _SLOPE_JUMP_TOL:
-            msg = (
-                f'{name}: the half-width is not C^1 at l = {l_knot:.3f} m (slope jumps by {jump_slope:+.4g}); '
-                'use a smooth part or give the linear part a corner blend corner_m > 0.'
-            )
-            raise TubeError(msg)
-    grid = _check_grid(tube)
-    lam = tube.width.value(grid)
-    kappa = tube.center.frame(grid)[2]
-    fold = lam * np.abs(kappa)
-    if np.any(fold >= 1.0):
-        k = int(np.argmax(fold >= 1.0))
-        msg = (
-            f'{name} is over-curved at l = {grid[k]:.3f} m: half-width {lam[k]:.4g} m is not below the curvature '
-            f'radius {1.0 / abs(kappa[k]):.4g} m (lambda |kappa| = {fold[k]:.3f} >= 1), so cross-sections fold; '
-            'narrow the tube there or increase the turn radius.'
-        )
-        raise TubeError(msg)
-    _check_cross_sections(tube, name)
-
-
-def _check_cross_sections(tube: VirtualTube, name: str) -> None:
-    """R3: no two cross-sections (segments gamma -/+ lambda n) intersect."""
-    grid = tube._samples
-    pos, tan, _ = tube.center.frame(grid)
-    lam = tube.width.value(grid)
-    ends_a = pos - lam[:, None] * _left(tan)
-    ends_b = pos + lam[:, None] * _left(tan)
-    pairs = cKDTree(pos).query_pairs(2.0 * float(lam.max()), output_type='ndarray')
-    if pairs.size == 0:
-        return
-    i, j = pairs[:, 0], pairs[:, 1]
-
-    def side(a: FloatArray, b: FloatArray, c: FloatArray) -> FloatArray:
-        return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
-
-    crossing = (side(ends_a[i], ends_b[i], ends_a[j]) * side(ends_a[i], ends_b[i], ends_b[j]) < 0.0) & (
-        side(ends_a[j], ends_b[j], ends_a[i]) * side(ends_a[j], ends_b[j], ends_b[i]) < 0.0
-    )
-    if np.any(crossing):
-        k = int(np.argmax(crossing))
-        la, lb = sorted((grid[i[k]], grid[j[k]]))
-        msg = (
-            f'{name} overlaps itself: the cross-sections at l = {la:.3f} m and l = {lb:.3f} m intersect; '
-            'move these parts of the centre line apart or make the tube narrower there.'
-        )
-        raise TubeError(msg)

@@ -1,28 +1,23 @@
 """The planner's convex subproblem solved by a primal-dual interior-point method on banded normal equations.
 
-This is the QP of the cvxpy formulation :class:`vtube_planning.planning.planner.ConvexPlanner` for the linear
-predictive models (``'local_width'`` and ``'none'``), written out as arrays. That formulation stays the readable
-reference (a test compares the two, plan for plan) and still solves the rigid-shift model, whose (p7) is a cone.
+The QP of :class:`~vtube_planning.planning.cvxpy_qp.ConvexPlanner` for the linear predictive models
+(``'local_width'`` and ``'none'``), written out as arrays.
 
 Every constraint couples the unknowns of one grid interval at most, so with the unknowns interleaved as
 x = (w_0, rho_0, w_1, rho_1, ..., w_K, rho_K) each row touches four consecutive entries, x[2k : 2k + 4], and the
-normal matrix P + G' W G of an interior-point step is banded with three sub-diagonals: one LAPACK banded Cholesky
-factorisation (``dpbtrf``) costs tens of microseconds on a 600-interval grid, against the milliseconds of the
-general sparse KKT factorisation of a conic solver. Rows are stored per interval as a (K, rows, 4) array of their
-four coefficients (the bounds of grid point k + 1 sit in interval k), so that G is a CSR matrix of four entries per
-row and the normal matrix is assembled from (K, 4, 4) blocks, weighted sums of products of row entries.
+normal matrix P + G' W G of an interior-point step is banded with three sub-diagonals, factorised by LAPACK's
+banded Cholesky (``dpbtrf``). Rows are stored per interval as a (K, rows, 4) array of their four coefficients (the
+bounds of grid point k + 1 sit in interval k), so that G is a CSR matrix of four entries per row and the normal
+matrix is assembled from (K, 4, 4) blocks, weighted sums of products of row entries.
 
 The method is Mehrotra's predictor-corrector (Nocedal and Wright 2006, §16.6) from an infeasible start: the first
 subproblem starts at the tangent point, each later one at the last solution (a warm start). w_0 and rho_0, fixed
-by the initial values, are held at their values. Dot products avoid BLAS, whose threads (above 10,000 entries)
-stall when another process holds the other core. Every inequality is imposed with a relative
-margin ``MARGIN``, so that the solution, which meets a constraint only to the solver's tolerance, satisfies the
-original constraint: the plan's certificate stays below 1e-8 while J moves by about ``MARGIN`` relative.
+by the initial values, are held at their values. Dot products avoid BLAS, whose threads stall when another process
+holds the other core. Every inequality is imposed with a relative margin ``MARGIN``, so that the solution, which
+meets a constraint only to the solver's tolerance, satisfies the original constraint.
 """
 
 from __future__ import annotations
-
-from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -31,10 +26,8 @@ from scipy.linalg.lapack import dpbtrf as _band_factor
 from scipy.linalg.lapack import dpbtrs as _band_solve
 
 from vtube_planning.errors import SolverError
-from vtube_planning.planning.plan import RHO_EPSILON
-
-if TYPE_CHECKING:
-    from vtube_planning.planning.planner import Problem
+from vtube_planning.planning.constraints import RHO_EPSILON
+from vtube_planning.planning.problem import Problem
 
 FloatArray = NDArray[np.float64]
 
@@ -62,70 +55,17 @@ class BandedPlanner:
 
     def __init__(self, problem: Problem) -> None:
         self.problem = problem
-        swarm, options = problem.swarm, problem.options
         n = problem.l_m.size
         k = n - 1
         self.n, self.k = n, k
         dl = np.diff(problem.l_m)
         self.dl = dl
-        tight = 1.0 - MARGIN
-        rows: list[FloatArray] = []  # (K, 4) coefficients per row kind
-        rhs: list[FloatArray] = []  # (K,) right-hand sides
-        needed: list[NDArray[np.bool_]] = []  # (K,) the intervals whose row of this kind can bind
-
-        def add(coefficients: dict[int, FloatArray | float], b: FloatArray | float, where: object = True) -> None:
-            block = np.zeros((k, 4))
-            for slot, value in coefficients.items():
-                block[:, slot] = value
-            rows.append(block)
-            rhs.append(np.broadcast_to(np.asarray(b, dtype=float), (k,)).copy())
-            needed.append(np.broadcast_to(np.asarray(where, dtype=bool), (k,)))
-
-        # (p3), linearised at the previous iterate: four rows per interval, values filled by set_tangent
-        self._p3 = slice(0, 4)
-        for _ in range(4):
-            add({}, -2.0)
-        # (p6): +-(rho_{k+1} - rho_k) - a_rho dl_k w_j <= 0 for j = k, k+1
-        rate = swarm.a_rho * dl * tight
-        for sign in (1.0, -1.0):
-            for end in (W_LEFT, W_RIGHT):
-                add({RHO_RIGHT: sign, RHO_LEFT: -sign, end: -rate}, 0.0)
-        if options.predictive_model == 'local_width':
-            # (p7), local width: ratio_k rho_i - a_rho dl_p w_j <= 0 for i, j in {k, k+1}; left out where the width
-            # does not change over the look-ahead (ratio 0: the row says w >= 0, which the bounds imply)
-            budget = swarm.a_rho * options.lookahead_m * tight
-            for density in (RHO_LEFT, RHO_RIGHT):
-                for end in (W_LEFT, W_RIGHT):
-                    add({density: problem.width_ratio, end: -budget}, 0.0, problem.width_ratio > 0.0)
-        elif options.predictive_model != 'none':
-            msg = f'the banded solver takes linear predictive models only, not {options.predictive_model!r}'
-            raise ValueError(msg)
-        # bounds of grid points 1..K (w_0 and rho_0 are fixed), grid point k + 1 in interval k's right slots:
-        # w in [(1 + margin) / cap, tight / v_min], rho in [(1 + margin) eps, tight rho_max]
-        low_w, high_w = (1.0 + MARGIN) / problem.speed_cap_mps[1:], tight / swarm.v_min_mps
-        add({W_RIGHT: -1.0}, -low_w)
-        add({W_RIGHT: 1.0}, high_w)
-        add({RHO_RIGHT: -1.0}, -RHO_EPSILON * (1.0 + MARGIN))
-        add({RHO_RIGHT: 1.0}, tight * swarm.rho_max_per_m2)
-        self.g = np.ascontiguousarray(np.stack(rows, axis=1))  # (K, kinds, 4), every kind of row of every interval
-        self.h = np.stack(rhs, axis=1)  # (K, kinds)
-        self.kept = np.stack(needed, axis=1)  # (K, kinds): the rows imposed, in the order of their intervals
+        self._p3 = slice(0, 4)  # (p3)'s four rows per interval come first; set_tangent fills them
+        self.g, self.h, self.kept = _constraint_rows(problem, dl)  # (K, kinds, 4), (K, kinds), (K, kinds)
         self.interval = np.nonzero(self.kept)[0]  # (m,) each imposed row's interval, ascending
         self.first_row = np.searchsorted(self.interval, np.arange(k))  # (K,) where each interval's rows start
         self.fixed = np.array([1.0 / problem.v0_mps, problem.rho0_per_m2])
-        # objective: the time term (trapezoid, exact for w linear) and mu times the exact integral of (rho - rho_d)^2
-        # for rho linear, mu sum dl_k (e_k^2 + e_k e_{k+1} + e_{k+1}^2) / 3
-        node_dl = np.concatenate([dl, [0.0]]) + np.concatenate([[0.0], dl])
-        mu = options.density_weight
-        self.p_diag = mu * 2.0 * node_dl / 3.0  # on rho
-        self.p_off = mu * dl / 3.0  # between rho_k and rho_{k+1}
-        rho_d = swarm.rho_d_per_m2
-        self.q = np.zeros(2 * n)
-        self.q[0::2] = 0.5 * node_dl
-        self.q[1::2] = -rho_d * (
-            self.p_diag + np.concatenate([self.p_off, [0.0]]) + np.concatenate([[0.0], self.p_off])
-        )
-        self.constant = 0.5 * rho_d**2 * (self.p_diag.sum() + 2.0 * self.p_off.sum())
+        self.p_diag, self.p_off, self.q, self.constant = _objective(problem, dl)
         self.value = float('nan')
         self.steps = 0  # interior-point iterations of the last solve
         self._change = 1.0  # relative change of the objective at the last solve
@@ -173,16 +113,7 @@ class BandedPlanner:
         big_g = sp.csr_matrix((g.ravel(), columns.ravel(), np.arange(0, 4 * m + 1, 4)), shape=(m, n2))
         big_gt = big_g.T.tocsr()
         products = g[:, SLOT_PAIRS[:, 0]] * g[:, SLOT_PAIRS[:, 1]]  # (m, 10)
-        if self._last is None:  # the tangent point (feasible), slacks and multipliers at least the largest floor
-            x, z, floor = np.empty(n2), np.full_like(h, WARM_FLOOR[1]), WARM_FLOOR[1]
-            x[0::2], x[1::2] = self._tangent
-        else:
-            # warm start: the last solution, its slacks and multipliers kept off zero by about as much as the
-            # objective moved at the last convex-concave iteration (the tangent moves about that much)
-            floor = min(WARM_FLOOR[1], max(WARM_FLOOR[0], self._change))
-            x, z = self._last[0].copy(), np.maximum(self._last[1], floor)
-        x[:2] = self.fixed
-        s = np.maximum(h - big_g @ x, floor)
+        x, s, z = self._start(big_g, h)
         h_norm = 1.0 + np.abs(h).max()
         q_norm = 1.0 + np.abs(self.q).max()
         stalled: tuple[float, FloatArray, FloatArray] | None = None  # the best iterate within STALLED_TOLERANCE
@@ -205,28 +136,35 @@ class BandedPlanner:
                 if stalled is None:
                     raise
                 break
-            residuals = (r_primal, r_dual)
-            dx, ds, dz = _direction(big_g, big_gt, factor, s, z, residuals, s * z)
-            alpha = _largest_step(s, ds, z, dz)
-            gap_affine = float(np.sum((s + alpha * ds) * (z + alpha * dz))) / m
-            sigma = (gap_affine / gap) ** 3
-            dx, ds, dz = _direction(big_g, big_gt, factor, s, z, residuals, s * z + ds * dz - sigma * gap)
-            alpha = min(1.0, STEP_FRACTION * _largest_step(s, ds, z, dz))
+            alpha, dx, ds, dz = _mehrotra_step(big_g, big_gt, factor, s, z, (r_primal, r_dual), gap)
             x += alpha * dx
             s += alpha * ds
             z += alpha * dz
         if stalled is not None:
-            # Near the end the weights z / s span 30 orders of magnitude, and where the optimum is not a vertex in w
-            # the normal matrix loses its definiteness to rounding (the Robotarium tubes): the directions become too
-            # inexact to push the residuals below TOLERANCE. The best iterate within STALLED_TOLERANCE is then the
-            # answer (J within about that, relative, of the subproblem's optimum).
+            # the weights z / s span 30 orders of magnitude near the end, and where the optimum is not a vertex in w
+            # rounding takes the normal matrix's definiteness: the best iterate within STALLED_TOLERANCE is the answer
             self._last = (stalled[1], stalled[2])
-            return stalled[1].copy()
+            best: FloatArray = stalled[1].copy()
+            return best
         msg = (
             f'the banded interior-point solver did not converge in {MAX_STEPS} iterations on a planning subproblem '
             "shown feasible beforehand; plan with formulation='cvxpy' and report this scene."
         )
         raise SolverError(msg)
+
+    def _start(self, big_g: sp.csr_matrix, h: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """The first iterate (x, s, z): at the tangent point (feasible) with slacks and multipliers at least the
+        largest floor, or warm, the last solution with its slacks and multipliers kept off zero by about as much as
+        the objective moved at the last convex-concave iteration (the tangent moves about that much)."""
+        if self._last is None:
+            x, z, floor = np.empty(2 * self.n), np.full_like(h, WARM_FLOOR[1]), WARM_FLOOR[1]
+            x[0::2], x[1::2] = self._tangent
+        else:
+            floor = min(WARM_FLOOR[1], max(WARM_FLOOR[0], self._change))
+            x, z = self._last[0].copy(), np.maximum(self._last[1], floor)
+        x[:2] = self.fixed
+        s = np.maximum(h - big_g @ x, floor)
+        return x, s, z
 
     def _factor(self, products: FloatArray, weight: FloatArray) -> FloatArray:
         """Lower banded Cholesky factor of P + G' W G, with the fixed w_0, rho_0 rows replaced by identity rows.
@@ -242,11 +180,94 @@ class BandedPlanner:
         band[2, 1:-2:2] += self.p_off
         band[:, :2] = 0.0
         band[0, :2] = 1.0
+        factor: FloatArray
         factor, info = _band_factor(band, lower=1, overwrite_ab=1)
         if info != 0:
             msg = f'the normal matrix of a planning subproblem is not positive definite (LAPACK dpbtrf info {info})'
             raise SolverError(msg)
         return factor
+
+
+def _constraint_rows(problem: Problem, dl: FloatArray) -> tuple[FloatArray, FloatArray, NDArray[np.bool_]]:
+    """Every kind of row of every interval, each inequality tightened by ``MARGIN``: coefficients (K, kinds, 4) of
+    the interval's unknowns, right-hand sides (K, kinds), and which rows are imposed (K, kinds). (p3)'s four kinds
+    come first, zero until :meth:`BandedPlanner.set_tangent`."""
+    swarm, options = problem.swarm, problem.options
+    k = dl.size
+    tight = 1.0 - MARGIN
+    rows: list[FloatArray] = []  # (K, 4) coefficients per row kind
+    rhs: list[FloatArray] = []  # (K,) right-hand sides
+    needed: list[NDArray[np.bool_]] = []  # (K,) the intervals whose row of this kind can bind
+
+    def add(coefficients: dict[int, FloatArray | float], b: FloatArray | float, where: object = True) -> None:
+        block = np.zeros((k, 4))
+        for slot, value in coefficients.items():
+            block[:, slot] = value
+        rows.append(block)
+        rhs.append(np.broadcast_to(np.asarray(b, dtype=float), (k,)).copy())
+        needed.append(np.broadcast_to(np.asarray(where, dtype=bool), (k,)))
+
+    for _ in range(4):  # (p3), linearised at the previous iterate
+        add({}, -2.0)
+    # (p6): +-(rho_{k+1} - rho_k) - a_rho dl_k w_j <= 0 for j = k, k+1
+    rate = swarm.a_rho * dl * tight
+    for sign in (1.0, -1.0):
+        for end in (W_LEFT, W_RIGHT):
+            add({RHO_RIGHT: sign, RHO_LEFT: -sign, end: -rate}, 0.0)
+    if options.predictive_model == 'local_width':
+        # (p7), local width: ratio_k rho_i - a_rho dl_p w_j <= 0 for i, j in {k, k+1}; left out where the width
+        # does not change over the look-ahead (ratio 0: the row says w >= 0, which the bounds imply)
+        budget = swarm.a_rho * options.lookahead_m * tight
+        for density in (RHO_LEFT, RHO_RIGHT):
+            for end in (W_LEFT, W_RIGHT):
+                add({density: problem.width_ratio, end: -budget}, 0.0, problem.width_ratio > 0.0)
+    elif options.predictive_model != 'none':
+        msg = f'the banded solver takes linear predictive models only, not {options.predictive_model!r}'
+        raise ValueError(msg)
+    # bounds of grid points 1..K (w_0 and rho_0 are fixed), grid point k + 1 in interval k's right slots:
+    # w in [(1 + margin) / cap, tight / v_min], rho in [(1 + margin) eps, tight rho_max]
+    low_w, high_w = (1.0 + MARGIN) / problem.speed_cap_mps[1:], tight / swarm.v_min_mps
+    add({W_RIGHT: -1.0}, -low_w)
+    add({W_RIGHT: 1.0}, high_w)
+    add({RHO_RIGHT: -1.0}, -RHO_EPSILON * (1.0 + MARGIN))
+    add({RHO_RIGHT: 1.0}, tight * swarm.rho_max_per_m2)
+    return np.ascontiguousarray(np.stack(rows, axis=1)), np.stack(rhs, axis=1), np.stack(needed, axis=1)
+
+
+def _objective(problem: Problem, dl: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, float]:
+    """(p1) as 0.5 x' P x + q' x + constant: P's diagonal on rho and its entries between rho_k and rho_{k+1}, q,
+    the constant. The time term is the trapezoid (exact for w linear), the density term mu times the exact
+    integral of (rho - rho_d)^2 for rho linear, mu sum dl_k (e_k^2 + e_k e_{k+1} + e_{k+1}^2) / 3."""
+    node_dl = np.concatenate([dl, [0.0]]) + np.concatenate([[0.0], dl])
+    mu = problem.options.density_weight
+    p_diag = mu * 2.0 * node_dl / 3.0  # on rho
+    p_off = mu * dl / 3.0  # between rho_k and rho_{k+1}
+    rho_d = problem.swarm.rho_d_per_m2
+    q = np.zeros(2 * problem.l_m.size)
+    q[0::2] = 0.5 * node_dl
+    q[1::2] = -rho_d * (p_diag + np.concatenate([p_off, [0.0]]) + np.concatenate([[0.0], p_off]))
+    constant = 0.5 * rho_d**2 * (p_diag.sum() + 2.0 * p_off.sum())
+    return p_diag, p_off, q, constant
+
+
+def _mehrotra_step(
+    big_g: sp.csr_matrix,
+    big_gt: sp.csr_matrix,
+    factor: FloatArray,
+    s: FloatArray,
+    z: FloatArray,
+    residuals: tuple[FloatArray, FloatArray],
+    gap: float,
+) -> tuple[float, FloatArray, FloatArray, FloatArray]:
+    """Mehrotra's predictor-corrector step: the step length and the direction (dx, ds, dz)."""
+    m = s.size
+    dx, ds, dz = _direction(big_g, big_gt, factor, s, z, residuals, s * z)
+    alpha = _largest_step(s, ds, z, dz)
+    gap_affine = float(np.sum((s + alpha * ds) * (z + alpha * dz))) / m
+    sigma = (gap_affine / gap) ** 3
+    dx, ds, dz = _direction(big_g, big_gt, factor, s, z, residuals, s * z + ds * dz - sigma * gap)
+    alpha = min(1.0, STEP_FRACTION * _largest_step(s, ds, z, dz))
+    return alpha, dx, ds, dz
 
 
 def _direction(

@@ -53,9 +53,11 @@ def predicted_density(
     l_m = np.atleast_1d(np.asarray(l_m, dtype=float))
     rho = np.broadcast_to(np.asarray(rho_per_m2, dtype=float), l_m.shape)
     if model == 'local_width':
-        return rho * np.asarray(tube.half_width(l_m)) / np.asarray(tube.half_width(l_m + lookahead_m))
+        local: FloatArray = rho * np.asarray(tube.half_width(l_m)) / np.asarray(tube.half_width(l_m + lookahead_m))
+        return local
     if model == 'none':
-        return rho.copy()
+        same: FloatArray = rho.copy()
+        return same
     if model == 'rigid_shift':
         back, front = footprint(tube, l_m, rho, n_robots)
         return n_robots / swarm_area(tube, back + lookahead_m, front + lookahead_m, 0.0)

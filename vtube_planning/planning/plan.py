@@ -1,19 +1,21 @@
-"""The result of speed and density planning, and its certificate.
+"""The result of speed and density planning: the :class:`Plan`, how it was solved, and its ``.npz`` form.
 
 A :class:`Plan` holds the planned average forward speed v*(l) and density rho*(l) on an arc-length grid and
 says how it is to be used between grid points: the slowness w = 1/v and the density are interpolated linearly
 (so the traversal time, the integral of w, and the density term of (p1) are exact for the interpolated plan).
 Its certificate is the largest relative violation of each original constraint (p2)-(p7), evaluated on a grid
-ten times finer than the solve grid, on the plan interpolated exactly that way.
+ten times finer than the solve grid, on the plan interpolated exactly that way
+(:func:`~vtube_planning.planning.constraints.certify`).
 
 Plans are saved as ``.npz`` files of plain arrays plus one JSON string (loaded without pickle).
 """
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -22,20 +24,91 @@ from vtube_planning.errors import PlanError
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.npzfile import read_npz, write_npz
 from vtube_planning.params import PlanningOptions, SwarmParams
-from vtube_planning.planning.density import predicted_density
+from vtube_planning.planning.constraints import certify, curvature_speed_limit, objective_terms
 from vtube_planning.swarm.step import PlanProfile
 
 FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
 
-RHO_EPSILON = 1e-3
-"""Lower bound of the density in (p5), robots/m^2: the paper's strict ``rho > 0`` (resolution A14)."""
-FINE_FACTOR = 10
-"""The certificate's grid is this many times finer than the solve grid."""
-ACTIVE_RTOL = 1e-3
-"""A constraint is reported active at a grid point when its relative slack is below this."""
-CONSTRAINTS = ('p2', 'p3', 'p4', 'p5', 'p6', 'p7', 'initial')
+Method = Literal['convex', 'polynomial', 'flat']
+"""How a plan was made: the convex-concave procedure, the paper's cubic segments, or the study's constant profile
+on another plan's grid."""
+Status = Literal['converged', 'iteration limit']
+Formulation = Literal['banded', 'cvxpy']
+"""How each convex subproblem is solved: the banded interior-point solver, or the cvxpy reference."""
+Start = Literal['fastest', 'slowest']
+"""The admissible profile the convex-concave procedure starts from."""
+
 ARRAYS = ('l_m', 'speed_mps', 'density_per_m2', 'half_width_m', 'speed_limit_mps')
-FORMAT_VERSION = 2
+FORMAT_VERSION = 3
+
+
+@dataclass(frozen=True)
+class SwarmState:
+    """What replanning starts from: the swarm's arc length, average forward speed and density, measured now.
+
+    Parameters
+    ----------
+    arc_length_m
+        Where the swarm is along the tube (the mean arc length of its working robots), in [0, L).
+    speed_mps
+        Its average forward speed, m/s.
+    density_per_m2
+        Its measured density, robots/m^2.
+    n_robots
+        The robots still flying, when fewer than the plan was made for (a robot failed); None: the plan's swarm.
+    """
+
+    arc_length_m: float
+    speed_mps: float
+    density_per_m2: float
+    n_robots: int | None = None
+
+
+@dataclass(frozen=True)
+class ReplanStart:
+    """The state a replanned plan starts from: as measured, and the speed and density it was planned from (the
+    measured ones clipped into the constraints)."""
+
+    measured: SwarmState
+    speed_mps: float
+    density_per_m2: float
+
+
+@dataclass(frozen=True)
+class PolynomialFit:
+    """The polynomial method's solution: its segments, (p1) of the polynomials themselves (s), and the l1 slack
+    of (p3) left at the end."""
+
+    segments: int
+    objective: float
+    p3_slack: float
+
+
+@dataclass(frozen=True)
+class SolveRecord:
+    """How a plan was found: method, status, convex-concave iterations and wall time; for the convex method the
+    formulation that solved and the start; for a replanned plan the state it started from; for the polynomial
+    method its fit."""
+
+    method: Method
+    status: Status
+    iterations: int
+    solve_time_s: float
+    formulation: Formulation | None = None
+    start: Start | None = None
+    replanned_from: ReplanStart | None = None
+    polynomial: PolynomialFit | None = None
+
+    @classmethod
+    def from_json(cls, data: Mapping[str, Any]) -> SolveRecord:
+        """The record from its JSON form (``dataclasses.asdict``); TypeError or KeyError if it is not one."""
+        fields = dict(data)
+        replanned, fit = fields.pop('replanned_from'), fields.pop('polynomial')
+        if replanned is not None:
+            measured = SwarmState(**replanned['measured'])
+            replanned = ReplanStart(measured, replanned['speed_mps'], replanned['density_per_m2'])
+        return cls(**fields, replanned_from=replanned, polynomial=None if fit is None else PolynomialFit(**fit))
 
 
 @dataclass(frozen=True)
@@ -59,14 +132,19 @@ class Plan:
     objective
         Terms of (p1): ``time_s``, ``density`` (integral of (rho - rho_d)^2 times mu), ``total``.
     certificate
-        Largest relative violation of each constraint on the fine grid (``CONSTRAINTS``), >= 0.
+        Largest relative violation of each constraint on the fine grid
+        (:data:`~vtube_planning.planning.constraints.CONSTRAINTS`), >= 0.
     active
         Per constraint, where it binds at the grid points, (K+1,) bool arrays.
-    method, status, iterations, solve_time_s
-        How the plan was found.
+    solved
+        How the plan was found (:class:`SolveRecord`).
     scene, swarm, options, tube_hash
         What it was planned for: the scene's name, the swarm, the planning options and the tube's
         :meth:`~vtube_planning.geometry.tube.VirtualTube.fingerprint`. :meth:`check_matches` refuses other ones.
+    provenance
+        Where it was made (:func:`~vtube_planning.provenance.provenance`), when recorded.
+
+    The arrays are read-only copies.
     """
 
     l_m: FloatArray
@@ -75,18 +153,20 @@ class Plan:
     half_width_m: FloatArray
     speed_limit_mps: FloatArray
     time_s: float
-    objective: dict[str, float]
-    certificate: dict[str, float]
-    active: dict[str, NDArray[np.bool_]]
-    method: str
-    status: str
-    iterations: int
-    solve_time_s: float
+    objective: Mapping[str, float]
+    certificate: Mapping[str, float]
+    active: Mapping[str, BoolArray]
+    solved: SolveRecord
     scene: str
     swarm: SwarmParams
     options: PlanningOptions
     tube_hash: str
-    extra: dict[str, Any] = field(default_factory=dict)
+    provenance: Mapping[str, object] | None = None
+
+    def __post_init__(self) -> None:
+        for name in ARRAYS:
+            object.__setattr__(self, name, _read_only(getattr(self, name)))
+        object.__setattr__(self, 'active', {name: _read_only(mask) for name, mask in self.active.items()})
 
     @property
     def length_m(self) -> float:
@@ -144,19 +224,16 @@ class Plan:
         meta = {
             'format_version': FORMAT_VERSION,
             'time_s': self.time_s,
-            'objective': self.objective,
-            'certificate': self.certificate,
-            'method': self.method,
-            'status': self.status,
-            'iterations': self.iterations,
-            'solve_time_s': self.solve_time_s,
+            'objective': dict(self.objective),
+            'certificate': dict(self.certificate),
+            'solved': asdict(self.solved),
             'scene': self.scene,
             'swarm': asdict(self.swarm),
             'options': asdict(self.options),
             'tube_hash': self.tube_hash,
-            'extra': self.extra,
+            'provenance': None if self.provenance is None else dict(self.provenance),
         }
-        arrays = {name: getattr(self, name) for name in ARRAYS}
+        arrays: dict[str, NDArray[Any]] = {name: getattr(self, name) for name in ARRAYS}
         arrays.update({f'active_{k}': v for k, v in self.active.items()})
         return write_npz(path, arrays, meta)
 
@@ -167,14 +244,12 @@ class Plan:
         if meta.get('format_version') != FORMAT_VERSION:
             msg = (
                 f'plan file {str(path)!r} has format {meta.get("format_version")!r}; this vtube reads format '
-                f'{FORMAT_VERSION} (format 1 plans do not record their tube). Plan again with vtube plan.'
+                f'{FORMAT_VERSION}. Plan again with vtube plan.'
             )
             raise PlanError(msg)
         active = {k.removeprefix('active_'): arrays.pop(k) for k in list(arrays) if k.startswith('active_')}
-        fields = [
-            *('time_s', 'objective', 'certificate', 'method', 'status', 'iterations', 'solve_time_s', 'scene'),
-            *('swarm', 'options', 'tube_hash', 'extra'),
-        ]
+        fields = ['time_s', 'objective', 'certificate', 'solved', 'scene', 'swarm', 'options', 'tube_hash']
+        fields.append('provenance')
         missing = [name for name in ARRAYS if name not in arrays] + [name for name in fields if name not in meta]
         extra = [name for name in arrays if name not in ARRAYS]
         shapes = {name: arrays[name].shape for name in ARRAYS if name in arrays}
@@ -187,7 +262,8 @@ class Plan:
             raise PlanError(msg)
         try:
             swarm, options = SwarmParams(**meta['swarm']), PlanningOptions(**meta['options'])
-        except (TypeError, ValueError) as err:
+            solved = SolveRecord.from_json(meta['solved'])
+        except (TypeError, ValueError, KeyError) as err:
             msg = f'plan file {str(path)!r} records parameters this vtube does not know ({err}). Plan again with vtube plan.'
             raise PlanError(msg) from err
         return cls(
@@ -196,104 +272,49 @@ class Plan:
             objective=meta['objective'],
             certificate=meta['certificate'],
             active=active,
-            method=meta['method'],
-            status=meta['status'],
-            iterations=meta['iterations'],
-            solve_time_s=meta['solve_time_s'],
+            solved=solved,
             scene=meta['scene'],
             swarm=swarm,
             options=options,
             tube_hash=meta['tube_hash'],
-            extra=meta['extra'],
+            provenance=meta['provenance'],
         )
 
 
-def initial_conditions(swarm: SwarmParams, options: PlanningOptions) -> tuple[float, float]:
-    """Boundary values (v_a(0), rho_a(0)): the options', or v_min and the packing density (resolution A15)."""
-    v0 = swarm.v_min_mps if options.v0_mps is None else float(options.v0_mps)
-    rho0 = swarm.rho_packing if options.rho0_per_m2 is None else float(options.rho0_per_m2)
-    return v0, rho0
+def _read_only(values: NDArray[Any]) -> NDArray[Any]:
+    """A copy of ``values`` that cannot be written to."""
+    frozen = np.array(values, copy=True)
+    frozen.flags.writeable = False
+    return frozen
 
 
-def curvature_speed_limit(tube: VirtualTube, swarm: SwarmParams, l_m: FloatArray) -> FloatArray:
-    """sqrt(a_n r_t(l)) of (p4), inf where the tube is straight."""
-    return np.sqrt(swarm.a_n_mps2 * np.asarray(tube.curvature_radius(l_m)))
-
-
-def objective_terms(
-    l_m: FloatArray, speed_mps: FloatArray, density: FloatArray, swarm: SwarmParams, options: PlanningOptions
-) -> dict[str, float]:
-    """(p1) for the plan interpolated as used: exact integrals of w and of mu (rho - rho_d)^2 (piecewise linear)."""
-    dl = np.diff(l_m)
-    w = 1.0 / speed_mps
-    e = density - swarm.rho_d_per_m2
-    time_s = float(np.sum(0.5 * dl * (w[:-1] + w[1:])))
-    dens = float(options.density_weight * np.sum(dl / 3.0 * (e[:-1] ** 2 + e[:-1] * e[1:] + e[1:] ** 2)))
-    return {'time_s': time_s, 'density': dens, 'total': time_s + dens}
-
-
-def certify(
+def make_plan(
     tube: VirtualTube,
     swarm: SwarmParams,
     options: PlanningOptions,
     l_m: FloatArray,
-    speed_mps: FloatArray,
+    speed: FloatArray,
     density: FloatArray,
-) -> tuple[dict[str, float], dict[str, NDArray[np.bool_]]]:
-    """Relative violations of (p2)-(p7) and of the initial values on a 10x finer grid, and the active sets.
-
-    Violations are divided by the constraint's own bound (v_min or v_max, a_v, sqrt(a_n r_t), rho_max, a_rho,
-    the initial value). Between fine points the plan is piecewise linear in w and rho, so rates are exact per
-    fine interval and (p3), (p6) use the interval's largest speed.
-    """
-    fine = np.interp(np.linspace(0.0, l_m.size - 1, FINE_FACTOR * (l_m.size - 1) + 1), np.arange(l_m.size), l_m)
-    w_nodes = 1.0 / speed_mps
-    w = np.interp(fine, l_m, w_nodes)
-    v = 1.0 / w
-    rho = np.interp(fine, l_m, density)
-    dl = np.diff(fine)
-    v_top = np.maximum(v[:-1], v[1:])
-    a_rho = swarm.a_rho
-    limit = curvature_speed_limit(tube, swarm, fine)
-    v0, rho0 = initial_conditions(swarm, options)
-    rho_f = predicted_density(tube, fine, rho, swarm.n_robots, options.lookahead_m, options.predictive_model)
-    curved = np.isfinite(limit)
-
-    def worst(values: FloatArray) -> float:
-        return float(max(0.0, np.max(values))) if values.size else 0.0
-
-    certificate = {
-        'p2': max(worst((swarm.v_min_mps - v) / swarm.v_min_mps), worst((v - swarm.v_max_mps) / swarm.v_max_mps)),
-        'p3': worst((np.abs(np.diff(w)) / dl / np.minimum(w[:-1], w[1:]) ** 3 - swarm.a_v_mps2) / swarm.a_v_mps2),
-        'p4': worst((v[curved] - limit[curved]) / limit[curved]),
-        'p5': max(
-            worst((rho - swarm.rho_max_per_m2) / swarm.rho_max_per_m2),
-            worst((RHO_EPSILON - rho) / swarm.rho_max_per_m2),
-        ),
-        'p6': worst((np.abs(np.diff(rho)) / dl * v_top - a_rho) / a_rho),
-        'p7': worst((np.abs(rho_f - rho) / options.lookahead_m * v - a_rho) / a_rho),
-        'initial': max(abs(speed_mps[0] - v0) / v0, abs(density[0] - rho0) / rho0),
-    }
-    # active sets at the grid points
-    node_limit = curvature_speed_limit(tube, swarm, l_m)
-    d_w = np.abs(np.diff(w_nodes)) / np.diff(l_m) / np.minimum(w_nodes[:-1], w_nodes[1:]) ** 3
-    d_rho = np.abs(np.diff(density)) / np.diff(l_m) * np.maximum(speed_mps[:-1], speed_mps[1:])
-    # (p7) as the planner imposes it: the interval's largest relative change times its largest rho and v
-    change = np.abs(rho_f / rho - 1.0)
-    blocks = change[:-1].reshape(l_m.size - 1, FINE_FACTOR).max(axis=1)
-    change_max = np.maximum(blocks, change[FINE_FACTOR::FINE_FACTOR])
-    p7_rate = change_max * np.maximum(density[:-1], density[1:]) * np.maximum(speed_mps[:-1], speed_mps[1:])
-
-    def on_nodes(per_interval: NDArray[np.bool_]) -> NDArray[np.bool_]:
-        return np.concatenate([per_interval, [False]]) | np.concatenate([[False], per_interval])
-
-    tol = ACTIVE_RTOL
-    active = {
-        'v_max': speed_mps >= swarm.v_max_mps * (1 - tol),
-        'v_min': speed_mps <= swarm.v_min_mps * (1 + tol),
-        'p3': on_nodes(d_w >= swarm.a_v_mps2 * (1 - tol)),
-        'p4': speed_mps >= node_limit * (1 - tol),
-        'p6': on_nodes(d_rho >= a_rho * (1 - tol)),
-        'p7': on_nodes(p7_rate / options.lookahead_m >= a_rho * (1 - tol)),
-    }
-    return certificate, active
+    *,
+    solved: SolveRecord,
+    scene: str,
+) -> Plan:
+    """Wrap planned samples into a :class:`Plan` with its certificate, active sets and objective terms."""
+    certificate, active = certify(tube, swarm, options, l_m, speed, density)
+    objective = objective_terms(l_m, speed, density, swarm, options)
+    return Plan(
+        l_m=l_m,
+        speed_mps=speed,
+        density_per_m2=density,
+        half_width_m=np.asarray(tube.half_width(l_m)),
+        speed_limit_mps=curvature_speed_limit(tube, swarm, l_m),
+        time_s=objective['time_s'],
+        objective=objective,
+        certificate=certificate,
+        active=active,
+        solved=solved,
+        scene=scene,
+        swarm=swarm,
+        options=options,
+        tube_hash=tube.fingerprint(),
+    )

@@ -123,7 +123,8 @@ class PassageMetrics:
 
     def to_json(self) -> dict[str, Any]:
         """The measures as strict JSON values: NaN and infinities become None."""
-        return strict_json(asdict(self))
+        json_ready: dict[str, Any] = strict_json(asdict(self))
+        return json_ready
 
 
 def strict_json(value: Any) -> Any:
@@ -186,55 +187,69 @@ def passage_metrics(
 
     Parameters
     ----------
-    t_s, positions_m, l_m, clearance_m
-        Time (T,), positions (T, 2, N), arc lengths and clearances lambda - |y| (T, N).
-    length_m
-        The tube's length L.
+    t_s, positions_m, l_m, clearance_m, length_m
+        Time (T,), positions (T, 2, N), arc lengths and clearances lambda - |y| (T, N), the tube's length L.
     collision_distance_m
         Centre distance below which two robots collide.
     body_radius_m
         A robot is outside the tube once its body is: when its centre's clearance is below this (0: the centre).
     speed_band_mps, commands_mps
-        [v_min, v_max] and the commanded velocities (T, 2, N): their speeds are checked against the band.
+        [v_min, v_max] and the commanded velocities (T, 2, N), whose speeds are checked against the band.
     forward_speed_mps, density_per_m2, plan
-        Each robot's speed along the tube (T, N), the measured density (T,) and the plan they track (when it was
-        replanned, the plan as flown: ``Replanner.flown``).
+        Each robot's speed along the tube (T, N), the measured density (T,) and the plan (as flown) they track.
     counted
         The robots (N,) whose passage counts (entry, exit, completion, tube violations); None: all. Distances and
         collisions count every robot.
     """
     counted = np.ones(l_m.shape[1], dtype=bool) if counted is None else counted
-    entry = crossing_times(t_s, l_m[:, counted], 0.0)
-    exits = crossing_times(t_s, l_m[:, counted], length_m)
-    completed = bool(np.all(np.isfinite(exits)))
-    entered = bool(np.isfinite(entry).any())
+    passing_time, completed, passed, first_entry, last_exit = _passage_times(t_s, l_m[:, counted], length_m)
     min_dist = min_distance_over_time(positions_m)
     k_min = int(np.argmin(min_dist))
-    pairs = close_pairs(positions_m, collision_distance_m) if positions_m.shape[2] > 1 else set()
     violation_steps, robots_outside, max_outside = tube_violations(l_m, clearance_m, length_m, body_radius_m, counted)
-    speed_violations = None
-    if commands_mps is not None and speed_band_mps is not None:
-        speed = np.hypot(commands_mps[:, 0], commands_mps[:, 1])
-        low, high = speed_band_mps
-        speed_violations = int(np.sum((speed < low - SPEED_TOLERANCE) | (speed > high + SPEED_TOLERANCE)))
     tracking: dict[str, float] = {}
     if plan is not None and forward_speed_mps is not None and density_per_m2 is not None:
         tracking = tracking_errors(l_m, forward_speed_mps, density_per_m2, plan, length_m)
     return PassageMetrics(
-        passing_time_s=float(np.nanmax(exits) - np.nanmin(entry)) if completed and entered else math.nan,
+        passing_time_s=passing_time,
         completed=completed,
-        robots_passed=int(np.isfinite(exits).sum()),
+        robots_passed=passed,
         robots_counted=int(counted.sum()),
-        first_entry_s=float(np.nanmin(entry)) if entered else math.nan,
-        last_exit_s=float(np.nanmax(exits)) if completed else math.nan,
+        first_entry_s=first_entry,
+        last_exit_s=last_exit,
         min_distance_m=float(min_dist[k_min]),
         min_distance_time_s=float(t_s[k_min]),
         collision_distance_m=float(collision_distance_m),
-        collision_pairs=len(pairs),
+        collision_pairs=len(close_pairs(positions_m, collision_distance_m)) if positions_m.shape[2] > 1 else 0,
         collision_steps=int(np.sum(min_dist < collision_distance_m)),
         tube_violation_steps=violation_steps,
         robots_outside=robots_outside,
         max_outside_m=max_outside,
-        speed_violations=speed_violations,
+        speed_violations=_speeding(commands_mps, speed_band_mps),
         **tracking,
     )
+
+
+def _passage_times(t_s: FloatArray, l_m: FloatArray, length_m: float) -> tuple[float, bool, int, float, float]:
+    """The passing time, whether every robot of ``l_m`` (T, N) exited, how many did, the first entry and the last
+    exit (NaN where they did not happen)."""
+    entry = crossing_times(t_s, l_m, 0.0)
+    exits = crossing_times(t_s, l_m, length_m)
+    completed = bool(np.all(np.isfinite(exits)))
+    entered = bool(np.isfinite(entry).any())
+    return (
+        float(np.nanmax(exits) - np.nanmin(entry)) if completed and entered else math.nan,
+        completed,
+        int(np.isfinite(exits).sum()),
+        float(np.nanmin(entry)) if entered else math.nan,
+        float(np.nanmax(exits)) if completed else math.nan,
+    )
+
+
+def _speeding(commands_mps: FloatArray | None, speed_band_mps: tuple[float, float] | None) -> int | None:
+    """Commands (T, 2, N) whose speed leaves the band [v_min, v_max] by more than ``SPEED_TOLERANCE`` (None without
+    commands or band)."""
+    if commands_mps is None or speed_band_mps is None:
+        return None
+    speed = np.hypot(commands_mps[:, 0], commands_mps[:, 1])
+    low, high = speed_band_mps
+    return int(np.sum((speed < low - SPEED_TOLERANCE) | (speed > high + SPEED_TOLERANCE)))

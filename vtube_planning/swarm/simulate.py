@@ -2,27 +2,21 @@
 
 Each robot integrates p' = v_c (eq. 1), its command saturated into [v_min, v_max] (eq. 2) by the controller: the
 paper's model. Optionally (``acceleration_limits``) every robot also obeys the tangential and normal acceleration
-limits (3), (4): its speed changes by at most a_v per second and its heading turns at most at a_n / |v|. With
-Table 1 that is a turning radius of 4 m at v_min and 25 m at v_max, too wide for the robots to follow their
-avoidance commands in the paper's tubes: planned or not, robots then leave the tube (measured on scenes A-D), so
-the paper's study cannot have applied (3), (4) per robot; the planner applies them to the swarm's average motion.
+limits (3), (4): its speed changes by at most a_v per second and its heading turns at most at a_n / |v|.
 
 The swarm starts in a grid before the entrance (spacing 2 r_a, as many columns as fit the entrance with r_a to
 spare, rows behind), moving along the tube at the plan's initial speed; the run ends when every robot has passed
 l = L, or at the time limit.
 
 *With planning* the forward term follows the plan and the avoidance radius follows (a3); *without planning* the
-forward speed is a constant and r_a keeps its initial value: the paper's comparison. The constant defaults to
-the middle of the speed range, (v_min + v_max) / 2, the convention of the group's code (``docs/theory.md`` §2.7-2.8:
-TCNS 2 m/s in [0.5, 3.5], Robotarium k1 = v_max / 2).
+forward speed is a constant, by default (v_min + v_max) / 2 (``docs/theory.md`` §2.7-2.8), and r_a keeps its
+initial value: the paper's comparison. The faults are in :mod:`.faults`, replanning in flight in :mod:`.replanner`.
 """
 
 from __future__ import annotations
 
 import math
 import os
-import time
-from collections import deque
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -32,40 +26,20 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning._validate import is_positive, is_real
-from vtube_planning.errors import ParamsError, PlanError
-from vtube_planning.geometry.tube import Projection, VirtualTube
+from vtube_planning.errors import ParamsError
+from vtube_planning.geometry.projection import Projection
+from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.log import LogWriter
 from vtube_planning.params import ControlParams, SwarmParams
 from vtube_planning.planning.plan import Plan
-from vtube_planning.planning.planner import SwarmState, replan
+from vtube_planning.swarm.faults import Faults, RobotFailure
+from vtube_planning.swarm.formation import initial_formation
 from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics
-from vtube_planning.swarm.step import PlanProfile, SwarmStep, swarm_density
+from vtube_planning.swarm.period import Baseline, SimulatedPeriod
+from vtube_planning.swarm.replanner import Replanner
+from vtube_planning.swarm.step import PlanProfile, SwarmStep
 
 FloatArray = NDArray[np.float64]
-
-
-FAILURE_MODES = ('stop', 'coast')
-
-
-@dataclass(frozen=True)
-class RobotFailure:
-    """Robot ``robot`` fails once its arc length reaches ``at_m``: it stops dead (``'stop'``) or keeps the velocity
-    it had (``'coast'``), whatever it is commanded; the others see it and must avoid it."""
-
-    robot: int
-    at_m: float
-    mode: str = 'stop'
-
-    def __post_init__(self) -> None:
-        if isinstance(self.robot, bool) or not isinstance(self.robot, int) or self.robot < 0:
-            msg = f'the failing robot must be a robot index >= 0; got {self.robot!r}.'
-            raise ParamsError(msg)
-        if not is_real(self.at_m):
-            msg = f'the failure arc length at_m must be a finite number; got {self.at_m!r}.'
-            raise ParamsError(msg)
-        if self.mode not in FAILURE_MODES:
-            msg = f'failure mode must be one of {FAILURE_MODES}; got {self.mode!r}.'
-            raise ParamsError(msg)
 
 
 @dataclass(frozen=True)
@@ -170,45 +144,9 @@ class SimResult:
     flown: PlanProfile | None = None
 
 
-def initial_formation(tube: VirtualTube, swarm: SwarmParams, rng: np.random.Generator, jitter_m: float) -> FloatArray:
-    """Grid of N robots before the entrance, (2, N): spacing 2 r_a, front row r_a before l = 0."""
-    spacing = 2.0 * swarm.r_a_m
-    lam0 = float(tube.half_width(0.0))
-    fit = math.floor(2.0 * (lam0 - swarm.r_a_m) / spacing) + 1
-    if fit < 1:
-        msg = (
-            f'the entrance (half-width {lam0:g} m) is too narrow for one robot with its avoidance radius '
-            f'r_a = {swarm.r_a_m:g} m; widen the tube or lower r_a_m.'
-        )
-        raise ParamsError(msg)
-    cols = max(1, min(swarm.n_side, fit))
-    rows = math.ceil(swarm.n_robots / cols)
-    points = []
-    for row in range(rows):
-        in_row = min(cols, swarm.n_robots - row * cols)
-        l_row = -swarm.r_a_m - spacing * row
-        for c in range(in_row):
-            y = (c - 0.5 * (in_row - 1)) * spacing
-            points.append(tube.center_at(l_row) + y * tube.normal(l_row))
-    positions = np.array(points).T
-    return positions + jitter_m * rng.standard_normal(positions.shape)
-
-
 def default_constant_speed(swarm: SwarmParams) -> float:
     """The forward speed of a swarm without planning: the middle of its speed range, m/s."""
     return 0.5 * (swarm.v_min_mps + swarm.v_max_mps)
-
-
-def limit_acceleration(velocity: FloatArray, command: FloatArray, a_v: float, a_n: float, dt_s: float) -> FloatArray:
-    """The velocity after one step of following ``command`` with |d|v|/dt| <= a_v and |v| |dtheta/dt| <= a_n."""
-    speed = np.hypot(velocity[0], velocity[1])
-    target = np.hypot(command[0], command[1])
-    new_speed = speed + np.clip(target - speed, -a_v * dt_s, a_v * dt_s)
-    heading = np.arctan2(velocity[1], velocity[0])
-    turn = np.angle(np.exp(1j * (np.arctan2(command[1], command[0]) - heading)))
-    max_turn = a_n * dt_s / np.maximum(new_speed, 1e-12)
-    heading = heading + np.clip(turn, -max_turn, max_turn)
-    return new_speed * np.vstack([np.cos(heading), np.sin(heading)])
 
 
 LOGGED_FLOATS_PER_ROBOT = 10
@@ -237,56 +175,6 @@ def _check_memory(steps: int, n: int, limit_s: float) -> None:
         raise ParamsError(msg)
 
 
-class Replanner:
-    """Replans a flight every ``every`` control periods from the swarm's measured state, and keeps the record."""
-
-    def __init__(self, plan: Plan, tube: VirtualTube, every: int) -> None:
-        self.plan, self.tube, self.every = plan, tube, every
-        self.profiles = [plan.profile]
-        self.calls: list[dict[str, Any]] = []
-
-    def __call__(
-        self, step: int, view: Projection, velocity: FloatArray, density: float, working: NDArray[np.bool_]
-    ) -> PlanProfile | None:
-        """The new plan's profile at a replanning step (None otherwise, or when replanning failed), from what the
-        controller sees (``view``), the robots' velocities and the measured density."""
-        if step == 0 or step % self.every:
-            return None
-        l_m = view.l_m
-        flying = working & (l_m < self.tube.length_m)
-        if not flying.any():
-            return None
-        forward_mps = np.einsum('ij,ij->j', velocity, view.tangent)
-        start = max(0.0, float(l_m[flying].mean()))
-        if start > self.tube.length_m - 2.0 * self.plan.options.grid_step_m:
-            return None  # the swarm is leaving: nothing left to plan
-        count = int(working.sum())
-        state = SwarmState(start, float(forward_mps[flying].mean()), density, None if working.all() else count)
-        started = time.perf_counter()
-        try:
-            rest = replan(self.plan, state, self.tube)
-        except PlanError as err:
-            self.calls.append({'step': step, 'from_m': start, 'wall_ms': _ms_since(started), 'error': str(err)})
-            return None
-        self.calls.append({'step': step, 'from_m': start, 'wall_ms': _ms_since(started), 'error': ''})
-        self.profiles.append(rest.profile)
-        return rest.profile
-
-    def flown(self) -> PlanProfile:
-        """The plan as flown: each replanned profile replaces the one before from the arc length it starts at."""
-        l_m, slowness, density = self.profiles[0].l_m, self.profiles[0].slowness_spm, self.profiles[0].density_per_m2
-        for later in self.profiles[1:]:
-            keep = l_m < later.l_m[0]
-            l_m = np.concatenate([l_m[keep], later.l_m])
-            slowness = np.concatenate([slowness[keep], later.slowness_spm])
-            density = np.concatenate([density[keep], later.density_per_m2])
-        return PlanProfile(l_m, slowness, density)
-
-
-def _ms_since(started: float) -> float:
-    return 1e3 * (time.perf_counter() - started)
-
-
 def simulate(
     tube: VirtualTube,
     swarm: SwarmParams,
@@ -298,7 +186,7 @@ def simulate(
     initial_speed_mps: float | None = None,
     log_path: str | Path | None = None,
     meta: dict[str, Any] | None = None,
-    baseline: Callable[[FloatArray, FloatArray, Projection], FloatArray] | None = None,
+    baseline: Baseline | None = None,
     on_step: Callable[[float], None] | None = None,
 ) -> SimResult:
     """Fly the swarm through the tube.
@@ -316,43 +204,114 @@ def simulate(
     meta
         Extra description stored in the log and the result (scene name, ...).
     baseline
-        Another swarm law, ``baseline(positions, velocities, projection) -> commands`` (the paper's baselines,
-        :mod:`vtube_planning.baselines.flocking`); with it, ``plan`` must be None and r_a stays constant.
+        Another swarm law (the paper's baselines, :mod:`vtube_planning.baselines.flocking`); with it, ``plan``
+        must be None and r_a stays constant.
     on_step
         Told the simulated time after every step (a progress bar).
     """
     config = config or SimConfig()
     step_params = control.step_params(swarm)
+    replanner = _replanner(tube, swarm, plan, config, baseline)
+    forward_const = _constant_speed(swarm, plan, constant_speed_mps)
+    positions = initial_formation(tube, swarm, np.random.default_rng(config.seed), config.jitter_m)
+    n = positions.shape[1]
+    velocity = _initial_speed(swarm, plan, initial_speed_mps) * tube.project(positions).tangent
+    profile = plan.profile if plan is not None else None
+    stepper = SwarmStep(tube, step_params, n, plan=profile, constant_speed_mps=forward_const)
+    steps = _step_count(tube, swarm, config, positions)
+    description = _description(tube, swarm, control, plan, config, n, meta)
+    log = LogWriter(log_path, description, flush_every=config.log_every)
+    faults = _faults(config, baseline, positions, velocity)
+    period = SimulatedPeriod(tube, swarm, config.dt_s, config.acceleration_limits, stepper, baseline, replanner, faults)
+    for step in range(steps + 1):
+        projection = tube.project(positions)  # the truth: logged and measured
+        commanded, density, r_a = period.command(step, positions, projection, velocity)
+        done = bool(np.all((projection.l_m > tube.length_m) | ~faults.working))
+        _log_step(log, step * config.dt_s, positions, velocity, commanded, r_a, projection, density)
+        if on_step is not None:
+            on_step(step * config.dt_s)
+        if done or step == steps:
+            break
+        velocity = period.next_velocity(velocity, commanded, projection.l_m)
+        positions = positions + config.dt_s * velocity
+    return _result(log, description, tube, swarm, plan, replanner, faults.working)
+
+
+def _replanner(
+    tube: VirtualTube, swarm: SwarmParams, plan: Plan | None, config: SimConfig, baseline: Baseline | None
+) -> Replanner | None:
+    """The flight's replanner (None when it does not replan), once the plan is checked against the run."""
     if plan is not None and baseline is not None:
         msg = 'a baseline flies without a plan; pass plan=None with baseline.'
         raise ParamsError(msg)
     if plan is not None:
         plan.check_matches(tube, swarm)
-    replanner = None
-    if config.replan_every_s > 0:
-        if plan is None:
-            msg = 'replanning (replan_every_s) needs a plan to start from; pass a plan or set replan_every_s = 0.'
-            raise ParamsError(msg)
-        replanner = Replanner(plan, tube, max(1, round(config.replan_every_s / config.dt_s)))
+    if config.replan_every_s <= 0:
+        return None
+    if plan is None:
+        msg = 'replanning (replan_every_s) needs a plan to start from; pass a plan or set replan_every_s = 0.'
+        raise ParamsError(msg)
+    return Replanner(plan, tube, max(1, round(config.replan_every_s / config.dt_s)))
+
+
+def _constant_speed(swarm: SwarmParams, plan: Plan | None, constant_speed_mps: float | None) -> float:
+    """The forward speed flown without a plan, checked against the speed band."""
     forward_const = default_constant_speed(swarm) if constant_speed_mps is None else float(constant_speed_mps)
     if plan is None and not swarm.v_min_mps <= forward_const <= swarm.v_max_mps:
         msg = f'constant_speed_mps = {forward_const} lies outside [v_min, v_max] = [{swarm.v_min_mps}, {swarm.v_max_mps}].'
         raise ParamsError(msg)
-    rng = np.random.default_rng(config.seed)
-    positions = initial_formation(tube, swarm, rng, config.jitter_m)
+    return forward_const
+
+
+def _initial_speed(swarm: SwarmParams, plan: Plan | None, initial_speed_mps: float | None) -> float:
+    """Every robot's speed at t = 0: the given one, else the plan's v*(0), else v_min."""
+    if initial_speed_mps is not None:
+        return initial_speed_mps
+    return float(plan.speed_mps[0]) if plan is not None else swarm.v_min_mps
+
+
+def _faults(config: SimConfig, baseline: Baseline | None, positions: FloatArray, velocity: FloatArray) -> Faults:
+    """The run's faults, from its settings, the initial positions and velocities; :class:`ParamsError` for faults
+    it cannot have (dropout with a baseline, a failing robot beyond N)."""
     n = positions.shape[1]
-    start_speed = initial_speed_mps
-    if start_speed is None:
-        start_speed = float(plan.speed_mps[0]) if plan is not None else swarm.v_min_mps
-    velocity = start_speed * tube.project(positions).tangent
-    stepper = SwarmStep(
-        tube, step_params, n, plan=plan.profile if plan is not None else None, constant_speed_mps=forward_const
+    if baseline is not None and config.dropout > 0:
+        msg = 'dropped messages (dropout) act on the planned controller; fly the baseline with dropout = 0.'
+        raise ParamsError(msg)
+    if config.failure is not None and config.failure.robot >= n:
+        msg = f'the failing robot {config.failure.robot} does not exist: the swarm has robots 0..{n - 1}.'
+        raise ParamsError(msg)
+    return Faults(
+        config.seed,
+        pose_noise_m=config.pose_noise_m,
+        dropout=config.dropout,
+        latency_steps=config.latency_steps,
+        failure=config.failure,
+        positions=positions,
+        velocity=velocity,
     )
+
+
+def _step_count(tube: VirtualTube, swarm: SwarmParams, config: SimConfig, positions: FloatArray) -> int:
+    """The control periods up to the time limit (by default 4 (L + formation length + 2 r_a) / v_min), once the
+    trajectory is known to fit the memory available."""
     extent = float(np.ptp(tube.project(positions).l_m))
     limit = config.time_limit_s or 4.0 * (tube.length_m + extent + 2 * swarm.r_a_m) / swarm.v_min_mps
     steps = math.ceil(limit / config.dt_s)
-    _check_memory(steps + 1, n, limit)
-    description = dict(
+    _check_memory(steps + 1, positions.shape[1], limit)
+    return steps
+
+
+def _description(
+    tube: VirtualTube,
+    swarm: SwarmParams,
+    control: ControlParams,
+    plan: Plan | None,
+    config: SimConfig,
+    n: int,
+    meta: dict[str, Any] | None,
+) -> dict[str, Any]:
+    """The run as its log and result describe it."""
+    return dict(
         meta or {},
         kind='simulation',
         planned=plan is not None,
@@ -364,72 +323,42 @@ def simulate(
         length_m=tube.length_m,
         tube_hash=tube.fingerprint(),
     )
-    log = LogWriter(log_path, description, flush_every=config.log_every)
-    if baseline is not None and config.dropout > 0:
-        msg = 'dropped messages (dropout) act on the planned controller; fly the baseline with dropout = 0.'
-        raise ParamsError(msg)
-    if config.failure is not None and config.failure.robot >= n:
-        msg = f'the failing robot {config.failure.robot} does not exist: the swarm has robots 0..{n - 1}.'
-        raise ParamsError(msg)
-    noise = np.random.default_rng([config.seed, 1])  # own streams: the formation's jitter stays the same
-    losses = np.random.default_rng([config.seed, 2])
-    heard = positions.copy()  # where the robots last heard each other
-    pending = deque([velocity] * config.latency_steps)  # commands computed, not yet applied
-    failed_velocity = None  # the failed robot's velocity from the failure on
-    working = np.ones(n, dtype=bool)  # robots that count for the passage
-    for step in range(steps + 1):
-        projection = tube.project(positions)  # the truth: logged and measured
-        seen, view = positions, projection
-        if config.pose_noise_m > 0:
-            seen = positions + config.pose_noise_m * noise.standard_normal(positions.shape)
-            view = tube.project(seen)
-        if baseline is not None:
-            commanded = baseline(seen, velocity, view)
-            density, r_a = swarm_density(tube, view.l_m, swarm.r_a_m), stepper.r_a
-        else:
-            others = None
-            if config.dropout > 0:
-                arrived = losses.random(n) >= config.dropout
-                heard[:, arrived] = seen[:, arrived]
-                others = heard
-            result = stepper(seen, config.dt_s, view, others)
-            commanded, density, r_a = result.velocity, result.density_per_m2, result.r_a_m
-            if replanner is not None:
-                profile = replanner(step, view, velocity, float(density), working)
-                if profile is not None:
-                    stepper.plan = profile
-        done = bool(np.all((projection.l_m > tube.length_m) | ~working))
-        log.append(
-            t_s=np.float64(step * config.dt_s),
-            positions_m=positions,
-            velocities_mps=velocity,
-            commands_mps=commanded,
-            r_a_m=r_a,
-            l_m=projection.l_m,
-            clearance_m=projection.clearance_m,
-            forward_speed_mps=np.einsum('ij,ij->j', velocity, projection.tangent),
-            density_per_m2=np.float64(density),
-        )
-        if on_step is not None:
-            on_step(step * config.dt_s)
-        if done or step == steps:
-            break
-        if pending:
-            pending.append(commanded)
-            commanded = pending.popleft()
-        if config.acceleration_limits:
-            velocity = limit_acceleration(velocity, commanded, swarm.a_v_mps2, swarm.a_n_mps2, config.dt_s)
-        else:
-            velocity = commanded
-        failure = config.failure
-        if failure is not None:
-            if failed_velocity is None and projection.l_m[failure.robot] >= failure.at_m:
-                failed_velocity = np.zeros(2) if failure.mode == 'stop' else velocity[:, failure.robot].copy()
-                working[failure.robot] = False
-            if failed_velocity is not None:
-                velocity = velocity.copy()
-                velocity[:, failure.robot] = failed_velocity
-        positions = positions + config.dt_s * velocity
+
+
+def _log_step(
+    log: LogWriter,
+    t_s: float,
+    positions: FloatArray,
+    velocity: FloatArray,
+    commanded: FloatArray,
+    r_a: FloatArray,
+    projection: Projection,
+    density: float,
+) -> None:
+    """Append one control period to the log."""
+    log.append(
+        t_s=np.float64(t_s),
+        positions_m=positions,
+        velocities_mps=velocity,
+        commands_mps=commanded,
+        r_a_m=r_a,
+        l_m=projection.l_m,
+        clearance_m=projection.clearance_m,
+        forward_speed_mps=np.einsum('ij,ij->j', velocity, projection.tangent),
+        density_per_m2=np.float64(density),
+    )
+
+
+def _result(
+    log: LogWriter,
+    description: dict[str, Any],
+    tube: VirtualTube,
+    swarm: SwarmParams,
+    plan: Plan | None,
+    replanner: Replanner | None,
+    working: NDArray[np.bool_],
+) -> SimResult:
+    """The run's result from its log: the passage's metrics against the plan as flown, also written to the log."""
     arrays = log.arrays()
     flown = None if plan is None else plan.profile if replanner is None else replanner.flown()
     metrics = passage_metrics(
@@ -447,6 +376,6 @@ def simulate(
         counted=working,
     )
     if replanner is not None:
-        description['replans'] = replanner.calls
+        description['replans'] = [asdict(call) for call in replanner.calls]
     log.flush(metrics=metrics.to_json(), finished=True)
     return SimResult(**arrays, metrics=metrics, planned=plan is not None, meta=description, flown=flown)

@@ -1,0 +1,80 @@
+"""Running a campaign: every run not yet in its folder, on an executor, each row stored as it comes."""
+
+from __future__ import annotations
+
+import csv
+import sys
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+from tqdm import tqdm
+
+from vtube_planning import __version__
+from vtube_planning.campaign import Campaign, run_key
+from vtube_planning.campaign_store import RUNS_FILE, prepare_folder, typed_row
+from vtube_planning.executors import map_unordered
+from vtube_planning.study import Point, RunSettings, run_point
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What a campaign run did: ``rows`` (every run's row in the grid's order: done before, run now and failed),
+    how many were skipped as already done, run now and failed, and the seconds it took."""
+
+    rows: list[dict[str, Any]]
+    skipped: int
+    ran: int
+    failed: int
+    seconds: float
+
+
+def run_campaign(
+    campaign: Campaign,
+    out: Path,
+    *,
+    workers: int = 1,
+    client: Any = None,
+    progress: bool | None = None,
+) -> Outcome:
+    """Run every run of ``campaign`` not yet in ``out/runs.csv`` (:func:`~vtube_planning.executors.map_unordered`:
+    ``workers`` local processes, or the Dask ``client``), appending each row as it comes.
+
+    The folder is checked before any run starts: writable, and holding no other campaign. ``progress`` draws a bar
+    on stderr (runs done / total, failures, elapsed and remaining time); None: when stderr is a terminal. An
+    interruption leaves every finished row in the table; the same call again runs only the missing ones.
+    """
+    started = time.perf_counter()
+    points = campaign.points()
+    keys = [run_key(p, campaign.settings) for p in points]
+    done = prepare_folder(campaign, out, set(keys))
+    todo = [(p, campaign.settings, campaign.metrics) for p, k in zip(points, keys, strict=True) if k not in done]
+    rows = dict(done)
+    failed = 0
+    show = sys.stderr.isatty() if progress is None else progress
+    bar = tqdm(total=len(points), initial=len(points) - len(todo), unit='run', disable=not show, file=sys.stderr)
+    with (out / RUNS_FILE).open('a', newline='', encoding='utf-8') as handle, bar:
+        writer = csv.DictWriter(handle, fieldnames=campaign.columns)
+        for i, row in map_unordered(_execute, todo, workers=workers, client=client):
+            row = {'key': run_key(todo[i][0], campaign.settings), **asdict(todo[i][0]), **row}
+            writer.writerow(row)
+            handle.flush()
+            rows[row['key']] = row
+            failed += bool(row['error'])
+            bar.update()
+            bar.set_postfix(failed=failed, refresh=False)
+    ordered = [typed_row(rows[k], campaign.columns) for k in keys]
+    return Outcome(ordered, len(points) - len(todo), len(todo), failed, time.perf_counter() - started)
+
+
+def _execute(job: tuple[Point, RunSettings, tuple[str, ...]]) -> dict[str, Any]:
+    """One run in a worker: its metrics, wall time and version; a run that raises gives its error instead."""
+    point, settings, metrics = job
+    started = time.perf_counter()
+    try:
+        measured = run_point(point, settings)
+        row: dict[str, Any] = {m: measured[m] for m in metrics} | {'error': ''}
+    except Exception as err:  # noqa: BLE001 - recorded in the table; the other runs go on
+        row = dict.fromkeys(metrics, '') | {'error': f'{type(err).__name__}: {" ".join(str(err).split())}'}
+    return row | {'wall_s': round(time.perf_counter() - started, 3), 'version': __version__}

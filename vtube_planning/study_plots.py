@@ -1,0 +1,137 @@
+"""Figures of a study's rows and reports (:mod:`vtube_planning.study_report`). matplotlib is imported here only,
+when a figure is drawn."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+
+def study_figure(summary: list[dict[str, Any]], collision_distance_m: float) -> Figure:
+    """Bars of passing time and minimum distance per scene, with and without planning (range over seeds)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(9.0, 3.8), layout='constrained')
+    ax_t, ax_d = fig.subplots(1, 2)
+    scenes = [e['scene'] for e in summary]
+    x = np.arange(len(scenes))
+    modes = list(dict.fromkeys(m for e in summary for m in e['modes']))
+    colors = {
+        'no planning': 'tab:gray',
+        'planning': 'tab:blue',
+        'flocking': 'tab:orange',
+        'flocking (v_min)': 'tab:brown',
+        'nmpc': 'tab:red',
+    }
+    width = 0.8 / len(modes)
+    for k, mode in enumerate(sorted(modes, key=lambda m: (m != 'no planning', m != 'planning', m))):
+        offset = (k - 0.5 * (len(modes) - 1)) * width
+        present = [i for i, e in enumerate(summary) if mode in e['modes']]
+        for ax, key, span in (
+            (ax_t, 'passing_time_s', 'passing_time_range_s'),
+            (ax_d, 'min_distance_m', 'min_distance_range_m'),
+        ):
+            mean = np.array([summary[i][mode][key] for i in present])
+            ax.bar(x[present] + offset, mean, width, color=colors.get(mode, f'C{k}'), label=mode)
+            ax.vlines(
+                x[present] + offset,
+                [summary[i][mode][span][0] for i in present],
+                [summary[i][mode][span][1] for i in present],
+                color='k',
+                lw=1.2,
+            )  # the range over seeds
+    ax_d.axhline(collision_distance_m, color='tab:red', ls='--', label='2 r_p (collision)')
+    for ax, label in ((ax_t, 'passing time [s]'), (ax_d, 'minimum distance [m]')):
+        ax.set_xticks(x, scenes)
+        ax.set_xlabel('scene')
+        ax.set_ylabel(label)
+    handles, labels = ax_d.get_legend_handles_labels()
+    fig.legend(handles, labels, loc='outside lower center', ncols=len(labels), fontsize=8)
+    return fig
+
+
+def paired_differences_figure(rows: list[dict[str, Any]]) -> Figure:
+    """A study's paired differences (a - b on the same seeds) with their 95 % intervals: one panel per metric, one
+    line per comparison and cell (scene, N, setting); filled where the claim holds."""
+    from matplotlib.figure import Figure
+
+    from vtube_planning.study_report import CLAIMS, COMPARISONS, paired_table, setting_text
+
+    table = paired_table(rows)
+
+    def label(p: dict[str, Any]) -> str:
+        return f'{p["a"]} - {p["b"]}  |  {p["scene"]}, N={p["n_robots"]}, {setting_text(p)}'
+
+    present = list(dict.fromkeys(label(p) for p in table))
+    labels = [text for a, b, _ in COMPARISONS for text in present if text.startswith(f'{a} - {b}  |')]
+    fig = Figure(figsize=(12.0, 1.2 + 0.22 * len(labels)), layout='constrained')
+    axes = fig.subplots(1, len(CLAIMS), sharey=True)
+    colors = {'holds': 'tab:blue', 'reversed': 'tab:red', 'does not hold': 'tab:gray'}
+    for ax, (metric, _, title) in zip(axes, CLAIMS, strict=True):
+        for p in (p for p in table if p['metric'] == metric):
+            k = labels.index(label(p))
+            e, color = p['estimate'], colors[p['verdict']]
+            ax.hlines(k, e.low, e.high, color=color, lw=2)
+            ax.plot(e.value, k, 'o', color=color, mfc=color if p['verdict'] == 'holds' else 'white')
+        ax.axvline(0.0, color='k', lw=0.8)
+        ax.set_xlabel(f'difference in {title}')
+    axes[0].set_yticks(range(len(labels)), labels, fontsize=7)
+    axes[0].invert_yaxis()
+    return fig
+
+
+def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
+    """A study's means per cell and mode: one row of panels per scene; passing time and minimum distance (mean over
+    seeds with its 95 % interval; passing time over the runs that completed, hollow when some did not) and the
+    share of runs with a collision; one line per cell (N, setting), one colour per mode."""
+    from matplotlib.figure import Figure
+
+    from vtube_planning.stats import mean_interval
+    from vtube_planning.study_report import setting_text
+
+    scenes = list(dict.fromkeys(r['scene'] for r in rows))
+    modes = list(dict.fromkeys(r['mode'] for r in rows))
+    groups: dict[tuple[str, str, str], list[dict[str, Any]]] = {}  # (scene, mode, cell label): rows, in one pass
+    for r in rows:
+        groups.setdefault((r['scene'], r['mode'], f'N={r["n_robots"]}, {setting_text(r)}'), []).append(r)
+    cells = {s: list(dict.fromkeys(label for scene, _, label in groups if scene == s)) for s in scenes}
+    height = sum(0.3 * len(c) + 0.9 for c in cells.values())
+    fig = Figure(figsize=(13.0, 1.0 + height), layout='constrained')
+    grid = fig.add_gridspec(len(scenes), 3, height_ratios=[len(cells[s]) + 2 for s in scenes], width_ratios=[2, 2, 1])
+    colors = {mode: f'C{k}' for k, mode in enumerate(modes)}
+    offsets = {mode: (k - 0.5 * (len(modes) - 1)) * 0.7 / max(1, len(modes)) for k, mode in enumerate(modes)}
+    for i, scene in enumerate(scenes):
+        panels = [fig.add_subplot(grid[i, j]) for j in range(3)]
+        for mode in modes:
+            for k, label in enumerate(cells[scene]):
+                sel = groups.get((scene, mode, label), [])
+                if not sel:
+                    continue
+                y = k + offsets[mode]
+                for ax, metric in zip(panels, ('passing_time_s', 'min_distance_m'), strict=False):
+                    if metric not in sel[0]:
+                        continue
+                    values = np.array([r[metric] for r in sel], dtype=float)
+                    finite = values[np.isfinite(values)]
+                    if finite.size == 0:
+                        continue
+                    if finite.size > 1:
+                        e = mean_interval(finite)
+                        ax.hlines(y, e.low, e.high, color=colors[mode], lw=1.5)
+                    full = finite.size == values.size
+                    ax.plot(finite.mean(), y, 'o', ms=4, color=colors[mode], mfc=colors[mode] if full else 'white')
+                share = np.mean([r.get('collision_pairs', 0) > 0 for r in sel])
+                panels[2].barh(y, share, height=0.7 / max(1, len(modes)), color=colors[mode])
+        for ax, title in zip(panels, ('passing time [s]', 'min distance [m]', 'runs with a collision'), strict=True):
+            ax.set_yticks(range(len(cells[scene])), cells[scene] if ax is panels[0] else [], fontsize=7)
+            ax.set_ylim(len(cells[scene]) - 0.5, -0.5)
+            ax.set_title(f'scene {scene}: {title}', fontsize=9)
+            ax.grid(axis='x', color='0.9')
+        panels[2].set_xlim(0.0, 1.0)
+    handles = [fig.axes[0].plot([], [], 'o', color=colors[m], label=m)[0] for m in modes]
+    fig.legend(handles=handles, loc='outside lower center', ncols=min(len(modes), 6), fontsize=8)
+    return fig
