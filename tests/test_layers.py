@@ -24,7 +24,7 @@ BREAKS = {
         'vtube_planning/geometry/width.py',
         'import robotarium_exp',
     ),
-    "vtube_planning's rooms: geometry < planning < swarm < baselines < study < campaign, plots": (
+    "vtube_planning's rooms: geometry < planning < swarm < baselines < study < campaign, reports, plots": (
         'vtube_planning/geometry/centerline.py',
         'import vtube_planning.planning.plan',
     ),

@@ -82,7 +82,7 @@ def plan_scene(
     options = scene.planning if grid_step_m is None else replace(scene.planning, grid_step_m=grid_step_m)
     solve = {'convex': plan_convex, 'polynomial': plan_polynomial}[method]
     plan = solve(scene.tube, scene.swarm, options, scene=scene.name)
-    plan = replace(plan, extra=plan.extra | {'provenance': provenance(scene=scene)})
+    plan = replace(plan, provenance=provenance(scene=scene))
     plan_file = plan.save(out / f'plan_{scene.name}.npz')
     figure = plots.save_figure(plots.plan_figure(plan), out / f'plan_{scene.name}.png')
     return Planned(scene, plan, method, plan_file, figure, copy_scene(scene, out))

@@ -45,8 +45,8 @@ def plan_view(planned: Planned) -> View:
     verdict = 'certified' if plan.is_certified() else 'NOT certified (violation above 1e-6)'
     lines = (
         (
-            f'plan for scene {scene.name} ({planned.method}, {plan.l_m.size} grid points, {plan.status} after '
-            f'{plan.iterations} iterations, {plan.solve_time_s:.3f} s)'
+            f'plan for scene {scene.name} ({planned.method}, {plan.l_m.size} grid points, {plan.solved.status} after '
+            f'{plan.solved.iterations} iterations, {plan.solved.solve_time_s:.3f} s)'
         ),
         f'  traversal time        {plan.time_s:.4f} s',
         (
@@ -63,7 +63,7 @@ def plan_view(planned: Planned) -> View:
     )
     data = {'plan_file': str(planned.plan_file), 'time_s': plan.time_s, 'objective': plan.objective}
     data |= {'certificate': plan.certificate, 'certified': plan.is_certified()}
-    return View(lines, data | {'provenance': plan.extra['provenance']})
+    return View(lines, data | {'provenance': plan.provenance})
 
 
 COMMAND = Command('plan', "plan speed and density along a scene's tube", plan_arguments, plan, plan_view, json=True)

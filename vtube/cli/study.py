@@ -11,7 +11,8 @@ from vtube.cli.arguments import count, parse_sizes, positive, whole, words, writ
 from vtube.cli.command import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_OK, BadInput, Command, Interrupted, View
 
 if TYPE_CHECKING:
-    from vtube_planning.campaign import Campaign, Outcome
+    from vtube_planning.campaign import Campaign
+    from vtube_planning.campaign_runner import Outcome
 
 
 @dataclass(frozen=True)
@@ -71,7 +72,8 @@ def execute(campaign: Campaign, out: Path, args: argparse.Namespace) -> Campaign
     connects to the scheduler before any run."""
     import os
 
-    from vtube_planning.campaign import RUNS_FILE, run_campaign
+    from vtube_planning.campaign_runner import run_campaign
+    from vtube_planning.campaign_store import RUNS_FILE
     from vtube_planning.executors import connect
 
     writable_folder(out)
@@ -124,10 +126,11 @@ def study(args: argparse.Namespace) -> StudyDone:
     rerun resumes it); writes study.md, study.json and study.png."""
     import json
 
-    from vtube_planning import plots
+    from vtube_planning import plots, study_plots
     from vtube_planning.campaign import Campaign
     from vtube_planning.params import SwarmParams
-    from vtube_planning.study import BASELINE_MODES, BASELINE_SCENES, MODES, study_markdown, summarise
+    from vtube_planning.study import BASELINE_MODES, BASELINE_SCENES, MODES
+    from vtube_planning.study_report import study_markdown, summarise
     from vtube_planning.swarm.metrics import strict_json
 
     out: Path = args.out
@@ -145,7 +148,7 @@ def study(args: argparse.Namespace) -> StudyDone:
     (out / 'study.json').write_text(
         json.dumps(strict_json({'rows': rows, 'summary': summary}), indent=1, allow_nan=False), encoding='utf-8'
     )
-    figure = plots.save_figure(plots.study_figure(summary, 2 * SwarmParams().r_p_m), out / 'study.png')
+    figure = plots.save_figure(study_plots.study_figure(summary, 2 * SwarmParams().r_p_m), out / 'study.png')
     claims = all(e['claim_on_means'] for e in summary)
     return StudyDone(run, text, (out / 'study.md', out / 'study.json', figure), claims)
 
@@ -222,9 +225,9 @@ def campaign_done_view(done: CampaignDone) -> View:
 def write_report(out: Path) -> CampaignReport | None:
     """A campaign folder's tables and figures (report.md, differences.png, means.png), from its table alone (None:
     it holds no finished run)."""
-    from vtube_planning import plots
-    from vtube_planning.campaign import read_results
-    from vtube_planning.study import grid_markdown
+    from vtube_planning import plots, study_plots
+    from vtube_planning.campaign_store import read_results
+    from vtube_planning.study_report import grid_markdown
 
     campaign, rows, missing = read_results(out)
     if not rows:
@@ -235,8 +238,8 @@ def write_report(out: Path) -> CampaignReport | None:
     text = f'{head}.\n\n' + grid_markdown(rows)
     (out / 'report.md').write_text(text, encoding='utf-8')
     figures = (
-        plots.save_figure(plots.paired_differences_figure(rows), out / 'differences.png'),
-        plots.save_figure(plots.cell_means_figure(rows), out / 'means.png'),
+        plots.save_figure(study_plots.paired_differences_figure(rows), out / 'differences.png'),
+        plots.save_figure(study_plots.cell_means_figure(rows), out / 'means.png'),
     )
     return CampaignReport(text, (out / 'report.md', *figures))
 
