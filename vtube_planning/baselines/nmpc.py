@@ -30,7 +30,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning.errors import ParamsError
-from vtube_planning.geometry.tube import Projection, VirtualTube
+from vtube_planning.geometry.projection import Projection
+from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import SwarmParams
 
 FloatArray = NDArray[np.float64]
@@ -246,7 +247,8 @@ class NmpcSwarm:
         self.time_s += dt_s
         command = velocities + dt_s * self.held
         speed = np.hypot(command[0], command[1])
-        return command * np.minimum(1.0, self.params.v_max / np.maximum(speed, 1e-12))
+        capped: FloatArray = command * np.minimum(1.0, self.params.v_max / np.maximum(speed, 1e-12))
+        return capped
 
     def _update(self, positions: FloatArray, velocities: FloatArray, projection: Projection) -> None:
         started = time.perf_counter()
@@ -279,4 +281,5 @@ class NmpcSwarm:
             return np.clip(u, -params.a_max, params.a_max)
         self.fallbacks += 1
         self.multipliers.pop(i, None)
-        return self.plans[i]
+        plan: FloatArray = self.plans[i]
+        return plan

@@ -59,4 +59,5 @@ def bracketed_newton(
         xn = np.where(f == 0.0, xa, xn)
         x[idx], lo[idx], hi[idx] = xn, la, ha
         idx = idx[(np.abs(xn - xa) > xtol) & (ha - la > xtol)]
-    return x
+    roots: FloatArray = x
+    return roots

@@ -122,7 +122,8 @@ class ArcPath(CenterCurve):
         theta0 = self.heading_rad + np.concatenate([[0.0], np.cumsum(kappa * lengths)])
 
         def advance(p: FloatArray, s: float, k: int) -> FloatArray:  # along piece k from p, as frame() evaluates it
-            return _advance(p[None, :].copy(), np.array([s]), kappa[k], 0.5 * kappa[k], theta0[k])[0][0]
+            point: FloatArray = _advance(p[None, :].copy(), np.array([s]), kappa[k], 0.5 * kappa[k], theta0[k])[0][0]
+            return point
 
         p0 = [start]
         for k in range(len(self.pieces)):
@@ -151,7 +152,8 @@ class ArcPath(CenterCurve):
 
     @property
     def breakpoints(self) -> FloatArray:
-        return self._starts.copy()
+        starts: FloatArray = self._starts.copy()
+        return starts
 
     def frame(self, l_m: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         l_m = np.asarray(l_m, dtype=float)
@@ -257,7 +259,8 @@ class SplineCurve(CenterCurve):
     @property
     def breakpoints(self) -> FloatArray:
         """The arc lengths of the waypoints (the spline's curvature is C^0 there, smooth in between)."""
-        return self._knot_l.copy()
+        knots: FloatArray = self._knot_l.copy()
+        return knots
 
     def frame(self, l_m: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         l_m = np.asarray(l_m, dtype=float)

@@ -76,7 +76,10 @@ class Workspace:
     def clearance(self, points_m: np.ndarray) -> np.ndarray:
         """Signed distance of (k, 2) points to the rectangle's edge (positive inside), (k,)."""
         x, y = points_m[:, 0], points_m[:, 1]
-        return np.minimum.reduce([x - self.x_min_m, self.x_max_m - x, y - self.y_min_m, self.y_max_m - y])
+        clearance: np.ndarray = np.minimum.reduce(
+            [x - self.x_min_m, self.x_max_m - x, y - self.y_min_m, self.y_max_m - y]
+        )
+        return clearance
 
 
 @dataclass(frozen=True)

@@ -152,12 +152,13 @@ class WidthProfile:
         l_m = np.asarray(l_m, dtype=float)
         length = self._length_m
         clipped = np.minimum(np.maximum(l_m, 0.0), length)
-        inner = 2.0 * self._area(clipped)
+        inner: FloatArray = 2.0 * self._area(clipped)
         if not np.count_nonzero(l_m - clipped):  # all in [0, L] (a swarm in its tube): the extensions add zeros,
             return inner  # which change no bit of inner (A >= 0, and A(0) is +0.0, not -0.0)
         before = 2.0 * self.start_m * np.minimum(l_m, 0.0)
         after = 2.0 * self._end_m * np.maximum(l_m - length, 0.0)
-        return inner + before + after
+        total: FloatArray = inner + before + after
+        return total
 
     def area_inverse(self, a_m2: FloatArray) -> FloatArray:
         """The arc length l with A(l) = a, for a 1-D array of areas (any real a: A is a bijection of the line)."""

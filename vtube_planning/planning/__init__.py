@@ -8,8 +8,8 @@ from vtube_planning._lazy import lazy_exports
 
 if TYPE_CHECKING:
     from vtube_planning.planning.density import footprint, predicted_density
-    from vtube_planning.planning.plan import Plan
-    from vtube_planning.planning.planner import SwarmState, plan_convex, replan
+    from vtube_planning.planning.plan import Plan, SwarmState
+    from vtube_planning.planning.planner import plan_convex, replan
     from vtube_planning.planning.polynomial import plan_polynomial
 
 __all__ = [
@@ -26,8 +26,8 @@ __getattr__, __dir__ = lazy_exports(
     __name__,
     {
         'vtube_planning.planning.density': ('footprint', 'predicted_density'),
-        'vtube_planning.planning.plan': ('Plan',),
-        'vtube_planning.planning.planner': ('SwarmState', 'plan_convex', 'replan'),
+        'vtube_planning.planning.plan': ('Plan', 'SwarmState'),
+        'vtube_planning.planning.planner': ('plan_convex', 'replan'),
         'vtube_planning.planning.polynomial': ('plan_polynomial',),
     },
 )
