@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from robotarium_exp.errors import RobotariumExpError
+from robotarium_exp.rps.errors import RobotariumError
 from unicycle_mapping.errors import MappingError
 from vtube_planning.errors import VtubeError
 
@@ -1221,7 +1222,7 @@ def _dispatch(args: argparse.Namespace, json_out: dict[str, Any] | None) -> int:
         if args.scene_command == 'export':
             return scene_export(args.scene, args.file)
         return scene_show(args.scene, args.out)
-    except (VtubeError, RobotariumExpError, MappingError, OSError) as err:
+    except (VtubeError, RobotariumExpError, RobotariumError, MappingError, OSError) as err:
         print('error: ' + ' '.join(str(err).split()), file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:

@@ -10,8 +10,9 @@ from importlib.metadata import version as _version
 from vtube_planning.errors import ParamsError, PlanError, SceneError, ShapeError, SolverError, TubeError, VtubeError
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
 from vtube_planning.geometry.scene import Scene, Workspace, list_scenes, load_scene
-from vtube_planning.geometry.tube import Projection, VirtualTube
+from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
+from vtube_planning.onboard import Projection
 from vtube_planning.params import PlanningOptions, SwarmParams
 
 __version__ = _version('vtube')

@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 
 from vtube_planning.errors import PlanError, SolverError
 from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.onboard import swarm_area
 from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.planning.banded_qp import BandedPlanner
 from vtube_planning.planning.density import footprint
@@ -42,7 +43,6 @@ from vtube_planning.planning.plan import (
     initial_conditions,
     objective_terms,
 )
-from vtube_planning.swarm.step import swarm_area
 
 FloatArray = NDArray[np.float64]
 

@@ -1,4 +1,4 @@
-"""Parameters of the swarm controller, validated; the law itself is :mod:`vtube_planning.swarm.step`.
+"""Parameters of the swarm controller, validated; the law itself is :mod:`vtube_planning.onboard.law`.
 
 The barrier law is the default because it is the one that keeps the expanding swarm inside the tube: the
 practical law's wall push is bounded by k_t while the pushes of the neighbours add up, and once r_a exceeds the
@@ -12,8 +12,19 @@ from dataclasses import dataclass
 
 from vtube_planning._validate import is_positive, is_real
 from vtube_planning.errors import ParamsError
+from vtube_planning.onboard import (
+    DENSITY_PADDINGS,
+    KDTREE_ABOVE,
+    LAWS,
+    PLAN_AT,
+    SATURATIONS,
+    DensityPadding,
+    Law,
+    PlanAt,
+    Saturation,
+    StepParams,
+)
 from vtube_planning.params import SwarmParams
-from vtube_planning.swarm.step import DENSITY_PADDINGS, KDTREE_ABOVE, LAWS, PLAN_AT, SATURATIONS, StepParams
 
 # ---------------------------------------------------------------------- parameters
 
@@ -48,7 +59,7 @@ class ControlParams:
         swarm just where the plan lowers its density.
     kdtree_above
         Use a k-d tree for neighbours above this many robots, all pairs below (default: the measured crossover
-        :data:`~vtube_planning.swarm.step.KDTREE_ABOVE`; both give the same law).
+        :data:`~vtube_planning.onboard.params.KDTREE_ABOVE`; both give the same law).
     """
 
     avoidance_gain: float = 1.0
@@ -56,10 +67,10 @@ class ControlParams:
     k_ra_m3ps: float = 5.0
     r_a_max_m: float | None = None
     feedforward: bool = False
-    law: str = 'barrier'
-    saturation: str = 'radial'
-    density_padding: str = 'initial'
-    plan_at: str = 'robot'
+    law: Law = 'barrier'
+    saturation: Saturation = 'radial'
+    density_padding: DensityPadding = 'initial'
+    plan_at: PlanAt = 'robot'
     kdtree_above: int = KDTREE_ABOVE
 
     def __post_init__(self) -> None:

@@ -33,14 +33,14 @@ from numpy.typing import NDArray
 
 from vtube_planning._validate import is_positive, is_real
 from vtube_planning.errors import ParamsError, PlanError
-from vtube_planning.geometry.tube import Projection, VirtualTube
+from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.onboard import PlanProfile, Projection, SwarmStep, swarm_density
 from vtube_planning.params import SwarmParams
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import SwarmState, replan
 from vtube_planning.swarm.control import ControlParams
 from vtube_planning.swarm.log import LogWriter
 from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics
-from vtube_planning.swarm.step import PlanProfile, SwarmStep, swarm_density
 
 FloatArray = NDArray[np.float64]
 
