@@ -489,9 +489,8 @@ BARRIER_EPS = 1e-6
 def sigma(x: ArrayLike, d1: ArrayLike, d2: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """The C^1 cubic step sigma(x, d1, d2): 1 for x <= d1, 0 for x >= d2; returns (value, d/dx).
 
-    Shapes broadcast. Written with few array operations, for the step calls it on a handful of robots every
-    control period (its fixed cost per call matters there), and in place, for it also calls it on the hundreds of
-    thousands of pairs of a large swarm (where every fresh array costs its page faults).
+    Shapes broadcast. In place and in few array operations: the step calls it every period, on a handful of robots
+    or on the hundreds of thousands of pairs of a large swarm.
     """
     x = np.asarray(x, dtype=float)
     band: FloatArray = np.asarray(d2, dtype=float) - np.asarray(d1, dtype=float)
@@ -738,8 +737,7 @@ EMPTY.flags.writeable = False
 def neighbour_pairs(positions: FloatArray, radius: float) -> tuple[IntArray, IntArray]:
     """Pairs (i, j), i < j, of columns of (2, N) positions at most ``radius`` apart, found with a k-d tree
     (O(N log N) time, memory of the order of the pairs found)."""
-    # an unbalanced tree with uncompacted nodes builds about twice as fast (100,000 robots: 14 ms, not 31 ms)
-    # and finds the same pairs: robots are spread evenly, the tree needs no balancing
+    # unbalanced and uncompacted: it builds faster and finds the same pairs (robots are spread evenly)
     tree = cKDTree(positions.T, balanced_tree=False, compact_nodes=False)
     pairs = tree.query_pairs(radius, output_type='ndarray').T
     return np.ascontiguousarray(pairs[0]), np.ascontiguousarray(pairs[1])  # contiguous: gathered from below

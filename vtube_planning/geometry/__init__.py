@@ -1,1 +1,1 @@
-"""The virtual tube and its scenes: centre curve, half-width profile, projection, scene files."""
+"""The virtual tube and its scenes: centre curve, half-width profile, the tube, scene files."""

@@ -18,9 +18,8 @@ BARRIER_EPS = 1e-6
 def sigma(x: ArrayLike, d1: ArrayLike, d2: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """The C^1 cubic step sigma(x, d1, d2): 1 for x <= d1, 0 for x >= d2; returns (value, d/dx).
 
-    Shapes broadcast. Written with few array operations, for the step calls it on a handful of robots every
-    control period (its fixed cost per call matters there), and in place, for it also calls it on the hundreds of
-    thousands of pairs of a large swarm (where every fresh array costs its page faults).
+    Shapes broadcast. In place and in few array operations: the step calls it every period, on a handful of robots
+    or on the hundreds of thousands of pairs of a large swarm.
     """
     x = np.asarray(x, dtype=float)
     band: FloatArray = np.asarray(d2, dtype=float) - np.asarray(d1, dtype=float)

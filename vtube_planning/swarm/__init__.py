@@ -1,1 +1,1 @@
-"""The swarm: one control step (numpy and scipy only), its parameters, the simulator, metrics, trajectory logs."""
+"""The swarm: the controller's parameters, the simulator, metrics, trajectory logs (the step: ``onboard``)."""
