@@ -17,9 +17,9 @@ from benchmarks._timing import timed
 from vtube_planning import load_scene
 from vtube_planning.baselines.flocking import FlockingParams, flocking_command
 from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
+from vtube_planning.onboard import SwarmStep
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.swarm.formation import initial_formation
-from vtube_planning.swarm.step import SwarmStep
 
 
 def main() -> None:

@@ -44,7 +44,7 @@ from robotarium_exp.rps.utilities.barrier_certificates import (
     least_distance,
     use_qp_solver,
 )
-from robotarium_exp.safety import barrier_rows
+from robotarium_exp.rps.utilities.barrier_rows import barrier_rows
 from vtube_planning import load_scene
 from vtube_planning.planning.planner import plan_convex
 

@@ -3,7 +3,7 @@
 always, cold projection: the step before the crossover and the warm start) and a dense all-pairs evaluation of the
 same avoidance law.
 
-A control step is one call of the swarm step (:class:`vtube_planning.swarm.step.SwarmStep`) as the simulator
+A control step is one call of the swarm step (:class:`vtube_planning.onboard.stepper.SwarmStep`) as the simulator
 makes it: project every robot onto the tube, evaluate the command (forward term, avoidance, tube keeping,
 saturation), measure the density and advance r_a by (a3) against a constant planned density. Robots sit on a
 jittered grid at about one robot per m^2 in a straight tube sized to hold them, so each has a few neighbours, as in
@@ -35,15 +35,15 @@ import numpy as np
 
 from benchmarks._timing import timed, timed_together
 from vtube_planning import ArcPath, ArcPiece, SwarmParams, VirtualTube, WidthPart, WidthProfile
-from vtube_planning.params import ControlParams
-from vtube_planning.swarm.step import (
+from vtube_planning.onboard import (
     KDTREE_ABOVE,
     PlanProfile,
     StepParams,
     SwarmStep,
     avoidance_velocity,
-    barrier_gain,
 )
+from vtube_planning.onboard.scalar import barrier_gain
+from vtube_planning.params import ControlParams
 
 DENSE_UP_TO = 10_000
 """The dense avoidance reference is timed up to this many robots (10,000 take about 15 s)."""

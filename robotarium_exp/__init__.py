@@ -11,8 +11,9 @@ from typing import TYPE_CHECKING
 from vtube_planning._lazy import lazy_exports
 
 if TYPE_CHECKING:
-    from robotarium_exp.errors import AnalysisError, ExperimentError, RobotariumError, RobotariumExpError
+    from robotarium_exp.errors import AnalysisError, ExperimentError, RobotariumExpError
     from robotarium_exp.experiment import ExperimentConfig, ExperimentResult, run_experiment
+    from robotarium_exp.rps.errors import RobotariumError
     from robotarium_exp.spec import ROBOTARIUM, RobotariumSpec
 
 __all__ = [
@@ -30,7 +31,8 @@ __all__ = [
 __getattr__, __dir__ = lazy_exports(
     __name__,
     {
-        'robotarium_exp.errors': ('AnalysisError', 'ExperimentError', 'RobotariumError', 'RobotariumExpError'),
+        'robotarium_exp.errors': ('AnalysisError', 'ExperimentError', 'RobotariumExpError'),
+        'robotarium_exp.rps.errors': ('RobotariumError',),
         'robotarium_exp.experiment': ('ExperimentConfig', 'ExperimentResult', 'run_experiment'),
         'robotarium_exp.spec': ('ROBOTARIUM', 'RobotariumSpec'),
     },

@@ -1,7 +1,8 @@
 """Exceptions of :mod:`robotarium_exp`: one base, :class:`RobotariumExpError`.
 
-The package stands below :mod:`vtube_planning` in nothing (its ``rps`` part stands for a third-party contract and
-imports nothing of ours), so its base is its own.
+The package stands below :mod:`vtube_planning` in nothing, so its base is its own. Its ``rps`` part stands for a
+third-party contract and raises its own :class:`~robotarium_exp.rps.errors.RobotariumError` (an ``AssertionError``,
+as ``rps``).
 """
 
 from __future__ import annotations
@@ -11,12 +12,8 @@ class RobotariumExpError(Exception):
     """Base of every error :mod:`robotarium_exp` raises on purpose."""
 
 
-class RobotariumError(RobotariumExpError, AssertionError):
-    """Misuse of the Robotarium API (call order, shapes, robot counts).
-
-    It subclasses ``AssertionError`` because that is what ``rps`` raises for the same mistakes (through ``assert``),
-    so scripts that run on the testbed behave the same here; the messages say what to do instead.
-    """
+class SpecError(RobotariumExpError, ValueError):
+    """A :class:`~robotarium_exp.spec.RobotariumSpec` with impossible numbers (an empty arena, a time step <= 0)."""
 
 
 class ExperimentError(RobotariumExpError, ValueError):

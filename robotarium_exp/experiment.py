@@ -26,10 +26,10 @@ from robotarium_exp.flight import Period, Wheels, build_flight, fly
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.log import LogWriter
+from vtube_planning.onboard import parking_slots as slots_beyond
 from vtube_planning.planning.plan import Plan
 from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics, strict_json
 from vtube_planning.swarm.simulate import default_constant_speed
-from vtube_planning.swarm.step import parking_slots as slots_beyond
 
 FloatArray = NDArray[np.float64]
 

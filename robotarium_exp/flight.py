@@ -4,7 +4,7 @@ submitted file run this same code (:mod:`submission.builder` inlines it).
 Each period:
 
 1. poses -> control points p + d e_theta (:mod:`unicycle_mapping`);
-2. the swarm step (:class:`~vtube_planning.swarm.step.SwarmStep`) on the control points: the plan's forward term
+2. the swarm step (:class:`~vtube_planning.onboard.stepper.SwarmStep`) on the control points: the plan's forward term
    (or a constant speed), avoidance, tube keeping, sat, (a3); robots past the exit drive to parking slots;
 3. the safety filter (:mod:`robotarium_exp.safety`): the barrier certificate with the arena boundary, and the
    speed band of the robots still flying the tube, in one exact QP; where both cannot hold, safety wins;
@@ -25,11 +25,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.safety import BarrierSpec, SafetyFilter
+from robotarium_exp.rps.utilities.barrier_rows import BarrierSpec
+from robotarium_exp.safety import SafetyFilter
 from unicycle_mapping.mapping import si_to_uni, si_to_uni_constrained, uni_to_si_states
 from unicycle_mapping.wheels import scale_to_wheel_limits
-from vtube_planning.geometry.projection import SampledTube
-from vtube_planning.swarm.step import PlanProfile, StepParams, StepResult, SwarmStep
+from vtube_planning.onboard import PlanProfile, SampledTube, StepParams, StepResult, SwarmStep
 
 FloatArray = NDArray[np.float64]
 

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 import robotarium_exp.rps.robotarium as simulator
-from robotarium_exp.errors import RobotariumError
+from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps_alias import seed_rps
 
 

@@ -1,8 +1,9 @@
 """The Robotarium as numbers: one frozen :class:`RobotariumSpec`, the single source of every testbed constant.
 
-The bundled simulator (:mod:`robotarium_exp.rps`), the experiment, the submission builder and its check, the
-command line and the arena checks all read :data:`ROBOTARIUM`; the submitted file carries the values it needs as
-data. Values from ``docs/robotarium.md`` (V2 simulator and the testbed's verifier).
+The experiment, the submission builder and its check, the command line and the arena checks all read
+:data:`ROBOTARIUM`; the submitted file carries the values it needs as data. The numbers the bundled simulator
+(:mod:`robotarium_exp.rps`) has too (time step, arena, robot model, collision rule) are read from it; values from
+``docs/robotarium.md`` (V2 simulator and the testbed's verifier).
 """
 
 from __future__ import annotations
@@ -12,7 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robotarium_exp.errors import RobotariumError
+from robotarium_exp.errors import SpecError
+from robotarium_exp.rps.robotarium_abc import ARENA, ARobotarium
 
 Bounds = tuple[float, float, float, float]
 
@@ -44,14 +46,14 @@ class RobotariumSpec:
         The testbed stops a run that takes longer than this many times the duration the user declared.
     """
 
-    time_step_s: float = 0.033
-    arena_m: Bounds = (-1.6, 1.6, -1.0, 1.0)
-    max_linear_speed_mps: float = 0.2
-    wheel_radius_m: float = 0.016
-    base_length_m: float = 0.11
-    robot_diameter_m: float = 0.11
-    collision_diameter_m: float = 0.135
-    collision_offset_m: float = 0.025
+    time_step_s: float = ARobotarium.TIME_STEP
+    arena_m: Bounds = ARENA
+    max_linear_speed_mps: float = ARobotarium.MAX_LINEAR_VELOCITY
+    wheel_radius_m: float = ARobotarium.WHEEL_RADIUS
+    base_length_m: float = ARobotarium.BASE_LENGTH
+    robot_diameter_m: float = ARobotarium.ROBOT_DIAMETER
+    collision_diameter_m: float = ARobotarium.COLLISION_DIAMETER
+    collision_offset_m: float = ARobotarium.COLLISION_OFFSET
     max_robots: int = 20
     ic_spacing_m: float = 0.4
     ic_box_m: tuple[float, float] = (1.375, 0.875)
@@ -61,12 +63,15 @@ class RobotariumSpec:
     def __post_init__(self) -> None:
         xmin, xmax, ymin, ymax = self.arena_m
         if not (xmin < xmax and ymin < ymax):
-            msg = f'arena_m must be (x_min, x_max, y_min, y_max) with x_min < x_max and y_min < y_max; got {self.arena_m}.'
-            raise RobotariumError(msg)
+            msg = (
+                f'arena_m must be (x_min, x_max, y_min, y_max) with x_min < x_max and y_min < y_max; '
+                f'got {self.arena_m}.'
+            )
+            raise SpecError(msg)
         for name in ('time_step_s', 'max_linear_speed_mps', 'wheel_radius_m', 'base_length_m', 'robot_diameter_m'):
             if not getattr(self, name) > 0:
                 msg = f'{name} must be > 0; got {getattr(self, name)!r}.'
-                raise RobotariumError(msg)
+                raise SpecError(msg)
 
     @property
     def max_wheel_speed_radps(self) -> float:
@@ -84,7 +89,10 @@ class RobotariumSpec:
         points = np.asarray(points_m, dtype=float)
         xmin, xmax, ymin, ymax = self.arena_m
         m = margin_m
-        return (points[0] < xmin + m) | (points[0] > xmax - m) | (points[1] < ymin + m) | (points[1] > ymax - m)
+        outside: NDArray[np.bool_] = (
+            (points[0] < xmin + m) | (points[0] > xmax - m) | (points[1] < ymin + m) | (points[1] > ymax - m)
+        )
+        return outside
 
 
 ROBOTARIUM = RobotariumSpec()

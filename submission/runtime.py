@@ -2,10 +2,9 @@
 
 :mod:`submission.builder` writes a single file: a header, the scene's data (``DATA``: what
 :func:`robotarium_exp.experiment.flight_data` gives, rounded), the sources of the modules in ``INLINED_MODULES``
-(the tube's projection, the swarm step, the safety filter and the flight: the code the bundled experiment runs)
-and of the functions
-in ``INLINED_FUNCTIONS`` (the unicycle map), then this module's code below the marker line. Imported as a module
-(tests, benchmarks) it takes them from the package instead.
+(the onboard modules of :mod:`vtube_planning.onboard`, the barrier rows, the safety filter and the flight: the code
+the bundled experiment runs) and of the functions in ``INLINED_FUNCTIONS`` (the unicycle map), then this module's
+code below the marker line. Imported as a module (tests, benchmarks) it takes them from the package instead.
 
 On the testbed it constructs the Robotarium with the scene's initial conditions and flies: every period, the
 swarm step on the control points, the safety filter of :mod:`robotarium_exp.safety` (barrier certificate and speed
@@ -19,10 +18,11 @@ from __future__ import annotations
 
 # ---- inlined by the builder: the modules and functions named below replace this import block ----
 from robotarium_exp.flight import Period, build_flight, fly
+from vtube_planning import onboard
 
 INLINED_MODULES = (
-    'vtube_planning.geometry.projection',
-    'vtube_planning.swarm.step',
+    *onboard.MODULES,
+    'robotarium_exp.rps.utilities.barrier_rows',
     'robotarium_exp.safety',
     'robotarium_exp.flight',
 )

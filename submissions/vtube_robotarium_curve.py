@@ -304,11 +304,11 @@ DATA = {'scene': 'robotarium_curve',
                   0.0499044, 0.0499338, 0.0499663, 0.0500003]]]}
 
 # ---- from the vtube package (inlined so that the testbed needs nothing of ours) ----
-# ---- vtube_planning.geometry.projection ----
+# ---- vtube_planning.onboard.projection ----
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
 
@@ -355,6 +355,45 @@ class Projection:
     def inside(self) -> NDArray[np.bool_]:
         """True where the point lies in the tube: ``0 <= l <= L`` and ``|y| <= lambda(l)``, (N,)."""
         return (self.l_m >= 0.0) & (self.l_m <= self.length_m) & (self.clearance_m >= 0.0)
+
+
+# ---- vtube_planning.onboard.tube ----
+from typing import Protocol
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+
+FloatArray = NDArray[np.float64]
+
+
+class StepTube(Protocol):
+    """A tube the swarm step can fly: its length, projections of robots onto it, and its cumulative area."""
+
+    @property
+    def length_m(self) -> float:
+        """The tube's length L, m."""
+        ...
+
+    def project(self, points_m: ArrayLike) -> Projection:
+        """Every column of (2, N) points in the tube's coordinates."""
+        ...
+
+    def project_near(self, points_m: ArrayLike, near: Projection) -> Projection:
+        """:meth:`project`, which may start from ``near``, a projection of N points close to these."""
+        ...
+
+    def area(self, l_m: ArrayLike) -> FloatArray | float:
+        """Cumulative area A(l), m^2, continued straight with the end widths beyond both ends."""
+        ...
+
+
+# ---- vtube_planning.onboard.sampled_tube ----
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+
+FloatArray = NDArray[np.float64]
 
 
 class SampledTube:
@@ -430,55 +469,28 @@ class SampledTube:
         inner = np.interp(l_m, self.l_m, self.area_m2)
         before = 2.0 * self.half_width_m[0] * np.minimum(l_m - self.l_m[0], 0.0)
         after = 2.0 * self.half_width_m[-1] * np.maximum(l_m - self.length_m, 0.0)
-        return inner + before + after
+        area: FloatArray = inner + before + after
+        return area
 
 
-# ---- vtube_planning.swarm.step ----
+# ---- vtube_planning.onboard.scalar ----
 import math
-from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.spatial import cKDTree
 
 FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.intp]
 
-LAWS = ('practical', 'barrier')
-DENSITY_PADDINGS = ('initial', 'current')
-"""How far the measured footprint extends beyond the last and the front robot: the initial r_a (fixed cells of
-Assumption 2, A7), or the swarm's current mean r_a (cells that grow with (a3))."""
-SATURATIONS = ('radial', 'forward')
-"""How the command meets the speed band: the paper's radial sat of the whole sum (A10: it can point backwards), or
-the forward-progress form v* t_c + sat(v_m + v_xy, v* - v_min) capped at v_max (``docs/theory.md`` §2.7), which
-keeps every robot moving forward at v_min or more."""
-PLAN_AT = ('robot', 'center')
-"""Where every robot reads the plan: at its own arc length l_i, or at the swarm centre's (``docs/theory.md`` A16)."""
 BARRIER_EPS = 1e-6
 """epsilon_m = epsilon_t = epsilon_s of the barrier functions (the group's code, ``docs/theory.md`` §2.5)."""
-PARKED_WITHIN_M = 0.03
-"""A robot is parked when its control point is this close to its slot."""
-KDTREE_ABOVE = 64
-"""Swarms of more robots find their neighbours with a k-d tree, smaller ones test all pairs.
-
-Measured: ``python -m benchmarks.sim_bench`` times the avoidance term (neighbour search and phi_m) both ways on
-its jittered crowd of about one robot per m^2 (2-core VM, numpy 2, scipy's cKDTree): all pairs 0.085 / 0.096 /
-0.107 ms at N = 50 / 60 / 70, the tree 0.103 / 0.109 / 0.111 ms; at N = 80 all pairs 0.120 ms, the tree 0.113 ms.
-The crossover lies between 70 and 80 robots; near it the two differ by under 10 %, so its exact place matters
-little (and keeping 64 keeps every swarm on the path, and the sums in the order, it had before)."""
-
-
-# ---------------------------------------------------------------------- scalar building blocks (theory §2.3)
 
 
 def sigma(x: ArrayLike, d1: ArrayLike, d2: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """The C^1 cubic step sigma(x, d1, d2): 1 for x <= d1, 0 for x >= d2; returns (value, d/dx).
 
-    Shapes broadcast. Written with few array operations, for the step calls it on a handful of robots every
-    control period (its fixed cost per call matters there), and in place, for it also calls it on the hundreds of
-    thousands of pairs of a large swarm (where every fresh array costs its page faults).
+    Shapes broadcast. In place and in few array operations: the step calls it every period, on a handful of robots
+    or on the hundreds of thousands of pairs of a large swarm.
     """
     x = np.asarray(x, dtype=float)
     band: FloatArray = np.asarray(d2, dtype=float) - np.asarray(d1, dtype=float)
@@ -561,13 +573,37 @@ def saturate(u: FloatArray, v_min: float, v_max: float, fallback: FloatArray) ->
     clipped = np.minimum(np.maximum(speed, v_min), v_max)
     if speed.min() > 1e-12:  # the usual case, in fewer array operations
         clipped /= speed
-        return u * clipped
+        scaled: FloatArray = u * clipped
+        return scaled
     zero = speed <= 1e-12
     scale = np.where(zero, 0.0, clipped / np.where(zero, 1.0, speed))
     return np.where(zero, v_min * fallback, u * scale)
 
 
-# ---------------------------------------------------------------------- what the step is given
+# ---- vtube_planning.onboard.params ----
+from dataclasses import dataclass
+from typing import Literal, get_args
+
+Law = Literal['practical', 'barrier']
+"""The magnitudes of the pushes: the practical law of [b17], or the barrier law's gradients (``docs/theory.md``
+§2.4)."""
+DensityPadding = Literal['initial', 'current']
+"""How far the measured footprint extends beyond the last and the front robot: the initial r_a (fixed cells of
+Assumption 2, A7), or the swarm's current mean r_a (cells that grow with (a3))."""
+Saturation = Literal['radial', 'forward']
+"""How the command meets the speed band: the paper's radial sat of the whole sum (A10: it can point backwards), or
+the forward-progress form v* t_c + sat(v_m + v_xy, v* - v_min) capped at v_max (``docs/theory.md`` §2.7), which keeps every robot moving forward at v_min or more."""
+PlanAt = Literal['robot', 'center']
+"""Where every robot reads the plan: at its own arc length l_i, or at the swarm centre's (``docs/theory.md`` A16)."""
+
+LAWS: tuple[Law, ...] = get_args(Law)
+DENSITY_PADDINGS: tuple[DensityPadding, ...] = get_args(DensityPadding)
+SATURATIONS: tuple[Saturation, ...] = get_args(Saturation)
+PLAN_AT: tuple[PlanAt, ...] = get_args(PlanAt)
+
+KDTREE_ABOVE = 64
+"""Swarms of more robots find their neighbours with a k-d tree, smaller ones test all pairs (the crossover is
+measured by ``benchmarks/sim_bench.py``)."""
 
 
 @dataclass(frozen=True)
@@ -585,11 +621,11 @@ class StepParams:
     v_min_mps, v_max_mps
         The speed band of sat.
     law
-        ``'barrier'`` or ``'practical'``.
+        ``'barrier'`` or ``'practical'``, :data:`Law`.
     saturation
-        ``'radial'`` (the paper's sat) or ``'forward'`` (the forward-progress form), ``SATURATIONS``.
+        ``'radial'`` (the paper's sat) or ``'forward'`` (the forward-progress form), :data:`Saturation`.
     density_padding
-        Pad the measured footprint by the initial r_a or by the current mean r_a, ``DENSITY_PADDINGS``.
+        Pad the measured footprint by the initial r_a or by the current mean r_a, :data:`DensityPadding`.
     avoidance_gain, keeping_gain
         Gains of the avoidance and tube-keeping terms.
     k_ra_m3ps
@@ -598,7 +634,7 @@ class StepParams:
         Floor r_a by ``1/sqrt(rho*) - r_s``.
     plan_at
         ``'robot'``: every robot reads v* and rho* at its own arc length (the paper); ``'center'``: at the mean arc
-        length of the swarm's robots, for which the plan is made (A16).
+        length of the swarm's robots, for which the plan is made (A16); :data:`PlanAt`.
     kdtree_above
         Find neighbours with a k-d tree above this many robots, all pairs below.
     """
@@ -608,15 +644,24 @@ class StepParams:
     r_a_max_m: float
     v_min_mps: float
     v_max_mps: float
-    law: str = 'barrier'
-    saturation: str = 'radial'
-    density_padding: str = 'initial'
+    law: Law = 'barrier'
+    saturation: Saturation = 'radial'
+    density_padding: DensityPadding = 'initial'
     avoidance_gain: float = 1.0
     keeping_gain: float = 1.0
     k_ra_m3ps: float = 5.0
     feedforward: bool = False
-    plan_at: str = 'robot'
+    plan_at: PlanAt = 'robot'
     kdtree_above: int = KDTREE_ABOVE
+
+
+# ---- vtube_planning.onboard.profile ----
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -632,17 +677,24 @@ class PlanProfile:
 
     def speed(self, l_m: ArrayLike) -> FloatArray:
         """v*(l) = 1 / (linear interpolation of w), m/s."""
-        return 1.0 / np.interp(np.asarray(l_m, dtype=float), self.l_m, self.slowness_spm)
+        speed: FloatArray = 1.0 / np.interp(np.asarray(l_m, dtype=float), self.l_m, self.slowness_spm)
+        return speed
 
     def density(self, l_m: ArrayLike) -> FloatArray:
         """rho*(l), linear interpolation, robots/m^2."""
-        return np.interp(np.asarray(l_m, dtype=float), self.l_m, self.density_per_m2)
+        density: FloatArray = np.interp(np.asarray(l_m, dtype=float), self.l_m, self.density_per_m2)
+        return density
 
 
-# ---------------------------------------------------------------------- the density measure (A7, A8)
+# ---- vtube_planning.onboard.density ----
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 
-def swarm_area(tube: Any, l_back_m: ArrayLike, l_front_m: ArrayLike, pad_m: float) -> FloatArray:
+FloatArray = NDArray[np.float64]
+
+
+def swarm_area(tube: StepTube, l_back_m: ArrayLike, l_front_m: ArrayLike, pad_m: float) -> FloatArray:
     """Area (m^2) of the tube between ``l_back - pad`` and ``l_front + pad``, element-wise (``tube.area``: A(l))."""
     front = np.asarray(l_front_m, dtype=float) + pad_m
     back = np.asarray(l_back_m, dtype=float) - pad_m
@@ -650,10 +702,11 @@ def swarm_area(tube: Any, l_back_m: ArrayLike, l_front_m: ArrayLike, pad_m: floa
         front, back = np.broadcast_arrays(front, back)
     ends = np.array([front, back]).reshape(2, -1)  # (2, k); scalars as k = 1
     area = np.asarray(tube.area(ends.ravel()), dtype=float).reshape(2, -1)  # one call: the step makes it each period
-    return area[0] - area[1]
+    between: FloatArray = area[0] - area[1]
+    return between
 
 
-def swarm_density(tube: Any, l_m: ArrayLike, pad_m: float) -> float:
+def swarm_density(tube: StepTube, l_m: ArrayLike, pad_m: float) -> float:
     """The swarm's density rho = N / S, robots/m^2: S is the tube's area between the last and the front robot's
     arc lengths ``l_m`` (N,), padded by ``pad_m`` (the initial r_a) at both ends so that a line-abreast swarm has
     a finite density (A7); one number for the whole swarm (A8).
@@ -665,14 +718,26 @@ def swarm_density(tube: Any, l_m: ArrayLike, pad_m: float) -> float:
     return float(l_m.size / swarm_area(tube, l_m.min(), l_m.max(), pad_m)[0])
 
 
-# ---------------------------------------------------------------------- the law
+# ---- vtube_planning.onboard.neighbours ----
+from functools import lru_cache
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial import cKDTree
+
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.intp]
+
+EMPTY = np.empty(0)
+"""No pairs, or no walls (read-only)."""
+EMPTY.flags.writeable = False
 
 
 def neighbour_pairs(positions: FloatArray, radius: float) -> tuple[IntArray, IntArray]:
     """Pairs (i, j), i < j, of columns of (2, N) positions at most ``radius`` apart, found with a k-d tree
     (O(N log N) time, memory of the order of the pairs found)."""
-    # an unbalanced tree with uncompacted nodes builds about twice as fast (100,000 robots: 14 ms, not 31 ms)
-    # and finds the same pairs: robots are spread evenly, the tree needs no balancing
+    # unbalanced and uncompacted: it builds faster and finds the same pairs (robots are spread evenly)
     tree = cKDTree(positions.T, balanced_tree=False, compact_nodes=False)
     pairs = tree.query_pairs(radius, output_type='ndarray').T
     return np.ascontiguousarray(pairs[0]), np.ascontiguousarray(pairs[1])  # contiguous: gathered from below
@@ -689,45 +754,21 @@ def _all_pairs(n: int) -> tuple[IntArray, IntArray, IntArray]:
     return pairs
 
 
-def interaction_gains(
-    pair_dist: FloatArray, pair_band: FloatArray, clearance: FloatArray, r_a: FloatArray, params: StepParams
-) -> tuple[FloatArray, FloatArray]:
-    """The magnitudes of (s1)'s two pushes: phi_m of pairs at distances ``pair_dist`` (M,) with bands r_s + r_a of
-    the robot pushed, ``pair_band`` (M,), and phi_t of the walls at clearances ``clearance`` (K,) with bands ``r_a``
-    (K,). Both in one evaluation of the law: its fixed cost per call dominates a small swarm's step."""
-    m, k = pair_dist.size, clearance.size
-    r_s = params.r_s_m
-    x = np.concatenate([pair_dist, clearance])
-    d2 = np.concatenate([pair_band, r_a])
-    d1, gains = np.empty(m + k), np.empty(m + k)  # written slice by slice: cheaper than np.repeat on small arrays
-    d1[:m], d1[m:] = 2.0 * r_s, r_s  # where the push saturates: 2 r_s between robots, r_s at walls
-    gains[:m], gains[m:] = params.avoidance_gain, params.keeping_gain
-    if params.law == 'practical':
-        gain = gains * sigma(x, d1, d2)[0]
-    else:
-        gain = barrier_gain(x, d1, d1, d2, gains)
-    return gain[:m], gain[m:]
-
-
-_NONE = np.empty(0)
-"""No pairs, or no walls, for :func:`interaction_gains` (read-only)."""
-_NONE.flags.writeable = False
-
-
-def _acting_halves(
+def acting_halves(
     positions: FloatArray, r_a: FloatArray, params: StepParams, members: NDArray[np.bool_] | None
 ) -> tuple[IntArray, FloatArray, FloatArray, FloatArray]:
-    """The halves of pairs that push (the robot pushed within r_s + r_a of the other): their bins in
-    :func:`_summed_pushes`, p_pushed - p_other (2, M), distances (M,) and the pushed robots' bands r_s + r_a (M,).
+    """The halves of pairs that push (the robot pushed within r_s + r_a of the other): their bins in the law's sums
+    (:mod:`~vtube_planning.onboard.law`), p_pushed - p_other (2, M), distances (M,) and the pushed robots' bands
+    r_s + r_a (M,).
 
     Up to ``params.kdtree_above`` robots every pair is tested, above them a k-d tree finds the pairs within
-    r_s + max r_a (:data:`KDTREE_ABOVE`). Each pair (i, j) acts twice, once on i and once on j, each half within its
-    robot's own band; beyond it phi_m is exactly 0, so such halves are dropped before phi_m is evaluated.
+    r_s + max r_a. Each pair (i, j) acts twice, once on i and once on j, each half within its robot's own band;
+    beyond it phi_m is exactly 0, so such halves are dropped before phi_m is evaluated.
     """
     n = positions.shape[1]
     r_s = params.r_s_m
     if n < 2:
-        return np.empty(0, dtype=np.intp), np.empty((2, 0)), _NONE, _NONE
+        return np.empty(0, dtype=np.intp), np.empty((2, 0)), EMPTY, EMPTY
     if n > params.kdtree_above:
         i, j = neighbour_pairs(positions, r_s + float(r_a.max()))
         me = np.concatenate([i, j])
@@ -752,8 +793,40 @@ def _acting_halves(
     return bins, push, dist.take(acting), band
 
 
+# ---- vtube_planning.onboard.law ----
+from dataclasses import dataclass
+from typing import cast
+
+import numpy as np
+from numpy.typing import NDArray
+
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.intp]
+
+
+def interaction_gains(
+    pair_dist: FloatArray, pair_band: FloatArray, clearance: FloatArray, r_a: FloatArray, params: StepParams
+) -> tuple[FloatArray, FloatArray]:
+    """The magnitudes of (s1)'s two pushes: phi_m of pairs at distances ``pair_dist`` (M,) with bands r_s + r_a of
+    the robot pushed, ``pair_band`` (M,), and phi_t of the walls at clearances ``clearance`` (K,) with bands ``r_a``
+    (K,). Both in one evaluation of the law: its fixed cost per call dominates a small swarm's step."""
+    m, k = pair_dist.size, clearance.size
+    r_s = params.r_s_m
+    x = np.concatenate([pair_dist, clearance])
+    d2 = np.concatenate([pair_band, r_a])
+    d1, gains = np.empty(m + k), np.empty(m + k)  # written slice by slice: cheaper than np.repeat on small arrays
+    d1[:m], d1[m:] = 2.0 * r_s, r_s  # where the push saturates: 2 r_s between robots, r_s at walls
+    gains[:m], gains[m:] = params.avoidance_gain, params.keeping_gain
+    if params.law == 'practical':
+        gain = gains * sigma(x, d1, d2)[0]
+    else:
+        gain = barrier_gain(x, d1, d1, d2, gains)
+    return gain[:m], gain[m:]
+
+
 def _summed_pushes(bins: IntArray, push: FloatArray, dist: FloatArray, gain: FloatArray, n: int) -> FloatArray:
-    """v_m (2, n) from the acting halves of :func:`_acting_halves` and their phi_m ``gain``: every robot sums the
+    """v_m (2, n) from the acting halves of :func:`acting_halves` and their phi_m ``gain``: every robot sums the
     halves acting on it as the first robot of their pair and as the second apart, then adds the two sums (the order
     of the sums in docs/'s runs). ``push`` and ``dist`` are overwritten."""
     push /= np.maximum(dist, 1e-12, out=dist)
@@ -779,8 +852,8 @@ def avoidance_velocity(
     """
     if others is not None:
         return _avoidance_of_what_is_heard(positions, others, r_a, params, members)
-    bins, push, dist, band = _acting_halves(positions, r_a, params, members)
-    gain = interaction_gains(dist, band, _NONE, _NONE, params)[0]
+    bins, push, dist, band = acting_halves(positions, r_a, params, members)
+    gain = interaction_gains(dist, band, EMPTY, EMPTY, params)[0]
     return _summed_pushes(bins, push, dist, gain, positions.shape[1])
 
 
@@ -799,9 +872,10 @@ def _avoidance_of_what_is_heard(
     radius = np.broadcast_to(r_a[:, None], dist.shape)
     near = dist < r_s + radius
     gain = np.zeros_like(dist)
-    gain[near] = interaction_gains(dist[near], r_s + radius[near], _NONE, _NONE, params)[0]
+    gain[near] = interaction_gains(dist[near], r_s + radius[near], EMPTY, EMPTY, params)[0]
     weight = np.where(near, gain / np.where(near, dist, 1.0), 0.0)
-    return np.einsum('ij,kij->ki', weight, diff)
+    summed: FloatArray = np.einsum('ij,kij->ki', weight, diff)
+    return summed
 
 
 @dataclass(frozen=True)
@@ -818,7 +892,7 @@ def velocity_command(
     positions: FloatArray,
     r_a: FloatArray,
     forward_speed_mps: FloatArray,
-    projection: Any,
+    projection: Projection,
     params: StepParams,
     members: NDArray[np.bool_] | None = None,
     others: FloatArray | None = None,
@@ -831,12 +905,12 @@ def velocity_command(
     forward = forward_speed_mps * projection.tangent
     clearance = projection.clearance_m
     if others is None:
-        bins, push, dist, band = _acting_halves(positions, r_a, params, members)
+        bins, push, dist, band = acting_halves(positions, r_a, params, members)
         pair_gain, wall_gain = interaction_gains(dist, band, clearance, r_a, params)
         avoidance = _summed_pushes(bins, push, dist, pair_gain, positions.shape[1])
     else:
         avoidance = _avoidance_of_what_is_heard(positions, others, r_a, params, members)
-        wall_gain = interaction_gains(_NONE, _NONE, clearance, r_a, params)[1]
+        wall_gain = interaction_gains(EMPTY, EMPTY, clearance, r_a, params)[1]
     keeping = -wall_gain * np.sign(projection.y_m) * projection.normal
     if params.saturation == 'forward':  # |v_c| >= t_c . v_c >= v* - (v* - v_min) = v_min, then capped at v_max
         room = np.maximum(0.0, forward_speed_mps - params.v_min_mps)
@@ -846,6 +920,14 @@ def velocity_command(
     return Command(velocity, forward, avoidance, keeping)
 
 
+# ---- vtube_planning.onboard.radius ----
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+
+FloatArray = NDArray[np.float64]
+
+
 def avoidance_radius_rate(rho_measured: float, rho_planned: ArrayLike, params: StepParams) -> FloatArray:
     """(a3): r_a,i' = k_ra max(0, rho_r - rho*(l_i)), m/s, (N,)."""
     return params.k_ra_m3ps * np.maximum(0.0, rho_measured - np.asarray(rho_planned, dtype=float))
@@ -853,7 +935,8 @@ def avoidance_radius_rate(rho_measured: float, rho_planned: ArrayLike, params: S
 
 def feedforward_radius(rho_planned: ArrayLike, params: StepParams) -> FloatArray:
     """1/sqrt(rho*) - r_s: the avoidance radius whose lattice (spacing r_s + r_a) has density rho*, (N,)."""
-    return 1.0 / np.sqrt(np.asarray(rho_planned, dtype=float)) - params.r_s_m
+    radius: FloatArray = 1.0 / np.sqrt(np.asarray(rho_planned, dtype=float)) - params.r_s_m
+    return radius
 
 
 def next_radius(
@@ -866,7 +949,15 @@ def next_radius(
     return r_a
 
 
-# ---------------------------------------------------------------------- exit and parking
+# ---- vtube_planning.onboard.parking ----
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
+
+PARKED_WITHIN_M = 0.03
+"""A robot is parked when its control point is this close to its slot."""
 
 
 def parking_slots(end_m: ArrayLike, tangent: ArrayLike, n_robots: int, spacing_m: float = 0.25) -> FloatArray:
@@ -878,7 +969,45 @@ def parking_slots(end_m: ArrayLike, tangent: ArrayLike, n_robots: int, spacing_m
     for k in range(n_robots):
         depth, lane = divmod(k, lanes)
         slots.append(end + (0.45 - spacing_m * depth) * tangent + (lane - 0.5 * (lanes - 1)) * spacing_m * normal)
-    return np.array(slots).T.reshape(2, n_robots)
+    columns: FloatArray = np.array(slots).T.reshape(2, n_robots)
+    return columns
+
+
+class Parking:
+    """The slots (2, N) and which robot holds which (``slot_of``, -1: none yet), kept from period to period."""
+
+    def __init__(self, slots: FloatArray, n_robots: int) -> None:
+        self.slots = slots
+        self.slot_of = np.full(n_robots, -1)
+
+    def take(self, exited: BoolArray) -> BoolArray:
+        """Robots past the exit without a slot take the next free ones, in robot order; returns the parked robots."""
+        for k in np.flatnonzero(exited & (self.slot_of < 0)):
+            self.slot_of[k] = int((self.slot_of >= 0).sum())
+        return self.slot_of >= 0
+
+    def drive(
+        self, points: FloatArray, parked: BoolArray, velocity: FloatArray, v_max_mps: float
+    ) -> tuple[FloatArray, bool]:
+        """Parked robots drive to their slots at up to v_max; done when every robot is in its slot."""
+        slots = self.slots
+        to_slot = slots[:, self.slot_of[parked]] - points[:, parked]
+        reach = np.maximum(np.hypot(to_slot[0], to_slot[1]), 1e-9)
+        velocity = velocity.copy()
+        velocity[:, parked] = to_slot * np.minimum(1.0, v_max_mps / reach)
+        done = bool(parked.all()) and bool(np.all(np.hypot(*(slots[:, self.slot_of] - points)) < PARKED_WITHIN_M))
+        return velocity, done
+
+
+# ---- vtube_planning.onboard.stepper ----
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+
+FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -892,7 +1021,7 @@ class StepResult:
 
     velocity: FloatArray
     command: Command
-    projection: Any
+    projection: Projection
     forward_speed_mps: FloatArray
     density_per_m2: float
     r_a_m: FloatArray
@@ -906,10 +1035,9 @@ class SwarmStep:
     Parameters
     ----------
     tube
-        Anything with ``project(points) -> Projection``, ``project_near(points, near: Projection) -> Projection``,
-        ``area(l)`` and ``length_m``: the exact
+        The tube to fly (:class:`~vtube_planning.onboard.tube.StepTube`): the exact
         :class:`~vtube_planning.geometry.tube.VirtualTube` or the testbed's
-        :class:`~vtube_planning.geometry.projection.SampledTube`.
+        :class:`~vtube_planning.onboard.sampled_tube.SampledTube`.
     params
         The step's numbers.
     n_robots
@@ -922,14 +1050,14 @@ class SwarmStep:
     parking_slots
         Slots (2, N) beyond the exit for robots that leave the tube; None lets them fly on.
     warm_projection
-        Project the robots starting from their previous projection (``tube.project_near``: its arc lengths and the
-        frame there; the same arc lengths to about 1e-12 m, certified or else searched globally) instead of searching the whole tube each period
+        Project the robots starting from their previous projection (``tube.project_near``: the same arc lengths
+        to about 1e-12 m, certified or else searched globally) instead of searching the whole tube each period
         (``tube.project``). Only when the step projects, i.e. is not given the projection.
     """
 
     def __init__(
         self,
-        tube: Any,
+        tube: StepTube,
         params: StepParams,
         n_robots: int,
         *,
@@ -945,14 +1073,13 @@ class SwarmStep:
         self.params = params
         self.plan = plan
         self.constant_speed_mps = float(constant_speed_mps) if constant_speed_mps is not None else math.nan
-        self.slots = parking_slots
+        self.parking = Parking(parking_slots, n_robots) if parking_slots is not None else None
         self.r_a = np.full(n_robots, float(params.r_a_m))
-        self.slot_of = np.full(n_robots, -1)
         self.warm_projection = warm_projection
-        self._last: Any = None  # the last period's projection, where the warm start begins
+        self._last: Projection | None = None  # the last period's projection, where the warm start begins
 
     def __call__(
-        self, points: FloatArray, dt_s: float, projection: Any = None, others: FloatArray | None = None
+        self, points: FloatArray, dt_s: float, projection: Projection | None = None, others: FloatArray | None = None
     ) -> StepResult:
         """The commands for robots at (2, N) ``points``; advances r_a and the parking assignment by ``dt_s``.
 
@@ -974,10 +1101,7 @@ class SwarmStep:
         self._last = projection
         l_m = projection.l_m
         exited = l_m > self.tube.length_m  # past the exit: the swarm's passage is over for this robot
-        if self.slots is not None:  # robots past the exit take the next free slot and leave the swarm
-            for k in np.flatnonzero(exited & (self.slot_of < 0)):
-                self.slot_of[k] = int((self.slot_of >= 0).sum())
-        parked = self.slot_of >= 0
+        parked = self.parking.take(exited) if self.parking is not None else np.zeros(l_m.size, dtype=bool)
         members = ~parked if np.count_nonzero(parked) else None  # None: every robot flies the tube
         swarm_l, radii = (l_m[members], self.r_a[members]) if members is not None and members.any() else (l_m, self.r_a)
         density = swarm_density(self.tube, swarm_l, p.r_a_m if p.density_padding == 'initial' else float(radii.mean()))
@@ -989,41 +1113,27 @@ class SwarmStep:
         r_a = self.r_a
         command = velocity_command(points, r_a, forward_speed, projection, p, members, others)
         velocity = command.velocity
-        if self.slots is None:
+        if self.parking is None:
             done = np.count_nonzero(exited) == exited.size
         else:
-            velocity, done = self._park(self.slots, points, parked, velocity)
+            velocity, done = self.parking.drive(points, parked, velocity, p.v_max_mps)
         if self.plan is not None:
             self.r_a = next_radius(r_a, density, self.plan.density(l_plan), p, dt_s)
         return StepResult(velocity, command, projection, forward_speed, density, r_a, parked, done)
 
-    def _park(
-        self, slots: FloatArray, points: FloatArray, parked: NDArray[np.bool_], velocity: FloatArray
-    ) -> tuple[FloatArray, bool]:
-        """Parked robots drive to their slots at up to v_max; done when every robot is in its slot."""
-        to_slot = slots[:, self.slot_of[parked]] - points[:, parked]
-        reach = np.maximum(np.hypot(to_slot[0], to_slot[1]), 1e-9)
-        velocity = velocity.copy()
-        velocity[:, parked] = to_slot * np.minimum(1.0, self.params.v_max_mps / reach)
-        done = bool(parked.all()) and bool(np.all(np.hypot(*(slots[:, self.slot_of] - points)) < PARKED_WITHIN_M))
-        return velocity, done
 
-
-# ---- robotarium_exp.safety ----
+# ---- robotarium_exp.rps.utilities.barrier_rows ----
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import cached_property, lru_cache
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import nnls
 
 FloatArray = NDArray[np.float64]
 
 POLYGON_SIDES = 8
-FEASIBILITY_TOL = 1e-9
-"""Largest violation (relative to a row's scale) of a returned solution's rows."""
 
 
 @dataclass(frozen=True)
@@ -1075,7 +1185,7 @@ class BoundedRows:
     @property
     def bounded(self) -> int:
         """How many of the rows bound u's components (the first ones)."""
-        return self.lower.size - self.a.shape[0]
+        return int(self.lower.size - self.a.shape[0])
 
     @cached_property
     def norms(self) -> FloatArray:
@@ -1131,7 +1241,8 @@ def _pair_rows(diff: FloatArray, pairs: FloatArray) -> FloatArray:
     """The rows -2 (x_i - x_j)^T (u_i - u_j) (u robot by robot) of the pairs (rows of ``pairs``: +1 at i, -1 at j)
     with differences diff (2, pairs)."""
     p, n = pairs.shape
-    return (pairs[:, :, None] * (-2.0 * diff.T[:, None, :])).reshape(p, 2 * n)
+    rows: FloatArray = (pairs[:, :, None] * (-2.0 * diff.T[:, None, :])).reshape(p, 2 * n)
+    return rows
 
 
 class _Layout(NamedTuple):
@@ -1200,11 +1311,26 @@ def _row_layout(n: int, spec: BarrierSpec) -> _Layout:
     return layout
 
 
+# ---- robotarium_exp.safety ----
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import nnls
+
+
+FloatArray = NDArray[np.float64]
+
+FEASIBILITY_TOL = 1e-9
+"""Largest violation (relative to a row's scale) of a returned solution's rows."""
+
+
 def least_distance_nnls(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
     """argmin ||u - u_hat||^2 subject to a u <= b, exactly (via NNLS); None if the rows cannot hold together."""
     slack = b - a @ u_hat
     if a.shape[0] == 0 or np.all(slack >= 0.0):
-        return u_hat.copy()
+        unchanged: FloatArray = u_hat.copy()
+        return unchanged
     scale = np.maximum(np.abs(a).max(axis=1), 1e-300)  # unit rows: the right sides span many orders of magnitude
     rows, room = a / scale[:, None], slack / scale
     # least distance: min ||z|| with rows z <= room, i.e. G z >= h for G = -rows, h = -room
@@ -1218,7 +1344,8 @@ def least_distance_nnls(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> Floa
     z = -residual[:-1] / residual[-1]
     if np.max(rows @ z - room) > FEASIBILITY_TOL:
         return None
-    return u_hat + z
+    u: FloatArray = u_hat + z
+    return u
 
 
 @dataclass

@@ -41,7 +41,7 @@ BREAKS = {
         'import robotarium_exp.experiment',
     ),
     'The modules the submission inlines import only numpy, scipy and each other': (
-        'vtube_planning/geometry/projection.py',
+        'vtube_planning/onboard/projection.py',
         'import matplotlib',
     ),
 }

@@ -25,17 +25,16 @@ if TYPE_CHECKING:
         VtubeError,
     )
     from vtube_planning.geometry.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
-    from vtube_planning.geometry.projection import Projection
     from vtube_planning.geometry.scene import Scene, Workspace, list_scenes, load_scene
     from vtube_planning.geometry.tube import VirtualTube
     from vtube_planning.geometry.width import WidthPart, WidthProfile
     from vtube_planning.log import LogWriter, read_log
+    from vtube_planning.onboard import Projection, SwarmStep
     from vtube_planning.params import ControlParams, PlanningOptions, SwarmParams
     from vtube_planning.planning.plan import Plan
     from vtube_planning.planning.planner import plan_convex, replan
     from vtube_planning.swarm.metrics import PassageMetrics
     from vtube_planning.swarm.simulate import SimConfig, SimResult, simulate
-    from vtube_planning.swarm.step import SwarmStep
 
 __version__ = _version('vtube')
 """The installed package's version: one source of truth, the package metadata."""
@@ -91,16 +90,15 @@ __getattr__, __dir__ = lazy_exports(
             'VtubeError',
         ),
         'vtube_planning.geometry.centerline': ('ArcPath', 'ArcPiece', 'CenterCurve', 'SplineCurve'),
-        'vtube_planning.geometry.projection': ('Projection',),
         'vtube_planning.geometry.scene': ('Scene', 'Workspace', 'list_scenes', 'load_scene'),
         'vtube_planning.geometry.tube': ('VirtualTube',),
         'vtube_planning.geometry.width': ('WidthPart', 'WidthProfile'),
         'vtube_planning.log': ('LogWriter', 'read_log'),
+        'vtube_planning.onboard': ('Projection', 'SwarmStep'),
         'vtube_planning.params': ('ControlParams', 'PlanningOptions', 'SwarmParams'),
         'vtube_planning.planning.plan': ('Plan',),
         'vtube_planning.planning.planner': ('plan_convex', 'replan'),
         'vtube_planning.swarm.metrics': ('PassageMetrics',),
         'vtube_planning.swarm.simulate': ('SimConfig', 'SimResult', 'simulate'),
-        'vtube_planning.swarm.step': ('SwarmStep',),
     },
 )

@@ -37,9 +37,9 @@ from typing import Any
 from vtube_planning._validate import is_real
 from vtube_planning.errors import VtubeError
 from vtube_planning.geometry.scene import load_scene
+from vtube_planning.onboard import SATURATIONS
 from vtube_planning.study import ABLATIONS, BASELINE_MODES, MODELS, REPLANNING_MODES, Point, RunSettings
 from vtube_planning.swarm.faults import FAILURE_MODES
-from vtube_planning.swarm.step import SATURATIONS
 
 if sys.version_info >= (3, 11):
     import tomllib as _toml

@@ -19,7 +19,18 @@ from dataclasses import dataclass, fields
 
 from vtube_planning._validate import is_positive, is_real
 from vtube_planning.errors import ParamsError
-from vtube_planning.swarm.step import DENSITY_PADDINGS, KDTREE_ABOVE, LAWS, PLAN_AT, SATURATIONS, StepParams
+from vtube_planning.onboard.params import (
+    DENSITY_PADDINGS,
+    KDTREE_ABOVE,
+    LAWS,
+    PLAN_AT,
+    SATURATIONS,
+    DensityPadding,
+    Law,
+    PlanAt,
+    Saturation,
+    StepParams,
+)
 
 
 @dataclass(frozen=True)
@@ -203,7 +214,7 @@ class ControlParams:
         swarm just where the plan lowers its density.
     kdtree_above
         Use a k-d tree for neighbours above this many robots, all pairs below (default: the measured crossover
-        :data:`~vtube_planning.swarm.step.KDTREE_ABOVE`; both give the same law).
+        :data:`~vtube_planning.onboard.params.KDTREE_ABOVE`; both give the same law).
     """
 
     avoidance_gain: float = 1.0
@@ -211,10 +222,10 @@ class ControlParams:
     k_ra_m3ps: float = 5.0
     r_a_max_m: float | None = None
     feedforward: bool = False
-    law: str = 'barrier'
-    saturation: str = 'radial'
-    density_padding: str = 'initial'
-    plan_at: str = 'robot'
+    law: Law = 'barrier'
+    saturation: Saturation = 'radial'
+    density_padding: DensityPadding = 'initial'
+    plan_at: PlanAt = 'robot'
     kdtree_above: int = KDTREE_ABOVE
 
     def __post_init__(self) -> None:

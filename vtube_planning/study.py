@@ -18,6 +18,7 @@ import numpy as np
 from vtube_planning.baselines.flocking import FlockingParams, flocking_command
 from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
 from vtube_planning.geometry.scene import Scene, load_scene
+from vtube_planning.onboard import Saturation
 from vtube_planning.params import ControlParams, PlanningOptions, SwarmParams
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
@@ -138,7 +139,7 @@ class Point:
     n_robots: int | None = None
     seed: int = 0
     model: str = 'paper'
-    saturation: str | None = None
+    saturation: Saturation | None = None
     pose_noise_m: float = 0.0
     latency_steps: int = 0
     failure: FailureMode | Literal['none'] = 'none'

@@ -1,7 +1,7 @@
 """A recorded trajectory seen from the tube: where each robot is along it, and whether the passage was observed.
 
 :func:`along_tube` projects every position once, vectorised over frames and robots (NaN where a robot has no
-position), and measures the swarm's density (:func:`vtube_planning.swarm.step.swarm_area`, the one definition) on
+position), and measures the swarm's density (:func:`vtube_planning.onboard.density.swarm_area`, the one definition) on
 the frames where every robot has a position.
 
 A recording may start after the swarm entered, end before it left, or show bodies that never came near the tube.
@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from robotarium_exp.analysis.trajectory import Trajectory
 from vtube_planning.geometry.scene import Scene
-from vtube_planning.swarm.step import swarm_area
+from vtube_planning.onboard import swarm_area
 
 FloatArray = NDArray[np.float64]
 

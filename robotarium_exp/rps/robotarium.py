@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.errors import RobotariumError
+from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.robotarium_abc import ARobotarium
 from robotarium_exp.rps.utilities.barrier_certificates import create_uni_barrier_certificate
 from robotarium_exp.rps.utilities.controllers import create_pose_controller_hybrid
@@ -184,7 +184,8 @@ class Robotarium(ARobotarium):
             raise RobotariumError('Can only call get_poses() once per call of step()!')
         self._called_step_already = False
         self._checked_poses_already = True
-        return self._poses.copy()
+        poses: FloatArray = self._poses.copy()
+        return poses
 
     def step(self) -> None:
         """Count what the verifier counts, clip each wheel, integrate one time step, simulate the sensors."""

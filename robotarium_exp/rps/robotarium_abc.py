@@ -3,7 +3,7 @@
 :class:`ARobotarium` holds the GTernal robot's constants, the state the testbed hands back (poses and the on-board
 sensors' readings), ``set_velocities``, the per-wheel clipping of the actuators, the verifier's three counts and the
 drawing. :class:`robotarium_exp.rps.robotarium.Robotarium` adds the loop (``get_poses``, ``step``, ``debug``) and
-the initialization. The constants are V2's; the geometric ones come from :data:`robotarium_exp.spec.ROBOTARIUM`.
+the initialization. The constants are V2's (:mod:`robotarium_exp.spec` reads the testbed's numbers from here).
 """
 
 from __future__ import annotations
@@ -15,23 +15,27 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.errors import RobotariumError
-from robotarium_exp.spec import ROBOTARIUM
+from robotarium_exp.rps.errors import RobotariumError
 
 FloatArray = NDArray[np.float64]
+
+ARENA = (-1.6, 1.6, -1.0, 1.0)
+"""The arena, ``(x_min, x_max, y_min, y_max)`` in m: a robot whose centre leaves it is outside."""
 
 
 class ARobotarium(ABC):
     """The V2 Robotarium's shared part: constants, state, actuator model, verifier counts, drawing."""
 
-    TIME_STEP = ROBOTARIUM.time_step_s
-    MAX_LINEAR_VELOCITY = ROBOTARIUM.max_linear_speed_mps
-    ROBOT_DIAMETER = ROBOTARIUM.robot_diameter_m
-    WHEEL_RADIUS = ROBOTARIUM.wheel_radius_m
-    BASE_LENGTH = ROBOTARIUM.base_length_m
-    COLLISION_DIAMETER = ROBOTARIUM.collision_diameter_m
-    COLLISION_OFFSET = ROBOTARIUM.collision_offset_m
-    BOUNDARIES = np.array(ROBOTARIUM.arena_m)
+    TIME_STEP = 0.033
+    MAX_LINEAR_VELOCITY = 0.2
+    ROBOT_DIAMETER = 0.11
+    WHEEL_RADIUS = 0.016
+    BASE_LENGTH = 0.11
+    COLLISION_DIAMETER = 0.135
+    """The verifier's collision rule: two robots are too close when their centres, each shifted ``COLLISION_OFFSET``
+    forward along its heading, are at most this far apart."""
+    COLLISION_OFFSET = 0.025
+    BOUNDARIES = np.array(ARENA)
     """[x_min, x_max, y_min, y_max] as an array, as V2 (so ``r.BOUNDARIES * 0.5`` works)."""
     CENTER_OFFSET = 0.01
     """How far ahead of the axle a robot's body (a disc of ``ROBOT_DIAMETER``) is centred, for the distance sensors."""
@@ -153,23 +157,29 @@ class ARobotarium(ABC):
 
     def get_distances(self) -> FloatArray:
         """Seven distance readings per robot (7xN), m; NaN without distance sensors or before the first step."""
-        return self._distances.copy()
+        distances: FloatArray = self._distances.copy()
+        return distances
 
     def get_distance_endpoints(self) -> FloatArray:
         """Where each distance reading ends in the world (2 x 7 x N); NaN where nothing was detected."""
-        return self._distance_endpoints.copy()
+        endpoints: FloatArray = self._distance_endpoints.copy()
+        return endpoints
 
     def get_accelerations(self) -> FloatArray:
-        return self._accelerations.copy()
+        accelerations: FloatArray = self._accelerations.copy()
+        return accelerations
 
     def get_orientations(self) -> FloatArray:
-        return self._orientations.copy()
+        orientations: FloatArray = self._orientations.copy()
+        return orientations
 
     def get_magnetic_fields(self) -> FloatArray:
-        return self._magnetic_fields.copy()
+        fields: FloatArray = self._magnetic_fields.copy()
+        return fields
 
     def get_gyros(self) -> FloatArray:
-        return self._gyros.copy()
+        gyros: FloatArray = self._gyros.copy()
+        return gyros
 
     def get_encoders(self) -> NDArray[np.int32]:
         """Encoder counts since the start (2xN), as int32."""
@@ -200,7 +210,8 @@ class ARobotarium(ABC):
         if self.initializing:
             return errors
         p = self._poses
-        if ROBOTARIUM.outside_arena(p[:2]).any():
+        xmin, xmax, ymin, ymax = ARENA
+        if ((p[0] < xmin) | (p[0] > xmax) | (p[1] < ymin) | (p[1] > ymax)).any():
             errors['robots_outside_boundaries'] = errors.get('robots_outside_boundaries', 0) + 1
         if self.number_of_robots > 1:
             shifted = p[:2] + self.COLLISION_OFFSET * np.vstack([np.cos(p[2]), np.sin(p[2])])

@@ -22,7 +22,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib import patches
 
-from robotarium_exp.errors import RobotariumError
+from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps_classic.robotarium_abc import FloatArray, RobotariumABC
 
 __all__ = ['Robotarium', 'RobotariumABC', 'math', 'np', 'patches', 'plt', 'time']

@@ -12,7 +12,7 @@ because scripts written for it can depend on them (``docs/robotarium.md`` §3):
   that every instance in the process shares (classic's mutable default argument), so counts carry over from one
   simulation to the next in the same process.
 
-Misuse raises :class:`~robotarium_exp.errors.RobotariumError`, an ``AssertionError`` like classic's ``assert``,
+Misuse raises :class:`~robotarium_exp.rps.errors.RobotariumError`, an ``AssertionError`` like classic's ``assert``,
 with classic's message text (typos included, so that scripts and logs read the same).
 """
 
@@ -27,7 +27,7 @@ import numpy as np
 from matplotlib import patches
 from numpy.typing import NDArray
 
-from robotarium_exp.errors import RobotariumError
+from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps_classic.utilities import misc
 
 FloatArray = NDArray[np.float64]

@@ -6,7 +6,7 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
-from robotarium_exp.errors import RobotariumError
+from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.utilities import barrier_certificates as bc
 from robotarium_exp.rps_classic.utilities import barrier_certificates as classic
 from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from robotarium_exp.errors import ExperimentError, RobotariumError
+from robotarium_exp.errors import ExperimentError
 from robotarium_exp.experiment import (
     ExperimentConfig,
     initial_conditions,
@@ -15,6 +15,7 @@ from robotarium_exp.experiment import (
     plan_tracking,
     run_experiment,
 )
+from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.rps_alias import seed_rps
 from vtube_planning import load_scene

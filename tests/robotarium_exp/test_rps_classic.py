@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from robotarium_exp.errors import RobotariumError
+from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.utilities import controllers as v2_controllers
 from robotarium_exp.rps.utilities import transformations as v2_transformations
 from robotarium_exp.rps_classic import robotarium_abc

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from robotarium_exp.errors import RobotariumError
+from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.utilities import graph
 from robotarium_exp.rps.utilities.barrier_certificates import _solve_qp
 from robotarium_exp.rps.utilities.controllers import (

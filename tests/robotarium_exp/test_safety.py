@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from robotarium_exp.rps.utilities.barrier_certificates import least_distance
-from robotarium_exp.safety import BarrierSpec, SafetyFilter, barrier_rows, least_distance_nnls
+from robotarium_exp.rps.utilities.barrier_rows import BarrierSpec, barrier_rows
+from robotarium_exp.safety import SafetyFilter, least_distance_nnls
 from robotarium_exp.spec import ROBOTARIUM
 
 BARRIER = BarrierSpec(0.2, 100.0, 0.12, ROBOTARIUM.arena_m, False)

@@ -21,10 +21,9 @@ from submission.builder import BUILD_STAMP, SubmissionError, build, write
 from submission.check import Declaration, check, declare, imported_modules, static_check
 from submission.errors import CheckError
 from vtube_planning import SceneError, load_scene
-from vtube_planning.geometry.projection import SampledTube
+from vtube_planning.onboard import PlanProfile, SampledTube, StepParams, SwarmStep
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.swarm.metrics import passage_metrics
-from vtube_planning.swarm.step import PlanProfile, StepParams, SwarmStep
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ('robotarium_trapezoid', 'robotarium_curve')

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from vtube_planning import ArcPath, ArcPiece, ParamsError, VirtualTube, WidthPart, WidthProfile
+from vtube_planning.onboard import swarm_area, swarm_density
 from vtube_planning.planning.density import footprint, predicted_density
-from vtube_planning.swarm.step import swarm_area, swarm_density
 
 
 def step_tube() -> VirtualTube:

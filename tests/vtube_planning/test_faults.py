@@ -99,8 +99,8 @@ def test_bad_fault_settings_are_refused(scene_a) -> None:
 
 
 def test_avoidance_of_what_is_heard_equals_the_pairwise_law_when_everything_arrives() -> None:
+    from vtube_planning.onboard import avoidance_velocity
     from vtube_planning.params import ControlParams
-    from vtube_planning.swarm.step import avoidance_velocity
 
     scene = load_scene('A')
     rng = np.random.default_rng(3)
@@ -116,7 +116,7 @@ def test_avoidance_of_what_is_heard_equals_the_pairwise_law_when_everything_arri
 
 
 def test_dropped_messages_leave_the_stated_share_of_robots_heard_where_they_were(scene_a, monkeypatch) -> None:
-    from vtube_planning.swarm import step as step_module
+    from vtube_planning.onboard import stepper as step_module
 
     scene, plan = scene_a
     views: list[tuple[np.ndarray, np.ndarray]] = []

@@ -10,24 +10,19 @@ import numpy as np
 import pytest
 
 from vtube_planning import ArcPath, ArcPiece, ParamsError, SwarmParams, VirtualTube, WidthPart, WidthProfile
-from vtube_planning.params import ControlParams
-from vtube_planning.swarm.step import (
+from vtube_planning.onboard import (
     KDTREE_ABOVE,
     Command,
     PlanProfile,
     SwarmStep,
-    avoidance_radius_rate,
     avoidance_velocity,
-    barrier_gain,
-    feedforward_radius,
     interaction_gains,
-    neighbour_pairs,
-    next_radius,
-    saturate,
-    sigma,
-    smooth_saturation,
     velocity_command,
 )
+from vtube_planning.onboard.neighbours import neighbour_pairs
+from vtube_planning.onboard.radius import avoidance_radius_rate, feedforward_radius, next_radius
+from vtube_planning.onboard.scalar import barrier_gain, saturate, sigma, smooth_saturation
+from vtube_planning.params import ControlParams
 
 SWARM = SwarmParams()  # r_s = 0.4, r_a = 0.8, v in [2, 5]
 PRACTICAL = ControlParams(law='practical', avoidance_gain=2.0, keeping_gain=3.0)

@@ -9,6 +9,7 @@ from contextlib import AbstractContextManager, nullcontext, redirect_stdout
 from typing import Any
 
 from robotarium_exp.errors import RobotariumExpError
+from robotarium_exp.rps.errors import RobotariumError
 from unicycle_mapping.errors import MappingError
 from vtube.cli import analyze, demo, plan, robotarium, scene, simulate, study, submission
 from vtube.cli.command import EXIT_BAD_INPUT, EXIT_INTERRUPTED, BadInput, Command
@@ -38,7 +39,7 @@ GROUPS = {
 }
 """The help of each first word that has subcommands."""
 
-REFUSALS = (VtubeError, RobotariumExpError, MappingError, OSError, BadInput)
+REFUSALS = (VtubeError, RobotariumExpError, RobotariumError, MappingError, OSError, BadInput)
 """Errors that are bad input: one ``error:`` line, exit 2."""
 
 EXIT_CODES = (

@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from vtube_planning._validate import is_real
 from vtube_planning.errors import ParamsError
-from vtube_planning.geometry.projection import Projection
+from vtube_planning.onboard import Projection
 from vtube_planning.params import SwarmParams
 
 FloatArray = NDArray[np.float64]

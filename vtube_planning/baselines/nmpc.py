@@ -30,8 +30,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning.errors import ParamsError
-from vtube_planning.geometry.projection import Projection
 from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.onboard import Projection
 from vtube_planning.params import SwarmParams
 
 FloatArray = NDArray[np.float64]

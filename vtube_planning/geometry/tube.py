@@ -26,10 +26,10 @@ from vtube_planning._validate import as_points
 from vtube_planning.errors import ShapeError, TubeError
 from vtube_planning.geometry._roots import bracketed_newton
 from vtube_planning.geometry.centerline import CenterCurve
-from vtube_planning.geometry.projection import Projection, SampledTube
 from vtube_planning.geometry.regularity import check_grid, check_regularity
 from vtube_planning.geometry.warm_table import WarmTable
 from vtube_planning.geometry.width import WidthProfile
+from vtube_planning.onboard import Projection, SampledTube
 
 FloatArray = NDArray[np.float64]
 

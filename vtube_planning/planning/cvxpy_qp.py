@@ -25,10 +25,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning.errors import SolverError
+from vtube_planning.onboard import swarm_area
 from vtube_planning.planning.constraints import RHO_EPSILON
 from vtube_planning.planning.density import footprint
 from vtube_planning.planning.problem import Problem
-from vtube_planning.swarm.step import swarm_area
 
 FloatArray = NDArray[np.float64]
 

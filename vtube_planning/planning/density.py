@@ -1,6 +1,6 @@
 """The swarm's density along a virtual tube, as the planner models it (``docs/theory.md`` §1.5, §7 A6-A8, §8.3).
 
-The density of a flying swarm is measured by :func:`vtube_planning.swarm.step.swarm_density`, the one definition
+The density of a flying swarm is measured by :func:`vtube_planning.onboard.density.swarm_density`, the one definition
 that the controller, the logs and the analysis share: the swarm occupies the part of the tube between the
 projections of its last and its front robot, padded by one avoidance radius at both ends so that a line-abreast
 swarm still has a finite area (resolution A7), ``S = A(l_front + pad) - A(l_back - pad)`` with the tube's
@@ -21,8 +21,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from vtube_planning.errors import ParamsError
 from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.onboard import swarm_area
 from vtube_planning.params import PREDICTIVE_MODELS
-from vtube_planning.swarm.step import swarm_area
 
 FloatArray = NDArray[np.float64]
 

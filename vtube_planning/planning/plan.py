@@ -23,9 +23,9 @@ from numpy.typing import ArrayLike, NDArray
 from vtube_planning.errors import PlanError
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.npzfile import read_npz, write_npz
+from vtube_planning.onboard import PlanProfile
 from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.planning.constraints import certify, curvature_speed_limit, objective_terms
-from vtube_planning.swarm.step import PlanProfile
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]

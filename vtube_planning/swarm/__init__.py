@@ -10,10 +10,10 @@ from typing import TYPE_CHECKING
 from vtube_planning._lazy import lazy_exports
 
 if TYPE_CHECKING:
+    from vtube_planning.onboard import PlanProfile, StepParams, SwarmStep
     from vtube_planning.swarm.faults import RobotFailure
     from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics, tracking_errors
     from vtube_planning.swarm.simulate import SimConfig, SimResult
-    from vtube_planning.swarm.step import PlanProfile, StepParams, SwarmStep
 
 __all__ = [
     'PassageMetrics',
@@ -33,6 +33,6 @@ __getattr__, __dir__ = lazy_exports(
         'vtube_planning.swarm.metrics': ('PassageMetrics', 'passage_metrics', 'tracking_errors'),
         'vtube_planning.swarm.faults': ('RobotFailure',),
         'vtube_planning.swarm.simulate': ('SimConfig', 'SimResult'),
-        'vtube_planning.swarm.step': ('PlanProfile', 'StepParams', 'SwarmStep'),
+        'vtube_planning.onboard': ('PlanProfile', 'StepParams', 'SwarmStep'),
     },
 )

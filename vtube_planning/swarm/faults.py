@@ -15,8 +15,8 @@ from numpy.typing import NDArray
 
 from vtube_planning._validate import is_real
 from vtube_planning.errors import ParamsError
-from vtube_planning.geometry.projection import Projection
 from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.onboard import Projection
 
 FloatArray = NDArray[np.float64]
 

@@ -16,8 +16,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
+from vtube_planning.onboard import PlanProfile
 from vtube_planning.planning.plan import Plan
-from vtube_planning.swarm.step import PlanProfile
 
 FloatArray = NDArray[np.float64]
 

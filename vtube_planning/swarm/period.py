@@ -9,12 +9,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from vtube_planning.geometry.projection import Projection
 from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.onboard import Projection, SwarmStep, swarm_density
 from vtube_planning.params import SwarmParams
 from vtube_planning.swarm.faults import Faults
 from vtube_planning.swarm.replanner import Replanner
-from vtube_planning.swarm.step import SwarmStep, swarm_density
 
 FloatArray = NDArray[np.float64]
 Baseline = Callable[[FloatArray, FloatArray, Projection], FloatArray]

@@ -9,11 +9,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning.errors import PlanError
-from vtube_planning.geometry.projection import Projection
 from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.onboard import PlanProfile, Projection
 from vtube_planning.planning.plan import Plan, SwarmState
 from vtube_planning.planning.planner import replan
-from vtube_planning.swarm.step import PlanProfile
 
 FloatArray = NDArray[np.float64]
 

@@ -27,9 +27,9 @@ from numpy.typing import NDArray
 
 from vtube_planning._validate import is_positive, is_real
 from vtube_planning.errors import ParamsError
-from vtube_planning.geometry.projection import Projection
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.log import LogWriter
+from vtube_planning.onboard import PlanProfile, Projection, SwarmStep
 from vtube_planning.params import ControlParams, SwarmParams
 from vtube_planning.planning.plan import Plan
 from vtube_planning.swarm.faults import Faults, RobotFailure
@@ -37,7 +37,6 @@ from vtube_planning.swarm.formation import initial_formation
 from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics
 from vtube_planning.swarm.period import Baseline, SimulatedPeriod
 from vtube_planning.swarm.replanner import Replanner
-from vtube_planning.swarm.step import PlanProfile, SwarmStep
 
 FloatArray = NDArray[np.float64]
 

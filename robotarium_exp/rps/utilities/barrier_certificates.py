@@ -38,14 +38,12 @@ import daqp
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.errors import RobotariumError
-from robotarium_exp.safety import BarrierSpec, BoundedRows, barrier_rows, bounded_barrier_rows
-from robotarium_exp.spec import ROBOTARIUM
+from robotarium_exp.rps.errors import RobotariumError
+from robotarium_exp.rps.robotarium_abc import ARENA
+from robotarium_exp.rps.utilities.barrier_rows import BarrierSpec, BoundedRows, barrier_rows, bounded_barrier_rows
 from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
 
 FloatArray = NDArray[np.float64]
-
-ARENA = ROBOTARIUM.arena_m
 
 
 @dataclass
@@ -107,7 +105,8 @@ def qp_solver() -> str:
 def least_distance(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
     """argmin ||u - u_hat||^2 subject to a u <= b, exactly; None if the QP is infeasible or the solver fails."""
     if a.shape[0] == 0 or np.all(a @ u_hat <= b):
-        return u_hat.copy()
+        unchanged: FloatArray = u_hat.copy()
+        return unchanged
     rows = BoundedRows(a, np.full(b.size, -np.inf), b, np.arange(b.size))
     solved = _daqp(u_hat, rows, _NONE, _NONE)
     return None if solved is None else solved[0]
@@ -156,7 +155,8 @@ def kkt_point(u_hat: FloatArray, rows: BoundedRows, active: NDArray[np.intp], la
     )
     if np.any(at > KKT_TOL * rows.norms[active]):
         return None
-    return u
+    optimum: FloatArray = u
+    return optimum
 
 
 def _daqp(
@@ -247,10 +247,12 @@ class Certificate:
         n = dxi.shape[1]
         if self.spec.speed_polygon:  # V2: the polygon limits the speed; a lone robot's command passes unchanged
             if n < 2:
-                return dxi.copy()
+                unchanged: FloatArray = dxi.copy()
+                return unchanged
         else:  # classic: no polygon, so the command is first scaled to the limit; a lone robot still meets walls
             if n < 2 and self.spec.boundary is None:
-                return dxi.copy()
+                lone: FloatArray = dxi.copy()
+                return lone
             norms = np.hypot(dxi[0], dxi[1])
             over = norms > self.spec.magnitude_limit
             dxi = dxi.copy()
@@ -289,7 +291,8 @@ class UnicycleCertificate:
         dxu, x = _check_pair(dxu, x, 'dxu', 'x', state_rows=3)
         n = dxu.shape[1]
         if n < 2 and self.inner.spec.speed_polygon:
-            return dxu.copy()
+            unchanged: FloatArray = dxu.copy()
+            return unchanged
         points, dxi = uni_to_si_states(x, self.d), uni_to_si(dxu, x, self.d)
         if obstacles is not None and np.asarray(obstacles).size > 0:
             others = np.asarray(obstacles, dtype=float)

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.errors import RobotariumError
+from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.utilities.transformations import (
     create_si_to_uni_dynamics,
     create_si_to_uni_dynamics_with_backwards_motion,

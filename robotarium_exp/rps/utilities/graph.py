@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.errors import RobotariumError
+from robotarium_exp.rps.errors import RobotariumError
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
@@ -95,7 +95,8 @@ def delta_disk_neighbors(poses: FloatArray, agent: int, delta: float) -> IntArra
     if others.size == 0:
         return np.array([], dtype=int)
     distance = np.hypot(*(poses[:2, others] - poses[:2, [agent]]))
-    return others[distance <= delta]
+    near: IntArray = others[distance <= delta]
+    return near
 
 
 def topological_neighbors(L: FloatArray, agent: int) -> IntArray:

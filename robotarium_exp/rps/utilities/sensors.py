@@ -46,7 +46,8 @@ def _to_segments(start: FloatArray, ray: FloatArray, obstacles: FloatArray | Non
         u = (gap[:, 0] * ray[1] - gap[:, 1] * ray[0]) / cross  # fraction of the segment
     hit = (np.abs(cross) >= 1e-10) & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)
     lengths = np.where(hit, t * np.hypot(ray[0], ray[1]), np.inf)
-    return np.minimum(nearest, lengths.min(axis=0))
+    lengths_m: FloatArray = np.minimum(nearest, lengths.min(axis=0))
+    return lengths_m
 
 
 def _to_robots(start: FloatArray, ray: FloatArray, centres: FloatArray, radius: float) -> FloatArray:
@@ -60,7 +61,8 @@ def _to_robots(start: FloatArray, ray: FloatArray, centres: FloatArray, radius: 
     entry = along - np.sqrt(np.maximum(radius**2 - miss**2, 0.0))
     n = centres.shape[1]
     hit = (along >= 0) & (along <= length[:, :, None]) & (miss <= radius) & (entry >= 0) & ~np.eye(n, dtype=bool)[None]
-    return np.where(hit, entry, np.inf).min(axis=2, initial=np.inf)
+    entries: FloatArray = np.where(hit, entry, np.inf).min(axis=2, initial=np.inf)
+    return entries
 
 
 def _readings(true: FloatArray, reach: float, error: float, dropout: float, outlier: float) -> FloatArray:

@@ -11,7 +11,7 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.errors import RobotariumError
+from robotarium_exp.rps.errors import RobotariumError
 from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
 
 FloatArray = NDArray[np.float64]

@@ -34,9 +34,9 @@ from robotarium_exp.rps.utilities.barrier_certificates import (
     _solve_qp,
     _spec,
 )
+from robotarium_exp.rps.utilities.barrier_rows import barrier_rows
 from robotarium_exp.rps_classic.utilities.barrier_certificates2 import RobustCertificate
 from robotarium_exp.rps_classic.utilities.transformations import create_si_to_uni_mapping, create_uni_to_si_dynamics
-from robotarium_exp.safety import barrier_rows
 
 __all__ = [
     'create_single_integrator_barrier_certificate',

@@ -106,7 +106,8 @@ class RobustCertificate:
             self.stats.messages.append(message)
             warnings.warn(f'QP failed. Commanding zero velocities. ({message})', RuntimeWarning, stacklevel=2)
             return np.zeros_like(dxu)
-        return z.reshape(2, n, order='F') / scale.reshape(n, 2).T
+        safe: FloatArray = z.reshape(2, n, order='F') / scale.reshape(n, 2).T
+        return safe
 
     def _wall_rows(self, points: FloatArray, theta: FloatArray, boundary: FloatArray) -> tuple[FloatArray, FloatArray]:
         """``+/- pdot_y, +/- pdot_x <= 0.4 gamma (room - R/2)^3`` per robot, pdot = [cos, -d sin; sin, d cos] u."""

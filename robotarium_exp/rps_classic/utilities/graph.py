@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from robotarium_exp.errors import RobotariumError
+from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.utilities.graph import (
     FloatArray,
     IntArray,

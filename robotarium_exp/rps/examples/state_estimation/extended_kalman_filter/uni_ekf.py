@@ -86,7 +86,8 @@ class UnicycleEKF:
         jacobian = np.array(
             [[along * np.cos(theta)] * 2, [along * np.sin(theta)] * 2, [turn, -turn]],
         )
-        return jacobian @ self.wheel_encoder_noise_covariance_matrix @ jacobian.T
+        covariance: FloatArray = jacobian @ self.wheel_encoder_noise_covariance_matrix @ jacobian.T
+        return covariance
 
     def predict(self, v: float, w: float, dt: float) -> None:
         """Propagate the estimate by one step of (v, omega) over ``dt``."""

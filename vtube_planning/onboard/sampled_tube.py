@@ -1,66 +1,13 @@
-"""Points in the tube's coordinates, and the tube as samples: what a robot needs of the tube at run time.
-
-:class:`Projection` is what projecting points onto a tube gives, whichever tube: the exact
-:class:`~vtube_planning.geometry.tube.VirtualTube` (simulation, analysis) or the :class:`SampledTube` (a polyline
-through centre-line samples, with the half-width and the cumulative area at the samples), which is what the
-Robotarium submission carries. Both continue straight beyond their ends with the end widths, so robots before the
-entrance or past the exit still have an arc length and the swarm's area stays defined (``docs/theory.md`` §1.5).
-
-This module needs numpy only: :mod:`submission.builder` inlines it into the testbed's file.
-"""
+"""The tube as samples, what a submission carries: :class:`SampledTube` (numpy only)."""
 
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from vtube_planning.onboard.projection import Projection
+
 FloatArray = NDArray[np.float64]
-
-
-@dataclass(frozen=True)
-class Projection:
-    """Points of the plane in the tube's curvilinear coordinates (arrays over robots, one per column).
-
-    Attributes
-    ----------
-    l_m
-        Arc length of the closest centre-line point, (N,). Below 0 or above L for points before the entrance or
-        past the exit (projected onto the straight extensions).
-    y_m
-        Signed lateral offset along the left normal, (N,).
-    foot_m
-        Closest centre-line point gamma(l), (2, N).
-    tangent, normal
-        Unit tangent t and left normal n at the foot, (2, N) each.
-    half_width_m
-        lambda(l) at the foot, (N,).
-    length_m
-        The tube's length L.
-    curvature_per_m
-        Signed curvature kappa(l) of the centre line at the foot, (N,) (0 on the straight extensions); with the foot
-        and the tangent, the frame a warm start of the next projection begins with.
-    """
-
-    l_m: FloatArray
-    y_m: FloatArray
-    foot_m: FloatArray
-    tangent: FloatArray
-    normal: FloatArray
-    half_width_m: FloatArray
-    length_m: float
-    curvature_per_m: FloatArray
-
-    @property
-    def clearance_m(self) -> FloatArray:
-        """Distance to the boundary measured across the tube, ``lambda(l) - |y|`` (negative outside), (N,)."""
-        return self.half_width_m - np.abs(self.y_m)
-
-    @property
-    def inside(self) -> NDArray[np.bool_]:
-        """True where the point lies in the tube: ``0 <= l <= L`` and ``|y| <= lambda(l)``, (N,)."""
-        return (self.l_m >= 0.0) & (self.l_m <= self.length_m) & (self.clearance_m >= 0.0)
 
 
 class SampledTube:
@@ -136,4 +83,5 @@ class SampledTube:
         inner = np.interp(l_m, self.l_m, self.area_m2)
         before = 2.0 * self.half_width_m[0] * np.minimum(l_m - self.l_m[0], 0.0)
         after = 2.0 * self.half_width_m[-1] * np.maximum(l_m - self.length_m, 0.0)
-        return inner + before + after
+        area: FloatArray = inner + before + after
+        return area
