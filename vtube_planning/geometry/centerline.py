@@ -128,11 +128,8 @@ class ArcPath(CenterCurve):
         p0 = [start]
         for k in range(len(self.pieces)):
             p0.append(advance(p0[-1], lengths[k], k))
-        # What frame() evaluates: the pieces, and before and after them the straight rays along the end tangents as
-        # two more pieces of zero curvature. A ray starts where the pieces' own formula puts the end (position and
-        # heading at l = 0 and at l = L), so frame() gives beyond the ends the end point plus (l - end) times the
-        # end tangent, the values of clipping l to [0, L] and continuing along the tangent, without the clipping's
-        # array operations (a small swarm's frame costs the number of numpy calls, not their arithmetic).
+        # frame()'s table: the pieces, and beyond both ends a straight ray of zero curvature along the end tangent,
+        # starting where the pieces' own formula puts the end (the values of clipping l to [0, L], without clipping)
         last, s_end = len(self.pieces) - 1, starts[-1] - starts[-2]
         before, after = advance(start, 0.0, 0), advance(p0[last], s_end, last)
         table_kappa = np.concatenate([[0.0], kappa, [0.0]])
