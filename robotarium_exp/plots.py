@@ -25,7 +25,7 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle, Rectangle
 
-    from robotarium_exp.experiment import expansion_times
+    from robotarium_exp.tracking import expansion_times
 
     arrays = result.arrays
     t = arrays['t_s']
@@ -58,9 +58,8 @@ def experiment_figure(result: ExperimentResult, scene: Scene, plan: Plan | None 
     ax.set_aspect('equal')
     e, m = result.errors, result.metrics
     ax.set_title(
-        f'{scene.name}, {"with" if result.meta["planned"] else "without"} planning: '
-        f'{e.get("robots_too_close", 0)} too close, {e.get("robots_outside_boundaries", 0)} outside, '
-        f'{e.get("exceeded_actuator_limits", 0)} actuator;\nmin distance {m.min_distance_m:.3f} m; '
+        f'{scene.name}, {"with" if result.planned else "without"} planning: '
+        f'{e.too_close} too close, {e.outside} outside, {e.actuator} actuator;\nmin distance {m.min_distance_m:.3f} m; '
         "dashed circles: each robot's avoidance radius r_a",
         fontsize=10,
     )
