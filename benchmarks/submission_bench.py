@@ -19,20 +19,22 @@ import numpy as np
 from benchmarks._timing import timed
 from robotarium_exp.rps_classic.robotarium import Robotarium
 from submission.builder import build
+from vtube_planning.geometry.scene import load_scene
+from vtube_planning.planning.planner import plan_convex
 
 
 def loop_times(namespace: dict, steps: int) -> list[float]:
     """Per-step seconds of the file's own flight (its inlined code, with its safety filter)."""
-    data = namespace['DATA']
-    n = int(data['n_robots'])
+    data = namespace['FlightData'].from_plain(namespace['DATA'])
+    n = data.n_robots
     r = Robotarium(  # the classic one: robots placed at the initial conditions
         number_of_robots=n,
         show_figure=False,
         sim_in_real_time=False,
-        initial_conditions=np.array(data['initial_conditions'], dtype=float),
+        initial_conditions=np.array(data.initial_conditions),
     )
     flight = namespace['build_flight'](data)
-    dt = float(data['time_step_s'])
+    dt = data.time_step_s
     times = []
     for _ in range(steps):
         poses = r.get_poses()
@@ -51,7 +53,9 @@ def main() -> None:
     print(f'{"scene":<22} {"median [ms]":>12} {"95th pct [ms]":>14} {"max [ms]":>10}')
     for scene in ('robotarium_trapezoid', 'robotarium_curve'):
         namespace: dict = {}
-        exec(compile(build(scene).source, 'submission', 'exec'), namespace)  # noqa: S102 - our own build
+        loaded = load_scene(scene)
+        plan = plan_convex(loaded.tube, loaded.swarm, loaded.planning, scene=loaded.name)
+        exec(compile(build(loaded, plan).source, 'submission', 'exec'), namespace)  # noqa: S102 - our own build
         _, times = timed(partial(loop_times, namespace, args.steps), 1)
         ms = 1e3 * np.array(times)
         print(f'{scene:<22} {np.median(ms):>12.3f} {np.percentile(ms, 95):>14.3f} {ms.max():>10.3f}')

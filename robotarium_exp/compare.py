@@ -14,9 +14,10 @@ from typing import Any
 
 import numpy as np
 
-from robotarium_exp.experiment import ExperimentConfig, plan_tracking, run_experiment
+from robotarium_exp.experiment import ExperimentConfig, run_experiment
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.rps_alias import seed_rps
+from robotarium_exp.tracking import plan_tracking
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.swarm.metrics import strict_json
@@ -67,7 +68,7 @@ def compare(
         for planned in (True, False):
             seed_rps(seed)  # the same V2 initialization draws for both modes
             result = run_experiment(Robotarium, scene, plan if planned else None, ExperimentConfig(planning=planned))
-            tracked = plan_tracking(result, plan, scene)
+            tracked = plan_tracking(result.arrays, plan, scene)
             rows.append(
                 ComparisonRow(
                     seed=seed,
@@ -75,13 +76,13 @@ def compare(
                     passing_time_s=result.metrics.passing_time_s,
                     min_distance_m=result.metrics.min_distance_m,
                     tube_violation_steps=result.metrics.tube_violation_steps,
-                    intervention_m=result.barrier['intervention_m'],
-                    band_percent=100.0 * result.barrier['band_share'],
-                    approach_percent=_percent(tracked['approach']['density_error_mean']),
-                    dip_percent=_percent(tracked['dip']['density_error_mean']),
-                    expansion_start_s=tracked['expansion_start_s'],
-                    front_at_narrowing_s=tracked['front_at_narrowing_s'],
-                    testbed_errors=sum(result.errors.values()),
+                    intervention_m=result.barrier.intervention_m,
+                    band_percent=100.0 * result.barrier.band_share,
+                    approach_percent=_percent(tracked.approach.density_error_mean),
+                    dip_percent=_percent(tracked.dip.density_error_mean),
+                    expansion_start_s=tracked.expansion_start_s,
+                    front_at_narrowing_s=tracked.front_at_narrowing_s,
+                    testbed_errors=result.errors.too_close + result.errors.outside + result.errors.actuator,
                 )
             )
             if run_done is not None:

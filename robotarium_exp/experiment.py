@@ -4,9 +4,9 @@ Any ``Robotarium`` class can be passed in (ours, the PyPI simulator, the testbed
 keywords both generations accept and used only through ``get_poses``, ``set_velocities`` and ``step``.
 
 The experiment is the submission without the file: :func:`flight_data` turns a scene, a plan and the options into
-the plain data a submission embeds (the tube sampled every centimetre, the plan's slowness and density, the step's
-parameters, initial conditions, parking slots, barrier and wheel limits), and both this module and the submitted
-file fly it with :func:`robotarium_exp.flight.build_flight` and :func:`robotarium_exp.flight.fly`. Every period
+the :class:`~robotarium_exp.flight_data.FlightData` a submission embeds (the tube sampled every centimetre, the
+plan's slowness and density, the step's parameters, initial conditions, parking slots, barrier and wheel limits),
+and both this module and the submitted file fly it with :func:`robotarium_exp.flight.build_flight` and :func:`robotarium_exp.flight.fly`. Every period
 is logged (:mod:`vtube_planning.log`: rewritten atomically, so an interrupted run leaves a readable file).
 The run ends when every robot has parked past the exit, or at the step limit.
 """
@@ -14,21 +14,25 @@ The run ends when every robot has parked past the exit, or at the step limit.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from collections.abc import Callable, Mapping
+from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.errors import ExperimentError
-from robotarium_exp.flight import Period, Wheels, build_flight, fly
+from robotarium_exp.flight import Period, RobotariumLike, build_flight, fly
+from robotarium_exp.flight_data import FlightData, SafetyData, TubeSamples, Wheels
 from robotarium_exp.spec import ROBOTARIUM
+from robotarium_exp.tracking import FilterSummary, filter_summary
+from robotarium_exp.verifier import VerifierCounts
 from vtube_planning.geometry.scene import Scene
+from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.log import LogWriter
 from vtube_planning.onboard import parking_slots as slots_beyond
 from vtube_planning.planning.plan import Plan
-from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics, strict_json
+from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics
 from vtube_planning.swarm.simulate import default_constant_speed
 
 FloatArray = NDArray[np.float64]
@@ -37,6 +41,8 @@ BARRIER_GAIN = 100.0
 """gamma of the barrier rows: the Robotarium certificates' default."""
 TUBE_SAMPLE_SPACING_M = 0.01
 """The submission's tube is sampled this finely: arc lengths within 0.1 mm of the exact tube's."""
+TUBE_EDGE_POINTS = 120
+"""Points of each tube boundary the submission draws on the arena figure."""
 
 
 @dataclass(frozen=True)
@@ -77,24 +83,26 @@ class ExperimentResult:
     arrays
         The logged rows (the trajectory log's arrays).
     errors
-        The simulator's validation counts (too close, outside, actuator).
+        The simulator's verifier counts.
     metrics
         The passage's measures, on the robots' centres; collisions closer than 2 r_p.
     barrier
-        The certificate's correction of the swarm's commands (mean and max, m/s) and its failures.
+        What the safety filter did.
     duration_s
         Simulated time, initialization included: what the testbed counts.
     completed
         Every robot parked.
+    planned
+        The flight tracked a plan.
     """
 
     arrays: dict[str, FloatArray]
-    errors: dict[str, int]
+    errors: VerifierCounts
     metrics: PassageMetrics
-    barrier: dict[str, float]
+    barrier: FilterSummary
     duration_s: float
     completed: bool
-    meta: dict[str, Any] = field(default_factory=dict)
+    planned: bool
 
 
 def initial_conditions(scene: Scene) -> FloatArray:
@@ -129,7 +137,8 @@ def initial_conditions(scene: Scene) -> FloatArray:
             'initializes robots in; move the tube entrance inwards or use fewer robots.'
         )
         raise ExperimentError(msg)
-    return ic[:, order_for_v2_initializer(ic)]
+    ordered: FloatArray = ic[:, order_for_v2_initializer(ic)]
+    return ordered
 
 
 def order_for_v2_initializer(ic: FloatArray) -> list[int]:
@@ -174,7 +183,8 @@ def initializer_stall_risk(ic: FloatArray) -> str | None:
 def _neighbour_counts(ic: FloatArray) -> NDArray[np.int_]:
     """How many other slots lie within 1.25 x the spacing of each slot."""
     gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))
-    return np.asarray((gaps < 1.25 * ROBOTARIUM.ic_spacing_m).sum(axis=0) - 1)
+    counts: NDArray[np.int_] = np.asarray((gaps < 1.25 * ROBOTARIUM.ic_spacing_m).sum(axis=0) - 1)
+    return counts
 
 
 def _first_inside_box(scene: Scene) -> float:
@@ -205,23 +215,9 @@ def parking_slots(scene: Scene) -> FloatArray:
     return slots_beyond(tube.center_at(tube.length_m), tube.tangent(tube.length_m), scene.swarm.n_robots)
 
 
-def plain_data(value: Any) -> Any:
-    """Arrays as nested lists of floats rounded to six significant digits; dicts and scalars as they are."""
-    if isinstance(value, dict):
-        return {k: plain_data(v) for k, v in value.items()}
-    if isinstance(value, np.ndarray):
-        return plain_data(value.tolist())
-    if isinstance(value, (list, tuple)):
-        return [plain_data(v) for v in value]
-    if isinstance(value, float):
-        return float(f'{value:.6g}')
-    return value
-
-
-def flight_data(scene: Scene, plan: Plan | None, config: ExperimentConfig) -> dict[str, Any]:
-    """Everything the flight needs as plain lists and numbers (six significant digits): what a submission embeds
-    (``DATA``), so that the bundled experiment flies exactly the numbers the testbed will.
-    """
+def flight_data(scene: Scene, plan: Plan | None, config: ExperimentConfig) -> FlightData:
+    """Everything the flight needs, rounded to six significant digits: what a submission embeds, so that the
+    bundled experiment flies exactly the numbers the testbed will. Without planning the data carry no plan."""
     if config.planning and plan is None:
         msg = 'planning is on but no plan was given; plan the scene first (vtube plan) or set planning=False.'
         raise ExperimentError(msg)
@@ -229,181 +225,55 @@ def flight_data(scene: Scene, plan: Plan | None, config: ExperimentConfig) -> di
         plan.check_matches(scene.tube, scene.swarm, scene.planning, scene=scene.name)
     tube, swarm = scene.tube, scene.swarm
     samples = tube.sampled(TUBE_SAMPLE_SPACING_M)
-    profile = plan.profile if plan is not None else None
-    return plain_data(
-        {
-            'scene': scene.name,
-            'planned': config.planning,
-            'n_robots': swarm.n_robots,
-            'time_step_s': ROBOTARIUM.time_step_s,
-            'step': asdict(scene.control.step_params(swarm)),
-            'constant_speed_mps': default_constant_speed(swarm),
-            'plan': asdict(profile) if profile is not None else None,
-            'tube': {
-                'l_m': samples.l_m,
-                'xy_m': samples.xy_m,
-                'half_width_m': samples.half_width_m,
-                'area_m2': samples.area_m2,
-            },
-            'initial_conditions': initial_conditions(scene),
-            'parking_slots': parking_slots(scene),
-            'projection_distance_m': config.projection_distance_m,
-            'safety': {
-                'safety_radius_m': config.safety_radius_m,
-                'barrier_gain': BARRIER_GAIN,
-                'arena_m': list(ROBOTARIUM.arena_m),
-            }
-            if config.barrier
-            else None,
-            'wheels': asdict(
-                Wheels(ROBOTARIUM.base_length_m, ROBOTARIUM.wheel_radius_m, ROBOTARIUM.max_wheel_speed_radps)
-            ),
-            'max_steps': config.max_steps,
-        }
-    )
-
-
-def filter_summary(
-    arrays: dict[str, FloatArray], v_min: float, v_max: float, length_m: float, dt_s: float
-) -> dict[str, float]:
-    """What the safety filter did, and the speed band on the robots, from an experiment's logged arrays.
-
-    ``correction_mean_mps`` / ``correction_max_mps``: per robot-step change of the swarm's command;
-    ``intervention_m``: its integral over the run, summed over robots (how much the filter had to correct);
-    ``band_share``: flying robot-steps inside the tube (0 <= l <= L) whose forward speed lies in [v_min, v_max];
-    ``band_share_held``: the same over the steps where the filter kept the band; ``band_dropped_share``: the
-    steps where safety and the band could not both hold (safety won).
-    """
-    correction = arrays['barrier_correction_mps']
-    v = arrays['dxu'][:, 0, :]
-    in_tube = np.asarray(arrays['flying'], dtype=bool) & (arrays['l_m'] >= 0.0) & (arrays['l_m'] <= length_m)
-    in_band = (v >= v_min * (1 - 1e-9)) & (v <= v_max * (1 + 1e-9))
-    held = np.asarray(arrays['band_held'], dtype=bool)[:, None] & in_tube
-    return {
-        'correction_mean_mps': float(correction.mean()),
-        'correction_max_mps': float(correction.max()),
-        'intervention_m': float(correction.sum() * dt_s),
-        'band_share': float(in_band[in_tube].mean()) if in_tube.any() else 1.0,
-        'band_share_held': float(in_band[held].mean()) if held.any() else 1.0,
-        'band_dropped_share': float(1.0 - arrays['band_held'].mean()),
-    }
-
-
-EXPANSION_THRESHOLD_M = 0.02
-"""The expansion has started once the swarm's mean avoidance radius is this far above its initial value."""
-
-
-def expansion_times(arrays: dict[str, FloatArray], scene: Scene) -> tuple[float | None, float | None]:
-    """When the mean r_a first exceeds its initial value by ``EXPANSION_THRESHOLD_M``, and when the first robot
-    reaches the narrowing (s; None when it never happens)."""
-    from robotarium_exp.analysis.report import narrowing_start
-
-    r_a = arrays['r_a_m'].mean(axis=1)
-    expanded = np.flatnonzero(r_a >= r_a[0] + EXPANSION_THRESHOLD_M)
-    narrowing = np.flatnonzero(arrays['l_m'].max(axis=1) >= narrowing_start(scene))
-    t = arrays['t_s']
-    return (float(t[expanded[0]]) if expanded.size else None, float(t[narrowing[0]]) if narrowing.size else None)
-
-
-def plan_tracking(result: ExperimentResult, plan: Plan, scene: Scene) -> dict[str, Any]:
-    """How a run followed its plan, phase by phase, and when the swarm expanded (strict JSON values).
-
-    Phases by the arc length l_c of the swarm's centre, over the steps before any robot parks: ``approach``
-    before the plan's (p7) binds, ``dip`` while it binds, ``narrow`` after. Per phase, the mean and largest
-    relative density error |rho_r - rho*(l_c)| / rho*(l_c) and speed error |v - v*(l_c)| / v*(l_c) (v: the
-    flying robots' mean forward speed). ``expansion_start_s`` and ``front_at_narrowing_s``: see
-    :func:`expansion_times`.
-    """
-    a = result.arrays
-    swarm = a['flying'].all(axis=1)
-    center = a['l_m'].mean(axis=1)
-    active = plan.l_m[plan.active['p7']]
-    start, stop = (float(active.min()), float(active.max())) if active.size else (math.inf, math.inf)
-    phases = {
-        'approach': swarm & (center >= 0.0) & (center < start),
-        'dip': swarm & (center >= start) & (center <= stop),
-        'narrow': swarm & (center > stop) & (center <= scene.tube.length_m),
-    }
-    rho_err = np.abs(a['density_per_m2'] - plan.density(center)) / plan.density(center)
-    speed = a['dxu'][:, 0, :].mean(axis=1)
-    speed_err = np.abs(speed - plan.speed(center)) / plan.speed(center)
-    out: dict[str, Any] = {'p7_active_m': [start, stop] if active.size else None}
-    for name, mask in phases.items():
-        out[name] = {
-            'steps': int(mask.sum()),
-            'density_error_mean': float(rho_err[mask].mean()) if mask.any() else None,
-            'density_error_max': float(rho_err[mask].max()) if mask.any() else None,
-            'speed_error_mean': float(speed_err[mask].mean()) if mask.any() else None,
-            'speed_error_max': float(speed_err[mask].max()) if mask.any() else None,
-        }
-    out['expansion_start_s'], out['front_at_narrowing_s'] = expansion_times(a, scene)
-    return strict_json(out)
+    left, right = tube.boundaries(np.linspace(0.0, tube.length_m, TUBE_EDGE_POINTS))
+    safety = SafetyData(config.safety_radius_m, BARRIER_GAIN, ROBOTARIUM.arena_m)
+    return FlightData(
+        scene=scene.name,
+        tube_hash=tube.fingerprint(),
+        n_robots=swarm.n_robots,
+        time_step_s=ROBOTARIUM.time_step_s,
+        max_steps=config.max_steps,
+        step=scene.control.step_params(swarm),
+        constant_speed_mps=default_constant_speed(swarm),
+        plan=plan.profile if plan is not None and config.planning else None,
+        tube=TubeSamples(samples.l_m, samples.xy_m, samples.half_width_m, samples.area_m2),
+        tube_edges_m=np.stack([left.T, right.T]),
+        initial_conditions=initial_conditions(scene),
+        parking_slots=parking_slots(scene),
+        projection_distance_m=config.projection_distance_m,
+        safety=safety if config.barrier else None,
+        wheels=Wheels(ROBOTARIUM.base_length_m, ROBOTARIUM.wheel_radius_m, ROBOTARIUM.max_wheel_speed_radps),
+    ).rounded()
 
 
 def run_experiment(
-    robotarium_class: Any,
+    robotarium_class: Callable[..., RobotariumLike],
     scene: Scene,
     plan: Plan | None,
     config: ExperimentConfig | None = None,
     *,
     log_path: str | Path | None = None,
-    robotarium_kwargs: dict[str, Any] | None = None,
-    log_meta: dict[str, Any] | None = None,
+    robotarium_kwargs: Mapping[str, object] | None = None,
+    log_meta: Mapping[str, object] | None = None,
 ) -> ExperimentResult:
     """Fly the scene's swarm through its tube on a Robotarium and park it beyond the exit; ``log_meta`` is added
     to the log's description (provenance)."""
     config = config or ExperimentConfig()
     data = flight_data(scene, plan, config)
-    tube, swarm, n = scene.tube, scene.swarm, scene.swarm.n_robots
+    tube, swarm = scene.tube, scene.swarm
     dt = ROBOTARIUM.time_step_s
     r = robotarium_class(
-        number_of_robots=int(n),
+        number_of_robots=int(data.n_robots),
         show_figure=False,
         sim_in_real_time=False,
-        initial_conditions=np.array(data['initial_conditions']),
+        initial_conditions=np.array(data.initial_conditions),
         **(robotarium_kwargs or {}),
     )
     flight = build_flight(data)
-    meta = {
-        **(log_meta or {}),
-        'kind': 'robotarium experiment',
-        'scene': scene.name,
-        'tube_hash': scene.tube.fingerprint(),
-        'planned': config.planning,
-        'barrier': config.barrier,
-        'n_robots': n,
-        'dt_s': dt,
-        'config': asdict(config),
-        'swarm': asdict(swarm),
-        'control': asdict(scene.control),
-        'length_m': tube.length_m,
-        'initial_conditions': data['initial_conditions'],
-    }
-    log = LogWriter(log_path, meta, flush_every=config.log_every)
-
-    def record(step: int, period: Period) -> None:
-        robots = tube.project(period.poses[:2])  # the robots' centres on the exact tube, as the analysis measures
-        row = {
-            't_s': np.float64(step * dt),
-            'positions_m': period.poses[:2],
-            'headings_rad': period.poses[2],
-            'points_m': period.points_m,
-            'si_nominal_mps': period.step.velocity,
-            'si_safe_mps': period.safe_mps,
-            'dxu': period.dxu,
-            'barrier_correction_mps': period.barrier_correction_mps,
-            'r_a_m': period.step.r_a_m,
-            'l_m': robots.l_m,
-            'clearance_m': robots.clearance_m,
-            'density_per_m2': np.float64(period.step.density_per_m2),
-            'flying': period.flying,
-            'band_held': np.bool_(period.band_held),
-        }
-        log.append(**row)
-
-    completed, periods = fly(r, flight, dt, config.max_steps, record)
+    log = LogWriter(log_path, _log_description(scene, config, data, log_meta), flush_every=config.log_every)
+    completed, periods = fly(r, flight, dt, config.max_steps, _recorder(log, tube, dt))
     arrays = log.arrays()
-    errors = dict(getattr(r, 'errors', None) or getattr(r, '_errors', {}) or {})
+    errors = VerifierCounts.from_simulator(getattr(r, 'errors', None) or getattr(r, '_errors', None) or {})
     metrics = passage_metrics(
         arrays['t_s'],
         arrays['positions_m'],
@@ -413,23 +283,61 @@ def run_experiment(
         collision_distance_m=2.0 * swarm.r_p_m,
         body_radius_m=0.5 * ROBOTARIUM.robot_diameter_m,
     )
-    barrier_stats = filter_summary(arrays, swarm.v_min_mps, swarm.v_max_mps, tube.length_m, dt)
-    barrier_stats['failures'] = flight.safety.stats.failures if flight.safety is not None else 0
+    failures = flight.safety.stats.failures if flight.safety is not None else 0
+    barrier = filter_summary(arrays, swarm.v_min_mps, swarm.v_max_mps, tube.length_m, dt, failures)
     duration = float(getattr(r, 'iterations', periods) * dt)
     log.flush(
         metrics=metrics.to_json(),
-        barrier=barrier_stats,
+        barrier=asdict(barrier),
         duration_s=duration,
-        errors=strict_json(errors),
+        errors=errors.to_json(),
         completed=completed,
         finished=True,
     )
-    return ExperimentResult(
-        arrays=arrays,
-        errors=errors,
-        metrics=metrics,
-        barrier=barrier_stats,
-        duration_s=duration,
-        completed=completed,
-        meta=meta,
-    )
+    return ExperimentResult(arrays, errors, metrics, barrier, duration, completed, data.planned)
+
+
+def _log_description(
+    scene: Scene, config: ExperimentConfig, data: FlightData, extra: Mapping[str, object] | None
+) -> dict[str, object]:
+    """The log's description of the run (JSON)."""
+    return {
+        **(extra or {}),
+        'kind': 'robotarium experiment',
+        'scene': scene.name,
+        'tube_hash': data.tube_hash,
+        'planned': config.planning,
+        'barrier': config.barrier,
+        'n_robots': data.n_robots,
+        'dt_s': ROBOTARIUM.time_step_s,
+        'config': asdict(config),
+        'swarm': asdict(scene.swarm),
+        'control': asdict(scene.control),
+        'length_m': scene.tube.length_m,
+        'initial_conditions': data.initial_conditions.tolist(),
+    }
+
+
+def _recorder(log: LogWriter, tube: VirtualTube, dt: float) -> Callable[[int, Period], None]:
+    """What the experiment logs of each period: the period's arrays, and the robots' centres on the exact tube."""
+
+    def record(step: int, period: Period) -> None:
+        robots = tube.project(period.poses[:2])  # the robots' centres on the exact tube, as the analysis measures
+        log.append(
+            t_s=np.float64(step * dt),
+            positions_m=period.poses[:2],
+            headings_rad=period.poses[2],
+            points_m=period.points_m,
+            si_nominal_mps=period.step.velocity,
+            si_safe_mps=period.safe_mps,
+            dxu=period.dxu,
+            barrier_correction_mps=period.barrier_correction_mps,
+            r_a_m=period.step.r_a_m,
+            l_m=robots.l_m,
+            clearance_m=robots.clearance_m,
+            density_per_m2=np.float64(period.step.density_per_m2),
+            flying=period.flying,
+            band_held=np.array(period.band_held),
+        )
+
+    return record

@@ -20,18 +20,29 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
+from robotarium_exp.flight_data import FlightData, Wheels
 from robotarium_exp.rps.utilities.barrier_rows import BarrierSpec
 from robotarium_exp.safety import SafetyFilter
 from unicycle_mapping.mapping import si_to_uni, si_to_uni_constrained, uni_to_si_states
 from unicycle_mapping.wheels import scale_to_wheel_limits
-from vtube_planning.onboard import PlanProfile, SampledTube, StepParams, StepResult, SwarmStep
+from vtube_planning.onboard import SampledTube, StepResult, SwarmStep
 
 FloatArray = NDArray[np.float64]
+
+
+class RobotariumLike(Protocol):
+    """What a flight uses of a Robotarium object (any ``rps`` generation)."""
+
+    def get_poses(self) -> FloatArray: ...
+
+    def set_velocities(self, ids: NDArray[np.int_], velocities: FloatArray) -> None: ...
+
+    def step(self) -> None: ...
 
 
 @dataclass(frozen=True)
@@ -53,21 +64,9 @@ class Period:
     @property
     def barrier_correction_mps(self) -> FloatArray:
         """How much the safety filter changed each robot's velocity, (N,)."""
-        return np.hypot(*(self.safe_mps - self.step.velocity))
-
-
-@dataclass(frozen=True)
-class Wheels:
-    """The robot's drive: axle length, wheel radius, wheel speed limit (from ``RobotariumSpec``)."""
-
-    base_length_m: float
-    wheel_radius_m: float
-    max_wheel_speed_radps: float
-
-    @property
-    def rim_speed_mps(self) -> float:
-        """The largest wheel rim speed r phi_max."""
-        return self.wheel_radius_m * self.max_wheel_speed_radps
+        change = self.safe_mps - self.step.velocity
+        correction: FloatArray = np.hypot(change[0], change[1])
+        return correction
 
 
 class Flight:
@@ -120,31 +119,24 @@ class Flight:
         return Period(poses, points, step, safe, dxu, flying, held)
 
 
-def build_flight(data: dict[str, Any]) -> Flight:
+def build_flight(data: FlightData) -> Flight:
     """The flight described by ``data`` (:func:`robotarium_exp.experiment.flight_data`, a submission's ``DATA``)."""
-    tube = SampledTube(**data['tube'])
-    plan = None
-    if data['planned']:
-        plan = PlanProfile(**{key: np.asarray(value, dtype=float) for key, value in data['plan'].items()})
-    params = StepParams(**data['step'])
+    tube = SampledTube(data.tube.l_m, data.tube.xy_m, data.tube.half_width_m, data.tube.area_m2)
+    params = data.step
     stepper = SwarmStep(
         tube,
         params,
-        int(data['n_robots']),
-        plan=plan,
-        constant_speed_mps=float(data['constant_speed_mps']),
-        parking_slots=np.asarray(data['parking_slots'], dtype=float),
+        data.n_robots,
+        plan=data.plan,
+        constant_speed_mps=data.constant_speed_mps,
+        parking_slots=data.parking_slots,
     )
-    wheels = Wheels(**data['wheels'])
-    d = float(data['projection_distance_m'])
+    wheels = data.wheels
+    d = data.projection_distance_m
     safety = None
-    if data['safety'] is not None:
+    if data.safety is not None:
         barrier = BarrierSpec(
-            float(data['safety']['safety_radius_m']),
-            float(data['safety']['barrier_gain']),
-            params.v_max_mps,
-            tuple(data['safety']['arena_m']),
-            False,
+            data.safety.safety_radius_m, data.safety.barrier_gain, params.v_max_mps, data.safety.arena_m, False
         )
         safety = SafetyFilter(
             barrier, params.v_min_mps, params.v_max_mps, d, wheels.base_length_m, wheels.rim_speed_mps
@@ -153,7 +145,7 @@ def build_flight(data: dict[str, Any]) -> Flight:
 
 
 def fly(
-    robotarium: Any, flight: Flight, dt_s: float, max_steps: int, record: Callable[[int, Period], None]
+    robotarium: RobotariumLike, flight: Flight, dt_s: float, max_steps: int, record: Callable[[int, Period], None]
 ) -> tuple[bool, int]:
     """Run ``flight`` on ``robotarium`` until every robot has parked (True) or ``max_steps`` (False).
 

@@ -64,9 +64,8 @@ def _arena_panel(ax: Axes, result: ExperimentResult, scene: Scene) -> None:
     ax.set_aspect('equal')
     e, m = result.errors, result.metrics
     ax.set_title(
-        f'{scene.name}, {"with" if result.meta["planned"] else "without"} planning: '
-        f'{e.get("robots_too_close", 0)} too close, {e.get("robots_outside_boundaries", 0)} outside, '
-        f'{e.get("exceeded_actuator_limits", 0)} actuator;\nmin distance {m.min_distance_m:.3f} m; '
+        f'{scene.name}, {"with" if result.planned else "without"} planning: '
+        f'{e.too_close} too close, {e.outside} outside, {e.actuator} actuator;\nmin distance {m.min_distance_m:.3f} m; '
         "dashed circles: each robot's avoidance radius r_a",
         fontsize=10,
     )
@@ -75,7 +74,7 @@ def _arena_panel(ax: Axes, result: ExperimentResult, scene: Scene) -> None:
 def _time_panels(ax_rho: Axes, ax_v: Axes, result: ExperimentResult, scene: Scene, plan: Plan | None) -> None:
     """Density and r_a, and speed, over time while every robot flies, planned and measured, with the moments the
     expansion starts and the front reaches the narrowing."""
-    from robotarium_exp.experiment import expansion_times
+    from robotarium_exp.tracking import expansion_times
 
     arrays = result.arrays
     t = arrays['t_s']

@@ -6,22 +6,20 @@ from dataclasses import dataclass
 
 from robotarium_exp.experiment import ExperimentResult
 from robotarium_exp.spec import ROBOTARIUM
+from robotarium_exp.verifier import VerifierCounts
 
 
 @dataclass(frozen=True)
 class VerifierVerdict:
-    """The simulator's validation counts of a run (pair-steps too close, robot-steps outside the arena,
-    actuator-limit steps) and its duration, initialization included (s)."""
+    """The simulator's validation counts of a run and its duration, initialization included (s)."""
 
-    too_close: int
-    outside: int
-    actuator: int
+    counts: VerifierCounts
     duration_s: float
 
     @property
     def would_run(self) -> bool:
         """No robots too close and none outside: the testbed would run the experiment."""
-        return self.too_close + self.outside == 0
+        return self.counts.too_close + self.counts.outside == 0
 
     @property
     def declare_at_least_s(self) -> float:
@@ -31,10 +29,4 @@ class VerifierVerdict:
 
 def testbed_verdict(result: ExperimentResult) -> VerifierVerdict:
     """The verdict on an experiment flown on a Robotarium simulator."""
-    errors = result.errors
-    return VerifierVerdict(
-        too_close=errors['robots_too_close'],
-        outside=errors['robots_outside_boundaries'],
-        actuator=errors['exceeded_actuator_limits'],
-        duration_s=result.duration_s,
-    )
+    return VerifierVerdict(result.errors, result.duration_s)

@@ -12,7 +12,8 @@ from vtube_planning._lazy import lazy_exports
 
 if TYPE_CHECKING:
     from submission.builder import Submission, build, write
-    from submission.check import CheckReport, Declaration, RunReport, declare
+    from submission.check import CheckReport, RunReport
+    from submission.declaration import Declaration, declare
     from submission.errors import CheckError, SubmissionError
 
 __all__ = [
@@ -31,7 +32,8 @@ __getattr__, __dir__ = lazy_exports(
     __name__,
     {
         'submission.builder': ('Submission', 'build', 'write'),
-        'submission.check': ('CheckReport', 'Declaration', 'RunReport', 'declare'),
+        'submission.check': ('CheckReport', 'RunReport'),
+        'submission.declaration': ('Declaration', 'declare'),
         'submission.errors': ('CheckError', 'SubmissionError'),
     },
 )

@@ -13,25 +13,32 @@ import ast
 import importlib
 import inspect
 import pprint
-from dataclasses import dataclass
+import sys
+import textwrap
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from types import FunctionType, ModuleType
 
 import numpy as np
 
-from robotarium_exp.experiment import ExperimentConfig, flight_data, initializer_stall_risk, plain_data
+from robotarium_exp.experiment import ExperimentConfig, flight_data, initializer_stall_risk
+from robotarium_exp.flight_data import FlightData
 from robotarium_exp.spec import ROBOTARIUM
 from submission import runtime
-from submission.check import Declaration
+from submission.check import RUN_TIMEOUT_S, CheckReport, check, imported_modules
+from submission.declaration import Declaration
 from submission.errors import SubmissionError
 from vtube_planning import __version__
 from vtube_planning.geometry.scene import Scene, load_scene
 from vtube_planning.planning.plan import Plan
-from vtube_planning.planning.planner import plan_convex
 from vtube_planning.provenance import provenance, sha256_of
 
 RUNTIME_MARKER = '# ---- runtime ----'
 OUR_PACKAGES = ('vtube_planning', 'unicycle_mapping', 'robotarium_exp', 'submission')
+UNDECLARED = 'Declare on the web form: the robot count above, and the duration `vtube submission check` derives.'
+"""The header's declaration line until :meth:`Submission.declared` stamps the derived one in its place."""
+PLAN_METHODS = {'convex': 'convex slowness method', 'polynomial': "the paper's segmented cubics"}
 
 
 @dataclass(frozen=True)
@@ -43,43 +50,33 @@ class Submission:
     planned: bool
     n_robots: int
 
+    def declared(self, declaration: Declaration) -> Submission:
+        """The same file with ``declaration`` in its header, in place of the line that asks for one."""
+        if UNDECLARED not in self.source:
+            msg = 'this submission already records a declaration; build it again to declare another duration.'
+            raise SubmissionError(msg)
+        lines = '\n'.join(declaration.header_lines(self.n_robots))
+        return replace(self, source=self.source.replace(UNDECLARED, lines, 1))
 
-def build(
-    name_or_path: str | Path | Scene,
-    *,
-    planning: bool = True,
-    plan: Plan | None = None,
-    declaration: Declaration | None = None,
-) -> Submission:
-    """The submission's source for a Robotarium scene (shipped name, .toml file or Scene); plans unless given one.
 
-    ``declaration``: the duration to declare, as ``vtube submission check`` derived it for this file, recorded in
-    the header (``vtube submission build`` derives it unless told not to).
-    """
+def build(name_or_path: str | Path | Scene, plan: Plan | None, *, declaration: Declaration | None = None) -> Submission:
+    """The submission's source for a Robotarium scene (shipped name, .toml file or Scene) flying ``plan``, or
+    unplanned (constant speed, constant r_a) when ``plan`` is None; ``declaration``: the duration to declare, as
+    :func:`submission.check.check` derived it for this file, recorded in the header."""
     scene = name_or_path if isinstance(name_or_path, Scene) else load_scene(name_or_path)
     _check_scene(scene)
-    if plan is None:
-        plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
-    data = flight_data(scene, plan, ExperimentConfig(planning=planning))
-    for name, points in (
-        ('initial conditions', data['initial_conditions'][:2]),
-        ('parking slots', data['parking_slots']),
-    ):
-        _inside_arena(scene, name, np.asarray(points))
-    risk = initializer_stall_risk(np.asarray(data['initial_conditions']))
+    data = flight_data(scene, plan, ExperimentConfig(planning=plan is not None))
+    _inside_arena(scene, 'initial conditions', data.initial_conditions[:2])
+    _inside_arena(scene, 'parking slots', data.parking_slots)
+    risk = initializer_stall_risk(data.initial_conditions)
     if risk is not None:
         raise SubmissionError(f'scene {scene.name!r}: {risk}')
-    left, right = scene.tube.boundaries(np.linspace(0.0, scene.tube.length_m, 120))
-    data['tube_edges'] = np.stack([left.T, right.T])
-    if not planning:
-        data['plan'] = None
-    header = _header(scene, plan, planning, declaration)
-    source = '\n'.join(
+    body = '\n'.join(
         [
-            header,
+            '',
             'from __future__ import annotations',
             '',
-            f'DATA = {pprint.pformat(plain_data(data), width=118, compact=True, sort_dicts=False)}',
+            f'DATA = {pprint.pformat(data.to_plain(), width=118, compact=True, sort_dicts=False)}',
             '',
             '# ---- from the vtube package (inlined so that the testbed needs nothing of ours) ----',
             _inlined_sources(),
@@ -88,11 +85,42 @@ def build(
             "if __name__ == '__main__':",
             '    import rps.robotarium as robotarium',
             '',
-            '    run(DATA, robotarium)',
+            '    run(FlightData.from_plain(DATA), robotarium)',
             '',
         ]
     )
-    return Submission(source=source, scene=scene.name, planned=planning, n_robots=scene.swarm.n_robots)
+    submission = Submission(_header(scene, plan, data, body) + body, scene.name, data.planned, data.n_robots)
+    return submission if declaration is None else submission.declared(declaration)
+
+
+def build_declared(
+    scene: Scene,
+    plan: Plan | None,
+    path: str | Path,
+    *,
+    seeds: int = 3,
+    initializer_seeds: int = 200,
+    run_timeout_s: float = RUN_TIMEOUT_S,
+    progress: Callable[[str], None] | None = None,
+    seed_done: Callable[[], None] | None = None,
+) -> tuple[Submission, CheckReport]:
+    """Build the submission, write it to ``path`` and check it (:func:`submission.check.check`, options as there);
+    when it passes, stamp the declaration the check derived into the header of the file checked and rewrite it.
+    A file that fails keeps no declaration."""
+    submission = build(scene, plan)
+    write(submission, path)
+    report = check(
+        path,
+        seeds=seeds,
+        initializer_seeds=initializer_seeds,
+        run_timeout_s=run_timeout_s,
+        progress=progress,
+        seed_done=seed_done,
+    )
+    if report.passed and report.declaration is not None:
+        submission = submission.declared(report.declaration)
+        write(submission, path)
+    return submission, report
 
 
 def write(submission: Submission, path: str | Path) -> Path:
@@ -134,48 +162,74 @@ BUILD_STAMP = 'built on'
 changes from one build to the next)."""
 
 
-def _header(scene: Scene, plan: Any, planning: bool, declaration: Declaration | None) -> str:
+def _header(scene: Scene, plan: Plan | None, data: FlightData, body: str) -> str:
+    """The file's docstring: what it flies, the declaration (or the line asking for it), provenance, imports."""
     made = provenance(scene=scene)
-    certified = (
-        'every constraint holds within 1e-6 (relative)'
-        if plan.is_certified()
-        else (f'NOT certified, largest relative violation {max(plan.certificate.values()):.1e}')
-    )
+    if plan is not None:
+        certified = (
+            'every constraint holds within 1e-6 (relative)'
+            if plan.is_certified()
+            else f'NOT certified, largest relative violation {max(plan.certificate.values()):.1e}'
+        )
+        flies = [
+            (
+                f'Plan: {PLAN_METHODS.get(plan.solved.method, plan.solved.method)}, {plan.l_m.size} grid points, traversal time '
+                f'{plan.time_s:.2f} s;'
+            ),
+            f'certificate: {certified}.',
+        ]
+    else:
+        flies = [
+            (
+                f'No plan: constant forward speed {data.constant_speed_mps:g} m/s and constant avoidance radius '
+                f'{data.step.r_a_m:g} m.'
+            )
+        ]
     return '\n'.join(
         [
             '"""vtube: a speed- and density-planned robot swarm through a virtual tube, for the Robotarium.',
             '',
             (
-                f'Scene {scene.name!r}: {scene.title}. {scene.swarm.n_robots} robots, '
-                f'{"with" if planning else "without"} speed and density planning.'
+                f'Scene {scene.name!r}: {scene.title}. {data.n_robots} robots, '
+                f'{"with" if data.planned else "without"} speed and density planning.'
             ),
             '',
-            *(
-                declaration.header_lines(scene.swarm.n_robots)
-                if declaration
-                else [
-                    'Declare on the web form: the robot count above, and the duration `vtube submission check` derives.'
-                ]
-            ),
-            f'Plan: convex slowness method, {plan.l_m.size} grid points, traversal time {plan.time_s:.2f} s; certificate:',
-            f'{certified}. Arrays rounded to six significant digits.',
+            UNDECLARED,
+            *flies,
+            'Arrays rounded to six significant digits.',
             'Method: Song, Gao, Quan, "Speed and Density Planning for a Speed-Constrained Robot Swarm Through a Virtual',
             'Tube" (arXiv:2310.00623), as implemented by the vtube package.',
             '',
             f'Generated by vtube {__version__} from scene file {scene.source} (sha256 {sha256_of(scene.text)[:16]});',
             f'{BUILD_STAMP} {made["utc"]} with `{made["command"]}`; do not edit. Rebuild with:',
-            f'    vtube submission build {scene.name} --out FILE{"" if planning else " --no-planning"}',
-            "It imports only the standard library, numpy and the testbed's rps. It saves vtube_*.npy every 100 steps",
-            'and at the end, and prints one JSON summary line to stdout (log.txt).',
+            f'    vtube submission build {scene.name} --out FILE{"" if data.planned else " --no-planning"}',
+            *_imports_line(body),
+            'It saves its trajectory log as vtube_*.npy with vtube_meta.json every 100 steps and at the end, and',
+            'prints one JSON summary line to stdout (log.txt).',
             '"""',
             '',
         ]
     )
 
 
+def _imports_line(body: str) -> list[str]:
+    """What the file imports, read from its source: the packages, then the standard library's modules."""
+    found = imported_modules(body) - {'__future__'}
+    standard = sorted(m for m in found if m in sys.stdlib_module_names)
+    packages = ["the testbed's rps" if m == 'rps' else m for m in sorted(found - set(standard))]
+    text = f'It imports {", ".join(packages)} and, from the standard library, {", ".join(standard)}.'
+    return textwrap.wrap(text, width=116)
+
+
 def _inlined_sources() -> str:
-    """The modules of ``runtime.INLINED_MODULES`` whole, then the functions of ``runtime.INLINED_FUNCTIONS``."""
-    parts = [_module_body(name) for name in runtime.INLINED_MODULES]
+    """The constants of ``runtime.INLINED_CONSTANTS``, the modules of ``runtime.INLINED_MODULES`` whole, then the
+    functions of ``runtime.INLINED_FUNCTIONS``."""
+    constants = [
+        f'{name} = {getattr(importlib.import_module(module_name), name)!r}'
+        for module_name, names in runtime.INLINED_CONSTANTS
+        for name in names
+    ]
+    parts = ['\n'.join(constants), *(_module_body(name) for name in runtime.INLINED_MODULES)]
     for module_name, names in runtime.INLINED_FUNCTIONS:
         module = importlib.import_module(module_name)
         for name in names:
@@ -203,7 +257,7 @@ def _module_body(module_name: str) -> str:
     return f'# ---- {module_name} ----\n' + kept
 
 
-def _private_helpers(func: Any, module: Any) -> list[Any]:
+def _private_helpers(func: object, module: ModuleType) -> list[FunctionType]:
     """Module-private functions (``_name``) a function calls, which must travel with it."""
     code = getattr(func, '__code__', None)
     if code is None:

@@ -1,90 +1,134 @@
 """Preflight of a submission file (``vtube submission check``): will the testbed accept it and run it well?
 
 1. It compiles as Python 3.10 and imports only the standard library, ``rps`` and the server's packages
-   (``server_libraries.txt``, parsed from its AST).
+   (``server_libraries.txt``, parsed from its AST); it carries vtube flight data (``DATA``, read without running
+   the file).
 2. It runs on the bundled simulator with V2's initialization phase for several seeds, and on the PyPI
-   ``robotarium-python-simulator`` when that is installed, each in a fresh process and folder; the file's JSON
-   summary line and the simulator's counts are collected.
-3. The verdict: every run completes with zero robots too close, zero outside the boundaries and zero
-   actuator-limit steps. The robot count to declare is the file's.
-4. The duration to declare: the testbed's initializer runs first and counts, and it varies a lot from run to run,
-   so V2's initializer is run alone for the file's initial conditions over many seeds
-   (:mod:`robotarium_exp.initializer`). The declaration is its ``DECLARE_QUANTILE`` quantile plus the longest
-   experiment (the file's own steps), rounded up to 10 s; the verifier stops a run only beyond 1.5 times that. The
-   report gives the share of sampled runs (initializer plus experiment) that would overrun, and of stuck ones.
+   ``robotarium-python-simulator`` when that is installed, each in a fresh process and folder, through
+   :mod:`submission.recording`: what the simulator itself held (the poses and commands it validated each step,
+   its error counters and step count) is recorded. Nothing the file prints or saves is read.
+3. The verdict of a run: it ends normally after the end-of-script call; the simulator counted no robots too
+   close, none outside the arena and no actuator-limit steps, and neither do the verifier's rules
+   (:func:`robotarium_exp.verifier.recount`) applied to its recorded poses and commands; every robot ends past
+   the tube's exit (completion). The robot count to declare is the simulator's.
+4. The duration to declare (:mod:`submission.declaration`): V2's initializer alone for the file's initial
+   conditions over many seeds, plus the longest experiment by the simulators' step counts. Every run must fit
+   the verifier's ``duration_factor`` times the declaration (the header's, when it records one).
 """
 
 from __future__ import annotations
 
 import ast
 import importlib.util
-import json
-import math
 import os
-import re
 import subprocess
 import sys
 import tempfile
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Literal
 
-import numpy as np
-from numpy.typing import NDArray
-
+from robotarium_exp.flight_data import FlightData
 from robotarium_exp.initializer import InitializerSample, initializer_durations
 from robotarium_exp.spec import ROBOTARIUM
+from robotarium_exp.verifier import VerifierCounts, closest_centres_m, recount
+from submission.declaration import Declaration, declare
 from submission.errors import CheckError
+from submission.recording import SimulatorRecord, read_record
+from vtube_planning.onboard import SampledTube
 
-DECLARE_QUANTILE = 0.995
+Backend = Literal['bundled', 'pypi']
 RUN_TIMEOUT_S = 900.0
 """How long one run of the file may take before the check stops it (the testbed's own limit is the declaration)."""
-"""Quantile of the initializer's durations that the declared duration covers without the verifier's margin (with
-the default 200 seeds, the longest). The tail is heavy: on the trapezoid's initial conditions the longest of seeds
-0-49 is 148 s, of seeds 0-199 319 s, so the longest of 50 seeds left a run beyond 1.5 times the declaration."""
-
-COUNTS = {
-    'too_close': ('robots_too_close', 'collision'),
-    'outside': ('robots_outside_boundaries', 'boundary'),
-    'actuator': ('exceeded_actuator_limits', 'actuator'),
-}
+RECORD_FILE = 'preflight_record.npz'
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class RunReport:
-    """One run of the file: which simulator, seed, the file's summary and the simulator's counts."""
+    """One run of the file: which simulator and seed, how the process ended, and what the simulator recorded.
 
-    backend: str
+    ``record`` is None when the run left none (stopped after ``timed_out_s``, or the runner itself failed);
+    ``completed``: every robot's last recorded pose lies past the tube's exit.
+    """
+
+    backend: Backend
     seed: int | None
-    summary: dict[str, Any] | None
     returncode: int
     stderr_tail: str = ''
     timed_out_s: float | None = None
-    """The time limit the run did not finish within (None: it finished)."""
+    record: SimulatorRecord | None = None
+    completed: bool = False
 
-    def count(self, key: str) -> int:
-        errors = (self.summary or {}).get('errors', {})
-        return int(sum(errors.get(name, 0) for name in COUNTS[key]))
+    @property
+    def label(self) -> str:
+        """The run's name in reports: the simulator, and the seed."""
+        return self.backend + (f' seed {self.seed}' if self.seed is not None else '')
+
+    @property
+    def counted(self) -> VerifierCounts | None:
+        """The simulator's own counters."""
+        return None if self.record is None else VerifierCounts.from_simulator(self.record.errors)
+
+    @property
+    def recounted(self) -> VerifierCounts | None:
+        """The verifier's rules applied to the poses and commands the simulator validated."""
+        return None if self.record is None else recount(self.record.poses, self.record.commands)
+
+    @property
+    def min_center_distance_m(self) -> float | None:
+        """The closest two robots' centres came after the initialization."""
+        return None if self.record is None else closest_centres_m(self.record.poses)
+
+    @property
+    def experiment_s(self) -> float | None:
+        """The experiment's duration by the simulator's step count (initialization excluded)."""
+        return None if self.record is None else self.record.experiment_steps * self.record.dt_s
+
+    @property
+    def duration_s(self) -> float | None:
+        """The whole run by the simulator's step count: what the testbed's clock sees."""
+        return None if self.record is None else self.record.iterations * self.record.dt_s
+
+    @property
+    def problems(self) -> list[str]:
+        """Why the testbed would refuse the run or the run failed (empty when it is fine)."""
+        tail = self.stderr_tail.strip().splitlines()[-1:]
+        if self.timed_out_s is not None:
+            return [f'did not finish within {self.timed_out_s:g} s (raise --run-timeout if it should)']
+        record, counted, recounted = self.record, self.counted, self.recounted
+        if record is None or counted is None or recounted is None:
+            return [f'left no record of the simulator (exit {self.returncode}): {tail}']
+        found = []
+        if record.robotariums != 1:
+            found.append(f'made {record.robotariums} Robotarium objects; the testbed runs scripts that make one')
+        if self.returncode != 0:
+            found.append(f'crashed (exit {self.returncode}): {tail}')
+        elif not record.end_of_script:
+            found.append('never called debug() / call_at_scripts_end(), which the testbed needs at the end')
+        if not counted.clean:
+            found.append(f'the simulator counted {counted.describe()}')
+        if not recounted.clean:
+            found.append(
+                f"the verifier's rules on the simulator's recorded poses and commands count {recounted.describe()}"
+            )
+        if record.robotariums and not self.completed:
+            found.append("not every robot ended past the tube's exit (the flight did not complete)")
+        return found
 
     @property
     def ok(self) -> bool:
-        return (
-            self.returncode == 0
-            and self.summary is not None
-            and bool(self.summary.get('completed'))
-            and all(self.count(k) == 0 for k in COUNTS)
-        )
+        return not self.problems
 
 
-@dataclass
+@dataclass(frozen=True)
 class CheckReport:
     """Everything the preflight found."""
 
     path: str
-    disallowed_imports: list[str] = field(default_factory=list)
-    runs: list[RunReport] = field(default_factory=list)
+    disallowed_imports: tuple[str, ...] = ()
+    runs: tuple[RunReport, ...] = ()
     robots: int | None = None
     initializer: InitializerSample | None = None
     declaration: Declaration | None = None
@@ -99,78 +143,21 @@ class CheckReport:
     @property
     def experiment_s(self) -> float | None:
         """The longest experiment of the runs, initialization excluded."""
-        steps = [run.summary['steps'] * run.summary['dt_s'] for run in self.runs if run.summary]
+        steps = [run.experiment_s for run in self.runs if run.experiment_s is not None]
         return max(steps) if steps else None
 
     @property
     def declare_duration_s(self) -> int | None:
         return None if self.declaration is None else self.declaration.duration_s
 
-
-@dataclass(frozen=True)
-class Declaration:
-    """The duration to declare and what it rests on: the initializer's quantile, the experiment, the risks."""
-
-    duration_s: int
-    quantile_s: float
-    experiment_s: float
-    runs: int
-    overrun_share: float
-    stuck_share: float
-
-    def basis(self) -> str:
-        """What the duration rests on, in one line."""
-        return (
-            f'initializer {DECLARE_QUANTILE:.1%} over {self.runs} seeds {self.quantile_s:.1f} s + experiment '
-            f'{self.experiment_s:.1f} s; overruns {self.overrun_share:.1%}, stuck {self.stuck_share:.1%}'
+    @property
+    def problems(self) -> list[str]:
+        """Every reason the check fails, one line each (the runs' prefixed with the run's name)."""
+        found = [f'imports missing on the Robotarium server: {", ".join(self.disallowed_imports)}'] * bool(
+            self.disallowed_imports
         )
-
-    def header_lines(self, robots: int) -> list[str]:
-        """The declaration as the submission's header records it (:meth:`from_header` reads it back)."""
-        return [
-            f'Declare on the web form: {robots} robots and {self.duration_s} s, derived by `vtube submission check`',
-            f'from {self.basis()}.',
-        ]
-
-    @classmethod
-    def from_header(cls, source: str) -> Declaration | None:
-        """The declaration a submission's header records, or None when it records none."""
-        found = HEADER_DECLARATION.search(source)
-        if found is None:
-            return None
-        duration, runs, quantile, experiment, overruns, stuck = found.groups()
-        return cls(
-            int(duration), float(quantile), float(experiment), int(runs), float(overruns) / 100, float(stuck) / 100
-        )
-
-
-HEADER_DECLARATION = re.compile(
-    r'Declare on the web form: \d+ robots and (\d+) s, derived by `vtube submission check`\s+from initializer '
-    r'[\d.]+% over (\d+) seeds ([\d.]+) s \+ experiment ([\d.]+) s; overruns ([\d.]+)%, stuck ([\d.]+)%'
-)
-
-
-def declare(initializer: InitializerSample, experiment_s: float) -> Declaration:
-    """The duration to declare for an initializer sample and an experiment's duration, and the measured risks.
-
-    Stuck runs count as infinitely long: they raise the quantile when they are more than 1 - DECLARE_QUANTILE of
-    the sample, and they always count as overruns.
-    """
-    if initializer.runs == 0:
-        raise CheckError('the initializer sample is empty; run it for at least one seed.')
-    durations = np.array(initializer.durations_s + (np.inf,) * len(initializer.stuck_seeds))
-    quantile = float(np.quantile(durations, DECLARE_QUANTILE, method='higher'))
-    if not math.isfinite(quantile):
-        msg = (
-            f'{len(initializer.stuck_seeds)} of {initializer.runs} initializations did not finish (seeds '
-            f'{list(initializer.stuck_seeds)}): no duration covers them; change the initial conditions.'
-        )
-        raise CheckError(msg)
-    duration = int(math.ceil((quantile + experiment_s) / 10.0) * 10)
-    overruns = float(np.mean(durations + experiment_s > ROBOTARIUM.duration_factor * duration))
-    return Declaration(
-        duration, quantile, experiment_s, initializer.runs, overruns, len(initializer.stuck_seeds) / initializer.runs
-    )
+        found += [f'{run.label}: {problem}' for run in self.runs for problem in run.problems]
+        return found + [self.declaration_problem] * bool(self.declaration_problem)
 
 
 def server_libraries() -> set[str]:
@@ -202,35 +189,50 @@ def static_check(source: str) -> list[str]:
     return sorted(m for m in imported_modules(source) if m not in allowed)
 
 
-def run_file(path: Path, backend: str, seed: int | None, timeout_s: float = RUN_TIMEOUT_S) -> RunReport:
-    """Run the submission in a fresh process and folder on 'bundled' (V2 initialization) or 'pypi'; a run that
-    does not finish within ``timeout_s`` is stopped and reported so."""
-    with tempfile.TemporaryDirectory() as folder:
-        env = dict(os.environ, VTUBE_HEADLESS='1', MPLBACKEND='Agg')
-        if backend == 'bundled':
-            command = [sys.executable, '-m', 'robotarium_exp.rps_alias', '--seed', str(seed), str(path)]
-        else:
-            command = [sys.executable, str(path)]
-        try:
-            result = subprocess.run(
-                command, cwd=folder, env=env, capture_output=True, text=True, timeout=timeout_s, check=False
-            )
-        except subprocess.TimeoutExpired:
-            return RunReport(backend, seed, None, -1, timed_out_s=timeout_s)
-    summary = None
-    for line in result.stdout.splitlines():
-        if line.startswith('{') and '"vtube_summary"' in line:
-            summary = json.loads(line)
-    return RunReport(backend, seed, summary, result.returncode, result.stderr[-400:])
-
-
-def file_initial_conditions(source: str) -> NDArray[np.float64]:
-    """The initial conditions a built file carries (its ``DATA['initial_conditions']``)."""
+def file_flight_data(source: str) -> FlightData:
+    """The flight data a built file carries (its ``DATA``), read without running the file."""
     for node in ast.parse(source, feature_version=(3, 10)).body:
         if isinstance(node, ast.Assign) and any(getattr(t, 'id', None) == 'DATA' for t in node.targets):
-            data = ast.literal_eval(node.value)
-            return np.array(data['initial_conditions'], dtype=float)
-    raise CheckError('the file has no DATA with initial_conditions; build it with `vtube submission build`.')
+            try:
+                return FlightData.from_plain(ast.literal_eval(node.value))
+            except (ValueError, TypeError, KeyError, AttributeError) as err:
+                msg = f"the file's DATA is not vtube flight data ({err}); build it with `vtube submission build`."
+                raise CheckError(msg) from err
+    raise CheckError('the file has no DATA with flight data; build it with `vtube submission build`.')
+
+
+def run_file(
+    path: Path, backend: Backend, seed: int | None, data: FlightData, timeout_s: float = RUN_TIMEOUT_S
+) -> RunReport:
+    """Run the submission in a fresh process and folder on 'bundled' (V2 initialization) or 'pypi', recording the
+    simulator (:mod:`submission.recording`); a run that does not finish within ``timeout_s`` is stopped."""
+    with tempfile.TemporaryDirectory() as folder:
+        env = dict(os.environ, VTUBE_HEADLESS='1', MPLBACKEND='Agg')
+        record_path = Path(folder) / RECORD_FILE
+        command = [sys.executable, '-m', 'submission.recording', '--simulator', backend, '--record', str(record_path)]
+        command += ['--seed', str(seed)] if seed is not None else []
+        try:
+            result = subprocess.run(
+                [*command, str(path)],
+                cwd=folder,
+                env=env,
+                capture_output=True,
+                text=True,
+                timeout=timeout_s,
+                check=False,
+            )
+        except subprocess.TimeoutExpired:
+            return RunReport(backend, seed, -1, timed_out_s=timeout_s)
+        record = read_record(record_path) if record_path.is_file() else None
+    return RunReport(backend, seed, result.returncode, result.stderr[-400:], None, record, _completed(record, data))
+
+
+def _completed(record: SimulatorRecord | None, data: FlightData) -> bool:
+    """Whether every robot's last recorded pose lies past the exit of the file's tube."""
+    if record is None or record.poses.shape[0] == 0 or record.poses.shape[2] != data.n_robots:
+        return False
+    tube = SampledTube(data.tube.l_m, data.tube.xy_m, data.tube.half_width_m, data.tube.area_m2)
+    return bool((tube.project(record.poses[-1, :2]).l_m > tube.length_m).all())
 
 
 def check(
@@ -246,6 +248,39 @@ def check(
     run of the file stopped after ``run_timeout_s``; ``progress`` is told what starts, ``seed_done`` each
     initializer seed that ends."""
     path = Path(path).resolve()
+    source = _read_source(path, seeds)
+    try:
+        compile(source, str(path), 'exec')
+        disallowed = tuple(static_check(source))
+    except (SyntaxError, ValueError) as err:  # ValueError: NUL bytes in the source
+        msg = f'{path} is not valid Python 3.10: {err}.'
+        raise CheckError(msg) from err
+    if disallowed:
+        return CheckReport(str(path), disallowed)
+    data = file_flight_data(source)  # before any run: a file without flight data is refused
+    tell = progress or (lambda text: None)
+    runs = []
+    for seed in range(seeds):
+        tell(f'running the file on the bundled simulator, seed {seed} (at most {run_timeout_s:g} s)')
+        runs.append(run_file(path, 'bundled', seed, data, run_timeout_s))
+    if importlib.util.find_spec('rps') is not None:
+        tell(f'running the file on the PyPI simulator (at most {run_timeout_s:g} s)')
+        runs.append(run_file(path, 'pypi', None, data, run_timeout_s))
+    tell(f"V2's initializer alone for the file's initial conditions, {initializer_seeds} seeds")
+    robots = {run.record.poses.shape[2] for run in runs if run.record is not None and run.record.robotariums}
+    initializer = initializer_durations(data.initial_conditions, range(initializer_seeds), seed_done=seed_done)
+    report = CheckReport(
+        str(path),
+        runs=tuple(runs),
+        robots=robots.pop() if len(robots) == 1 else None,
+        initializer=initializer,
+        header_declaration=Declaration.from_header(source),
+    )
+    return _declared(report, initializer)
+
+
+def _read_source(path: Path, seeds: int) -> str:
+    """The file's text, refused with what to give instead when it is not a Python source file."""
     if path.is_dir():
         msg = f'{str(path)!r} is a folder; give the submission .py file (vtube submission build writes one).'
         raise CheckError(msg)
@@ -259,41 +294,33 @@ def check(
         )
         raise CheckError(msg)
     try:
-        source = path.read_text(encoding='utf-8')
+        return path.read_text(encoding='utf-8')
     except UnicodeDecodeError as err:
         msg = f'{path} is not a Python source file (not UTF-8 text); give the .py file `vtube submission build` wrote.'
         raise CheckError(msg) from err
-    try:
-        compile(source, str(path), 'exec')
-        disallowed = static_check(source)
-    except (SyntaxError, ValueError) as err:  # ValueError: NUL bytes in the source
-        msg = f'{path} is not valid Python 3.10: {err}.'
-        raise CheckError(msg) from err
-    report = CheckReport(str(path), disallowed)
-    if disallowed:
+
+
+def _declared(report: CheckReport, initializer: InitializerSample) -> CheckReport:
+    """The report with the duration to declare, and what is wrong with the header's or with a run's duration."""
+    if report.experiment_s is None:
         return report
-    initial_conditions = file_initial_conditions(source)  # before any run: a file without them is refused
-    tell = progress or (lambda text: None)
-    for seed in range(seeds):
-        tell(f'running the file on the bundled simulator, seed {seed} (at most {run_timeout_s:g} s)')
-        report.runs.append(run_file(path, 'bundled', seed, run_timeout_s))
-    if importlib.util.find_spec('rps') is not None:
-        tell(f'running the file on the PyPI simulator (at most {run_timeout_s:g} s)')
-        report.runs.append(run_file(path, 'pypi', None, run_timeout_s))
-    tell(f"V2's initializer alone for the file's initial conditions, {initializer_seeds} seeds")
-    robots = {run.summary['robots'] for run in report.runs if run.summary}
-    report.robots = robots.pop() if len(robots) == 1 else None
-    report.initializer = initializer_durations(initial_conditions, range(initializer_seeds), seed_done=seed_done)
-    report.header_declaration = Declaration.from_header(source)
-    if report.experiment_s is not None:
-        try:
-            report.declaration = declare(report.initializer, report.experiment_s)
-        except CheckError as err:
-            report.declaration_problem = str(err)
-    recorded, derived = report.header_declaration, report.declaration
-    if recorded is not None and derived is not None and recorded.duration_s < derived.duration_s:
-        report.declaration_problem = (
+    try:
+        derived = declare(initializer, report.experiment_s)
+    except CheckError as err:
+        return replace(report, declaration_problem=str(err))
+    recorded = report.header_declaration
+    problem = ''
+    if recorded is not None and recorded.duration_s < derived.duration_s:
+        problem = (
             f'the header records {recorded.duration_s} s, shorter than the {derived.duration_s} s derived now; '
             f'declare {derived.duration_s} s, and rebuild the file with `vtube submission build` to record it.'
         )
-    return report
+    declared = recorded or derived
+    limit_s = ROBOTARIUM.duration_factor * declared.duration_s
+    for run in report.runs:
+        if not problem and run.duration_s is not None and run.duration_s > limit_s:
+            problem = (
+                f"{run.label} took {run.duration_s:.1f} s by the simulator's count, beyond the {limit_s:.0f} s the "
+                f'verifier allows for a declaration of {declared.duration_s} s; declare more.'
+            )
+    return replace(report, declaration=derived, declaration_problem=problem)

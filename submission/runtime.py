@@ -1,29 +1,33 @@
 """The body of a Robotarium submission: the flight of :mod:`robotarium_exp.flight`, saving what the testbed returns.
 
-:mod:`submission.builder` writes a single file: a header, the scene's data (``DATA``: what
-:func:`robotarium_exp.experiment.flight_data` gives, rounded), the sources of the modules in ``INLINED_MODULES``
-(the onboard modules of :mod:`vtube_planning.onboard`, the barrier rows, the safety filter and the flight: the code
-the bundled experiment runs) and of the functions in ``INLINED_FUNCTIONS`` (the unicycle map), then this module's
-code below the marker line. Imported as a module (tests, benchmarks) it takes them from the package instead.
+:mod:`submission.builder` writes a single file: a header, the flight's data (``DATA``: the plain form of
+:class:`~robotarium_exp.flight_data.FlightData`), the sources of the modules in ``INLINED_MODULES`` (the
+onboard modules of :mod:`vtube_planning.onboard`, the barrier rows, the safety filter, the flight data and the flight: the code the bundled experiment
+runs), the functions in ``INLINED_FUNCTIONS`` (the unicycle map) and the constants in ``INLINED_CONSTANTS`` (the
+log schema's format and version), then this module's code below the marker line. Imported as a module (tests,
+benchmarks) it takes them from the package instead.
 
-On the testbed it constructs the Robotarium with the scene's initial conditions and flies: every period, the
-swarm step on the control points, the safety filter of :mod:`robotarium_exp.safety` (barrier certificate and speed
-band in one QP, solved with scipy; the testbed's certificate cannot hold the band), the speed-constrained map and the
-near-identity map with uniform wheel scaling, ``set_velocities``, ``step``. Robots that leave the tube park beyond
-its exit. It saves every logged array with ``np.save`` every 100 steps and at the end, prints a one-line JSON
-summary (it lands in ``log.txt``), and calls the generation's end-of-script function.
+On the testbed it constructs the Robotarium with the flight's initial conditions and flies it (:func:`fly`). It
+writes the trajectory log of :mod:`vtube_planning.log` as files the testbed returns: one ``vtube_NAME.npy``
+per logged array (``t_s``, ``positions_m``, ``headings_rad``, ...) every 100 steps and at the end, and the
+description in ``vtube_meta.json`` (format, version, scene, tube fingerprint; at the end ``finished`` with the
+simulator's counts). It prints a one-line JSON summary (it lands in ``log.txt``) and calls the generation's
+end-of-script function.
 """
 
 from __future__ import annotations
 
-# ---- inlined by the builder: the modules and functions named below replace this import block ----
+# ---- inlined by the builder: the modules, functions and constants named below replace this import block ----
 from robotarium_exp.flight import Period, build_flight, fly
+from robotarium_exp.flight_data import FlightData
 from vtube_planning import onboard
+from vtube_planning.log import LOG_FORMAT, LOG_VERSION
 
 INLINED_MODULES = (
     *onboard.MODULES,
     'robotarium_exp.rps.utilities.barrier_rows',
     'robotarium_exp.safety',
+    'robotarium_exp.flight_data',
     'robotarium_exp.flight',
 )
 INLINED_FUNCTIONS = (
@@ -31,6 +35,7 @@ INLINED_FUNCTIONS = (
     ('unicycle_mapping.mapping', ('si_to_uni', 'si_to_uni_constrained', 'uni_to_si_states')),
     ('unicycle_mapping.wheels', ('wheel_speeds', 'scale_to_wheel_limits')),
 )
+INLINED_CONSTANTS = (('vtube_planning.log', ('LOG_FORMAT', 'LOG_VERSION')),)
 # ---- runtime ----
 import json
 import os
@@ -40,82 +45,101 @@ from typing import Any
 import numpy as np
 
 SAVE_EVERY = 100
+FILE_PREFIX = 'vtube_'
+META_FILE = 'vtube_meta.json'
 
 
-def draw_tube(r, data: dict) -> None:
-    """Draw the tube on the arena figure (projected onto the testbed), if the Robotarium has a figure."""
+def draw_tube(r: object, edges_m: np.ndarray) -> None:
+    """Draw the tube's boundaries (2, 2, K) on the arena figure, if the Robotarium has a figure."""
     axes = getattr(r, '_axes_handle', None) or getattr(r, 'axes', None)
     if axes is None or isinstance(axes, list):
         return
-    edges = np.asarray(data['tube_edges'], dtype=float)  # (2, 2, K): left and right boundary
-    for side in edges:
+    for side in edges_m:
         axes.plot(side[0], side[1], color='tab:blue', linewidth=2, zorder=0)
 
 
-def save_log(log: dict, prefix: str = 'vtube_') -> None:
-    """np.save every logged array (the testbed returns files the script writes)."""
-    for name, rows in log.items():
-        np.save(prefix + name + '.npy', np.array(rows))
+def save_log(rows: dict[str, list[np.ndarray]], meta: dict[str, object]) -> None:
+    """np.save every logged array, then the log's description (the testbed returns the files a script writes)."""
+    for name, values in rows.items():
+        np.save(FILE_PREFIX + name + '.npy', np.array(values))
+    with open(META_FILE, 'w', encoding='utf-8') as stream:
+        json.dump(meta, stream)
 
 
-def run(data: dict, robotarium_module: Any, *, max_steps: int | None = None) -> dict:
+def run(data: FlightData, robotarium_module: Any, *, max_steps: int | None = None) -> dict[str, object]:
     """The experiment loop; returns (and prints) the summary."""
-    n = int(data['n_robots'])
+    n = data.n_robots
     show = os.environ.get('VTUBE_HEADLESS', '') != '1'
     r = robotarium_module.Robotarium(
         number_of_robots=n,
         show_figure=show,
         sim_in_real_time=show,
-        initial_conditions=np.array(data['initial_conditions'], dtype=float),
+        initial_conditions=np.array(data.initial_conditions),
     )
     if show:
-        draw_tube(r, data)
-    dt = float(getattr(r, 'TIME_STEP', getattr(r, 'time_step', data['time_step_s'])))
+        draw_tube(r, data.tube_edges_m)
+    dt = float(getattr(r, 'TIME_STEP', getattr(r, 'time_step', data.time_step_s)))
     flight = build_flight(data)
-    log: dict = {name: [] for name in ('t', 'wall', 'poses', 'dxu', 'r_a', 'l', 'density', 'barrier_correction')}
+    meta: dict[str, object] = {
+        'format': LOG_FORMAT,
+        'version': LOG_VERSION,
+        'kind': 'robotarium submission',
+        'scene': data.scene,
+        'tube_hash': data.tube_hash,
+        'planned': data.planned,
+        'n_robots': n,
+        'dt_s': dt,
+    }
+    rows: dict[str, list[np.ndarray]] = {}
     started = time.time()
-    closest = [np.inf]
 
     def record(step: int, period: Period) -> None:
-        poses = period.poses
-        gaps = np.hypot(*(poses[:2, :, None] - poses[:2, None, :])) + np.eye(n) * 1e9
-        closest[0] = min(closest[0], float(gaps.min()))
         for name, value in (
-            ('t', step * dt),
-            ('wall', time.time() - started),
-            ('poses', poses),
+            ('t_s', step * dt),
+            ('wall_s', time.time() - started),
+            ('positions_m', period.poses[:2]),
+            ('headings_rad', period.poses[2]),
             ('dxu', period.dxu),
-            ('r_a', period.step.r_a_m),
-            ('l', period.step.projection.l_m),
-            ('density', period.step.density_per_m2),
-            ('barrier_correction', period.barrier_correction_mps),
+            ('r_a_m', period.step.r_a_m),
+            ('points_l_m', period.step.projection.l_m),
+            ('density_per_m2', period.step.density_per_m2),
+            ('barrier_correction_mps', period.barrier_correction_mps),
+            ('flying', period.flying),
+            ('band_held', period.band_held),
         ):
-            log[name].append(np.array(value, copy=True))
+            rows.setdefault(name, []).append(np.array(value, copy=True))
         if step % SAVE_EVERY == SAVE_EVERY - 1:
-            save_log(log)
+            save_log(rows, meta)
 
-    completed, steps = fly(r, flight, dt, int(max_steps if max_steps is not None else data['max_steps']), record)
-    save_log(log)
+    completed, steps = fly(r, flight, dt, data.max_steps if max_steps is None else max_steps, record)
+    summary = _summary(r, data, rows, flight.safety, completed, steps, dt)
+    save_log(rows, {**meta, 'finished': True, **summary})
+    print(json.dumps({'vtube_summary': 1, **summary}))
+    end_of_script = getattr(r, 'debug', None) or r.call_at_scripts_end
+    end_of_script()
+    return summary
+
+
+def _summary(
+    r: object, data: FlightData, rows: dict[str, list[np.ndarray]], safety: Any, completed: bool, steps: int, dt: float
+) -> dict[str, object]:
+    """What the file reports of its run (informative: the preflight recounts from the simulator)."""
+    positions = np.array(rows['positions_m'])
+    i, j = np.triu_indices(data.n_robots, k=1)
+    gaps = np.hypot(positions[:, 0, i] - positions[:, 0, j], positions[:, 1, i] - positions[:, 1, j])
     iterations = getattr(r, 'iterations', None) or getattr(r, '_iteration', None) or getattr(r, '_iterations', 0)
     errors = dict(getattr(r, 'errors', None) or getattr(r, '_errors', None) or {})
-    summary = {
-        'vtube_summary': 1,
-        'scene': data['scene'],
-        'planned': data['planned'],
-        'robots': n,
+    return {
+        'scene': data.scene,
+        'planned': data.planned,
+        'robots': data.n_robots,
         'dt_s': dt,
         'steps': steps,
         'completed': completed,
         'iterations': int(iterations or 0),
-        'min_center_distance_m': round(closest[0], 4),
-        'barrier_correction_max_mps': round(float(np.max(log['barrier_correction'])), 4),
-        'band_dropped_steps': flight.safety.stats.band_dropped if flight.safety is not None else 0,
-        'filter_failures': flight.safety.stats.failures if flight.safety is not None else 0,
+        'min_center_distance_m': round(float(gaps.min()), 4) if gaps.size else None,
+        'barrier_correction_max_mps': round(float(np.max(rows['barrier_correction_mps'])), 4),
+        'band_dropped_steps': safety.stats.band_dropped if safety is not None else 0,
+        'filter_failures': safety.stats.failures if safety is not None else 0,
         'errors': {k: v for k, v in errors.items() if isinstance(v, int)},
     }
-    print(json.dumps(summary))
-    if hasattr(r, 'debug'):
-        r.debug()
-    else:
-        r.call_at_scripts_end()
-    return summary

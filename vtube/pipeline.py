@@ -25,7 +25,9 @@ from robotarium_exp.analysis.report import Analysis, analyse, write_report
 from robotarium_exp.analysis.trajectory import DEFAULT_MAX_GAP, MaxGap
 from robotarium_exp.errors import AnalysisError
 from robotarium_exp.rps_alias import install
-from submission.declared import WrittenSubmission, write_submission
+from submission.builder import Submission, build, build_declared, write
+from submission.check import CheckReport
+from submission.declaration import Declaration
 from vtube_planning import plots
 from vtube_planning.geometry.scene import Scene, load_scene
 from vtube_planning.log import LogWriter
@@ -159,6 +161,22 @@ def simulate_scene(
     return Simulated(scene, swarm, config, result, tuple(written))
 
 
+@dataclass(frozen=True)
+class WrittenSubmission:
+    """A submission written to ``path`` and its preflight (None: not checked)."""
+
+    submission: Submission
+    path: Path
+    report: CheckReport | None
+
+    @property
+    def declaration(self) -> Declaration | None:
+        """The duration the header records (None: it records none)."""
+        if self.report is None or not self.report.passed:
+            return None
+        return self.report.declaration
+
+
 def build_submission(
     name_or_path: str | Path,
     out: Path,
@@ -171,12 +189,14 @@ def build_submission(
 ) -> WrittenSubmission:
     """Write the single-file submission for a Robotarium scene (its plan from ``plan_file``, or planned here) to
     ``out``; with ``declare``, preflighted and rewritten with the duration to declare
-    (:func:`submission.declared.write_submission`)."""
+    (:func:`submission.builder.build_declared`: one build, one preflight)."""
     scene = load_scene(name_or_path)
-    plan = plan_for(scene, plan_file=plan_file)
-    return write_submission(
-        scene, out, plan, planning=planning, declare=declare, seeds=seeds, initializer_seeds=initializer_seeds
-    )
+    plan = plan_for(scene, plan_file=plan_file) if planning else None
+    if not declare:
+        submission = build(scene, plan)
+        return WrittenSubmission(submission, write(submission, out), None)
+    submission, report = build_declared(scene, plan, out, seeds=seeds, initializer_seeds=initializer_seeds)
+    return WrittenSubmission(submission, out, report)
 
 
 @dataclass(frozen=True)

@@ -1,8 +1,10 @@
 """The one trajectory log of vtube, written so that a crash loses little (format: :mod:`vtube_planning.npzfile`).
 
-Simulations (:mod:`vtube_planning.swarm.simulate`), Robotarium experiments (:mod:`robotarium_exp.experiment`) and
-the recorder of a run on a Robotarium class (:mod:`robotarium_exp.recorder`) all write this schema, and the analysis
-reads it; it sits below every room of the house so that each may use it:
+Simulations (:mod:`vtube_planning.swarm.simulate`), Robotarium experiments (:mod:`robotarium_exp.experiment`),
+the recorder of a run on a Robotarium class (:mod:`robotarium_exp.recorder`, ``rps_alias --log``) and the submitted file
+(:mod:`submission.runtime`: one ``.npy`` per array and the metadata as JSON, read with :func:`checked_log`) all
+write this schema, and the
+analysis reads it; it sits below every room of the house so that each may use it:
 
 * arrays, one row per step: ``t_s`` (T,) and ``positions_m`` (T, 2, N), the robots' centres, always;
   ``headings_rad`` (T, N) for unicycles; whatever else the writer measured (commands, ``r_a_m``, ``l_m``, ...);
@@ -93,6 +95,14 @@ class LogWriter:
 def read_log(path: str | Path) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
     """Arrays and metadata of a vtube trajectory log, in the current schema (older versions are upgraded)."""
     arrays, meta = read_npz(path, LogError, 'trajectory log')
+    return checked_log(arrays, meta, path)
+
+
+def checked_log(
+    arrays: dict[str, NDArray[Any]], meta: dict[str, Any], path: str | Path
+) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
+    """A log's arrays and metadata, however stored, checked against the schema (older versions upgraded); errors
+    name ``path``."""
     if meta.get('format') == _V1_FORMAT:
         if 'poses' in arrays:
             poses = arrays.pop('poses')

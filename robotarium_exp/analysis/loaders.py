@@ -1,6 +1,8 @@
 """Load a :class:`~robotarium_exp.analysis.trajectory.Trajectory` from whatever an experiment returned.
 
-* a folder as downloaded from the Robotarium: the submission's ``vtube_t.npy`` and ``vtube_poses.npy``;
+* a folder as downloaded from the Robotarium: the submission's trajectory log (``vtube_meta.json`` and
+  ``vtube_t_s.npy``, ``vtube_positions_m.npy``, ...), or the bare ``vtube_t.npy`` and ``vtube_poses.npy`` of
+  earlier files;
 * a ``.mat`` file a MATLAB script saved on the Robotarium (:mod:`robotarium_exp.analysis.matfiles`);
 * our own ``.npz`` logs (``vtube simulate``, ``vtube robotarium run``, the bundled simulator's pose log);
 * ROS1 ``.bag`` files, ROS2 bag folders, bare ``.mcap`` / ``.db3`` files and folders of them without
@@ -13,6 +15,7 @@ loader records the files it read (:func:`input_record` gives their sizes and has
 from __future__ import annotations
 
 import hashlib
+import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -31,9 +34,11 @@ from robotarium_exp.analysis.trajectory import (
 )
 from robotarium_exp.errors import AnalysisError
 from vtube_planning.errors import LogError
-from vtube_planning.log import read_log
+from vtube_planning.log import REQUIRED as LOG_REQUIRED
+from vtube_planning.log import checked_log, read_log
 
 SUBMISSION_PREFIX = 'vtube_'
+SUBMISSION_META = 'vtube_meta.json'
 ROS2_STORAGE = ('.mcap', '.db3')
 ACCEPTED = (
     'a folder of vtube_*.npy files, a .npz log, a .mat file, .bag files, a ROS2 bag folder, or .mcap / .db3 files'
@@ -127,7 +132,8 @@ def _per_robot(t_s: np.ndarray, poses: np.ndarray) -> dict[str, RobotSamples]:
 
 
 def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
-    """The arrays a submission saved (``vtube_t.npy``, ``vtube_poses.npy``), as downloaded from the testbed."""
+    """What a submission saved, as downloaded from the testbed: its trajectory log (``vtube_meta.json`` and one
+    ``vtube_NAME.npy`` per array), or the bare ``vtube_t.npy`` and ``vtube_poses.npy`` (T, 3, N) of earlier files."""
     files = sorted(folder.glob(SUBMISSION_PREFIX + '*.npy'))
     if not files:
         held = sorted(f.name for f in folder.iterdir())[:10]
@@ -142,6 +148,14 @@ def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[
             arrays[path.stem.removeprefix(SUBMISSION_PREFIX)] = np.load(path, allow_pickle=False)
         except (OSError, ValueError, EOFError) as err:
             broken.append(f'{path.name} ({err})')
+    source = {
+        'kind': 'robotarium submission',
+        'path': str(folder),
+        'unreadable': broken,
+        'arrays': {k: list(v.shape) for k, v in arrays.items()},
+    }
+    if (folder / SUBMISSION_META).is_file():
+        return _submission_log(folder, arrays, broken, source)
     if 't' not in arrays or 'poses' not in arrays:
         read = sorted(arrays)
         msg = (
@@ -157,14 +171,33 @@ def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[
         )
         raise AnalysisError(msg)
     steps = min(t_s.shape[0], poses.shape[0])  # a save interrupted between two files
-    source = {
-        'kind': 'robotarium submission',
-        'path': str(folder),
-        'files': [str(folder / f'{SUBMISSION_PREFIX}{name}.npy') for name in ('t', 'poses')],
-        'unreadable': broken,
-        'arrays': {k: list(v.shape) for k, v in arrays.items()},
-    }
+    source['files'] = [str(folder / f'{SUBMISSION_PREFIX}{name}.npy') for name in ('t', 'poses')]
     return _per_robot(np.asarray(arrays['t'][:steps], dtype=float), arrays['poses'][:steps]), source
+
+
+def _submission_log(
+    folder: Path, arrays: dict[str, np.ndarray], broken: list[str], source: dict[str, Any]
+) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
+    """A submission's trajectory log: its arrays cut to the steps every one of them holds (a save can be
+    interrupted between two files), checked like any vtube log."""
+    meta_path = folder / SUBMISSION_META
+    try:
+        meta = json.loads(meta_path.read_text(encoding='utf-8'))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:
+        msg = f'{str(meta_path)!r} is not readable JSON ({err}); the log it describes cannot be read without it.'
+        raise AnalysisError(msg) from err
+    missing = [key for key in LOG_REQUIRED if key not in arrays]
+    if missing:
+        msg = f'{str(folder)!r}: cannot read {[SUBMISSION_PREFIX + k + ".npy" for k in missing]}; truncated or corrupt: {broken}.'
+        raise AnalysisError(msg)
+    steps = min(value.shape[0] if value.ndim else 0 for value in arrays.values())
+    try:
+        log, meta = checked_log({k: v[:steps] for k, v in arrays.items()}, meta, folder)
+    except LogError as err:
+        raise AnalysisError(str(err)) from err
+    source['files'] = [str(meta_path)] + [str(folder / f'{SUBMISSION_PREFIX}{name}.npy') for name in sorted(arrays)]
+    source |= {'scene': meta.get('scene'), 'tube_hash': meta.get('tube_hash'), 'planned': meta.get('planned')}
+    return _log_samples(log), source
 
 
 def load_npz_log(path: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
@@ -173,13 +206,6 @@ def load_npz_log(path: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
         arrays, meta = read_log(path)
     except LogError as err:
         raise AnalysisError(str(err)) from err
-    positions = arrays['positions_m']
-    headings = arrays.get('headings_rad')
-    stamps = seconds_to_ns(arrays['t_s'])
-    samples = {
-        f'robot_{k}': RobotSamples(stamps, positions[:, :, k], None if headings is None else headings[:, k])
-        for k in range(positions.shape[2])
-    }
     source = {
         'kind': 'vtube log',
         'path': str(path),
@@ -188,4 +214,15 @@ def load_npz_log(path: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
         'tube_hash': meta.get('tube_hash'),
         'planned': meta.get('planned'),
     }
-    return samples, source
+    return _log_samples(arrays), source
+
+
+def _log_samples(arrays: dict[str, np.ndarray]) -> dict[str, RobotSamples]:
+    """Each robot's samples of a vtube trajectory log's arrays."""
+    positions = arrays['positions_m']
+    headings = arrays.get('headings_rad')
+    stamps = seconds_to_ns(arrays['t_s'])
+    return {
+        f'robot_{k}': RobotSamples(stamps, positions[:, :, k], None if headings is None else headings[:, k])
+        for k in range(positions.shape[2])
+    }

@@ -25,6 +25,7 @@ from robotarium_exp.analysis.loaders import input_record
 from robotarium_exp.analysis.metrics import PairMeasure, RecordingMetrics, TrackingErrors, TubeMetrics
 from robotarium_exp.analysis.passage import AlongTube, along_tube, observed_passage
 from robotarium_exp.analysis.trajectory import Trajectory
+from robotarium_exp.tracking import narrowing_start
 from vtube_planning import __version__
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
@@ -40,13 +41,6 @@ class Analysis:
     distances: PairDistances
     along: AlongTube | None
     metrics: RecordingMetrics
-
-
-def narrowing_start(scene: Scene) -> float:
-    """Arc length where the tube first gets narrower than at its entrance."""
-    grid = np.linspace(0.0, scene.tube.length_m, 4001)
-    narrower = np.asarray(scene.tube.half_width(grid)) < float(scene.tube.half_width(0.0)) - 1e-9
-    return float(grid[np.argmax(narrower)]) if narrower.any() else scene.tube.length_m
 
 
 def analyse(

@@ -291,6 +291,30 @@ def test_bad_input_gives_clear_errors(tmp_path) -> None:
         load_trajectory([tmp_path / 'missing.csv'])
 
 
+def test_a_submission_log_folder_reads_like_any_vtube_log(tmp_path) -> None:
+    """vtube_meta.json and one vtube_NAME.npy per array: the trajectory log's schema, cut where a save was
+    interrupted between two files; another version is named."""
+    import json
+
+    t, positions, headings = truth()
+    meta = {'format': 'vtube-trajectory', 'version': 2, 'kind': 'robotarium submission', 'scene': 'robotarium_curve'}
+    meta |= {'tube_hash': 'abc', 'planned': True, 'n_robots': 3, 'dt_s': 0.02}
+    (tmp_path / 'vtube_meta.json').write_text(json.dumps(meta))
+    np.save(tmp_path / 'vtube_t_s.npy', t)
+    np.save(tmp_path / 'vtube_positions_m.npy', positions[:-5])  # the last save stopped after t_s
+    np.save(tmp_path / 'vtube_headings_rad.npy', headings)
+    trajectory = load_trajectory([tmp_path])
+    assert trajectory.source['kind'] == 'robotarium submission' and trajectory.source['tube_hash'] == 'abc'
+    assert len(trajectory.robot_ids) == 3
+    np.testing.assert_array_equal(trajectory.positions_m, positions[:-5])
+    (tmp_path / 'vtube_meta.json').write_text(json.dumps(meta | {'version': 7}))
+    with pytest.raises(AnalysisError, match='of version 7; this vtube reads versions 1 to 2'):
+        load_trajectory([tmp_path])
+    (tmp_path / 'vtube_meta.json').write_text('{not json')
+    with pytest.raises(AnalysisError, match='vtube_meta.json.* is not readable JSON'):
+        load_trajectory([tmp_path])
+
+
 def test_an_unreadable_type_costs_only_its_topic(tmp_path) -> None:
     from rosbags.highlevel import AnyReader, AnyReaderError
 

@@ -8,16 +8,19 @@ import pytest
 from robotarium_exp.errors import ExperimentError
 from robotarium_exp.experiment import (
     ExperimentConfig,
+    flight_data,
     initial_conditions,
     initializer_stall_risk,
     order_for_v2_initializer,
     parking_slots,
-    plan_tracking,
     run_experiment,
 )
+from robotarium_exp.flight_data import FlightData
 from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.rps_alias import seed_rps
+from robotarium_exp.tracking import plan_tracking
+from robotarium_exp.verifier import VerifierCounts
 from vtube_planning import load_scene
 from vtube_planning.log import read_log
 from vtube_planning.planning.planner import plan_convex
@@ -39,9 +42,9 @@ def test_zero_collisions_boundary_and_actuator_counts(runs) -> None:
     _, _, planned, unplanned = runs
     for result in (planned, unplanned):
         assert result.completed
-        assert result.errors == {'robots_outside_boundaries': 0, 'robots_too_close': 0, 'exceeded_actuator_limits': 0}
-        assert result.barrier['failures'] == 0
-        assert result.barrier['correction_mean_mps'] < 0.05  # small against v_max = 0.12 m/s
+        assert result.errors == VerifierCounts(too_close=0, outside=0, actuator=0)
+        assert result.barrier.failures == 0
+        assert result.barrier.correction_mean_mps < 0.05  # small against v_max = 0.12 m/s
 
 
 def test_the_plan_dips_and_the_swarm_expands_before_the_narrowing(runs) -> None:
@@ -52,11 +55,12 @@ def test_the_plan_dips_and_the_swarm_expands_before_the_narrowing(runs) -> None:
     active = plan.l_m[plan.active['p7']]
     assert active.size and active.min() < narrowing < active.max()
     assert plan.density_per_m2.min() < 0.7 * scene.swarm.rho_d_per_m2  # a real dip, not a flat plan
-    tracked = plan_tracking(planned, plan, scene)
-    assert 0.0 < tracked['expansion_start_s'] < tracked['front_at_narrowing_s']
-    assert tracked['approach']['density_error_mean'] <= 0.25
-    assert tracked['dip']['density_error_mean'] <= 0.25
-    assert plan_tracking(unplanned, plan, scene)['expansion_start_s'] is None
+    tracked = plan_tracking(planned.arrays, plan, scene)
+    assert tracked.expansion_start_s is not None and tracked.front_at_narrowing_s is not None
+    assert 0.0 < tracked.expansion_start_s < tracked.front_at_narrowing_s
+    assert tracked.approach.density_error_mean is not None and tracked.approach.density_error_mean <= 0.25
+    assert tracked.dip.density_error_mean is not None and tracked.dip.density_error_mean <= 0.25
+    assert plan_tracking(unplanned.arrays, plan, scene).expansion_start_s is None
 
 
 def test_the_speed_band_holds_on_the_unicycles(runs) -> None:
@@ -69,7 +73,7 @@ def test_the_speed_band_holds_on_the_unicycles(runs) -> None:
         assert kept.any()
         assert np.all(v[kept] >= scene.swarm.v_min_mps * (1 - 1e-9))
         assert np.all(v[kept] <= scene.swarm.v_max_mps * (1 + 1e-9))
-        assert result.barrier['band_share'] >= 0.99
+        assert result.barrier.band_share >= 0.99
 
 
 def test_initial_conditions_are_spread_for_the_testbed() -> None:
@@ -107,7 +111,7 @@ def test_the_experiment_runs_on_the_pypi_robotarium_class() -> None:
     plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
     result = run_experiment(rps_robotarium.Robotarium, scene, plan, ExperimentConfig())
     assert result.completed and result.metrics.min_distance_m > 0.135
-    assert not result.errors  # the PyPI simulator records nothing: no robot left the arena or came too close
+    assert result.errors.clean  # the PyPI simulator records nothing: no robot left the arena or came too close
 
 
 def test_robots_zero_and_one_take_the_front_corners() -> None:
@@ -147,3 +151,18 @@ def test_a_seed_that_deadlocked_the_v2_initializer_now_completes() -> None:
         assert r.initialization_steps < 8000
     finally:
         simulator.INITIALIZATION_STEP_LIMIT = limit
+
+
+def test_flight_data_is_what_a_file_embeds() -> None:
+    """Rounded once: its plain literal reads back to the same literal; without planning it carries no plan."""
+    scene = load_scene('robotarium_trapezoid')
+    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+    data = flight_data(scene, plan, ExperimentConfig())
+    plain = data.to_plain()
+    assert FlightData.from_plain(plain).to_plain() == plain and data.planned
+    assert plain['tube_hash'] == scene.tube.fingerprint() and plain['scene'] == scene.name
+    assert data.plan is not None and np.array_equal(data.plan.l_m, np.array([float(f'{v:.6g}') for v in plan.l_m]))
+    unplanned = flight_data(scene, plan, ExperimentConfig(planning=False))
+    assert unplanned.plan is None and not unplanned.planned
+    with pytest.raises(ValueError, match=r"missing \['max_steps'\], unexpected \['steps'\]"):
+        FlightData.from_plain({('steps' if k == 'max_steps' else k): v for k, v in plain.items()})

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from vtube.cli.arguments import count, whole, writable_folder
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
@@ -13,6 +13,7 @@ from vtube.cli.render import progress_bar
 
 if TYPE_CHECKING:
     from robotarium_exp.experiment import ExperimentConfig, ExperimentResult
+    from robotarium_exp.tracking import PlanTracking
     from robotarium_exp.verdict import VerifierVerdict
     from vtube_planning.geometry.scene import Scene
 
@@ -26,7 +27,7 @@ class RobotariumRun:
     config: ExperimentConfig
     result: ExperimentResult
     verdict: VerifierVerdict
-    tracking: dict[str, Any] | None
+    tracking: PlanTracking | None
     written: tuple[Path, Path, Path]
 
 
@@ -54,10 +55,11 @@ def experiment_arguments(parser: argparse.ArgumentParser) -> None:
 
 def experiment(args: argparse.Namespace) -> RobotariumRun:
     """Run the tube experiment on the bundled Robotarium simulator; write its log, figure and the scene's copy."""
-    from robotarium_exp.experiment import ExperimentConfig, plan_tracking, run_experiment
+    from robotarium_exp.experiment import ExperimentConfig, run_experiment
     from robotarium_exp.plots import experiment_figure
     from robotarium_exp.rps.robotarium import Robotarium
     from robotarium_exp.rps_alias import seed_rps
+    from robotarium_exp.tracking import plan_tracking
     from robotarium_exp.verdict import testbed_verdict
     from vtube.pipeline import plan_for
     from vtube_planning.geometry.scene import load_scene
@@ -80,7 +82,7 @@ def experiment(args: argparse.Namespace) -> RobotariumRun:
         robotarium_kwargs={'skip_initialization': args.no_initialization},
         log_meta={'provenance': provenance(scene=scene, plan_file=args.plan, seeds=[args.seed])},
     )
-    tracking = plan_tracking(result, plan, scene) if plan is not None else None
+    tracking = plan_tracking(result.arrays, plan, scene) if plan is not None else None
     figure = save_figure(experiment_figure(result, scene, plan), out / f'{stem}.png')
     written = (out / f'{stem}.npz', figure, copy_scene(scene, out))
     return RobotariumRun(scene, config, result, testbed_verdict(result), tracking, written)
@@ -94,9 +96,9 @@ def experiment_view(run: RobotariumRun) -> View:
             f'Robotarium experiment, scene {run.scene.name}, {"with" if run.config.planning else "without"} planning, '
             f'barrier {"on" if run.config.barrier else "off"}: {said}'
         ),
-        f'  too close (pair-steps) {verdict.too_close}',
-        f'  outside boundaries     {verdict.outside}',
-        f'  actuator-limit steps   {verdict.actuator}',
+        f'  too close (pair-steps) {verdict.counts.too_close}',
+        f'  outside boundaries     {verdict.counts.outside}',
+        f'  actuator-limit steps   {verdict.counts.actuator}',
         (
             f'  duration               {verdict.duration_s:.1f} s (initialization included: declare at least '
             f'{verdict.declare_at_least_s:.0f} s)'
@@ -105,34 +107,34 @@ def experiment_view(run: RobotariumRun) -> View:
         f'  minimum distance       {m.min_distance_m:.3f} m between centres',
         f'  tube violations        {m.tube_violation_steps} robot-steps',
         (
-            f'  safety filter          correction mean {b["correction_mean_mps"]:.4f}, max {b["correction_max_mps"]:.4f} '
-            f'm/s, total {b["intervention_m"]:.2f} m; failures {b["failures"]}'
+            f'  safety filter          correction mean {b.correction_mean_mps:.4f}, max {b.correction_max_mps:.4f} '
+            f'm/s, total {b.intervention_m:.2f} m; failures {b.failures}'
         ),
         (
-            f'  speed band             {100 * b["band_share"]:.2f} % of flying robot-steps in [v_min, v_max] '
-            f'({100 * b["band_share_held"]:.2f} % where the filter kept it; band dropped in '
-            f'{100 * b["band_dropped_share"]:.2f} % of steps)'
+            f'  speed band             {100 * b.band_share:.2f} % of flying robot-steps in [v_min, v_max] '
+            f'({100 * b.band_share_held:.2f} % where the filter kept it; band dropped in '
+            f'{100 * b.band_dropped_share:.2f} % of steps)'
         ),
     ]
     if run.tracking is not None:
         lines += _tracking_lines(run.tracking)
     lines.append(f'  written                {", ".join(map(str, run.written))}')
-    data = {'log': str(run.written[0]), 'would_run': verdict.would_run, 'errors': run.result.errors}
+    data = {'log': str(run.written[0]), 'would_run': verdict.would_run, 'errors': run.result.errors.to_json()}
     data |= {'duration_s': verdict.duration_s, 'metrics': m.to_json()}
     return View(tuple(lines), data, exit_code=EXIT_OK if verdict.would_run else EXIT_FAILED)
 
 
-def _tracking_lines(tracked: dict[str, Any]) -> list[str]:
+def _tracking_lines(tracked: PlanTracking) -> list[str]:
     """How the run followed its plan, phase by phase, and when the swarm expanded."""
     lines = [
-        f'  tracking, {phase:<12} density error mean {100 * ph["density_error_mean"]:.0f} % '
-        f'(max {100 * ph["density_error_max"]:.0f} %), speed error mean {100 * ph["speed_error_mean"]:.0f} %'
-        for phase, ph in ((phase, tracked[phase]) for phase in ('approach', 'dip', 'narrow'))
-        if ph['steps']
+        f'  tracking, {phase:<12} density error mean {100 * (ph.density_error_mean or 0.0):.0f} % '
+        f'(max {100 * (ph.density_error_max or 0.0):.0f} %), speed error mean {100 * (ph.speed_error_mean or 0.0):.0f} %'
+        for phase, ph in tracked.phases().items()
+        if ph.steps
     ]
     lines.append(
-        f'  expansion              starts at {_seconds(tracked["expansion_start_s"])}; the front reaches the '
-        f'narrowing at {_seconds(tracked["front_at_narrowing_s"])}'
+        f'  expansion              starts at {_seconds(tracked.expansion_start_s)}; the front reaches the '
+        f'narrowing at {_seconds(tracked.front_at_narrowing_s)}'
     )
     return lines
 

@@ -14,7 +14,7 @@ if TYPE_CHECKING:
     from tqdm import tqdm
 
     from submission.check import CheckReport, RunReport
-    from submission.declared import WrittenSubmission
+    from vtube.pipeline import WrittenSubmission
 
 
 def initializer_seeds_argument(parser: argparse.ArgumentParser) -> None:
@@ -109,15 +109,13 @@ def preflight_view(report: CheckReport) -> View:
     """The report; exit 0 when the file passes, 1 when not."""
     data = {'file': report.path, 'passed': report.passed, 'robots': report.robots}
     data |= {'declare_duration_s': report.declare_duration_s, 'problem': report.declaration_problem or None}
-    data['runs'] = [
-        {'backend': r.backend, 'seed': r.seed, 'ok': r.ok, 'returncode': r.returncode, 'summary': r.summary}
-        for r in report.runs
-    ]
+    data['runs'] = [_run_data(run) for run in report.runs]
     return View(tuple(check_lines(report)), data, EXIT_OK if report.passed else EXIT_FAILED)
 
 
 def check_lines(report: CheckReport) -> list[str]:
-    """A preflight's report in lines: imports, one row per run, the declaration, the verdict."""
+    """A preflight's report in lines: imports, one row per run (the simulator's counts), every problem found, the
+    declaration, the verdict."""
     lines = [f'submission {report.path}']
     if report.disallowed_imports:
         return [*lines, f'  FAIL: imports missing on the Robotarium server: {", ".join(report.disallowed_imports)}']
@@ -127,6 +125,7 @@ def check_lines(report: CheckReport) -> list[str]:
         f'{"duration [s]":>13}'
     )
     lines += [_run_line(run) for run in report.runs]
+    lines += [f'  FAIL: {problem}' for problem in report.problems]
     declared = report.declaration
     lines.append(
         f'  declare                {report.robots or "?"} robots, '
@@ -136,30 +135,36 @@ def check_lines(report: CheckReport) -> list[str]:
         lines.append(f'  duration from          {declared.basis()}')
     if report.header_declaration:
         lines.append(f'  header records         {report.header_declaration.duration_s} s')
-    if report.declaration_problem:
-        lines.append(f'  FAIL: {report.declaration_problem}')
     lines.append(f'  verdict                {"PASS" if report.passed else "FAIL"}')
     return lines
 
 
 def _run_line(run: RunReport) -> str:
-    """One run of the file: what it did, or why it did not finish."""
-    from robotarium_exp.spec import ROBOTARIUM
-    from submission.check import COUNTS
-
-    label = f'{run.backend}' + (f' seed {run.seed}' if run.seed is not None else '')
-    if run.timed_out_s is not None:
-        return f'  {label:<16} did not finish in {run.timed_out_s:g} s (raise --run-timeout if it should)'
-    if run.summary is None and run.returncode == 0:
-        return f'  {label:<16} ran, but printed no vtube summary: not a file built by `vtube submission build`'
-    if run.summary is None:
-        return f'  {label:<16} crashed (exit {run.returncode}): {run.stderr_tail.strip().splitlines()[-1:]}'
-    counts = [run.count(key) for key in COUNTS]
+    """One run of the file as the simulator recorded it, or why there is no record."""
+    counted, closest, duration = run.counted, run.min_center_distance_m, run.duration_s
+    if counted is None or duration is None:
+        return f'  {run.label:<16} {run.problems[0]}'
     return (
-        f'  {label:<16} {"yes" if run.summary["completed"] else "no":>5} {counts[0]:>10} {counts[1]:>8} '
-        f'{counts[2]:>9} {run.summary["min_center_distance_m"]:>13.3f} '
-        f'{run.summary["iterations"] * ROBOTARIUM.time_step_s:>13.1f}'
+        f'  {run.label:<16} {"yes" if run.completed else "no":>5} {counted.too_close:>10} {counted.outside:>8} '
+        f'{counted.actuator:>9} {"-" if closest is None else f"{closest:.3f}":>13} {duration:>13.1f}'
     )
+
+
+def _run_data(run: RunReport) -> dict[str, object]:
+    """One run for ``--json``: the simulator's counts and the verifier's recount of its record."""
+    counted, recounted = run.counted, run.recounted
+    return {
+        'backend': run.backend,
+        'seed': run.seed,
+        'ok': run.ok,
+        'returncode': run.returncode,
+        'completed': run.completed,
+        'counted': None if counted is None else counted.to_json(),
+        'recounted': None if recounted is None else recounted.to_json(),
+        'min_center_distance_m': run.min_center_distance_m,
+        'duration_s': run.duration_s,
+        'problems': run.problems,
+    }
 
 
 COMMANDS = (
