@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from robotarium_exp.experiment import ExperimentConfig, flight_data
 from vtube_planning import load_scene
 from vtube_planning.npzfile import write_npz
 from vtube_planning.planning.planner import plan_convex
@@ -147,7 +148,8 @@ def test_ctrl_c_keeps_the_finished_log_and_says_so_in_one_line(tmp_path) -> None
 
 @pytest.mark.slow
 def test_a_submission_that_never_ends_or_prints_nothing_is_reported_so(tmp_path) -> None:
-    data = "DATA = {'initial_conditions': [[0.0, 0.5], [0.0, 0.0], [0.0, 0.0]]}\n"
+    plain = flight_data(load_scene('robotarium_curve'), None, ExperimentConfig(planning=False)).to_plain()
+    data = f'DATA = {plain!r}\n'
     (tmp_path / 'forever.py').write_text(data + 'import time\nwhile True:\n    time.sleep(0.1)\n')
     (tmp_path / 'silent.py').write_text(data + "print('hello')\n")
     limits = ['--seeds', '1', '--initializer-seeds', '1', '--run-timeout', '3']
@@ -158,8 +160,8 @@ def test_a_submission_that_never_ends_or_prints_nothing_is_reported_so(tmp_path)
     )
     assert 'seed 0 (at most 3 s)' in forever.stderr  # told before it waits
     silent = vtube(['submission', 'check', str(tmp_path / 'silent.py'), *limits], timeout=120)
-    assert silent.returncode == 1 and 'ran, but printed no vtube summary' in silent.stdout
+    assert silent.returncode == 1 and 'made 0 Robotarium objects' in silent.stdout
     no_data = tmp_path / 'plain.py'
     no_data.write_text('import time\nwhile True:\n    time.sleep(0.1)\n')
     refused = vtube(['submission', 'check', str(no_data), *limits], timeout=60)
-    assert refused.returncode == 2 and 'no DATA with initial_conditions' in refused.stderr  # before any run
+    assert refused.returncode == 2 and 'no DATA with flight data' in refused.stderr  # before any run

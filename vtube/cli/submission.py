@@ -142,8 +142,10 @@ def check_lines(report: CheckReport) -> list[str]:
 def _run_line(run: RunReport) -> str:
     """One run of the file as the simulator recorded it, or why there is no record."""
     counted, closest, duration = run.counted, run.min_center_distance_m, run.duration_s
+    if run.timed_out_s is not None:
+        return f'  {run.label:<16} did not finish in {run.timed_out_s:g} s'
     if counted is None or duration is None:
-        return f'  {run.label:<16} {run.problems[0]}'
+        return f'  {run.label:<16} left no record of the simulator (exit {run.returncode})'
     return (
         f'  {run.label:<16} {"yes" if run.completed else "no":>5} {counted.too_close:>10} {counted.outside:>8} '
         f'{counted.actuator:>9} {"-" if closest is None else f"{closest:.3f}":>13} {duration:>13.1f}'
