@@ -122,8 +122,9 @@ class FlightData:
     def from_plain(cls, plain: Mapping[str, Any]) -> FlightData:
         """The data of a plain literal (:meth:`to_plain`); raises ValueError naming a missing or extra key."""
         _same_keys(plain, cls, 'flight data')
-        profile = plain['plan']
-        safety = plain['safety']
+        profile, safety = plain['plan'], plain['safety']
+        if safety is not None:
+            safety = _same_keys(safety, SafetyData, "flight data's safety")
         return cls(
             scene=str(plain['scene']),
             tube_hash=str(plain['tube_hash']),

@@ -1,10 +1,11 @@
-"""Build the single file submitted to the remote Robotarium from a scene (``vtube submission build``).
+"""Build the single file submitted to the remote Robotarium from a scene and a plan (``vtube submission build``).
 
 The testbed runs one uploaded file with numpy, scipy, matplotlib, cvxopt and its own ``rps`` (no cvxpy, no package
-of ours), so the file carries everything: the plan computed here as arrays, the tube as samples, the initial
-conditions and parking slots, the sources of the package functions the runtime needs, and the runtime itself
-(:mod:`submission.runtime`). The output is deterministic (no time stamps, no paths, numbers rounded to six
-significant digits), so a committed submission can be checked against a fresh build.
+of ours), so the file carries everything: the flight data (the caller's plan as arrays, or none; the tube as
+samples, the initial conditions and parking slots), the sources of the package code the flight runs, and the
+runtime itself (:mod:`submission.runtime`). The builder never plans. Apart from its build stamp line the output is
+deterministic (no paths, numbers rounded to six significant digits), so a committed submission can be checked
+against a fresh build.
 """
 
 from __future__ import annotations

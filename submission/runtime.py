@@ -18,8 +18,9 @@ end-of-script function.
 from __future__ import annotations
 
 # ---- inlined by the builder: the modules, functions and constants named below replace this import block ----
-from robotarium_exp.flight import Period, build_flight, fly
+from robotarium_exp.flight import Period, RobotariumLike, build_flight, fly
 from robotarium_exp.flight_data import FlightData
+from robotarium_exp.safety import SafetyFilter
 from vtube_planning import onboard
 from vtube_planning.log import LOG_FORMAT, LOG_VERSION
 
@@ -40,13 +41,20 @@ INLINED_CONSTANTS = (('vtube_planning.log', ('LOG_FORMAT', 'LOG_VERSION')),)
 import json
 import os
 import time
-from typing import Any
+from collections.abc import Callable
+from typing import Protocol
 
 import numpy as np
 
 SAVE_EVERY = 100
 FILE_PREFIX = 'vtube_'
 META_FILE = 'vtube_meta.json'
+
+
+class RobotariumModule(Protocol):
+    """What the file uses of ``rps.robotarium``."""
+
+    Robotarium: Callable[..., RobotariumLike]
 
 
 def draw_tube(r: object, edges_m: np.ndarray) -> None:
@@ -66,7 +74,7 @@ def save_log(rows: dict[str, list[np.ndarray]], meta: dict[str, object]) -> None
         json.dump(meta, stream)
 
 
-def run(data: FlightData, robotarium_module: Any, *, max_steps: int | None = None) -> dict[str, object]:
+def run(data: FlightData, robotarium_module: RobotariumModule, *, max_steps: int | None = None) -> dict[str, object]:
     """The experiment loop; returns (and prints) the summary."""
     n = data.n_robots
     show = os.environ.get('VTUBE_HEADLESS', '') != '1'
@@ -115,13 +123,19 @@ def run(data: FlightData, robotarium_module: Any, *, max_steps: int | None = Non
     summary = _summary(r, data, rows, flight.safety, completed, steps, dt)
     save_log(rows, {**meta, 'finished': True, **summary})
     print(json.dumps({'vtube_summary': 1, **summary}))
-    end_of_script = getattr(r, 'debug', None) or r.call_at_scripts_end
+    end_of_script = getattr(r, 'debug', None) or getattr(r, 'call_at_scripts_end')  # noqa: B009 - V2, classic
     end_of_script()
     return summary
 
 
 def _summary(
-    r: object, data: FlightData, rows: dict[str, list[np.ndarray]], safety: Any, completed: bool, steps: int, dt: float
+    r: object,
+    data: FlightData,
+    rows: dict[str, list[np.ndarray]],
+    safety: SafetyFilter | None,
+    completed: bool,
+    steps: int,
+    dt: float,
 ) -> dict[str, object]:
     """What the file reports of its run (informative: the preflight recounts from the simulator)."""
     positions = np.array(rows['positions_m'])
