@@ -96,7 +96,7 @@ class RunReport:
         """Why the testbed would refuse the run or the run failed (empty when it is fine)."""
         tail = self.stderr_tail.strip().splitlines()[-1:]
         if self.timed_out_s is not None:
-            return [f'did not finish within {self.timed_out_s:g} s (raise --run-timeout if it should)']
+            return [f'did not finish in {self.timed_out_s:g} s (raise --run-timeout if it should)']
         record, counted, recounted = self.record, self.counted, self.recounted
         if record is None or counted is None or recounted is None:
             return [f'left no record of the simulator (exit {self.returncode}): {tail}']
