@@ -1,0 +1,29 @@
+"""The suite's two rooms, told by path: ``tests/unit`` (fast, in-process, the inner loop: ``pytest tests/unit``) and
+``tests/integration`` (end-to-end runs, subprocesses, terminals, real recordings). Each test gets the marker of its
+room, so ``pytest -m unit`` and ``pytest -m integration`` select them from anywhere; a test file outside both rooms
+is a usage error."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+ROOMS = ('unit', 'integration')
+HERE = Path(__file__).resolve().parent
+
+
+def room_of(path: Path) -> str:
+    """The room a test file lives in, or an error naming the file and where it belongs."""
+    relative = path.resolve().relative_to(HERE)
+    if relative.parts[0] not in ROOMS:
+        raise pytest.UsageError(
+            f'{path}: every test lives under tests/unit/ (fast, in-process) or tests/integration/ (end-to-end); '
+            'move it into one of them'
+        )
+    return relative.parts[0]
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    for item in items:
+        item.add_marker(getattr(pytest.mark, room_of(item.path)))
