@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SOURCES = ('vtube', 'vtube_planning', 'unicycle_mapping', 'robotarium_exp', 'submission', 'benchmarks', 'examples')
 MODULE_LINES = 400
 FUNCTION_LINES = 60

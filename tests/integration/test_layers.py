@@ -14,7 +14,7 @@ if sys.version_info >= (3, 11):
 else:
     import tomli as tomllib
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 CONFIG = tomllib.loads((ROOT / 'pyproject.toml').read_text(encoding='utf-8'))
 CONTRACTS = {contract['name']: contract for contract in CONFIG['tool']['importlinter']['contracts']}
 PACKAGES = CONFIG['tool']['importlinter']['root_packages']
