@@ -16,7 +16,7 @@ import pytest
 from robotarium_exp.analysis.loaders import load_trajectory
 from robotarium_exp.analysis.report import analyse
 from robotarium_exp.errors import AnalysisError
-from tests.robotarium_exp.realdata import (
+from tests.support.realdata import (
     MRCLAM_ROBOTS,
     ROOT,
     mrclam_samples,
@@ -31,7 +31,6 @@ pytestmark = [
     pytest.mark.skipif(
         REALDATA is None, reason='the real recordings are not at ../shared/realdata and $VTUBE_REALDATA is not set'
     ),
-    pytest.mark.slow,  # MRCLAM's 285,000 samples written into two bags
 ]
 RADIUS_M = 0.35  # an iRobot Create is 0.33 m across
 

@@ -8,72 +8,14 @@ import pytest
 from robotarium_exp.errors import ExperimentError
 from robotarium_exp.experiment import (
     ExperimentConfig,
-    flight_data,
     initial_conditions,
     initializer_stall_risk,
     order_for_v2_initializer,
     parking_slots,
     run_experiment,
 )
-from robotarium_exp.flight_data import FlightData
-from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.robotarium import Robotarium
-from robotarium_exp.rps_alias import seed_rps
-from robotarium_exp.tracking import plan_tracking
-from robotarium_exp.verifier import VerifierCounts
 from vtube_planning import load_scene
-from vtube_planning.log import read_log
-from vtube_planning.planning.planner import plan_convex
-
-NO_INIT = {'skip_initialization': True}
-
-
-@pytest.fixture(scope='module', params=['robotarium_trapezoid', 'robotarium_curve'])
-def runs(request):
-    scene = load_scene(request.param)
-    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
-    planned = run_experiment(Robotarium, scene, plan, ExperimentConfig(), robotarium_kwargs=NO_INIT)
-    unplanned = run_experiment(Robotarium, scene, None, ExperimentConfig(planning=False), robotarium_kwargs=NO_INIT)
-    return scene, plan, planned, unplanned
-
-
-@pytest.mark.slow
-def test_zero_collisions_boundary_and_actuator_counts(runs) -> None:
-    _, _, planned, unplanned = runs
-    for result in (planned, unplanned):
-        assert result.completed
-        assert result.errors == VerifierCounts(too_close=0, outside=0, actuator=0)
-        assert result.barrier.failures == 0
-        assert result.barrier.correction_mean_mps < 0.05  # small against v_max = 0.12 m/s
-
-
-def test_the_plan_dips_and_the_swarm_expands_before_the_narrowing(runs) -> None:
-    """(p7) binds ahead of the narrowing; the planned run expands after departure and before its front gets there,
-    and tracks the plan in the approach; the unplanned run does not expand."""
-    scene, plan, planned, unplanned = runs
-    narrowing = 1.4  # where both Robotarium scenes start to narrow
-    active = plan.l_m[plan.active['p7']]
-    assert active.size and active.min() < narrowing < active.max()
-    assert plan.density_per_m2.min() < 0.7 * scene.swarm.rho_d_per_m2  # a real dip, not a flat plan
-    tracked = plan_tracking(planned.arrays, plan, scene)
-    assert tracked.expansion_start_s is not None and tracked.front_at_narrowing_s is not None
-    assert 0.0 < tracked.expansion_start_s < tracked.front_at_narrowing_s
-    assert tracked.approach.density_error_mean is not None and tracked.approach.density_error_mean <= 0.25
-    assert tracked.dip.density_error_mean is not None and tracked.dip.density_error_mean <= 0.25
-    assert plan_tracking(unplanned.arrays, plan, scene).expansion_start_s is None
-
-
-def test_the_speed_band_holds_on_the_unicycles(runs) -> None:
-    """Every flying robot's forward speed stays in [v_min, v_max] in every step where the filter kept the band."""
-    scene, _, planned, unplanned = runs
-    for result in (planned, unplanned):
-        a = result.arrays
-        v = a['dxu'][:, 0, :]
-        kept = a['flying'] & a['band_held'][:, None]
-        assert kept.any()
-        assert np.all(v[kept] >= scene.swarm.v_min_mps * (1 - 1e-9))
-        assert np.all(v[kept] <= scene.swarm.v_max_mps * (1 + 1e-9))
-        assert result.barrier.band_share >= 0.99
 
 
 def test_initial_conditions_are_spread_for_the_testbed() -> None:
@@ -88,30 +30,9 @@ def test_initial_conditions_are_spread_for_the_testbed() -> None:
         assert np.all(np.abs(slots[0]) <= 1.5) and np.all(np.abs(slots[1]) <= 0.85)
 
 
-@pytest.mark.slow
-def test_full_run_with_initialization_logs_every_step(tmp_path) -> None:
-    scene = load_scene('robotarium_curve')
-    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
-    log = tmp_path / 'run.npz'
-    seed_rps(1)
-    result = run_experiment(Robotarium, scene, plan, ExperimentConfig(), log_path=log)
-    arrays, meta = read_log(log)
-    assert arrays['positions_m'].shape == result.arrays['positions_m'].shape and meta['finished'] and meta['completed']
-    assert meta['errors']['robots_too_close'] == 0 and meta['duration_s'] > arrays['t_s'][-1]
-
-
 def test_planning_without_a_plan_is_refused() -> None:
     with pytest.raises(ExperimentError, match='no plan was given'):
         run_experiment(Robotarium, load_scene('robotarium_curve'), None, ExperimentConfig())
-
-
-def test_the_experiment_runs_on_the_pypi_robotarium_class() -> None:
-    rps_robotarium = pytest.importorskip('rps.robotarium')
-    scene = load_scene('robotarium_trapezoid')
-    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
-    result = run_experiment(rps_robotarium.Robotarium, scene, plan, ExperimentConfig())
-    assert result.completed and result.metrics.min_distance_m > 0.135
-    assert result.errors.clean  # the PyPI simulator records nothing: no robot left the arena or came too close
 
 
 def test_robots_zero_and_one_take_the_front_corners() -> None:
@@ -129,40 +50,3 @@ def test_robots_zero_and_one_take_the_front_corners() -> None:
     assert risk is not None and risk.startswith('robots 0 and 1 start at slots with 2 and 3 neighbours within 0.50 m')
     assert 'order_for_v2_initializer' in risk
     assert initializer_stall_risk(grid[:, :2]) is None  # two robots: nothing to choose
-
-
-@pytest.mark.slow
-def test_a_seed_that_deadlocked_the_v2_initializer_now_completes() -> None:
-    """Trapezoid seed 38 left robots 0 and 1 rocking near their slots for good (also on the official V2); with
-    the front corners as robots 0 and 1 the same draws initialize in time."""
-    import robotarium_exp.rps.robotarium as simulator
-
-    ic = initial_conditions(load_scene('robotarium_trapezoid'))
-    as_before = ic[:, [0, 2, 1, 3, 4, 5]]  # the committed order until now: robot 1 in the middle of the front row
-    assert initializer_stall_risk(as_before) is not None  # which the builder now refuses
-    limit = simulator.INITIALIZATION_STEP_LIMIT
-    try:
-        simulator.INITIALIZATION_STEP_LIMIT = 8000
-        seed_rps(38)
-        with pytest.raises(RobotariumError, match='did not bring the robots'):
-            Robotarium(number_of_robots=6, sim_in_real_time=False, initial_conditions=as_before)
-        seed_rps(38)
-        r = Robotarium(number_of_robots=6, sim_in_real_time=False, initial_conditions=ic)
-        assert r.initialization_steps < 8000
-    finally:
-        simulator.INITIALIZATION_STEP_LIMIT = limit
-
-
-def test_flight_data_is_what_a_file_embeds() -> None:
-    """Rounded once: its plain literal reads back to the same literal; without planning it carries no plan."""
-    scene = load_scene('robotarium_trapezoid')
-    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
-    data = flight_data(scene, plan, ExperimentConfig())
-    plain = data.to_plain()
-    assert FlightData.from_plain(plain).to_plain() == plain and data.planned
-    assert plain['tube_hash'] == scene.tube.fingerprint() and plain['scene'] == scene.name
-    assert data.plan is not None and np.array_equal(data.plan.l_m, np.array([float(f'{v:.6g}') for v in plan.l_m]))
-    unplanned = flight_data(scene, plan, ExperimentConfig(planning=False))
-    assert unplanned.plan is None and not unplanned.planned
-    with pytest.raises(ValueError, match=r"missing \['max_steps'\], unexpected \['steps'\]"):
-        FlightData.from_plain({('steps' if k == 'max_steps' else k): v for k, v in plain.items()})

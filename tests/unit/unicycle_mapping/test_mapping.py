@@ -8,20 +8,10 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from unicycle_mapping import (
-    MappingError,
-    max_realisable_si_speed,
-    scale_to_wheel_limits,
-    si_to_uni,
-    si_to_uni_constrained,
-    si_to_uni_states,
-    uni_to_si,
-    uni_to_si_states,
-    unicycle_step,
-    wheel_speeds,
-)
-
-L_AXLE, R_WHEEL, PHI_MAX = 0.11, 0.016, 12.5  # GTernal / V2 simulator
+from unicycle_mapping.errors import MappingError
+from unicycle_mapping.mapping import si_to_uni, si_to_uni_constrained, si_to_uni_states, uni_to_si, uni_to_si_states
+from unicycle_mapping.unicycle import unicycle_step
+from unicycle_mapping.wheels import scale_to_wheel_limits
 
 
 def random_poses(rng: np.random.Generator, n: int) -> np.ndarray:
@@ -74,40 +64,6 @@ def test_epsilon_tracking_of_a_moving_reference() -> None:
     assert np.all(np.hypot(*(sol.y[:2] - refs)) <= d + 1e-6)
 
 
-@pytest.mark.parametrize('seed', range(5))
-def test_uniform_wheel_scaling_respects_the_limit_and_the_curvature(seed: int) -> None:
-    rng = np.random.default_rng(seed)
-    dxu = np.vstack([rng.uniform(-0.5, 0.5, 200), rng.uniform(-8, 8, 200)])
-    scaled, scale = scale_to_wheel_limits(dxu, L_AXLE, R_WHEEL, PHI_MAX)
-    assert np.abs(wheel_speeds(scaled, L_AXLE, R_WHEEL)).max() <= PHI_MAX * (1 + 1e-12)
-    moving = np.abs(dxu[0]) > 1e-3
-    np.testing.assert_allclose(scaled[1, moving] / scaled[0, moving], dxu[1, moving] / dxu[0, moving], rtol=1e-12)
-    feasible = np.abs(wheel_speeds(dxu, L_AXLE, R_WHEEL)).max(axis=0) <= PHI_MAX
-    np.testing.assert_array_equal(scaled[:, feasible], dxu[:, feasible])  # untouched when already feasible
-    assert np.all((scale > 0) & (scale <= 1))
-
-
-def test_wheel_speeds_by_hand_and_the_testbed_limit() -> None:
-    # v = 0.1 m/s, omega = 1 rad/s: (0.2 -/+ 0.11) / 0.032
-    np.testing.assert_allclose(wheel_speeds(np.array([[0.1], [1.0]]), L_AXLE, R_WHEEL)[:, 0], [2.8125, 9.6875])
-    # the feasible set |v| + (L/2)|omega| <= r phi_max = 0.2 m/s: on its edge a wheel is exactly at the limit
-    edge = np.array([[0.2 - 0.055 * 2.0], [2.0]])
-    assert np.abs(wheel_speeds(edge, L_AXLE, R_WHEEL)).max() == pytest.approx(PHI_MAX)
-
-
-@pytest.mark.parametrize(
-    ('d', 'length', 'expected'), [(0.05, 0.11, 0.134), (0.03, 0.11, 0.096), (0.05, 0.105, 0.138), (0.03, 0.105, 0.099)]
-)
-def test_realisable_speed_matches_the_robotarium_table_and_is_tight(d: float, length: float, expected: float) -> None:
-    bound = max_realisable_si_speed(d, length, R_WHEEL, PHI_MAX)
-    assert bound == pytest.approx(expected, abs=1e-3)  # the table prints three digits (0.1345 as 0.134)
-    alpha = np.linspace(-np.pi, np.pi, 3601)
-    for speed, ok in ((bound, True), (1.01 * bound, False)):
-        u = speed * np.vstack([np.cos(alpha), np.sin(alpha)])
-        worst = np.abs(wheel_speeds(si_to_uni(u, np.zeros((3, alpha.size)), d), length, R_WHEEL)).max()
-        assert bool(worst <= PHI_MAX * (1 + 1e-9)) == ok
-
-
 def test_speed_constrained_map_clips_and_loiters() -> None:
     d, v_min, v_max, a_n = 0.05, 0.04, 0.12, 0.02
     poses = np.zeros((3, 4))  # all heading along +x
@@ -123,19 +79,6 @@ def test_speed_constrained_map_clips_and_loiters() -> None:
     assert np.all((dxu[0] >= v_min) & (dxu[0] <= v_max))
     assert np.all(np.abs(dxu[1]) <= a_n / dxu[0] * (1 + 1e-12))
     np.testing.assert_allclose(uni_to_si(dxu[:, exact], poses[:, exact], d), u[:, exact], atol=1e-12)
-
-
-def test_unicycle_step_is_exact_for_constant_commands() -> None:
-    pose = np.array([[0.0], [0.0], [0.0]])
-    # a quarter circle of radius 0.5 at v = 0.1, omega = 0.2 takes pi / 0.4 s
-    end = unicycle_step(pose, np.array([[0.1], [0.2]]), math.pi / 0.4)
-    np.testing.assert_allclose(end[:, 0], [0.5, 0.5, math.pi / 2], atol=1e-15)
-    straight = unicycle_step(np.array([[1.0], [2.0], [math.pi / 4]]), np.array([[0.2], [0.0]]), 2.0)
-    np.testing.assert_allclose(straight[:, 0], [1.0 + 0.4 / math.sqrt(2), 2.0 + 0.4 / math.sqrt(2), math.pi / 4])
-    many = pose
-    for _ in range(1000):  # composition: 1000 small exact steps equal one large one
-        many = unicycle_step(many, np.array([[0.1], [0.2]]), math.pi / 400)
-    np.testing.assert_allclose(many[:, 0], end[:, 0], atol=1e-12)
 
 
 @pytest.mark.parametrize(

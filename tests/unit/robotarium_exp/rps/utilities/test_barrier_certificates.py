@@ -8,6 +8,7 @@ import pytest
 
 from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.utilities import barrier_certificates as bc
+from robotarium_exp.rps.utilities.barrier_certificates import _solve_qp
 from robotarium_exp.rps_classic.utilities import barrier_certificates as classic
 from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
 
@@ -45,7 +46,6 @@ def reference(u_hat: np.ndarray, x: np.ndarray, spec: bc.BarrierSpec) -> np.ndar
 
 
 @pytest.mark.usefixtures('exact_qp')
-@pytest.mark.slow
 def test_two_hundred_tight_configurations() -> None:
     rng = np.random.default_rng(0)
     certificate = bc.create_si_barrier_certificate_with_boundary()
@@ -375,3 +375,12 @@ def test_bounded_rows_hold_exactly_where_every_row_holds() -> None:
             bounded = np.all((values <= rows.upper) & (values >= rows.lower), axis=1)
             np.testing.assert_array_equal(bounded, full)
             assert 0 < full.sum() < full.size
+
+
+@pytest.mark.usefixtures('exact_qp')
+def test_solve_qp_returns_the_projection_or_none() -> None:
+    a = np.array([[1.0, 0.0, 0.0, 0.0]])
+    np.testing.assert_allclose(
+        _solve_qp(2, np.array([[0.3, 0.1], [0.2, -0.1]]), a, np.array([0.1])), [[0.1, 0.1], [0.2, -0.1]]
+    )
+    assert _solve_qp(1, np.zeros((2, 1)), np.array([[1.0, 0.0], [-1.0, 0.0]]), np.array([-1.0, -1.0])) is None

@@ -133,3 +133,28 @@ def test_the_verifier_does_not_count_obstacles_as_v2() -> None:
         r.step()
     assert r.get_poses()[0, 0] > 0.5
     assert r.errors == {'robots_outside_boundaries': 0, 'robots_too_close': 0, 'exceeded_actuator_limits': 0}
+
+
+def test_on_board_sensors_read_as_v2_models_them() -> None:
+    """Encoders count wheel turns through the gear; gyro, orientation and magnetometer follow the motion."""
+    from robotarium_exp.rps.robotarium import Robotarium
+
+    np.random.seed(1)
+    r = Robotarium(
+        number_of_robots=1,
+        sim_in_real_time=False,
+        initial_conditions=np.array([[0.0], [0.0], [0.0]]),
+        skip_initialization=True,
+    )
+    for _ in range(100):
+        r.get_poses()
+        r.set_velocities(np.arange(1), np.array([[0.1], [0.5]]))
+        r.step()
+    wheels = np.array([2 * 0.1 - 0.11 * 0.5, 2 * 0.1 + 0.11 * 0.5]) / (2 * 0.016)  # rad/s
+    expected = wheels * 100 * r.TIME_STEP * 28 * 100.37 / (2 * np.pi)
+    np.testing.assert_allclose(r.get_encoders()[:, 0], expected, rtol=0.01)  # noise: about 0.25 sqrt(n) per step
+    assert abs(r.get_gyros()[2, 0] - 0.5) < 0.01
+    heading = np.degrees(r.get_poses()[2, 0]) % 360.0
+    assert abs(r.get_orientations()[0] - heading) < 1.5
+    assert np.all(np.isnan(r.get_distances())) and r.get_distances().shape == (7, 1)
+    assert abs(r.get_accelerations()[2, 0] + 9.81) < 0.3
