@@ -46,13 +46,14 @@ def reference(u_hat: np.ndarray, x: np.ndarray, spec: bc.BarrierSpec) -> np.ndar
 
 
 @pytest.mark.usefixtures('exact_qp')
-def test_two_hundred_tight_configurations() -> None:
+def test_tight_configurations_against_an_independent_qp() -> None:
+    """Twelve tight configurations of 6 to 20 robots: every row holds, the answer is the reference optimum."""
     rng = np.random.default_rng(0)
     certificate = bc.create_si_barrier_certificate_with_boundary()
     worst_violation = worst_difference = 0.0
     checked = 0
-    for _ in range(200):
-        n = int(rng.integers(6, 51))
+    for _ in range(12):
+        n = int(rng.integers(6, 21))
         x, u_hat = tight_configuration(rng, n)
         safe = certificate(u_hat, x)
         expected = reference(u_hat, x, certificate.spec)
@@ -62,7 +63,7 @@ def test_two_hundred_tight_configurations() -> None:
         worst_violation = max(worst_violation, float((all_rows @ safe.reshape(-1, order='F') - all_rhs).max()))
         worst_difference = max(worst_difference, float(np.abs(safe - expected).max()))
         checked += 1
-    assert checked >= 190 and certificate.stats.failures == 200 - checked
+    assert checked >= 11 and certificate.stats.failures == 12 - checked
     assert worst_violation <= 1e-9  # every pairwise and boundary row, pruned or not
     assert worst_difference <= 1e-6
 
@@ -354,7 +355,7 @@ def test_bounded_rows_hold_exactly_where_every_row_holds() -> None:
     """The folded and pruned rows and V2's rows, every one, admit the same commands; a pair row's key names it."""
     rng = np.random.default_rng(2)
     for certificate in (bc.create_si_barrier_certificate_with_boundary(), bc.create_si_barrier_certificate()):
-        for trial in range(20):  # tight states, and spread ones: pairs about as far apart as pruning starts
+        for trial in range(8):  # tight states, and spread ones: pairs about as far apart as pruning starts
             x = tight_configuration(rng, 12)[0] if trial % 2 else rng.uniform([[-1.5], [-0.9]], [[1.5], [0.9]], (2, 12))
             x[0, 0] = 1.5  # near a wall
             rows = bc.bounded_barrier_rows(x, certificate.spec)
