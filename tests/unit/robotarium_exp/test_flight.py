@@ -17,16 +17,13 @@ from robotarium_exp.safety import SafetyFilter
 from unicycle_mapping.mapping import si_to_uni, uni_to_si, uni_to_si_states
 from unicycle_mapping.unicycle import unicycle_step
 from unicycle_mapping.wheels import scale_to_wheel_limits, wheel_speeds
-from vtube_planning import load_scene
-from vtube_planning.planning.planner import plan_convex
 
 DT = 0.033
 
 
 @pytest.fixture(scope='module')
-def data() -> FlightData:
-    scene = load_scene('robotarium_trapezoid')
-    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+def data(trapezoid) -> FlightData:
+    scene, plan = trapezoid
     return flight_data(scene, plan, ExperimentConfig())
 
 
