@@ -26,11 +26,7 @@ def metrics(collision: float | None, tube: TubeMetrics | None) -> RecordingMetri
         complete_frames=7,
         coverage=(),
         gaps=(Gap('c', 0.5, 0.9),),
-        pairs=PAIRS
-        if collision
-        else tuple(
-            PairMeasure(p.robots, p.common_frames, p.min_distance_m, p.time_s, None) for p in PAIRS
-        ),  # fmt: skip
+        pairs=PAIRS if collision else UNCOUNTED,
         closest=PAIRS[0],
         collision_distance_m=collision,
         collision_frames=3 if collision else None,
