@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
+import robotarium_exp.rps_classic.robotarium_abc as classic_abc
 from robotarium_exp.recorder import recording
 from robotarium_exp.rps.robotarium import Robotarium as V2
-from robotarium_exp.rps_classic import robotarium_abc as classic_abc
 from robotarium_exp.rps_classic.robotarium import Robotarium as Classic
 from vtube_planning.log import read_log
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import importlib
 import inspect
+import sys
 from typing import Any
 
 import numpy as np
@@ -356,3 +357,93 @@ def test_the_alias_maps_every_v2_module() -> None:
     """``rps_alias`` registers each module of the table under its ``rps`` name."""
     mapped = {'rps' + suffix for suffix in rps_alias.MODULES}
     assert {key.split(':')[0] for key in V2_SIGNATURES} <= mapped
+
+
+# ---------------------------------------------------------------------- the alias itself, in-process
+
+
+@pytest.fixture
+def clean_rps(monkeypatch):
+    """Whatever the test registers as ``rps...`` (and the QP solver it picks) is undone after it."""
+    from robotarium_exp.rps.utilities.barrier_certificates import qp_solver, use_qp_solver
+
+    for name in [n for n in sys.modules if n == 'rps' or n.startswith('rps.')]:
+        monkeypatch.delitem(sys.modules, name)
+    before, solver = set(sys.modules), qp_solver()
+    yield
+    for name in set(sys.modules) - before:
+        if name == 'rps' or name.startswith('rps.'):
+            del sys.modules[name]
+    use_qp_solver(solver)
+
+
+@pytest.mark.usefixtures('clean_rps')
+@pytest.mark.parametrize('classic', [False, True])
+def test_install_registers_each_module_under_its_rps_name(classic: bool, tmp_path) -> None:
+    rps_alias.install(classic=classic, log_path=str(tmp_path / 'log.npz'))
+    package = 'robotarium_exp.rps_classic' if classic else 'robotarium_exp.rps'
+    for suffix in rps_alias.CLASSIC_MODULES if classic else rps_alias.MODULES:
+        if suffix != '.robotarium':
+            assert sys.modules['rps' + suffix] is importlib.import_module(package + suffix)
+    simulator = importlib.import_module(package + '.robotarium')
+    recorded = sys.modules['rps.robotarium'].Robotarium
+    assert issubclass(recorded, simulator.Robotarium) and recorded is not simulator.Robotarium  # it records
+    assert sys.modules['rps'].robotarium is sys.modules['rps.robotarium']
+    assert ('rps.utilities.barrier_certificates2' in sys.modules) is classic
+
+
+def test_seeding_draws_the_same_numbers() -> None:
+    import random
+
+    rps_alias.seed_rps(12)
+    first = (random.random(), np.random.rand())
+    rps_alias.seed_rps(12)
+    assert (random.random(), np.random.rand()) == first
+
+
+@pytest.mark.usefixtures('clean_rps')
+def test_main_runs_the_script_with_its_arguments_and_the_chosen_solver(tmp_path, monkeypatch, capsys) -> None:
+    script = tmp_path / 'which.py'
+    script.write_text(
+        'import sys\nimport rps.robotarium\n'
+        'from rps.utilities.barrier_certificates import qp_solver\n'
+        'print(qp_solver(), sys.argv[1:], rps.robotarium.Robotarium.__module__)\n',
+        encoding='utf-8',
+    )
+    monkeypatch.setattr(sys, 'argv', ['rps_alias', '--exact-qp', '--seed', '3', str(script), '--fast', '2'])
+    rps_alias.main()
+    assert capsys.readouterr().out == "exact ['--fast', '2'] robotarium_exp.rps.robotarium\n"
+
+
+@pytest.mark.parametrize(
+    ('argv', 'message'),
+    [
+        ([], 'give the script to run'),
+        (['missing.py'], 'missing.py: no such script'),
+        (['--seed', '-1', 'x.py'], "'-1' is not a whole number >= 0"),
+        (['bad.py'], 'bad.py is not a Python script'),
+    ],
+)
+def test_main_refuses_what_it_cannot_run(argv: list[str], message: str, tmp_path, monkeypatch, capsys) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / 'bad.py').write_text('def (:\n', encoding='utf-8')
+    monkeypatch.setattr(sys, 'argv', ['rps_alias', *argv])
+    with pytest.raises(SystemExit) as exit_:
+        rps_alias.main()
+    assert exit_.value.code == 2 and message in capsys.readouterr().err
+
+
+@pytest.mark.usefixtures('clean_rps')
+def test_np_mat_is_named_with_its_fix(tmp_path, monkeypatch, capsys) -> None:
+    script = tmp_path / 'old.py'
+    script.write_text('import numpy as np\nnp.mat\n', encoding='utf-8')
+    monkeypatch.setattr(sys, 'argv', ['rps_alias', str(script)])
+    assert rps_alias.uses_np_mat(AttributeError("module 'numpy' has no attribute 'mat'"))
+    assert not rps_alias.uses_np_mat(AttributeError('no attribute matrix_power'))
+    if hasattr(np, 'mat'):
+        rps_alias.main()  # numpy 1: nothing to name
+        return
+    with pytest.raises(SystemExit) as exit_:
+        rps_alias.main()
+    assert exit_.value.code == 1
+    assert 'np.asmatrix' in capsys.readouterr().err

@@ -7,9 +7,9 @@ import dataclasses
 import numpy as np
 import pytest
 
+import robotarium_exp.rps_classic.robotarium_abc as classic_abc
 from robotarium_exp.errors import SpecError
 from robotarium_exp.rps.robotarium_abc import ARENA, ARobotarium
-from robotarium_exp.rps_classic import robotarium_abc as classic_abc
 from robotarium_exp.spec import ROBOTARIUM, RobotariumSpec
 
 

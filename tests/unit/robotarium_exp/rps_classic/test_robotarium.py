@@ -9,10 +9,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import robotarium_exp.rps_classic.utilities.misc as classic_misc
 from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps_classic import robotarium_abc
 from robotarium_exp.rps_classic.robotarium import Robotarium
-from robotarium_exp.rps_classic.utilities import misc
 
 
 def headless(ic: np.ndarray) -> Robotarium:
@@ -141,7 +141,7 @@ def test_call_order_messages() -> None:
 
 def test_random_initial_conditions_are_classic_grid_cells() -> None:
     np.random.seed(11)
-    poses = misc.generate_initial_conditions(6, spacing=0.5, width=2.5, height=1.5)
+    poses = classic_misc.generate_initial_conditions(6, spacing=0.5, width=2.5, height=1.5)
     np.random.seed(11)
     cells = np.random.choice(5 * 3, 6, replace=False) + 1  # 5 columns x 3 rows, cells counted from 1
     expected = [[c // 3 * 0.5 - 1.25, c % 3 * 0.5 - 0.75, np.random.rand() * 2 * np.pi - np.pi] for c in cells]

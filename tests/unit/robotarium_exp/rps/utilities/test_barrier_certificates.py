@@ -6,10 +6,10 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
+import robotarium_exp.rps.utilities.barrier_certificates as bc
+import robotarium_exp.rps_classic.utilities.barrier_certificates as classic
 from robotarium_exp.rps.errors import RobotariumError
-from robotarium_exp.rps.utilities import barrier_certificates as bc
 from robotarium_exp.rps.utilities.barrier_certificates import _solve_qp
-from robotarium_exp.rps_classic.utilities import barrier_certificates as classic
 from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
 
 TIGHT = {'tol_gap_abs': 1e-12, 'tol_gap_rel': 1e-12, 'tol_feas': 1e-12, 'tol_ktratio': 1e-10}

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from robotarium_exp.rps_classic.utilities import barrier_certificates as certificates
+import robotarium_exp.rps_classic.utilities.barrier_certificates as certificates
 from robotarium_exp.rps_classic.utilities.barrier_certificates2 import create_robust_barriers
 
 

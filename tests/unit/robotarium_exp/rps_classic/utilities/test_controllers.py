@@ -5,26 +5,28 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from robotarium_exp.rps.utilities import controllers as v2_controllers
-from robotarium_exp.rps_classic.utilities import controllers
+import robotarium_exp.rps.utilities.controllers as v2_controllers
+import robotarium_exp.rps_classic.utilities.controllers as classic_controllers
 
 
 def test_si_position_controller_gain_one_not_v2s_point_eight(states) -> None:
     x, goals = states
     goals = x[:2] + 0.05 * (goals[:2] - x[:2])  # small errors: below the magnitude limit
-    np.testing.assert_allclose(controllers.create_si_position_controller()(x[:2], goals), goals - x[:2], atol=1e-15)
+    np.testing.assert_allclose(
+        classic_controllers.create_si_position_controller()(x[:2], goals), goals - x[:2], atol=1e-15
+    )
     np.testing.assert_allclose(
         v2_controllers.create_si_position_controller()(x[:2], goals), 0.8 * (goals - x[:2]), atol=1e-15
     )
-    far = controllers.create_si_position_controller()(x[:2], x[:2] + 10.0)
+    far = classic_controllers.create_si_position_controller()(x[:2], x[:2] + 10.0)
     np.testing.assert_allclose(np.hypot(*far), 0.15)
 
 
 def test_clf_unicycle_position_controller_by_hand(states) -> None:
     x, goals = states
-    dxu = controllers.create_clf_unicycle_position_controller(linear_velocity_gain=0.7, angular_velocity_gain=2.5)(
-        x, goals[:2]
-    )
+    dxu = classic_controllers.create_clf_unicycle_position_controller(
+        linear_velocity_gain=0.7, angular_velocity_gain=2.5
+    )(x, goals[:2])
     for i in range(x.shape[1]):
         dx, dy = goals[0, i] - x[0, i], goals[1, i] - x[1, i]
         d, bearing = np.hypot(dx, dy), np.arctan2(dy, dx)
@@ -34,7 +36,7 @@ def test_clf_unicycle_position_controller_by_hand(states) -> None:
 
 def test_clf_unicycle_pose_controller_by_hand(states) -> None:
     x, goals = states
-    dxu = controllers.create_clf_unicycle_pose_controller()(x, goals)
+    dxu = classic_controllers.create_clf_unicycle_pose_controller()(x, goals)
     for i in range(x.shape[1]):
         c, s = np.cos(goals[2, i]), np.sin(goals[2, i])
         ex, ey = np.array([[c, s], [-s, c]]) @ (goals[:2, i] - x[:2, i])
@@ -49,7 +51,7 @@ def test_hybrid_pose_controller_by_hand(states) -> None:
     x, goals = states
     goals[:2, :3] = x[:2, :3] + 0.01  # three robots close enough to turn (one also aligned: it stops)
     goals[2, 2] = x[2, 2] + 0.01
-    dxu = controllers.create_hybrid_unicycle_pose_controller()(x, goals)
+    dxu = classic_controllers.create_hybrid_unicycle_pose_controller()(x, goals)
     for i in range(x.shape[1]):
         error = goals[:2, i] - x[:2, i]
         d = np.hypot(*error)

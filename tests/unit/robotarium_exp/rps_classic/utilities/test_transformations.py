@@ -4,14 +4,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from robotarium_exp.rps.utilities import transformations as v2_transformations
-from robotarium_exp.rps_classic.utilities import transformations
+import robotarium_exp.rps.utilities.transformations as v2_transformations
+import robotarium_exp.rps_classic.utilities.transformations as classic_transformations
 
 
 def test_si_to_uni_dynamics_gain_enters_the_turn_rate(states) -> None:
     x, goals = states
     dxi = goals[:2]
-    dxu = transformations.create_si_to_uni_dynamics(linear_velocity_gain=0.5, angular_velocity_limit=2.0)(dxi, x)
+    dxu = classic_transformations.create_si_to_uni_dynamics(linear_velocity_gain=0.5, angular_velocity_limit=2.0)(
+        dxi, x
+    )
     along = np.cos(x[2]) * dxi[0] + np.sin(x[2]) * dxi[1]
     across = -np.sin(x[2]) * dxi[0] + np.cos(x[2]) * dxi[1]
     np.testing.assert_allclose(dxu, [0.5 * along, 2.0 * np.arctan2(across, 0.5 * along) / (np.pi / 2)], atol=1e-14)
@@ -21,8 +23,8 @@ def test_si_to_uni_dynamics_gain_enters_the_turn_rate(states) -> None:
 
 def test_backwards_motion_is_the_forward_law_in_classic(states) -> None:
     x, goals = states
-    classic = transformations.create_si_to_uni_dynamics_with_backwards_motion()(goals[:2], x)
-    np.testing.assert_array_equal(classic, transformations.create_si_to_uni_dynamics()(goals[:2], x))
+    classic = classic_transformations.create_si_to_uni_dynamics_with_backwards_motion()(goals[:2], x)
+    np.testing.assert_array_equal(classic, classic_transformations.create_si_to_uni_dynamics()(goals[:2], x))
     behind = np.cos(x[2]) * goals[0] + np.sin(x[2]) * goals[1] < 0
     assert behind.any() and np.all(classic[0, behind] < 0)
     v2 = v2_transformations.create_si_to_uni_dynamics_with_backwards_motion()(goals[:2], x)
@@ -32,7 +34,7 @@ def test_backwards_motion_is_the_forward_law_in_classic(states) -> None:
 def test_si_to_uni_mapping_clips_omega(states) -> None:
     x, goals = states
     dxi = goals[:2]
-    si_to_uni, uni_to_si_states = transformations.create_si_to_uni_mapping(projection_distance=0.05)
+    si_to_uni, uni_to_si_states = classic_transformations.create_si_to_uni_mapping(projection_distance=0.05)
     c, s = np.cos(x[2]), np.sin(x[2])
     omega = (-s * dxi[0] + c * dxi[1]) / 0.05
     assert np.any(np.abs(omega) > np.pi)  # the pin means something: some commands are clipped
@@ -40,5 +42,5 @@ def test_si_to_uni_mapping_clips_omega(states) -> None:
     np.testing.assert_allclose(v2_transformations.create_si_to_uni_mapping()[0](dxi, x)[1], omega)  # V2: no clip
     np.testing.assert_allclose(uni_to_si_states(x), x[:2] + 0.05 * np.vstack([c, s]))
     dxu = goals[:2]
-    back = transformations.create_uni_to_si_dynamics(projection_distance=0.05)(dxu, x)
+    back = classic_transformations.create_uni_to_si_dynamics(projection_distance=0.05)(dxu, x)
     np.testing.assert_allclose(back, [c * dxu[0] - 0.05 * s * dxu[1], s * dxu[0] + 0.05 * c * dxu[1]])
