@@ -50,3 +50,33 @@ def test_robots_zero_and_one_take_the_front_corners() -> None:
     assert risk is not None and risk.startswith('robots 0 and 1 start at slots with 2 and 3 neighbours within 0.50 m')
     assert 'order_for_v2_initializer' in risk
     assert initializer_stall_risk(grid[:, :2]) is None  # two robots: nothing to choose
+
+
+def test_a_short_run_logs_each_period_and_its_verdict(trapezoid, tmp_path) -> None:
+    """Five periods without the initialization: every row logged, the recorder's columns consistent, the run not
+    completed, its duration the simulator's iterations."""
+    from vtube_planning.log import read_log
+
+    scene, plan = trapezoid
+    log = tmp_path / 'short.npz'
+    result = run_experiment(
+        Robotarium,
+        scene,
+        plan,
+        ExperimentConfig(max_steps=5),
+        log_path=log,
+        robotarium_kwargs={'skip_initialization': True},
+    )
+    a = result.arrays
+    assert not result.completed and result.planned and result.duration_s == pytest.approx(5 * 0.033)
+    np.testing.assert_allclose(a['t_s'], 0.033 * np.arange(5))
+    assert a['positions_m'].shape == (5, 2, 6) and a['dxu'].shape == (5, 2, 6) and a['flying'].all()
+    np.testing.assert_allclose(a['positions_m'][0], initial_conditions(scene)[:2], atol=1e-6)
+    change = a['si_safe_mps'] - a['si_nominal_mps']
+    np.testing.assert_allclose(a['barrier_correction_mps'], np.hypot(change[:, 0], change[:, 1]))
+    np.testing.assert_allclose(a['l_m'][3], scene.tube.project(a['positions_m'][3]).l_m)  # centres on the tube
+    assert result.errors.clean and result.barrier.failures == 0
+    arrays, meta = read_log(log)
+    assert meta['finished'] and not meta['completed'] and meta['kind'] == 'robotarium experiment'
+    assert meta['duration_s'] == pytest.approx(result.duration_s) and meta['errors'] == result.errors.to_json()
+    np.testing.assert_array_equal(arrays['positions_m'], a['positions_m'])
