@@ -1,0 +1,110 @@
+"""Trajectories from testbed folders, our logs and ROS bags; analysis metrics; bad input."""
+
+from __future__ import annotations
+
+import sqlite3
+
+import numpy as np
+import pytest
+from rosbags.rosbag1 import Writer as Writer1
+
+from robotarium_exp.analysis.loaders import load_trajectory
+from robotarium_exp.analysis.report import analyse
+from robotarium_exp.errors import AnalysisError
+from tests.support.bags import KINDS, ROBOTS, START_NS, truth, write_bag
+from vtube_planning import load_scene
+
+
+@pytest.mark.parametrize('fmt', ['ros1', 'sqlite3', 'mcap'])
+@pytest.mark.parametrize('kind', sorted(KINDS))
+def test_bag_round_trip(tmp_path, fmt: str, kind: str) -> None:
+    path = write_bag(tmp_path / 'bag', fmt, kind)
+    trajectory = load_trajectory([path])
+    t, xy, theta = truth()
+    assert trajectory.robot_ids == ROBOTS
+    np.testing.assert_allclose(trajectory.t_s, t, atol=1e-9)
+    np.testing.assert_allclose(trajectory.positions_m, xy, atol=1e-9)
+    np.testing.assert_allclose(trajectory.headings_rad, theta, atol=1e-9)
+    assert trajectory.gaps == ()
+
+
+def test_bag_without_type_definitions(tmp_path) -> None:
+    path = write_bag(tmp_path / 'old', 'sqlite3', 'pose')
+    with sqlite3.connect(next(path.glob('*.db3'))) as con:  # a Humble-era bag: no definitions stored
+        con.execute('DELETE FROM message_definitions')
+    np.testing.assert_allclose(load_trajectory([path]).positions_m, truth()[1], atol=1e-9)
+
+
+def test_frame_pattern_selects_robots_on_tf(tmp_path) -> None:
+    path = write_bag(tmp_path / 'tf', 'mcap', 'tf')
+    trajectory = load_trajectory([path], frame_pattern=r'^(?P<robot>r[12])$')
+    assert trajectory.robot_ids == ('r1', 'r2')
+
+
+def test_bad_input_gives_clear_errors(tmp_path) -> None:
+    with pytest.raises(AnalysisError, match='holds no vtube_\\*.npy files'):
+        load_trajectory([tmp_path])
+    bag = write_bag(tmp_path / 'b', 'sqlite3', 'pose')
+    with pytest.raises(AnalysisError, match="topic '/nowhere' is not in"):
+        load_trajectory([bag], topics=['/nowhere'])
+    fake = tmp_path / 'fake.bag'
+    fake.write_bytes(b'not a bag at all')
+    with pytest.raises(AnalysisError, match='cannot read .* as a ROS bag'):
+        load_trajectory([fake])
+    folder = tmp_path / 'returned'
+    folder.mkdir()
+    np.save(folder / 'vtube_t.npy', np.arange(10) * 0.033)
+    poses = np.zeros((10, 3, 2))
+    poses[4, 0, 1] = np.nan
+    np.save(folder / 'vtube_poses.npy', poses)
+    scene = load_scene('robotarium_trapezoid')
+    nan_pose = analyse(load_trajectory([folder]), scene).metrics.to_json()  # a NaN pose is left out and counted
+    assert [c['non_finite'] for c in nan_pose['coverage']] == [0, 1] and nan_pose['frames'] == 10
+    (folder / 'vtube_poses.npy').write_bytes((folder / 'vtube_poses.npy').read_bytes()[:120])  # truncated
+    with pytest.raises(AnalysisError, match=r"truncated or corrupt: \['vtube_poses.npy"):
+        load_trajectory([folder])
+    with pytest.raises(AnalysisError, match='does not exist'):
+        load_trajectory([tmp_path / 'missing.csv'])
+
+
+def test_a_submission_log_folder_reads_like_any_vtube_log(tmp_path) -> None:
+    """vtube_meta.json and one vtube_NAME.npy per array: the trajectory log's schema, cut where a save was
+    interrupted between two files; another version is named."""
+    import json
+
+    t, positions, headings = truth()
+    meta = {'format': 'vtube-trajectory', 'version': 2, 'kind': 'robotarium submission', 'scene': 'robotarium_curve'}
+    meta |= {'tube_hash': 'abc', 'planned': True, 'n_robots': 3, 'dt_s': 0.02}
+    (tmp_path / 'vtube_meta.json').write_text(json.dumps(meta))
+    np.save(tmp_path / 'vtube_t_s.npy', t)
+    np.save(tmp_path / 'vtube_positions_m.npy', positions[:-5])  # the last save stopped after t_s
+    np.save(tmp_path / 'vtube_headings_rad.npy', headings)
+    trajectory = load_trajectory([tmp_path])
+    assert trajectory.source['kind'] == 'robotarium submission' and trajectory.source['tube_hash'] == 'abc'
+    assert len(trajectory.robot_ids) == 3
+    np.testing.assert_array_equal(trajectory.positions_m, positions[:-5])
+    (tmp_path / 'vtube_meta.json').write_text(json.dumps(meta | {'version': 7}))
+    with pytest.raises(AnalysisError, match='of version 7; this vtube reads versions 1 to 2'):
+        load_trajectory([tmp_path])
+    (tmp_path / 'vtube_meta.json').write_text('{not json')
+    with pytest.raises(AnalysisError, match='vtube_meta.json.* is not readable JSON'):
+        load_trajectory([tmp_path])
+
+
+def test_an_unreadable_type_costs_only_its_topic(tmp_path) -> None:
+    from rosbags.highlevel import AnyReader, AnyReaderError
+
+    path = write_bag(tmp_path / 'b', 'ros1', 'pose')
+    broken = tmp_path / 'broken.bag'
+    with Writer1(broken) as writer:  # a driver's own type whose definition no parser reads
+        conn = writer.add_connection(
+            '/driver/status', 'driver_msgs/msg/Status', msgdef='int32 [[ not a definition', md5sum='0' * 32
+        )
+        writer.write(conn, START_NS, b'\x00\x00\x00\x00')
+    with pytest.raises(AnyReaderError), AnyReader([path, broken]) as reader:  # rosbags alone refuses both bags
+        reader.connections  # noqa: B018
+    trajectory = load_trajectory([path, broken])
+    np.testing.assert_allclose(trajectory.positions_m, truth()[1], atol=1e-9)
+    assert trajectory.source['ignored'] == [
+        {'topic': '/driver/status', 'reason': 'type driver_msgs/msg/Status is not read'}
+    ]

@@ -1,0 +1,41 @@
+"""The analysis figures, drawn headless from analysed synthetic trajectories."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from robotarium_exp.analysis.plots import SOURCES, analysis_figures
+from robotarium_exp.analysis.report import analyse
+from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+
+def analysed(scene=None, shift: float = 0.0):
+    t = np.arange(300) * 0.1
+    x = -1.8 + 0.1 * t[:, None] - np.array([0.0, 0.3, 0.6]) + shift
+    y = np.broadcast_to(np.array([-0.2, 0.0, 0.2]), x.shape)
+    stamps = np.arange(300, dtype=np.int64) * 100_000_000
+    samples = {f'r{k}': RobotSamples(stamps, np.stack([x[:, k], y[:, k]], axis=1)) for k in range(3)}
+    return analyse(assemble(samples, source={'path': 'synthetic'}), scene, collision_distance_m=0.25)
+
+
+def test_figures_with_a_scene_a_plan_and_a_comparison(trapezoid) -> None:
+    scene, plan = trapezoid
+    results = {'data': analysed(scene), 'comparison': analysed(scene, 0.05)}
+    figures = analysis_figures(results, scene, plan)
+    assert list(figures) == ['paths', 'tracking', 'distance']
+    paths = figures['paths'].axes
+    assert paths[0].get_title() == f'data ({SOURCES["data"]}): paths, robots at seven instants'
+    assert len(paths[0].collections) >= 7 and paths[-1].get_label() == '<colorbar>'
+    ax_v, ax_rho = figures['tracking'].axes
+    labels = [line.get_label() for line in ax_v.lines]
+    assert len(ax_rho.lines) == 3  # two sources and the plan's density
+    assert 'the plan (v*, rho*)' in labels and f'comparison ({SOURCES["comparison"]})' in labels
+    (ax,) = figures['distance'].axes
+    first = ax.lines[0]
+    np.testing.assert_allclose(first.get_ydata(), results['data'].distances.frame_min_m)
+    assert any(line.get_label() == 'collision distance' and line.get_ydata()[0] == 0.25 for line in ax.lines)
+
+
+def test_without_a_scene_no_tracking_figure() -> None:
+    figures = analysis_figures({'run': analysed()}, None, None)
+    assert list(figures) == ['paths', 'distance'] and figures['paths'].axes[0].get_title().startswith('run: paths')

@@ -1,0 +1,77 @@
+"""The analysis report: passage, typed metrics and their JSON, the CLI without a tube."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from robotarium_exp.analysis.report import analyse
+from tests.support.bags import truth, write_bag
+from vtube_planning import load_scene
+
+
+def passage_of(x: np.ndarray, y: np.ndarray, dt: float = 0.1):
+    """Analysis in the trapezoid scene (a straight tube from x = -1.45 to 1.0 along y = 0) of robots at x, y (T, N)."""
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+    stamps = np.arange(x.shape[0], dtype=np.int64) * int(dt * 1e9)
+    samples = {f'r{k}': RobotSamples(stamps, np.stack([x[:, k], y[:, k]], axis=1)) for k in range(x.shape[1])}
+    return analyse(
+        assemble(samples, source={'path': 'synthetic'}), load_scene('robotarium_trapezoid')
+    ).metrics.to_json()
+
+
+def test_passing_time_only_for_an_observed_passage() -> None:
+    t = np.arange(400) * 0.1
+    lanes = np.array([-0.2, 0.0, 0.2])
+    x = -1.8 + 0.1 * t[:, None] - np.array([0.0, 0.3, 0.6])  # 0.1 m/s, the last robot 0.6 m behind
+    y = np.broadcast_to(lanes, x.shape)
+    m = passage_of(x, y)
+    first_in = (-1.45 + 1.8) / 0.1  # analytic, on the 0.1 s frames
+    last_out = (1.0 + 1.8 + 0.6) / 0.1
+    assert m['passing_time_s'] == pytest.approx(last_out - first_in, abs=0.1 + 1e-9)
+    assert m['passage']['unobserved'] == [] and m['completed']
+    past = passage_of(x + 3.5, y)  # every robot past the exit at the first frame
+    assert past['passing_time_s'] is None and not past['passage']['entrance_observed']
+    assert set(past['passage']['never_inside']) == {'r0', 'r1', 'r2'}
+    aside = y + np.array([0.0, 2.0, -2.0])  # two of three never enter
+    m = passage_of(x, aside)
+    assert m['passing_time_s'] is None and m['passage']['never_inside'] == ['r1', 'r2']
+    assert 'never seen inside the tube: r1, r2' in m['passage']['unobserved']
+    late = passage_of(x[:200], y[:200])  # the recording stops before the last robot leaves
+    assert late['passing_time_s'] is None and late['passage']['not_exited']
+
+
+def test_typed_metrics_and_their_json_agree() -> None:
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+    t = np.arange(400) * 0.1
+    x = -1.8 + 0.1 * t[:, None] - np.array([0.0, 0.3, 0.6])
+    y = np.broadcast_to(np.array([-0.2, 0.0, 0.2]), x.shape)
+    stamps = np.arange(400, dtype=np.int64) * 100_000_000
+    samples = {f'r{k}': RobotSamples(stamps, np.stack([x[:, k], y[:, k]], axis=1)) for k in range(3)}
+    trajectory = assemble(samples, source={'path': 'synthetic'})
+    m = analyse(trajectory, load_scene('robotarium_trapezoid')).metrics
+    data = m.to_json()
+    assert m.tube is not None and m.tube.passage.passing_time_s == data['passing_time_s'] is not None
+    assert m.closest is not None and list(m.closest.robots) == data['min_distance_pair']
+    assert m.collision_pairs == data['collision_pairs'] == 0 and m.tube.tracking is None
+    assert 'speed_tracking_mean_mps' not in data and data['plan'] is False
+    tube_free = analyse(trajectory).metrics
+    assert tube_free.tube is None and tube_free.colliding_pairs is None
+    assert 'passage' not in tube_free.to_json()
+    assert [p['frames_closer'] for p in tube_free.to_json()['pairs']] == [None, None, None]
+
+
+def test_analysis_without_a_tube(tmp_path, capsys) -> None:
+    from vtube.cli import main
+
+    path = write_bag(tmp_path / 'b', 'mcap', 'tf')
+    assert main(['analyze', str(path), '--out', str(tmp_path / 'a'), '--collision-distance', '0.31']) == 0
+    out = capsys.readouterr().out
+    assert 'without a tube' in out and 'passing time' not in out
+    _, xy, _ = truth()
+    gaps = [np.hypot(*(xy[:, :, i] - xy[:, :, j]).T) for i, j in ((0, 1), (0, 2), (1, 2))]
+    closest = int(np.argmin([g.min() for g in gaps]))
+    assert f'minimum distance {gaps[closest].min():.3f} m' in out
+    assert f'{sum(int(g.min() < 0.31) for g in gaps)} pairs closer than 0.310 m' in out

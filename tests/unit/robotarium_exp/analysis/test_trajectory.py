@@ -1,0 +1,32 @@
+"""Assembling samples into a trajectory: frames, gaps in integer nanoseconds, MaxGap."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from robotarium_exp.errors import AnalysisError
+
+
+def test_gaps_in_integer_nanoseconds_and_max_gap() -> None:
+    from fractions import Fraction
+
+    from robotarium_exp.analysis.trajectory import MaxGap, RobotSamples, assemble
+
+    period = 10_000_000  # 0.01 s
+    stamps = np.arange(100, dtype=np.int64) * period
+    keep = (stamps < 30 * period) | (stamps >= 32 * period)  # a hole of exactly 3 periods: bridged
+    keep &= (stamps < 60 * period) | (stamps > 64 * period)  # a hole of 6 periods: a gap
+    xy = np.stack([stamps * 1e-9, stamps * 2e-9], axis=1)
+    samples = {'a': RobotSamples(stamps, xy), 'b': RobotSamples(stamps[keep], xy[keep])}
+    traj = assemble(samples, source={'path': 'x'})
+    assert [(g.robot, round(g.start_s, 9), round(g.end_s, 9)) for g in traj.gaps] == [('b', 0.59, 0.65)]
+    np.testing.assert_allclose(traj.positions_m[30:32, :, 1], xy[30:32])  # robot a sets the frames; b on a line
+    assert np.isnan(traj.positions_m[60:65, 0, 1]).all() and np.isfinite(traj.positions_m[[59, 65], 0, 1]).all()
+    b = traj.coverage[1]
+    assert (b.samples, b.frames, b.in_gaps, b.before_first, b.after_last) == (93, 95, 5, 0, 0)
+    assert MaxGap.parse('250ms') == MaxGap(Fraction(1, 4), 's') and str(MaxGap.parse('2p')) == '2periods'
+    strict = assemble(samples, source={'path': 'x'}, max_gap=MaxGap.parse('0.029s'))
+    assert len(strict.gaps) == 2
+    with pytest.raises(AnalysisError, match="'3' is not a number with a unit"):
+        MaxGap.parse('3')

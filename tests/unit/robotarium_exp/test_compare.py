@@ -1,0 +1,82 @@
+"""The planned-against-unplanned comparison: its runs (seeds, modes, progress), its rows and its table."""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import robotarium_exp.compare as compare_module
+from robotarium_exp.compare import COLUMNS, ComparisonRow, comparison_table
+from robotarium_exp.verifier import VerifierCounts
+
+
+def row(seed: int, planned: bool, **change) -> ComparisonRow:
+    values = {
+        'passing_time_s': 30.0 + seed,
+        'min_distance_m': 0.2 + 0.01 * seed,
+        'tube_violation_steps': seed,
+        'intervention_m': 1.0,
+        'band_percent': 99.0,
+        'approach_percent': 10.0,
+        'dip_percent': 20.0,
+        'expansion_start_s': 3.0 if planned else None,
+        'front_at_narrowing_s': 12.0,
+        'testbed_errors': 0,
+    }
+    return ComparisonRow(seed=seed, planned=planned, **(values | change))
+
+
+def test_the_table_gives_mean_and_range_per_mode() -> None:
+    rows = [row(0, True), row(0, False), row(2, True), row(2, False, dip_percent=None)]
+    lines = comparison_table(rows).splitlines()
+    assert lines[:2] == ['| measure | planned | unplanned |', '|---|---|---|'] and len(lines) == 2 + len(COLUMNS)
+    assert lines[2] == '| passing time [s] | 31.0 [30.0, 32.0] | 31.0 [30.0, 32.0] |'
+    assert lines[3] == '| min distance [m] | 0.210 [0.200, 0.220] | 0.210 [0.200, 0.220] |'
+    assert '| density error, dip [%] | 20 [20, 20] | 20 [20, 20] |' in lines  # the None is left out
+    assert '| expansion starts [s] | 3.0 [3.0, 3.0] | never |' in lines
+    no_dip = comparison_table([row(0, True, dip_percent=None)])
+    assert '| density error, dip [%] | – | – |' in no_dip.splitlines()
+
+
+def test_a_row_is_strict_json() -> None:
+    data = row(1, True, min_distance_m=math.inf, passing_time_s=math.nan).to_json()
+    assert data['min_distance_m'] is None and data['passing_time_s'] is None and data['seed'] == 1
+    assert set(data) == {'seed', 'planned'} | {key for _, key, _ in COLUMNS}
+
+
+def test_compare_runs_both_modes_per_seed_on_the_same_draws(monkeypatch) -> None:
+    """run_experiment and plan_tracking stubbed: the loop's order, the seeding, the rows' fields, progress."""
+    runs: list[tuple[int, bool]] = []
+    seeded: list[int] = []
+    monkeypatch.setattr(compare_module, 'seed_rps', seeded.append)
+
+    def run(cls, scene, plan, config):
+        runs.append((seeded[-1], config.planning))
+        assert (plan is not None) == config.planning
+        return SimpleNamespace(
+            arrays={},
+            metrics=SimpleNamespace(passing_time_s=20.0, min_distance_m=0.25, tube_violation_steps=1),
+            barrier=SimpleNamespace(intervention_m=0.5, band_share=0.97),
+            errors=VerifierCounts(1, 2, 3),
+        )
+
+    phase = SimpleNamespace(density_error_mean=0.125)
+    tracked = SimpleNamespace(approach=phase, dip=SimpleNamespace(density_error_mean=None), expansion_start_s=4.0,
+                              front_at_narrowing_s=9.0)  # fmt: skip
+    monkeypatch.setattr(compare_module, 'run_experiment', run)
+    monkeypatch.setattr(compare_module, 'plan_tracking', lambda arrays, plan, scene: tracked)
+    done: list[int] = []
+    rows = compare_module.compare(SimpleNamespace(), SimpleNamespace(), [5, 7], run_done=lambda: done.append(1))  # type: ignore[arg-type]
+    assert runs == [(5, True), (5, False), (7, True), (7, False)] and seeded == [5, 5, 7, 7] and len(done) == 4
+    assert [(r.seed, r.planned) for r in rows] == runs
+    r = rows[0]
+    assert (r.band_percent, r.approach_percent, r.dip_percent, r.testbed_errors) == (
+        pytest.approx(97.0),
+        12.5,
+        None,
+        6,
+    )
+    assert np.isclose(r.intervention_m, 0.5) and r.expansion_start_s == 4.0
