@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
-from robotarium_exp.experiment import ExperimentConfig, run_experiment
-from robotarium_exp.rps.robotarium import Robotarium
-from robotarium_exp.rps_alias import seed_rps
+from robotarium_exp.experiment import run_experiment
 from robotarium_exp.spec import ROBOTARIUM
+from vtube.cli.app import main
 from vtube.pipeline import DEMO_SCENE, Analysed, Planned, Returned, Simulated, WrittenSubmission
 from vtube_planning.swarm.metrics import passage_metrics
 
@@ -31,12 +32,30 @@ def test_the_demo_runs_every_stage_and_reports_no_collision(demo_run) -> None:
     assert demo_run.stage(Returned).ok and 'error:' not in demo_run.err
 
 
-def test_the_returned_file_flies_the_bundled_experiment(demo_run) -> None:
-    """Same scene and plan, same V2 initialization draws (seed 0): the experiment and the built file that the demo
-    ran as the testbed would fly the same poses."""
-    planned = demo_run.stage(Planned)
-    seed_rps(0)
-    experiment = run_experiment(Robotarium, planned.scene, planned.plan, ExperimentConfig())
+def test_the_returned_file_flies_the_bundled_experiment_and_compare_writes_the_table(
+    demo_run, tmp_path, capsys, monkeypatch
+) -> None:
+    """``vtube robotarium compare`` flies the bundled experiment of the demo's scene and plan on V2's seed-0 draws:
+    the built file that the demo ran as the testbed would flies the same poses."""
+    import robotarium_exp.compare as compare_module
+
+    flown = []
+
+    def kept(*args, **kwargs):
+        flown.append(run_experiment(*args, **kwargs))
+        return flown[-1]
+
+    monkeypatch.setattr(compare_module, 'run_experiment', kept)
+    assert main(['robotarium', 'compare', DEMO_SCENE, '--seeds', '1', '--out', str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert '| measure | planned | unplanned |' in out and '| expansion starts [s] |' in out
+    rows = json.loads((tmp_path / f'compare_{DEMO_SCENE}.json').read_text())
+    assert [row['planned'] for row in rows] == [True, False]
+    assert rows[1]['expansion_start_s'] is None and rows[0]['expansion_start_s'] > 0
+    assert (tmp_path / f'compare_{DEMO_SCENE}.md').read_text().count('\n') == 12
+
+    experiment, planned = flown[0], demo_run.stage(Planned)
+    assert experiment.planned and planned.scene.name == DEMO_SCENE
     folder = demo_run.stage(Returned).folder
     positions, t = np.load(folder / 'vtube_positions_m.npy'), np.load(folder / 'vtube_t_s.npy')
     tube = planned.scene.tube
@@ -51,7 +70,6 @@ def test_the_returned_file_flies_the_bundled_experiment(demo_run) -> None:
         body_radius_m=0.5 * ROBOTARIUM.robot_diameter_m,
     )
     mine = experiment.metrics
-    assert planned.scene.name == DEMO_SCENE
     assert returned.passing_time_s == pytest.approx(mine.passing_time_s, rel=0.01)
     assert returned.min_distance_m == pytest.approx(mine.min_distance_m, abs=0.005)
     assert returned.tube_violation_steps == pytest.approx(mine.tube_violation_steps, rel=0.05)

@@ -136,12 +136,12 @@ def silent_files(tmp_path: Path) -> dict[str, Path]:
 def test_a_submission_that_never_ends_or_prints_nothing_is_reported_so(tmp_path, capsys) -> None:
     """Through ``vtube submission check`` (stderr not a terminal: what starts is said, no bar is drawn)."""
     files = silent_files(tmp_path)
-    limits = ['--seeds', '1', '--initializer-seeds', '1', '--run-timeout', '3']
+    limits = ['--seeds', '1', '--initializer-seeds', '1', '--run-timeout', '1']
     assert main(['submission', 'check', str(files['forever']), *limits]) == 1
     forever = capsys.readouterr()
     assert 'Traceback' not in forever.err
-    assert 'bundled seed 0   did not finish in 3 s' in forever.out and 'verdict                FAIL' in forever.out
-    assert 'seed 0 (at most 3 s)' in forever.err  # told before it waits
+    assert 'bundled seed 0   did not finish in 1 s' in forever.out and 'verdict                FAIL' in forever.out
+    assert 'seed 0 (at most 1 s)' in forever.err  # told before it waits
     assert "V2's initializer:" not in forever.err  # no bar off a terminal
     assert main(['submission', 'check', str(files['silent']), *limits]) == 1
     assert 'made 0 Robotarium objects' in capsys.readouterr().out
