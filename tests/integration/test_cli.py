@@ -144,6 +144,12 @@ def test_analyze_a_bag(tmp_path, capsys) -> None:
     assert json.loads((tmp_path / 'a' / 'metrics.json').read_text())['data']['robots'] == 3
 
 
+def _as_at_a_terminal() -> None:
+    """Ctrl-C interrupts the child, as at a terminal (a test run started as a background job ignores it, and a
+    child would inherit that)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def test_ctrl_c_keeps_the_finished_log_and_says_so_in_one_line(tmp_path) -> None:
     from vtube_planning import load_scene
     from vtube_planning.swarm.simulate import SimConfig, simulate
@@ -159,6 +165,7 @@ def test_ctrl_c_keeps_the_finished_log_and_says_so_in_one_line(tmp_path) -> None
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        preexec_fn=_as_at_a_terminal,
     )
     partial = out / 'sim_A_planned.partial.npz'
     deadline = time.monotonic() + 120.0

@@ -49,7 +49,7 @@ def test_the_wheel_ships_the_five_packages_and_not_the_generated_files(tmp_path:
         shutil.copy(ROOT / name, source)
     pip = [sys.executable, '-m', 'pip', '--disable-pip-version-check', '--quiet']
     subprocess.run(
-        [*pip, 'wheel', '--no-deps', '--no-build-isolation', '--wheel-dir', str(tmp_path), str(source)],
+        [*pip, 'wheel', '--no-deps', '--wheel-dir', str(tmp_path), str(source)],
         check=True,
         timeout=600,
     )
