@@ -144,10 +144,12 @@ def test_analyze_a_bag(tmp_path, capsys) -> None:
     assert json.loads((tmp_path / 'a' / 'metrics.json').read_text())['data']['robots'] == 3
 
 
-def _as_at_a_terminal() -> None:
-    """Ctrl-C interrupts the child, as at a terminal (a test run started as a background job ignores it, and a
-    child would inherit that)."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
+AT_A_TERMINAL = (
+    'import signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); from vtube.cli import main; '
+    'sys.exit(main())'
+)
+"""``vtube`` as at a terminal, where Ctrl-C interrupts (a test run started as a background job ignores SIGINT, and
+its children would inherit that)."""
 
 
 def test_ctrl_c_keeps_the_finished_log_and_says_so_in_one_line(tmp_path) -> None:
@@ -161,11 +163,10 @@ def test_ctrl_c_keeps_the_finished_log_and_says_so_in_one_line(tmp_path) -> None
     simulate(scene.tube, scene.swarm, scene.control, plan=None, config=SimConfig(time_limit_s=0.5), log_path=log)
     finished = log.read_bytes()
     process = subprocess.Popen(
-        [sys.executable, '-m', 'vtube', 'simulate', 'A', '--out', str(out), '--seed', '1'],
+        [sys.executable, '-c', AT_A_TERMINAL, 'simulate', 'A', '--out', str(out), '--seed', '1'],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
-        preexec_fn=_as_at_a_terminal,
     )
     partial = out / 'sim_A_planned.partial.npz'
     deadline = time.monotonic() + 120.0
