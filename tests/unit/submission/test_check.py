@@ -157,7 +157,9 @@ def fake_runs(monkeypatch):
 
     monkeypatch.setattr(check_module, 'run_file', run_file)
     monkeypatch.setattr(check_module, 'initializer_durations', initializer)
-    monkeypatch.setattr(check_module.importlib.util, 'find_spec', lambda name: object())  # 'rps' is installed
+    find_spec = check_module.importlib.util.find_spec
+    installed = lambda name, *args: object() if name == 'rps' else find_spec(name, *args)
+    monkeypatch.setattr(check_module.importlib.util, 'find_spec', installed)  # the PyPI simulator is installed
     return calls
 
 
