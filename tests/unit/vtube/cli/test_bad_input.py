@@ -1,4 +1,5 @@
-"""Bad input through a real `vtube` process: exit code, one `error:` line, no traceback, nothing lost.
+"""Bad input to ``vtube.cli.main`` (in this process; the console script's own process is tested once, in
+``tests/integration/test_cli.py``): exit code, one `error:` line, no traceback, nothing lost.
 
 Every case is one row of BAD: the command line (``{tmp}`` is a folder of prepared bad files), the exit code, and a
 phrase the message must contain. Each runs with a pre-existing output folder holding a file whose bytes must
@@ -7,16 +8,15 @@ survive the failure.
 
 from __future__ import annotations
 
-import signal
-import subprocess
+import functools
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from robotarium_exp.experiment import ExperimentConfig, flight_data
+from robotarium_exp import rps_alias
+from vtube.cli.app import main
 from vtube_planning import load_scene
 from vtube_planning.npzfile import write_npz
 from vtube_planning.planning.planner import plan_convex
@@ -100,68 +100,32 @@ def bad_files(tmp_path_factory) -> Path:
     return tmp
 
 
-def vtube(args: list[str], **kwargs) -> subprocess.CompletedProcess:
-    """Run ``vtube ARGS``, or ``python -m robotarium_exp.rps_alias ARGS`` when the first word is ``rps_alias``."""
+def vtube(args: list[str], monkeypatch) -> int:
+    """``vtube ARGS`` in this process (``python -m robotarium_exp.rps_alias ARGS`` when the first word is
+    ``rps_alias``): its exit code, argparse's ``SystemExit`` included."""
     if args[0] == 'rps_alias':
-        args = ['-m', 'robotarium_exp.rps_alias', *args[1:]]
-        return subprocess.run([sys.executable, *args], check=False, capture_output=True, text=True, **kwargs)
-    return subprocess.run([sys.executable, '-m', 'vtube', *args], check=False, capture_output=True, text=True, **kwargs)
+        monkeypatch.setattr(sys, 'argv', ['rps_alias', *args[1:]])
+        call = rps_alias.main
+    else:
+        call = functools.partial(main, args)
+    try:
+        code = call()
+    except SystemExit as stop:
+        code = stop.code
+    return code
 
 
 @pytest.mark.parametrize(('case', 'command', 'code', 'phrase'), BAD, ids=[row[0] for row in BAD])
-def test_bad_input_gets_one_error_line_and_loses_nothing(bad_files, tmp_path, case, command, code, phrase) -> None:
+def test_bad_input_gets_one_error_line_and_loses_nothing(
+    bad_files, tmp_path, capsys, monkeypatch, case, command, code, phrase
+) -> None:
     out = tmp_path / 'out'
     out.mkdir()
     (out / 'earlier.npz').write_bytes(PRECIOUS)
     args = [part.format(tmp=bad_files, out=out) for part in command.split()]
-    result = vtube(args, timeout=120)
-    assert result.returncode == code, result.stderr
-    errors = [line for line in result.stderr.splitlines() if 'error:' in line]
-    assert len(errors) == 1 and phrase in errors[0], result.stderr
-    assert 'Traceback' not in result.stderr
+    assert vtube(args, monkeypatch) == code
+    stderr = capsys.readouterr().err
+    errors = [line for line in stderr.splitlines() if 'error:' in line]
+    assert len(errors) == 1 and phrase in errors[0], stderr
+    assert 'Traceback' not in stderr
     assert [p.name for p in out.iterdir()] == ['earlier.npz'] and (out / 'earlier.npz').read_bytes() == PRECIOUS
-
-
-@pytest.mark.slow
-def test_ctrl_c_keeps_the_finished_log_and_says_so_in_one_line(tmp_path) -> None:
-    out = tmp_path / 'out'
-    assert vtube(['simulate', 'A', '--out', str(out)], timeout=300).returncode == 0
-    log = out / 'sim_A_planned.npz'
-    finished = log.read_bytes()
-    process = subprocess.Popen(
-        [sys.executable, '-m', 'vtube', 'simulate', 'A', '--out', str(out), '--seed', '1'],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    partial = out / 'sim_A_planned.partial.npz'
-    deadline = time.monotonic() + 120.0
-    while not partial.exists() and time.monotonic() < deadline:  # interrupted mid-run, after its first flush
-        time.sleep(0.02)
-    process.send_signal(signal.SIGINT)
-    _, err = process.communicate(timeout=60)
-    assert process.returncode == 130 and len(err.strip().splitlines()) == 1, err
-    assert err.startswith(f'interrupted: the steps flown so far are in {partial};'), err
-    assert log.read_bytes() == finished  # the earlier, finished log is intact
-    assert partial.stat().st_size > 0  # and the interrupted run's rows are in the partial log
-
-
-@pytest.mark.slow
-def test_a_submission_that_never_ends_or_prints_nothing_is_reported_so(tmp_path) -> None:
-    plain = flight_data(load_scene('robotarium_curve'), None, ExperimentConfig(planning=False)).to_plain()
-    data = f'DATA = {plain!r}\n'
-    (tmp_path / 'forever.py').write_text(data + 'import time\nwhile True:\n    time.sleep(0.1)\n')
-    (tmp_path / 'silent.py').write_text(data + "print('hello')\n")
-    limits = ['--seeds', '1', '--initializer-seeds', '1', '--run-timeout', '3']
-    forever = vtube(['submission', 'check', str(tmp_path / 'forever.py'), *limits], timeout=120)
-    assert forever.returncode == 1 and 'Traceback' not in forever.stderr
-    assert (
-        'bundled seed 0   did not finish in 3 s' in forever.stdout and 'verdict                FAIL' in forever.stdout
-    )
-    assert 'seed 0 (at most 3 s)' in forever.stderr  # told before it waits
-    silent = vtube(['submission', 'check', str(tmp_path / 'silent.py'), *limits], timeout=120)
-    assert silent.returncode == 1 and 'made 0 Robotarium objects' in silent.stdout
-    no_data = tmp_path / 'plain.py'
-    no_data.write_text('import time\nwhile True:\n    time.sleep(0.1)\n')
-    refused = vtube(['submission', 'check', str(no_data), *limits], timeout=60)
-    assert refused.returncode == 2 and 'no DATA with flight data' in refused.stderr  # before any run

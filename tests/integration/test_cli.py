@@ -1,0 +1,180 @@
+"""The vtube command line end to end: real runs written to disk, read back; Ctrl-C through a real process.
+
+Where an assertion does not depend on the whole passage, the simulation is cut short (``SimConfig.time_limit_s``
+set under the command); everything else the command does (plan, log, figures, JSON, provenance) runs as it is."""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import signal
+import subprocess
+import sys
+import time
+from importlib import resources
+from importlib.metadata import version
+from pathlib import Path
+
+import pytest
+
+import vtube_planning.swarm.simulate as simulate_module
+from vtube.cli.app import main
+from vtube_planning.log import read_log
+from vtube_planning.planning.plan import Plan
+
+try:  # the bag writer moves to tests/support/bags.py with the robotarium_exp tests
+    from tests.support.bags import write_bag
+except ImportError:  # pragma: no cover -- before that move
+    from tests.robotarium_exp.test_analysis import write_bag
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture
+def short_flights(monkeypatch) -> None:
+    """Simulations of the commands stop after 6 simulated seconds."""
+    monkeypatch.setattr(simulate_module, 'SimConfig', functools.partial(simulate_module.SimConfig, time_limit_s=6.0))
+
+
+def test_console_entry_point_prints_no_traceback(tmp_path) -> None:
+    path = tmp_path / 'bad.toml'
+    path.write_text('[tube.center]\npieces = [{ kind = "arc", radius_m = 1.0, angle_deg = 90.0 }]\n')
+    result = subprocess.run(
+        [sys.executable, '-m', 'vtube', 'scene', 'show', str(path)], capture_output=True, text=True, check=False
+    )
+    assert result.returncode == 2
+    assert result.stderr.startswith('error: ') and 'Traceback' not in result.stderr
+    assert len(result.stderr.splitlines()) == 1
+
+
+def test_simulate_prints_metrics_and_writes_log_and_figures(tmp_path, capsys, short_flights) -> None:
+    assert main(['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--seed', '3']) == 0
+    captured = capsys.readouterr()
+    text = captured.out
+    assert captured.err == ''  # stderr is no terminal here: no progress bar
+    assert 'N = 8, seed 3' in text and 'passing time' in text and 'density tracking' in text
+    arrays, meta = read_log(tmp_path / 'sim_C_planned.npz')
+    assert arrays['positions_m'].shape[1:] == (2, 8) and meta['finished'] and meta['scene'] == 'C'
+    for suffix in ('snapshots', 'distance', 'tracking'):
+        assert (tmp_path / f'sim_C_planned_{suffix}.png').read_bytes()[:4] == b'\x89PNG'
+    assert main(['simulate', 'A', '--out', str(tmp_path), '--no-planning', '--n', '6']) == 0
+    assert 'without planning' in capsys.readouterr().out
+    assert (tmp_path / 'sim_A_unplanned.npz').exists() and not (tmp_path / 'sim_A_unplanned_tracking.png').exists()
+
+
+def test_simulate_replans_in_flight_and_reports_each_call(tmp_path, capsys, short_flights) -> None:
+    assert main(['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--replan-every', '1', '--json']) == 0
+    captured = capsys.readouterr()
+    replans = json.loads(captured.out)['replans']
+    made = [call for call in replans if not call['error']]
+    assert len(made) >= 5 and all(call['wall_ms'] > 0 and call['step'] % 50 == 0 for call in replans)
+    assert f'every 1 s: {len(made)} replans, median ' in captured.err
+
+
+def test_json_output_parses_and_matches_what_is_written(tmp_path, capsys, short_flights) -> None:
+    out = tmp_path / 's'
+    assert main(['simulate', 'robotarium_curve', '--out', str(out), '--json']) == 0
+    captured = capsys.readouterr()
+    result = json.loads(captured.out)  # stdout holds the JSON object only; the readable lines went to stderr
+    assert 'simulation of scene robotarium_curve' in captured.err
+    _, meta = read_log(result['log'])
+    assert result['metrics'] == json.loads(json.dumps(meta['metrics'])) and result['exit_code'] == 0
+    assert main(['analyze', result['log'], '--scene', 'robotarium_curve', '--out', str(tmp_path / 'a'), '--json']) == 0
+    analysed = json.loads(capsys.readouterr().out)
+    written = json.loads((tmp_path / 'a' / 'metrics.json').read_text())['data']
+    assert {k: v for k, v in analysed.items() if k != 'exit_code'} == written
+
+
+def test_study_writes_table_json_and_figure(tmp_path, capsys) -> None:
+    assert main(['study', '--out', str(tmp_path), '--scenes', 'A', '--seeds', '1', '--workers', '1']) == 0
+    text = (tmp_path / 'study.md').read_text()
+    assert '| A | planning |' in text and 'scene A: holds on the means' in text
+    data = json.loads((tmp_path / 'study.json').read_text())
+    assert len(data['rows']) == 2 and data['summary'][0]['claim_on_means'] is True
+    assert (tmp_path / 'study.png').read_bytes()[:4] == b'\x89PNG'
+
+
+def test_every_artefact_records_where_it_comes_from(tmp_path, capsys, short_flights) -> None:
+    """Plan, Robotarium run (its verdict printed), analysis, simulation and build all record their provenance."""
+    text = resources.files('vtube_planning.scenes').joinpath('robotarium_trapezoid.toml').read_text(encoding='utf-8')
+    digest = hashlib.sha256(text.encode()).hexdigest()
+
+    def recorded(record: dict, seeds: list[int] | None = None) -> None:
+        assert record['vtube_version'] == version('vtube') and record['scene_sha256'] == digest
+        assert record['utc'].endswith('+00:00') and record['command']
+        assert record.get('seeds') == seeds
+
+    assert main(['plan', 'robotarium_trapezoid', '--out', str(tmp_path / 'p')]) == 0
+    plan_file = tmp_path / 'p' / 'plan_robotarium_trapezoid.npz'
+    recorded(Plan.load(plan_file).provenance)
+    assert (tmp_path / 'p' / 'scene_robotarium_trapezoid.toml').read_text(encoding='utf-8') == text
+    capsys.readouterr()
+    run = ['robotarium', 'run', 'robotarium_trapezoid', '--no-initialization', '--plan', str(plan_file)]
+    assert main([*run, '--out', str(tmp_path / 'r'), '--seed', '3']) == 0
+    said = capsys.readouterr().out
+    assert 'would run on the Robotarium' in said and 'too close (pair-steps) 0' in said
+    log = tmp_path / 'r' / 'experiment_robotarium_trapezoid_planned.npz'
+    arrays, meta = read_log(log)
+    assert arrays['positions_m'].shape[1:] == (2, 6) and arrays['headings_rad'].shape[1:] == (6,) and meta['completed']
+    assert (tmp_path / 'r' / 'experiment_robotarium_trapezoid_planned.png').read_bytes()[:4] == b'\x89PNG'
+    recorded(meta['provenance'], [3])
+    assert meta['provenance']['plan_sha256'] == hashlib.sha256(plan_file.read_bytes()).hexdigest()
+    assert (tmp_path / 'r' / 'scene_robotarium_trapezoid.toml').read_text(encoding='utf-8') == text
+    assert main(['analyze', str(log), '--scene', 'robotarium_trapezoid', '--out', str(tmp_path / 'a')]) == 0
+    metrics = json.loads((tmp_path / 'a' / 'metrics.json').read_text())['data']
+    recorded(metrics['provenance'])
+    assert f'Made by vtube {version("vtube")} on ' in (tmp_path / 'a' / 'report.md').read_text()
+    assert (tmp_path / 'a' / 'scene_robotarium_trapezoid.toml').read_text(encoding='utf-8') == text
+    assert main(['simulate', 'robotarium_trapezoid', '--out', str(tmp_path / 's'), '--seed', '2']) == 0
+    recorded(read_log(tmp_path / 's' / 'sim_robotarium_trapezoid_planned.npz')[1]['provenance'], [2])
+    built = tmp_path / 'b' / 'experiment.py'
+    assert main(['submission', 'build', 'robotarium_trapezoid', '--out', str(built), '--no-declare']) == 0
+    assert f'Generated by vtube {version("vtube")} from scene file' in built.read_text()
+    assert f'(sha256 {digest[:16]});' in built.read_text()
+    stamp = next(line for line in built.read_text().splitlines() if line.startswith('built on '))
+    assert '+00:00 with `' in stamp and 'submission build robotarium_trapezoid' in stamp  # when, and by what command
+    capsys.readouterr()
+
+
+def test_analyze_a_bag(tmp_path, capsys) -> None:
+    bag = write_bag(tmp_path / 'mocap', 'mcap', 'pose')
+    assert main(['analyze', str(bag), '--scene', 'robotarium_trapezoid', '--out', str(tmp_path / 'a')]) == 0
+    assert 'analysis of ros bag' in capsys.readouterr().out
+    assert json.loads((tmp_path / 'a' / 'metrics.json').read_text())['data']['robots'] == 3
+
+
+AT_A_TERMINAL = (
+    'import signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); from vtube.cli import main; '
+    'sys.exit(main())'
+)
+"""``vtube`` as at a terminal, where Ctrl-C interrupts (a test run started as a background job ignores SIGINT, and
+its children would inherit that)."""
+
+
+def test_ctrl_c_keeps_the_finished_log_and_says_so_in_one_line(tmp_path) -> None:
+    from vtube_planning import load_scene
+    from vtube_planning.swarm.simulate import SimConfig, simulate
+
+    out = tmp_path / 'out'
+    out.mkdir()
+    log = out / 'sim_A_planned.npz'
+    scene = load_scene('A')  # a finished log at the path the command writes to (a short run of its own)
+    simulate(scene.tube, scene.swarm, scene.control, plan=None, config=SimConfig(time_limit_s=0.5), log_path=log)
+    finished = log.read_bytes()
+    process = subprocess.Popen(
+        [sys.executable, '-c', AT_A_TERMINAL, 'simulate', 'A', '--out', str(out), '--seed', '1'],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    partial = out / 'sim_A_planned.partial.npz'
+    deadline = time.monotonic() + 120.0
+    while not partial.exists() and time.monotonic() < deadline:  # interrupted mid-run, after its first flush
+        time.sleep(0.02)
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 130 and len(err.strip().splitlines()) == 1, err
+    assert err.startswith(f'interrupted: the steps flown so far are in {partial};'), err
+    assert log.read_bytes() == finished  # the earlier, finished log is intact
+    assert partial.stat().st_size > 0  # and the interrupted run's rows are in the partial log

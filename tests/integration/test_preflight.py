@@ -1,0 +1,150 @@
+"""The preflight on real built files: the demo's (shared, ``demo_run``), and files that must fail it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from robotarium_exp.experiment import ExperimentConfig, flight_data
+from submission.builder import BUILD_STAMP
+from submission.check import check
+from submission.declaration import Declaration
+from vtube.cli.app import main
+from vtube.pipeline import WrittenSubmission
+from vtube_planning import load_scene
+
+from .conftest import CHECK_SEEDS, INITIALIZER_SEEDS
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _unstamped(source: str) -> str:
+    return '\n'.join(line for line in source.splitlines() if not line.startswith(BUILD_STAMP))
+
+
+def test_the_demos_submission_is_the_committed_file_but_for_its_declaration(demo_run) -> None:
+    """So its preflight below is the preflight of the committed robotarium_curve flight (data and code)."""
+    written = demo_run.stage(WrittenSubmission)
+    committed = (ROOT / 'submissions' / 'vtube_robotarium_curve.py').read_text(encoding='utf-8')
+    built = written.path.read_text(encoding='utf-8')
+    recorded = Declaration.from_header(committed)
+    assert recorded is not None and written.declaration is not None
+    mine = '\n'.join(written.declaration.header_lines(6))
+    assert mine in built
+    assert _unstamped(built.replace(mine, '\n'.join(recorded.header_lines(6)))) == _unstamped(committed)
+
+
+def test_the_demos_submission_passes_the_preflight_on_both_simulators(demo_run) -> None:
+    pytest.importorskip('rps.robotarium')  # the PyPI simulator (test extra)
+    report = demo_run.stage(WrittenSubmission).report
+    assert [run.backend for run in report.runs] == ['bundled'] * CHECK_SEEDS + ['pypi']
+    for run in report.runs:
+        assert run.ok, (run.label, run.problems, run.stderr_tail)
+        assert run.min_center_distance_m > 0.135
+    assert report.passed and report.robots == 6
+    declared = report.declaration
+    assert declared is not None and report.initializer is not None and report.initializer.runs == INITIALIZER_SEEDS
+    assert declared.duration_s >= max(report.initializer.durations_s) + declared.experiment_s - 10
+    for run in report.runs:  # every checked run fits the verifier's 1.5 x the declaration
+        assert run.duration_s <= 1.5 * declared.duration_s
+    # the committed file's header (200 initializer seeds, 3 bundled runs) covers what these seeds derive
+    committed = Declaration.from_header((ROOT / 'submissions' / 'vtube_robotarium_curve.py').read_text())
+    assert committed is not None and committed.duration_s >= declared.duration_s
+
+
+def test_the_build_prints_the_verdict_and_the_header_records_the_declaration(demo_run) -> None:
+    written = demo_run.stage(WrittenSubmission)
+    text = demo_run.out
+    assert 'verdict                PASS' in text and 'declare                6 robots' in text
+    declared = text.split('the header records the declaration: 6 robots, ')[1].split(' s')[0]
+    assert int(declared) == written.declaration.duration_s
+    assert f'Declare on the web form: 6 robots and {declared} s' in written.path.read_text()
+
+
+STEPS_OUTSIDE = 150
+
+
+def pair_scene(tmp_path: Path) -> Path:
+    """robotarium_curve with 2 robots: V2's initializer places them in a few seconds."""
+    text = (ROOT / 'vtube_planning' / 'scenes' / 'robotarium_curve.toml').read_text(encoding='utf-8')
+    path = tmp_path / 'pair.toml'
+    path.write_text(text.replace('n_robots = 6', 'n_robots = 2'), encoding='utf-8')
+    return path
+
+
+def lying_file(tmp_path: Path) -> Path:
+    """Two robots driven backwards out of the arena by a file that prints a clean vtube summary."""
+    data = flight_data(load_scene(pair_scene(tmp_path)), None, ExperimentConfig(planning=False))
+    clean = {'vtube_summary': 1, 'robots': 2, 'completed': True, 'errors': {}, 'min_center_distance_m': 0.4}
+    path = tmp_path / 'lying.py'
+    path.write_text(
+        '\n'.join(
+            [
+                'import json',
+                'import numpy as np',
+                'import rps.robotarium as robotarium',
+                f'DATA = {data.to_plain()!r}',
+                "ic = np.array(DATA['initial_conditions'])",
+                'headless = {"show_figure": False, "sim_in_real_time": False}',
+                'r = robotarium.Robotarium(number_of_robots=2, initial_conditions=ic, **headless)',
+                f'for _ in range({STEPS_OUTSIDE}):',
+                '    r.get_poses()',
+                '    r.set_velocities(np.arange(2), np.array([[-0.1, -0.1], [0.0, 0.0]]))',
+                '    r.step()',
+                f'print(json.dumps({clean!r}))',
+                "r.debug() if hasattr(r, 'debug') else r.call_at_scripts_end()",
+                '',
+            ]
+        ),
+        encoding='utf-8',
+    )
+    return path
+
+
+def test_a_file_that_leaves_the_arena_and_prints_a_clean_summary_fails(tmp_path) -> None:
+    """The verdict comes from the simulator's counters and recorded poses, never from what the file prints."""
+    report = check(lying_file(tmp_path), seeds=1, initializer_seeds=1)
+    assert not report.passed
+    bundled = report.runs[0]
+    counted, recounted = bundled.counted, bundled.recounted
+    assert counted is not None and counted.outside > 0 and counted == recounted  # V2's counters, recounted alike
+    assert bundled.record is not None and bundled.record.experiment_steps == STEPS_OUTSIDE
+    assert f'bundled seed 0: the simulator counted 0 pair-steps too close, {counted.outside} steps outside' in (
+        '\n'.join(report.problems)
+    )
+    assert "bundled seed 0: not every robot ended past the tube's exit" in '\n'.join(report.problems)
+    for run in report.runs:  # the PyPI simulator too, when installed: its own counters and the recount
+        assert not run.ok and run.counted is not None and run.counted.outside > 0
+        assert run.recounted is not None and run.recounted.outside > 0 and run.recounted.too_close == 0
+
+
+def silent_files(tmp_path: Path) -> dict[str, Path]:
+    """Files with flight data that never end, that end without a Robotarium, and one without flight data."""
+    plain = flight_data(load_scene(pair_scene(tmp_path)), None, ExperimentConfig(planning=False)).to_plain()
+    data = f'DATA = {plain!r}\n'
+    files = {
+        'forever': data + 'import time\nwhile True:\n    time.sleep(0.1)\n',
+        'silent': data + "print('hello')\n",
+        'plain': 'import time\nwhile True:\n    time.sleep(0.1)\n',
+    }
+    for name, text in files.items():
+        (tmp_path / f'{name}.py').write_text(text, encoding='utf-8')
+    return {name: tmp_path / f'{name}.py' for name in files}
+
+
+def test_a_submission_that_never_ends_or_prints_nothing_is_reported_so(tmp_path, capsys) -> None:
+    """Through ``vtube submission check`` (stderr not a terminal: what starts is said, no bar is drawn)."""
+    files = silent_files(tmp_path)
+    limits = ['--seeds', '1', '--initializer-seeds', '1', '--run-timeout', '1']
+    assert main(['submission', 'check', str(files['forever']), *limits]) == 1
+    forever = capsys.readouterr()
+    assert 'Traceback' not in forever.err
+    assert 'bundled seed 0   did not finish in 1 s' in forever.out and 'verdict                FAIL' in forever.out
+    assert 'seed 0 (at most 1 s)' in forever.err  # told before it waits
+    assert "V2's initializer:" not in forever.err  # no bar off a terminal
+    assert main(['submission', 'check', str(files['silent']), *limits]) == 1
+    assert 'made 0 Robotarium objects' in capsys.readouterr().out
+    assert main(['submission', 'check', str(files['plain']), *limits]) == 2
+    refused = capsys.readouterr().err
+    assert refused.startswith('error: ') and 'no DATA with flight data' in refused  # before any run

@@ -1,0 +1,242 @@
+"""The preflight's decisions, on records and runs constructed here (the runs of real files are in
+``tests/integration/test_preflight.py``): imports, flight data, each run's verdict, the declaration, the order of
+the runs."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import submission.check as check_module
+from robotarium_exp.initializer import InitializerSample
+from submission.builder import build, write
+from submission.check import (
+    CheckReport,
+    RunReport,
+    check,
+    file_flight_data,
+    imported_modules,
+    server_libraries,
+    static_check,
+)
+from submission.declaration import Declaration, declare
+from submission.errors import CheckError
+from submission.recording import SimulatorRecord
+
+ROOT = Path(__file__).resolve().parents[3]
+SCENES = ('robotarium_trapezoid', 'robotarium_curve')
+
+
+def record(steps: int = 10, *, errors: dict | None = None, gap_m: float = 0.5, **change) -> SimulatorRecord:
+    """Two robots ``gap_m`` apart driving along x, recorded for ``steps`` steps after 5 of initialization."""
+    x = np.linspace(0.0, 0.5, steps)
+    poses = np.zeros((steps, 3, 2))
+    poses[:, 0, :] = x[:, None]
+    poses[:, 1, 1] = gap_m
+    values = {
+        'poses': poses,
+        'commands': np.zeros((steps, 2, 2)),
+        'dt_s': 0.033,
+        'errors': errors or {},
+        'iterations': steps + 5,
+        'initialization_steps': 5,
+        'robotariums': 1,
+        'end_of_script': True,
+    }
+    return SimulatorRecord(**(values | change))
+
+
+def test_a_clean_completed_run_is_ok_and_its_durations_are_the_simulators_counts() -> None:
+    run = RunReport('bundled', 3, 0, record=record(10), completed=True)
+    assert run.ok and run.problems == [] and run.label == 'bundled seed 3'
+    assert run.duration_s == pytest.approx(15 * 0.033) and run.experiment_s == pytest.approx(10 * 0.033)
+    assert run.min_center_distance_m == pytest.approx(0.5) and run.counted.clean and run.recounted.clean
+    assert RunReport('pypi', None, 0).label == 'pypi'
+
+
+@pytest.mark.parametrize(
+    ('run', 'problem'),
+    [
+        (RunReport('bundled', 0, -1, timed_out_s=3.0), 'did not finish in 3 s (raise --run-timeout if it should)'),
+        (RunReport('bundled', 0, 1, 'Traceback\nValueError: x\n'), 'left no record of the simulator (exit 1)'),
+        (RunReport('bundled', 0, 0, record=record(robotariums=2), completed=True), 'made 2 Robotarium objects'),
+        (RunReport('bundled', 0, 3, 'boom\nKeyError: y', record=record(), completed=True), "crashed (exit 3): ['Key"),
+        (RunReport('bundled', 0, 0, record=record(end_of_script=False), completed=True), 'never called debug()'),
+        (
+            RunReport('pypi', None, 0, record=record(errors={'boundary': 4, 'text': 'x'}), completed=True),
+            'the simulator counted 0 pair-steps too close, 4 steps outside the arena',
+        ),
+        (
+            RunReport('bundled', 0, 0, record=record(gap_m=0.05), completed=True),
+            "the verifier's rules on the simulator's recorded poses and commands count 10 pair-steps too close",
+        ),
+        (RunReport('bundled', 0, 0, record=record(), completed=False), "not every robot ended past the tube's exit"),
+    ],
+)
+def test_each_reason_a_run_fails(run: RunReport, problem: str) -> None:
+    assert not run.ok and any(problem in found for found in run.problems), run.problems
+
+
+def test_the_report_passes_only_with_runs_all_ok_and_no_problem() -> None:
+    good = RunReport('bundled', 0, 0, record=record(), completed=True)
+    bad = RunReport('pypi', None, 0, record=record(), completed=False)
+    assert CheckReport('f.py', runs=(good,)).passed and not CheckReport('f.py').passed  # no runs: not passed
+    failed = CheckReport('f.py', runs=(good, bad), declaration_problem='declare more.')
+    assert not failed.passed and failed.problems == [
+        "pypi: not every robot ended past the tube's exit (the flight did not complete)",
+        'declare more.',
+    ]
+    imports = CheckReport('f.py', disallowed_imports=('cvxpy',))
+    assert imports.problems == ['imports missing on the Robotarium server: cvxpy'] and not imports.passed
+    assert CheckReport('f.py', runs=(good,)).experiment_s == pytest.approx(10 * 0.033)
+    assert CheckReport('f.py').experiment_s is None and CheckReport('f.py').declare_duration_s is None
+
+
+def test_server_libraries_are_import_names() -> None:
+    names = server_libraries()
+    assert {'numpy', 'scipy', 'matplotlib', 'cvxopt', 'rps'} <= names and 'cvxpy' not in names
+    assert all('-' not in name and name == name.lower() for name in names)
+
+
+@pytest.mark.parametrize('scene', SCENES)
+def test_submission_imports_only_what_the_server_has_and_parses_as_python_310(scene: str) -> None:
+    source = (ROOT / 'submissions' / f'vtube_{scene}.py').read_text(encoding='utf-8')
+    ast.parse(source, feature_version=(3, 10))
+    assert static_check(source) == []
+    standard = {'__future__', 'collections', 'dataclasses', 'functools', 'json', 'math', 'os', 'time', 'typing'}
+    assert imported_modules(source) <= standard | {'numpy', 'scipy', 'rps'}
+    assert static_check(source + '\nimport cvxpy\nfrom rosbags.highlevel import AnyReader\n') == ['cvxpy', 'rosbags']
+    assert imported_modules('from . import x\nimport a.b as c\ndef f():\n    import d\n') == {'a', 'd'}
+
+
+def test_the_flight_data_is_read_without_running_the_file() -> None:
+    source = (ROOT / 'submissions' / 'vtube_robotarium_curve.py').read_text(encoding='utf-8')
+    data = file_flight_data(source)
+    assert data.scene == 'robotarium_curve' and data.n_robots == 6 and data.planned
+    with pytest.raises(CheckError, match='has no DATA with flight data'):
+        file_flight_data('x = 1\n')
+    with pytest.raises(CheckError, match="the file's DATA is not vtube flight data"):
+        file_flight_data('DATA = {"tube": 1}\n')
+
+
+def test_files_that_cannot_be_checked_are_refused(tmp_path) -> None:
+    with pytest.raises(CheckError, match='is a folder; give the submission .py file'):
+        check(tmp_path)
+    with pytest.raises(CheckError, match='does not exist'):
+        check(tmp_path / 'none.py')
+    (tmp_path / 'latin.py').write_bytes(b'# caf\xe9\n')
+    with pytest.raises(CheckError, match='not UTF-8 text'):
+        check(tmp_path / 'latin.py')
+    (tmp_path / 'broken.py').write_text('def (:\n')
+    with pytest.raises(CheckError, match='is not valid Python 3.10'):
+        check(tmp_path / 'broken.py')
+    (tmp_path / 'ok.py').write_text('x = 1\n')
+    with pytest.raises(CheckError, match='check with seeds >= 1'):
+        check(tmp_path / 'ok.py', seeds=0)
+    (tmp_path / 'cvx.py').write_text('import cvxpy\n')
+    assert check(tmp_path / 'cvx.py').disallowed_imports == ('cvxpy',)  # refused before any run
+
+
+@pytest.fixture
+def fake_runs(monkeypatch):
+    """``run_file`` and the initializer stubbed: each run a clean record of 1000 steps; the calls in order."""
+    calls: list[object] = []
+
+    def run_file(path, backend, seed, data, timeout_s):
+        calls.append((backend, seed, timeout_s))
+        return RunReport(backend, seed, 0, record=record(1000), completed=True)
+
+    def initializer(ic, seeds, seed_done=None):
+        for _ in seeds:
+            calls.append('seed done')
+            (seed_done or (lambda: None))()
+        return InitializerSample(tuple(20.0 + s for s in seeds), ())
+
+    monkeypatch.setattr(check_module, 'run_file', run_file)
+    monkeypatch.setattr(check_module, 'initializer_durations', initializer)
+    find_spec = check_module.importlib.util.find_spec
+    installed = lambda name, *args: object() if name == 'rps' else find_spec(name, *args)
+    monkeypatch.setattr(check_module.importlib.util, 'find_spec', installed)  # the PyPI simulator is installed
+    return calls
+
+
+def test_check_runs_each_seed_then_the_pypi_simulator_then_the_initializer(tmp_path, fake_runs) -> None:
+    path = write(build('robotarium_trapezoid', None), tmp_path / 'sub.py')
+    told: list[str] = []
+    report = check(path, seeds=2, initializer_seeds=3, run_timeout_s=7.0, progress=told.append, seed_done=lambda: None)
+    assert fake_runs == [('bundled', 0, 7.0), ('bundled', 1, 7.0), ('pypi', None, 7.0), *['seed done'] * 3]
+    assert [run.backend for run in report.runs] == ['bundled', 'bundled', 'pypi'] and report.passed
+    assert told == [
+        'running the file on the bundled simulator, seed 0 (at most 7 s)',
+        'running the file on the bundled simulator, seed 1 (at most 7 s)',
+        'running the file on the PyPI simulator (at most 7 s)',
+        "V2's initializer alone for the file's initial conditions, 3 seeds",
+    ]
+    assert report.robots == 2 and report.header_declaration is None  # the simulator's count, not the file's
+    expected = declare(InitializerSample((20.0, 21.0, 22.0), ()), experiment_s=1000 * 0.033)
+    assert report.declaration == expected and report.declare_duration_s == expected.duration_s
+
+
+def test_the_header_records_the_declaration_and_the_check_reads_it_back(tmp_path, fake_runs) -> None:
+    declaration = declare(InitializerSample((20.0, 35.5, 80.25), ()), experiment_s=61.3)
+    source = build('robotarium_trapezoid', None, declaration=declaration).source
+    header = source[: source.index('from __future__')]
+    assert 'Declare on the web form: 6 robots and 150 s, derived by `vtube submission check`' in header
+    assert 'from initializer 99.5% over 3 seeds 80.2 s + experiment 61.3 s; overruns 0.0%, stuck 0.0%.' in header
+    recorded = Declaration.from_header(source)
+    assert recorded is not None and recorded.duration_s == 150 and recorded.runs == 3
+    again = check(
+        write(build('robotarium_trapezoid', None, declaration=recorded), tmp_path / 'a.py'), initializer_seeds=3
+    )
+    assert again.passed, again.problems
+    short = declare(InitializerSample((1.0,), ()), experiment_s=1.0)  # 10 s: shorter than any real run
+    path = write(build('robotarium_trapezoid', None, declaration=short), tmp_path / 'short.py')
+    report = check(path, seeds=1, initializer_seeds=2)
+    assert not report.passed and report.header_declaration == short
+    assert report.declaration is not None and report.declaration.duration_s > 10
+    assert report.declaration_problem.startswith(
+        f'the header records 10 s, shorter than the {report.declaration.duration_s} s derived now; declare'
+    )
+
+
+def test_the_declaration_is_derived_and_every_run_must_fit_its_margin() -> None:
+    sample = InitializerSample((1.0,), ())
+    stuck = CheckReport('f.py', runs=(RunReport('bundled', 0, 0, record=record(2000), completed=True),))
+    found = check_module._declared(stuck, InitializerSample((), (0,)))
+    assert 'did not finish' in found.declaration_problem and found.declaration is None
+    assert check_module._declared(CheckReport('f.py'), sample) == CheckReport('f.py')  # no experiment: nothing
+    # 100 steps of experiment after 20000 of initialization: 663 s on the testbed's clock
+    late = RunReport(
+        'bundled', 1, 0, record=record(100, iterations=20_100, initialization_steps=20_000), completed=True
+    )
+    header = Declaration(400, 1.0, 1.0, 1, 0.0, 0.0)  # at least the 10 s derived; the verifier allows 600 s
+    report = check_module._declared(CheckReport('f.py', runs=(late,), header_declaration=header), sample)
+    assert report.declaration == declare(sample, 100 * 0.033) and report.declaration.duration_s == 10
+    assert report.declaration_problem == (
+        "bundled seed 1 took 663.3 s by the simulator's count, beyond the 600 s the verifier allows for a "
+        'declaration of 400 s; declare more.'
+    )
+    fits = Declaration(450, 1.0, 1.0, 1, 0.0, 0.0)  # 675 s allowed
+    assert check_module._declared(CheckReport('f.py', runs=(late,), header_declaration=fits), sample).passed
+
+
+def test_completion_is_every_robot_past_the_exit_of_the_files_tube() -> None:
+    source = (ROOT / 'submissions' / 'vtube_robotarium_curve.py').read_text(encoding='utf-8')
+    data = file_flight_data(source)
+    xy = np.asarray(data.tube.xy_m)  # (2, K): the polyline's samples
+    heading = (xy[:, -1] - xy[:, -2]) / np.linalg.norm(xy[:, -1] - xy[:, -2])
+    past = np.zeros((1, 3, 6))
+    past[0, :2] = (xy[:, -1] + 0.3 * heading)[:, None]
+    start = np.zeros((1, 3, 6))
+    start[0, :2] = xy[:, :1]
+    rec = record(1)
+    assert check_module._completed(SimulatorRecord(past, *_rest(rec)), data)
+    assert not check_module._completed(SimulatorRecord(start, *_rest(rec)), data)
+    assert not check_module._completed(None, data) and not check_module._completed(rec, data)  # 2 robots, not 6
+
+
+def _rest(rec: SimulatorRecord) -> tuple:
+    return (np.zeros((1, 2, 6)), rec.dt_s, rec.errors, rec.iterations, rec.initialization_steps, 1, True)

@@ -1,0 +1,84 @@
+"""The submission's body: it flies the flight data on a Robotarium class and saves what the testbed returns."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from robotarium_exp.analysis.loaders import load_trajectory
+from robotarium_exp.experiment import ExperimentConfig, flight_data
+from robotarium_exp.flight_data import FlightData
+from submission import runtime
+from submission.runtime import META_FILE, draw_tube, save_log
+from vtube_planning import load_scene
+from vtube_planning.planning.planner import plan_convex
+
+
+def curve_data() -> FlightData:
+    """The planned flight of robotarium_curve, as a submission embeds it (six significant digits)."""
+    scene = load_scene('robotarium_curve')
+    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+    return FlightData.from_plain(flight_data(scene, plan, ExperimentConfig()).to_plain())
+
+
+def test_saved_arrays_load_without_pickle(tmp_path, monkeypatch) -> None:
+    import importlib
+    import sys
+
+    from robotarium_exp.rps_alias import CLASSIC_MODULES
+    from robotarium_exp.rps_classic import robotarium as classic
+
+    for suffix in CLASSIC_MODULES:  # `import rps...` in the runtime resolves to the classic tree, for this test only
+        monkeypatch.setitem(sys.modules, 'rps' + suffix, importlib.import_module('robotarium_exp.rps_classic' + suffix))
+
+    class Module:  # robots placed at the initial conditions
+        Robotarium = classic.Robotarium
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv('VTUBE_HEADLESS', '1')
+    data = curve_data()
+    summary = runtime.run(data, Module, max_steps=40)
+    positions = np.load(tmp_path / 'vtube_positions_m.npy', allow_pickle=False)
+    assert positions.shape == (summary['steps'], 2, 6)
+    for name in ('t_s', 'headings_rad', 'dxu', 'r_a_m', 'points_l_m', 'density_per_m2', 'barrier_correction_mps'):
+        assert np.load(tmp_path / f'vtube_{name}.npy', allow_pickle=False).shape[0] == summary['steps']
+    meta = json.loads((tmp_path / 'vtube_meta.json').read_text())
+    assert meta['format'] == 'vtube-trajectory' and meta['version'] == 2 and meta['finished']
+    assert (
+        meta['scene'] == 'robotarium_curve' and meta['tube_hash'] == load_scene('robotarium_curve').tube.fingerprint()
+    )
+    returned = load_trajectory([tmp_path])  # the one reader of vtube logs
+    assert returned.source['tube_hash'] == meta['tube_hash'] and len(returned.robot_ids) == 6
+    np.testing.assert_array_equal(returned.positions_m, positions)
+
+
+def test_the_log_is_saved_as_npy_files_and_a_description(tmp_path, monkeypatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    save_log({'t_s': [np.float64(0.0), np.float64(0.033)], 'positions_m': [np.zeros((2, 3))] * 2}, {'finished': False})
+    assert np.load(tmp_path / 'vtube_t_s.npy').tolist() == [0.0, 0.033]
+    assert np.load(tmp_path / 'vtube_positions_m.npy').shape == (2, 2, 3)
+    assert json.loads((tmp_path / META_FILE).read_text()) == {'finished': False}
+
+
+def test_the_tube_is_drawn_on_a_figure_only() -> None:
+    drawn = []
+
+    class Axes:
+        def plot(self, x, y, **style) -> None:
+            drawn.append((list(x), list(y), style['color']))
+
+    class WithFigure:
+        _axes_handle = Axes()
+
+    edges = np.arange(8.0).reshape(2, 2, 2)
+    draw_tube(WithFigure(), edges)
+    assert drawn == [([0.0, 1.0], [2.0, 3.0], 'tab:blue'), ([4.0, 5.0], [6.0, 7.0], 'tab:blue')]
+    draw_tube(object(), edges)  # no figure: nothing to draw on, no error
+
+    class Classic:
+        def __init__(self) -> None:
+            self.axes: list = []  # the classic simulator's list when there is no figure
+
+    draw_tube(Classic(), edges)
+    assert len(drawn) == 2

@@ -1,0 +1,71 @@
+"""``vtube plan``: the plan file, its figure and its summary; uncertified and infeasible plans."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from vtube.cli.app import main
+from vtube.cli.plan import plan_view
+from vtube.pipeline import Planned
+from vtube_planning import load_scene
+from vtube_planning.planning.plan import Plan
+from vtube_planning.planning.planner import plan_convex
+
+GOOD = """
+[tube.center]
+pieces = [{ kind = "line", length_m = 10.0 }]
+[tube.width]
+start_m = 2.0
+parts = [{ kind = "constant" }]
+"""
+
+
+def test_plan_writes_plan_file_and_figure(tmp_path, capsys) -> None:
+    assert main(['plan', 'C', '--out', str(tmp_path), '--grid-step', '0.5']) == 0
+    text = capsys.readouterr().out
+    assert 'certificate           certified' in text and 'min 0.1' in text
+    plan = Plan.load(tmp_path / 'plan_C.npz')
+    assert plan.scene == 'C' and plan.options.grid_step_m == 0.5 and plan.l_m.size == 121
+    assert (tmp_path / 'plan_C.png').read_bytes()[:4] == b'\x89PNG'
+
+
+def test_the_plan_view_reads_the_plan(tmp_path) -> None:
+    scene = load_scene('robotarium_trapezoid')
+    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+    files = (Path('p.npz'), Path('p.png'), Path('s.toml'))
+    view = plan_view(Planned(scene, plan, 'convex', *files))
+    k = int(plan.density_per_m2.argmin())
+    assert view.lines[0].startswith(f'plan for scene robotarium_trapezoid (convex, {plan.l_m.size} grid points, ')
+    assert f'  traversal time        {plan.time_s:.4f} s' in view.lines
+    assert f'  density               min {plan.density_per_m2[k]:.4g} at l = {plan.l_m[k]:.3f} m, ' in view.lines[4]
+    assert view.lines[5].startswith('  certificate           certified: ') and view.lines[-1].endswith('p.png, s.toml')
+    assert json.loads(json.dumps(view.data)) == {
+        'plan_file': 'p.npz',
+        'time_s': plan.time_s,
+        'objective': plan.objective,
+        'certificate': plan.certificate,
+        'certified': True,
+        'provenance': plan.provenance,
+    }
+
+
+def test_plan_reports_uncertified_polynomial_plans(tmp_path, capsys) -> None:
+    assert main(['plan', 'A', '--out', str(tmp_path), '--method', 'polynomial']) == 0
+    assert 'NOT certified' in capsys.readouterr().out
+
+
+def test_infeasible_plan_gives_exit_2_naming_constraint_and_arc_length(tmp_path, capsys) -> None:
+    path = tmp_path / 'tight.toml'
+    path.write_text(
+        GOOD.replace(
+            '{ kind = "line", length_m = 10.0 }',
+            '{ kind = "line", length_m = 5.0 }, { kind = "arc", radius_m = 3.0, angle_deg = 60.0 }',
+        )
+    )
+    assert main(['plan', str(path), '--out', str(tmp_path)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith('error: (p4) is incompatible with (p2) at l = 4.')
+    assert not (tmp_path / 'plan_tight.npz').exists()
+    assert main(['plan', 'Z', '--out', str(tmp_path / 'p'), '--json']) == 2  # an error: nothing on stdout
+    assert capsys.readouterr().out == ''

@@ -1,0 +1,108 @@
+"""``vtube robotarium run|compare``: the views of a run and of a comparison, and compare's wiring (stubbed runs;
+real runs in ``tests/integration``)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from types import SimpleNamespace
+
+import robotarium_exp.compare as compare_module
+from robotarium_exp.compare import ComparisonRow
+from robotarium_exp.tracking import PhaseTracking, PlanTracking
+from robotarium_exp.verdict import VerifierVerdict
+from robotarium_exp.verifier import VerifierCounts
+from vtube.cli.app import main
+from vtube.cli.robotarium import Comparison, RobotariumRun, comparison_view, experiment_view
+
+from .test_simulate import metrics
+
+
+def run(counts: VerifierCounts, tracking: PlanTracking | None) -> RobotariumRun:
+    barrier = SimpleNamespace(
+        correction_mean_mps=0.0012,
+        correction_max_mps=0.05,
+        intervention_m=1.234,
+        failures=0,
+        band_share=0.995,
+        band_share_held=0.9991,
+        band_dropped_share=0.0004,
+    )
+    result = SimpleNamespace(metrics=metrics(), barrier=barrier, completed=True, errors=counts)
+    return RobotariumRun(
+        scene=SimpleNamespace(name='robotarium_curve'),
+        config=SimpleNamespace(planning=tracking is not None, barrier=True),
+        result=result,
+        verdict=VerifierVerdict(counts, 61.25),
+        tracking=tracking,
+        written=(Path('r/e.npz'), Path('r/e.png'), Path('r/s.toml')),
+    )
+
+
+def test_the_view_of_a_run_the_testbed_would_run() -> None:
+    phase = PhaseTracking(100, 0.12, 0.3, 0.05, 0.1)
+    tracked = PlanTracking(None, phase, PhaseTracking(0, None, None, None, None), phase, 4.0, None)
+    view = experiment_view(run(VerifierCounts(0, 0, 2), tracked))
+    assert view.lines[0] == (
+        'Robotarium experiment, scene robotarium_curve, with planning, barrier on: would run on the Robotarium'
+    )
+    assert '  too close (pair-steps) 0' in view.lines and '  actuator-limit steps   2' in view.lines
+    assert view.lines[4].startswith('  duration               61.2 s (initialization included: declare at least ')
+    assert '  speed band             99.50 % of flying robot-steps in [v_min, v_max] (99.91 % where' in view.lines[9]
+    tracking = [line for line in view.lines if 'tracking' in line]
+    assert tracking == [
+        '  tracking, approach     density error mean 12 % (max 30 %), speed error mean 5 %',
+        '  tracking, narrow       density error mean 12 % (max 30 %), speed error mean 5 %',
+    ]  # the phase without a step is left out
+    assert '  expansion              starts at 4.0 s; the front reaches the narrowing at never' in view.lines
+    assert view.exit_code == 0 and view.data['would_run'] and view.data['log'] == 'r/e.npz'
+    assert view.data['errors'] == VerifierCounts(0, 0, 2).to_json() and view.data['duration_s'] == 61.25
+
+
+def test_a_run_with_robots_too_close_would_not_run_and_fails() -> None:
+    view = experiment_view(run(VerifierCounts(3, 0, 0), None))
+    assert 'without planning' in view.lines[0] and view.lines[0].endswith('would NOT run on the Robotarium')
+    assert view.exit_code == 1 and not any('tracking' in line or 'expansion' in line for line in view.lines)
+
+
+def test_compare_draws_its_runs_and_writes_the_table_and_rows(tmp_path, monkeypatch, capsys) -> None:
+    """The runs stubbed (their loop is robotarium_exp's; the real one in tests/integration/test_demo.py)."""
+    calls = []
+
+    def compare(scene, plan, seeds, run_done=None):
+        calls.append((scene.name, plan.scene, seeds))
+        values = dict.fromkeys(('passing_time_s', 'min_distance_m', 'intervention_m', 'band_percent'), 1.0)
+        values |= {'tube_violation_steps': 0, 'approach_percent': None, 'dip_percent': None, 'testbed_errors': 0}
+        values |= {'front_at_narrowing_s': 3.0}
+        rows = []
+        for seed in seeds:
+            for planned in (True, False):
+                rows.append(
+                    ComparisonRow(seed=seed, planned=planned, expansion_start_s=2.0 if planned else None, **values)
+                )
+                run_done()
+        return rows
+
+    monkeypatch.setattr(compare_module, 'compare', compare)
+    assert main(['robotarium', 'compare', 'robotarium_curve', '--seeds', '2', '--out', str(tmp_path / 'c')]) == 0
+    assert calls == [('robotarium_curve', 'robotarium_curve', [0, 1])]
+    out = capsys.readouterr().out
+    assert out.startswith('scene robotarium_curve, V2 initialization seeds 0..1, mean [min, max]:\n| measure |')
+    rows = json.loads((tmp_path / 'c' / 'compare_robotarium_curve.json').read_text())
+    assert [row['planned'] for row in rows] == [True, False, True, False]
+    table = (tmp_path / 'c' / 'compare_robotarium_curve.md').read_text()
+    assert table.count('\n') == 12 and '| expansion starts [s] | 2.0 [2.0, 2.0] | never |' in table
+
+
+def test_the_view_of_a_comparison() -> None:
+    view = comparison_view(Comparison('robotarium_curve', 3, '| t |', (Path('a.md'), Path('a.json'))))
+    assert view.lines == (
+        'scene robotarium_curve, V2 initialization seeds 0..2, mean [min, max]:',
+        '| t |',
+        'written a.md, a.json',
+    )
+
+
+def test_a_scene_off_the_arena_is_refused_before_any_run(tmp_path, capsys) -> None:
+    assert main(['robotarium', 'run', 'A', '--out', str(tmp_path)]) == 2
+    assert 'does not fit the Robotarium arena' in capsys.readouterr().err

@@ -1,0 +1,121 @@
+"""``vtube simulate``: its options handed to the pipeline, and the view of a simulated passage."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from vtube import pipeline
+from vtube.cli.app import main
+from vtube.cli.simulate import _replanning, simulate_view
+from vtube_planning.swarm.metrics import PassageMetrics
+from vtube_planning.swarm.simulate import SimConfig
+
+
+def metrics(**change) -> PassageMetrics:
+    values = {
+        'passing_time_s': 12.5,
+        'completed': True,
+        'robots_passed': 8,
+        'robots_counted': 8,
+        'first_entry_s': 1.0,
+        'last_exit_s': 13.5,
+        'min_distance_m': 0.61234,
+        'min_distance_time_s': 4.25,
+        'collision_distance_m': 0.6,
+        'collision_pairs': 0,
+        'collision_steps': 0,
+        'tube_violation_steps': 3,
+        'robots_outside': 1,
+        'max_outside_m': 0.0125,
+        'speed_violations': 0,
+        'speed_tracking_mean_mps': 0.1234,
+        'speed_tracking_max_mps': 0.5,
+        'density_tracking_mean_per_m2': 0.01234,
+        'density_tracking_max_per_m2': 0.05,
+    }
+    return PassageMetrics(**(values | change))
+
+
+def simulated(m: PassageMetrics, *, planned: bool = True, meta: dict | None = None) -> pipeline.Simulated:
+    result = SimpleNamespace(
+        metrics=m, planned=planned, t_s=np.zeros(625), meta={'provenance': {'p': 1}} | (meta or {})
+    )
+    return pipeline.Simulated(
+        scene=SimpleNamespace(name='C'),
+        swarm=SimpleNamespace(n_robots=8),
+        config=SimConfig(seed=3, replan_every_s=1.0),
+        result=result,
+        written=(Path('o/sim_C_planned.npz'), Path('o/a.png')),
+    )
+
+
+def test_the_view_of_a_planned_passage() -> None:
+    view = simulate_view(simulated(metrics()))
+    assert view.lines[0] == 'simulation of scene C with planning: N = 8, seed 3, 625 steps of 0.02 s'
+    assert '  passing time       12.500 s' in view.lines
+    assert '  minimum distance   0.6123 m at t = 4.25 s' in view.lines
+    assert '  collisions         0 pairs closer than 2 r_p = 0.6 m' in view.lines
+    assert '  tube violations    3 robot-steps, 1 robots, up to 0.013 m outside' in view.lines
+    assert '  density tracking   mean 0.0123, max 0.0500 /m^2' in view.lines
+    assert view.lines[-1] == '  written            o/sim_C_planned.npz, o/a.png'
+    assert view.data == {'log': 'o/sim_C_planned.npz', 'metrics': metrics().to_json(), 'provenance': {'p': 1}}
+
+
+def test_the_view_of_an_unfinished_unplanned_passage_with_replanning() -> None:
+    replans = [
+        {'wall_ms': 30.0, 'error': None, 'step': 50},
+        {'wall_ms': 10.0, 'error': None, 'step': 100},
+        {'wall_ms': 20.0, 'error': None, 'step': 150},
+        {'wall_ms': 5.0, 'error': 'infeasible', 'step': 200},
+    ]
+    m = metrics(completed=False, speed_tracking_mean_mps=None)
+    view = simulate_view(simulated(m, planned=False, meta={'replans': replans}))
+    assert 'without planning' in view.lines[0] and '(not every robot exited)' in view.lines[1]
+    assert not any('tracking' in line for line in view.lines)
+    assert '  replanning         every 1 s: 3 replans, median 20 ms, largest 30 ms; 1 found the state ' in (
+        '\n'.join(view.lines)
+    )
+    assert view.data['replans'] == replans
+    assert _replanning([], 2.0) == 'every 2 s: 0 replans; 0 found the state infeasible and kept the plan'
+
+
+def test_the_options_reach_the_pipeline(tmp_path, monkeypatch, capsys) -> None:
+    calls = []
+
+    def simulate_scene(scene, out, **options):
+        calls.append((scene, out, options))
+        return simulated(metrics())
+
+    monkeypatch.setattr(pipeline, 'simulate_scene', simulate_scene)
+    args = ['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--seed', '3', '--no-planning', '--animate']
+    assert main([*args, '--acceleration-limits', '--replan-every', '2.5', '--quiet', '--json']) == 0
+    (scene, out, options) = calls[0]
+    assert (scene, out, options['planning'], options['n_robots'], options['plan_file']) == (
+        'C',
+        tmp_path,
+        False,
+        8,
+        None,
+    )
+    assert options['config'] == SimConfig(seed=3, acceleration_limits=True, replan_every_s=2.5) and options['animate']
+    assert json.loads(capsys.readouterr().out)['log'] == 'o/sim_C_planned.npz'
+    assert main(['simulate', 'C', '--out', str(tmp_path), '--plan', 'p.npz']) == 0
+    assert calls[1][2]['plan_file'] == Path('p.npz') and calls[1][2]['config'] == SimConfig()
+    assert calls[1][2]['planning'] and calls[1][2]['n_robots'] is None and not calls[1][2]['animate']
+
+
+def test_replanning_needs_a_plan(tmp_path, capsys) -> None:
+    assert main(['simulate', 'C', '--out', str(tmp_path), '--no-planning', '--replan-every', '1']) == 2
+    assert 'replanning (replan_every_s) needs a plan' in capsys.readouterr().err
+
+
+@pytest.mark.parametrize('bad', [['--n', '0'], ['--seed', '-1'], ['--replan-every', '0']])
+def test_bad_numbers_are_refused_by_the_parser(tmp_path, capsys, bad: list[str]) -> None:
+    with pytest.raises(SystemExit) as stop:
+        main(['simulate', 'C', '--out', str(tmp_path), *bad])
+    assert stop.value.code == 2 and 'error: argument' in capsys.readouterr().err
