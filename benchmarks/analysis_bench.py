@@ -22,7 +22,7 @@ import numpy as np
 
 from benchmarks._timing import timed
 from robotarium_exp.analysis.loaders import load_trajectory
-from tests.robotarium_exp.realdata import mrclam_samples, realdata_folder, write_mrclam_ros1
+from tests.support.realdata import mrclam_samples, realdata_folder, write_mrclam_ros1
 from vtube.cli import main as vtube
 
 

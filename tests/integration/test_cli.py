@@ -19,14 +19,10 @@ from pathlib import Path
 import pytest
 
 import vtube_planning.swarm.simulate as simulate_module
+from tests.support.bags import write_bag
 from vtube.cli.app import main
 from vtube_planning.log import read_log
 from vtube_planning.planning.plan import Plan
-
-try:  # the bag writer moves to tests/support/bags.py with the robotarium_exp tests
-    from tests.support.bags import write_bag
-except ImportError:  # pragma: no cover -- before that move
-    from tests.robotarium_exp.test_analysis import write_bag
 
 ROOT = Path(__file__).resolve().parents[2]
 
