@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from vtube_planning import ParamsError, load_scene
+from vtube_planning.errors import ParamsError
+from vtube_planning.geometry.scene import load_scene
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.swarm.faults import RobotFailure
 from vtube_planning.swarm.metrics import passage_metrics
@@ -99,7 +100,7 @@ def test_bad_fault_settings_are_refused(scene_a) -> None:
 
 
 def test_avoidance_of_what_is_heard_equals_the_pairwise_law_when_everything_arrives() -> None:
-    from vtube_planning.onboard import avoidance_velocity
+    from vtube_planning.onboard.law import avoidance_velocity
     from vtube_planning.params import ControlParams
 
     scene = load_scene('A')
@@ -116,7 +117,7 @@ def test_avoidance_of_what_is_heard_equals_the_pairwise_law_when_everything_arri
 
 
 def test_dropped_messages_leave_the_stated_share_of_robots_heard_where_they_were(scene_a, monkeypatch) -> None:
-    from vtube_planning.onboard import stepper as step_module
+    import vtube_planning.onboard.stepper as step_module
 
     scene, plan = scene_a
     views: list[tuple[np.ndarray, np.ndarray]] = []

@@ -11,7 +11,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import minimize
 
-from vtube_planning import PlanningOptions, SwarmParams, VirtualTube
+from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.params import PlanningOptions, SwarmParams
 
 RHO_FLOOR = 1e-3  # (p5)'s strictly positive density, as the paper's rho > 0
 

@@ -6,7 +6,8 @@ import math
 
 import pytest
 
-from vtube_planning import ParamsError, PlanningOptions, SwarmParams
+from vtube_planning.errors import ParamsError
+from vtube_planning.params import PlanningOptions, SwarmParams
 
 
 def test_defaults_are_table_1() -> None:

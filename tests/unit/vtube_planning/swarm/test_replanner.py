@@ -7,8 +7,8 @@ from dataclasses import asdict
 import numpy as np
 import pytest
 
-from vtube_planning import load_scene
 from vtube_planning.errors import ParamsError, PlanError
+from vtube_planning.geometry.scene import load_scene
 from vtube_planning.planning.constraints import objective_terms
 from vtube_planning.planning.plan import Plan, SwarmState
 from vtube_planning.planning.planner import plan_convex, replan

@@ -2,26 +2,17 @@
 
 from __future__ import annotations
 
-import itertools
 import math
 
 import numpy as np
 import pytest
 from scipy.integrate import quad
-from scipy.interpolate import CubicSpline
 
-from vtube_planning import (
-    ArcPath,
-    ArcPiece,
-    ShapeError,
-    SplineCurve,
-    TubeError,
-    VirtualTube,
-    WidthPart,
-    WidthProfile,
-    list_scenes,
-    load_scene,
-)
+from vtube_planning.errors import ShapeError, TubeError
+from vtube_planning.geometry.centerline import ArcPath, ArcPiece, SplineCurve
+from vtube_planning.geometry.scene import list_scenes, load_scene
+from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.geometry.width import WidthPart, WidthProfile
 
 EXACT = 1e-9  # m: the issue's bound for analytic tubes
 WAYPOINTS = ((0.0, 0.0), (10.0, 1.0), (20.0, -1.0), (30.0, 0.0), (50.0, 0.0), (60.0, 1.0), (70.0, 0.0))
@@ -46,33 +37,6 @@ def spline_tube() -> VirtualTube:
     center = SplineCurve(WAYPOINTS)
     width = WidthProfile(3.0, (WidthPart('smooth', 15.0, to_m=1.0), WidthPart('constant', center.length_m - 15.0)))
     return VirtualTube(center, width)
-
-
-def sigma(x: np.ndarray, d1: float, d2: float) -> np.ndarray:
-    """The cubic smooth step of docs/theory.md §2.3 with its published coefficients (independent of width.py)."""
-    den = (d1 - d2) ** 3
-    a, b, c = -2.0 / den, 3.0 * (d1 + d2) / den, -6.0 * d1 * d2 / den
-    d = d2**2 * (3.0 * d1 - d2) / den
-    return np.where(x <= d1, 1.0, np.where(x >= d2, 0.0, a * x**3 + b * x**2 + c * x + d))
-
-
-# ---------------------------------------------------------------------- analytic curves
-
-
-@pytest.mark.parametrize('left', [True, False])
-def test_circle_arc_curvature_is_one_over_radius(left: bool) -> None:
-    radius = 7.0
-    tube = arc_tube(radius, 150.0, left)
-    l = np.linspace(0.0, tube.length_m, 101)
-    sign = 1.0 if left else -1.0
-    np.testing.assert_allclose(tube.curvature(l), sign / radius, rtol=1e-14)
-    np.testing.assert_allclose(tube.curvature_radius(l), radius, rtol=1e-14)
-    center_of_circle = np.array([0.0, sign * radius])  # start at the origin heading +x
-    np.testing.assert_allclose(np.linalg.norm(tube.center_at(l) - center_of_circle, axis=1), radius, atol=1e-12)
-    # the tangent is perpendicular to the radius, the left normal points to the centre for a left turn
-    to_centre = center_of_circle - tube.center_at(l)
-    np.testing.assert_allclose(np.einsum('ij,ij->i', tube.tangent(l), to_centre), 0.0, atol=1e-12)
-    np.testing.assert_allclose(np.einsum('ij,ij->i', tube.normal(l), to_centre) / radius, sign, atol=1e-12)
 
 
 def test_straight_tube_projection_is_exact() -> None:
@@ -106,58 +70,6 @@ def test_circle_arc_projection_is_exact(left: bool) -> None:
     proj = tube.project(points)
     np.testing.assert_allclose(proj.l_m, radius * phi, atol=EXACT)
     np.testing.assert_allclose(proj.y_m, sign * (radius - r), atol=EXACT)
-
-
-def test_analytic_path_pieces_join_with_continuous_tangent() -> None:
-    path = ArcPath((ArcPiece(3.0), ArcPiece(4.0, radius_m=2.0), ArcPiece(2.0), ArcPiece(5.0, 3.0, left=False)))
-    for b in path.breakpoints[1:-1]:
-        before, after = path.frame(np.array([b - 1e-9, b]))[:2]
-        np.testing.assert_allclose(before[0], before[1], atol=1e-8)
-        np.testing.assert_allclose(after[0], after[1], atol=1e-8)
-    # the heading after all pieces is the sum of the turns
-    end_tangent = path.frame(np.array([path.length_m]))[1][0]
-    heading = 4.0 / 2.0 - 5.0 / 3.0
-    np.testing.assert_allclose(end_tangent, [math.cos(heading), math.sin(heading)], atol=1e-14)
-
-
-@pytest.mark.parametrize('make', [arc_tube, spline_tube, lambda: load_scene('B').tube], ids=['arc', 'spline', 'B'])
-def test_tangent_and_curvature_match_finite_differences(make) -> None:
-    tube = make()
-    h = 1e-5
-    l = np.linspace(2 * h, tube.length_m - 2 * h, 301)
-    l = l[np.min(np.abs(l[:, None] - tube.center.breakpoints[None, :]), axis=1) > 2 * h]  # curvature jumps at joints
-    d_gamma = (tube.center_at(l + h) - tube.center_at(l - h)) / (2 * h)
-    np.testing.assert_allclose(d_gamma, tube.tangent(l), atol=1e-8)  # also |gamma'| = 1: true arc length
-    d_tangent = (tube.tangent(l + h) - tube.tangent(l - h)) / (2 * h)
-    np.testing.assert_allclose(d_tangent, tube.curvature(l)[:, None] * tube.normal(l), atol=1e-6)
-
-
-# ---------------------------------------------------------------------- spline curves
-
-
-def test_spline_arc_length_matches_dense_numerical_integral() -> None:
-    pts = np.array(WAYPOINTS)
-    u = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
-    spline = CubicSpline(u, pts, bc_type='natural')  # the documented construction, rebuilt independently
-
-    def speed(s: float) -> float:
-        return float(np.hypot(*spline(s, 1)))
-
-    length = sum(quad(speed, a, b, epsabs=1e-13, epsrel=1e-13, limit=200)[0] for a, b in itertools.pairwise(u))
-    tube = spline_tube()
-    assert abs(tube.length_m - length) <= 1e-6 * length
-    # and the curve passes through every waypoint, at increasing arc length
-    np.testing.assert_allclose(tube.center_at(tube.center.breakpoints), pts, atol=1e-9)
-    assert np.all(np.diff(tube.center.breakpoints) > 0)
-
-
-def test_spline_through_circle_points_has_curvature_close_to_one_over_radius() -> None:
-    radius = 10.0
-    phi = np.linspace(0.0, math.pi / 2, 40)
-    curve = SplineCurve(tuple(zip(radius * np.sin(phi), radius * (1 - np.cos(phi)), strict=True)))
-    l = np.linspace(0.2 * curve.length_m, 0.8 * curve.length_m, 50)  # away from the natural (kappa = 0) ends
-    np.testing.assert_allclose(curve.frame(l)[2], 1.0 / radius, rtol=1e-3)
-    assert abs(curve.length_m - radius * math.pi / 2) < 1e-4
 
 
 def test_spline_projection_recovers_curvilinear_coordinates() -> None:
@@ -247,34 +159,6 @@ def test_warm_projection_checks_its_start() -> None:
         tube.project_near(np.zeros((2, 3)), tube.project(np.zeros((2, 2))))
 
 
-# ---------------------------------------------------------------------- width and area
-
-
-def test_smooth_width_part_is_the_sigma_smoothstep() -> None:
-    width = WidthProfile(
-        4.0, (WidthPart('constant', 5.0), WidthPart('smooth', 6.0, to_m=1.5), WidthPart('constant', 4.0))
-    )
-    l = np.linspace(0.0, 15.0, 1001)
-    expected = (4.0 - 1.5) * sigma(l, 5.0, 11.0) + 1.5
-    np.testing.assert_allclose(width.value(l), expected, atol=1e-12)
-
-
-def test_linear_width_part_is_a_rounded_trapezoid() -> None:
-    width = WidthProfile(
-        4.0, (WidthPart('constant', 5.0), WidthPart('linear', 10.0, to_m=1.0, corner_m=1.0), WidthPart('constant', 5.0))
-    )
-    slope = (1.0 - 4.0) / (10.0 - 1.0)
-    np.testing.assert_allclose(width.slope(np.linspace(6.0, 14.0, 50)), slope, atol=1e-12)  # straight middle
-    np.testing.assert_allclose(width.value(np.array([5.0, 15.0])), [4.0, 1.0], atol=1e-12)
-    # C^1: one-sided difference quotients agree at every breakpoint
-    h = 1e-7
-    for b in width.breakpoints[1:-1]:
-        left = (width.value(b) - width.value(b - h)) / h
-        right = (width.value(b + h) - width.value(b)) / h
-        assert abs(left - right) < 1e-5
-    assert all(abs(jv) < 1e-12 and abs(js) < 1e-12 for _, jv, js in width.continuity_defects())
-
-
 @pytest.mark.parametrize('name', list_scenes())
 def test_cumulative_area_matches_quadrature_and_inverts(name: str) -> None:
     tube = load_scene(name).tube
@@ -294,52 +178,6 @@ def test_cumulative_area_matches_quadrature_and_inverts(name: str) -> None:
     l = np.linspace(-2.0, tube.length_m + 2.0, 501)  # the straight extensions keep their end widths
     np.testing.assert_allclose(tube.area_inverse(tube.area(l)), l, atol=1e-9 * tube.length_m)
     assert np.all(np.diff(tube.area(l)) > 0)
-
-
-# ---------------------------------------------------------------------- regularity
-
-
-def test_over_curved_tube_names_the_arc_length() -> None:
-    center = ArcPath((ArcPiece(4.0), ArcPiece(3.0, radius_m=2.0), ArcPiece(4.0)))
-    with pytest.raises(TubeError, match=r'over-curved at l = 4\.000 m.*radius 2 m'):
-        VirtualTube(center, constant(11.0, 2.5))
-
-
-def test_self_intersecting_tube_names_both_arc_lengths() -> None:
-    loop = ArcPath((ArcPiece(10.0), ArcPiece(3.0 * 1.5 * math.pi, radius_m=3.0), ArcPiece(10.0)))
-    with pytest.raises(
-        TubeError, match=r'overlaps itself: the cross-sections at l = \d+\.\d{3} m and l = \d+\.\d{3} m'
-    ):
-        VirtualTube(loop, constant(loop.length_m, 1.0))
-
-
-def test_parallel_legs_overlap_only_when_over_curved() -> None:
-    # a U-turn of radius 1.5 m: parallel legs 3 m apart overlap exactly when lambda > R, caught as folding
-    hairpin = ArcPath((ArcPiece(10.0), ArcPiece(1.5 * math.pi, radius_m=1.5), ArcPiece(10.0)))
-    with pytest.raises(TubeError, match=r'over-curved at l = 10\.000 m'):
-        VirtualTube(hairpin, constant(hairpin.length_m, 1.6))
-    VirtualTube(hairpin, constant(hairpin.length_m, 1.4))  # 2.8 m of tube in 3 m: regular
-
-
-def test_converging_legs_overlap_although_locally_regular() -> None:
-    # a 190 degree turn of radius 3 m: the legs converge to 4.2 m apart, lambda kappa stays below 1
-    turn = ArcPath((ArcPiece(10.0), ArcPiece(3.0 * math.radians(190.0), radius_m=3.0), ArcPiece(10.0)))
-    with pytest.raises(TubeError, match='overlaps itself'):
-        VirtualTube(turn, constant(turn.length_m, 2.9))  # lambda kappa = 0.97, 5.8 m of tube in 4.2 m
-    VirtualTube(turn, constant(turn.length_m, 1.5))  # 3 m of tube in 4.2 m: regular
-
-
-def test_width_with_kinks_is_not_c1_and_names_the_arc_length() -> None:
-    width = WidthProfile(
-        3.0, (WidthPart('constant', 5.0), WidthPart('linear', 4.0, to_m=1.0, corner_m=0.0), WidthPart('constant', 1.0))
-    )
-    with pytest.raises(TubeError, match=r'not C\^1 at l = 5\.000 m'):
-        VirtualTube(ArcPath((ArcPiece(10.0),)), width)
-
-
-def test_negative_width_names_the_arc_length() -> None:
-    with pytest.raises(TubeError, match=r'to_m = -1.0 m at l = 9\.000 m'):
-        WidthProfile(3.0, (WidthPart('constant', 5.0), WidthPart('smooth', 4.0, to_m=-1.0)))
 
 
 def test_width_and_centre_line_must_have_the_same_length() -> None:
