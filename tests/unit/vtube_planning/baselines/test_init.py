@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pkgutil
 
-from vtube_planning import baselines
+import vtube_planning.baselines as package
 
 
 def test_the_package_holds_the_flocking_and_the_nmpc_baselines() -> None:
-    assert {m.name for m in pkgutil.iter_modules(baselines.__path__)} == {'flocking', 'nmpc'}
-    assert 'flocking' in baselines.__doc__ and 'NMPC' in baselines.__doc__
+    assert {m.name for m in pkgutil.iter_modules(package.__path__)} == {'flocking', 'nmpc'}
+    assert 'flocking' in package.__doc__ and 'NMPC' in package.__doc__
