@@ -1,5 +1,7 @@
-"""Campaigns: declared in TOML, expanded into runs with stable keys, run on local processes or Dask, streamed to
-disk, resumed after an interruption, refused before any run on bad input."""
+"""Running campaigns from the command line, each run faked: streamed to disk, resumed after an interruption, a
+failing run recorded, refused before any run on bad input. The figures of the report are drawn but not rendered
+(rendering is checked in tests/integration/test_planning_study.py); runs on local processes and on Dask are in
+tests/integration/test_planning_campaign.py."""
 
 from __future__ import annotations
 
@@ -10,6 +12,7 @@ from pathlib import Path
 import pytest
 
 import vtube_planning.campaign_runner as campaign_module
+import vtube_planning.plots
 from vtube.cli import main
 from vtube_planning.campaign import METRICS, run_key
 from vtube_planning.campaign_store import RUNS_FILE, read_results
@@ -36,6 +39,19 @@ def fake_metrics(point: Point) -> dict[str, object]:
     return values | {'completed': True, 'passing_time_s': 10.0 + point.seed + point.latency_steps}
 
 
+@pytest.fixture(autouse=True)
+def unrendered_figures(monkeypatch):
+    """save_figure writes an empty file where the PNG would go: the report's figures are drawn, not rendered."""
+
+    def save(fig, path, *, dpi=120):
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(b'')
+        return path
+
+    monkeypatch.setattr(vtube_planning.plots, 'save_figure', save)
+
+
 @pytest.fixture
 def fake_runs(monkeypatch):
     """Replace the simulation with :func:`fake_metrics`; ``calls`` lists the points run; ``fail`` maps a call number
@@ -56,10 +72,12 @@ def fake_runs(monkeypatch):
 def test_unreachable_places_are_refused_before_any_run(tmp_path, capsys, fake_runs, monkeypatch) -> None:
     path = write(tmp_path, SMALL)
     argv = ['campaign', 'run', str(path), '--workers', '1']
-    unanswered = ['--scheduler', 'tcp://127.0.0.1:9', '--scheduler-timeout', '1']
+    unanswered = ['--scheduler', 'tcp://127.0.0.1:9', '--scheduler-timeout', '0.2']
     assert main([*argv, '--out', str(tmp_path / 'out'), *unanswered]) == 2
     err = capsys.readouterr().err
-    assert err.startswith('error: no Dask scheduler answered at tcp://127.0.0.1:9 within 1 s') and err.count('\n') == 1
+    assert (
+        err.startswith('error: no Dask scheduler answered at tcp://127.0.0.1:9 within 0.2 s') and err.count('\n') == 1
+    )
     blocker = write(tmp_path, 'a file where the folder should go', 'taken')
     assert main([*argv, '--out', str(blocker / 'results')]) == 2
     assert 'choose another --out before any run starts.' in capsys.readouterr().err

@@ -48,7 +48,7 @@ def test_each_mode_switches_exactly_the_part_it_names(setups) -> None:
 
 def test_a3_off_keeps_every_avoidance_radius_and_a3_on_changes_them(setups) -> None:
     scene, s = setups
-    config = SimConfig(time_limit_s=8.0)
+    config = SimConfig(time_limit_s=3.0)
     radii = {}
     for mode in ('planning', 'planned speed, (a3) off'):
         setup = s[mode]
