@@ -138,9 +138,9 @@ def test_normal_narrowing_needs_no_pre_expansion(shipped_plans: dict[str, Plan])
 # ---------------------------------------------------------------------- optimality
 
 
-def test_convex_beats_polynomial_and_slsqp_on_scene_a() -> None:
+def test_convex_beats_polynomial_and_slsqp_on_scene_a(shipped_plans: dict[str, Plan]) -> None:
     scene = load_scene('A')
-    convex = plan_convex(scene.tube, scene.swarm, scene.planning)
+    convex = shipped_plans['A']  # plan_convex(scene A) as planned once for the module
     polynomial = plan_polynomial(scene.tube, scene.swarm, scene.planning)
     assert convex.objective['total'] <= polynomial.objective['total']
     v0, rho0 = initial_conditions(scene.swarm, scene.planning)
