@@ -1,5 +1,5 @@
-"""Campaigns: declared in TOML, expanded into runs with stable keys, run on local processes or Dask, streamed to
-disk, resumed after an interruption, refused before any run on bad input."""
+"""Campaigns end to end: the same rows on this process, local processes and a Dask cluster; a campaign killed by a
+signal resumes where it stopped; progress drawn on a terminal only."""
 
 from __future__ import annotations
 

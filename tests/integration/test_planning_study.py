@@ -1,4 +1,4 @@
-"""The study's ablation grid: each mode switches exactly the part it names; the grid runs end to end."""
+"""The ablation grid end to end from the command line: its table, report and figures, resumed with nothing to run."""
 
 from __future__ import annotations
 

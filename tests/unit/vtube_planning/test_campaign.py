@@ -1,5 +1,4 @@
-"""Campaigns: declared in TOML, expanded into runs with stable keys, run on local processes or Dask, streamed to
-disk, resumed after an interruption, refused before any run on bad input."""
+"""Campaign files: expanded into runs with stable keys; bad campaigns refused before any run, the problem named."""
 
 from __future__ import annotations
 

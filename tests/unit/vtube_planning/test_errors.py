@@ -6,7 +6,7 @@ import inspect
 
 import pytest
 
-import vtube_planning.errors as errors
+from vtube_planning import errors
 from vtube_planning.errors import (
     LogError,
     ParamsError,

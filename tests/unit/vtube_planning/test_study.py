@@ -1,4 +1,4 @@
-"""The study's ablation grid: each mode switches exactly the part it names; the grid runs end to end."""
+"""The ablation modes: each switches exactly the part it names; the grid command refuses bad arguments."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The study's ablation grid: each mode switches exactly the part it names; the grid runs end to end."""
+"""The study report: the paired verdicts and the verdict summary on synthetic rows whose answer is known."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Optimized flocking's terms against values computed by hand for two robots and a wall."""
+"""Distributed NMPC: rollout, cost and wall terms by hand, the casadi problem against numpy, short closed loops."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Virtual tube geometry against analytic oracles, quadrature and finite differences."""
+"""Centre curves: arcs and splines against analytic curvature, finite differences and quadrature."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""Virtual tube geometry against analytic oracles, quadrature and finite differences."""
+"""The virtual tube: projection exact on analytic tubes and the closest point on shipped ones, warm projections,
+cumulative area, input contracts."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Virtual tube geometry against analytic oracles, quadrature and finite differences."""
+"""Width profiles: the smooth and linear parts in closed form, kinks and negative widths named."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The density model: swarm area, the measured density, footprint and the two predictive readings of (p7)."""
+"""The swarm's measured density: the padded area and N / S by hand."""
 
 from __future__ import annotations
 

@@ -1,5 +1,4 @@
-"""The swarm step against hand-computed values, docs/theory.md's published numbers and finite differences; the sampled
-tube against the exact one; the step as the submission inlines it against the library's."""
+"""The law (s1): its terms by hand for two and three robots, one evaluation against separate ones, the speed band."""
 
 from __future__ import annotations
 

@@ -1,5 +1,4 @@
-"""The swarm step against hand-computed values, docs/theory.md's published numbers and finite differences; the sampled
-tube against the exact one; the step as the submission inlines it against the library's."""
+"""Neighbour pairs: the k-d tree and all pairs give the same pairs and the same law."""
 
 from __future__ import annotations
 

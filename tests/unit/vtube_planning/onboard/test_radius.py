@@ -1,5 +1,4 @@
-"""The swarm step against hand-computed values, docs/theory.md's published numbers and finite differences; the sampled
-tube against the exact one; the step as the submission inlines it against the library's."""
+"""The avoidance radius law (a3): only expands, capped, floored by the feed-forward."""
 
 from __future__ import annotations
 

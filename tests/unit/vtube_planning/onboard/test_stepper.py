@@ -1,5 +1,5 @@
-"""The swarm step against hand-computed values, docs/theory.md's published numbers and finite differences; the sampled
-tube against the exact one; the step as the submission inlines it against the library's."""
+"""The swarm step: the warm step against the reference step, bad input, every control option, where the plan is
+read and how the density is padded."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The density model: swarm area, the measured density, footprint and the two predictive readings of (p7)."""
+"""The predicted density: the footprint and the two predictive readings of (p7) by hand."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The banded interior-point planner against the cvxpy reference formulation, and grid refinement."""
+"""The fastest admissible start: admissible, none faster, and the same plan in fewer iterations."""
 
 from __future__ import annotations
 

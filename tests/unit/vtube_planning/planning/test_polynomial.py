@@ -1,4 +1,4 @@
-"""Speed and density planning: analytic oracles, certificates, optimality against independent solvers."""
+"""The polynomial planner: C^1 cubic segments whose objective matches the sampled one."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The banded interior-point planner against the cvxpy reference formulation, and grid refinement."""
+"""The discretised problem: refined grids against the continuous optimum and the reference solver."""
 
 from __future__ import annotations
 

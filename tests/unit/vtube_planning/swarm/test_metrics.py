@@ -1,4 +1,4 @@
-"""The speed-constrained simulator, its log, the passage metrics and a reduced form of the paper's study."""
+"""Passage metrics of a constructed passage by hand; their JSON is strict."""
 
 from __future__ import annotations
 

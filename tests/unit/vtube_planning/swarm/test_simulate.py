@@ -1,4 +1,5 @@
-"""The speed-constrained simulator, its log, the passage metrics and a reduced form of the paper's study."""
+"""The speed-constrained simulator: seeded, within the speed band and the acceleration limits, interrupted runs
+leave a readable log, bad input refused before the run."""
 
 from __future__ import annotations
 
