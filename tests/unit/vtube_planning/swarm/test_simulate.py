@@ -24,9 +24,26 @@ def scene_a():
     return scene, plan_convex(scene.tube, scene.swarm, scene.planning, scene='A')
 
 
-def test_same_seed_same_run_other_seed_other_run(scene_a) -> None:
+@pytest.fixture(scope='module')
+def short_flight(scene_a):
+    """The 4 s flight of scene A, with or without the plan and the acceleration limits, each flown once."""
     scene, plan = scene_a
-    one = simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=SHORT)
+    flown = {}
+
+    def fly(planned: bool = True, limits: bool = False):
+        if (planned, limits) not in flown:
+            config = replace(SHORT, acceleration_limits=limits)
+            flown[planned, limits] = simulate(
+                scene.tube, scene.swarm, scene.control, plan=plan if planned else None, config=config
+            )
+        return flown[planned, limits]
+
+    return fly
+
+
+def test_same_seed_same_run_other_seed_other_run(scene_a, short_flight) -> None:
+    scene, plan = scene_a
+    one = short_flight()
     two = simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=SHORT)
     other = simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=replace(SHORT, seed=1))
     np.testing.assert_array_equal(one.positions_m, two.positions_m)
@@ -36,15 +53,9 @@ def test_same_seed_same_run_other_seed_other_run(scene_a) -> None:
 
 @pytest.mark.parametrize('planned', [True, False])
 @pytest.mark.parametrize('limits', [True, False])
-def test_every_command_respects_the_speed_band(scene_a, planned: bool, limits: bool) -> None:
-    scene, plan = scene_a
-    result = simulate(
-        scene.tube,
-        scene.swarm,
-        scene.control,
-        plan=plan if planned else None,
-        config=replace(SHORT, acceleration_limits=limits),
-    )
+def test_every_command_respects_the_speed_band(scene_a, short_flight, planned: bool, limits: bool) -> None:
+    scene, _ = scene_a
+    result = short_flight(planned, limits)
     speed = np.hypot(result.commands_mps[:, 0], result.commands_mps[:, 1])
     assert speed.min() >= scene.swarm.v_min_mps - 1e-9 and speed.max() <= scene.swarm.v_max_mps + 1e-9
     assert result.metrics.speed_violations == 0
@@ -52,17 +63,17 @@ def test_every_command_respects_the_speed_band(scene_a, planned: bool, limits: b
         assert np.all(result.r_a_m == scene.swarm.r_a_m)  # constant without planning
 
 
-def test_acceleration_limits_bound_speed_change_and_turn_rate(scene_a) -> None:
-    scene, plan = scene_a
+def test_acceleration_limits_bound_speed_change_and_turn_rate(scene_a, short_flight) -> None:
+    scene, _ = scene_a
     config = replace(SHORT, acceleration_limits=True)
-    result = simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=config)
+    result = short_flight(True, True)
     v = result.velocities_mps
     speed = np.hypot(v[:, 0], v[:, 1])
     assert np.abs(np.diff(speed, axis=0)).max() <= scene.swarm.a_v_mps2 * config.dt_s + 1e-12
     heading = np.unwrap(np.arctan2(v[:, 1], v[:, 0]), axis=0)
     turn_rate = np.abs(np.diff(heading, axis=0)) / config.dt_s
     assert np.all(turn_rate * speed[1:] <= scene.swarm.a_n_mps2 * (1 + 1e-9))
-    free = simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=SHORT)
+    free = short_flight()
     np.testing.assert_allclose(free.velocities_mps[1:], free.commands_mps[:-1])  # the paper's model: p' = v_c
 
 
