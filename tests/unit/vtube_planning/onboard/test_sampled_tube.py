@@ -1,0 +1,77 @@
+"""SampledTube: the polyline projection against closed forms and the exact tube it samples."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from vtube_planning.geometry.scene import load_scene
+from vtube_planning.onboard.sampled_tube import SampledTube
+
+
+def straight(heading: float = 0.3) -> SampledTube:
+    """A straight tube of length 4 from (1, 2) at ``heading``, half-width 1 then 0.5 (linear), in 5 samples."""
+    l_m = np.linspace(0.0, 4.0, 5)
+    direction = np.array([math.cos(heading), math.sin(heading)])
+    xy = np.array([1.0, 2.0])[:, None] + direction[:, None] * l_m
+    lam = np.interp(l_m, [0.0, 4.0], [1.0, 0.5])
+    area = np.concatenate([[0.0], np.cumsum(np.diff(l_m) * (lam[1:] + lam[:-1]))])  # 2 lambda, trapezoids
+    return SampledTube(l_m, xy, lam, area)
+
+
+def test_a_straight_polyline_projects_points_exactly_also_beyond_its_ends() -> None:
+    heading = 0.3
+    tube = straight(heading)
+    t, n = np.array([math.cos(heading), math.sin(heading)]), np.array([-math.sin(heading), math.cos(heading)])
+    l_true, y_true = np.array([-1.0, 0.3, 2.5, 4.0, 5.5]), np.array([0.2, -0.4, 0.5, 0.0, -1.0])
+    points = np.array([1.0, 2.0])[:, None] + t[:, None] * l_true + n[:, None] * y_true
+    p = tube.project(points)
+    np.testing.assert_allclose(p.l_m, l_true, atol=1e-12)
+    np.testing.assert_allclose(p.y_m, y_true, atol=1e-12)
+    np.testing.assert_allclose(p.foot_m, points - n[:, None] * y_true, atol=1e-12)
+    np.testing.assert_allclose(p.tangent, np.tile(t[:, None], 5), atol=1e-12)
+    np.testing.assert_allclose(p.normal, np.tile(n[:, None], 5), atol=1e-12)
+    np.testing.assert_allclose(p.half_width_m, np.interp(l_true, [0, 4], [1.0, 0.5]))  # ends held
+    assert p.length_m == tube.length_m == 4.0 and not p.curvature_per_m.any()
+    assert p.inside.tolist() == [False, True, True, True, False]
+
+
+def test_the_area_is_the_sampled_one_continued_with_the_end_widths() -> None:
+    tube = straight()
+    np.testing.assert_allclose(tube.area([0.0, 2.0, 4.0]), [0.0, 2 * 2 * 0.875, 2 * 4 * 0.75])
+    np.testing.assert_allclose(tube.area([-1.0, 5.0]), [-2.0, 6.0 + 2 * 0.5])
+
+
+def test_project_near_is_project() -> None:
+    tube = straight()
+    points = np.array([[1.5, 3.0], [2.5, 2.0]])
+    near, cold = tube.project_near(points, tube.project(points + 0.1)), tube.project(points)
+    np.testing.assert_array_equal(near.l_m, cold.l_m)
+    np.testing.assert_array_equal(near.y_m, cold.y_m)
+
+
+def test_on_a_corner_the_closer_leg_wins() -> None:
+    """An L-shaped polyline (0,0) -> (2,0) -> (2,2): a point at (1.5, 0.2) is on the first leg, (1.8, 1.5) the second."""
+    tube = SampledTube([0.0, 2.0, 4.0], [[0.0, 2.0, 2.0], [0.0, 0.0, 2.0]], [0.5] * 3, [0.0, 2.0, 4.0])
+    p = tube.project(np.array([[1.5, 1.8], [0.2, 1.5]]))
+    np.testing.assert_allclose(p.l_m, [1.5, 3.5])
+    np.testing.assert_allclose(p.y_m, [0.2, 0.2])  # left of the first leg, left of the second (-x is its left)
+
+
+@pytest.mark.parametrize('name', ['robotarium_curve', 'robotarium_trapezoid'])
+def test_samples_a_centimetre_apart_agree_with_the_exact_tube_within_the_chord_bound(name: str) -> None:
+    """Offsets agree to 0.2 mm; arc lengths within |y| kappa h / 2 (a point at offset y from a bend of curvature
+    kappa lands that far along a chord of length h), and areas to a millimetre squared."""
+    exact = load_scene(name).tube
+    sampled = exact.sampled(0.01)
+    rng = np.random.default_rng(5)
+    l_m = rng.uniform(0.0, exact.length_m, 200)
+    y = rng.uniform(-0.9, 0.9, 200) * exact.half_width(l_m)
+    points = (exact.center_at(l_m) + y[:, None] * exact.normal(l_m)).T
+    a, b = sampled.project(points), exact.project(points)
+    kappa = float(np.abs(exact.curvature(np.linspace(0.0, exact.length_m, 2000))).max())
+    bound = np.abs(y) * kappa * 0.01 / 2 + 1e-6
+    assert np.all(np.abs(a.l_m - b.l_m) <= bound) and np.abs(a.y_m - b.y_m).max() < 2e-4
+    np.testing.assert_allclose(sampled.area(l_m), exact.area(l_m), rtol=0, atol=1e-3)

@@ -1,0 +1,259 @@
+"""Speed and density planning: analytic oracles, certificates, optimality against independent solvers."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import vtube_planning.planning.planner as planner_module
+from tests.support.slsqp_reference import slsqp_plan
+from vtube_planning.errors import PlanError
+from vtube_planning.geometry.centerline import ArcPath, ArcPiece
+from vtube_planning.geometry.scene import list_scenes, load_scene
+from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.geometry.width import WidthPart, WidthProfile
+from vtube_planning.params import PlanningOptions, SwarmParams
+from vtube_planning.planning.constraints import initial_conditions
+from vtube_planning.planning.cvxpy_qp import ConvexPlanner
+from vtube_planning.planning.plan import Plan
+from vtube_planning.planning.planner import plan_convex
+from vtube_planning.planning.polynomial import plan_polynomial
+from vtube_planning.planning.problem import discretise
+
+CERTIFIED = 1e-6  # the issue's bound on relative violations
+
+
+def tube_of(center: ArcPath, half_width_m: float = 3.0) -> VirtualTube:
+    return VirtualTube(center, WidthProfile(half_width_m, (WidthPart('constant', center.length_m),)))
+
+
+@pytest.fixture(scope='module')
+def shipped_plans() -> dict[str, Plan]:
+    plans = {}
+    for name in list_scenes():
+        scene = load_scene(name)
+        plans[name] = plan_convex(scene.tube, scene.swarm, scene.planning, scene=name)
+    return plans
+
+
+# ---------------------------------------------------------------------- analytic oracles
+
+
+def test_straight_tube_accelerates_at_the_p3_limit_and_expands_at_the_p6_limit() -> None:
+    swarm = SwarmParams()
+    options = PlanningOptions(grid_step_m=0.05)
+    plan = plan_convex(tube_of(ArcPath((ArcPiece(30.0),))), swarm, options)
+    v0, rho0 = swarm.v_min_mps, swarm.rho_packing
+    a_v, a_rho = swarm.a_v_mps2, swarm.a_rho
+    l = plan.l_m
+    # v v' = a_v from v0: v = sqrt(v0^2 + 2 a_v l), reaching v_max at (v_max^2 - v0^2) / (2 a_v) = 10.5 m
+    analytic_v = np.minimum(np.sqrt(v0**2 + 2 * a_v * l), swarm.v_max_mps)
+    assert np.all(plan.speed_mps <= analytic_v * (1 + 1e-7))  # (p3) holds in the continuum
+    np.testing.assert_allclose(plan.speed_mps, analytic_v, atol=0.02)  # and the plan rides it
+    assert np.all(plan.speed_mps[l > 10.6] == pytest.approx(swarm.v_max_mps, rel=1e-7))
+    # d rho / dl = -a_rho / v: rho = rho0 - a_rho (sqrt(v0^2 + 2 a_v l) - v0) / a_v until rho_d
+    analytic_rho = rho0 - a_rho * (np.sqrt(v0**2 + 2 * a_v * l) - v0) / a_v
+    reach = l[np.argmax(analytic_rho <= swarm.rho_d_per_m2)]
+    early = l < reach - 0.1
+    np.testing.assert_allclose(plan.density_per_m2[early], analytic_rho[early], atol=2e-3)
+    np.testing.assert_allclose(plan.density_per_m2[l > reach + 0.5], swarm.rho_d_per_m2, atol=1e-6)
+    assert plan.is_certified(CERTIFIED)
+
+
+@pytest.mark.parametrize('radius_m', [4.0, 9.0, 16.0])
+def test_circular_tube_binds_p4_at_sqrt_an_r(radius_m: float) -> None:
+    swarm = SwarmParams()
+    center = ArcPath((ArcPiece(radius_m * 2.5, radius_m=radius_m),))
+    plan = plan_convex(tube_of(center, 0.5 * radius_m), swarm, PlanningOptions(grid_step_m=0.1))
+    limit = math.sqrt(swarm.a_n_mps2 * radius_m)
+    assert plan.speed_mps.max() == pytest.approx(limit, rel=1e-7)
+    settled = plan.l_m > (limit**2 - swarm.v_min_mps**2) / (2 * swarm.a_v_mps2) + 0.2
+    np.testing.assert_allclose(plan.speed_mps[settled], limit, rtol=1e-7)
+    assert plan.active['p4'][settled].all()
+    assert plan.is_certified(CERTIFIED)
+
+
+def test_first_convex_concave_iterate_is_already_feasible() -> None:
+    scene = load_scene('D')
+    plan = plan_convex(scene.tube, scene.swarm, scene.planning, max_iterations=1)
+    assert plan.solved.iterations == 1 and plan.solved.status == 'iteration limit'
+    assert plan.is_certified(CERTIFIED)
+    full = plan_convex(scene.tube, scene.swarm, scene.planning)
+    assert full.objective['total'] <= plan.objective['total']  # and the procedure only improves
+
+
+def test_subproblem_is_built_once_and_parameterised() -> None:
+    scene = load_scene('C')
+    planner = ConvexPlanner(discretise(scene.tube, scene.swarm, scene.planning))
+    assert planner.cvx.is_dcp(dpp=True)  # type: ignore[call-arg]  # cvxpy's compute_once decorator hides dpp
+    assert planner.cvx.is_qp()
+
+
+# ---------------------------------------------------------------------- shipped scenes
+
+
+@pytest.mark.parametrize('name', list_scenes())
+def test_every_shipped_scene_plans_certified(name: str, shipped_plans: dict[str, Plan]) -> None:
+    plan = shipped_plans[name]
+    assert plan.solved.status == 'converged'
+    assert plan.max_violation <= CERTIFIED, plan.certificate
+    scene = load_scene(name)
+    v0, rho0 = initial_conditions(scene.swarm, scene.planning)
+    assert plan.speed_mps[0] == pytest.approx(v0) and plan.density_per_m2[0] == pytest.approx(rho0)
+
+
+@pytest.mark.parametrize('name', ['C', 'D'])
+def test_rapid_narrowing_plans_a_pre_expansion(name: str, shipped_plans: dict[str, Plan]) -> None:
+    plan, tube = shipped_plans[name], load_scene(name).tube
+    slope = np.abs(tube.half_width_slope(plan.l_m))
+    narrowing = plan.l_m[slope > 1e-9]
+    start, end = narrowing.min(), narrowing.max()
+    after_start = plan.l_m > 5.0  # beyond the initial contraction from the packing density
+    k = np.flatnonzero(after_start)[np.argmin(plan.density_per_m2[after_start])]
+    assert start - 3.0 <= plan.l_m[k] <= end  # the minimum lies before the narrowest section
+    assert plan.density_per_m2[k] <= 0.75 * plan.swarm.rho_d_per_m2  # and is clear
+    assert plan.active['p7'].any()
+    assert plan.density_per_m2[-1] == pytest.approx(plan.swarm.rho_d_per_m2, rel=1e-4)  # recovers
+
+
+def test_speed_drops_where_the_curvature_limit_binds(shipped_plans: dict[str, Plan]) -> None:
+    plan = shipped_plans['D']
+    on_arcs = plan.active['p4']
+    assert on_arcs.sum() > 50
+    np.testing.assert_allclose(plan.speed_mps[on_arcs], plan.speed_limit_mps[on_arcs], rtol=1e-6)
+    assert plan.speed_mps[on_arcs].max() < plan.swarm.v_max_mps - 0.5
+    assert plan.speed_mps[-1] == pytest.approx(plan.swarm.v_max_mps)  # straight again at the end
+
+
+def test_normal_narrowing_needs_no_pre_expansion(shipped_plans: dict[str, Plan]) -> None:
+    for name in ('A', 'B'):
+        plan = shipped_plans[name]
+        later = plan.l_m > 5.0
+        assert plan.density_per_m2[later].min() >= 0.99 * plan.swarm.rho_d_per_m2
+
+
+# ---------------------------------------------------------------------- optimality
+
+
+def test_convex_beats_polynomial_and_slsqp_on_scene_a(shipped_plans: dict[str, Plan]) -> None:
+    scene = load_scene('A')
+    convex = shipped_plans['A']  # plan_convex(scene A) as planned once for the module
+    polynomial = plan_polynomial(scene.tube, scene.swarm, scene.planning)
+    assert convex.objective['total'] <= polynomial.objective['total']
+    v0, rho0 = initial_conditions(scene.swarm, scene.planning)
+    _, _, _, j_slsqp = slsqp_plan(scene.tube, scene.swarm, scene.planning, 40, v0=v0, rho0=rho0)
+    assert convex.objective['total'] <= j_slsqp
+    # same grid, same formulation: the convex-concave procedure reaches SLSQP's optimum
+    same = plan_convex(scene.tube, scene.swarm, replace(scene.planning, grid_step_m=scene.tube.length_m / 40))
+    assert same.objective['total'] <= j_slsqp * (1 + 1e-6)
+
+
+def test_rigid_shift_reading_plans_and_is_not_stricter_here() -> None:
+    scene = load_scene('C')
+    rigid = plan_convex(scene.tube, scene.swarm, replace(scene.planning, predictive_model='rigid_shift'))
+    local = plan_convex(scene.tube, scene.swarm, scene.planning)
+    assert rigid.certificate['p7'] <= 1e-3  # nodal, footprint frozen per iterate: small slack between nodes
+    assert rigid.objective['total'] <= local.objective['total'] + 1e-9  # docs/theory.md §8.6: (b) barely binds
+    with pytest.raises(PlanError, match='local-width reading of \\(p7\\) only'):
+        plan_polynomial(scene.tube, scene.swarm, replace(scene.planning, predictive_model='rigid_shift'))
+
+
+# ---------------------------------------------------------------------- infeasibility, before the solver
+
+
+@pytest.fixture
+def no_solver(monkeypatch):
+    def forbidden(*args, **kwargs):
+        pytest.fail('the solver ran although infeasibility was known beforehand')
+
+    monkeypatch.setattr(planner_module.ConvexPlanner, '__init__', forbidden)
+    monkeypatch.setattr(planner_module.BandedPlanner, '__init__', forbidden)
+
+
+@pytest.mark.parametrize(
+    ('center', 'swarm', 'options', 'match'),
+    [
+        (
+            ArcPath((ArcPiece(5.0), ArcPiece(6.0, radius_m=3.0), ArcPiece(5.0))),
+            SwarmParams(),
+            PlanningOptions(),
+            r'\(p4\) is incompatible with \(p2\) at l = 4\.\d+ m.*below v_min = 2 m/s',
+        ),
+        (
+            ArcPath((ArcPiece(20.0),)),
+            SwarmParams(),
+            PlanningOptions(rho0_per_m2=1.5),
+            r'\(p5\) fails at l = 0: the initial density 1.5',
+        ),
+        (ArcPath((ArcPiece(20.0),)), SwarmParams(), PlanningOptions(v0_mps=6.0), r'\(p2\) fails at l = 0'),
+        (
+            ArcPath((ArcPiece(2.0), ArcPiece(10.0, radius_m=5.0))),
+            SwarmParams(),
+            PlanningOptions(v0_mps=5.0),
+            r'\(p3\) and \(p4\) conflict at l = [01]\.\d+ m',
+        ),
+    ],
+)
+def test_infeasible_problems_fail_fast(center, swarm, options, match, no_solver) -> None:
+    with pytest.raises(PlanError, match=match):
+        plan_convex(tube_of(center, 1.0), swarm, options)
+
+
+def test_impossible_pre_expansion_is_reported_with_its_arc_length(no_solver) -> None:
+    # the tube narrows 8:1 right at the entrance: the density cannot fall from the packing value in time
+    width = WidthProfile(
+        4.0, (WidthPart('constant', 0.2), WidthPart('smooth', 0.3, to_m=0.5), WidthPart('constant', 9.5))
+    )
+    tube = VirtualTube(ArcPath((ArcPiece(10.0),)), width)
+    with pytest.raises(PlanError, match=r'\(p7\) cannot hold at l = 0\.\d{3} m'):
+        plan_convex(tube, SwarmParams(), PlanningOptions(lookahead_m=1.0))
+
+
+# ---------------------------------------------------------------------- the Plan file
+
+
+def test_plan_round_trips_through_its_file(tmp_path, shipped_plans: dict[str, Plan]) -> None:
+    plan = shipped_plans['D']
+    loaded = Plan.load(plan.save(tmp_path / 'sub' / 'plan.npz'))
+    for name in ('l_m', 'speed_mps', 'density_per_m2', 'half_width_m', 'speed_limit_mps'):
+        np.testing.assert_array_equal(getattr(loaded, name), getattr(plan, name))
+    assert loaded.certificate == plan.certificate and loaded.objective == plan.objective
+    assert loaded.swarm == plan.swarm and loaded.options == plan.options and loaded.scene == 'D'
+    assert set(loaded.active) == set(plan.active)
+    for key, mask in plan.active.items():
+        np.testing.assert_array_equal(loaded.active[key], mask)
+    l = np.linspace(-1.0, 61.0, 777)
+    np.testing.assert_array_equal(loaded.speed(l), plan.speed(l))
+
+
+def test_plan_interpolates_slowness_and_density_linearly(shipped_plans: dict[str, Plan]) -> None:
+    plan = shipped_plans['A']
+    mid = 0.5 * (plan.l_m[:-1] + plan.l_m[1:])
+    np.testing.assert_allclose(1.0 / plan.speed(mid), 0.5 * (1 / plan.speed_mps[:-1] + 1 / plan.speed_mps[1:]))
+    np.testing.assert_allclose(plan.density(mid), 0.5 * (plan.density_per_m2[:-1] + plan.density_per_m2[1:]))
+    # the reported time is the integral of 1/v of the plan as used (independent quadrature)
+    fine = np.linspace(0.0, plan.length_m, 200_001)
+    assert plan.time_s == pytest.approx(np.trapezoid(1.0 / plan.speed(fine), fine), rel=1e-9)
+
+
+def test_corrupt_plan_file_gives_plan_error(tmp_path) -> None:
+    bad = tmp_path / 'bad.npz'
+    bad.write_bytes(b'PK\x03\x04 not really a zip')
+    with pytest.raises(PlanError, match='cannot read plan file .*bad.npz'):
+        Plan.load(bad)
+
+
+def test_weighting_density_makes_the_swarm_slow_down_where_p7_binds() -> None:
+    scene = load_scene('C')
+    faithful = plan_convex(scene.tube, scene.swarm, scene.planning)
+    weighted = plan_convex(scene.tube, scene.swarm, replace(scene.planning, density_weight=100.0))
+    near = (faithful.l_m > 12.0) & (faithful.l_m < 26.0)
+    assert faithful.speed_mps[near].min() == pytest.approx(faithful.swarm.v_max_mps)  # mu = 1: density is cheap
+    k = np.flatnonzero(near)[np.argmin(weighted.speed_mps[near])]
+    assert weighted.speed_mps[k] < faithful.swarm.v_max_mps - 0.5  # mu = 100: time is traded for density
+    assert np.abs(weighted.l_m[weighted.active['p7']] - weighted.l_m[k]).min() < 1.0  # where (p7) binds
+    assert weighted.density_per_m2[near].min() > faithful.density_per_m2[near].min()
+    assert weighted.is_certified(CERTIFIED)

@@ -1,0 +1,103 @@
+"""Campaign files: expanded into runs with stable keys; bad campaigns refused before any run, the problem named."""
+
+from __future__ import annotations
+
+from importlib import resources
+from pathlib import Path
+
+import pytest
+
+import vtube_planning.campaign_runner as campaign_module
+from vtube.cli import main
+from vtube_planning.campaign import METRICS, Campaign, run_key
+from vtube_planning.campaign_store import RUNS_FILE
+from vtube_planning.geometry.scene import load_scene
+from vtube_planning.study import Point, RunSettings
+
+FAULTS = """
+name = "faults"
+[axes]
+scene = ["C", "D"]
+mode = ["planning", "no planning"]
+seed = 3
+pose_noise_m = [0.0, 0.02]
+"""
+
+
+def write(folder: Path, text: str, name: str = 'campaign.toml') -> Path:
+    path = folder / name
+    path.write_text(text, encoding='utf-8')
+    return path
+
+
+def fake_metrics(point: Point) -> dict[str, object]:
+    """What the fake run measures: values that name the run, so that a row shows which run wrote it."""
+    values = dict.fromkeys(METRICS, 0.5) | {'collision_pairs': point.seed, 'tube_violation_steps': 0}
+    return values | {'completed': True, 'passing_time_s': 10.0 + point.seed + point.latency_steps}
+
+
+@pytest.fixture
+def fake_runs(monkeypatch):
+    """Replace the simulation with :func:`fake_metrics`; ``calls`` lists the points run; ``fail`` maps a call number
+    to the exception it raises."""
+    calls: list[Point] = []
+    fail: dict[int, BaseException] = {}
+
+    def run(point: Point, settings: RunSettings) -> dict[str, object]:
+        calls.append(point)
+        if len(calls) in fail:
+            raise fail[len(calls)]
+        return fake_metrics(point)
+
+    monkeypatch.setattr(campaign_module, 'run_point', run)
+    return calls, fail
+
+
+def test_a_campaign_file_expands_into_runs_with_stable_keys(tmp_path) -> None:
+    path = write(tmp_path, FAULTS)
+    campaign = Campaign.from_toml(path)
+    points = campaign.points()
+    assert len(points) == 2 * 2 * 3 * 2
+    assert {(p.n_robots, p.saturation) for p in points} == {
+        (load_scene(s).swarm.n_robots, load_scene(s).control.saturation) for s in 'CD'
+    }  # each scene's own N and saturation where the axes leave them out
+    assert [p.seed for p in points[:6]] == [0, 0, 1, 1, 2, 2] and points[0].mode == 'planning'
+    keys = [run_key(p, campaign.settings) for p in points]
+    assert len(set(keys)) == len(keys)
+    assert keys == [run_key(p, campaign.settings) for p in Campaign.from_toml(path).points()]  # stable
+    moved = write(tmp_path, FAULTS + '[settings]\nfailure_at = 0.25\n', 'moved.toml')
+    assert not set(keys) & {run_key(p, RunSettings(failure_at=0.25)) for p in Campaign.from_toml(moved).points()}
+    scene_file = write(tmp_path, resources.files('vtube_planning.scenes').joinpath('C.toml').read_text(), 'mine.toml')
+    own = Campaign.from_toml(write(tmp_path, '[axes]\nscene = ["mine.toml"]\n', 'own.toml'))
+    mine = load_scene(scene_file)
+    assert own.points() == [Point(str(scene_file), n_robots=mine.swarm.n_robots, saturation=mine.control.saturation)]
+
+
+BAD_CAMPAIGNS = {
+    'unknown axis': (FAULTS + 'speed = [1.0]\n', "unknown axis 'speed'; the axes are scene, n_robots"),
+    'unknown metric': ('metrics = ["fun"]\n' + FAULTS, "unknown metric 'fun'; choose from passing_time_s"),
+    'empty grid': (FAULTS.replace('seed = 3', 'seed = []'), 'axes.seed has no values, so the grid is empty'),
+    'unknown mode': (FAULTS.replace('"no planning"', '"fast"'), "axes.mode holds 'fast'; choose from 'planning'"),
+    'wrong type': (FAULTS.replace('0.02', '"high"'), "axes.pose_noise_m holds 'high'; its values must be floats"),
+    'out of range': (FAULTS.replace('0.02', '-0.1'), 'axes.pose_noise_m holds -0.1; its values must be >= 0.0'),
+    'unknown scene': (FAULTS.replace('"D"', '"Z"'), "unknown scene 'Z'; shipped scenes are"),
+    'unknown setting': (FAULTS + '[settings]\nspeed = 1\n', "unknown setting 'speed'; the settings are dt_s"),
+    'bad setting': (FAULTS + '[settings]\nfailure_at = 2.0\n', 'settings.failure_at must be in [0, 1]'),
+    'no scene': ('[axes]\nseed = 2\n', 'a grid names no scene: give axes.scene'),
+    'no such robot': (
+        FAULTS + 'failure = ["stop"]\n[settings]\nfailure_robot = 20\n',
+        'does not exist in a swarm of 20',
+    ),
+    'not TOML': (FAULTS + '[axes\n', 'not a valid TOML file'),
+}
+
+
+@pytest.mark.parametrize('case', list(BAD_CAMPAIGNS))
+def test_a_bad_campaign_is_refused_before_any_run(tmp_path, capsys, fake_runs, case: str) -> None:
+    text, message = BAD_CAMPAIGNS[case]
+    path = write(tmp_path, text)
+    assert main(['campaign', 'run', str(path), '--out', str(tmp_path / 'out'), '--workers', '1']) == 2
+    captured = capsys.readouterr()
+    assert captured.err.startswith('error: ') and len(captured.err.splitlines()) == 1
+    assert message in captured.err and captured.out == ''
+    assert fake_runs[0] == [] and not (tmp_path / 'out' / RUNS_FILE).exists()

@@ -1,0 +1,160 @@
+"""Running campaigns from the command line, each run faked: streamed to disk, resumed after an interruption, a
+failing run recorded, refused before any run on bad input. The figures of the report are drawn but not rendered
+(rendering is checked in tests/integration/test_planning_study.py); runs on local processes and on Dask are in
+tests/integration/test_planning_campaign.py."""
+
+from __future__ import annotations
+
+import csv
+import sys
+from pathlib import Path
+
+import pytest
+
+import vtube_planning.campaign_runner as campaign_module
+import vtube_planning.plots
+from vtube.cli import main
+from vtube_planning.campaign import METRICS, run_key
+from vtube_planning.campaign_store import RUNS_FILE, read_results
+from vtube_planning.study import Point, RunSettings
+
+SMALL = """
+[axes]
+scene = ["C"]
+mode = ["planning", "no planning"]
+seed = [0, 1]
+latency_steps = [0, 2]
+"""
+
+
+def write(folder: Path, text: str, name: str = 'campaign.toml') -> Path:
+    path = folder / name
+    path.write_text(text, encoding='utf-8')
+    return path
+
+
+def fake_metrics(point: Point) -> dict[str, object]:
+    """What the fake run measures: values that name the run, so that a row shows which run wrote it."""
+    values = dict.fromkeys(METRICS, 0.5) | {'collision_pairs': point.seed, 'tube_violation_steps': 0}
+    return values | {'completed': True, 'passing_time_s': 10.0 + point.seed + point.latency_steps}
+
+
+@pytest.fixture(autouse=True)
+def unrendered_figures(monkeypatch):
+    """save_figure writes an empty file where the PNG would go: the report's figures are drawn, not rendered."""
+
+    def save(fig, path, *, dpi=120):
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(b'')
+        return path
+
+    monkeypatch.setattr(vtube_planning.plots, 'save_figure', save)
+
+
+@pytest.fixture
+def fake_runs(monkeypatch):
+    """Replace the simulation with :func:`fake_metrics`; ``calls`` lists the points run; ``fail`` maps a call number
+    to the exception it raises."""
+    calls: list[Point] = []
+    fail: dict[int, BaseException] = {}
+
+    def run(point: Point, settings: RunSettings) -> dict[str, object]:
+        calls.append(point)
+        if len(calls) in fail:
+            raise fail[len(calls)]
+        return fake_metrics(point)
+
+    monkeypatch.setattr(campaign_module, 'run_point', run)
+    return calls, fail
+
+
+def test_unreachable_places_are_refused_before_any_run(tmp_path, capsys, fake_runs, monkeypatch) -> None:
+    path = write(tmp_path, SMALL)
+    argv = ['campaign', 'run', str(path), '--workers', '1']
+    unanswered = ['--scheduler', 'tcp://127.0.0.1:9', '--scheduler-timeout', '0.2']
+    assert main([*argv, '--out', str(tmp_path / 'out'), *unanswered]) == 2
+    err = capsys.readouterr().err
+    assert (
+        err.startswith('error: no Dask scheduler answered at tcp://127.0.0.1:9 within 0.2 s') and err.count('\n') == 1
+    )
+    blocker = write(tmp_path, 'a file where the folder should go', 'taken')
+    assert main([*argv, '--out', str(blocker / 'results')]) == 2
+    assert 'choose another --out before any run starts.' in capsys.readouterr().err
+    monkeypatch.setitem(sys.modules, 'distributed', None)  # Dask not installed
+    assert main([*argv, '--out', str(tmp_path / 'out'), '--scheduler', 'tcp://127.0.0.1:9']) == 2
+    assert 'needs the cluster extra: pip install "vtube[cluster]"' in capsys.readouterr().err
+    assert fake_runs[0] == []
+
+
+def test_an_interrupted_campaign_resumes_with_only_the_missing_runs(tmp_path, capsys, fake_runs) -> None:
+    calls, fail = fake_runs
+    path, out = write(tmp_path, SMALL), tmp_path / 'out'
+    argv = ['campaign', 'run', str(path), '--out', str(out), '--workers', '1']
+    fail[6] = KeyboardInterrupt()  # Ctrl-C during the sixth run
+    assert main(argv) == 130
+    assert 'interrupted: every finished run is in' in capsys.readouterr().err
+    campaign, rows, missing = read_results(out)
+    assert len(rows) == 5 and missing == 3
+    with (out / RUNS_FILE).open('a', encoding='utf-8') as handle:
+        handle.write(rows[0]['key'][:8] + ',C,2')  # and a line cut by a hard kill
+    first = list(calls[:5])
+    calls.clear()
+    fail.clear()
+    assert main(argv) == 0
+    assert '8 runs, 5 already done, 3 run now' in capsys.readouterr().out
+    everything = campaign.points()
+    assert calls == [p for p in everything if p not in first]  # only the missing ones
+    _, rows, missing = read_results(out)
+    assert missing == 0 and [r['key'] for r in rows] == [run_key(p, campaign.settings) for p in everything]
+    with (out / RUNS_FILE).open(newline='', encoding='utf-8') as handle:
+        assert len(list(csv.DictReader(handle))) == 8  # one row per run: the cut line is gone
+    for row, point in zip(rows, everything, strict=True):
+        assert row['passing_time_s'] == fake_metrics(point)['passing_time_s'] and row['version']
+
+
+def test_a_run_that_raises_is_recorded_and_the_others_go_on(tmp_path, capsys, fake_runs) -> None:
+    calls, fail = fake_runs
+    path, out = write(tmp_path, SMALL), tmp_path / 'out'
+    argv = ['campaign', 'run', str(path), '--out', str(out), '--workers', '1']
+    fail[3] = ValueError('the plan is\ninfeasible')
+    assert main(argv) == 1
+    text = capsys.readouterr().out
+    assert '8 runs, 0 already done, 8 run now' in text and '1 failed' in text
+    assert 'ValueError: the plan is infeasible' in text
+    with (out / RUNS_FILE).open(newline='', encoding='utf-8') as handle:
+        errors = [row['error'] for row in csv.DictReader(handle)]
+    assert errors.count('') == 7 and 'ValueError: the plan is infeasible' in errors
+    failed = calls[2]
+    calls.clear()
+    fail.clear()
+    assert main(argv) == 0  # the failed run is tried again, alone
+    assert calls == [failed] and read_results(out)[2] == 0
+
+
+def test_the_file_names_its_folder_and_the_report_shows_the_metrics_kept(tmp_path, capsys, fake_runs) -> None:
+    text = 'out = "results"\nmetrics = ["passing_time_s", "min_distance_m", "completed"]\n' + SMALL
+    assert main(['campaign', 'run', str(write(tmp_path, text)), '--workers', '1']) == 0
+    report = (tmp_path / 'results' / 'report.md').read_text()
+    assert '| mode | passing time [s] | min distance [m] | 5 % min distance [m] |\n' in report
+    assert '| setting | mode | runs not completed |' in report and 'density error' not in report
+    with (tmp_path / 'results' / RUNS_FILE).open(newline='', encoding='utf-8') as handle:
+        assert next(csv.reader(handle))[-6:] == [
+            'passing_time_s',
+            'min_distance_m',
+            'completed',
+            'wall_s',
+            'version',
+            'error',
+        ]
+
+
+def test_a_folder_of_another_campaign_is_refused(tmp_path, capsys, fake_runs) -> None:
+    out = tmp_path / 'out'
+    assert main(['campaign', 'run', str(write(tmp_path, SMALL)), '--out', str(out), '--workers', '1']) == 0
+    other = write(tmp_path, SMALL.replace('[0, 1]', '[0, 1, 2]'), 'other.toml')
+    before = (out / RUNS_FILE).read_text()
+    capsys.readouterr()
+    assert main(['campaign', 'run', str(other), '--out', str(out), '--workers', '1']) == 2
+    assert 'holds the results of another campaign' in capsys.readouterr().err
+    assert (out / RUNS_FILE).read_text() == before  # nothing lost

@@ -1,0 +1,95 @@
+"""A campaign's folder: prepared before any run, rows kept only when whole and finished, read back typed."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import pytest
+
+from vtube_planning.campaign import Campaign, CampaignError, run_key
+from vtube_planning.campaign_store import CAMPAIGN_FILE, RUNS_FILE, prepare_folder, read_results, typed_row
+
+GRID = '[axes]\nscene = ["C"]\nmode = ["planning", "no planning"]\nseed = 2\n'
+
+
+@pytest.fixture
+def campaign(tmp_path) -> Campaign:
+    path = tmp_path / 'grid.toml'
+    path.write_text(GRID, encoding='utf-8')
+    return Campaign.from_toml(path)
+
+
+def finished_row(campaign: Campaign, k: int, **changes) -> dict[str, str]:
+    point = campaign.points()[k]
+    row = dict.fromkeys(campaign.columns, '')
+    row |= {'key': run_key(point, campaign.settings), 'scene': point.scene, 'mode': point.mode}
+    row |= {'n_robots': str(point.n_robots), 'seed': str(point.seed), 'model': point.model}
+    row |= {'saturation': point.saturation, 'passing_time_s': '12.5', 'completed': 'True', 'version': '1.0'}
+    return {c: v for c, v in (row | changes).items() if c in campaign.columns}
+
+
+def write_rows(path, columns, rows, tail: str = '') -> None:
+    with path.open('w', newline='', encoding='utf-8') as handle:
+        writer = csv.DictWriter(handle, fieldnames=columns)
+        writer.writeheader()
+        writer.writerows(rows)
+        handle.write(tail)
+
+
+def test_a_new_folder_gets_the_campaign_and_an_empty_table(tmp_path, campaign) -> None:
+    out = tmp_path / 'new' / 'out'
+    keys = {run_key(p, campaign.settings) for p in campaign.points()}
+    assert prepare_folder(campaign, out, keys) == {}
+    assert json.loads((out / CAMPAIGN_FILE).read_text()) == campaign.to_json()
+    assert (out / RUNS_FILE).read_text().splitlines() == [','.join(campaign.columns)]
+    assert read_results(out)[1:] == ([], 4)
+    assert not list(out.glob('.*.partial'))
+
+
+def test_only_whole_finished_rows_of_this_grid_are_kept(tmp_path, campaign) -> None:
+    out = tmp_path / 'out'
+    keys = [run_key(p, campaign.settings) for p in campaign.points()]
+    prepare_folder(campaign, out, set(keys))
+    rows = [
+        finished_row(campaign, 0),
+        finished_row(campaign, 1, error='ValueError: no'),  # failed: run again
+        finished_row(campaign, 2, version=''),  # no version: not finished
+        finished_row(campaign, 3, key='another grid'),
+    ]
+    write_rows(out / RUNS_FILE, campaign.columns, rows, tail=keys[3][:6] + ',C')  # and a line cut short
+    done = prepare_folder(campaign, out, set(keys))
+    assert list(done) == [keys[0]]
+    with (out / RUNS_FILE).open(newline='', encoding='utf-8') as handle:
+        assert [r['key'] for r in csv.DictReader(handle)] == [keys[0]]  # the table rewritten with it alone
+    _, typed, missing = read_results(out)
+    assert missing == 3 and typed[0]['passing_time_s'] == 12.5 and typed[0]['completed'] is True
+
+
+def test_a_folder_of_another_campaign_or_other_columns_is_refused(tmp_path, campaign) -> None:
+    out = tmp_path / 'out'
+    prepare_folder(campaign, out, set())
+    other = Campaign.from_dict(campaign.to_json() | {'name': 'other'})
+    with pytest.raises(CampaignError, match='holds the results of another campaign'):
+        prepare_folder(other, out, set())
+    write_rows(out / RUNS_FILE, ['key', 'scene'], [])
+    with pytest.raises(CampaignError, match='has other columns than this campaign'):
+        prepare_folder(campaign, out, set())
+
+
+def test_an_unwritable_place_and_a_folder_without_a_campaign_are_named(tmp_path, campaign) -> None:
+    blocker = tmp_path / 'file'
+    blocker.write_text('x')
+    with pytest.raises(OSError, match='choose another --out before any run starts'):
+        prepare_folder(campaign, blocker / 'out', set())
+    with pytest.raises(CampaignError, match=r'holds no campaign \(campaign.json and runs.csv\); run `vtube campaign'):
+        read_results(tmp_path)
+
+
+def test_typed_rows_get_numbers_booleans_and_nan_back() -> None:
+    row = {'seed': '3', 'passing_time_s': '', 'completed': 'False', 'wall_s': '1.5', 'scene': 'C', 'extra': 7}
+    typed = typed_row(row, list(row))
+    assert typed['seed'] == 3 and isinstance(typed['seed'], int)
+    assert math.isnan(typed['passing_time_s']) and typed['completed'] is False
+    assert typed['wall_s'] == 1.5 and typed['scene'] == 'C' and typed['extra'] == 7

@@ -1,0 +1,62 @@
+"""map_unordered in this process (order, errors, stopping early) and connect's errors; the process pool and a
+Dask cluster run in tests/integration/test_planning_executors.py and test_planning_campaign.py."""
+
+from __future__ import annotations
+
+import sys
+
+import pytest
+
+from vtube_planning.errors import VtubeError
+from vtube_planning.executors import ExecutorError, connect, map_unordered
+
+
+def test_one_worker_runs_every_item_here_in_order() -> None:
+    seen: list[int] = []
+
+    def square(x: int) -> int:
+        seen.append(x)
+        return x * x
+
+    assert list(map_unordered(square, [3, 1, 2])) == [(0, 9), (1, 1), (2, 4)]
+    assert seen == [3, 1, 2]
+    assert list(map_unordered(square, [5], workers=4)) == [(0, 25)]  # one item: no pool either
+    assert list(map_unordered(square, [])) == []
+
+
+def test_an_error_in_a_run_propagates_after_the_runs_before_it() -> None:
+    def fail_on_two(x: int) -> int:
+        if x == 2:
+            msg = 'two is bad'
+            raise ValueError(msg)
+        return x
+
+    results = map_unordered(fail_on_two, [0, 1, 2, 3])
+    assert next(results) == (0, 0) and next(results) == (1, 1)
+    with pytest.raises(ValueError, match='two is bad'):
+        next(results)
+
+
+def test_stopping_the_iteration_runs_nothing_more() -> None:
+    """What an interrupt does to a campaign here: the items not yet started never run (the campaign resumes them)."""
+    ran: list[int] = []
+    results = map_unordered(ran.append, list(range(10)))
+    assert [i for i, _ in zip(range(3), results, strict=False)] == [0, 1, 2]
+    results.close()
+    assert ran == [0, 1, 2]
+
+
+def test_a_cluster_without_dask_installed_is_named(monkeypatch) -> None:
+    monkeypatch.setitem(sys.modules, 'distributed', None)
+    with pytest.raises(ExecutorError, match=r'a Dask scheduler \(tcp://h:1\) needs the cluster extra: pip install'):
+        connect('tcp://h:1')
+
+
+def test_a_scheduler_that_does_not_answer_is_named_with_the_timeout() -> None:
+    pytest.importorskip('distributed')
+    with pytest.raises(ExecutorError, match=r'no Dask scheduler answered at tcp://127.0.0.1:9 within 0.2 s'):
+        connect('tcp://127.0.0.1:9', timeout_s=0.2)
+
+
+def test_the_executor_error_is_a_vtube_error_and_a_runtime_error() -> None:
+    assert issubclass(ExecutorError, VtubeError) and issubclass(ExecutorError, RuntimeError)

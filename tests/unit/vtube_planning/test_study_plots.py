@@ -1,0 +1,83 @@
+"""Figures of a study: the bars, intervals and shares drawn are the summary's and the rows' own numbers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from vtube_planning.stats import mean_interval
+from vtube_planning.study_plots import cell_means_figure, paired_differences_figure, study_figure
+from vtube_planning.study_report import paired_table
+
+
+def summary_entry(scene: str, modes: dict[str, tuple[float, float]]) -> dict:
+    entry: dict = {'scene': scene, 'modes': list(modes)}
+    for mode, (t, d) in modes.items():
+        entry[mode] = {
+            'passing_time_s': t,
+            'passing_time_range_s': [t - 1, t + 1],
+            'min_distance_m': d,
+            'min_distance_range_m': [d - 0.1, d + 0.1],
+        }
+    return entry
+
+
+def rows_of() -> list[dict]:
+    """Scene C, N = 20: planning 1 s faster and 0.1 m farther on every seed (noisy); the first no-planning run collides."""
+    rng = np.random.default_rng(3)
+    rows = []
+    for seed in range(6):
+        base = {'scene': 'C', 'n_robots': 20, 'seed': seed, 'model': 'paper', 'saturation': 'radial'}
+        noise = rng.normal(0.0, 0.05)
+        rows.append(base | {'mode': 'no planning', 'passing_time_s': 20.0 + noise, 'min_distance_m': 0.5 + noise,
+                            'collision_pairs': int(seed == 0)})  # fmt: skip
+        rows.append(base | {'mode': 'planning', 'passing_time_s': 19.0 + noise + rng.normal(0, 0.01),
+                            'min_distance_m': 0.6 + noise, 'collision_pairs': 0})  # fmt: skip
+    return rows
+
+
+def test_the_study_figure_has_a_bar_per_scene_and_mode_at_its_mean() -> None:
+    summary = [
+        summary_entry('A', {'planning': (10.0, 0.7), 'no planning': (12.0, 0.5)}),
+        summary_entry('D', {'planning': (11.0, 0.6), 'no planning': (14.0, 0.4), 'flocking': (13.0, 0.2)}),
+    ]
+    fig = study_figure(summary, collision_distance_m=0.2)
+    ax_t, ax_d = fig.axes[:2]
+    heights = sorted(round(p.get_height(), 9) for p in ax_t.patches)
+    assert heights == [10.0, 11.0, 12.0, 13.0, 14.0]  # flocking only on D
+    assert sorted(round(p.get_height(), 9) for p in ax_d.patches) == [0.2, 0.4, 0.5, 0.6, 0.7]
+    assert [t.get_text() for t in ax_t.get_xticklabels()] == ['A', 'D']
+    collision = next(ln for ln in ax_d.get_lines() if ln.get_label() == '2 r_p (collision)')
+    assert collision.get_ydata()[0] == 0.2
+    segments = [s for c in ax_t.collections for s in c.get_segments()]
+    assert sorted(float(s[0, 1]) for s in segments) == [9.0, 10.0, 11.0, 12.0, 13.0]  # the ranges' lower ends
+
+
+def test_the_paired_figure_draws_each_difference_with_its_interval() -> None:
+    rows = rows_of()
+    fig = paired_differences_figure(rows)
+    table = {p['metric']: p for p in paired_table(rows)}
+    for ax, metric in zip(fig.axes, ('passing_time_s', 'min_distance_m'), strict=True):
+        estimate = table[metric]['estimate']
+        point = ax.get_lines()[0]
+        assert point.get_xdata()[0] == pytest.approx(estimate.value)
+        (segment,) = ax.collections[0].get_segments()
+        np.testing.assert_allclose(segment[:, 0], [estimate.low, estimate.high])
+    assert table['passing_time_s']['verdict'] == table['min_distance_m']['verdict'] == 'holds'
+
+
+def test_the_cell_means_figure_draws_means_intervals_and_collision_shares() -> None:
+    rows = rows_of()
+    fig = cell_means_figure(rows)
+    time_ax, distance_ax, share_ax = fig.axes[:3]
+    assert len(fig.axes) == 3  # one scene: one row of three panels
+    for mode_k, mode in enumerate(('no planning', 'planning')):
+        values = np.array([r['passing_time_s'] for r in rows if r['mode'] == mode])
+        point = time_ax.get_lines()[mode_k]
+        assert point.get_xdata()[0] == pytest.approx(values.mean())
+        segment = time_ax.collections[mode_k].get_segments()[0]
+        e = mean_interval(values)
+        np.testing.assert_allclose(segment[:, 0], [e.low, e.high])
+    shares = sorted(round(p.get_width(), 9) for p in share_ax.patches)
+    assert shares == [0.0, round(1 / 6, 9)]
+    assert distance_ax.get_title() == 'scene C: min distance [m]'
