@@ -26,7 +26,7 @@ from dataclasses import replace
 from functools import partial
 
 from benchmarks._timing import timed
-from tests.vtube_planning.slsqp_reference import slsqp_plan
+from tests.support.slsqp_reference import slsqp_plan
 from vtube_planning import list_scenes, load_scene
 from vtube_planning.planning.constraints import initial_conditions
 from vtube_planning.planning.plan import Plan

@@ -325,7 +325,7 @@ class SampledTube:
 
     Between samples the centre line is the polyline through them, and the half-width and the area are linear.
     With samples 1 cm apart on the Robotarium scenes, arc lengths and offsets agree with the exact tube to
-    well under a millimetre (``tests/vtube_planning/test_step.py``).
+    well under a millimetre (``tests/unit/vtube_planning/onboard/test_sampled_tube.py``).
 
     Parameters
     ----------
