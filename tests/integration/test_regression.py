@@ -25,8 +25,9 @@ from tests.support.regression import (
 
 REFERENCE = load_reference()
 SAME_ENVIRONMENT = not environment_differences(REFERENCE['environment'])
-GAIN_CASE = 'study_C_planning'
-"""A short case whose run every gain of ControlParams moves (``--sensitivity``)."""
+GAIN_CASE = 'grid_C_N80_kdtree_first_8s'
+"""A short case whose fingerprints every gain of ControlParams changed by 1e-9 moves by 40 x the tolerance or more,
+in every environment (``--sensitivity``)."""
 
 
 def test_every_golden_case_is_a_case() -> None:
@@ -54,10 +55,11 @@ def test_drift_names_the_metric_or_fingerprint_beyond_the_tolerance() -> None:
     moved = copy.deepcopy(golden)
     step = f'step {golden["fingerprints"]["steps"][-1]}'
     moved['fingerprints'][step][3 + 5] += 2 * TOLERANCE * max(1.0, abs(moved['fingerprints'][step][3 + 5]))
-    moved['scalars']['metrics.robots_passed'] = '19'
-    found = differences(golden, moved, bits=False).found
+    passed = int(golden['scalars']['metrics.robots_passed'])
+    moved['scalars']['metrics.robots_passed'] = str(passed + 1)
+    found = differences(golden, moved).found
     assert any(line.startswith(f'fingerprint {step} robot 5 x') for line in found), found
-    assert 'metric metrics.robots_passed: 20 -> 19' in found
+    assert f'metric metrics.robots_passed: {passed} -> {passed + 1}' in found
     within = copy.deepcopy(golden)
     within['fingerprints'][step][0] += 0.5 * TOLERANCE * max(1.0, abs(within['fingerprints'][step][0]))
     assert differences(golden, within, bits=False).found == []

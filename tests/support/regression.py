@@ -63,10 +63,12 @@ from vtube_planning.swarm.simulate import SimConfig, simulate
 
 ROOT = Path(__file__).resolve().parents[2]
 REFERENCE = ROOT / 'tests' / 'integration' / 'regression.json'
-TOLERANCE = 1e-11
+TOLERANCE = 3e-12
 """Largest accepted deviation of a float metric or fingerprint, relative to max(1, |golden value|); chosen between
 the measured deviations (``--sensitivity``): a gain changed by 1e-9 moves the fingerprints of every case that uses it
-by 1e-9 or more, the environment (threads, CPU kernels, one ulp) by much less."""
+by 9e-11 or more (k_ra_m3ps, the least), the emulated environments (OpenBLAS threads and kernels, numpy without
+AVX2/FMA3, one ulp) by 7e-14 at most: 30 x and 45 x margins (``--sensitivity``, in the golden file's environment
+the bits catch any change besides)."""
 ULP_MARGIN = 100.0
 """In another environment than the golden file's, a metric or fingerprint is compared only when one ulp on every
 gain (``--write`` measures it, case by case: the last-bit difference another libm or SIMD kernel makes) moved it by
@@ -842,8 +844,9 @@ def _ulp(name: str, value: float) -> float:
 def sensitivity(cases: list[Case], out: Path | None) -> int:
     """Measure, per case, the largest deviation (metrics and fingerprints, as the comparison computes it) that each
     gain changed by 1e-9 causes, and the largest that any emulated environment change causes; print the table and
-    the margins to ``TOLERANCE``; 1 when a gain change that moves a case stays within the tolerance there, or an
-    environment change goes beyond it."""
+    the margins to ``TOLERANCE``; 1 when a gain change exceeds 10 x the tolerance in no case, or an environment
+    change goes beyond it. Measured as the comparison outside the golden environment does: without the metrics and
+    fingerprints that one ulp moves (``unstable``)."""
     reference = load_reference()
     table: dict[str, dict[str, float]] = {case.name: {} for case in cases}
     for label, change in [*((gain, _gain_change(gain)) for gain in GAINS), ('1 ulp (every gain)', _ulp)]:
@@ -891,7 +894,7 @@ def _sensitivity_report(table: dict[str, dict[str, float]], out: Path | None) ->
             continue
         name = min(moved, key=moved.__getitem__)
         below = [n for n, d in moved.items() if d <= TOLERANCE]
-        status |= bool(below)
+        status |= all(d <= 10 * TOLERANCE for d in moved.values())
         print(
             f'{gain}: moves {len(moved)} of {len(table)} cases; smallest deviation {moved[name]:.2e} ({name}), '
             f'{moved[name] / TOLERANCE:.3g} x the tolerance' + (f'; WITHIN the tolerance: {below}' if below else '')
