@@ -505,7 +505,7 @@ def fingerprint(case: Case) -> tuple[dict[str, Any], Arrays]:
 
 def environment() -> dict[str, str]:
     """What the bits depend on beyond the code: the machine, the C library, Python, the numerical packages'
-    versions, the SIMD features numpy dispatches to and numpy's BLAS."""
+    versions, the SIMD features numpy dispatches to, numpy's BLAS and the OpenBLAS kernels it runs."""
     key = {
         'machine': platform.machine(),
         'system': platform.system(),
@@ -527,7 +527,25 @@ def environment() -> dict[str, str]:
         key['numpy_blas'] = f'{blas.get("name")} {blas.get("version")}'
     except (TypeError, KeyError):  # numpy < 1.26: no dicts
         key['numpy_blas'] = 'unknown'
+    key['openblas_core'] = _openblas_core()
     return key
+
+
+def _openblas_core() -> str:
+    """The kernel set numpy's OpenBLAS picked for this CPU (or OPENBLAS_CORETYPE): it changes the last bits of the
+    Robotarium runs (measured: Haswell here, Sandybridge or Prescott 7e-14 away), and CPUs of the same numpy SIMD
+    features may get different ones."""
+    import ctypes
+    import glob
+
+    for path in sorted(glob.glob(os.path.join(os.path.dirname(np.__file__), os.pardir, 'numpy.libs', '*openblas*'))):
+        library = ctypes.CDLL(path)
+        for name in ('scipy_openblas_get_corename64_', 'scipy_openblas_get_corename', 'openblas_get_corename'):
+            function = getattr(library, name, None)
+            if function is not None:
+                function.restype = ctypes.c_char_p
+                return str(function().decode())
+    return 'unknown'
 
 
 def environment_differences(reference: dict[str, str]) -> str:
