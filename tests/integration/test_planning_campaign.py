@@ -23,7 +23,10 @@ scene = ["C"]
 mode = ["planning", "no planning"]
 seed = [0, 1]
 latency_steps = [0, 2]
+[settings]
+dt_s = 0.05
 """
+"""Eight runs of scene C; a control period of 50 ms (2.5x fewer steps than the study's 20 ms) keeps them short."""
 
 
 def write(folder: Path, text: str, name: str = 'campaign.toml') -> Path:
