@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.terminal import stderr_on_a_pipe, stderr_on_a_terminal
+from tests.support.terminal import stderr_on_a_pipe, stderr_on_a_terminal  # moved there by the cli helper
 from vtube_planning.campaign import Campaign
 from vtube_planning.campaign_runner import run_campaign
 from vtube_planning.campaign_store import RUNS_FILE, read_results
