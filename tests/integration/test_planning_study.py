@@ -13,7 +13,7 @@ def test_a_reduced_grid_end_to_end(tmp_path, capsys) -> None:
     out = tmp_path / 'grid'
     argv = ['ablation', '--out', str(out), '--scenes', 'C', '--sizes', '20', '--seeds', '2', '--models', 'paper']
     argv += ['--saturations', 'radial,forward']
-    assert main([*argv, '--workers', '1']) == 0
+    assert main([*argv, '--workers', '2']) == 0  # both cores
     _, rows, missing = read_results(out)
     assert len(rows) == 2 * 2 * len(ABLATIONS) and missing == 0
     assert {r['mode'] for r in rows} == set(ABLATIONS) and {r['seed'] for r in rows} == {0, 1}
@@ -34,7 +34,7 @@ def test_a_reduced_grid_end_to_end(tmp_path, capsys) -> None:
     assert "| planning - no planning (the paper's comparison) |" in text
     for figure in ('differences.png', 'means.png'):
         assert (out / figure).read_bytes()[:4] == b'\x89PNG'
-    assert 'ablation: 24 runs, 0 already done, 24 run now on 1 local process in' in capsys.readouterr().out
+    assert 'ablation: 24 runs, 0 already done, 24 run now on 2 local processes in' in capsys.readouterr().out
     (out / 'report.md').unlink()
     assert main(['campaign', 'report', str(out)]) == 0  # the report again, from the folder alone
     assert (out / 'report.md').read_text() == text
