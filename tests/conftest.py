@@ -1,13 +1,22 @@
 """The suite's two rooms, told by path: ``tests/unit`` (fast, in-process, the inner loop: ``pytest tests/unit``) and
 ``tests/integration`` (end-to-end runs, subprocesses, terminals, real recordings). Each test gets the marker of its
 room, so ``pytest -m unit`` and ``pytest -m integration`` select them from anywhere; a test file outside both rooms
-is a usage error."""
+is a usage error.
+
+With pytest-xdist, ``pytest -n 2 --dist loadfile`` keeps each file on one worker, so that module fixtures (the demo
+run among them) are built once. Every test process uses one BLAS thread (unless OPENBLAS_NUM_THREADS is set): OpenBLAS threads spin while they
+wait, so two workers with two threads each on two cores run the small QPs of the certificates many times slower.
+The thread count changes no bit of any result (tests/integration/test_regression.py).
+"""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
+
+os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')  # before numpy is imported, inherited by workers and subprocesses
 
 ROOMS = ('unit', 'integration')
 HERE = Path(__file__).resolve().parent

@@ -1,17 +1,75 @@
-"""``vtube demo``: the whole way, plan to report, on the bundled simulator (one run, shared: ``demo_run``)."""
+"""``vtube demo``: the whole way, plan to report, on the bundled simulator, run once (``demo_run``) and shared by
+every test of it and of the submission it builds and checks (scene robotarium_curve, planned): the one built file
+whose preflight the suite runs. One file, so that pytest-xdist (``--dist loadfile``) runs the demo once."""
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 
 from robotarium_exp.experiment import run_experiment
 from robotarium_exp.spec import ROBOTARIUM
+from submission.builder import BUILD_STAMP
+from submission.declaration import Declaration
 from vtube.cli.app import main
 from vtube.pipeline import DEMO_SCENE, Analysed, Planned, Returned, Simulated, WrittenSubmission
 from vtube_planning.swarm.metrics import passage_metrics
+
+ROOT = Path(__file__).resolve().parents[2]
+
+CHECK_SEEDS = 1
+"""Bundled runs of the demo's preflight (the demo itself asks for 2; one more seed of the same file adds no check)."""
+INITIALIZER_SEEDS = 1
+"""V2's initializer alone in the demo's preflight (the demo asks for 20: the same run repeated for a quantile)."""
+
+
+@dataclass(frozen=True)
+class DemoRun:
+    """``vtube demo`` run once: its exit code, what it printed (stdout, stderr), its folder and each stage's result."""
+
+    code: int
+    out: str
+    err: str
+    folder: Path
+    stages: tuple[Any, ...]
+
+    def stage(self, kind: type) -> Any:
+        """The first stage of a type (``pipeline.Planned``, ``WrittenSubmission``, ...)."""
+        return next(stage for stage in self.stages if isinstance(stage, kind))
+
+
+@pytest.fixture(scope='module')
+def demo_run(tmp_path_factory: pytest.TempPathFactory) -> DemoRun:
+    """``vtube demo`` in this process, its stages recorded as they end; the submission's preflight with
+    :data:`CHECK_SEEDS` and :data:`INITIALIZER_SEEDS` (the only change to the demo: fewer repetitions)."""
+    from vtube import pipeline
+    from vtube.cli.app import main
+
+    folder = tmp_path_factory.mktemp('demo') / 'demo'
+    stages: list[Any] = []
+    demo, build_submission = pipeline.demo, pipeline.build_submission
+
+    def recorded(out: Path, **kwargs: Any) -> Any:
+        for stage in demo(out, **kwargs):
+            stages.append(stage)
+            yield stage
+
+    def fewer_seeds(*args: Any, **kwargs: Any) -> Any:
+        return build_submission(*args, **(kwargs | {'seeds': CHECK_SEEDS, 'initializer_seeds': INITIALIZER_SEEDS}))
+
+    out, err = io.StringIO(), io.StringIO()
+    with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        patch.setattr(pipeline, 'demo', recorded)
+        patch.setattr(pipeline, 'build_submission', fewer_seeds)
+        code = main(['demo', '--out', str(folder)])
+    return DemoRun(code, out.getvalue(), err.getvalue(), folder, tuple(stages))
 
 
 def test_the_demo_runs_every_stage_and_reports_no_collision(demo_run) -> None:
@@ -74,3 +132,46 @@ def test_the_returned_file_flies_the_bundled_experiment_and_compare_writes_the_t
     assert returned.min_distance_m == pytest.approx(mine.min_distance_m, abs=0.005)
     assert returned.tube_violation_steps == pytest.approx(mine.tube_violation_steps, rel=0.05)
     np.testing.assert_allclose(positions, experiment.arrays['positions_m'], atol=1e-9)  # in fact, the same trajectory
+
+
+def _unstamped(source: str) -> str:
+    return '\n'.join(line for line in source.splitlines() if not line.startswith(BUILD_STAMP))
+
+
+def test_the_demos_submission_is_the_committed_file_but_for_its_declaration(demo_run) -> None:
+    """So its preflight below is the preflight of the committed robotarium_curve flight (data and code)."""
+    written = demo_run.stage(WrittenSubmission)
+    committed = (ROOT / 'submissions' / 'vtube_robotarium_curve.py').read_text(encoding='utf-8')
+    built = written.path.read_text(encoding='utf-8')
+    recorded = Declaration.from_header(committed)
+    assert recorded is not None and written.declaration is not None
+    mine = '\n'.join(written.declaration.header_lines(6))
+    assert mine in built
+    assert _unstamped(built.replace(mine, '\n'.join(recorded.header_lines(6)))) == _unstamped(committed)
+
+
+def test_the_demos_submission_passes_the_preflight_on_both_simulators(demo_run) -> None:
+    pytest.importorskip('rps.robotarium')  # the PyPI simulator (test extra)
+    report = demo_run.stage(WrittenSubmission).report
+    assert [run.backend for run in report.runs] == ['bundled'] * CHECK_SEEDS + ['pypi']
+    for run in report.runs:
+        assert run.ok, (run.label, run.problems, run.stderr_tail)
+        assert run.min_center_distance_m > 0.135
+    assert report.passed and report.robots == 6
+    declared = report.declaration
+    assert declared is not None and report.initializer is not None and report.initializer.runs == INITIALIZER_SEEDS
+    assert declared.duration_s >= max(report.initializer.durations_s) + declared.experiment_s - 10
+    for run in report.runs:  # every checked run fits the verifier's 1.5 x the declaration
+        assert run.duration_s <= 1.5 * declared.duration_s
+    # the committed file's header (200 initializer seeds, 3 bundled runs) covers what these seeds derive
+    committed = Declaration.from_header((ROOT / 'submissions' / 'vtube_robotarium_curve.py').read_text())
+    assert committed is not None and committed.duration_s >= declared.duration_s
+
+
+def test_the_build_prints_the_verdict_and_the_header_records_the_declaration(demo_run) -> None:
+    written = demo_run.stage(WrittenSubmission)
+    text = demo_run.out
+    assert 'verdict                PASS' in text and 'declare                6 robots' in text
+    declared = text.split('the header records the declaration: 6 robots, ')[1].split(' s')[0]
+    assert int(declared) == written.declaration.duration_s
+    assert f'Declare on the web form: 6 robots and {declared} s' in written.path.read_text()

@@ -364,9 +364,13 @@ def test_the_alias_maps_every_v2_module() -> None:
 
 @pytest.fixture
 def clean_rps(monkeypatch):
-    """Whatever the test registers as ``rps...`` (and the QP solver it picks) is undone after it."""
+    """Whatever the test registers as ``rps...`` (and the QP solver it picks) is undone after it, and so is the
+    ``robotarium`` attribute that ``install`` rebinds on the package it registers as ``rps``."""
     from robotarium_exp.rps.utilities.barrier_certificates import qp_solver, use_qp_solver
 
+    for package in ('robotarium_exp.rps', 'robotarium_exp.rps_classic'):
+        simulator = importlib.import_module(package + '.robotarium')
+        monkeypatch.setattr(importlib.import_module(package), 'robotarium', simulator)
     for name in [n for n in sys.modules if n == 'rps' or n.startswith('rps.')]:
         monkeypatch.delitem(sys.modules, name)
     before, solver = set(sys.modules), qp_solver()
