@@ -8,28 +8,14 @@ import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import pytest
 
+from tests.support.campaigns import SMALL, write
 from tests.support.terminal import stderr_on_a_pipe, stderr_on_a_terminal
 from vtube_planning.campaign import Campaign
 from vtube_planning.campaign_runner import run_campaign
 from vtube_planning.campaign_store import RUNS_FILE, read_results
-
-SMALL = """
-[axes]
-scene = ["C"]
-mode = ["planning", "no planning"]
-seed = [0, 1]
-latency_steps = [0, 2]
-"""
-
-
-def write(folder: Path, text: str, name: str = 'campaign.toml') -> Path:
-    path = folder / name
-    path.write_text(text, encoding='utf-8')
-    return path
 
 
 def comparable(rows: list[dict]) -> list[dict]:

@@ -6,23 +6,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from tests.support.scenes import LINE_SCENE
 from tests.support.terminal import stderr_on_a_terminal
 
 from .test_preflight import silent_files
-
-LINE = """
-[tube.center]
-pieces = [{ kind = "line", length_m = 10.0 }]
-[tube.width]
-start_m = 2.0
-parts = [{ kind = "constant" }]
-"""
 
 
 def test_simulate_draws_its_progress_on_a_terminal(tmp_path: Path) -> None:
     """Off a terminal nothing is drawn: ``test_cli.py::test_simulate_prints_metrics_and_writes_log_and_figures``."""
     scene = tmp_path / 'line.toml'
-    scene.write_text(LINE, encoding='utf-8')
+    scene.write_text(LINE_SCENE, encoding='utf-8')
     args = ['simulate', str(scene), '--n', '2', '--no-planning']
     code, drawn = stderr_on_a_terminal([*args, '--out', str(tmp_path / 'a')])
     assert code == 0 and b'simulated:' in drawn

@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 from importlib import resources
-from pathlib import Path
 
 import pytest
 
-import vtube_planning.campaign_runner as campaign_module
+from tests.support.campaigns import write
 from vtube.cli import main
-from vtube_planning.campaign import METRICS, Campaign, run_key
+from vtube_planning.campaign import Campaign, run_key
 from vtube_planning.campaign_store import RUNS_FILE
 from vtube_planning.geometry.scene import load_scene
 from vtube_planning.study import Point, RunSettings
@@ -22,35 +21,6 @@ mode = ["planning", "no planning"]
 seed = 3
 pose_noise_m = [0.0, 0.02]
 """
-
-
-def write(folder: Path, text: str, name: str = 'campaign.toml') -> Path:
-    path = folder / name
-    path.write_text(text, encoding='utf-8')
-    return path
-
-
-def fake_metrics(point: Point) -> dict[str, object]:
-    """What the fake run measures: values that name the run, so that a row shows which run wrote it."""
-    values = dict.fromkeys(METRICS, 0.5) | {'collision_pairs': point.seed, 'tube_violation_steps': 0}
-    return values | {'completed': True, 'passing_time_s': 10.0 + point.seed + point.latency_steps}
-
-
-@pytest.fixture
-def fake_runs(monkeypatch):
-    """Replace the simulation with :func:`fake_metrics`; ``calls`` lists the points run; ``fail`` maps a call number
-    to the exception it raises."""
-    calls: list[Point] = []
-    fail: dict[int, BaseException] = {}
-
-    def run(point: Point, settings: RunSettings) -> dict[str, object]:
-        calls.append(point)
-        if len(calls) in fail:
-            raise fail[len(calls)]
-        return fake_metrics(point)
-
-    monkeypatch.setattr(campaign_module, 'run_point', run)
-    return calls, fail
 
 
 def test_a_campaign_file_expands_into_runs_with_stable_keys(tmp_path) -> None:

@@ -11,32 +11,11 @@ from pathlib import Path
 
 import pytest
 
-import vtube_planning.campaign_runner as campaign_module
 import vtube_planning.plots
+from tests.support.campaigns import SMALL, fake_metrics, write
 from vtube.cli import main
-from vtube_planning.campaign import METRICS, run_key
+from vtube_planning.campaign import run_key
 from vtube_planning.campaign_store import RUNS_FILE, read_results
-from vtube_planning.study import Point, RunSettings
-
-SMALL = """
-[axes]
-scene = ["C"]
-mode = ["planning", "no planning"]
-seed = [0, 1]
-latency_steps = [0, 2]
-"""
-
-
-def write(folder: Path, text: str, name: str = 'campaign.toml') -> Path:
-    path = folder / name
-    path.write_text(text, encoding='utf-8')
-    return path
-
-
-def fake_metrics(point: Point) -> dict[str, object]:
-    """What the fake run measures: values that name the run, so that a row shows which run wrote it."""
-    values = dict.fromkeys(METRICS, 0.5) | {'collision_pairs': point.seed, 'tube_violation_steps': 0}
-    return values | {'completed': True, 'passing_time_s': 10.0 + point.seed + point.latency_steps}
 
 
 @pytest.fixture(autouse=True)
@@ -50,23 +29,6 @@ def unrendered_figures(monkeypatch):
         return path
 
     monkeypatch.setattr(vtube_planning.plots, 'save_figure', save)
-
-
-@pytest.fixture
-def fake_runs(monkeypatch):
-    """Replace the simulation with :func:`fake_metrics`; ``calls`` lists the points run; ``fail`` maps a call number
-    to the exception it raises."""
-    calls: list[Point] = []
-    fail: dict[int, BaseException] = {}
-
-    def run(point: Point, settings: RunSettings) -> dict[str, object]:
-        calls.append(point)
-        if len(calls) in fail:
-            raise fail[len(calls)]
-        return fake_metrics(point)
-
-    monkeypatch.setattr(campaign_module, 'run_point', run)
-    return calls, fail
 
 
 def test_unreachable_places_are_refused_before_any_run(tmp_path, capsys, fake_runs, monkeypatch) -> None:

@@ -1,28 +1,32 @@
-"""The package's curated exports: every name is the object of the module that defines it; the version is the
-installed distribution's."""
+"""The curated exports of vtube_planning and of its geometry, planning and swarm packages: every name is the object
+of the module that defines it; the version is the installed distribution's."""
 
 from __future__ import annotations
 
 import importlib
 from importlib.metadata import version
+from types import ModuleType
 
 import pytest
 
 import vtube_planning
+import vtube_planning.geometry
+import vtube_planning.planning
+import vtube_planning.swarm
+
+PACKAGES = (vtube_planning, vtube_planning.geometry, vtube_planning.planning, vtube_planning.swarm)
 
 
-def defining_module(value: object, name: str) -> str:
+@pytest.mark.parametrize(
+    ('package', 'name'),
+    [(p, n) for p in PACKAGES for n in getattr(p, '__all__', []) if n != '__version__'],
+    ids=lambda value: value.__name__ if isinstance(value, ModuleType) else value,
+)
+def test_each_export_is_the_defining_object(package: ModuleType, name: str) -> None:
+    value = getattr(package, name)
     home = getattr(value, '__module__', None)
-    assert home is not None and home.startswith('vtube_planning'), name
-    return home
-
-
-@pytest.mark.parametrize('name', [n for n in vtube_planning.__all__ if n != '__version__'])
-def test_each_export_is_the_defining_object(name: str) -> None:
-    value = getattr(vtube_planning, name)
-    home = defining_module(value, name)
-    assert home != 'vtube_planning' and getattr(importlib.import_module(home), name) is value
-    assert name in dir(vtube_planning)
+    assert home is not None and home.startswith('vtube_planning.') and home != package.__name__, name
+    assert getattr(importlib.import_module(home), name) is value and name in dir(package)
 
 
 def test_the_version_is_the_distributions_and_unknown_names_are_named() -> None:

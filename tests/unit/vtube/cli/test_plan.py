@@ -5,20 +5,13 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from tests.support.scenes import LINE_SCENE
 from vtube.cli.app import main
 from vtube.cli.plan import plan_view
 from vtube.pipeline import Planned
 from vtube_planning import load_scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
-
-GOOD = """
-[tube.center]
-pieces = [{ kind = "line", length_m = 10.0 }]
-[tube.width]
-start_m = 2.0
-parts = [{ kind = "constant" }]
-"""
 
 
 def test_plan_writes_plan_file_and_figure(tmp_path, capsys) -> None:
@@ -58,7 +51,7 @@ def test_plan_reports_uncertified_polynomial_plans(tmp_path, capsys) -> None:
 def test_infeasible_plan_gives_exit_2_naming_constraint_and_arc_length(tmp_path, capsys) -> None:
     path = tmp_path / 'tight.toml'
     path.write_text(
-        GOOD.replace(
+        LINE_SCENE.replace(
             '{ kind = "line", length_m = 10.0 }',
             '{ kind = "line", length_m = 5.0 }, { kind = "arc", radius_m = 3.0, angle_deg = 60.0 }',
         )

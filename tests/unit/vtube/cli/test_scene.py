@@ -6,31 +6,24 @@ from pathlib import Path
 
 import pytest
 
+from tests.support.scenes import LINE_SCENE
 from vtube.cli.app import main
 from vtube.cli.scene import SceneExported, SceneList, SceneShown, export_view, list_view, show_view
 from vtube_planning import list_scenes, load_scene
 
-GOOD = """
-[tube.center]
-pieces = [{ kind = "line", length_m = 10.0 }]
-[tube.width]
-start_m = 2.0
-parts = [{ kind = "constant" }]
-"""
-
 BAD = {
-    'missing_field': GOOD.replace('start_m = 2.0\n', ''),
-    'negative_width': GOOD.replace('start_m = 2.0', 'start_m = -2.0'),
-    'self_intersecting': GOOD.replace(
+    'missing_field': LINE_SCENE.replace('start_m = 2.0\n', ''),
+    'negative_width': LINE_SCENE.replace('start_m = 2.0', 'start_m = -2.0'),
+    'self_intersecting': LINE_SCENE.replace(
         '{ kind = "line", length_m = 10.0 }',
         '{ kind = "line", length_m = 10.0 }, { kind = "arc", radius_m = 3.0, angle_deg = 300.0 }, '
         '{ kind = "line", length_m = 10.0 }',
     ),
-    'over_curved': GOOD.replace(
+    'over_curved': LINE_SCENE.replace(
         '{ kind = "line", length_m = 10.0 }', '{ kind = "arc", radius_m = 1.0, angle_deg = 90.0 }'
     ),
-    'unknown_key': GOOD + '[swarm]\nspeed = 3\n',
-    'not_toml': GOOD + '[swarm\n',
+    'unknown_key': LINE_SCENE + '[swarm]\nspeed = 3\n',
+    'not_toml': LINE_SCENE + '[swarm\n',
 }
 BAD_MESSAGES = {
     'missing_field': "missing field 'start_m'",
@@ -65,7 +58,7 @@ def test_scene_show_prints_summary_and_writes_figure(tmp_path, capsys) -> None:
 
 def test_the_show_view_of_a_user_file_has_no_export_hint_and_no_figure(tmp_path) -> None:
     path = tmp_path / 'mine.toml'
-    path.write_text(GOOD)
+    path.write_text(LINE_SCENE)
     scene = load_scene(path)
     view = show_view(SceneShown(scene, scene.tube.summary(), None))
     assert view.lines[0].startswith('scene mine: ') and f'  source                {path}' in view.lines
@@ -76,7 +69,7 @@ def test_the_show_view_of_a_user_file_has_no_export_hint_and_no_figure(tmp_path)
 
 def test_scene_show_accepts_a_user_file(tmp_path, capsys) -> None:
     path = tmp_path / 'mine.toml'
-    path.write_text(GOOD)
+    path.write_text(LINE_SCENE)
     assert main(['scene', 'show', str(path)]) == 0
     assert 'half-width            2.000 .. 2.000 m' in capsys.readouterr().out
 

@@ -10,29 +10,9 @@ import pytest
 from scipy.integrate import quad
 from scipy.interpolate import CubicSpline
 
+from tests.support.tubes import WAYPOINTS, arc_tube, spline_tube
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece, SplineCurve
 from vtube_planning.geometry.scene import load_scene
-from vtube_planning.geometry.tube import VirtualTube
-from vtube_planning.geometry.width import WidthPart, WidthProfile
-
-WAYPOINTS = ((0.0, 0.0), (10.0, 1.0), (20.0, -1.0), (30.0, 0.0), (50.0, 0.0), (60.0, 1.0), (70.0, 0.0))
-
-
-def constant(length_m: float, half_width_m: float = 1.0) -> WidthProfile:
-    return WidthProfile(half_width_m, (WidthPart('constant', length_m),))
-
-
-def arc_tube(radius_m: float = 5.0, angle_deg: float = 120.0, left: bool = True) -> VirtualTube:
-    length = radius_m * math.radians(angle_deg)
-    center = ArcPath((ArcPiece(length, radius_m=radius_m, left=left),))
-    return VirtualTube(center, constant(length, 0.4 * radius_m))
-
-
-def spline_tube() -> VirtualTube:
-    center = SplineCurve(WAYPOINTS)
-    width = WidthProfile(3.0, (WidthPart('smooth', 15.0, to_m=1.0), WidthPart('constant', center.length_m - 15.0)))
-    return VirtualTube(center, width)
-
 
 # ---------------------------------------------------------------------- analytic curves
 

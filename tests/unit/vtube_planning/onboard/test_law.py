@@ -8,6 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from tests.support.oracles import sigma_published
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
@@ -28,16 +29,6 @@ def command_at(
 
 def wide_tube(half_width_m: float = 10.0) -> VirtualTube:
     return VirtualTube(ArcPath((ArcPiece(50.0),)), WidthProfile(half_width_m, (WidthPart('constant', 50.0),)))
-
-
-def sigma_published(x: float, d1: float, d2: float) -> float:
-    """docs/theory.md §2.3 with its coefficients A, B, C, D."""
-    den = (d1 - d2) ** 3
-    if x <= d1:
-        return 1.0
-    if x >= d2:
-        return 0.0
-    return (-2 * x**3 + 3 * (d1 + d2) * x**2 - 6 * d1 * d2 * x + d2**2 * (3 * d1 - d2)) / den
 
 
 @pytest.mark.parametrize('law', ['barrier', 'practical'])

@@ -7,17 +7,8 @@ import math
 import numpy as np
 import pytest
 
+from tests.support.oracles import sigma_published
 from vtube_planning.onboard.scalar import barrier_gain, saturate, sigma, smooth_saturation
-
-
-def sigma_published(x: float, d1: float, d2: float) -> float:
-    """docs/theory.md §2.3 with its coefficients A, B, C, D."""
-    den = (d1 - d2) ** 3
-    if x <= d1:
-        return 1.0
-    if x >= d2:
-        return 0.0
-    return (-2 * x**3 + 3 * (d1 + d2) * x**2 - 6 * d1 * d2 * x + d2**2 * (3 * d1 - d2)) / den
 
 
 def barrier_potential(x: float, offset: float, d1: float, d2: float, k: float, eps: float = 1e-6) -> float:
