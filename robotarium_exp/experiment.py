@@ -26,7 +26,7 @@ from robotarium_exp.flight import Period, RobotariumLike, build_flight, fly
 from robotarium_exp.flight_data import FlightData, SafetyData, TubeSamples, Wheels
 from robotarium_exp.spec import ROBOTARIUM
 from robotarium_exp.tracking import FilterSummary, filter_summary
-from robotarium_exp.verifier import VerifierCounts
+from robotarium_exp.verifier import VerifierCounts, restart_shared_counters
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.log import LogWriter
@@ -269,6 +269,7 @@ def run_experiment(
         initial_conditions=np.array(data.initial_conditions),
         **(robotarium_kwargs or {}),
     )
+    restart_shared_counters(r)
     flight = build_flight(data)
     log = LogWriter(log_path, _log_description(scene, config, data, log_meta), flush_every=config.log_every)
     completed, periods = fly(r, flight, dt, config.max_steps, _recorder(log, tube, dt))

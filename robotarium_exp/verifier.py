@@ -70,6 +70,19 @@ class VerifierCounts:
         )
 
 
+def restart_shared_counters(robotarium: object) -> None:
+    """Start a simulator's error counters from zero where its class shares them between instances.
+
+    PyPI's simulator counts into a dict that is the default argument of ``_validate``: one dict for every instance
+    of the process, so a second run there would report the first run's errors as its own. Emptying it when a run
+    starts makes the counts read at its end this run's. Classes without such a default are left as they are.
+    """
+    validate = getattr(type(robotarium), '_validate', None)
+    for default in getattr(validate, '__defaults__', None) or ():
+        if isinstance(default, dict):
+            default.clear()
+
+
 def recount(poses: FloatArray, velocities: FloatArray, spec: RobotariumSpec = ROBOTARIUM) -> VerifierCounts:
     """The verifier's counts of a run from what the simulator validated each step: poses (T, 3, N) and the
     commands [v; omega] (T, 2, N) it held when ``step()`` was called."""

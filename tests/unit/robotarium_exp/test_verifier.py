@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from robotarium_exp.spec import ROBOTARIUM
-from robotarium_exp.verifier import SIMULATOR_NAMES, VerifierCounts, closest_centres_m, recount
+from robotarium_exp.verifier import SIMULATOR_NAMES, VerifierCounts, closest_centres_m, recount, restart_shared_counters
 
 
 def test_counts_from_either_generation_s_counters() -> None:
@@ -63,3 +63,31 @@ def test_closest_centres() -> None:
     poses[:, 0] = [[0.0, 0.3, 1.0], [0.0, 0.5, 0.6]]
     assert closest_centres_m(poses) == pytest.approx(0.1, abs=1e-15)
     assert closest_centres_m(poses[:, :, :1]) == float('inf') and closest_centres_m(poses[:0]) == float('inf')
+
+
+class SharedCounters:
+    """As PyPI's simulator: errors counted into a mutable default argument, one dict for every instance."""
+
+    def _validate(self, errors: dict = {}) -> dict:  # noqa: B006 -- the shared default is the point
+        errors['actuator'] = errors.get('actuator', 0) + 1
+        return errors
+
+
+class OwnCounters:
+    def __init__(self) -> None:
+        self.errors = {'actuator': 2}
+
+    def _validate(self, errors: dict | None = None) -> dict:
+        return self.errors
+
+
+def test_a_run_starts_the_shared_counters_from_zero_and_leaves_its_own_alone() -> None:
+    first = SharedCounters()
+    first._validate()
+    first._validate()
+    second = SharedCounters()
+    restart_shared_counters(second)
+    assert VerifierCounts.from_simulator(second._validate()).actuator == 1  # this run's step only
+    own = OwnCounters()
+    restart_shared_counters(own)
+    assert own.errors == {'actuator': 2}
