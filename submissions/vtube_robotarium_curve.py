@@ -408,8 +408,8 @@ class SampledTube:
     """A tube given by samples: centre-line points, half-widths and cumulative areas at arc lengths.
 
     Between samples the centre line is the polyline through them, and the half-width and the area are linear.
-    With samples 1 cm apart on the Robotarium scenes, arc lengths and offsets agree with the exact tube to
-    well under a millimetre (``tests/unit/vtube_planning/onboard/test_sampled_tube.py``).
+    With samples 1 cm apart on the Robotarium scenes, offsets agree with the exact tube to 0.2 mm and arc lengths
+    to |y| kappa h / 2, under 2 mm (``tests/unit/vtube_planning/onboard/test_sampled_tube.py``).
 
     Parameters
     ----------
