@@ -12,6 +12,25 @@ from typing import Any
 from vtube_planning.log import LogWriter
 
 
+def time_step_s(robotarium: object) -> float:
+    """The control period of either generation's simulator (V2: ``TIME_STEP``, classic: ``time_step``), 0 if none."""
+    for name in ('TIME_STEP', 'time_step'):
+        value = getattr(robotarium, name, None)
+        if isinstance(value, (int, float)):
+            return float(value)
+    return 0.0
+
+
+def as_its_generation(subclass: type, base: type) -> type:
+    """``subclass`` of ``base`` named as ``base``, keeping only the end-of-script call ``base``'s generation has
+    (V2: ``debug``, classic: ``call_at_scripts_end``): scripts test for it."""
+    for end_of_script in ('debug', 'call_at_scripts_end'):
+        if not hasattr(base, end_of_script):
+            delattr(subclass, end_of_script)
+    subclass.__name__ = base.__name__
+    return subclass
+
+
 def recording(cls: type, log_path: str) -> type:
     """``cls`` that also writes every pose it hands out to a vtube trajectory log (completed at the script's end)."""
 
@@ -19,11 +38,8 @@ def recording(cls: type, log_path: str) -> type:
         def __init__(self, *args: Any, **kwargs: Any) -> None:
             super().__init__(*args, **kwargs)
             self._log = LogWriter(
-                log_path, {'kind': 'bundled robotarium', 'n_robots': self.number_of_robots, 'dt_s': self._dt()}
+                log_path, {'kind': 'bundled robotarium', 'n_robots': self.number_of_robots, 'dt_s': time_step_s(self)}
             )
-
-        def _dt(self) -> float:
-            return float(getattr(self, 'TIME_STEP', None) or self.time_step)  # V2, classic
 
         def _counts(self) -> tuple[dict[str, int], int]:
             """Validation counts and iterations of either generation (classic keeps them private, with texts)."""
@@ -34,7 +50,7 @@ def recording(cls: type, log_path: str) -> type:
         def get_poses(self) -> Any:
             poses = super().get_poses()
             steps = self._counts()[1] - getattr(self, 'initialization_steps', 0)
-            self._log.append(t_s=steps * self._dt(), positions_m=poses[:2], headings_rad=poses[2])
+            self._log.append(t_s=steps * time_step_s(self), positions_m=poses[:2], headings_rad=poses[2])
             return poses
 
         def debug(self) -> Any:
@@ -47,8 +63,4 @@ def recording(cls: type, log_path: str) -> type:
             self._log.flush(errors=errors, iterations=iterations, finished=True)
             return super().call_at_scripts_end()
 
-    for end_of_script in ('debug', 'call_at_scripts_end'):  # keep only the generation's own (scripts test for it)
-        if not hasattr(cls, end_of_script):
-            delattr(Recording, end_of_script)
-    Recording.__name__ = cls.__name__
-    return Recording
+    return as_its_generation(Recording, cls)

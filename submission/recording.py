@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp import rps_alias
+from robotarium_exp.recorder import as_its_generation, time_step_s
 from submission.errors import CheckError
 from vtube_planning.errors import LogError
 from vtube_planning.log import LOG_FORMAT, LOG_VERSION, read_log
@@ -84,7 +85,7 @@ class _Recorder:
         poses = np.array([p for p, _ in rows]).reshape(len(rows), 3, n)
         commands = np.array([c for _, c in rows]).reshape(len(rows), 2, n)
         errors = {} if r is None else getattr(r, '_errors', None) or {}
-        dt = 0.0 if r is None else _time_step(r)
+        dt = 0.0 if r is None else time_step_s(r)
         meta: dict[str, object] = {
             'format': LOG_FORMAT,
             'version': LOG_VERSION,
@@ -138,19 +139,7 @@ def recorded(cls: type, recorder: _Recorder) -> type:
             self.vtube_end_of_script = True
             return super().call_at_scripts_end()
 
-    for end_of_script in ('debug', 'call_at_scripts_end'):  # keep only the generation's own (scripts test for it)
-        if not hasattr(cls, end_of_script):
-            delattr(Recorded, end_of_script)
-    Recorded.__name__ = cls.__name__
-    return Recorded
-
-
-def _time_step(r: object) -> float:
-    for name in ('TIME_STEP', 'time_step'):  # V2, classic
-        value = getattr(r, name, None)
-        if isinstance(value, (int, float)):
-            return float(value)
-    return 0.0
+    return as_its_generation(Recorded, cls)
 
 
 def _iterations(r: object) -> int:

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import robotarium_exp.rps as rps_package
+from robotarium_exp.recorder import time_step_s
 from robotarium_exp.rps import robotarium as v2
 from robotarium_exp.rps_classic import robotarium as classic
 from submission import recording
@@ -81,7 +82,7 @@ def test_both_generations_keep_their_own_end_of_script_call() -> None:
     v2_cls, classic_cls = recorded(v2.Robotarium, _Recorder()), recorded(classic.Robotarium, _Recorder())
     assert hasattr(v2_cls, 'debug') and not hasattr(v2_cls, 'call_at_scripts_end')
     assert hasattr(classic_cls, 'call_at_scripts_end') and issubclass(classic_cls, classic.Robotarium)
-    assert recording._time_step(Simulator) == 0.033 and recording._time_step(object()) == 0.0
+    assert time_step_s(Simulator) == 0.033 and time_step_s(object()) == 0.0
     assert recording._iterations(Simulator(1)) == 0 and recording._iterations(object()) == 0
 
 
