@@ -13,7 +13,6 @@ The run ends when every robot has parked past the exit, or at the step limit.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -21,6 +20,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from robotarium_exp.design import parking, start_formation
 from robotarium_exp.errors import ExperimentError
 from robotarium_exp.flight import Period, RobotariumLike, build_flight, fly
 from robotarium_exp.flight_data import FlightData, SafetyData, TubeSamples, Wheels
@@ -30,7 +30,6 @@ from robotarium_exp.verifier import VerifierCounts, restart_shared_counters
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.log import LogWriter
-from vtube_planning.onboard import parking_slots as slots_beyond
 from vtube_planning.planning.plan import Plan
 from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics
 from vtube_planning.swarm.simulate import default_constant_speed
@@ -106,113 +105,12 @@ class ExperimentResult:
 
 
 def initial_conditions(scene: Scene) -> FloatArray:
-    """Entry formation (3xN): rows across the tube, headings along it, every pair at least the spec's spacing apart.
-
-    Rows and columns start ``ROBOTARIUM.ic_spacing_m`` (0.4 m) apart along and across the tube; on a bend the inner
-    side converges, so the spacing grows until every pair keeps it. Robots 0 and 1 are put where V2's initializer
-    cannot leave them stuck (:func:`order_for_v2_initializer`).
-    """
-    tube, n = scene.tube, scene.swarm.n_robots
-    lam0 = float(tube.half_width(0.0))
-    cols = max(1, math.floor(2 * (lam0 - 0.1) / ROBOTARIUM.ic_spacing_m) + 1)
-    l_first = _first_inside_box(scene)
-    for spacing in ROBOTARIUM.ic_spacing_m * (1.0 + 0.02 * np.arange(50)):
-        poses = []
-        for k in range(n):
-            row, col = divmod(k, cols)
-            in_row = min(cols, n - row * cols)
-            l_k = l_first + spacing * (math.ceil(n / cols) - 1 - row)
-            y = (col - 0.5 * (in_row - 1)) * ROBOTARIUM.ic_spacing_m
-            point = tube.center_at(l_k) + y * tube.normal(l_k)
-            tangent = tube.tangent(l_k)
-            poses.append([point[0], point[1], math.atan2(tangent[1], tangent[0])])
-        ic = np.array(poses).T
-        gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))[np.triu_indices(n, 1)]
-        if gaps.size == 0 or gaps.min() >= ROBOTARIUM.ic_spacing_m - 1e-12:
-            break
-    if np.any(np.abs(ic[0]) > ROBOTARIUM.ic_box_m[0]) or np.any(np.abs(ic[1]) > ROBOTARIUM.ic_box_m[1]):
-        box_x, box_y = ROBOTARIUM.ic_box_m
-        msg = (
-            f'scene {scene.name!r}: the entry formation leaves the box |x| <= {box_x}, |y| <= {box_y} the testbed '
-            'initializes robots in; move the tube entrance inwards or use fewer robots.'
-        )
+    """The start formation (3xN) of :func:`robotarium_exp.design.start_formation`; refused when it cannot be built."""
+    formation = start_formation(scene.tube, scene.swarm.n_robots)
+    if formation.problem is not None:
+        msg = f'scene {scene.name!r}: {formation.problem}; move the tube entrance inwards or widen it.'
         raise ExperimentError(msg)
-    ordered: FloatArray = ic[:, order_for_v2_initializer(ic)]
-    return ordered
-
-
-def order_for_v2_initializer(ic: FloatArray) -> list[int]:
-    """Robot order for V2's initializer: the two slots with the fewest neighbours, front first, as robots 0 and 1.
-
-    V2 chooses the robots it rescues from deadlocks with ``np.isin`` of their indices against the boolean "arrived"
-    mask, so robot 0 is never rescued while any robot is on its way and robot 1 never once any has arrived
-    (``docs/robotarium.md`` §2.6). A robot that ends its approach about 0.02 m from its slot, facing away from its
-    heading, can then rock between approaching and turning for good when a neighbour's barrier row bends its turn.
-    Slots with fewer neighbours within 1.25 x the spacing bend less. *Measured* on the trapezoid's formation with
-    the bundled V2 initializer: 7 of 458 seeds stuck with a middle slot as robot 1, none of 500 with the front
-    corners as robots 0 and 1 (90 % of the initializations within 82 s instead of 124 s).
-    """
-    n = ic.shape[1]
-    neighbours = _neighbour_counts(ic)
-    ahead = ic[0] * np.cos(ic[2]) + ic[1] * np.sin(ic[2])  # how far along its heading: the front row first
-    first = sorted(range(n), key=lambda k: (neighbours[k], -round(float(ahead[k]), 6), k))[:2]
-    return first + [k for k in range(n) if k not in first]
-
-
-def initializer_stall_risk(ic: FloatArray) -> str | None:
-    """Why V2's initializer may leave robots 0 and 1 stuck at these initial conditions (3xN), or None.
-
-    The risk is that of :func:`order_for_v2_initializer`: robots 0 and 1, which V2 never rescues from a deadlock,
-    sit at slots with more neighbours than the least crowded ones.
-    """
-    if ic.shape[1] < 3:
-        return None
-    neighbours = _neighbour_counts(ic)
-    have, least = sorted(neighbours[:2].tolist()), sorted(neighbours.tolist())[:2]
-    if have == least:
-        return None
-    radius = 1.25 * ROBOTARIUM.ic_spacing_m
-    return (
-        f'robots 0 and 1 start at slots with {have[0]} and {have[1]} neighbours within {radius:.2f} m, where slots '
-        f"with {least[0]} and {least[1]} exist. V2's initializer never rescues robots 0 and 1 from a deadlock, and "
-        'at a crowded slot they can stall for good (docs/robotarium.md §2.6). Put them at the least crowded slots: '
-        'reorder the robots with robotarium_exp.experiment.order_for_v2_initializer.'
-    )
-
-
-def _neighbour_counts(ic: FloatArray) -> NDArray[np.int_]:
-    """How many other slots lie within 1.25 x the spacing of each slot."""
-    gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))
-    counts: NDArray[np.int_] = np.asarray((gaps < 1.25 * ROBOTARIUM.ic_spacing_m).sum(axis=0) - 1)
-    return counts
-
-
-def _first_inside_box(scene: Scene) -> float:
-    """Smallest arc length whose whole cross-section (minus 0.1 m) lies inside the initialization box."""
-    tube = scene.tube
-    x0, x1, y0, y1 = ROBOTARIUM.arena_m
-    left, right = tube.boundaries(np.linspace(0.0, tube.length_m, 2001))
-    edges = np.vstack([left, right])
-    if not (np.all((x0 <= edges[:, 0]) & (edges[:, 0] <= x1)) and np.all((y0 <= edges[:, 1]) & (edges[:, 1] <= y1))):
-        (lx, ly), (hx, hy) = edges.min(axis=0), edges.max(axis=0)
-        msg = (
-            f'scene {scene.name!r} does not fit the Robotarium arena [{x0:g}, {x1:g}] x [{y0:g}, {y1:g}] m: its tube '
-            f'spans [{lx:.2f}, {hx:.2f}] x [{ly:.2f}, {hy:.2f}] m. Use robotarium_trapezoid or robotarium_curve, or '
-            'a scene drawn inside the arena.'
-        )
-        raise ExperimentError(msg)
-    for l_m in np.linspace(0.0, tube.length_m, 2001):
-        left, right = tube.boundaries(float(l_m))
-        if np.all(np.abs(np.vstack([left, right])) <= np.array(ROBOTARIUM.ic_box_m)):
-            return float(l_m) + 0.02
-    msg = f'scene {scene.name!r}: no cross-section of the tube lies inside the initialization box.'
-    raise ExperimentError(msg)
-
-
-def parking_slots(scene: Scene) -> FloatArray:
-    """Slots (2xN) beyond the scene's exit, 0.25 m apart (the barrier keeps 0.2 m), filled farthest first."""
-    tube = scene.tube
-    return slots_beyond(tube.center_at(tube.length_m), tube.tangent(tube.length_m), scene.swarm.n_robots)
+    return formation.poses
 
 
 def flight_data(scene: Scene, plan: Plan | None, config: ExperimentConfig) -> FlightData:
@@ -239,7 +137,7 @@ def flight_data(scene: Scene, plan: Plan | None, config: ExperimentConfig) -> Fl
         tube=TubeSamples(samples.l_m, samples.xy_m, samples.half_width_m, samples.area_m2),
         tube_edges_m=np.stack([left.T, right.T]),
         initial_conditions=initial_conditions(scene),
-        parking_slots=parking_slots(scene),
+        parking_slots=parking(scene.tube, swarm.n_robots),
         projection_distance_m=config.projection_distance_m,
         safety=safety if config.barrier else None,
         wheels=Wheels(ROBOTARIUM.base_length_m, ROBOTARIUM.wheel_radius_m, ROBOTARIUM.max_wheel_speed_radps),

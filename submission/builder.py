@@ -21,17 +21,16 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from types import FunctionType, ModuleType
 
-import numpy as np
-
-from robotarium_exp.experiment import ExperimentConfig, flight_data, initializer_stall_risk
+from robotarium_exp.experiment import ExperimentConfig, flight_data
+from robotarium_exp.fit import robotarium_fit
 from robotarium_exp.flight_data import FlightData
-from robotarium_exp.spec import ROBOTARIUM
+from robotarium_exp.scene import load_scene
 from submission import runtime
 from submission.check import RUN_TIMEOUT_S, CheckReport, check, imported_modules
 from submission.declaration import Declaration
 from submission.errors import SubmissionError
 from vtube_planning import __version__
-from vtube_planning.geometry.scene import Scene, load_scene
+from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.provenance import provenance, sha256_of
 
@@ -65,13 +64,10 @@ def build(name_or_path: str | Path | Scene, plan: Plan | None, *, declaration: D
     unplanned (constant speed, constant r_a) when ``plan`` is None; ``declaration``: the duration to declare, as
     :func:`submission.check.check` derived it for this file, recorded in the header."""
     scene = name_or_path if isinstance(name_or_path, Scene) else load_scene(name_or_path)
-    _check_scene(scene)
+    fit = robotarium_fit(scene)
+    if not fit.fits:
+        raise SubmissionError(f'scene {scene.name!r} {fit.reason}')
     data = flight_data(scene, plan, ExperimentConfig(planning=plan is not None))
-    _inside_arena(scene, 'initial conditions', data.initial_conditions[:2])
-    _inside_arena(scene, 'parking slots', data.parking_slots)
-    risk = initializer_stall_risk(data.initial_conditions)
-    if risk is not None:
-        raise SubmissionError(f'scene {scene.name!r}: {risk}')
     body = '\n'.join(
         [
             '',
@@ -130,32 +126,6 @@ def write(submission: Submission, path: str | Path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(submission.source, encoding='utf-8')
     return path
-
-
-def _check_scene(scene: Scene) -> None:
-    n = scene.swarm.n_robots
-    if n > ROBOTARIUM.max_robots:
-        msg = (
-            f'scene {scene.name!r} has {n} robots; the Robotarium runs at most {ROBOTARIUM.max_robots}. Lower n_robots.'
-        )
-        raise SubmissionError(msg)
-    grid = np.linspace(0.0, scene.tube.length_m, 400)
-    for side in scene.tube.boundaries(grid):
-        _inside_arena(scene, 'tube boundary', side.T)
-
-
-def _inside_arena(scene: Scene, what: str, points: np.ndarray) -> None:
-    """Refuse (2, N) points outside the arena less the spec's margin."""
-    m = ROBOTARIUM.arena_margin_m
-    outside = ROBOTARIUM.outside_arena(points, m)
-    if outside.any():
-        k = int(np.argmax(outside))
-        msg = (
-            f'scene {scene.name!r} does not fit the Robotarium arena: its {what} reaches '
-            f'({points[0, k]:.3f}, {points[1, k]:.3f}), outside {ROBOTARIUM.arena_text} less {m} m; move or '
-            'shorten the tube (a Robotarium scene needs a [workspace] with the arena).'
-        )
-        raise SubmissionError(msg)
 
 
 BUILD_STAMP = 'built on'

@@ -83,6 +83,19 @@ class Workspace:
 
 
 @dataclass(frozen=True)
+class Derived:
+    """A scene value derived by code rather than written in the file: its name, value and why (for ``scene show``).
+
+    ``given`` is True when the file set the value itself, overriding the derivation (the reason then says what the
+    derivation would have given)."""
+
+    name: str
+    value: float | int | str
+    reason: str
+    given: bool = False
+
+
+@dataclass(frozen=True)
 class Scene:
     """A planning scene: where the swarm flies and with which parameters.
 
@@ -106,6 +119,10 @@ class Scene:
         The file the scene was read from.
     text
         The file's content, as read (what provenance records and copies beside results).
+    testbed
+        The testbed the scene is declared for (``'robotarium'``: a ``[robotarium]`` table), or None.
+    derived
+        The values derived from the declaration, with their reasons (empty for a scene that writes them all).
     """
 
     name: str
@@ -118,6 +135,8 @@ class Scene:
     workspace: Workspace | None
     source: str
     text: str = ''
+    testbed: str | None = None
+    derived: tuple[Derived, ...] = ()
 
 
 def list_scenes() -> list[str]:
@@ -136,20 +155,24 @@ def load_scene(name_or_path: str | Path) -> Scene:
     """
     path = Path(name_or_path)
     if path.suffix == '.toml' or path.exists():
-        if path.is_dir():
-            msg = f'{str(path)!r} is a folder, not a scene file; give a path to a .toml file or one of {list_scenes()}.'
-            raise SceneError(msg)
-        if not path.is_file():
-            msg = f'scene file {str(path)!r} does not exist; give a path to a .toml file or one of {list_scenes()}.'
-            raise SceneError(msg)
-        try:
-            text = path.read_text(encoding='utf-8')
-        except UnicodeDecodeError as err:
-            msg = f'scene file {str(path)!r} is not UTF-8 text ({err.reason} at byte {err.start}); save it as UTF-8.'
-            raise SceneError(msg) from err
-        return scene_from_text(text, name=path.stem, source=str(path))
+        return scene_from_text(read_scene_file(path), name=path.stem, source=str(path))
     name, text = shipped_scene_text(str(name_or_path))
     return scene_from_text(text, name=name, source=f'<shipped>/{name}.toml')
+
+
+def read_scene_file(path: Path) -> str:
+    """A scene file's text; a folder, a missing file or text that is not UTF-8 raises :class:`SceneError`."""
+    if path.is_dir():
+        msg = f'{str(path)!r} is a folder, not a scene file; give a path to a .toml file or a shipped scene name.'
+        raise SceneError(msg)
+    if not path.is_file():
+        msg = f'scene file {str(path)!r} does not exist; give a path to a .toml file or a shipped scene name.'
+        raise SceneError(msg)
+    try:
+        return path.read_text(encoding='utf-8')
+    except UnicodeDecodeError as err:
+        msg = f'scene file {str(path)!r} is not UTF-8 text ({err.reason} at byte {err.start}); save it as UTF-8.'
+        raise SceneError(msg) from err
 
 
 def shipped_scene_text(name: str) -> tuple[str, str]:
@@ -164,13 +187,23 @@ def shipped_scene_text(name: str) -> tuple[str, str]:
 
 def scene_from_text(text: str, *, name: str, source: str) -> Scene:
     """Parse a scene from TOML text; ``source`` names it in error messages."""
+    return replace(scene_from_data(scene_data(text, source), name=name, source=source), text=text)
+
+
+def scene_data(text: str, source: str) -> dict[str, Any]:
+    """The TOML tables of a scene's text (not yet checked); ``source`` names it in error messages."""
     try:
-        data = tomllib.loads(text)
+        data: dict[str, Any] = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         msg = f'{source}: not valid TOML ({err}).'
         raise SceneError(msg) from err
+    return data
+
+
+def scene_from_data(data: dict[str, Any], *, name: str, source: str) -> Scene:
+    """A scene from its TOML tables, checked strictly; errors name ``source``."""
     try:
-        return replace(_build(data, name=name, source=source), text=text)
+        return _build(data, tube_from_data(data, name=name, source=source), source=source)
     except SceneError:
         raise
     except VtubeError as err:
@@ -178,16 +211,31 @@ def scene_from_text(text: str, *, name: str, source: str) -> Scene:
         raise SceneError(msg) from err
 
 
-def _build(data: dict[str, Any], *, name: str, source: str) -> Scene:
+def tube_from_data(data: dict[str, Any], *, name: str, source: str) -> VirtualTube:
+    """The tube of a scene's TOML tables (the other tables are not read); errors name ``source``."""
     where = _Where(source)
-    where.keys(
-        data, '', required=('tube',), optional=('title', 'description', 'swarm', 'planning', 'control', 'workspace')
-    )
+    if 'tube' not in data:
+        raise where.fail(
+            "missing field 'tube' in the top level; add it (see the format in vtube_planning.geometry.scene)."
+        )
     tube_table = where.table(data, 'tube')
     where.keys(tube_table, 'tube', required=('center', 'width'))
     center = _center(where.table(tube_table, 'center', 'tube'), where)
     width = _width(where.table(tube_table, 'width', 'tube'), center.length_m, where)
-    tube = VirtualTube(center, width, name=name)
+    try:
+        return VirtualTube(center, width, name=name)
+    except SceneError:
+        raise
+    except VtubeError as err:
+        raise where.fail(str(err)) from err
+
+
+def _build(data: dict[str, Any], tube: VirtualTube, *, source: str) -> Scene:
+    where = _Where(source)
+    where.keys(
+        data, '', required=('tube',), optional=('title', 'description', 'swarm', 'planning', 'control', 'workspace')
+    )
+    name = tube.name
     swarm = SwarmParams(**_options(data, 'swarm', SwarmParams, where))
     planning = PlanningOptions(**_options(data, 'planning', PlanningOptions, where))
     control = ControlParams(**_options(data, 'control', ControlParams, where))

@@ -18,7 +18,6 @@ from vtube_planning.onboard.params import (
     Saturation,
     StepParams,
 )
-from vtube_planning.onboard.parking import parking_slots
 from vtube_planning.onboard.profile import PlanProfile
 from vtube_planning.onboard.projection import Projection
 from vtube_planning.onboard.sampled_tube import SampledTube
@@ -62,7 +61,6 @@ __all__ = [
     'SwarmStep',
     'avoidance_velocity',
     'interaction_gains',
-    'parking_slots',
     'swarm_area',
     'swarm_density',
     'velocity_command',

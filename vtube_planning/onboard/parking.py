@@ -4,26 +4,13 @@ and leave the swarm."""
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
 
 PARKED_WITHIN_M = 0.03
 """A robot is parked when its control point is this close to its slot."""
-
-
-def parking_slots(end_m: ArrayLike, tangent: ArrayLike, n_robots: int, spacing_m: float = 0.25) -> FloatArray:
-    """Slots (2, N) beyond the exit ``end_m`` (2,), in lanes ``spacing_m`` apart, filled farthest first."""
-    end, tangent = np.asarray(end_m, dtype=float), np.asarray(tangent, dtype=float)
-    normal = np.array([-tangent[1], tangent[0]])
-    lanes = max(1, min(n_robots, 5))
-    slots = []
-    for k in range(n_robots):
-        depth, lane = divmod(k, lanes)
-        slots.append(end + (0.45 - spacing_m * depth) * tangent + (lane - 0.5 * (lanes - 1)) * spacing_m * normal)
-    columns: FloatArray = np.array(slots).T.reshape(2, n_robots)
-    return columns
 
 
 class Parking:

@@ -1,0 +1,211 @@
+"""A Robotarium experiment derived from its intent: the start formation, the parking slots and the swarm's values.
+
+A Robotarium scene declares a tube and a number of robots (``[robotarium] n_robots``); everything the paper's
+Robotarium scenes set by hand is derived here from the tube, N and :data:`~robotarium_exp.spec.ROBOTARIUM`, each
+value with its reason (``vtube scene show`` prints them):
+
+- the start formation: rows across the tube ``ic_spacing_m`` (0.4 m) apart, as many columns as fit the entrance
+  with :data:`WALL_CLEARANCE_M` to each wall, the back row at the first cross-section inside the box the testbed
+  initializes robots in, robots 0 and 1 where V2's initializer cannot leave them stuck;
+- r_s (the law's barrier keeps 2 r_s, the safety filter's distance) and r_a = spacing - r_s, so that the formation
+  rests at the edge of the interaction band, r_s + r_a = the spacing: not compressed, not loose;
+- rho0 = rho_d: the formation's density under the package's measure, so the swarm starts on its plan and cruises
+  in the formation it starts in; rho_max = 1 / (2 pi r_s^2) (the formula that reproduces Table 1's value);
+- the look-ahead: the first narrowing's length plus half the formation's length, because the plan is made for the
+  swarm's centre and the front meets the narrowing half a swarm-length earlier;
+- the parking slots beyond the exit: lanes :data:`PARKING_SPACING_M` apart, as many lanes and as deep as the arena
+  allows.
+
+Whether the result fits the testbed is :mod:`robotarium_exp.fit`'s one verdict; nothing here refuses.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from robotarium_exp.spec import ROBOTARIUM
+from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.onboard.density import swarm_density
+
+FloatArray = NDArray[np.float64]
+
+WALL_CLEARANCE_M = 0.1
+"""Between a robot of the start formation and a wall: the body's radius (0.055 m) and 0.045 m to move."""
+R_S_M = 0.10
+"""r_s: the law's barrier keeps 2 r_s = 0.2 m between control points, as much as the safety filter does."""
+PARKING_SPACING_M = 0.25
+"""Between parking slots: the safety filter keeps 0.2 m between control points."""
+PARKING_DEPTH_M = 0.45
+"""The farthest parking row lies this far beyond the exit, or less where the arena ends sooner."""
+PARKING_LANES_MAX = 5
+"""At most this many parking lanes side by side (1 m across)."""
+
+
+@dataclass(frozen=True)
+class Formation:
+    """The start formation: poses (3, N) in robot order, its rows and columns, the arc lengths of its back and
+    front rows, and why it could not be built (None: it could)."""
+
+    poses: FloatArray
+    rows: int
+    columns: int
+    l_back_m: float
+    l_front_m: float
+    problem: str | None = None
+
+    @property
+    def length_m(self) -> float:
+        """From the back row to the front row, along the tube."""
+        return self.l_front_m - self.l_back_m
+
+
+@dataclass(frozen=True)
+class Narrowing:
+    """The tube's first narrowing: where it starts and ends, and the half-widths before and after (m)."""
+
+    start_m: float
+    end_m: float
+    half_width_before_m: float
+    half_width_after_m: float
+
+    @property
+    def length_m(self) -> float:
+        """Its length along the tube."""
+        return self.end_m - self.start_m
+
+
+def first_narrowing(tube: VirtualTube) -> Narrowing | None:
+    """The tube's first width part that ends narrower than it starts, or None for a tube that never narrows."""
+    width, start = tube.width.start_m, 0.0
+    for part in tube.width.parts:
+        if part.to_m is not None and part.to_m < width:
+            return Narrowing(start, start + part.length_m, width, part.to_m)
+        width, start = part.to_m if part.to_m is not None else width, start + part.length_m
+    return None
+
+
+def start_formation(tube: VirtualTube, n_robots: int) -> Formation:
+    """Rows across the tube, headings along it, every pair at least the spec's spacing apart.
+
+    Rows and columns start ``ROBOTARIUM.ic_spacing_m`` apart along and across the tube; on a bend the inner side
+    converges, so the row spacing grows (by 2 % steps) until every pair keeps it.
+    """
+    spacing = ROBOTARIUM.ic_spacing_m
+    l_back = first_inside_box(tube)
+    if l_back is None:
+        return _no_formation(
+            n_robots, 'no cross-section of the tube lies inside the box the testbed initializes robots in'
+        )
+    room = 2.0 * (float(tube.half_width(l_back)) - WALL_CLEARANCE_M)
+    if room < 0.0:
+        why = f'the entrance is too narrow for a robot {WALL_CLEARANCE_M} m from each wall'
+        return _no_formation(n_robots, why)
+    columns = min(n_robots, math.floor(room / spacing) + 1)
+    rows = math.ceil(n_robots / columns)
+    for row_spacing in spacing * (1.0 + 0.02 * np.arange(50)):
+        poses = _grid(tube, n_robots, columns, l_back, float(row_spacing))
+        gaps = np.hypot(*(poses[:2, :, None] - poses[:2, None, :]))[np.triu_indices(n_robots, 1)]
+        if gaps.size == 0 or gaps.min() >= spacing - 1e-12:
+            break
+    ordered: FloatArray = poses[:, order_for_v2_initializer(poses)]
+    return Formation(ordered, rows, columns, l_back, l_back + float(row_spacing) * (rows - 1))
+
+
+def _grid(tube: VirtualTube, n: int, columns: int, l_back: float, row_spacing: float) -> FloatArray:
+    """Poses (3, n) of rows ``row_spacing`` apart from ``l_back`` on, the front row first."""
+    rows = math.ceil(n / columns)
+    poses = []
+    for k in range(n):
+        row, col = divmod(k, columns)
+        in_row = min(columns, n - row * columns)
+        l_k = l_back + row_spacing * (rows - 1 - row)
+        y = (col - 0.5 * (in_row - 1)) * ROBOTARIUM.ic_spacing_m
+        point = tube.center_at(l_k) + y * tube.normal(l_k)
+        tangent = tube.tangent(l_k)
+        poses.append([point[0], point[1], math.atan2(tangent[1], tangent[0])])
+    grid: FloatArray = np.array(poses).T
+    return grid
+
+
+def _no_formation(n_robots: int, problem: str) -> Formation:
+    return Formation(np.full((3, n_robots), np.nan), 0, 0, math.nan, math.nan, problem)
+
+
+def first_inside_box(tube: VirtualTube) -> float | None:
+    """Smallest arc length (plus 0.02 m) whose whole cross-section lies inside the initialization box, or None."""
+    l_m = np.linspace(0.0, tube.length_m, 2001)
+    left, right = tube.boundaries(l_m)
+    box = np.array(ROBOTARIUM.ic_box_m)
+    inside = np.all(np.abs(left) <= box, axis=1) & np.all(np.abs(right) <= box, axis=1)
+    return float(l_m[np.argmax(inside)]) + 0.02 if inside.any() else None
+
+
+def order_for_v2_initializer(ic: FloatArray) -> list[int]:
+    """Robot order for V2's initializer: the two slots with the fewest neighbours, front first, as robots 0 and 1.
+
+    V2 chooses the robots it rescues from deadlocks with ``np.isin`` of their indices against the boolean "arrived"
+    mask, so robot 0 is never rescued while any robot is on its way and robot 1 never once any has arrived
+    (``docs/robotarium.md`` §2.6). A robot that ends its approach about 0.02 m from its slot, facing away from its
+    heading, can then rock between approaching and turning for good when a neighbour's barrier row bends its turn.
+    Slots with fewer neighbours within 1.25 x the spacing bend less. *Measured* on the trapezoid's formation with
+    the bundled V2 initializer: 7 of 458 seeds stuck with a middle slot as robot 1, none of 500 with the front
+    corners as robots 0 and 1 (90 % of the initializations within 82 s instead of 124 s).
+    """
+    n = ic.shape[1]
+    neighbours = neighbour_counts(ic)
+    ahead = ic[0] * np.cos(ic[2]) + ic[1] * np.sin(ic[2])  # how far along its heading: the front row first
+    first = sorted(range(n), key=lambda k: (neighbours[k], -round(float(ahead[k]), 6), k))[:2]
+    return first + [k for k in range(n) if k not in first]
+
+
+def neighbour_counts(ic: FloatArray) -> NDArray[np.int_]:
+    """How many other slots lie within 1.25 x the spacing of each slot."""
+    gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))
+    counts: NDArray[np.int_] = np.asarray((gaps < 1.25 * ROBOTARIUM.ic_spacing_m).sum(axis=0) - 1)
+    return counts
+
+
+def parking(tube: VirtualTube, n_robots: int) -> FloatArray:
+    """Slots (2, N) beyond the exit, filled farthest first: the widest set of lanes (at most
+    :data:`PARKING_LANES_MAX`) whose slots all lie inside the arena less its margin, the farthest row
+    :data:`PARKING_DEPTH_M` beyond the exit or where the arena ends sooner; when none fits, the widest (the fit
+    verdict then refuses the scene)."""
+    end, tangent = tube.center_at(tube.length_m), tube.tangent(tube.length_m)
+    depth = min(PARKING_DEPTH_M, _room_beyond(end, tangent) - ROBOTARIUM.arena_margin_m)
+    candidates = [
+        _slots(end, tangent, n_robots, lanes, depth) for lanes in range(min(n_robots, PARKING_LANES_MAX), 0, -1)
+    ]
+    inside = [s for s in candidates if not ROBOTARIUM.outside_arena(s, ROBOTARIUM.arena_margin_m).any()]
+    return (inside or candidates)[0]
+
+
+def _slots(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int, depth_m: float) -> FloatArray:
+    """Slots (2, N) in ``lanes`` lanes and rows :data:`PARKING_SPACING_M` apart, from ``depth_m`` beyond the exit
+    backwards."""
+    normal = np.array([-tangent[1], tangent[0]])
+    depth, lane = np.divmod(np.arange(n_robots), lanes)
+    along = depth_m - PARKING_SPACING_M * depth
+    across = (lane - 0.5 * (lanes - 1)) * PARKING_SPACING_M
+    slots: FloatArray = end[:, None] + along * tangent[:, None] + across * normal[:, None]
+    return slots
+
+
+def _room_beyond(end: FloatArray, tangent: FloatArray) -> float:
+    """How far the exit's centre can go along the tangent before it leaves the arena."""
+    x0, x1, y0, y1 = ROBOTARIUM.arena_m
+    reach = []
+    for value, direction, low, high in ((end[0], tangent[0], x0, x1), (end[1], tangent[1], y0, y1)):
+        if direction > 1e-12:
+            reach.append((high - value) / direction)
+        elif direction < -1e-12:
+            reach.append((low - value) / direction)
+    return min(reach) if reach else math.inf
+
+
+def formation_density(tube: VirtualTube, formation: Formation, r_a_m: float) -> float:
+    """The formation's density under the package's measure, padded by r_a (robots/m^2)."""
+    return swarm_density(tube, tube.project(formation.poses[:2]).l_m, r_a_m)

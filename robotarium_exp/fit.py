@@ -1,0 +1,196 @@
+"""Does an experiment fit the Robotarium? One verdict, with each reason and its fix.
+
+:func:`fit_of_flight` judges the data a flight carries (what a submission embeds: the robots, the tube, the start
+formation, the parking slots), so that the file's check judges exactly what the scene's commands judged;
+:func:`robotarium_fit` is the verdict on a scene. ``vtube scene show``, ``plan``, ``robotarium run``, ``robotarium
+compare``, ``submission build`` and ``submission check`` all ask here.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from robotarium_exp.design import neighbour_counts, start_formation
+from robotarium_exp.experiment import ExperimentConfig, flight_data
+from robotarium_exp.flight_data import FlightData
+from robotarium_exp.spec import ROBOTARIUM
+from vtube_planning.geometry.scene import Scene
+from vtube_planning.onboard import SampledTube
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Misfit:
+    """One reason an experiment does not fit the testbed, and what to change."""
+
+    what: str
+    fix: str
+
+    def __str__(self) -> str:
+        return f'{self.what}; {self.fix}'
+
+
+@dataclass(frozen=True)
+class Fit:
+    """The verdict: every reason the experiment does not fit (none: it fits)."""
+
+    misfits: tuple[Misfit, ...] = ()
+
+    @property
+    def fits(self) -> bool:
+        """Nothing keeps the experiment off the testbed."""
+        return not self.misfits
+
+    @property
+    def reason(self) -> str:
+        """One line: 'fits the Robotarium', or the first reason and its fix."""
+        return 'fits the Robotarium' if self.fits else f'does not fit the Robotarium: {self.misfits[0]}'
+
+
+def robotarium_fit(scene: Scene) -> Fit:
+    """The verdict on a scene flown on the Robotarium (its formation, tube and parking slots)."""
+    formation = start_formation(scene.tube, scene.swarm.n_robots)
+    if formation.problem is not None:
+        return Fit((Misfit(f'no start formation: {formation.problem}', 'move the tube entrance inwards or widen it'),))
+    return fit_of_flight(flight_data(scene, None, ExperimentConfig(planning=False)))
+
+
+def fit_of_flight(data: FlightData) -> Fit:
+    """The verdict on the data a flight carries."""
+    misfits = [
+        *_robots(data.n_robots),
+        *_tube_inside(data.tube_edges_m),
+        *_formation_inside(data.initial_conditions),
+        *_formation_spacing(data.initial_conditions),
+        *_initializer_order(data.initial_conditions),
+        *_formation_before_narrowing(data),
+        *_parking_inside(data),
+    ]
+    return Fit(tuple(misfits))
+
+
+def _robots(n: int) -> list[Misfit]:
+    if 1 <= n <= ROBOTARIUM.max_robots:
+        return []
+    return [Misfit(f'{n} robots', f'the testbed has {ROBOTARIUM.max_robots}: use 1 to {ROBOTARIUM.max_robots}')]
+
+
+def _tube_inside(edges_m: FloatArray) -> list[Misfit]:
+    """The tube's boundaries (2, 2, K) inside the arena less its margin."""
+    margin = ROBOTARIUM.arena_margin_m
+    for side, edge in zip(('left', 'right'), edges_m, strict=True):
+        outside = ROBOTARIUM.outside_arena(edge, margin)
+        if outside.any():
+            x, y = edge[:, int(np.argmax(outside))]
+            return [
+                Misfit(
+                    f"the tube's {side} boundary reaches ({x:.2f}, {y:.2f}), outside the arena "
+                    f'{ROBOTARIUM.arena_text} less {margin} m',
+                    'move or shrink the tube',
+                )
+            ]
+    return []
+
+
+def _formation_inside(ic: FloatArray) -> list[Misfit]:
+    box = np.array(ROBOTARIUM.ic_box_m)
+    outside = np.any(np.abs(ic[:2].T) > box + 1e-9, axis=1)
+    if not outside.any():
+        return []
+    k = int(np.argmax(outside))
+    return [
+        Misfit(
+            f'robot {k} starts at ({ic[0, k]:.2f}, {ic[1, k]:.2f}), outside the box |x| <= {box[0]}, |y| <= {box[1]} '
+            'the testbed initializes robots in',
+            'move the tube entrance inwards, lengthen the wide part or use fewer robots',
+        )
+    ]
+
+
+def _formation_spacing(ic: FloatArray) -> list[Misfit]:
+    n = ic.shape[1]
+    if n < 2:
+        return []
+    gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))[np.triu_indices(n, 1)]
+    spacing = ROBOTARIUM.ic_spacing_m
+    if gaps.min() >= spacing - 1e-6:
+        return []
+    return [
+        Misfit(
+            f'two robots start {gaps.min():.3f} m apart, closer than the {spacing} m the initialization needs',
+            'space the start formation (robotarium_exp.design.start_formation does)',
+        )
+    ]
+
+
+def _initializer_order(ic: FloatArray) -> list[Misfit]:
+    """Robots 0 and 1 at the least crowded slots (:func:`robotarium_exp.design.order_for_v2_initializer`)."""
+    if ic.shape[1] < 3:
+        return []
+    neighbours = neighbour_counts(ic)
+    have, least = sorted(neighbours[:2].tolist()), sorted(neighbours.tolist())[:2]
+    if have == least:
+        return []
+    return [
+        Misfit(
+            f'robots 0 and 1 start at slots with {have[0]} and {have[1]} neighbours, where slots with {least[0]} and '
+            f"{least[1]} exist: V2's initializer never rescues robots 0 and 1 from a deadlock, and at a crowded "
+            'slot they can stall for good (docs/robotarium.md §2.6)',
+            'reorder the robots with robotarium_exp.design.order_for_v2_initializer',
+        )
+    ]
+
+
+def _formation_before_narrowing(data: FlightData) -> list[Misfit]:
+    """The formation's front row and its interaction band end before the tube first narrows."""
+    samples = data.tube
+    tube = SampledTube(samples.l_m, samples.xy_m, samples.half_width_m, samples.area_m2)
+    start = _narrowing_start(samples.l_m, samples.half_width_m)
+    if start is None:
+        return []
+    l_m = tube.project(data.initial_conditions[:2]).l_m
+    band = data.step.r_s_m + data.step.r_a_m
+    front, back = float(l_m.max()), float(l_m.min())
+    if front + band <= start + 1e-9:
+        return []
+    rows = np.unique(np.round(l_m, 2)).size  # a row's robots lie on one cross-section
+    columns = math.ceil(data.n_robots / rows)
+    pitch = (front - back) / (rows - 1) if rows > 1 else ROBOTARIUM.ic_spacing_m
+    rows_fitting = max(0, math.floor((start - band - back) / pitch + 1e-9) + 1)
+    return [
+        Misfit(
+            f'the start formation ({rows} row(s) of up to {columns}) reaches l = {front:.2f} m and, with its '
+            f'interaction band r_s + r_a = {band:.2f} m, the narrowing at l = {start:.2f} m: the swarm cannot '
+            'take its planned density before it',
+            f'lengthen the wide part before the narrowing by {front + band - start:.2f} m, or use at most '
+            f'{rows_fitting * columns} robots',
+        )
+    ]
+
+
+def _narrowing_start(l_m: FloatArray, half_width_m: FloatArray) -> float | None:
+    """Where the sampled half-width first falls (by more than a micrometre), or None."""
+    falling = np.diff(half_width_m) < -1e-6
+    return float(l_m[int(np.argmax(falling))]) if falling.any() else None
+
+
+def _parking_inside(data: FlightData) -> list[Misfit]:
+    outside = ROBOTARIUM.outside_arena(data.parking_slots, ROBOTARIUM.arena_margin_m)
+    if not outside.any():
+        return []
+    k = int(np.argmax(outside))
+    x, y = data.parking_slots[:, k]
+    end = data.tube.xy_m[:, -1]
+    return [
+        Misfit(
+            f'parking slot {k} beyond the exit lies at ({x:.2f}, {y:.2f}), outside the arena {ROBOTARIUM.arena_text} '
+            f'less {ROBOTARIUM.arena_margin_m} m',
+            f'move the tube exit at ({end[0]:.2f}, {end[1]:.2f}) away from the arena edge (slots need up to 0.5 m '
+            'beyond it and 0.5 m to each side) or use fewer robots',
+        )
+    ]
