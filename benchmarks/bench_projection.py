@@ -14,7 +14,8 @@ from functools import partial
 import numpy as np
 
 from benchmarks._timing import timed
-from vtube_planning import VirtualTube, load_scene
+from robotarium_exp.scene import load_scene
+from vtube_planning import VirtualTube
 
 
 def dense_nearest_sample(tube: VirtualTube, points: np.ndarray, spacing_m: float) -> np.ndarray:

@@ -14,7 +14,7 @@ import numpy as np
 
 from robotarium_exp.experiment import initial_conditions
 from robotarium_exp.initializer import initializer_durations
-from vtube_planning import load_scene
+from robotarium_exp.scene import load_scene
 
 
 def main() -> None:

@@ -45,7 +45,7 @@ from robotarium_exp.rps.utilities.barrier_certificates import (
     use_qp_solver,
 )
 from robotarium_exp.rps.utilities.barrier_rows import barrier_rows
-from vtube_planning import load_scene
+from robotarium_exp.scene import load_scene
 from vtube_planning.planning.planner import plan_convex
 
 

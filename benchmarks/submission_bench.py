@@ -18,8 +18,8 @@ import numpy as np
 
 from benchmarks._timing import timed
 from robotarium_exp.rps_classic.robotarium import Robotarium
+from robotarium_exp.scene import load_scene
 from submission.builder import build
-from vtube_planning.geometry.scene import load_scene
 from vtube_planning.planning.planner import plan_convex
 
 

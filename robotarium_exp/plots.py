@@ -14,6 +14,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from robotarium_exp.experiment import ExperimentResult
+    from robotarium_exp.fit import Fit
     from vtube_planning.geometry.scene import Scene
     from vtube_planning.planning.plan import Plan
 
@@ -109,3 +110,33 @@ def _time_panels(ax_rho: Axes, ax_v: Axes, result: ExperimentResult, scene: Scen
     ax_v.legend(**above)
     ax_rho.set_ylabel('density [1/m^2]')
     ax_v.set_ylabel('speed [m/s]')
+
+
+def scene_figure(scene: Scene, fit: Fit) -> Figure:
+    """The scene's figure (:func:`vtube_planning.plots.scene_figure`) with what the Robotarium adds: the start
+    formation (bodies, and the interaction band r_s + r_a dashed), the parking slots, the box the testbed
+    initializes robots in, and the fit verdict in the title."""
+    from matplotlib.patches import Circle, Rectangle
+
+    from robotarium_exp.design import parking, start_formation
+    from vtube_planning.plots import scene_figure as tube_figure
+
+    fig = tube_figure(scene)
+    ax = fig.axes[0]
+    formation = start_formation(scene.tube, scene.swarm.n_robots)
+    band = scene.swarm.r_s_m + scene.swarm.r_a_m
+    if formation.problem is None:
+        for k, (x, y) in enumerate(formation.poses[:2].T):
+            ax.add_patch(Circle((x, y), 0.5 * ROBOTARIUM.robot_diameter_m, fc='tab:blue', ec='k', lw=0.5, zorder=3))
+            ax.add_patch(Circle((x, y), band, fill=False, ec='tab:blue', lw=0.5, ls='--', zorder=2))
+            ax.annotate(str(k), (x, y), ha='center', va='center', fontsize=6, color='w', zorder=4)
+    slots = parking(scene.tube, scene.swarm.n_robots)
+    ax.plot(slots[0], slots[1], 'x', color='tab:red', ms=6, label='parking slots')
+    box_x, box_y = ROBOTARIUM.ic_box_m
+    ax.add_patch(
+        Rectangle((-box_x, -box_y), 2 * box_x, 2 * box_y, fill=False, ec='tab:blue', lw=0.6, ls='-.', label='start box')
+    )
+    ax.set_aspect('equal')
+    ax.legend(loc='upper left', fontsize=7, ncols=3)
+    ax.set_title(f'{scene.title} ({scene.swarm.n_robots} robots): {fit.reason}', fontsize=8, wrap=True)
+    return fig

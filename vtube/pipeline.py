@@ -25,11 +25,12 @@ from robotarium_exp.analysis.report import Analysis, analyse, write_report
 from robotarium_exp.analysis.trajectory import DEFAULT_MAX_GAP, MaxGap
 from robotarium_exp.errors import AnalysisError
 from robotarium_exp.rps_alias import install
+from robotarium_exp.scene import load_scene
 from submission.builder import Submission, build, build_declared, write
 from submission.check import CheckReport
 from submission.declaration import Declaration
 from vtube_planning import plots
-from vtube_planning.geometry.scene import Scene, load_scene
+from vtube_planning.geometry.scene import Scene
 from vtube_planning.log import LogWriter
 from vtube_planning.params import SwarmParams
 from vtube_planning.planning.plan import Plan

@@ -149,7 +149,7 @@ its children would inherit that)."""
 
 
 def test_ctrl_c_keeps_the_finished_log_and_says_so_in_one_line(tmp_path) -> None:
-    from vtube_planning import load_scene
+    from robotarium_exp.scene import load_scene
     from vtube_planning.swarm.simulate import SimConfig, simulate
 
     out = tmp_path / 'out'

@@ -5,9 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from robotarium_exp.experiment import ExperimentConfig, flight_data
+from robotarium_exp.scene import load_scene
 from submission.check import check
 from vtube.cli.app import main
-from vtube_planning import load_scene
 
 ROOT = Path(__file__).resolve().parents[2]
 

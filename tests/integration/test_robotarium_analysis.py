@@ -10,7 +10,7 @@ import pytest
 
 from robotarium_exp.analysis.loaders import load_trajectory
 from robotarium_exp.analysis.report import analyse
-from vtube_planning import load_scene
+from robotarium_exp.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[2]
 

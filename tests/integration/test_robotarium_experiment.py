@@ -14,9 +14,9 @@ from robotarium_exp.experiment import (
 from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.rps_alias import seed_rps
+from robotarium_exp.scene import load_scene
 from robotarium_exp.tracking import plan_tracking
 from robotarium_exp.verifier import VerifierCounts
-from vtube_planning import load_scene
 from vtube_planning.log import read_log
 from vtube_planning.planning.planner import plan_convex
 

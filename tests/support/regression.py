@@ -54,8 +54,8 @@ from robotarium_exp.experiment import ExperimentConfig, run_experiment
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.rps_alias import install as install_rps
 from robotarium_exp.rps_alias import seed_rps
+from robotarium_exp.scene import load_scene
 from vtube_planning import study as run_point_module  # the module whose ``simulate`` run_point calls
-from vtube_planning.geometry.scene import load_scene
 from vtube_planning.params import ControlParams
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.study import Point, ablation_setup, run_point

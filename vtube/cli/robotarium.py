@@ -59,10 +59,10 @@ def experiment(args: argparse.Namespace) -> RobotariumRun:
     from robotarium_exp.plots import experiment_figure
     from robotarium_exp.rps.robotarium import Robotarium
     from robotarium_exp.rps_alias import seed_rps
+    from robotarium_exp.scene import load_scene
     from robotarium_exp.tracking import plan_tracking
     from robotarium_exp.verdict import testbed_verdict
     from vtube.pipeline import plan_for
-    from vtube_planning.geometry.scene import load_scene
     from vtube_planning.plots import save_figure
     from vtube_planning.provenance import copy_scene, provenance
 
@@ -155,8 +155,8 @@ def comparison(args: argparse.Namespace) -> Comparison:
     import json
 
     from robotarium_exp.compare import compare, comparison_table
+    from robotarium_exp.scene import load_scene
     from vtube.pipeline import plan_for
-    from vtube_planning.geometry.scene import load_scene
 
     out: Path = args.out
     writable_folder(out)

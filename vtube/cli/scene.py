@@ -8,9 +8,10 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from vtube.cli.arguments import figure_file
-from vtube.cli.command import BadInput, Command, View
+from vtube.cli.command import EXIT_FAILED, EXIT_OK, BadInput, Command, View
 
 if TYPE_CHECKING:
+    from robotarium_exp.fit import Fit
     from vtube_planning.geometry.scene import Scene
 
 
@@ -23,10 +24,12 @@ class SceneList:
 
 @dataclass(frozen=True)
 class SceneShown:
-    """A scene, its tube's summary, and the figure written (None: none asked for)."""
+    """A scene, its tube's summary, the Robotarium's verdict (None: not a Robotarium scene) and the figure written
+    (None: none asked for)."""
 
     scene: Scene
     summary: dict[str, float]
+    fit: Fit | None
     figure: Path | None
 
 
@@ -43,7 +46,7 @@ def no_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def shipped(args: argparse.Namespace) -> SceneList:
-    from vtube_planning.geometry.scene import list_scenes, load_scene
+    from robotarium_exp.scene import list_scenes, load_scene
 
     scenes = [load_scene(name) for name in list_scenes()]
     return SceneList(tuple((scene.name, scene.tube.length_m, scene.title) for scene in scenes))
@@ -59,15 +62,19 @@ def show_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def show(args: argparse.Namespace) -> SceneShown:
-    from vtube_planning.geometry.scene import load_scene
+    from robotarium_exp.fit import robotarium_fit
+    from robotarium_exp.plots import scene_figure as robotarium_figure
+    from robotarium_exp.scene import load_scene
     from vtube_planning.plots import save_figure, scene_figure
 
     if args.out is not None:
         figure_file(args.out)
     scene = load_scene(args.scene)
-    summary = scene.tube.summary()
-    figure = save_figure(scene_figure(scene), args.out) if args.out is not None else None
-    return SceneShown(scene, summary, figure)
+    fit = robotarium_fit(scene) if scene.testbed == 'robotarium' else None
+    figure = None
+    if args.out is not None:
+        figure = save_figure(scene_figure(scene) if fit is None else robotarium_figure(scene, fit), args.out)
+    return SceneShown(scene, scene.tube.summary(), fit, figure)
 
 
 def show_view(result: SceneShown) -> View:
@@ -89,9 +96,16 @@ def show_view(result: SceneShown) -> View:
             f'rho_max = {swarm.rho_max_per_m2:g} /m^2, a_rho = {swarm.a_rho:.4g} /m^2/s'
         ),
     ]
+    if scene.derived:
+        lines.append(f'  values of the [{scene.testbed}] declaration (set in the file or derived, and why):')
+        lines.extend(f'    {d.name:<18} {d.value!s:<12} {d.reason}' for d in scene.derived)
     if result.figure is not None:
         lines.append(f'  figure                {result.figure}')
-    return View(tuple(lines))
+    if result.fit is None:
+        return View(tuple(lines))
+    lines.append(f'  Robotarium            {result.fit.reason}')
+    lines.extend(f'                        also: {misfit}' for misfit in result.fit.misfits[1:])
+    return View(tuple(lines), None, EXIT_OK if result.fit.fits else EXIT_FAILED)
 
 
 def export_arguments(parser: argparse.ArgumentParser) -> None:
@@ -100,7 +114,7 @@ def export_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def export(args: argparse.Namespace) -> SceneExported:
-    from vtube_planning.geometry.scene import shipped_scene_text
+    from robotarium_exp.scene import shipped_scene_text
 
     spelled, text = shipped_scene_text(args.scene)
     path: Path = args.file

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from robotarium_exp.rps.utilities import barrier_certificates
-from vtube_planning import load_scene
+from robotarium_exp.scene import load_scene
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex

@@ -15,7 +15,7 @@ from robotarium_exp.experiment import (
     run_experiment,
 )
 from robotarium_exp.rps.robotarium import Robotarium
-from vtube_planning import load_scene
+from robotarium_exp.scene import load_scene
 
 
 def test_initial_conditions_are_spread_for_the_testbed() -> None:

@@ -10,7 +10,7 @@ from robotarium_exp.experiment import (
     flight_data,
 )
 from robotarium_exp.flight_data import SIGNIFICANT_DIGITS, FlightData, SafetyData, Wheels, plain_value
-from vtube_planning import load_scene
+from robotarium_exp.scene import load_scene
 from vtube_planning.planning.planner import plan_convex
 
 

@@ -10,10 +10,11 @@ import pytest
 
 import submission.builder as builder_module
 from robotarium_exp.initializer import InitializerSample
+from robotarium_exp.scene import load_scene
 from submission.builder import BUILD_STAMP, UNDECLARED, Submission, SubmissionError, build, build_declared, write
 from submission.check import CheckReport, imported_modules
 from submission.declaration import Declaration, declare
-from vtube_planning import SceneError, load_scene
+from vtube_planning import SceneError
 from vtube_planning.onboard import PlanProfile, SampledTube, StepParams, SwarmStep
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex

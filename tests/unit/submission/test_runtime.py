@@ -9,9 +9,9 @@ import numpy as np
 from robotarium_exp.analysis.loaders import load_trajectory
 from robotarium_exp.experiment import ExperimentConfig, flight_data
 from robotarium_exp.flight_data import FlightData
+from robotarium_exp.scene import load_scene
 from submission import runtime
 from submission.runtime import META_FILE, draw_tube, save_log
-from vtube_planning import load_scene
 from vtube_planning.planning.planner import plan_convex
 
 

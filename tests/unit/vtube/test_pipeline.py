@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from robotarium_exp.errors import AnalysisError
+from robotarium_exp.scene import load_scene
 from submission.builder import UNDECLARED
 from vtube import pipeline
 from vtube.pipeline import (
@@ -29,7 +30,6 @@ from vtube.pipeline import (
     run_on_bundled,
     simulate_scene,
 )
-from vtube_planning import load_scene
 from vtube_planning.errors import VtubeError
 from vtube_planning.swarm.simulate import SimConfig
 

@@ -7,7 +7,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from vtube_planning.geometry.scene import load_scene
+from robotarium_exp.scene import load_scene
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.plots import distance_figure, plan_figure, save_figure, scene_figure, snapshot_times
 from vtube_planning.swarm.metrics import min_distance_over_time

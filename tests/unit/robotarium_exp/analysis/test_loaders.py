@@ -11,8 +11,8 @@ from rosbags.rosbag1 import Writer as Writer1
 from robotarium_exp.analysis.loaders import load_trajectory
 from robotarium_exp.analysis.report import analyse
 from robotarium_exp.errors import AnalysisError
+from robotarium_exp.scene import load_scene
 from tests.support.bags import KINDS, ROBOTS, START_NS, truth, write_bag
-from vtube_planning import load_scene
 
 
 @pytest.mark.parametrize('fmt', ['ros1', 'sqlite3', 'mcap'])

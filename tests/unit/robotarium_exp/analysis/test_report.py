@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from robotarium_exp.analysis.report import analyse
+from robotarium_exp.scene import load_scene
 from tests.support.bags import truth, write_bag
-from vtube_planning import load_scene
 
 
 def passage_of(x: np.ndarray, y: np.ndarray, dt: float = 0.1):

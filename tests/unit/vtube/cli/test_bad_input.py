@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from robotarium_exp import rps_alias
+from robotarium_exp.scene import load_scene
 from vtube.cli.app import main
-from vtube_planning import load_scene
 from vtube_planning.npzfile import write_npz
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.swarm.simulate import SimConfig, simulate

@@ -5,11 +5,11 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from robotarium_exp.scene import load_scene
 from tests.support.scenes import LINE_SCENE
 from vtube.cli.app import main
 from vtube.cli.plan import plan_view
 from vtube.pipeline import Planned
-from vtube_planning import load_scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
 

@@ -6,10 +6,11 @@ from pathlib import Path
 
 import pytest
 
+from robotarium_exp.scene import load_scene
 from tests.support.scenes import LINE_SCENE
 from vtube.cli.app import main
 from vtube.cli.scene import SceneExported, SceneList, SceneShown, export_view, list_view, show_view
-from vtube_planning import list_scenes, load_scene
+from vtube_planning import list_scenes
 
 BAD = {
     'missing_field': LINE_SCENE.replace('start_m = 2.0\n', ''),

@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from robotarium_exp.scene import load_scene
 from vtube_planning.errors import SceneError
-from vtube_planning.geometry.scene import list_scenes, load_scene, scene_from_text
+from vtube_planning.geometry.scene import list_scenes, scene_from_text
 from vtube_planning.params import SwarmParams
 
 ARENA = (-1.6, 1.6, -1.0, 1.0)  # Robotarium arena, docs/design.md

@@ -10,9 +10,10 @@ import pytest
 from scipy.integrate import quad
 from scipy.spatial import cKDTree
 
+from robotarium_exp.scene import load_scene
 from vtube_planning.errors import ShapeError, TubeError
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece, SplineCurve
-from vtube_planning.geometry.scene import list_scenes, load_scene
+from vtube_planning.geometry.scene import list_scenes
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart
 

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from vtube_planning.geometry.scene import load_scene
+from robotarium_exp.scene import load_scene
 from vtube_planning.onboard.sampled_tube import SampledTube
 
 

@@ -7,10 +7,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from robotarium_exp.scene import load_scene
 from tests.support.plans import assert_same_plan
 from vtube_planning.errors import PlanError, SolverError
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece
-from vtube_planning.geometry.scene import list_scenes, load_scene
+from vtube_planning.geometry.scene import list_scenes
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
 from vtube_planning.params import PlanningOptions, SwarmParams

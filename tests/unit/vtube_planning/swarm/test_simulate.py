@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import vtube_planning.swarm.simulate as simulate_module
+from robotarium_exp.scene import load_scene
 from vtube_planning.errors import ParamsError, PlanError
-from vtube_planning.geometry.scene import load_scene
 from vtube_planning.log import read_log
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.swarm.simulate import SimConfig, default_constant_speed, simulate
