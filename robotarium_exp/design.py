@@ -177,13 +177,13 @@ def parking(tube: VirtualTube, n_robots: int) -> FloatArray:
     end, tangent = tube.center_at(tube.length_m), tube.tangent(tube.length_m)
     depth = min(PARKING_DEPTH_M, _room_beyond(end, tangent) - ROBOTARIUM.arena_margin_m)
     candidates = [
-        _slots(end, tangent, n_robots, lanes, depth) for lanes in range(min(n_robots, PARKING_LANES_MAX), 0, -1)
+        slots_in_lanes(end, tangent, n_robots, lanes, depth) for lanes in range(min(n_robots, PARKING_LANES_MAX), 0, -1)
     ]
     inside = [s for s in candidates if not ROBOTARIUM.outside_arena(s, ROBOTARIUM.arena_margin_m).any()]
     return (inside or candidates)[0]
 
 
-def _slots(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int, depth_m: float) -> FloatArray:
+def slots_in_lanes(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int, depth_m: float) -> FloatArray:
     """Slots (2, N) in ``lanes`` lanes and rows :data:`PARKING_SPACING_M` apart, from ``depth_m`` beyond the exit
     backwards."""
     normal = np.array([-tangent[1], tangent[0]])

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.design import neighbour_counts, start_formation
-from robotarium_exp.experiment import ExperimentConfig, flight_data
+from robotarium_exp.experiment import TUBE_EDGE_POINTS, ExperimentConfig, flight_data
 from robotarium_exp.flight_data import FlightData
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.scene import Scene
@@ -55,9 +55,15 @@ class Fit:
 def robotarium_fit(scene: Scene) -> Fit:
     """The verdict on a scene flown on the Robotarium (its formation, tube and parking slots)."""
     formation = start_formation(scene.tube, scene.swarm.n_robots)
-    if formation.problem is not None:
-        return Fit((Misfit(f'no start formation: {formation.problem}', 'move the tube entrance inwards or widen it'),))
-    return fit_of_flight(flight_data(scene, None, ExperimentConfig(planning=False)))
+    if formation.problem is None:
+        return fit_of_flight(flight_data(scene, None, ExperimentConfig(planning=False)))
+    left, right = scene.tube.boundaries(np.linspace(0.0, scene.tube.length_m, TUBE_EDGE_POINTS))
+    misfits = [
+        *_robots(scene.swarm.n_robots),
+        *_tube_inside(np.stack([left.T, right.T])),
+        Misfit(f'no start formation: {formation.problem}', 'move the tube entrance inwards or widen it'),
+    ]
+    return Fit(tuple(misfits))
 
 
 def fit_of_flight(data: FlightData) -> Fit:

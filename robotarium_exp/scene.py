@@ -24,8 +24,9 @@ from robotarium_exp.design import R_S_M, first_narrowing, formation_density, sta
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.errors import SceneError
 from vtube_planning.geometry import scene as planning_scenes
-from vtube_planning.geometry.scene import Derived, Scene, Workspace
+from vtube_planning.geometry.scene import Derived, Scene
 from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.geometry.workspace import Workspace
 from vtube_planning.onboard.density import swarm_density
 
 _SCENE_PACKAGE = 'robotarium_exp.scenes'

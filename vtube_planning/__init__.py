@@ -25,9 +25,10 @@ if TYPE_CHECKING:
         VtubeError,
     )
     from vtube_planning.geometry.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
-    from vtube_planning.geometry.scene import Scene, Workspace, list_scenes, load_scene
+    from vtube_planning.geometry.scene import Scene, list_scenes, load_scene
     from vtube_planning.geometry.tube import VirtualTube
     from vtube_planning.geometry.width import WidthPart, WidthProfile
+    from vtube_planning.geometry.workspace import Workspace
     from vtube_planning.log import LogWriter, read_log
     from vtube_planning.onboard import Projection, SwarmStep
     from vtube_planning.params import ControlParams, PlanningOptions, SwarmParams
@@ -90,7 +91,8 @@ __getattr__, __dir__ = lazy_exports(
             'VtubeError',
         ),
         'vtube_planning.geometry.centerline': ('ArcPath', 'ArcPiece', 'CenterCurve', 'SplineCurve'),
-        'vtube_planning.geometry.scene': ('Scene', 'Workspace', 'list_scenes', 'load_scene'),
+        'vtube_planning.geometry.scene': ('Scene', 'list_scenes', 'load_scene'),
+        'vtube_planning.geometry.workspace': ('Workspace',),
         'vtube_planning.geometry.tube': ('VirtualTube',),
         'vtube_planning.geometry.width': ('WidthPart', 'WidthProfile'),
         'vtube_planning.log': ('LogWriter', 'read_log'),

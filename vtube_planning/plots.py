@@ -12,8 +12,9 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from vtube_planning.geometry.scene import Scene, Workspace
+    from vtube_planning.geometry.scene import Scene
     from vtube_planning.geometry.tube import VirtualTube
+    from vtube_planning.geometry.workspace import Workspace
     from vtube_planning.planning.plan import Plan
     from vtube_planning.swarm.simulate import SimResult
 

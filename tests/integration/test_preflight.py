@@ -17,7 +17,7 @@ STEPS_OUTSIDE = 150
 
 def pair_scene(tmp_path: Path) -> Path:
     """robotarium_curve with 2 robots: V2's initializer places them in a few seconds."""
-    text = (ROOT / 'vtube_planning' / 'scenes' / 'robotarium_curve.toml').read_text(encoding='utf-8')
+    text = (ROOT / 'robotarium_exp' / 'scenes' / 'robotarium_curve.toml').read_text(encoding='utf-8')
     path = tmp_path / 'pair.toml'
     path.write_text(text.replace('n_robots = 6', 'n_robots = 2'), encoding='utf-8')
     return path

@@ -128,7 +128,7 @@ def test_mrclam_tf_lists_the_static_frame_and_the_unread_topic(mrclam, tmp_path)
 
 def straight_scene(x0: float, y0: float, heading_deg: float, length_m: float, half_width_m: float):
     """A straight tube of constant width: arc length and lateral offset by hand (:func:`oracle_observed`)."""
-    text = (ROOT / 'vtube_planning' / 'scenes' / 'robotarium_trapezoid.toml').read_text(encoding='utf-8')
+    text = (ROOT / 'robotarium_exp' / 'scenes' / 'robotarium_trapezoid.toml').read_text(encoding='utf-8')
     text = re.sub(r'\[workspace\][^\[]*', '', text)
     tube = (
         f'[tube.center]\nstart_xy_m = [{x0}, {y0}]\nheading_deg = {heading_deg}\n'

@@ -8,9 +8,10 @@ from vtube_planning._lazy import lazy_exports
 
 if TYPE_CHECKING:
     from vtube_planning.geometry.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
-    from vtube_planning.geometry.scene import Scene, Workspace, list_scenes, load_scene
+    from vtube_planning.geometry.scene import Scene, list_scenes, load_scene
     from vtube_planning.geometry.tube import VirtualTube
     from vtube_planning.geometry.width import WidthPart, WidthProfile
+    from vtube_planning.geometry.workspace import Workspace
     from vtube_planning.onboard import Projection, SampledTube
 
 __all__ = [
@@ -34,7 +35,8 @@ __getattr__, __dir__ = lazy_exports(
     {
         'vtube_planning.geometry.centerline': ('ArcPath', 'ArcPiece', 'CenterCurve', 'SplineCurve'),
         'vtube_planning.onboard': ('Projection', 'SampledTube'),
-        'vtube_planning.geometry.scene': ('Scene', 'Workspace', 'list_scenes', 'load_scene'),
+        'vtube_planning.geometry.scene': ('Scene', 'list_scenes', 'load_scene'),
+        'vtube_planning.geometry.workspace': ('Workspace',),
         'vtube_planning.geometry.tube': ('VirtualTube',),
         'vtube_planning.geometry.width': ('WidthPart', 'WidthProfile'),
     },

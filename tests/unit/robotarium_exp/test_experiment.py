@@ -2,18 +2,15 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from robotarium_exp.errors import ExperimentError
-from robotarium_exp.experiment import (
-    ExperimentConfig,
-    initial_conditions,
-    initializer_stall_risk,
-    order_for_v2_initializer,
-    parking_slots,
-    run_experiment,
-)
+from robotarium_exp.design import order_for_v2_initializer, parking
+from robotarium_exp.experiment import ExperimentConfig, flight_data, initial_conditions, run_experiment
+from robotarium_exp.fit import fit_of_flight
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.scene import load_scene
 
@@ -26,7 +23,7 @@ def test_initial_conditions_are_spread_for_the_testbed() -> None:
         assert ic.shape == (3, 6) and gaps.min() >= 0.4 - 1e-12
         assert np.all(np.abs(ic[0]) <= 1.375) and np.all(np.abs(ic[1]) <= 0.875)
         assert scene.tube.project(ic[:2]).inside.all()
-        slots = parking_slots(scene)
+        slots = parking(scene.tube, scene.swarm.n_robots)
         assert np.all(np.abs(slots[0]) <= 1.5) and np.all(np.abs(slots[1]) <= 0.85)
 
 
@@ -45,11 +42,13 @@ def test_robots_zero_and_one_take_the_front_corners() -> None:
     grid = np.array([[0.0, 0.0, 0.0, -0.4, -0.4, -0.4], [-0.4, 0.0, 0.4, -0.4, 0.0, 0.4], [0.0] * 6])
     order = order_for_v2_initializer(grid)
     assert sorted(order) == list(range(6)) and set(order[:2]) == {0, 2}
-    assert initializer_stall_risk(grid[:, order]) is None
-    risk = initializer_stall_risk(grid)  # robot 1 in the middle of the front row, with 3 neighbours
-    assert risk is not None and risk.startswith('robots 0 and 1 start at slots with 2 and 3 neighbours within 0.50 m')
-    assert 'order_for_v2_initializer' in risk
-    assert initializer_stall_risk(grid[:, :2]) is None  # two robots: nothing to choose
+    data = flight_data(load_scene('robotarium_trapezoid'), None, ExperimentConfig(planning=False))
+    reasons = [str(m) for m in fit_of_flight(replace(data, initial_conditions=grid)).misfits]
+    risk = [r for r in reasons if r.startswith('robots 0 and 1')]  # robot 1 in the middle of the front row
+    assert risk and risk[0].startswith('robots 0 and 1 start at slots with 2 and 3 neighbours')
+    assert 'order_for_v2_initializer' in risk[0]
+    ordered = [str(m) for m in fit_of_flight(replace(data, initial_conditions=grid[:, order])).misfits]
+    assert not [r for r in ordered if r.startswith('robots 0 and 1')]
 
 
 def test_a_short_run_logs_each_period_and_its_verdict(trapezoid, tmp_path) -> None:

@@ -54,7 +54,7 @@ def planned(path: str | Path) -> str:
 
 def variant(tmp_path: Path, scene: str, control_line: str) -> Path:
     """A copy of a shipped scene with one more line under [control], as a user would write it."""
-    text = (ROOT / 'vtube_planning' / 'scenes' / f'{scene}.toml').read_text(encoding='utf-8')
+    text = (ROOT / 'robotarium_exp' / 'scenes' / f'{scene}.toml').read_text(encoding='utf-8')
     path = tmp_path / f'{scene}_variant.toml'
     key = control_line.split('=')[0].strip()
     lines = [line for line in text.splitlines() if not line.startswith(f'{key} =')]  # the variant's value wins
@@ -139,7 +139,7 @@ def test_sampled_tube_matches_the_exact_projection() -> None:
     ('scene', 'error', 'match'),
     [
         ('robotarium_ellipse', SceneError, "unknown scene 'robotarium_ellipse'"),
-        ('A', SubmissionError, 'does not fit the Robotarium arena'),
+        ('A', SubmissionError, 'does not fit the Robotarium: the tube'),
     ],
 )
 def test_bad_builder_input(scene: str, error: type, match: str) -> None:
@@ -148,19 +148,19 @@ def test_bad_builder_input(scene: str, error: type, match: str) -> None:
 
 
 def test_too_many_robots(tmp_path) -> None:
-    text = (ROOT / 'vtube_planning' / 'scenes' / 'robotarium_trapezoid.toml').read_text()
+    text = (ROOT / 'robotarium_exp' / 'scenes' / 'robotarium_trapezoid.toml').read_text()
     path = tmp_path / 'crowd.toml'
     path.write_text(text.replace('n_robots = 6', 'n_robots = 24'))
-    with pytest.raises(SubmissionError, match='has 24 robots; the Robotarium runs at most 20'):
+    with pytest.raises(SubmissionError, match='24 robots; the testbed has 20: use 1 to 20'):
         build(path, None)
 
 
 def test_the_builder_refuses_initial_conditions_that_can_stall_the_initializer(monkeypatch) -> None:
     """The old order (robot 1 in the middle of the front row) left trapezoid seed 38 stuck for good in V2."""
-    from robotarium_exp import experiment
+    from robotarium_exp import design
 
-    monkeypatch.setattr(experiment, 'order_for_v2_initializer', lambda ic: list(range(ic.shape[1])))
-    with pytest.raises(SubmissionError, match=r"'robotarium_trapezoid': robots 0 and 1 start at slots with 2 and 3 "):
+    monkeypatch.setattr(design, 'order_for_v2_initializer', lambda ic: list(range(ic.shape[1])))
+    with pytest.raises(SubmissionError, match=r"'robotarium_trapezoid' does not fit .*robots 0 and 1 start at slots with 2 and 3 "):
         build('robotarium_trapezoid', None)
 
 

@@ -58,7 +58,7 @@ BAD = [
     ('bad regex', 'analyze {tmp}/shapes --out {out} --topic-pattern (', 2, "'(' is not a regular expression"),
     ('negative radius', 'analyze {tmp}/shapes --out {out} --collision-distance -1', 2, "'-1' is not a number > 0"),
     ('output under a file', 'plan A --out {tmp}/binary.py/plan', 2, 'choose another --out before any run starts'),
-    ('scene off the arena', 'robotarium run A --out {out}', 2, 'does not fit the Robotarium arena'),
+    ('scene off the arena', 'robotarium run A --out {out}', 2, 'does not fit the Robotarium'),
     ('missing campaign', 'campaign run {tmp}/none.toml --out {out}', 2, 'does not exist; give the path to a .toml'),
     ('negative workers', 'campaign run {tmp}/none.toml --workers -1', 2, "'-1' is not a whole number >= 0"),
     ('alias without a script', 'rps_alias --seed 1', 2, 'give the script to run'),

@@ -105,4 +105,4 @@ def test_the_view_of_a_comparison() -> None:
 
 def test_a_scene_off_the_arena_is_refused_before_any_run(tmp_path, capsys) -> None:
     assert main(['robotarium', 'run', 'A', '--out', str(tmp_path)]) == 2
-    assert 'does not fit the Robotarium arena' in capsys.readouterr().err
+    assert 'does not fit the Robotarium' in capsys.readouterr().err

@@ -10,7 +10,7 @@ from robotarium_exp.scene import load_scene
 from tests.support.scenes import LINE_SCENE
 from vtube.cli.app import main
 from vtube.cli.scene import SceneExported, SceneList, SceneShown, export_view, list_view, show_view
-from vtube_planning import list_scenes
+from robotarium_exp.scene import list_scenes
 
 BAD = {
     'missing_field': LINE_SCENE.replace('start_m = 2.0\n', ''),
@@ -61,7 +61,7 @@ def test_the_show_view_of_a_user_file_has_no_export_hint_and_no_figure(tmp_path)
     path = tmp_path / 'mine.toml'
     path.write_text(LINE_SCENE)
     scene = load_scene(path)
-    view = show_view(SceneShown(scene, scene.tube.summary(), None))
+    view = show_view(SceneShown(scene, scene.tube.summary(), None, None))
     assert view.lines[0].startswith('scene mine: ') and f'  source                {path}' in view.lines
     assert '  half-width            2.000 .. 2.000 m' in view.lines and '  length                10.000 m' in view.lines
     assert not any('figure' in line or 'export' in line for line in view.lines)

@@ -135,7 +135,7 @@ def test_an_undeclared_build_asks_for_the_declaration(tmp_path, capsys) -> None:
 
 def test_submission_build_refuses_a_scene_that_does_not_fit(tmp_path, capsys) -> None:
     assert main(['submission', 'build', 'C', '--out', str(tmp_path / 'x.py')]) == 2
-    assert 'does not fit the Robotarium arena' in capsys.readouterr().err
+    assert 'does not fit the Robotarium' in capsys.readouterr().err
     assert main(['submission', 'check', str(tmp_path / 'missing.py')]) == 2
 
 
@@ -144,7 +144,7 @@ def test_a_plan_file_is_flown_as_given_and_refused_elsewhere(tmp_path, capsys) -
     plan_file = tmp_path / 'plan_robotarium_trapezoid.npz'
     # a copy of the scene file is the same scene: its plan is accepted, and embedded as it is (not re-planned)
     copy = tmp_path / 'copy.toml'
-    copy.write_text((ROOT / 'vtube_planning' / 'scenes' / 'robotarium_trapezoid.toml').read_text(), encoding='utf-8')
+    copy.write_text((ROOT / 'robotarium_exp' / 'scenes' / 'robotarium_trapezoid.toml').read_text(), encoding='utf-8')
     out = tmp_path / 'sub.py'
     build = ['submission', 'build', str(copy), '--plan', str(plan_file), '--out', str(out), '--no-declare']
     assert main(build) == 0

@@ -4,30 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from vtube_planning.onboard.parking import PARKED_WITHIN_M, Parking, parking_slots
-
-
-def test_slots_lie_in_lanes_beyond_the_exit_filled_farthest_first() -> None:
-    slots = parking_slots([1.0, 2.0], [1.0, 0.0], 7, spacing_m=0.25)
-    assert slots.shape == (2, 7)
-    # five lanes across the tangent, centred on the exit line; the first row 0.45 m past the exit
-    np.testing.assert_allclose(slots[0, :5], 1.45)
-    np.testing.assert_allclose(slots[1, :5], 2.0 + 0.25 * np.array([-2, -1, 0, 1, 2]))
-    np.testing.assert_allclose(slots[0, 5:], 1.2)  # the next row 0.25 m nearer
-    np.testing.assert_allclose(slots[1, 5:], 2.0 + 0.25 * np.array([-2, -1]))
-
-
-def test_slots_turn_with_the_tangent_and_keep_their_spacing() -> None:
-    angle = 0.7
-    tangent = np.array([np.cos(angle), np.sin(angle)])
-    slots = parking_slots([0.0, 0.0], tangent, 3, spacing_m=0.3)
-    along = tangent @ slots
-    np.testing.assert_allclose(along, 0.45)
-    np.testing.assert_allclose(np.diff(np.array([-tangent[1], tangent[0]]) @ slots), 0.3)
+from robotarium_exp.design import slots_in_lanes
+from vtube_planning.onboard.parking import PARKED_WITHIN_M, Parking
 
 
 def test_robots_past_the_exit_take_the_next_free_slots_in_robot_order() -> None:
-    parking = Parking(parking_slots([0.0, 0.0], [1.0, 0.0], 4), 4)
+    parking = Parking(slots_in_lanes(np.array([0.0, 0.0]), np.array([1.0, 0.0]), 4, 4, 0.45), 4)
     parked = parking.take(np.array([False, True, False, True]))
     assert parked.tolist() == [False, True, False, True] and parking.slot_of.tolist() == [-1, 0, -1, 1]
     parked = parking.take(np.array([True, True, False, False]))  # robot 1 keeps its slot
