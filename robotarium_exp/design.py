@@ -37,8 +37,11 @@ WALL_CLEARANCE_M = 0.1
 """Between a robot of the start formation and a wall: the body's radius (0.055 m) and 0.045 m to move."""
 R_S_M = 0.10
 """r_s: the law's barrier keeps 2 r_s = 0.2 m between control points, as much as the safety filter does."""
-PARKING_SPACING_M = 0.25
+PARKING_SPACING_M = 0.3
 """Between parking slots: the safety filter keeps 0.2 m between control points."""
+PARKING_WALL_M = 0.2
+"""Between a parking slot and the arena's edge: the barrier keeps control points 0.1 m (R / 2) from the edge, and
+a robot turning into its slot needs another 0.1 m."""
 PARKING_DEPTH_M = 0.45
 """The farthest parking row lies this far beyond the exit, or less where the arena ends sooner."""
 PARKING_LANES_MAX = 5
@@ -175,11 +178,11 @@ def parking(tube: VirtualTube, n_robots: int) -> FloatArray:
     :data:`PARKING_DEPTH_M` beyond the exit or where the arena ends sooner; when none fits, the widest (the fit
     verdict then refuses the scene)."""
     end, tangent = tube.center_at(tube.length_m), tube.tangent(tube.length_m)
-    depth = min(PARKING_DEPTH_M, _room_beyond(end, tangent) - ROBOTARIUM.arena_margin_m)
+    depth = min(PARKING_DEPTH_M, _room_beyond(end, tangent) - PARKING_WALL_M)
     candidates = [
         slots_in_lanes(end, tangent, n_robots, lanes, depth) for lanes in range(min(n_robots, PARKING_LANES_MAX), 0, -1)
     ]
-    inside = [s for s in candidates if not ROBOTARIUM.outside_arena(s, ROBOTARIUM.arena_margin_m).any()]
+    inside = [s for s in candidates if not ROBOTARIUM.outside_arena(s, PARKING_WALL_M).any()]
     return (inside or candidates)[0]
 
 

@@ -52,8 +52,8 @@ def acting_halves(
     """
     n = positions.shape[1]
     r_s = params.r_s_m
-    if n < 2:
-        return np.empty(0, dtype=np.intp), np.empty((2, 0)), EMPTY, EMPTY
+    if n < 2:  # fresh arrays: the caller divides the pushes by the distances in place
+        return np.empty(0, dtype=np.intp), np.empty((2, 0)), np.empty(0), np.empty(0)
     if n > params.kdtree_above:
         i, j = neighbour_pairs(positions, r_s + float(r_a.max()))
         me = np.concatenate([i, j])

@@ -71,6 +71,15 @@ def test_two_robots_practical_law_by_hand() -> None:
     np.testing.assert_allclose(command.velocity.T, [[3.0 - push, 0.0], [3.0 + push, 0.0]], atol=1e-12)
 
 
+@pytest.mark.parametrize('law', ['practical', 'barrier'])
+def test_a_lone_robot_is_pushed_by_no_one(law: str) -> None:
+    """One robot: no pairs, no avoidance; near a wall it is still kept in (a swarm of one flies on the Robotarium)."""
+    tube = wide_tube(2.0)
+    command = command_at(np.array([[5.0], [1.4]]), np.full(1, 0.8), np.full(1, 3.0), tube, ControlParams(law=law))
+    np.testing.assert_array_equal(command.avoidance, 0.0)
+    assert command.tube_keeping[1, 0] < 0.0 and command.velocity.shape == (2, 1)
+
+
 def test_three_robots_sum_their_pushes_and_use_their_own_radius() -> None:
     tube = wide_tube()
     positions = np.array([[10.0, 11.0, 10.0], [0.0, 0.0, 0.9]])
