@@ -152,21 +152,20 @@ def derived_values(tube: VirtualTube, n_robots: int) -> Values:
         rho = round(formation_density(tube, formation, r_a), 2)
         where = f'{formation.rows} row(s) of up to {formation.columns}, {formation.length_m:.2f} m long'
         rho_reason = f'the start formation ({where}) under the density measure: the swarm starts on its plan'
-        half_length = 0.5 * formation.length_m
+        length = formation.length_m
     else:
         rho = min(rho_max, round(swarm_density(tube, [0.0] * n_robots, r_a), 2))
         rho_reason = f'no start formation ({formation.problem}): N robots abreast at the entrance'
-        half_length = 0.0
+        length = 0.0
     narrowing = first_narrowing(tube)
-    if narrowing is None:
-        lookahead = round(round((spacing + half_length) / LOOKAHEAD_STEP_M) * LOOKAHEAD_STEP_M, 3)
-        look_reason = 'the tube never narrows: one interaction band plus half the formation'
-    else:
-        lookahead = round(round((narrowing.length_m + half_length) / LOOKAHEAD_STEP_M) * LOOKAHEAD_STEP_M, 3)
-        look_reason = (
-            f'the narrowing from l = {narrowing.start_m:.2f} m ({narrowing.length_m:.2f} m) plus half the formation, '
-            "which meets it half a swarm-length before the plan's centre does (to 5 cm)"
-        )
+    swarm_length = length + spacing  # the formation and its interaction band, r_s + r_a = the spacing
+    ahead = narrowing.length_m if narrowing is not None else 0.0
+    lookahead = round(round((ahead + swarm_length) / LOOKAHEAD_STEP_M) * LOOKAHEAD_STEP_M, 3)
+    where = f'the narrowing from l = {narrowing.start_m:.2f} m ({ahead:.2f} m)' if narrowing else 'no narrowing'
+    look_reason = (
+        f'{where} plus the formation ({length:.2f} m) and its band ({spacing} m): the plan is made for the '
+        "swarm's centre, and the whole swarm must have expanded before its front meets the narrowing (to 5 cm)"
+    )
     return {
         'swarm': {
             'n_robots': (n_robots, f'[{TABLE}] n_robots'),
