@@ -131,7 +131,7 @@ def experiment_view(run: RobotariumRun) -> View:
     return View(tuple(lines), data, exit_code=EXIT_FAILED if failures else EXIT_OK)
 
 
-FLEW = 'succeeded: every robot passed the exit and parked; no collision, no body on a wall, no testbed error'
+FLEW = 'succeeded: the testbed would run it; every robot passed and parked; no collision; no body on a wall'
 
 
 def _tracking_lines(tracked: PlanTracking) -> list[str]:
