@@ -93,23 +93,28 @@ def test_a_run_the_testbed_would_run_fails_when_robots_do_not_pass_or_park_or_to
     assert experiment_view(run(VerifierCounts(), None, parked=False)).exit_code == 1
 
 
+def stubbed_rows(seeds: list[int], run_done, failed: tuple[int, bool] | None = None) -> list[ComparisonRow]:
+    """Rows of a stubbed comparison; ``failed``: the (seed, planned) run that did not park."""
+    values = dict.fromkeys(('passing_time_s', 'min_distance_m', 'intervention_m', 'band_percent'), 1.0)
+    values |= {'tube_violation_steps': 0, 'approach_percent': None, 'dip_percent': None, 'testbed_errors': 0}
+    values |= {'front_at_narrowing_s': 3.0}
+    rows = []
+    for seed in seeds:
+        for planned in (True, False):
+            failures = ('not every robot parked beyond the exit by the last step',) if failed == (seed, planned) else ()
+            start = 2.0 if planned else None
+            rows.append(ComparisonRow(seed=seed, planned=planned, expansion_start_s=start, failures=failures, **values))
+            run_done()
+    return rows
+
+
 def test_compare_draws_its_runs_and_writes_the_table_and_rows(tmp_path, monkeypatch, capsys) -> None:
     """The runs stubbed (their loop is robotarium_exp's; the real one in tests/integration/test_demo.py)."""
     calls = []
 
     def compare(scene, plan, seeds, run_done=None):
         calls.append((scene.name, plan.scene, seeds))
-        values = dict.fromkeys(('passing_time_s', 'min_distance_m', 'intervention_m', 'band_percent'), 1.0)
-        values |= {'tube_violation_steps': 0, 'approach_percent': None, 'dip_percent': None, 'testbed_errors': 0}
-        values |= {'front_at_narrowing_s': 3.0}
-        rows = []
-        for seed in seeds:
-            for planned in (True, False):
-                rows.append(
-                    ComparisonRow(seed=seed, planned=planned, expansion_start_s=2.0 if planned else None, **values)
-                )
-                run_done()
-        return rows
+        return stubbed_rows(seeds, run_done)
 
     monkeypatch.setattr(compare_module, 'compare', compare)
     assert main(['robotarium', 'compare', 'robotarium_curve', '--seeds', '2', '--out', str(tmp_path / 'c')]) == 0
@@ -120,6 +125,18 @@ def test_compare_draws_its_runs_and_writes_the_table_and_rows(tmp_path, monkeypa
     assert [row['planned'] for row in rows] == [True, False, True, False]
     table = (tmp_path / 'c' / 'compare_robotarium_curve.md').read_text()
     assert table.count('\n') == 12 and '| expansion starts [s] | 2.0 [2.0, 2.0] | never |' in table
+
+
+def test_compare_with_a_failed_run_exits_1_naming_its_seed_and_mode(tmp_path, monkeypatch, capsys) -> None:
+    def compare(scene, plan, seeds, run_done=None):
+        return stubbed_rows(seeds, run_done, failed=(1, False))
+
+    monkeypatch.setattr(compare_module, 'compare', compare)
+    assert main(['robotarium', 'compare', 'robotarium_curve', '--seeds', '2', '--out', str(tmp_path / 'c')]) == 1
+    out = capsys.readouterr().out.splitlines()
+    assert out[-1] == 'FAILED seed 1, unplanned: not every robot parked beyond the exit by the last step'
+    rows = json.loads((tmp_path / 'c' / 'compare_robotarium_curve.json').read_text())
+    assert [len(row['failures']) for row in rows] == [0, 0, 0, 1]  # the rows are written all the same
 
 
 def test_the_view_of_a_comparison() -> None:
