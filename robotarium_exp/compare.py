@@ -18,6 +18,7 @@ from robotarium_exp.experiment import ExperimentConfig, run_experiment
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.rps_alias import seed_rps
 from robotarium_exp.tracking import plan_tracking
+from robotarium_exp.verdict import flight_failures
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.swarm.metrics import strict_json
@@ -38,7 +39,8 @@ COLUMNS = (
 
 @dataclass(frozen=True)
 class ComparisonRow:
-    """One run of the comparison: its seed and mode, and the measures of ``COLUMNS`` (None: did not happen)."""
+    """One run of the comparison: its seed and mode, the measures of ``COLUMNS`` (None: did not happen) and why
+    the flight failed (:func:`~robotarium_exp.verdict.flight_failures`; empty: it succeeded)."""
 
     seed: int
     planned: bool
@@ -52,6 +54,7 @@ class ComparisonRow:
     expansion_start_s: float | None
     front_at_narrowing_s: float | None
     testbed_errors: int
+    failures: tuple[str, ...] = ()
 
     def to_json(self) -> dict[str, Any]:
         """The row as strict JSON: NaN and infinities become None."""
@@ -83,6 +86,7 @@ def compare(
                     expansion_start_s=tracked.expansion_start_s,
                     front_at_narrowing_s=tracked.front_at_narrowing_s,
                     testbed_errors=result.errors.too_close + result.errors.outside + result.errors.actuator,
+                    failures=flight_failures(result),
                 )
             )
             if run_done is not None:
@@ -103,6 +107,15 @@ def comparison_table(rows: list[ComparisonRow]) -> str:
             cells.append(f'{np.mean(values):{fmt}} [{min(values):{fmt}}, {max(values):{fmt}}]')
         lines.append(f'| {title} | ' + ' | '.join(cells) + ' |')
     return '\n'.join(lines) + '\n'
+
+
+def failed_runs(rows: list[ComparisonRow]) -> tuple[str, ...]:
+    """The runs that failed, one line each: the seed, the mode and why."""
+    return tuple(
+        f'seed {row.seed}, {"planned" if row.planned else "unplanned"}: {"; ".join(row.failures)}'
+        for row in rows
+        if row.failures
+    )
 
 
 def _percent(value: float | None) -> float | None:

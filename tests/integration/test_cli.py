@@ -29,7 +29,8 @@ ROOT = Path(__file__).resolve().parents[2]
 
 @pytest.fixture
 def short_flights(monkeypatch) -> None:
-    """Simulations of the commands stop after 6 simulated seconds."""
+    """Simulations of the commands stop after 6 simulated seconds: before any robot exits, so ``simulate`` exits 1
+    (a robot did not pass) after writing everything."""
     monkeypatch.setattr(simulate_module, 'SimConfig', functools.partial(simulate_module.SimConfig, time_limit_s=6.0))
 
 
@@ -45,22 +46,23 @@ def test_console_entry_point_prints_no_traceback(tmp_path) -> None:
 
 
 def test_simulate_prints_metrics_and_writes_log_and_figures(tmp_path, capsys, short_flights) -> None:
-    assert main(['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--seed', '3']) == 0
+    assert main(['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--seed', '3']) == 1  # cut short
     captured = capsys.readouterr()
     text = captured.out
     assert captured.err == ''  # stderr is no terminal here: no progress bar
     assert 'N = 8, seed 3' in text and 'passing time' in text and 'density tracking' in text
+    assert '  passage            FAILED: 8 of 8 robots never passed the exit (no passing time)' in text
     arrays, meta = read_log(tmp_path / 'sim_C_planned.npz')
     assert arrays['positions_m'].shape[1:] == (2, 8) and meta['finished'] and meta['scene'] == 'C'
     for suffix in ('snapshots', 'distance', 'tracking'):
         assert (tmp_path / f'sim_C_planned_{suffix}.png').read_bytes()[:4] == b'\x89PNG'
-    assert main(['simulate', 'A', '--out', str(tmp_path), '--no-planning', '--n', '6']) == 0
+    assert main(['simulate', 'A', '--out', str(tmp_path), '--no-planning', '--n', '6']) == 1
     assert 'without planning' in capsys.readouterr().out
     assert (tmp_path / 'sim_A_unplanned.npz').exists() and not (tmp_path / 'sim_A_unplanned_tracking.png').exists()
 
 
 def test_simulate_replans_in_flight_and_reports_each_call(tmp_path, capsys, short_flights) -> None:
-    assert main(['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--replan-every', '1', '--json']) == 0
+    assert main(['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--replan-every', '1', '--json']) == 1
     captured = capsys.readouterr()
     replans = json.loads(captured.out)['replans']
     made = [call for call in replans if not call['error']]
@@ -70,12 +72,13 @@ def test_simulate_replans_in_flight_and_reports_each_call(tmp_path, capsys, shor
 
 def test_json_output_parses_and_matches_what_is_written(tmp_path, capsys, short_flights) -> None:
     out = tmp_path / 's'
-    assert main(['simulate', 'robotarium_curve', '--out', str(out), '--json']) == 0
+    assert main(['simulate', 'robotarium_curve', '--out', str(out), '--json']) == 1  # cut short
     captured = capsys.readouterr()
     result = json.loads(captured.out)  # stdout holds the JSON object only; the readable lines went to stderr
     assert 'simulation of scene robotarium_curve' in captured.err
     _, meta = read_log(result['log'])
-    assert result['metrics'] == json.loads(json.dumps(meta['metrics'])) and result['exit_code'] == 0
+    assert result['metrics'] == json.loads(json.dumps(meta['metrics'])) and result['exit_code'] == 1
+    assert result['failures'] == ['6 of 6 robots never passed the exit (no passing time)']
     assert main(['analyze', result['log'], '--scene', 'robotarium_curve', '--out', str(tmp_path / 'a'), '--json']) == 0
     analysed = json.loads(capsys.readouterr().out)
     written = json.loads((tmp_path / 'a' / 'metrics.json').read_text())['data']
@@ -122,7 +125,7 @@ def test_every_artefact_records_where_it_comes_from(tmp_path, capsys, short_flig
     recorded(metrics['provenance'])
     assert f'Made by vtube {version("vtube")} on ' in (tmp_path / 'a' / 'report.md').read_text()
     assert (tmp_path / 'a' / 'scene_robotarium_trapezoid.toml').read_text(encoding='utf-8') == text
-    assert main(['simulate', 'robotarium_trapezoid', '--out', str(tmp_path / 's'), '--seed', '2']) == 0
+    assert main(['simulate', 'robotarium_trapezoid', '--out', str(tmp_path / 's'), '--seed', '2']) == 1  # cut short
     recorded(read_log(tmp_path / 's' / 'sim_robotarium_trapezoid_planned.npz')[1]['provenance'], [2])
     built = tmp_path / 'b' / 'experiment.py'
     assert main(['submission', 'build', 'robotarium_trapezoid', '--out', str(built), '--no-declare']) == 0
@@ -131,6 +134,45 @@ def test_every_artefact_records_where_it_comes_from(tmp_path, capsys, short_flig
     stamp = next(line for line in built.read_text().splitlines() if line.startswith('built on '))
     assert '+00:00 with `' in stamp and 'submission build robotarium_trapezoid' in stamp  # when, and by what command
     capsys.readouterr()
+
+
+NARROW_SCENE = """
+[tube.center]
+start_xy_m = [-1.0, 0.0]
+pieces = [{ kind = "line", length_m = 1.2 }]
+[tube.width]
+start_m = 0.05
+parts = [{ kind = "constant" }]
+[swarm]
+n_robots = 2
+v_min_mps = 0.04
+v_max_mps = 0.12
+a_v_mps2 = 0.02
+a_n_mps2 = 0.02
+r_p_m = 0.07
+r_s_m = 0.10
+r_a_m = 0.30
+"""
+"""Two robots in single file through a tube 0.10 m wide: narrower than a body (0.11 m), so both touch the walls."""
+
+
+def test_a_robotarium_run_with_bodies_on_the_walls_exits_1_saying_so(tmp_path, capsys) -> None:
+    """A real flight the testbed would run, every robot through and parked, but touching the walls all the way."""
+    scene = tmp_path / 'narrow.toml'
+    scene.write_text(NARROW_SCENE, encoding='utf-8')
+    run = ['robotarium', 'run', str(scene), '--no-planning', '--no-initialization', '--out', str(tmp_path), '--json']
+    assert main(run) == 1
+    captured = capsys.readouterr()
+    result = json.loads(captured.out)
+    assert result['would_run'] and result['metrics']['completed'] and result['exit_code'] == 1
+    steps = result['metrics']['tube_violation_steps']
+    deepest = result['metrics']['max_outside_m']
+    said = f'robot bodies were on the tube walls in {steps} robot-steps (2 robots, up to {deepest:.3f} m over)'
+    assert steps > 0 and result['failures'] == [said]
+    assert (
+        ': would run on the Robotarium' in captured.err
+        and '  flight                 FAILED: robot bodies' in captured.err
+    )
 
 
 def test_analyze_a_bag(tmp_path, capsys) -> None:

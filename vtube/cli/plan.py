@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from vtube.cli.arguments import positive, writable_folder
-from vtube.cli.command import Command, View
+from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
 
 if TYPE_CHECKING:
     from vtube.pipeline import Planned
@@ -43,7 +43,7 @@ def plan_view(planned: Planned) -> View:
     k = int(plan.density_per_m2.argmin())
     worst = ', '.join(f'{name} {value:.1e}' for name, value in plan.certificate.items())
     verdict = 'certified' if plan.is_certified() else 'NOT certified (violation above 1e-6)'
-    lines = (
+    lines: tuple[str, ...] = (
         (
             f'plan for scene {scene.name} ({planned.method}, {plan.l_m.size} grid points, {plan.solved.status} after '
             f'{plan.solved.iterations} iterations, {plan.solved.solve_time_s:.3f} s)'
@@ -59,11 +59,15 @@ def plan_view(planned: Planned) -> View:
             f'rho_d = {scene.swarm.rho_d_per_m2:g} /m^2'
         ),
         f'  certificate           {verdict}: {worst}',
-        f'  written               {planned.plan_file}, {planned.figure}, {planned.scene_copy}',
     )
+    failures = plan.failures(scene.tube)
+    if failures:
+        lines += (f'  fails                 {"; ".join(failures)}',)
+    lines += (f'  written               {planned.plan_file}, {planned.figure}, {planned.scene_copy}',)
     data = {'plan_file': str(planned.plan_file), 'time_s': plan.time_s, 'objective': plan.objective}
-    data |= {'certificate': plan.certificate, 'certified': plan.is_certified()}
-    return View(lines, data | {'provenance': plan.provenance})
+    data |= {'certificate': plan.certificate, 'certified': not failures}
+    data |= {'failures': list(failures)} if failures else {}
+    return View(lines, data | {'provenance': plan.provenance}, exit_code=EXIT_FAILED if failures else EXIT_OK)
 
 
 COMMAND = Command('plan', "plan speed and density along a scene's tube", plan_arguments, plan, plan_view, json=True)

@@ -33,12 +33,14 @@ class RobotariumRun:
 
 @dataclass(frozen=True)
 class Comparison:
-    """Planned against unplanned over initialization seeds 0..seeds-1: the table and the files written."""
+    """Planned against unplanned over initialization seeds 0..seeds-1: the table, the files written and the runs
+    that failed (:func:`robotarium_exp.compare.failed_runs`)."""
 
     scene: str
     seeds: int
     table: str
     written: tuple[Path, Path]
+    failed: tuple[str, ...] = ()
 
 
 def experiment_arguments(parser: argparse.ArgumentParser) -> None:
@@ -89,7 +91,10 @@ def experiment(args: argparse.Namespace) -> RobotariumRun:
 
 
 def experiment_view(run: RobotariumRun) -> View:
+    from robotarium_exp.verdict import flight_failures
+
     verdict, m, b = run.verdict, run.result.metrics, run.result.barrier
+    failures = flight_failures(run.result)
     said = 'would run on the Robotarium' if verdict.would_run else 'would NOT run on the Robotarium'
     lines = [
         (
@@ -118,10 +123,15 @@ def experiment_view(run: RobotariumRun) -> View:
     ]
     if run.tracking is not None:
         lines += _tracking_lines(run.tracking)
+    lines.append(f'  flight                 {"FAILED: " + "; ".join(failures) if failures else FLEW}')
     lines.append(f'  written                {", ".join(map(str, run.written))}')
     data = {'log': str(run.written[0]), 'would_run': verdict.would_run, 'errors': run.result.errors.to_json()}
     data |= {'duration_s': verdict.duration_s, 'metrics': m.to_json()}
-    return View(tuple(lines), data, exit_code=EXIT_OK if verdict.would_run else EXIT_FAILED)
+    data |= {'failures': list(failures)} if failures else {}
+    return View(tuple(lines), data, exit_code=EXIT_FAILED if failures else EXIT_OK)
+
+
+FLEW = 'succeeded: the testbed would run it; every robot passed and parked; no collision; no body on a wall'
 
 
 def _tracking_lines(tracked: PlanTracking) -> list[str]:
@@ -154,7 +164,7 @@ def comparison(args: argparse.Namespace) -> Comparison:
     """Planned against unplanned over several initialization seeds; writes the table and the rows."""
     import json
 
-    from robotarium_exp.compare import compare, comparison_table
+    from robotarium_exp.compare import compare, comparison_table, failed_runs
     from robotarium_exp.scene import load_scene
     from vtube.pipeline import plan_for
 
@@ -170,7 +180,7 @@ def comparison(args: argparse.Namespace) -> Comparison:
     written = (out / f'compare_{scene.name}.md', out / f'compare_{scene.name}.json')
     written[0].write_text(table, encoding='utf-8')
     written[1].write_text(json.dumps([row.to_json() for row in rows], indent=1, allow_nan=False))
-    return Comparison(scene.name, args.seeds, table, written)
+    return Comparison(scene.name, args.seeds, table, written, failed_runs(rows))
 
 
 def comparison_view(result: Comparison) -> View:
@@ -179,7 +189,8 @@ def comparison_view(result: Comparison) -> View:
         result.table,
         f'written {result.written[0]}, {result.written[1]}',
     )
-    return View(lines)
+    failed = tuple(f'FAILED {run}' for run in result.failed)
+    return View(lines + failed, exit_code=EXIT_FAILED if failed else EXIT_OK)
 
 
 COMMANDS = (

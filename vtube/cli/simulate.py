@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from vtube.cli.arguments import count, positive, whole, writable_folder
-from vtube.cli.command import Command, View
+from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
 from vtube.cli.render import progress_bars
 
 if TYPE_CHECKING:
@@ -60,7 +60,10 @@ def simulate(args: argparse.Namespace) -> Simulated:
 
 
 def simulate_view(simulated: Simulated) -> View:
+    from vtube_planning.swarm.metrics import passage_failures
+
     result, config, m = simulated.result, simulated.config, simulated.result.metrics
+    failures = passage_failures(m)
     rows = [
         ('passing time', f'{m.passing_time_s:.3f} s' + ('' if m.completed else ' (not every robot exited)')),
         ('minimum distance', f'{m.min_distance_m:.4f} m at t = {m.min_distance_time_s:.2f} s'),
@@ -82,6 +85,8 @@ def simulate_view(simulated: Simulated) -> View:
     replans: list[dict[str, Any]] | None = result.meta.get('replans')
     if replans is not None:
         rows.append(('replanning', _replanning(replans, config.replan_every_s)))
+    if failures:
+        rows.append(('passage', 'FAILED: ' + '; '.join(failures)))
     rows.append(('written', ', '.join(map(str, simulated.written))))
     head = (
         f'simulation of scene {simulated.scene.name} {"with" if result.planned else "without"} planning: '
@@ -90,7 +95,10 @@ def simulate_view(simulated: Simulated) -> View:
     data = {'log': str(simulated.log), 'metrics': m.to_json(), 'provenance': result.meta['provenance']}
     if replans is not None:
         data['replans'] = replans
-    return View((head, *(f'  {name:<18} {value}' for name, value in rows)), data)
+    if failures:
+        data['failures'] = list(failures)
+    lines = (head, *(f'  {name:<18} {value}' for name, value in rows))
+    return View(lines, data, exit_code=EXIT_FAILED if failures else EXIT_OK)
 
 
 def _replanning(replans: list[dict[str, Any]], every_s: float) -> str:

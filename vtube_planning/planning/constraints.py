@@ -24,6 +24,16 @@ ACTIVE_RTOL = 1e-3
 """A constraint is reported active at a grid point when its relative slack is below this."""
 CONSTRAINTS = ('p2', 'p3', 'p4', 'p5', 'p6', 'p7', 'initial')
 """The certificate's entries."""
+MEANINGS = {
+    'p2': 'the speed band [v_min, v_max]',
+    'p3': 'the speed change a_v',
+    'p4': 'the curvature speed limit sqrt(a_n r_t)',
+    'p5': 'the density bounds (0, rho_max]',
+    'p6': 'the density change a_rho',
+    'p7': 'the predicted density change a_rho over the look-ahead',
+    'initial': 'the initial speed and density',
+}
+"""What each certificate entry bounds, for messages."""
 
 
 def initial_conditions(swarm: SwarmParams, options: PlanningOptions) -> tuple[float, float]:
@@ -64,13 +74,27 @@ def certify(
     the initial value). Between fine points the plan is piecewise linear in w and rho, so rates are exact per
     fine interval and (p3), (p6) use the interval's largest speed.
     """
-    fine = np.interp(np.linspace(0.0, l_m.size - 1, FINE_FACTOR * (l_m.size - 1) + 1), np.arange(l_m.size), l_m)
-    rho = np.interp(fine, l_m, density)
-    rho_f = predicted_density(tube, fine, rho, swarm.n_robots, options.lookahead_m, options.predictive_model)
-    certificate = _violations(tube, swarm, options, fine, np.interp(fine, l_m, 1.0 / speed_mps), rho, rho_f)
+    excess, change = _excess(tube, swarm, options, l_m, speed_mps, density)
+    certificate = {name: _worst(values) for name, (values, _) in excess.items()}
     v0, rho0 = initial_conditions(swarm, options)
     certificate['initial'] = max(abs(speed_mps[0] - v0) / v0, abs(density[0] - rho0) / rho0)
-    return certificate, _active_sets(tube, swarm, options, l_m, speed_mps, density, np.abs(rho_f / rho - 1.0))
+    return certificate, _active_sets(tube, swarm, options, l_m, speed_mps, density, change)
+
+
+def worst_places(
+    tube: VirtualTube,
+    swarm: SwarmParams,
+    options: PlanningOptions,
+    l_m: FloatArray,
+    speed_mps: FloatArray,
+    density: FloatArray,
+) -> dict[str, float]:
+    """Where each certificate entry is worst: the arc length (m) of the largest relative violation of (p2)-(p7)
+    on the certificate's fine grid (an interval's start for the rates (p3), (p6)), 0 for the initial values and
+    NaN for a constraint with no point to evaluate (p4 on a straight tube)."""
+    excess, _ = _excess(tube, swarm, options, l_m, speed_mps, density)
+    places = {name: float(at[np.argmax(values)]) if values.size else np.nan for name, (values, at) in excess.items()}
+    return places | {'initial': 0.0}
 
 
 def _worst(values: FloatArray) -> float:
@@ -78,34 +102,39 @@ def _worst(values: FloatArray) -> float:
     return float(max(0.0, np.max(values))) if values.size else 0.0
 
 
-def _violations(
+def _excess(
     tube: VirtualTube,
     swarm: SwarmParams,
     options: PlanningOptions,
-    fine: FloatArray,
-    w: FloatArray,
-    rho: FloatArray,
-    rho_f: FloatArray,
-) -> dict[str, float]:
-    """The certificate's entries (p2)-(p7) for slowness ``w``, density ``rho`` and predicted density ``rho_f`` on
-    the fine grid."""
+    l_m: FloatArray,
+    speed_mps: FloatArray,
+    density: FloatArray,
+) -> tuple[dict[str, tuple[FloatArray, FloatArray]], FloatArray]:
+    """The relative excess of (p2)-(p7) over their bounds (> 0: violated) on the certificate's fine grid, each
+    with the arc lengths it is evaluated at (points, or the intervals' starts for the rates), and |rho_f / rho - 1|
+    on that grid."""
+    fine = np.interp(np.linspace(0.0, l_m.size - 1, FINE_FACTOR * (l_m.size - 1) + 1), np.arange(l_m.size), l_m)
+    w = np.interp(fine, l_m, 1.0 / speed_mps)
+    rho = np.interp(fine, l_m, density)
+    rho_f = predicted_density(tube, fine, rho, swarm.n_robots, options.lookahead_m, options.predictive_model)
     v = 1.0 / w
     dl = np.diff(fine)
     v_top = np.maximum(v[:-1], v[1:])
     a_rho = swarm.a_rho
     limit = curvature_speed_limit(tube, swarm, fine)
     curved = np.isfinite(limit)
-    return {
-        'p2': max(_worst((swarm.v_min_mps - v) / swarm.v_min_mps), _worst((v - swarm.v_max_mps) / swarm.v_max_mps)),
-        'p3': _worst((np.abs(np.diff(w)) / dl / np.minimum(w[:-1], w[1:]) ** 3 - swarm.a_v_mps2) / swarm.a_v_mps2),
-        'p4': _worst((v[curved] - limit[curved]) / limit[curved]),
-        'p5': max(
-            _worst((rho - swarm.rho_max_per_m2) / swarm.rho_max_per_m2),
-            _worst((RHO_EPSILON - rho) / swarm.rho_max_per_m2),
+    excess = {
+        'p2': (np.maximum((swarm.v_min_mps - v) / swarm.v_min_mps, (v - swarm.v_max_mps) / swarm.v_max_mps), fine),
+        'p3': ((np.abs(np.diff(w)) / dl / np.minimum(w[:-1], w[1:]) ** 3 - swarm.a_v_mps2) / swarm.a_v_mps2, fine[:-1]),
+        'p4': ((v[curved] - limit[curved]) / limit[curved], fine[curved]),
+        'p5': (
+            np.maximum((rho - swarm.rho_max_per_m2) / swarm.rho_max_per_m2, (RHO_EPSILON - rho) / swarm.rho_max_per_m2),
+            fine,
         ),
-        'p6': _worst((np.abs(np.diff(rho)) / dl * v_top - a_rho) / a_rho),
-        'p7': _worst((np.abs(rho_f - rho) / options.lookahead_m * v - a_rho) / a_rho),
+        'p6': ((np.abs(np.diff(rho)) / dl * v_top - a_rho) / a_rho, fine[:-1]),
+        'p7': ((np.abs(rho_f - rho) / options.lookahead_m * v - a_rho) / a_rho, fine),
     }
+    return excess, np.abs(rho_f / rho - 1.0)
 
 
 def _active_sets(

@@ -25,7 +25,7 @@ from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.npzfile import read_npz, write_npz
 from vtube_planning.onboard import PlanProfile
 from vtube_planning.params import PlanningOptions, SwarmParams
-from vtube_planning.planning.constraints import certify, curvature_speed_limit, objective_terms
+from vtube_planning.planning.constraints import MEANINGS, certify, curvature_speed_limit, objective_terms, worst_places
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -180,6 +180,20 @@ class Plan:
     def is_certified(self, rtol: float = 1e-6) -> bool:
         """True when every constraint holds on the fine grid to the relative tolerance."""
         return self.max_violation <= rtol
+
+    def failures(self, tube: VirtualTube, rtol: float = 1e-6) -> tuple[str, ...]:
+        """Why the plan is not certified on ``tube`` (the one it was made for): each certificate entry above the
+        relative tolerance, what it bounds, by how much and where it is worst; empty when certified."""
+        broken = {name: value for name, value in self.certificate.items() if value > rtol}
+        if not broken:
+            return ()
+        where = worst_places(tube, self.swarm, self.options, self.l_m, self.speed_mps, self.density_per_m2)
+        return tuple(
+            f'({name}) {MEANINGS[name]} is exceeded by {value:.1e} (relative) at l = {where[name]:.3f} m'
+            if name != 'initial'
+            else f'{MEANINGS[name]} miss the boundary values by {value:.1e} (relative)'
+            for name, value in broken.items()
+        )
 
     @property
     def profile(self) -> PlanProfile:

@@ -127,6 +127,25 @@ class PassageMetrics:
         return json_ready
 
 
+def passage_failures(metrics: PassageMetrics) -> tuple[str, ...]:
+    """Why a passage failed, one reason each: a counted robot that never exited, robots that collided (closer
+    than the collision distance); empty when neither happened. Tube violations are judged by the caller, who
+    knows whether they were measured on the bodies or on the centres."""
+    failures = []
+    if not metrics.completed:
+        failures.append(
+            f'{metrics.robots_counted - metrics.robots_passed} of {metrics.robots_counted} robots never passed the '
+            'exit (no passing time)'
+        )
+    if metrics.collision_pairs:
+        failures.append(
+            f'{metrics.collision_pairs} robot pairs collided (closer than {metrics.collision_distance_m:g} m, '
+            f'{metrics.collision_steps} steps; closest {metrics.min_distance_m:.3f} m at t = '
+            f'{metrics.min_distance_time_s:.2f} s)'
+        )
+    return tuple(failures)
+
+
 def strict_json(value: Any) -> Any:
     """``value`` with numpy scalars as Python numbers and NaN or infinite floats as None, recursively."""
     if isinstance(value, dict):

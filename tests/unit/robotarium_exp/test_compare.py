@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 import robotarium_exp.compare as compare_module
-from robotarium_exp.compare import COLUMNS, ComparisonRow, comparison_table
+from robotarium_exp.compare import COLUMNS, ComparisonRow, comparison_table, failed_runs
 from robotarium_exp.verifier import VerifierCounts
+from tests.support.passage import metrics
 
 
 def row(seed: int, planned: bool, **change) -> ComparisonRow:
@@ -44,7 +45,7 @@ def test_the_table_gives_mean_and_range_per_mode() -> None:
 def test_a_row_is_strict_json() -> None:
     data = row(1, True, min_distance_m=math.inf, passing_time_s=math.nan).to_json()
     assert data['min_distance_m'] is None and data['passing_time_s'] is None and data['seed'] == 1
-    assert set(data) == {'seed', 'planned'} | {key for _, key, _ in COLUMNS}
+    assert set(data) == {'seed', 'planned', 'failures'} | {key for _, key, _ in COLUMNS} and data['failures'] == []
 
 
 def test_compare_runs_both_modes_per_seed_on_the_same_draws(monkeypatch) -> None:
@@ -58,9 +59,11 @@ def test_compare_runs_both_modes_per_seed_on_the_same_draws(monkeypatch) -> None
         assert (plan is not None) == config.planning
         return SimpleNamespace(
             arrays={},
-            metrics=SimpleNamespace(passing_time_s=20.0, min_distance_m=0.25, tube_violation_steps=1),
+            metrics=metrics(passing_time_s=20.0, min_distance_m=0.25, tube_violation_steps=int(config.planning)),
             barrier=SimpleNamespace(intervention_m=0.5, band_share=0.97),
-            errors=VerifierCounts(1, 2, 3),
+            errors=VerifierCounts(1, 2, 3) if config.planning else VerifierCounts(),
+            duration_s=60.0,
+            completed=True,
         )
 
     phase = SimpleNamespace(density_error_mean=0.125)
@@ -80,3 +83,9 @@ def test_compare_runs_both_modes_per_seed_on_the_same_draws(monkeypatch) -> None
         6,
     )
     assert np.isclose(r.intervention_m, 0.5) and r.expansion_start_s == 4.0
+    assert rows[1].failures == () and failed_runs(rows) == (
+        'seed 5, planned: ' + '; '.join(rows[0].failures),
+        'seed 7, planned: ' + '; '.join(rows[2].failures),
+    )
+    assert rows[0].failures[0].startswith('the testbed would not run it (1 pair-steps of robots too close, 2 ')
+    assert rows[0].failures[1].startswith('robot bodies were on the tube walls in 1 robot-steps')

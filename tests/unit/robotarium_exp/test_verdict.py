@@ -1,4 +1,4 @@
-"""The verdict on a run: would the testbed run it, and what duration to declare."""
+"""The verdict on a run: would the testbed run it, what duration to declare, and whether the flight succeeded."""
 
 from __future__ import annotations
 
@@ -8,8 +8,9 @@ import pytest
 
 import robotarium_exp.verdict
 from robotarium_exp.spec import ROBOTARIUM
-from robotarium_exp.verdict import VerifierVerdict
+from robotarium_exp.verdict import BODY_ON_WALL_STEPS_TOLERATED, VerifierVerdict, flight_failures
 from robotarium_exp.verifier import VerifierCounts
+from tests.support.passage import metrics
 
 
 @pytest.mark.parametrize(
@@ -30,3 +31,34 @@ def test_declared_duration_and_the_verdict_of_a_result() -> None:
     verdict = robotarium_exp.verdict.testbed_verdict(result)  # type: ignore[arg-type]
     assert verdict == VerifierVerdict(VerifierCounts(0, 0, 3), 42.0) and verdict.would_run
     assert verdict.declare_at_least_s == pytest.approx(42.0 * ROBOTARIUM.duration_factor) == pytest.approx(63.0)
+
+
+def flight(counts: VerifierCounts | None = None, parked: bool = True, **passage: object) -> SimpleNamespace:
+    """A flight's result: every robot through and parked, no body on a wall, unless changed."""
+    m = metrics(**({'tube_violation_steps': 0, 'robots_outside': 0, 'max_outside_m': 0.0} | passage))
+    return SimpleNamespace(errors=counts or VerifierCounts(), duration_s=40.0, metrics=m, completed=parked)
+
+
+@pytest.mark.parametrize(
+    ('result', 'reason'),
+    [
+        (flight(VerifierCounts(actuator=9)), None),  # actuator limits: counted by the testbed, not refused
+        (flight(VerifierCounts(too_close=4)), 'the testbed would not run it (4 pair-steps of robots too close, 0 '),
+        (flight(VerifierCounts(outside=1)), 'the testbed would not run it (0 pair-steps of robots too close, 1 '),
+        (flight(completed=False, robots_passed=6), '2 of 8 robots never passed the exit'),
+        (flight(collision_pairs=1, collision_steps=2), '1 robot pairs collided (closer than 0.6 m'),
+        (flight(tube_violation_steps=1, robots_outside=1, max_outside_m=0.004), 'robot bodies were on the tube wal'),
+        (flight(parked=False), 'not every robot parked beyond the exit by the last step'),
+    ],
+)
+def test_a_flight_fails_for_each_reason_alone(result: SimpleNamespace, reason: str | None) -> None:
+    failures = flight_failures(result)  # type: ignore[arg-type]
+    assert failures == (() if reason is None else (failures[0],)) and (reason is None or failures[0].startswith(reason))
+
+
+def test_bodies_on_the_walls_are_tolerated_up_to_none() -> None:
+    assert BODY_ON_WALL_STEPS_TOLERATED == 0
+    failures = flight_failures(flight(tube_violation_steps=14715, robots_outside=20, max_outside_m=0.25))  # type: ignore[arg-type]
+    assert failures == ('robot bodies were on the tube walls in 14715 robot-steps (20 robots, up to 0.250 m over)',)
+    every = flight(VerifierCounts(1, 1, 0), parked=False, completed=False, robots_passed=0, collision_pairs=3)
+    assert len(flight_failures(every)) == 4  # type: ignore[arg-type]

@@ -10,7 +10,7 @@ from tests.support.scenes import LINE_SCENE
 from vtube.cli.app import main
 from vtube.cli.plan import plan_view
 from vtube.pipeline import Planned
-from vtube_planning.planning.plan import Plan
+from vtube_planning.planning.plan import Plan, make_plan
 from vtube_planning.planning.planner import plan_convex
 
 
@@ -43,9 +43,25 @@ def test_the_plan_view_reads_the_plan(tmp_path) -> None:
     }
 
 
-def test_plan_reports_uncertified_polynomial_plans(tmp_path, capsys) -> None:
-    assert main(['plan', 'A', '--out', str(tmp_path), '--method', 'polynomial']) == 0
-    assert 'NOT certified' in capsys.readouterr().out
+def test_plan_reports_uncertified_polynomial_plans_and_fails(tmp_path, capsys) -> None:
+    assert main(['plan', 'A', '--out', str(tmp_path), '--method', 'polynomial']) == 1
+    out = capsys.readouterr().out
+    assert 'NOT certified' in out and '\n  fails                 (p3) the speed change a_v is exceeded by ' in out
+    assert (tmp_path / 'plan_A.npz').exists()  # the plan is still written, to be inspected
+
+
+def test_the_view_of_an_uncertified_plan_fails_with_its_reasons() -> None:
+    scene = load_scene('robotarium_trapezoid')
+    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+    density = plan.density_per_m2.copy()
+    density[0] *= 1.25
+    args = (scene.tube, scene.swarm, scene.planning, plan.l_m, plan.speed_mps, density)
+    broken = make_plan(*args, solved=plan.solved, scene=scene.name)
+    view = plan_view(Planned(scene, broken, 'convex', Path('p.npz'), Path('p.png'), Path('s.toml')))
+    assert view.exit_code == 1 and view.data['certified'] is False
+    assert view.data['failures'] == list(broken.failures(scene.tube))
+    assert view.lines[6] == '  fails                 ' + '; '.join(broken.failures(scene.tube))
+    assert 'the initial speed and density miss the boundary values by 2.5e-01 (relative)' in view.lines[6]
 
 
 def test_infeasible_plan_gives_exit_2_naming_constraint_and_arc_length(tmp_path, capsys) -> None:

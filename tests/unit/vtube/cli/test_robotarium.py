@@ -4,6 +4,7 @@ real runs in ``tests/integration``)."""
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -12,13 +13,15 @@ from robotarium_exp.compare import ComparisonRow
 from robotarium_exp.tracking import PhaseTracking, PlanTracking
 from robotarium_exp.verdict import VerifierVerdict
 from robotarium_exp.verifier import VerifierCounts
+from tests.support.passage import metrics
 from vtube.cli.app import main
-from vtube.cli.robotarium import Comparison, RobotariumRun, comparison_view, experiment_view
+from vtube.cli.robotarium import FLEW, Comparison, RobotariumRun, comparison_view, experiment_view
+from vtube_planning.swarm.metrics import PassageMetrics
 
-from .test_simulate import metrics
 
-
-def run(counts: VerifierCounts, tracking: PlanTracking | None) -> RobotariumRun:
+def run(
+    counts: VerifierCounts, tracking: PlanTracking | None, passage: PassageMetrics | None = None, parked: bool = True
+) -> RobotariumRun:
     barrier = SimpleNamespace(
         correction_mean_mps=0.0012,
         correction_max_mps=0.05,
@@ -28,7 +31,8 @@ def run(counts: VerifierCounts, tracking: PlanTracking | None) -> RobotariumRun:
         band_share_held=0.9991,
         band_dropped_share=0.0004,
     )
-    result = SimpleNamespace(metrics=metrics(), barrier=barrier, completed=True, errors=counts)
+    passage = metrics(tube_violation_steps=0, robots_outside=0, max_outside_m=0.0) if passage is None else passage
+    result = SimpleNamespace(metrics=passage, barrier=barrier, completed=parked, errors=counts, duration_s=61.25)
     return RobotariumRun(
         scene=SimpleNamespace(name='robotarium_curve'),
         config=SimpleNamespace(planning=tracking is not None, barrier=True),
@@ -56,6 +60,7 @@ def test_the_view_of_a_run_the_testbed_would_run() -> None:
     ]  # the phase without a step is left out
     assert '  expansion              starts at 4.0 s; the front reaches the narrowing at never' in view.lines
     assert view.exit_code == 0 and view.data['would_run'] and view.data['log'] == 'r/e.npz'
+    assert view.lines[-2] == f'  flight                 {FLEW}' and 'failures' not in view.data
     assert view.data['errors'] == VerifierCounts(0, 0, 2).to_json() and view.data['duration_s'] == 61.25
 
 
@@ -63,6 +68,44 @@ def test_a_run_with_robots_too_close_would_not_run_and_fails() -> None:
     view = experiment_view(run(VerifierCounts(3, 0, 0), None))
     assert 'without planning' in view.lines[0] and view.lines[0].endswith('would NOT run on the Robotarium')
     assert view.exit_code == 1 and not any('tracking' in line or 'expansion' in line for line in view.lines)
+    assert view.lines[-2] == (
+        '  flight                 FAILED: the testbed would not run it (3 pair-steps of robots too close, 0 '
+        'robot-steps outside the arena)'
+    )
+
+
+def test_a_run_the_testbed_would_run_fails_when_robots_do_not_pass_or_park_or_touch_the_walls() -> None:
+    """The issue's N = 20 run: "would run on the Robotarium", passing time nan, parked: no, 14715 violations."""
+    passage = metrics(
+        passing_time_s=math.nan, completed=False, robots_passed=0, robots_counted=20, tube_violation_steps=0
+    )
+    view = experiment_view(run(VerifierCounts(), None, metrics(tube_violation_steps=14715, robots_outside=20)))
+    assert view.lines[0].endswith(': would run on the Robotarium') and view.exit_code == 1
+    assert view.data['failures'] == [
+        'robot bodies were on the tube walls in 14715 robot-steps (20 robots, up to 0.013 m over)'
+    ]
+    view = experiment_view(run(VerifierCounts(), None, passage, parked=False))
+    assert '  passing time           nan s; parked: no' in view.lines and view.exit_code == 1
+    assert view.lines[-2] == (
+        '  flight                 FAILED: 20 of 20 robots never passed the exit (no passing time); not every robot '
+        'parked beyond the exit by the last step'
+    )
+    assert experiment_view(run(VerifierCounts(), None, parked=False)).exit_code == 1
+
+
+def stubbed_rows(seeds: list[int], run_done, failed: tuple[int, bool] | None = None) -> list[ComparisonRow]:
+    """Rows of a stubbed comparison; ``failed``: the (seed, planned) run that did not park."""
+    values = dict.fromkeys(('passing_time_s', 'min_distance_m', 'intervention_m', 'band_percent'), 1.0)
+    values |= {'tube_violation_steps': 0, 'approach_percent': None, 'dip_percent': None, 'testbed_errors': 0}
+    values |= {'front_at_narrowing_s': 3.0}
+    rows = []
+    for seed in seeds:
+        for planned in (True, False):
+            failures = ('not every robot parked beyond the exit by the last step',) if failed == (seed, planned) else ()
+            start = 2.0 if planned else None
+            rows.append(ComparisonRow(seed=seed, planned=planned, expansion_start_s=start, failures=failures, **values))
+            run_done()
+    return rows
 
 
 def test_compare_draws_its_runs_and_writes_the_table_and_rows(tmp_path, monkeypatch, capsys) -> None:
@@ -71,17 +114,7 @@ def test_compare_draws_its_runs_and_writes_the_table_and_rows(tmp_path, monkeypa
 
     def compare(scene, plan, seeds, run_done=None):
         calls.append((scene.name, plan.scene, seeds))
-        values = dict.fromkeys(('passing_time_s', 'min_distance_m', 'intervention_m', 'band_percent'), 1.0)
-        values |= {'tube_violation_steps': 0, 'approach_percent': None, 'dip_percent': None, 'testbed_errors': 0}
-        values |= {'front_at_narrowing_s': 3.0}
-        rows = []
-        for seed in seeds:
-            for planned in (True, False):
-                rows.append(
-                    ComparisonRow(seed=seed, planned=planned, expansion_start_s=2.0 if planned else None, **values)
-                )
-                run_done()
-        return rows
+        return stubbed_rows(seeds, run_done)
 
     monkeypatch.setattr(compare_module, 'compare', compare)
     assert main(['robotarium', 'compare', 'robotarium_curve', '--seeds', '2', '--out', str(tmp_path / 'c')]) == 0
@@ -94,6 +127,18 @@ def test_compare_draws_its_runs_and_writes_the_table_and_rows(tmp_path, monkeypa
     assert table.count('\n') == 12 and '| expansion starts [s] | 2.0 [2.0, 2.0] | never |' in table
 
 
+def test_compare_with_a_failed_run_exits_1_naming_its_seed_and_mode(tmp_path, monkeypatch, capsys) -> None:
+    def compare(scene, plan, seeds, run_done=None):
+        return stubbed_rows(seeds, run_done, failed=(1, False))
+
+    monkeypatch.setattr(compare_module, 'compare', compare)
+    assert main(['robotarium', 'compare', 'robotarium_curve', '--seeds', '2', '--out', str(tmp_path / 'c')]) == 1
+    out = capsys.readouterr().out.splitlines()
+    assert out[-1] == 'FAILED seed 1, unplanned: not every robot parked beyond the exit by the last step'
+    rows = json.loads((tmp_path / 'c' / 'compare_robotarium_curve.json').read_text())
+    assert [len(row['failures']) for row in rows] == [0, 0, 0, 1]  # the rows are written all the same
+
+
 def test_the_view_of_a_comparison() -> None:
     view = comparison_view(Comparison('robotarium_curve', 3, '| t |', (Path('a.md'), Path('a.json'))))
     assert view.lines == (
@@ -101,6 +146,13 @@ def test_the_view_of_a_comparison() -> None:
         '| t |',
         'written a.md, a.json',
     )
+    assert view.exit_code == 0
+
+
+def test_a_comparison_with_a_failed_run_fails_naming_it() -> None:
+    failed = ('seed 2, unplanned: not every robot parked beyond the exit by the last step',)
+    view = comparison_view(Comparison('robotarium_curve', 3, '| t |', (Path('a.md'), Path('a.json')), failed))
+    assert view.exit_code == 1 and view.lines[-1] == f'FAILED {failed[0]}'
 
 
 def test_a_scene_off_the_arena_is_refused_before_any_run(tmp_path, capsys) -> None:

@@ -3,42 +3,19 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
+from tests.support.passage import metrics
 from vtube import pipeline
 from vtube.cli.app import main
 from vtube.cli.simulate import _replanning, simulate_view
 from vtube_planning.swarm.metrics import PassageMetrics
 from vtube_planning.swarm.simulate import SimConfig
-
-
-def metrics(**change) -> PassageMetrics:
-    values = {
-        'passing_time_s': 12.5,
-        'completed': True,
-        'robots_passed': 8,
-        'robots_counted': 8,
-        'first_entry_s': 1.0,
-        'last_exit_s': 13.5,
-        'min_distance_m': 0.61234,
-        'min_distance_time_s': 4.25,
-        'collision_distance_m': 0.6,
-        'collision_pairs': 0,
-        'collision_steps': 0,
-        'tube_violation_steps': 3,
-        'robots_outside': 1,
-        'max_outside_m': 0.0125,
-        'speed_violations': 0,
-        'speed_tracking_mean_mps': 0.1234,
-        'speed_tracking_max_mps': 0.5,
-        'density_tracking_mean_per_m2': 0.01234,
-        'density_tracking_max_per_m2': 0.05,
-    }
-    return PassageMetrics(**(values | change))
 
 
 def simulated(m: PassageMetrics, *, planned: bool = True, meta: dict | None = None) -> pipeline.Simulated:
@@ -82,6 +59,18 @@ def test_the_view_of_an_unfinished_unplanned_passage_with_replanning() -> None:
     )
     assert view.data['replans'] == replans
     assert _replanning([], 2.0) == 'every 2 s: 0 replans; 0 found the state infeasible and kept the plan'
+
+
+def test_a_passage_with_a_collision_or_a_robot_left_behind_fails() -> None:
+    view = simulate_view(simulated(metrics(collision_pairs=1, collision_steps=4, min_distance_m=0.5)))
+    assert view.exit_code == 1 and view.data['failures'] == [
+        '1 robot pairs collided (closer than 0.6 m, 4 steps; closest 0.500 m at t = 4.25 s)'
+    ]
+    assert view.lines[-2] == '  passage            FAILED: ' + view.data['failures'][0]
+    view = simulate_view(simulated(metrics(completed=False, robots_passed=7, passing_time_s=math.nan)))
+    assert view.exit_code == 1 and '  passing time       nan s (not every robot exited)' in view.lines
+    assert view.lines[-2] == '  passage            FAILED: 1 of 8 robots never passed the exit (no passing time)'
+    assert simulate_view(simulated(metrics())).exit_code == 0  # 3 robot-steps outside: measured, not judged
 
 
 def test_the_options_reach_the_pipeline(tmp_path, monkeypatch, capsys) -> None:

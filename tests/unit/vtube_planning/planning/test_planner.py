@@ -16,9 +16,9 @@ from vtube_planning.geometry.scene import list_scenes, load_scene
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
 from vtube_planning.params import PlanningOptions, SwarmParams
-from vtube_planning.planning.constraints import initial_conditions
+from vtube_planning.planning.constraints import initial_conditions, worst_places
 from vtube_planning.planning.cvxpy_qp import ConvexPlanner
-from vtube_planning.planning.plan import Plan
+from vtube_planning.planning.plan import Plan, make_plan
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.planning.polynomial import plan_polynomial
 from vtube_planning.planning.problem import discretise
@@ -210,6 +210,28 @@ def test_impossible_pre_expansion_is_reported_with_its_arc_length(no_solver) -> 
     tube = VirtualTube(ArcPath((ArcPiece(10.0),)), width)
     with pytest.raises(PlanError, match=r'\(p7\) cannot hold at l = 0\.\d{3} m'):
         plan_convex(tube, SwarmParams(), PlanningOptions(lookahead_m=1.0))
+
+
+def test_an_uncertified_plan_says_which_constraint_fails_where() -> None:
+    """A certified straight-tube plan, then its speed raised 10 % above v_max at l = 20 m (where it rides v_max) and
+    its initial density off by 5 %: (p2) by exactly 0.1 at 20 m, the rate (p3) on an interval next to it, the
+    boundary values by 0.05."""
+    tube, swarm, options = tube_of(ArcPath((ArcPiece(30.0),))), SwarmParams(), PlanningOptions(grid_step_m=0.5)
+    plan = plan_convex(tube, swarm, options)
+    assert plan.failures(tube) == ()
+    speed, density = plan.speed_mps.copy(), plan.density_per_m2.copy()
+    k = int(np.argmin(np.abs(plan.l_m - 20.0)))
+    speed[k] = 1.1 * swarm.v_max_mps
+    density[0] *= 1.05
+    broken = make_plan(tube, swarm, options, plan.l_m, speed, density, solved=plan.solved, scene='line')
+    places = worst_places(tube, swarm, options, plan.l_m, speed, density)
+    assert places['p2'] == 20.0 and 19.5 <= places['p3'] < 20.0 and places['initial'] == 0.0
+    assert math.isnan(places['p4'])  # a straight tube has no curvature limit to break
+    failures = broken.failures(tube)
+    assert failures[0] == '(p2) the speed band [v_min, v_max] is exceeded by 1.0e-01 (relative) at l = 20.000 m'
+    assert failures[1].startswith('(p3) the speed change a_v is exceeded by ')
+    assert failures[-1] == 'the initial speed and density miss the boundary values by 5.0e-02 (relative)'
+    assert len(failures) == sum(value > CERTIFIED for value in broken.certificate.values())
 
 
 # ---------------------------------------------------------------------- the Plan file

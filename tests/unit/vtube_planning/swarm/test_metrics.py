@@ -1,4 +1,4 @@
-"""Passage metrics of a constructed passage by hand; their JSON is strict."""
+"""Passage metrics of a constructed passage by hand; their JSON is strict; why a passage failed."""
 
 from __future__ import annotations
 
@@ -8,7 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from vtube_planning.swarm.metrics import passage_metrics
+from tests.support.passage import metrics
+from vtube_planning.swarm.metrics import passage_failures, passage_metrics
 
 
 def test_metrics_of_a_constructed_passage() -> None:
@@ -52,3 +53,27 @@ def test_metrics_json_is_strict() -> None:
     assert math.isnan(m.passing_time_s) and not m.completed
     text = json.dumps(m.to_json(), allow_nan=False)  # would raise on NaN
     assert json.loads(text)['passing_time_s'] is None and json.loads(text)['min_distance_m'] == 0.5
+
+
+def test_a_passage_fails_on_a_robot_that_never_exited_or_on_collisions_each_alone() -> None:
+    assert passage_failures(metrics()) == ()  # tube violations are the caller's to judge
+    lost = metrics(completed=False, robots_passed=5, passing_time_s=math.nan)
+    assert passage_failures(lost) == ('3 of 8 robots never passed the exit (no passing time)',)
+    crashed = metrics(collision_pairs=2, collision_steps=7, min_distance_m=0.3)
+    assert passage_failures(crashed) == (
+        '2 robot pairs collided (closer than 0.6 m, 7 steps; closest 0.300 m at t = 4.25 s)',
+    )
+    assert len(passage_failures(metrics(completed=False, robots_passed=7, collision_pairs=1))) == 2
+
+
+def test_the_failures_of_a_measured_passage() -> None:
+    """Two robots on a 10 m tube drive together at 2 m/s (the same positions at t = 0, 1, 2 s); the second stops at
+    l = 4 m, the first drives through."""
+    t = np.arange(0.0, 8.0)
+    l = np.stack([2.0 * t, np.minimum(2.0 * t, 4.0)], axis=1)
+    positions = np.stack([l, np.zeros_like(l)], axis=1)
+    m = passage_metrics(t, positions, l, np.ones_like(l), 10.0, collision_distance_m=0.6)
+    assert passage_failures(m) == (
+        '1 of 2 robots never passed the exit (no passing time)',
+        '1 robot pairs collided (closer than 0.6 m, 3 steps; closest 0.000 m at t = 0.00 s)',
+    )
