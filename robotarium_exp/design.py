@@ -121,16 +121,13 @@ def start_formation(tube: VirtualTube, n_robots: int) -> Formation:
 def _grid(tube: VirtualTube, n: int, columns: int, l_back: float, row_spacing: float) -> FloatArray:
     """Poses (3, n) of rows ``row_spacing`` apart from ``l_back`` on, the front row first."""
     rows = math.ceil(n / columns)
-    poses = []
-    for k in range(n):
-        row, col = divmod(k, columns)
-        in_row = min(columns, n - row * columns)
-        l_k = l_back + row_spacing * (rows - 1 - row)
-        y = (col - 0.5 * (in_row - 1)) * ROBOTARIUM.ic_spacing_m
-        point = tube.center_at(l_k) + y * tube.normal(l_k)
-        tangent = tube.tangent(l_k)
-        poses.append([point[0], point[1], math.atan2(tangent[1], tangent[0])])
-    grid: FloatArray = np.array(poses).T
+    row, col = np.divmod(np.arange(n), columns)
+    in_row = np.minimum(columns, n - row * columns)
+    l_k = l_back + row_spacing * (rows - 1 - row)
+    y = (col - 0.5 * (in_row - 1)) * ROBOTARIUM.ic_spacing_m
+    points = tube.center_at(l_k) + y[:, None] * tube.normal(l_k)
+    tangent = tube.tangent(l_k)
+    grid: FloatArray = np.array([points[:, 0], points[:, 1], np.arctan2(tangent[:, 1], tangent[:, 0])])
     return grid
 
 

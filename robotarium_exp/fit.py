@@ -23,6 +23,10 @@ from vtube_planning.onboard import SampledTube
 
 FloatArray = NDArray[np.float64]
 
+ROUNDING_M = 2e-5
+"""What the flight data's six significant digits may take off a gap (5e-6 m per coordinate in the arena): a start
+formation built exactly the spacing apart on a bend carries gaps of 0.399997 m."""
+
 
 @dataclass(frozen=True)
 class Misfit:
@@ -124,7 +128,7 @@ def _formation_spacing(ic: FloatArray) -> list[Misfit]:
         return []
     gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))[np.triu_indices(n, 1)]
     spacing = ROBOTARIUM.ic_spacing_m
-    if gaps.min() >= spacing - 1e-6:
+    if gaps.min() >= spacing - ROUNDING_M:
         return []
     return [
         Misfit(
@@ -164,17 +168,19 @@ def _formation_before_narrowing(data: FlightData) -> list[Misfit]:
     front, back = float(l_m.max()), float(l_m.min())
     if front + band <= start + 1e-9:
         return []
-    rows = np.unique(np.round(l_m, 2)).size  # a row's robots lie on one cross-section
+    # a row's robots lie on one cross-section, rows a spacing apart (the sampled tube projects a row on a bend
+    # within millimetres, which rounding to a centimetre could split)
+    rows = 1 + int(np.count_nonzero(np.diff(np.sort(l_m)) > 0.5 * ROBOTARIUM.ic_spacing_m))
     columns = math.ceil(data.n_robots / rows)
     pitch = (front - back) / (rows - 1) if rows > 1 else ROBOTARIUM.ic_spacing_m
     rows_fitting = max(0, math.floor((start - band - back) / pitch + 1e-9) + 1)
+    fewer = f', or use at most {rows_fitting * columns} robots' if rows_fitting else ''
     return [
         Misfit(
             f'the start formation ({rows} row(s) of up to {columns}) reaches l = {front:.2f} m and, with its '
             f'interaction band r_s + r_a = {band:.2f} m, the narrowing at l = {start:.2f} m: the swarm cannot '
             'take its planned density before it',
-            f'lengthen the wide part before the narrowing by {front + band - start:.2f} m, or use at most '
-            f'{rows_fitting * columns} robots',
+            f'lengthen the wide part before the narrowing by {front + band - start:.2f} m{fewer}',
         )
     ]
 

@@ -7,8 +7,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from robotarium_exp.errors import ExperimentError
 from robotarium_exp.design import order_for_v2_initializer, parking
+from robotarium_exp.errors import ExperimentError
 from robotarium_exp.experiment import ExperimentConfig, flight_data, initial_conditions, run_experiment
 from robotarium_exp.fit import fit_of_flight
 from robotarium_exp.rps.robotarium import Robotarium

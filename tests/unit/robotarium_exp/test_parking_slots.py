@@ -24,5 +24,3 @@ def test_slots_turn_with_the_tangent_and_keep_their_spacing() -> None:
     along = tangent @ slots
     np.testing.assert_allclose(along, 0.45)
     np.testing.assert_allclose(np.diff(np.array([-tangent[1], tangent[0]]) @ slots), 0.25)
-
-

@@ -1,13 +1,19 @@
-"""The experiment figure, drawn headless from a synthetic run: its panels, snapshots and marked moments."""
+"""The experiment figure, drawn headless from a synthetic run: its panels, snapshots and marked moments; the scene
+figure: the start formation, the parking slots, the start box and the verdict."""
 
 from __future__ import annotations
 
 from types import SimpleNamespace
 
 import numpy as np
-from matplotlib.patches import Circle
+import pytest
+from matplotlib.patches import Circle, Rectangle
 
-from robotarium_exp.plots import experiment_figure
+from robotarium_exp.design import parking, start_formation
+from robotarium_exp.fit import robotarium_fit
+from robotarium_exp.plots import experiment_figure, scene_figure
+from robotarium_exp.scene import load_scene
+from robotarium_exp.spec import ROBOTARIUM
 from robotarium_exp.tracking import expansion_times
 from robotarium_exp.verifier import VerifierCounts
 
@@ -44,3 +50,36 @@ def test_without_a_plan_no_planned_curves(trapezoid, marching) -> None:
     fig = experiment_figure(result, scene)  # type: ignore[arg-type]
     assert 'without planning' in fig.axes[0].get_title()
     assert all('planned' not in line.get_label() for axis in fig.axes[1:3] for line in axis.lines)
+
+
+@pytest.mark.parametrize('n', [6, 10])
+def test_the_scene_figure_draws_the_formation_the_slots_and_the_verdict(n: int) -> None:
+    scene = load_scene('robotarium_trapezoid', n_robots=n)
+    fit = robotarium_fit(scene)
+    ax = scene_figure(scene, fit).axes[0]
+    circles = [p for p in ax.patches if isinstance(p, Circle)]
+    bodies = [c for c in circles if np.isclose(c.get_radius(), 0.5 * ROBOTARIUM.robot_diameter_m)]
+    bands = [c for c in circles if np.isclose(c.get_radius(), scene.swarm.r_s_m + scene.swarm.r_a_m)]
+    formation = start_formation(scene.tube, n).poses[:2]
+    assert len(bodies) == len(bands) == n
+    np.testing.assert_allclose(np.array([c.center for c in bodies]).T, formation)
+    assert sorted(t.get_text() for t in ax.texts if t.get_text().isdigit()) == sorted(map(str, range(n)))
+    (slots,) = [line for line in ax.lines if line.get_label() == 'parking slots']
+    np.testing.assert_allclose(np.array(slots.get_data()), parking(scene.tube, n))
+    boxes = [p for p in ax.patches if isinstance(p, Rectangle) and p.get_label() == 'start box']
+    assert len(boxes) == 1 and boxes[0].get_width() == 2 * ROBOTARIUM.ic_box_m[0]
+    assert ax.get_title().endswith(f'({n} robots): {fit.reason}') and fit.fits is (n == 6)
+
+
+def test_the_scene_figure_without_a_formation_still_draws_the_slots(tmp_path) -> None:
+    path = tmp_path / 'edge.toml'
+    path.write_text(
+        '[tube.center]\nstart_xy_m = [-1.45, 0.88]\npieces = [{ kind = "line", length_m = 2.4 }]\n'
+        '[tube.width]\nstart_m = 0.06\nparts = [{ kind = "constant" }]\n[robotarium]\nn_robots = 3\n'
+    )
+    scene = load_scene(path)
+    fit = robotarium_fit(scene)
+    ax = scene_figure(scene, fit).axes[0]
+    assert not any(isinstance(p, Circle) and np.isclose(p.get_radius(), 0.055) for p in ax.patches)
+    (slots,) = [line for line in ax.lines if line.get_label() == 'parking slots']
+    assert np.array(slots.get_data()).shape == (2, 3) and 'no start formation' in ax.get_title()

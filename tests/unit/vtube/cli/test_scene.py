@@ -6,11 +6,11 @@ from pathlib import Path
 
 import pytest
 
-from robotarium_exp.scene import load_scene
+from robotarium_exp.fit import robotarium_fit
+from robotarium_exp.scene import list_scenes, load_scene, shipped_scene_text
 from tests.support.scenes import LINE_SCENE
 from vtube.cli.app import main
 from vtube.cli.scene import SceneExported, SceneList, SceneShown, export_view, list_view, show_view
-from robotarium_exp.scene import list_scenes
 
 BAD = {
     'missing_field': LINE_SCENE.replace('start_m = 2.0\n', ''),
@@ -107,3 +107,41 @@ def test_a_shipped_scene_exported_is_the_same_scene_and_nothing_is_overwritten(t
 def test_the_export_view_says_where_and_what_next() -> None:
     view = export_view(SceneExported('C', Path('x/c.toml')))
     assert view.lines == ('scene C written to x/c.toml; edit it and pass the file where a scene is asked for',)
+
+
+def robotarium_file(tmp_path: Path, name: str, n_robots: int) -> Path:
+    """A copy of a shipped Robotarium scene declaring ``n_robots``."""
+    _, text = shipped_scene_text(name)
+    path = tmp_path / f'{name}_{n_robots}.toml'
+    path.write_text(text.replace('n_robots = 6', f'n_robots = {n_robots}'), encoding='utf-8')
+    return path
+
+
+def test_scene_show_of_a_fitting_robotarium_scene_prints_its_derivations_and_exits_0(capsys) -> None:
+    assert main(['scene', 'show', 'robotarium_trapezoid']) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert '  values of the [robotarium] declaration (set in the file or derived, and why):' in lines
+    assert any(line.split()[:2] == ['rho_d_per_m2', '6.0'] for line in lines)
+    assert lines[-1] == '  Robotarium            fits the Robotarium'
+
+
+def test_scene_show_of_a_misfit_exits_1_with_every_reason(tmp_path, capsys) -> None:
+    path = robotarium_file(tmp_path, 'robotarium_curve', 16)  # outside the start box and into the narrowing
+    fit = robotarium_fit(load_scene(path))
+    assert len(fit.misfits) >= 2
+    assert main(['scene', 'show', str(path)]) == 1
+    captured = capsys.readouterr()
+    lines = captured.out.splitlines()
+    assert f'  Robotarium            {fit.reason}' in lines and fit.reason.startswith('does not fit the Robotarium: ')
+    assert [line for line in lines if 'also: ' in line] == [
+        f'                        also: {m}' for m in fit.misfits[1:]
+    ]
+    assert captured.err == ''
+
+
+def test_the_show_view_of_a_misfit_carries_exit_1() -> None:
+    scene = load_scene('robotarium_trapezoid', n_robots=10)
+    fit = robotarium_fit(scene)
+    view = show_view(SceneShown(scene, scene.tube.summary(), fit, None))
+    assert view.exit_code == 1 and view.lines[-1] == f'  Robotarium            {fit.reason}'
+    assert 'use at most 9 robots' in view.lines[-1]

@@ -1,0 +1,278 @@
+"""The derived Robotarium experiment: start formation, first narrowing, parking slots and formation density, checked
+against their geometric definitions on the shipped tubes and on tubes built here."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from robotarium_exp.design import (
+    PARKING_DEPTH_M,
+    PARKING_LANES_MAX,
+    PARKING_SPACING_M,
+    WALL_CLEARANCE_M,
+    Formation,
+    Narrowing,
+    first_narrowing,
+    formation_density,
+    order_for_v2_initializer,
+    parking,
+    start_formation,
+)
+from robotarium_exp.scene import load_scene
+from robotarium_exp.spec import ROBOTARIUM
+from vtube_planning.geometry.centerline import ArcPath, ArcPiece
+from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.geometry.width import WidthPart, WidthProfile
+
+SPACING = ROBOTARIUM.ic_spacing_m
+BOX = np.array(ROBOTARIUM.ic_box_m)
+
+
+def tube(
+    pieces: tuple[ArcPiece, ...],
+    start: tuple[float, float],
+    heading_deg: float,
+    width: float | tuple[float, tuple[WidthPart, ...]],
+) -> VirtualTube:
+    """A tube of lines and arcs; ``width`` is a constant half-width or (start, parts) of a profile."""
+    center = ArcPath(pieces, start, math.radians(heading_deg))
+    if isinstance(width, float):
+        profile = WidthProfile(width, (WidthPart('constant', center.length_m),))
+    else:
+        start_m, parts = width
+        profile = WidthProfile(
+            start_m, (*parts, WidthPart('constant', center.length_m - sum(p.length_m for p in parts)))
+        )
+    return VirtualTube(center, profile)
+
+
+def straight(half_width_m: float, length_m: float = 2.45, start: tuple[float, float] = (-1.45, 0.0)) -> VirtualTube:
+    return tube((ArcPiece(length_m),), start, 0.0, half_width_m)
+
+
+TUBES = {
+    'trapezoid': load_scene('robotarium_trapezoid').tube,
+    'curve': load_scene('robotarium_curve').tube,
+    'straight': straight(0.5),
+    'wide': straight(0.75),  # four abreast
+    'single_file': straight(0.15),  # one abreast
+    'bend_left': tube((ArcPiece(0.6), ArcPiece(1.25, 1.2), ArcPiece(0.5)), (-1.3, -0.7), 0.0, 0.45),
+    'right_to_left': tube((ArcPiece(0.6), ArcPiece(0.6, 1.5), ArcPiece(0.8)), (1.3, 0.3), 180.0, 0.4),
+    'narrowing_in_bend': tube(
+        (ArcPiece(0.8), ArcPiece(1.0, 1.0), ArcPiece(0.6)),
+        (-1.3, -0.6),
+        0.0,
+        (0.5, (WidthPart('constant', 1.0), WidthPart('smooth', 0.5, 0.25))),
+    ),
+}
+SWEEP = range(1, ROBOTARIUM.max_robots + 1)
+
+
+@pytest.fixture(scope='module')
+def formations() -> dict[tuple[str, int], Formation]:
+    """Every constructed tube's formation for N = 1..20, built once."""
+    return {(name, n): start_formation(t, n) for name, t in TUBES.items() for n in SWEEP}
+
+
+def gaps(points: np.ndarray) -> np.ndarray:
+    n = points.shape[1]
+    return np.hypot(*(points[:2, :, None] - points[:2, None, :]))[np.triu_indices(n, 1)]
+
+
+def box_holds(t: VirtualTube, l_from: float, l_to: float) -> bool:
+    """Every cross-section of the tube between the two arc lengths lies inside the initialization box."""
+    left, right = t.boundaries(np.linspace(l_from, l_to, 200))
+    return bool(np.all(np.abs(left) <= BOX) and np.all(np.abs(right) <= BOX))
+
+
+@pytest.mark.parametrize('name', sorted(TUBES))
+def test_the_formation_keeps_the_spacing_the_walls_and_the_tube_direction(name: str, formations) -> None:
+    t = TUBES[name]
+    for n in SWEEP:
+        f = formations[name, n]
+        assert f.problem is None and f.poses.shape == (3, n), (name, n)
+        assert n == 1 or gaps(f.poses).min() >= SPACING - 1e-12, (name, n)
+        where = t.project(f.poses[:2])
+        np.testing.assert_allclose([where.l_m.min(), where.l_m.max()], [f.l_back_m, f.l_front_m], atol=1e-9)
+        # every robot faces along the tube where it stands
+        tangent = t.tangent(where.l_m)
+        heading = np.arctan2(tangent[:, 1], tangent[:, 0])
+        np.testing.assert_allclose(np.angle(np.exp(1j * (f.poses[2] - heading))), 0.0, atol=1e-9)
+        # the back row lies at the first cross-section inside the box, 0.1 m from the walls
+        back = np.isclose(where.l_m, f.l_back_m, atol=1e-9)
+        assert np.all(np.abs(where.y_m[back]) <= t.half_width(f.l_back_m) - WALL_CLEARANCE_M + 1e-9), (name, n)
+        first = f.l_back_m - 0.02  # the first sampled cross-section inside the box (the entrance, or one further in)
+        assert box_holds(t, first, first) and (first == 0.0 or not box_holds(t, first - 0.004, first - 0.004))
+        narrowing = first_narrowing(t)
+        if f.l_front_m <= (t.length_m if narrowing is None else narrowing.start_m):  # every row 0.1 m from the walls
+            assert np.all(np.abs(where.y_m) <= t.half_width(where.l_m) - WALL_CLEARANCE_M + 1e-9), (name, n)
+        if box_holds(t, f.l_back_m, f.l_front_m):  # the cross-sections it stands on are in the box: so is it
+            assert np.all(np.abs(f.poses[:2].T) <= BOX), (name, n)
+
+
+@pytest.mark.parametrize('name', sorted(TUBES))
+def test_rows_and_columns_fill_the_entrance(name: str, formations) -> None:
+    t = TUBES[name]
+    for n in SWEEP:
+        f = formations[name, n]
+        room = t.half_width(f.l_back_m) - WALL_CLEARANCE_M  # from the centre line to a robot's furthest place
+        assert f.rows == math.ceil(n / f.columns) and f.columns <= n
+        assert 0.5 * SPACING * (f.columns - 1) <= room + 1e-12  # the widest row fits between the walls ...
+        assert f.columns == n or 0.5 * SPACING * f.columns > room  # ... and one robot more would not
+        where = t.project(f.poses[:2])
+        rows = np.unique(np.round(where.l_m, 6))
+        assert rows.size == f.rows, (name, n)
+        full = np.isclose(where.l_m, f.l_front_m, atol=1e-6).sum()
+        assert full == f.columns  # the front row is full, the back row holds the rest
+        assert np.isclose(where.l_m, f.l_back_m, atol=1e-6).sum() == n - (f.rows - 1) * f.columns or f.rows == 1
+        if name in ('straight', 'wide', 'single_file', 'trapezoid'):  # straight: rows exactly the spacing apart
+            assert f.length_m == pytest.approx(SPACING * (f.rows - 1), abs=1e-12)
+
+
+def test_the_column_count_follows_the_entrance_width(formations) -> None:
+    assert {name: formations[name, 20].columns for name in ('straight', 'wide', 'single_file')} == {
+        'straight': 3,
+        'wide': 4,
+        'single_file': 1,
+    }
+
+
+@pytest.mark.parametrize('name', sorted(TUBES))
+def test_robots_zero_and_one_stand_at_the_least_crowded_slots(name: str, formations) -> None:
+    for n in range(3, 21):
+        ic = formations[name, n].poses
+        d = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))
+        neighbours = (d < 1.25 * SPACING).sum(axis=0) - 1
+        assert sorted(neighbours[:2]) == sorted(neighbours)[:2], (name, n)
+
+
+def test_the_order_puts_the_front_corners_first_and_keeps_every_robot() -> None:
+    # a 3 x 3 grid heading +x, front row at x = 0: corners have 2 neighbours, edges 3, the centre 4
+    x, y = np.meshgrid([0.0, -0.4, -0.8], [-0.4, 0.0, 0.4], indexing='ij')
+    grid = np.array([x.ravel(), y.ravel(), np.zeros(9)])
+    order = order_for_v2_initializer(grid)
+    assert sorted(order) == list(range(9)) and order[:2] == [0, 2]  # the front corners, lower index first
+    flipped = grid[:, ::-1].copy()  # the same slots listed back row first
+    assert set(order_for_v2_initializer(flipped)[:2]) == {6, 8}
+    assert order_for_v2_initializer(grid[:, :2]) == [0, 1]
+
+
+def test_no_formation_without_a_section_in_the_box_or_room_between_the_walls() -> None:
+    beyond = start_formation(straight(0.1, 3.0, (-1.5, 0.9)), 4)  # hugging the arena's top edge, |y| > 0.875
+    assert beyond.problem is not None and 'no cross-section of the tube lies inside the box' in beyond.problem
+    assert beyond.poses.shape == (3, 4) and np.isnan(beyond.poses).all() and (beyond.rows, beyond.columns) == (0, 0)
+    tight = start_formation(straight(0.08), 2)
+    assert tight.problem is not None and 'too narrow for a robot 0.1 m from each wall' in tight.problem
+
+
+def width_tube(start_m: float, *parts: WidthPart) -> VirtualTube:
+    length = sum(p.length_m for p in parts)
+    return VirtualTube(ArcPath((ArcPiece(length),)), WidthProfile(start_m, parts))
+
+
+@pytest.mark.parametrize(
+    ('t', 'expected'),
+    [
+        (width_tube(0.5, WidthPart('constant', 3.0)), None),
+        (width_tube(0.3, WidthPart('constant', 1.0), WidthPart('linear', 0.5, 0.6), WidthPart('constant', 1.0)), None),
+        (
+            width_tube(
+                0.5, WidthPart('constant', 1.4), WidthPart('linear', 0.5, 0.25, 0.06), WidthPart('constant', 0.55)
+            ),
+            Narrowing(1.4, 1.9, 0.5, 0.25),
+        ),
+        (width_tube(0.6, WidthPart('smooth', 0.8, 0.2), WidthPart('constant', 1.0)), Narrowing(0.0, 0.8, 0.6, 0.2)),
+        (  # widens, holds, then narrows twice: the first narrowing counts
+            width_tube(
+                0.3,
+                WidthPart('smooth', 0.4, 0.6),
+                WidthPart('constant', 0.5),
+                WidthPart('linear', 0.6, 0.35),
+                WidthPart('constant', 0.3),
+                WidthPart('smooth', 0.2, 0.2),
+            ),
+            Narrowing(0.9, 1.5, 0.6, 0.35),
+        ),
+    ],
+    ids=['constant', 'widening', 'linear', 'smooth_first', 'after_widening'],
+)
+def test_first_narrowing_on_analytic_profiles(t: VirtualTube, expected: Narrowing | None) -> None:
+    found = first_narrowing(t)
+    assert found == (None if expected is None else pytest.approx(expected))
+    if found is not None:
+        assert expected is not None and found.length_m == pytest.approx(expected.length_m)
+        # the tube's own half-width: flat or widening before, falling inside, the after value at the end
+        before = np.linspace(0.0, found.start_m, 50)
+        assert np.all(np.diff(t.half_width(before)) >= -1e-12)
+        assert t.half_width(found.start_m) == pytest.approx(found.half_width_before_m)
+        assert t.half_width(found.end_m) == pytest.approx(found.half_width_after_m)
+        assert t.half_width_slope(0.5 * (found.start_m + found.end_m)) < 0.0
+
+
+def test_the_shipped_tubes_narrow_where_their_files_say() -> None:
+    """Both files: half-width 0.5 m for 1.4 m, then to 0.25 m over 0.5 m."""
+    for name in ('trapezoid', 'curve'):
+        assert first_narrowing(TUBES[name]) == pytest.approx(Narrowing(1.4, 1.9, 0.5, 0.25))
+
+
+def assert_parking_rules(slots: np.ndarray, t: VirtualTube) -> None:
+    """Inside the arena less its margin, 0.25 m apart, the farthest beyond the exit first."""
+    assert not ROBOTARIUM.outside_arena(slots, ROBOTARIUM.arena_margin_m).any()
+    assert slots.shape[1] == 1 or gaps(slots).min() >= PARKING_SPACING_M - 1e-12
+    beyond = t.tangent(t.length_m) @ (slots - t.center_at(t.length_m)[:, None])
+    assert np.all(np.diff(beyond) <= 1e-12) and beyond[0] <= PARKING_DEPTH_M + 1e-12
+
+
+@pytest.mark.parametrize('name', ['trapezoid', 'curve', 'bend_left', 'right_to_left', 'narrowing_in_bend'])
+def test_parking_slots_inside_the_arena_and_apart(name: str) -> None:
+    for n in SWEEP:
+        slots = parking(TUBES[name], n)
+        assert slots.shape == (2, n)
+        assert_parking_rules(slots, TUBES[name])
+
+
+def test_the_trapezoids_slots_are_five_lanes_at_the_full_depth() -> None:
+    """Exit (1, 0) facing +x, 0.6 m of arena beyond: rows at 1.45 and 1.2 m, lanes 0.25 m apart across y = 0."""
+    lanes = (np.arange(PARKING_LANES_MAX) - 2) * PARKING_SPACING_M
+    expected = np.array([[1.45] * 5 + [1.2], [*lanes, lanes[0]]])
+    np.testing.assert_allclose(parking(TUBES['trapezoid'], 6), expected, atol=1e-12)
+
+
+def test_parking_moves_in_where_the_arena_ends_sooner_and_narrows_near_a_side() -> None:
+    short = straight(0.3, 2.85)  # exit at x = 1.4: only 0.2 m of arena beyond, 0.05 m of it the margin
+    slots = parking(short, 3)
+    np.testing.assert_allclose(slots[0], 1.55, atol=1e-12)
+    assert_parking_rules(slots, short)
+    high = straight(0.2, 2.45, (-1.45, 0.65))  # exit at y = 0.65: five lanes (+-0.5) or four (+-0.375) leave it
+    slots = parking(high, 6)
+    assert_parking_rules(slots, high)
+    np.testing.assert_allclose(np.unique(slots[1]), 0.65 + np.array([-0.25, 0.0, 0.25]), atol=1e-12)
+
+
+def test_when_no_slots_fit_the_widest_are_returned_for_the_verdict_to_refuse() -> None:
+    edge = straight(0.02, 2.45, (-1.45, 0.97))  # exit at y = 0.97, beyond the margin whatever the lanes
+    slots = parking(edge, 7)
+    assert ROBOTARIUM.outside_arena(slots, ROBOTARIUM.arena_margin_m).any()
+    assert np.unique(np.round(slots[1], 9)).size == PARKING_LANES_MAX
+
+
+@pytest.mark.parametrize('name', ['straight', 'wide', 'single_file', 'trapezoid'])
+def test_the_formation_density_is_n_over_its_padded_area(name: str, formations) -> None:
+    """On a straight tube of half-width lambda: N / (2 lambda (span + 2 r_a)), while the padded span stays in the
+    constant part."""
+    t, r_a = TUBES[name], SPACING - 0.1
+    lam = float(t.half_width(0.0))
+    narrowing = first_narrowing(t)
+    constant_to = t.length_m if narrowing is None else narrowing.start_m
+    checked = 0
+    for n in SWEEP:
+        f = formations[name, n]
+        if f.l_front_m + r_a > constant_to:
+            continue
+        expected = n / (2.0 * lam * (f.length_m + 2.0 * r_a))
+        assert formation_density(t, f, r_a) == pytest.approx(expected, rel=1e-12), (name, n)
+        checked += 1
+    assert checked >= 3

@@ -1,0 +1,206 @@
+"""The one verdict on "fits the Robotarium": each misfit alone, made by editing the flight data of a shipped scene
+that fits, its reason and its fix; the "at most K robots" and "lengthen by" fixes checked by doing what they say."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from robotarium_exp.design import neighbour_counts
+from robotarium_exp.experiment import ExperimentConfig, flight_data
+from robotarium_exp.fit import Fit, Misfit, fit_of_flight, robotarium_fit
+from robotarium_exp.flight_data import FlightData
+from robotarium_exp.scene import load_scene, shipped_scene_text
+from robotarium_exp.spec import ROBOTARIUM
+
+SHIPPED = ('robotarium_trapezoid', 'robotarium_curve')
+
+
+@pytest.fixture(scope='module')
+def data() -> FlightData:
+    """The trapezoid's flight data (six robots, 2 x 3 at the entrance), as a submission embeds them."""
+    return flight_data(load_scene('robotarium_trapezoid'), None, ExperimentConfig(planning=False))
+
+
+def only_misfit(data: FlightData) -> Misfit:
+    fit = fit_of_flight(data)
+    assert len(fit.misfits) == 1, fit.misfits
+    assert not fit.fits and fit.reason == f'does not fit the Robotarium: {fit.misfits[0]}'
+    return fit.misfits[0]
+
+
+def moved(ic: np.ndarray, k: int, x: float | None = None, y: float | None = None) -> np.ndarray:
+    out = ic.copy()
+    out[0, k] = out[0, k] if x is None else x
+    out[1, k] = out[1, k] if y is None else y
+    return out
+
+
+@pytest.mark.parametrize('name', SHIPPED)
+def test_the_shipped_scenes_fit(name: str) -> None:
+    fit = robotarium_fit(load_scene(name))
+    assert fit == Fit() and fit.fits and fit.reason == 'fits the Robotarium'
+
+
+@pytest.mark.parametrize('n', [0, 21])
+def test_a_robot_count_the_testbed_does_not_have(data: FlightData, n: int) -> None:
+    misfit = only_misfit(replace(data, n_robots=n))
+    assert misfit.what == f'{n} robots' and misfit.fix == 'the testbed has 20: use 1 to 20'
+
+
+def test_a_tube_outside_the_arena(data: FlightData) -> None:
+    edges = data.tube_edges_m.copy()
+    edges[1, 1] -= 0.6  # the right boundary, y = -0.5 in the wide part, down to -1.1
+    misfit = only_misfit(replace(data, tube_edges_m=edges))
+    first = edges[1][:, int(np.argmax(ROBOTARIUM.outside_arena(edges[1], 0.05)))]
+    assert misfit.what.startswith(f"the tube's right boundary reaches ({first[0]:.2f}, {first[1]:.2f}), outside")
+    assert 'the arena [-1.6, 1.6] x [-1, 1] less 0.05 m' in misfit.what and misfit.fix == 'move or shrink the tube'
+
+
+def test_a_robot_outside_the_start_box(data: FlightData) -> None:
+    ic = data.initial_conditions
+    back = int(np.argmin(ic[0]))  # a back-row robot 0.025 m beyond the box's |x| <= 1.375, no closer to the others
+    misfit = only_misfit(replace(data, initial_conditions=moved(ic, back, x=-1.4)))
+    assert misfit.what.startswith(f'robot {back} starts at (-1.40, {ic[1, back]:.2f}), outside the box |x| <= 1.375')
+    assert 'move the tube entrance inwards' in misfit.fix
+
+
+def test_two_robots_too_close(data: FlightData) -> None:
+    ic = data.initial_conditions
+    k = int(np.argmax((ic[0] < ic[0].max()) & (ic[1] > 0.3)))  # the back row's robot at y = +0.4 ...
+    closer = moved(ic, k, y=0.35)  # ... 0.35 m from its neighbour at y = 0: as crowded as before
+    assert list(neighbour_counts(closer)) == list(neighbour_counts(ic))
+    misfit = only_misfit(replace(data, initial_conditions=closer))
+    assert misfit.what == 'two robots start 0.350 m apart, closer than the 0.4 m the initialization needs'
+    assert 'start_formation' in misfit.fix
+
+
+def test_robots_zero_and_one_at_crowded_slots(data: FlightData) -> None:
+    ic = data.initial_conditions
+    crowded = int(np.argmax(neighbour_counts(ic)))  # a middle slot of the 2 x 3 grid: three neighbours
+    swapped = ic[:, [0, crowded, *[k for k in range(1, 6) if k != crowded]]]
+    misfit = only_misfit(replace(data, initial_conditions=swapped))
+    assert misfit.what.startswith('robots 0 and 1 start at slots with 2 and 3 neighbours, where slots with 2 and 2')
+    assert 'order_for_v2_initializer' in misfit.fix
+
+
+def test_a_formation_reaching_the_narrowing(data: FlightData) -> None:
+    """Moved 0.6 m forward: rows at l = 0.70 and 1.10 m, the band 0.4 m beyond, the narrowing at 1.40 m."""
+    ic = data.initial_conditions.copy()
+    ic[0] += 0.6
+    misfit = only_misfit(replace(data, initial_conditions=ic))
+    front = float(ic[0].max()) + 1.45  # l along the straight tube from x = -1.45
+    assert misfit.what.startswith(f'the start formation (2 row(s) of up to 3) reaches l = {front:.2f} m')
+    assert 'r_s + r_a = 0.40 m, the narrowing at l = 1.40 m' in misfit.what
+    # only the back row (3 robots) keeps its band before 1.40 m
+    assert (
+        misfit.fix
+        == f'lengthen the wide part before the narrowing by {front + 0.4 - 1.4:.2f} m, or use at most 3 robots'
+    )
+
+
+def test_a_parking_slot_outside(data: FlightData) -> None:
+    slots = data.parking_slots.copy()
+    slots[1, 4] = 0.97
+    misfit = only_misfit(replace(data, parking_slots=slots))
+    assert misfit.what.startswith('parking slot 4 beyond the exit lies at (1.45, 0.97), outside the arena')
+    assert misfit.fix.startswith('move the tube exit at (1.00, 0.00) away from the arena edge')
+
+
+def test_the_reason_names_the_first_misfit_and_every_one_is_kept(data: FlightData) -> None:
+    slots = data.parking_slots.copy()
+    slots[0, 0] = 1.7
+    fit = fit_of_flight(replace(data, n_robots=25, parking_slots=slots))
+    assert [m.what.split()[0] for m in fit.misfits] == ['25', 'parking']
+    assert fit.reason == f'does not fit the Robotarium: 25 robots; {fit.misfits[0].fix}'
+
+
+def at_most(fit: Fit) -> int:
+    (k,) = [int(m) for misfit in fit.misfits for m in re.findall(r'use at most (\d+) robots', misfit.fix)]
+    return k
+
+
+@pytest.mark.parametrize(
+    ('name', 'n'), [('robotarium_trapezoid', 10), ('robotarium_trapezoid', 20), ('robotarium_curve', 7)]
+)
+def test_the_at_most_k_robots_fix_is_right(name: str, n: int) -> None:
+    fit = robotarium_fit(load_scene(name, n_robots=n))
+    k = at_most(fit)
+    assert robotarium_fit(load_scene(name, n_robots=k)).fits
+    assert not robotarium_fit(load_scene(name, n_robots=k + 1)).fits
+
+
+def test_lengthening_the_wide_part_as_the_fix_says_makes_it_fit(tmp_path: Path) -> None:
+    _, text = shipped_scene_text('robotarium_trapezoid')
+    (misfit,) = robotarium_fit(load_scene('robotarium_trapezoid', n_robots=10)).misfits
+    found = re.search(r'by (\d+\.\d\d) m', misfit.fix)
+    assert found is not None
+    wide = 1.4 + float(found.group(1))  # rounded to 1 cm: the front's band then ends within 5 mm of the narrowing
+    for length, fits in ((wide + 0.005, True), (wide - 0.02, False)):
+        path = tmp_path / f'{length:.3f}.toml'
+        path.write_text(
+            text.replace('{ kind = "constant", length_m = 1.4 }', f'{{ kind = "constant", length_m = {length} }}')
+        )
+        assert robotarium_fit(load_scene(path, n_robots=10)).fits is fits, length
+
+
+def test_a_scene_without_a_start_formation_is_refused_with_its_reason(tmp_path: Path) -> None:
+    path = tmp_path / 'edge.toml'
+    path.write_text(
+        '[tube.center]\nstart_xy_m = [-1.45, 0.88]\npieces = [{ kind = "line", length_m = 2.4 }]\n'
+        '[tube.width]\nstart_m = 0.06\nparts = [{ kind = "constant" }]\n[robotarium]\nn_robots = 2\n'
+    )
+    (misfit,) = robotarium_fit(load_scene(path)).misfits
+    assert (
+        misfit.what
+        == 'no start formation: no cross-section of the tube lies inside the box the testbed initializes robots in'
+    )
+    assert misfit.fix == 'move the tube entrance inwards or widen it'
+
+
+def bend_scene(tmp_path: Path, start: str, pieces: str, wide_m: float, to_m: float) -> Path:
+    """A Robotarium scene of lines and arcs; half-width 0.5 m for ``wide_m``, then over 0.4-0.5 m to ``to_m``."""
+    path = tmp_path / 'bend.toml'
+    narrowing = f'{{ kind = "smooth", length_m = {0.4 if to_m > 0.25 else 0.5}, to_m = {to_m} }}'
+    path.write_text(
+        f'[tube.center]\nstart_xy_m = {start}\npieces = [{pieces}]\n[tube.width]\nstart_m = 0.5\n'
+        f'parts = [{{ kind = "constant", length_m = {wide_m} }}, {narrowing}, {{ kind = "constant" }}]\n'
+        '[robotarium]\nn_robots = 6\n'
+    )
+    return path
+
+
+def line(length_m: float) -> str:
+    return f'{{ kind = "line", length_m = {length_m} }}'
+
+
+def test_a_35_degree_bend_with_the_narrowing_inside_fits_up_to_the_k_it_names(tmp_path: Path) -> None:
+    """The issue's new tube. Its formations are built exactly 0.4 m apart on the bend, which the flight data's six
+    significant digits carry as 0.399997 m: that must not read as 'closer than 0.4 m'."""
+    arc = '{ kind = "arc", radius_m = 1.2, angle_deg = 35 }'
+    path = bend_scene(tmp_path, '[-1.4, -0.3]', f'{line(0.5)}, {arc}, {line(1.2)}', 1.3, 0.3)
+    fits = {n: robotarium_fit(load_scene(path, n_robots=n)) for n in range(1, 8)}
+    assert [n for n, fit in fits.items() if fit.fits] == [1, 2, 3, 4, 5, 6]
+    assert at_most(fits[7]) == 6
+
+
+def test_a_row_on_a_bend_is_one_row(tmp_path: Path) -> None:
+    """On a bend the sampled tube projects a row's robots a few millimetres apart: still one row, so 7 robots stand
+    in 3 rows of 3 and two rows (6 robots) keep their band before the narrowing at l = 1.0 m."""
+    arc = '{ kind = "arc", radius_m = 1.0, angle_deg = 57.3 }'
+    path = bend_scene(tmp_path, '[-1.3, -0.35]', f'{line(0.8)}, {arc}, {line(0.6)}', 1.0, 0.25)
+    fit = robotarium_fit(load_scene(path, n_robots=7))
+    (misfit,) = [m for m in fit.misfits if m.what.startswith('the start formation')]
+    assert misfit.what.startswith('the start formation (3 row(s) of up to 3) reaches') and at_most(fit) == 6
+
+
+def test_when_no_row_fits_before_the_narrowing_the_fix_does_not_offer_fewer_robots(data: FlightData) -> None:
+    ic = data.initial_conditions.copy()
+    ic[0] += 1.0  # the back row at l = 1.10 m: its band reaches 1.50 m, beyond the narrowing at 1.40 m
+    misfit = only_misfit(replace(data, initial_conditions=ic))
+    front = float(ic[0].max()) + 1.45
+    assert misfit.fix == f'lengthen the wide part before the narrowing by {front + 0.4 - 1.4:.2f} m'
