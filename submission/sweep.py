@@ -159,7 +159,7 @@ def judge(runs: Sequence[RunMeasures]) -> tuple[str, str]:
     failed: dict[str, str] = {}
     for run in runs:
         found = [*run.problems]
-        found += [] if run.parked else ['not every robot parked in its slot']
+        found += ['not every robot parked in its slot'] * (run.through and not run.parked)  # else: not through
         found += [f'{run.body_on_wall} robot-steps with the body on the wall'] * bool(run.body_on_wall)
         if run.dip_error is not None and run.dip_error > DIP_ERROR_BAR:
             found.append(f'density error in the dip {100 * run.dip_error:.0f} % > {100 * DIP_ERROR_BAR:.0f} %')
