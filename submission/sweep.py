@@ -174,7 +174,10 @@ def case_row(case: Case) -> dict[str, Any]:
     fit = design.robotarium_fit(scene)
     if not fit.fits:
         return {'status': 'refused', 'reason': fit.reason}
-    plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+    try:
+        plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
+    except VtubeError as err:
+        return {'status': 'FAIL', 'reason': f'no plan: {err}'}
     if not plan.is_certified():
         return {'status': 'FAIL', 'reason': f'plan not certified (worst violation {plan.max_violation:.2g})'}
     try:
@@ -313,7 +316,7 @@ def sweep_markdown(rows: Sequence[dict[str, Any]], seeds: int) -> str:
         *(f'| {s} | ' + ' | '.join(cells.get((s, n), '') for n in sizes) + ' |' for s in scenes),
         '',
         *(f'{k}. {reason}' for k, reason in enumerate(reasons, start=1)),
-        '',
+        *[''] * bool(reasons),
         (
             '| scene | N | status | too close | outside | actuator | through | parked | body on wall | dip error | '
             'passing time [s] | min distance [m] | wall [s] |'

@@ -4,23 +4,26 @@ run's measures against independent recomputations, each criterion of the bar, th
 from __future__ import annotations
 
 import csv
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import submission.sweep as sweep_module
-from robotarium_exp.design import load_scene
+from robotarium_exp.design import Fit, load_scene
 from robotarium_exp.experiment import ExperimentConfig, flight_data
 from robotarium_exp.flight_data import FlightData
 from robotarium_exp.spec import ROBOTARIUM
 from submission.check import RunReport
+from submission.errors import SubmissionError
 from submission.recording import SimulatorRecord
 from submission.sweep import (
     DIP_ERROR_BAR,
     Case,
     RunMeasures,
     case_key,
+    case_row,
     judge,
     measure_run,
     parked_at_end,
@@ -28,6 +31,7 @@ from submission.sweep import (
     sweep,
     sweep_markdown,
 )
+from vtube_planning.errors import SolverError
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
@@ -232,3 +236,45 @@ def test_the_table_puts_scenes_in_rows_and_n_in_columns() -> None:
     assert '| scene | N = 1 | N = 6 |' in text
     assert '| s | PASS | PASS |' in text
     assert 'seeds 0..2' in text
+
+
+def test_a_case_the_verdict_refuses_is_a_refusal_with_its_reason_and_nothing_is_planned(tmp_path, monkeypatch) -> None:
+    monkeypatch.setattr(
+        sweep_module.design, 'robotarium_fit', lambda scene: Fit(False, 'the formation leaves the box; use N <= 8')
+    )
+    monkeypatch.setattr(sweep_module, 'plan_convex', lambda *a, **k: pytest.fail('planned a refused case'))
+    row = case_row(Case('robotarium_trapezoid', 20, 1, tmp_path))
+    assert row == {'status': 'refused', 'reason': 'the formation leaves the box; use N <= 8'}
+
+
+def test_a_plan_that_fails_or_is_not_certified_fails_the_case_before_any_build(planned, tmp_path, monkeypatch) -> None:
+    _, plan, _ = planned
+    monkeypatch.setattr(sweep_module, 'build', lambda *a, **k: pytest.fail('built without a certified plan'))
+    uncertified = replace(plan, certificate=dict(plan.certificate) | {'p7': 0.02})
+    monkeypatch.setattr(sweep_module, 'plan_convex', lambda *a, **k: uncertified)
+    assert case_row(Case('robotarium_trapezoid', 2, 1, tmp_path)) == {
+        'status': 'FAIL',
+        'reason': 'plan not certified (worst violation 0.02)',
+    }
+
+    def infeasible(*args, **kwargs):
+        raise SolverError('no feasible plan; widen the tube')
+
+    monkeypatch.setattr(sweep_module, 'plan_convex', infeasible)
+    row = case_row(Case('robotarium_trapezoid', 2, 1, tmp_path))
+    assert row == {'status': 'FAIL', 'reason': 'no plan: no feasible plan; widen the tube'}
+
+
+def test_a_build_refusal_after_a_fit_is_a_failure_naming_both(planned, tmp_path, monkeypatch) -> None:
+    _, plan, _ = planned
+
+    def refuse(*args, **kwargs):
+        raise SubmissionError('parking slots leave the arena; move the exit')
+
+    monkeypatch.setattr(sweep_module, 'plan_convex', lambda *a, **k: plan)
+    monkeypatch.setattr(sweep_module, 'build', refuse)
+    row = case_row(Case('robotarium_trapezoid', 2, 1, tmp_path))
+    assert row['status'] == 'FAIL'
+    assert (
+        row['reason'] == 'the verdict said it fits, but the build refused: parking slots leave the arena; move the exit'
+    )
