@@ -105,7 +105,6 @@ def measure_run(run: RunReport, data: FlightData, scene: Scene, plan: Plan) -> R
     record, counted, recounted = run.record, run.counted, run.recounted
     if record is None or counted is None or recounted is None or record.poses.shape[0] < 2:
         return RunMeasures(run.label, tuple(run.problems) or ('left no steps',), 0, 0, 0, through=False)
-    worst = {name: max(getattr(counted, name), getattr(recounted, name)) for name in ('too_close', 'outside')}
     poses, tube = record.poses, scene.tube
     steps, _, n = poses.shape
     t_s = record.dt_s * np.arange(steps, dtype=float)
@@ -130,8 +129,8 @@ def measure_run(run: RunReport, data: FlightData, scene: Scene, plan: Plan) -> R
     return RunMeasures(
         run.label,
         tuple(run.problems),
-        worst['too_close'],
-        worst['outside'],
+        max(counted.too_close, recounted.too_close),  # the worse of the simulator's count and the recount
+        max(counted.outside, recounted.outside),
         max(counted.actuator, recounted.actuator),
         through=run.completed,
         parked=parked_at_end(poses[-1], record.commands[-1], record.dt_s, data),
