@@ -2,7 +2,8 @@
 
 The arrays are the experiment's trajectory log (:func:`robotarium_exp.experiment.run_experiment`): ``t_s``,
 ``l_m`` (the robots' centres on the exact tube), ``dxu``, ``r_a_m``, ``density_per_m2``, ``flying``,
-``band_held``, ``barrier_correction_mps``.
+``band_held``, ``barrier_correction_mps``; :func:`plan_tracking` also reads a recording of the poses alone (no
+``r_a_m``).
 """
 
 from __future__ import annotations
@@ -82,9 +83,10 @@ def narrowing_start(scene: Scene) -> float:
 
 def expansion_times(arrays: Arrays, scene: Scene) -> tuple[float | None, float | None]:
     """When the mean r_a first exceeds its initial value by ``EXPANSION_THRESHOLD_M``, and when the first robot
-    reaches the narrowing (s; None when it never happens)."""
-    r_a = arrays['r_a_m'].mean(axis=1)
-    expanded = np.flatnonzero(r_a >= r_a[0] + EXPANSION_THRESHOLD_M)
+    reaches the narrowing (s; None when it never happens, or, for the expansion, when ``arrays`` hold no
+    ``r_a_m``: a recording of the poses alone)."""
+    r_a = arrays['r_a_m'].mean(axis=1) if 'r_a_m' in arrays else np.zeros(0)
+    expanded = np.flatnonzero(r_a >= r_a[0] + EXPANSION_THRESHOLD_M) if r_a.size else r_a
     narrowing = np.flatnonzero(arrays['l_m'].max(axis=1) >= narrowing_start(scene))
     t = arrays['t_s']
     return (float(t[expanded[0]]) if expanded.size else None, float(t[narrowing[0]]) if narrowing.size else None)

@@ -24,14 +24,22 @@ def prepare_folder(campaign: Campaign, out: Path, keys: set[str]) -> dict[str, d
     """Check ``out`` before any run (writable, no other campaign in it), record the campaign there, and keep the
     rows of runs already done (each rewritten whole: a line cut by an interruption, or a failed run, is dropped
     and its run done again). Returns the done rows by key."""
-    recorded = out / CAMPAIGN_FILE
+    return prepare_table(out, CAMPAIGN_FILE, campaign.to_json(), campaign.columns, keys, what='campaign')
+
+
+def prepare_table(
+    out: Path, record_file: str, record: Mapping[str, Any], columns: list[str], keys: set[str], *, what: str
+) -> dict[str, dict[str, Any]]:
+    """:func:`prepare_folder` for any table of runs (``runs.csv`` with ``columns``, among them ``key``, ``error``
+    and ``version``) recorded with its settings ``record`` in ``out/record_file``; ``what`` names it in errors."""
+    recorded = out / record_file
     try:
         out.mkdir(parents=True, exist_ok=True)
         if recorded.is_file():
             previous = json.loads(recorded.read_text(encoding='utf-8'))
-            if previous != campaign.to_json():
+            if previous != record:
                 msg = (
-                    f'{out} holds the results of another campaign ({recorded} differs from this one); '
+                    f'{out} holds the results of another {what} ({recorded} differs from this one); '
                     'give another --out, or delete the folder to start again.'
                 )
                 raise CampaignError(msg)
@@ -40,15 +48,15 @@ def prepare_folder(campaign: Campaign, out: Path, keys: set[str]) -> dict[str, d
         if table.is_file():
             with table.open(newline='', encoding='utf-8') as handle:
                 reader = csv.DictReader(handle)
-                if reader.fieldnames is not None and reader.fieldnames != campaign.columns:
-                    msg = f'{table} has other columns than this campaign; give another --out.'
+                if reader.fieldnames is not None and reader.fieldnames != columns:
+                    msg = f'{table} has other columns than this {what}; give another --out.'
                     raise CampaignError(msg)
                 for row in reader:
                     whole = None not in row.values() and None not in row
                     if whole and row['key'] in keys and not row['error'] and row['version']:
                         done[row['key']] = row
-        _write_atomically(recorded, json.dumps(campaign.to_json(), indent=1) + '\n')
-        _write_atomically(table, _csv_text(campaign.columns, done.values()))
+        _write_atomically(recorded, json.dumps(record, indent=1) + '\n')
+        _write_atomically(table, _csv_text(columns, done.values()))
     except OSError as err:
         msg = f'cannot write to {out} ({err.strerror or err}); choose another --out before any run starts.'
         raise OSError(msg) from err

@@ -55,14 +55,15 @@ def words(text: str) -> tuple[str, ...]:
     return tuple(text.split(','))
 
 
-def parse_sizes(text: str) -> tuple[int, ...]:
-    """A comma-separated list of swarm sizes >= 1 (checked after parsing: a refusal is one ``error:`` line)."""
+def parse_sizes(text: str, option: str = '--sizes') -> tuple[int, ...]:
+    """A comma-separated list of swarm sizes >= 1 given to ``option`` (checked after parsing: a refusal is one
+    ``error:`` line)."""
     try:
         values = tuple(int(part) for part in text.split(','))
     except ValueError:
         values = ()
     if not values or min(values) < 1:
-        msg = f'--sizes must be comma-separated whole numbers >= 1, like 20,40,80; got {text!r}.'
+        msg = f'{option} must be comma-separated whole numbers >= 1, like 20,40,80; got {text!r}.'
         raise BadInput(msg)
     return values
 

@@ -61,6 +61,8 @@ def test_expansion_and_front_at_the_narrowing(trapezoid, marching) -> None:
     assert front == t[first] and marching['l_m'][first - 1].max() < narrowing_start(scene)
     marching['r_a_m'][EXPANDS_AT:] -= 0.03 - 0.5 * EXPANSION_THRESHOLD_M  # below the threshold: never
     assert expansion_times(marching, scene)[0] is None
+    del marching['r_a_m']  # a recording of the poses alone: no expansion time, the front's as before
+    assert expansion_times(marching, scene) == (None, front)
 
 
 def test_plan_tracking_finds_the_errors_put_in(trapezoid, marching) -> None:

@@ -9,7 +9,14 @@ import math
 import pytest
 
 from vtube_planning.campaign import Campaign, CampaignError, run_key
-from vtube_planning.campaign_store import CAMPAIGN_FILE, RUNS_FILE, prepare_folder, read_results, typed_row
+from vtube_planning.campaign_store import (
+    CAMPAIGN_FILE,
+    RUNS_FILE,
+    prepare_folder,
+    prepare_table,
+    read_results,
+    typed_row,
+)
 
 GRID = '[axes]\nscene = ["C"]\nmode = ["planning", "no planning"]\nseed = 2\n'
 
@@ -76,6 +83,18 @@ def test_a_folder_of_another_campaign_or_other_columns_is_refused(tmp_path, camp
     write_rows(out / RUNS_FILE, ['key', 'scene'], [])
     with pytest.raises(CampaignError, match='has other columns than this campaign'):
         prepare_folder(campaign, out, set())
+
+
+def test_any_table_of_runs_keeps_its_done_rows_and_refuses_other_settings(tmp_path) -> None:
+    out, columns = tmp_path / 'sweep', ['key', 'n', 'error', 'version']
+    assert prepare_table(out, 'sweep.json', {'seeds': 3}, columns, {'a', 'b'}, what='sweep') == {}
+    assert json.loads((out / 'sweep.json').read_text(encoding='utf-8')) == {'seeds': 3}
+    rows = [['a', '1', '', '0.1'], ['b', '2', 'ValueError: x', '0.1'], ['c', '3', '', '0.1']]
+    write_rows(out / RUNS_FILE, columns, [dict(zip(columns, row, strict=True)) for row in rows])
+    done = prepare_table(out, 'sweep.json', {'seeds': 3}, columns, {'a', 'b'}, what='sweep')
+    assert list(done) == ['a']  # b raised, c is not of this grid
+    with pytest.raises(CampaignError, match='holds the results of another sweep'):
+        prepare_table(out, 'sweep.json', {'seeds': 2}, columns, {'a'}, what='sweep')
 
 
 def test_an_unwritable_place_and_a_folder_without_a_campaign_are_named(tmp_path, campaign) -> None:

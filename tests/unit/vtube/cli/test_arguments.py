@@ -39,6 +39,8 @@ def test_sizes_are_whole_numbers_of_at_least_one() -> None:
             BadInput, match=f'--sizes must be comma-separated whole numbers >= 1, like 20,40,80; got {text!r}'
         ):
             parse_sizes(text)
+    with pytest.raises(BadInput, match="--n must be comma-separated whole numbers >= 1, like 20,40,80; got '0'"):
+        parse_sizes('0', '--n')
 
 
 def test_an_output_folder_is_checked_without_creating_it(tmp_path) -> None:
