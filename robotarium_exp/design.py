@@ -107,7 +107,7 @@ def start_formation(tube: VirtualTube, n_robots: int) -> Formation:
     if room < 0.0:
         why = f'the entrance is too narrow for a robot {WALL_CLEARANCE_M} m from each wall'
         return _no_formation(n_robots, why)
-    columns = min(n_robots, math.floor(room / spacing) + 1)
+    columns = min(n_robots, math.floor(room / spacing + 1e-9) + 1)  # 0.4 / 0.4 is 0.99999...
     rows = math.ceil(n_robots / columns)
     for row_spacing in spacing * (1.0 + 0.02 * np.arange(50)):
         poses = _grid(tube, n_robots, columns, l_back, float(row_spacing))

@@ -1,7 +1,7 @@
 """The acceptance sweep of one's own Robotarium experiments (``vtube robotarium sweep``): scenes x robot counts.
 
 For each scene and robot count N (a *case*), the scene is loaded with N robots and asked whether it fits the
-Robotarium (:func:`robotarium_exp.design.robotarium_fit`): a scene that does not is a *refused* row with the
+Robotarium (:func:`robotarium_exp.fit.robotarium_fit`): a scene that does not is a *refused* row with the
 verdict's one-line reason. Otherwise it is planned (an uncertified plan is a FAIL row), built without the declaration
 step (:func:`submission.builder.build`), and the file is run on the bundled simulator with V2's initialization for
 seeds 0..seeds-1 exactly as the preflight runs it (:func:`submission.check.run_file`). Each run is measured from
@@ -29,9 +29,10 @@ from typing import Any
 
 import numpy as np
 
-from robotarium_exp import design
 from robotarium_exp.errors import RobotariumExpError
+from robotarium_exp.fit import robotarium_fit
 from robotarium_exp.flight_data import FlightData
+from robotarium_exp.scene import load_scene
 from robotarium_exp.spec import ROBOTARIUM
 from robotarium_exp.tracking import plan_tracking
 from submission.builder import build, write
@@ -169,8 +170,8 @@ def judge(runs: Sequence[RunMeasures]) -> tuple[str, str]:
 
 def case_row(case: Case) -> dict[str, Any]:
     """The row of one case (module docstring); raised errors other than the build's refusal propagate."""
-    scene = design.load_scene(case.scene, n_robots=case.n_robots)
-    fit = design.robotarium_fit(scene)
+    scene = load_scene(case.scene, n_robots=case.n_robots)
+    fit = robotarium_fit(scene)
     if not fit.fits:
         return {'status': 'refused', 'reason': fit.reason}
     try:
