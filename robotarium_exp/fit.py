@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.design import neighbour_counts, start_formation
+from robotarium_exp.errors import ExperimentError
 from robotarium_exp.experiment import TUBE_EDGE_POINTS, ExperimentConfig, flight_data
 from robotarium_exp.flight_data import FlightData
 from robotarium_exp.spec import ROBOTARIUM
@@ -206,3 +207,10 @@ def _parking_inside(data: FlightData) -> list[Misfit]:
             'beyond it and 0.5 m to each side) or use fewer robots',
         )
     ]
+
+
+def require_fit(scene: Scene) -> None:
+    """Refuse a scene that does not fit the Robotarium, before anything flies (:class:`ExperimentError`)."""
+    fit = robotarium_fit(scene)
+    if not fit.fits:
+        raise ExperimentError(f'scene {scene.name!r} {fit.reason}')

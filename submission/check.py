@@ -30,6 +30,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Literal
 
+from robotarium_exp.fit import fit_of_flight
 from robotarium_exp.flight_data import FlightData
 from robotarium_exp.initializer import InitializerSample, initializer_durations
 from robotarium_exp.spec import ROBOTARIUM
@@ -128,6 +129,7 @@ class CheckReport:
 
     path: str
     disallowed_imports: tuple[str, ...] = ()
+    misfits: tuple[str, ...] = ()
     runs: tuple[RunReport, ...] = ()
     robots: int | None = None
     initializer: InitializerSample | None = None
@@ -138,7 +140,7 @@ class CheckReport:
     @property
     def passed(self) -> bool:
         runs_ok = bool(self.runs) and all(run.ok for run in self.runs)
-        return not self.disallowed_imports and runs_ok and not self.declaration_problem
+        return not self.disallowed_imports and not self.misfits and runs_ok and not self.declaration_problem
 
     @property
     def experiment_s(self) -> float | None:
@@ -156,6 +158,7 @@ class CheckReport:
         found = [f'imports missing on the Robotarium server: {", ".join(self.disallowed_imports)}'] * bool(
             self.disallowed_imports
         )
+        found += [f'does not fit the Robotarium: {misfit}' for misfit in self.misfits]
         found += [f'{run.label}: {problem}' for run in self.runs for problem in run.problems]
         return found + [self.declaration_problem] * bool(self.declaration_problem)
 
@@ -258,6 +261,9 @@ def check(
     if disallowed:
         return CheckReport(str(path), disallowed)
     data = file_flight_data(source)  # before any run: a file without flight data is refused
+    fit = fit_of_flight(data)  # the scene's commands judged the same data: a misfit is a fail before any run
+    if not fit.fits:
+        return CheckReport(str(path), misfits=tuple(map(str, fit.misfits)))
     tell = progress or (lambda text: None)
     runs = []
     for seed in range(seeds):

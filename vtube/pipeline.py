@@ -24,6 +24,7 @@ from robotarium_exp.analysis.recorded_tube import check_recorded_tube
 from robotarium_exp.analysis.report import Analysis, analyse, write_report
 from robotarium_exp.analysis.trajectory import DEFAULT_MAX_GAP, MaxGap
 from robotarium_exp.errors import AnalysisError
+from robotarium_exp.fit import Fit, robotarium_fit
 from robotarium_exp.rps_alias import install
 from robotarium_exp.scene import load_scene
 from submission.builder import Submission, build, build_declared, write
@@ -66,7 +67,8 @@ def plan_for(scene: Scene, swarm: SwarmParams | None = None, plan_file: Path | N
 
 @dataclass(frozen=True)
 class Planned:
-    """A scene's plan (its provenance recorded) and the files written: the plan, its figure, the scene's copy."""
+    """A scene's plan (its provenance recorded), the files written (the plan, its figure, the scene's copy) and,
+    for a scene declared for the Robotarium, whether it fits there."""
 
     scene: Scene
     plan: Plan
@@ -74,6 +76,7 @@ class Planned:
     plan_file: Path
     figure: Path
     scene_copy: Path
+    fit: Fit | None = None
 
 
 def plan_scene(
@@ -88,7 +91,8 @@ def plan_scene(
     plan = replace(plan, provenance=provenance(scene=scene))
     plan_file = plan.save(out / f'plan_{scene.name}.npz')
     figure = plots.save_figure(plots.plan_figure(plan), out / f'plan_{scene.name}.png')
-    return Planned(scene, plan, method, plan_file, figure, copy_scene(scene, out))
+    fit = robotarium_fit(scene) if scene.testbed == 'robotarium' else None
+    return Planned(scene, plan, method, plan_file, figure, copy_scene(scene, out), fit)
 
 
 @dataclass(frozen=True)

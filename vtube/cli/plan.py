@@ -63,9 +63,12 @@ def plan_view(planned: Planned) -> View:
     failures = plan.failures(scene.tube)
     if failures:
         lines += (f'  fails                 {"; ".join(failures)}',)
+    if planned.fit is not None:
+        lines += (f'  Robotarium            {planned.fit.reason}',)
+        failures = failures if planned.fit.fits else (*failures, planned.fit.reason)
     lines += (f'  written               {planned.plan_file}, {planned.figure}, {planned.scene_copy}',)
     data = {'plan_file': str(planned.plan_file), 'time_s': plan.time_s, 'objective': plan.objective}
-    data |= {'certificate': plan.certificate, 'certified': not failures}
+    data |= {'certificate': plan.certificate, 'certified': plan.is_certified()}
     data |= {'failures': list(failures)} if failures else {}
     return View(lines, data | {'provenance': plan.provenance}, exit_code=EXIT_FAILED if failures else EXIT_OK)
 

@@ -58,6 +58,7 @@ def experiment_arguments(parser: argparse.ArgumentParser) -> None:
 def experiment(args: argparse.Namespace) -> RobotariumRun:
     """Run the tube experiment on the bundled Robotarium simulator; write its log, figure and the scene's copy."""
     from robotarium_exp.experiment import ExperimentConfig, run_experiment
+    from robotarium_exp.fit import require_fit
     from robotarium_exp.plots import experiment_figure
     from robotarium_exp.rps.robotarium import Robotarium
     from robotarium_exp.rps_alias import seed_rps
@@ -71,6 +72,7 @@ def experiment(args: argparse.Namespace) -> RobotariumRun:
     out: Path = args.out
     writable_folder(out)
     scene = load_scene(args.scene)
+    require_fit(scene)
     plan = None if args.no_planning else plan_for(scene, plan_file=args.plan)
     config = ExperimentConfig(planning=not args.no_planning, barrier=not args.no_barrier)
     stem = f'experiment_{scene.name}_{"planned" if config.planning else "unplanned"}'
@@ -165,12 +167,14 @@ def comparison(args: argparse.Namespace) -> Comparison:
     import json
 
     from robotarium_exp.compare import compare, comparison_table, failed_runs
+    from robotarium_exp.fit import require_fit
     from robotarium_exp.scene import load_scene
     from vtube.pipeline import plan_for
 
     out: Path = args.out
     writable_folder(out)
     scene = load_scene(args.scene)
+    require_fit(scene)
     plan = plan_for(scene, plan_file=args.plan)
     with progress_bar('experiments', 'run') as bar:
         bar.reset(total=2 * args.seeds)
