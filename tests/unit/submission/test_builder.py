@@ -58,7 +58,12 @@ def variant(tmp_path: Path, scene: str, control_line: str) -> Path:
     path = tmp_path / f'{scene}_variant.toml'
     key = control_line.split('=')[0].strip()
     lines = [line for line in text.splitlines() if not line.startswith(f'{key} =')]  # the variant's value wins
-    text = '\n'.join(lines).replace('[control]', f'[control]\n{control_line}')
+    text = '\n'.join(lines)
+    text = (
+        text.replace('[control]', f'[control]\n{control_line}')
+        if '[control]' in text
+        else f'{text}\n[control]\n{control_line}\n'
+    )
     path.write_text(text, encoding='utf-8')
     return path
 
