@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Iterator
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -16,9 +17,13 @@ from vtube.cli.simulate import simulate_view
 from vtube.cli.submission import build_view
 
 if TYPE_CHECKING:
-    from vtube.pipeline import DemoStage
+    from vtube.pipeline import DemoStage, WrittenSubmission
 
 RUN_TITLE = 'run the submission on the bundled simulator, as the testbed would, and analyse what it returns'
+FLIGHT_MODEL = (
+    "  flight model       the paper's single integrator, commands saturated into [v_min, v_max]; the Robotarium run "
+    'below flies unicycles through the near-identity map, the barrier certificate and the wheel limits'
+)
 
 
 def demo_arguments(parser: argparse.ArgumentParser) -> None:
@@ -42,14 +47,27 @@ def demo_view(stages: Iterator[DemoStage]) -> Iterator[View]:
             yield _titled('plan', plan_view(stage))
         elif isinstance(stage, Simulated):
             planned = 'with' if stage.result.planned else 'without'
-            yield _titled(f'simulate {planned} planning', simulate_view(stage))
+            view = simulate_view(stage)
+            yield _titled(f'simulate {planned} planning', replace(view, lines=(*view.lines, FLIGHT_MODEL)))
         elif isinstance(stage, Returned):
             failed = None if stage.ok else f'the submission failed on the bundled simulator; see {stage.log}'
             yield View(('', f'== {RUN_TITLE} =='), exit_code=EXIT_FAILED if failed else EXIT_OK, error=failed)
         elif isinstance(stage, Analysed):
             yield analyze_view(stage)
         else:
-            yield _titled('build and check the submission', build_view(stage))
+            view = build_view(stage)
+            yield _titled('build and check the submission', replace(view, lines=(*view.lines, *_upload(stage))))
+
+
+def _upload(built: WrittenSubmission) -> list[str]:
+    """The demo's file is a preview unless declared as a full build declares: then say so, and how to build the one
+    to upload."""
+    declared = built.declaration
+    if declared is None or declared.for_upload:
+        return []
+    unplanned = '' if built.submission.planned else ' --no-planning'
+    command = f'vtube submission build {built.submission.scene} --out experiment.py{unplanned}'
+    return [f'  {declared.not_for_upload()[0]}; its header says so. Build the file to upload with `{command}`.']
 
 
 def _titled(title: str, view: View) -> View:

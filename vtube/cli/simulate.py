@@ -62,6 +62,7 @@ def simulate(args: argparse.Namespace) -> Simulated:
 def simulate_view(simulated: Simulated) -> View:
     result, config, m = simulated.result, simulated.config, simulated.result.metrics
     rows = [
+        ('start', simulated.start),
         ('passing time', f'{m.passing_time_s:.3f} s' + ('' if m.completed else ' (not every robot exited)')),
         ('minimum distance', f'{m.min_distance_m:.4f} m at t = {m.min_distance_time_s:.2f} s'),
         ('collisions', f'{m.collision_pairs} pairs closer than 2 r_p = {m.collision_distance_m:g} m'),
