@@ -17,7 +17,7 @@ from vtube.cli.simulate import simulate_view
 from vtube.cli.submission import build_view
 
 if TYPE_CHECKING:
-    from vtube.pipeline import DemoStage, WrittenSubmission
+    from vtube.pipeline import DemoStage
 
 RUN_TITLE = 'run the submission on the bundled simulator, as the testbed would, and analyse what it returns'
 FLIGHT_MODEL = (
@@ -55,19 +55,7 @@ def demo_view(stages: Iterator[DemoStage]) -> Iterator[View]:
         elif isinstance(stage, Analysed):
             yield analyze_view(stage)
         else:
-            view = build_view(stage)
-            yield _titled('build and check the submission', replace(view, lines=(*view.lines, *_upload(stage))))
-
-
-def _upload(built: WrittenSubmission) -> list[str]:
-    """The demo's file is a preview unless declared as a full build declares: then say so, and how to build the one
-    to upload."""
-    declared = built.declaration
-    if declared is None or declared.for_upload:
-        return []
-    unplanned = '' if built.submission.planned else ' --no-planning'
-    command = f'vtube submission build {built.submission.scene} --out experiment.py{unplanned}'
-    return [f'  {declared.not_for_upload()[0]}; its header says so. Build the file to upload with `{command}`.']
+            yield _titled('build and check the submission', build_view(stage))
 
 
 def _titled(title: str, view: View) -> View:

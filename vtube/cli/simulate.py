@@ -62,7 +62,6 @@ def simulate(args: argparse.Namespace) -> Simulated:
 def simulate_view(simulated: Simulated) -> View:
     result, config, m = simulated.result, simulated.config, simulated.result.metrics
     rows = [
-        ('start', simulated.start),
         ('passing time', f'{m.passing_time_s:.3f} s' + ('' if m.completed else ' (not every robot exited)')),
         ('minimum distance', f'{m.min_distance_m:.4f} m at t = {m.min_distance_time_s:.2f} s'),
         ('collisions', f'{m.collision_pairs} pairs closer than 2 r_p = {m.collision_distance_m:g} m'),
@@ -80,6 +79,7 @@ def simulate_view(simulated: Simulated) -> View:
                 f'mean {m.density_tracking_mean_per_m2:.4f}, max {m.density_tracking_max_per_m2:.4f} /m^2',
             ),
         ]
+    rows.append(('start', simulated.start))
     replans: list[dict[str, Any]] | None = result.meta.get('replans')
     if replans is not None:
         rows.append(('replanning', _replanning(replans, config.replan_every_s)))

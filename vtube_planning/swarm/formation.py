@@ -27,12 +27,12 @@ def as_positions(value: object, name: str = 'initial_positions_m') -> Positions:
 
 
 def start_formation(
-    tube: VirtualTube, swarm: SwarmParams, given: Positions | None, rng: np.random.Generator, jitter_m: float
+    tube: VirtualTube, swarm: SwarmParams, given: Positions | None, seed: int, jitter_m: float
 ) -> FloatArray:
     """The swarm's positions at t = 0, (2, N): ``given`` as it is (one column per robot of ``swarm``, not jittered),
-    else :func:`initial_formation`."""
+    else :func:`initial_formation` jittered by a generator seeded with ``seed``."""
     if given is None:
-        return initial_formation(tube, swarm, rng, jitter_m)
+        return initial_formation(tube, swarm, np.random.default_rng(seed), jitter_m)
     positions = np.array(given, dtype=np.float64)
     if positions.shape[1] != swarm.n_robots:
         msg = (

@@ -218,8 +218,7 @@ def simulate(
     step_params = control.step_params(swarm)
     replanner = _replanner(tube, swarm, plan, config, baseline)
     forward_const = _constant_speed(swarm, plan, constant_speed_mps)
-    rng = np.random.default_rng(config.seed)
-    positions = start_formation(tube, swarm, config.initial_positions_m, rng, config.jitter_m)
+    positions = start_formation(tube, swarm, config.initial_positions_m, config.seed, config.jitter_m)
     n = positions.shape[1]
     velocity = _initial_speed(swarm, plan, initial_speed_mps) * tube.project(positions).tangent
     profile = plan.profile if plan is not None else None
