@@ -27,7 +27,7 @@ from robotarium_exp.flight_data import FlightData
 from robotarium_exp.scene import load_scene
 from submission import runtime
 from submission.check import RUN_TIMEOUT_S, CheckReport, check, imported_modules
-from submission.declaration import Declaration
+from submission.declaration import FULL_BUILD_INITIALIZER_SEEDS, Declaration
 from submission.errors import SubmissionError
 from vtube_planning import __version__
 from vtube_planning.geometry.scene import Scene
@@ -96,7 +96,7 @@ def build_declared(
     path: str | Path,
     *,
     seeds: int = 3,
-    initializer_seeds: int = 200,
+    initializer_seeds: int = FULL_BUILD_INITIALIZER_SEEDS,
     run_timeout_s: float = RUN_TIMEOUT_S,
     progress: Callable[[str], None] | None = None,
     seed_done: Callable[[], None] | None = None,

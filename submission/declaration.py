@@ -3,7 +3,8 @@
 The testbed's initializer runs first and counts, and it varies a lot from run to run, so V2's initializer is run
 alone for the file's initial conditions over many seeds (:mod:`robotarium_exp.initializer`). The declaration is its
 ``DECLARE_QUANTILE`` quantile plus the longest experiment, rounded up to 10 s; the verifier stops a run only beyond
-``RobotariumSpec.duration_factor`` times that.
+``RobotariumSpec.duration_factor`` times that. A declaration from fewer initializer seeds than a full build runs is a
+preview: the header marks the file not for upload and gives the command that builds the one to upload.
 """
 
 from __future__ import annotations
@@ -22,6 +23,8 @@ DECLARE_QUANTILE = 0.995
 """Quantile of the initializer's durations that the declared duration covers without the verifier's margin (with
 the default 200 seeds, the longest). The tail is heavy: on the trapezoid's initial conditions the longest of seeds
 0-49 is 148 s, of seeds 0-199 319 s, so the longest of 50 seeds left a run beyond 1.5 times the declaration."""
+FULL_BUILD_INITIALIZER_SEEDS = 200
+"""The initializer seeds of a full build (``vtube submission build``); a declaration from fewer is not for upload."""
 
 
 @dataclass(frozen=True)
@@ -42,9 +45,26 @@ class Declaration:
             f'{self.experiment_s:.1f} s; overruns {self.overrun_share:.1%}, stuck {self.stuck_share:.1%}'
         )
 
-    def header_lines(self, robots: int) -> list[str]:
-        """The declaration as the submission's header records it (:meth:`from_header` reads it back)."""
+    @property
+    def for_upload(self) -> bool:
+        """Derived from as many initializer seeds as a full build: fewer may miss the heavy tail."""
+        return self.runs >= FULL_BUILD_INITIALIZER_SEEDS
+
+    def not_for_upload(self) -> list[str]:
+        """Why a preview's file is not for upload, in the header's lines ([] when it is for upload)."""
+        if self.for_upload:
+            return []
+        full = FULL_BUILD_INITIALIZER_SEEDS
         return [
+            f'NOT FOR UPLOAD: this duration rests on {self.runs} initializer seeds, not the {full} of a full build',
+            '(the initializer\'s tail is heavy); the command under "Rebuild with" below builds the file to upload.',
+        ]
+
+    def header_lines(self, robots: int) -> list[str]:
+        """The declaration as the submission's header records it (:meth:`from_header` reads it back), after the
+        preview's mark (:meth:`not_for_upload`)."""
+        return [
+            *self.not_for_upload(),
             f'Declare on the web form: {robots} robots and {self.duration_s} s, derived by `vtube submission check`',
             f'from {self.basis()}.',
         ]

@@ -24,6 +24,7 @@ from robotarium_exp.analysis.recorded_tube import check_recorded_tube
 from robotarium_exp.analysis.report import Analysis, analyse, write_report
 from robotarium_exp.analysis.trajectory import DEFAULT_MAX_GAP, MaxGap
 from robotarium_exp.errors import AnalysisError
+from robotarium_exp.experiment import initial_conditions
 from robotarium_exp.fit import Fit, robotarium_fit
 from robotarium_exp.rps_alias import install
 from robotarium_exp.scene import load_scene
@@ -38,6 +39,7 @@ from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.planning.polynomial import plan_polynomial
 from vtube_planning.provenance import copy_scene, provenance
+from vtube_planning.swarm.formation import FloatArray, as_positions
 from vtube_planning.swarm.simulate import SimConfig, SimResult, simulate
 
 PlanMethod = Literal['convex', 'polynomial']
@@ -95,6 +97,21 @@ def plan_scene(
     return Planned(scene, plan, method, plan_file, figure, copy_scene(scene, out), fit)
 
 
+def robotarium_start(scene: Scene, swarm: SwarmParams) -> FloatArray | None:
+    """Where the robots of a Robotarium scene (one with a ``[robotarium]`` table) start on the testbed, (2, N): the
+    centres of its start formation for ``swarm``'s robots; None for another scene (the simulator's grid).
+
+    The hook through which a simulation of a Robotarium scene starts as its flight does."""
+    if scene.testbed != 'robotarium':
+        return None
+    start: FloatArray = initial_conditions(replace(scene, swarm=swarm))[:2]
+    return start
+
+
+GRID_START = 'a grid before the entrance (spacing 2 r_a)'
+ROBOTARIUM_START = "the Robotarium flight's entry formation (its robots' centres)"
+
+
 @dataclass(frozen=True)
 class Simulated:
     """A simulated passage of ``swarm`` through ``scene`` with ``config``, and the files written: the log, the
@@ -105,6 +122,8 @@ class Simulated:
     config: SimConfig
     result: SimResult
     written: tuple[Path, ...]
+    start: str = GRID_START
+    """Where the robots started, in words."""
 
     @property
     def log(self) -> Path:
@@ -128,11 +147,12 @@ def simulate_scene(
 ) -> Simulated:
     """Fly the scene's swarm (of ``n_robots``, default the scene's) through its tube, with its plan (from
     ``plan_file``, or planned here) or without; write the log, figures, a GIF when asked for and the scene's copy
-    to ``out``."""
+    to ``out``. Unless ``config`` says where the robots start, a Robotarium scene's start where its flight's do
+    (:func:`robotarium_start`)."""
     scene = load_scene(name_or_path)
     swarm = scene.swarm if n_robots is None else replace(scene.swarm, n_robots=n_robots)
     plan = plan_for(scene, swarm, plan_file) if planning else None
-    config = config or SimConfig()
+    config, start = _started(scene, swarm, config or SimConfig())
     mode = 'planned' if planning else 'unplanned'
     stem, log = out / f'sim_{scene.name}_{mode}', out / f'sim_{scene.name}_{mode}.npz'
     made = provenance(scene=scene, plan_file=plan_file, seeds=[config.seed])
@@ -163,7 +183,18 @@ def simulate_scene(
         with progress('GIF frames', 'frame') as tick:
             written.append(plots.animate(result, scene.tube, f'{stem}.gif', progress=lambda i, n: tick(i + 1)))
     written.append(copy_scene(scene, out))
-    return Simulated(scene, swarm, config, result, tuple(written))
+    return Simulated(scene, swarm, config, result, tuple(written), start)
+
+
+def _started(scene: Scene, swarm: SwarmParams, config: SimConfig) -> tuple[SimConfig, str]:
+    """``config`` with where the robots start (the given positions, a Robotarium scene's entry formation, else the
+    simulator's grid), and that place in words."""
+    if config.initial_positions_m is not None:
+        return config, 'the given positions'
+    robotarium = robotarium_start(scene, swarm)
+    if robotarium is None:
+        return config, GRID_START
+    return replace(config, initial_positions_m=as_positions(robotarium)), ROBOTARIUM_START
 
 
 @dataclass(frozen=True)

@@ -14,12 +14,21 @@ from typing import Any
 import numpy as np
 import pytest
 
-from robotarium_exp.experiment import run_experiment
+from robotarium_exp.experiment import initial_conditions, run_experiment
 from robotarium_exp.spec import ROBOTARIUM
 from submission.builder import BUILD_STAMP
 from submission.declaration import Declaration
 from vtube.cli.app import main
-from vtube.pipeline import DEMO_SCENE, Analysed, Planned, Returned, Simulated, WrittenSubmission
+from vtube.cli.demo import FLIGHT_MODEL
+from vtube.pipeline import (
+    DEMO_SCENE,
+    ROBOTARIUM_START,
+    Analysed,
+    Planned,
+    Returned,
+    Simulated,
+    WrittenSubmission,
+)
 from vtube_planning.swarm.metrics import passage_metrics
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -175,3 +184,33 @@ def test_the_build_prints_the_verdict_and_the_header_records_the_declaration(dem
     declared = text.split('the header records the declaration: 6 robots, ')[1].split(' s')[0]
     assert int(declared) == written.declaration.duration_s
     assert f'Declare on the web form: 6 robots and {declared} s' in written.path.read_text()
+
+
+def test_both_sides_of_the_comparison_start_from_the_same_formation(demo_run) -> None:
+    """Like with like: both simulations start exactly at the submission's initial conditions (the robots' centres),
+    and the returned flight starts where V2's initializer leaves them: within its 0.05 m of those poses, plus at most
+    one period at v_max before the first record."""
+    scene = demo_run.stage(Planned).scene
+    start = np.array(initial_conditions(scene)[:2])
+    flown = [stage for stage in demo_run.stages if isinstance(stage, Simulated)]
+    for stage in flown:
+        np.testing.assert_array_equal(stage.result.positions_m[0], start)
+        assert stage.start == ROBOTARIUM_START
+    returned = np.load(demo_run.stage(Returned).folder / 'vtube_positions_m.npy')[0]
+    reach = 0.05 + scene.swarm.v_max_mps * ROBOTARIUM.time_step_s
+    assert np.all(np.hypot(*(returned - start)) <= reach)
+    assert demo_run.out.count(FLIGHT_MODEL) == 2 and demo_run.out.count(f'start              {ROBOTARIUM_START}') == 2
+    # the planned flight passes sooner than the unplanned one from the same formation (the README's figures)
+    assert flown[0].result.metrics.passing_time_s < flown[1].result.metrics.passing_time_s
+
+
+def test_the_demos_reduced_declaration_marks_its_file_not_for_upload(demo_run) -> None:
+    """The demo declares from fewer initializer seeds than a full build: its header and its output say NOT FOR
+    UPLOAD and give the command that builds the file to upload; the committed file, a full build, says nothing."""
+    written = demo_run.stage(WrittenSubmission)
+    assert written.declaration is not None and not written.declaration.for_upload
+    header = written.path.read_text(encoding='utf-8').split('"""')[1]
+    assert header.index('NOT FOR UPLOAD: this duration rests on') < header.index('Declare on the web form')
+    command = f'vtube submission build {DEMO_SCENE} --out experiment.py'
+    assert f'Build the file to upload with `{command}`.' in demo_run.out and 'NOT FOR UPLOAD' in demo_run.out
+    assert 'NOT FOR UPLOAD' not in (ROOT / 'submissions' / 'vtube_robotarium_curve.py').read_text(encoding='utf-8')

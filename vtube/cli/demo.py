@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Iterator
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -19,6 +20,10 @@ if TYPE_CHECKING:
     from vtube.pipeline import DemoStage
 
 RUN_TITLE = 'run the submission on the bundled simulator, as the testbed would, and analyse what it returns'
+FLIGHT_MODEL = (
+    "  flight model       the paper's single integrator, commands saturated into [v_min, v_max]; the Robotarium run "
+    'below flies unicycles through the near-identity map, the barrier certificate and the wheel limits'
+)
 
 
 def demo_arguments(parser: argparse.ArgumentParser) -> None:
@@ -42,7 +47,8 @@ def demo_view(stages: Iterator[DemoStage]) -> Iterator[View]:
             yield _titled('plan', plan_view(stage))
         elif isinstance(stage, Simulated):
             planned = 'with' if stage.result.planned else 'without'
-            yield _titled(f'simulate {planned} planning', simulate_view(stage))
+            view = simulate_view(stage)
+            yield _titled(f'simulate {planned} planning', replace(view, lines=(*view.lines, FLIGHT_MODEL)))
         elif isinstance(stage, Returned):
             failed = None if stage.ok else f'the submission failed on the bundled simulator; see {stage.log}'
             yield View(('', f'== {RUN_TITLE} =='), exit_code=EXIT_FAILED if failed else EXIT_OK, error=failed)

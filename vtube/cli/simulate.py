@@ -82,6 +82,7 @@ def simulate_view(simulated: Simulated) -> View:
                 f'mean {m.density_tracking_mean_per_m2:.4f}, max {m.density_tracking_max_per_m2:.4f} /m^2',
             ),
         ]
+    rows.append(('start', simulated.start))
     replans: list[dict[str, Any]] | None = result.meta.get('replans')
     if replans is not None:
         rows.append(('replanning', _replanning(replans, config.replan_every_s)))

@@ -13,7 +13,9 @@ from vtube.cli.render import progress_bar, tell
 if TYPE_CHECKING:
     from tqdm import tqdm
 
+    from submission.builder import Submission
     from submission.check import CheckReport, RunReport
+    from submission.declaration import Declaration
     from vtube.pipeline import WrittenSubmission
 
 
@@ -63,7 +65,16 @@ def build_view(written: WrittenSubmission) -> View:
             (*lines, '  the file records no duration to declare: fix what failed and build again'), None, EXIT_FAILED
         )
     declared = f'  the header records the declaration: {sub.n_robots} robots, {written.declaration.duration_s} s'
-    return View((*lines, declared))
+    return View((*lines, *_not_for_upload(written.declaration, sub), declared))
+
+
+def _not_for_upload(declaration: Declaration, sub: Submission) -> list[str]:
+    """A preview's declaration (fewer initializer seeds than a full build): why the file is not for upload, and the
+    command that builds the one to upload ([] for a full build's)."""
+    if declaration.for_upload:
+        return []
+    command = f'vtube submission build {sub.scene} --out experiment.py{"" if sub.planned else " --no-planning"}'
+    return [f'  {declaration.not_for_upload()[0]}; its header says so. Build the file to upload with `{command}`.']
 
 
 def preflight_arguments(parser: argparse.ArgumentParser) -> None:

@@ -1,4 +1,5 @@
-"""The simulated swarm's initial formation: a grid before the entrance, moving along the tube."""
+"""The simulated swarm's initial formation: a grid before the entrance, moving along the tube, or positions given
+by the caller (a Robotarium scene's entry formation, so that a simulation starts where the testbed's robots do)."""
 
 from __future__ import annotations
 
@@ -7,11 +8,39 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from vtube_planning._validate import as_points
 from vtube_planning.errors import ParamsError
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import SwarmParams
 
 FloatArray = NDArray[np.float64]
+Positions = tuple[tuple[float, ...], tuple[float, ...]]
+"""Points (2, N) as two rows, the x and the y of each robot: immutable, so a frozen configuration holds and compares
+them."""
+
+
+def as_positions(value: object, name: str = 'initial_positions_m') -> Positions:
+    """``value`` (any (2, N) array-like, N >= 1, finite) as :data:`Positions`, or :class:`ShapeError` naming the
+    problem."""
+    points = as_points(value, name=name, item='robots', min_count=1)
+    return tuple(points[0].tolist()), tuple(points[1].tolist())
+
+
+def start_formation(
+    tube: VirtualTube, swarm: SwarmParams, given: Positions | None, seed: int, jitter_m: float
+) -> FloatArray:
+    """The swarm's positions at t = 0, (2, N): ``given`` as it is (one column per robot of ``swarm``, not jittered),
+    else :func:`initial_formation` jittered by a generator seeded with ``seed``."""
+    if given is None:
+        return initial_formation(tube, swarm, np.random.default_rng(seed), jitter_m)
+    positions = np.array(given, dtype=np.float64)
+    if positions.shape[1] != swarm.n_robots:
+        msg = (
+            f'{positions.shape[1]} initial positions were given for a swarm of {swarm.n_robots} robots; give one '
+            f'position per robot, or fly {positions.shape[1]} robots.'
+        )
+        raise ParamsError(msg)
+    return positions
 
 
 def initial_formation(tube: VirtualTube, swarm: SwarmParams, rng: np.random.Generator, jitter_m: float) -> FloatArray:

@@ -5,7 +5,7 @@ paper's model. Optionally (``acceleration_limits``) every robot also obeys the t
 limits (3), (4): its speed changes by at most a_v per second and its heading turns at most at a_n / |v|.
 
 The swarm starts in a grid before the entrance (spacing 2 r_a, as many columns as fit the entrance with r_a to
-spare, rows behind), moving along the tube at the plan's initial speed; the run ends when every robot has passed
+spare, rows behind), or where ``SimConfig.initial_positions_m`` puts it, moving along the tube at the plan's initial speed; the run ends when every robot has passed
 l = L, or at the time limit.
 
 *With planning* the forward term follows the plan and the avoidance radius follows (a3); *without planning* the
@@ -33,7 +33,7 @@ from vtube_planning.onboard import PlanProfile, Projection, SwarmStep
 from vtube_planning.params import ControlParams, SwarmParams
 from vtube_planning.planning.plan import Plan
 from vtube_planning.swarm.faults import Faults, RobotFailure
-from vtube_planning.swarm.formation import initial_formation
+from vtube_planning.swarm.formation import Positions, as_positions, start_formation
 from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics
 from vtube_planning.swarm.period import Baseline, SimulatedPeriod
 from vtube_planning.swarm.replanner import Replanner
@@ -56,6 +56,9 @@ class SimConfig:
         stream, so switching a fault on leaves the formation unchanged).
     jitter_m
         Standard deviation of the initial positions around the grid, m (0 for a perfect grid).
+    initial_positions_m
+        Where the robots start, (2, N) (any array-like; kept as :data:`Positions`), one column per robot of the
+        swarm, as given (not jittered); None: the grid before the entrance.
     log_every
         Steps between rewrites of the log file.
     acceleration_limits
@@ -92,8 +95,11 @@ class SimConfig:
     failure: RobotFailure | None = None
     dropout: float = 0.0
     replan_every_s: float = 0.0
+    initial_positions_m: Positions | None = None
 
     def __post_init__(self) -> None:
+        if self.initial_positions_m is not None:
+            object.__setattr__(self, 'initial_positions_m', as_positions(self.initial_positions_m))
         if not is_positive(self.dt_s):
             msg = f'simulation dt_s must be a finite number > 0; got {self.dt_s!r}.'
             raise ParamsError(msg)
@@ -212,7 +218,7 @@ def simulate(
     step_params = control.step_params(swarm)
     replanner = _replanner(tube, swarm, plan, config, baseline)
     forward_const = _constant_speed(swarm, plan, constant_speed_mps)
-    positions = initial_formation(tube, swarm, np.random.default_rng(config.seed), config.jitter_m)
+    positions = start_formation(tube, swarm, config.initial_positions_m, config.seed, config.jitter_m)
     n = positions.shape[1]
     velocity = _initial_speed(swarm, plan, initial_speed_mps) * tube.project(positions).tangent
     profile = plan.profile if plan is not None else None
@@ -321,6 +327,7 @@ def _description(
         control=asdict(control),
         length_m=tube.length_m,
         tube_hash=tube.fingerprint(),
+        **({} if config.initial_positions_m is None else {'start': 'given positions'}),
     )
 
 

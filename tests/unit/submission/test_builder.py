@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import inspect
 from pathlib import Path
 
 import numpy as np
@@ -13,7 +14,7 @@ from robotarium_exp.initializer import InitializerSample
 from robotarium_exp.scene import load_scene
 from submission.builder import BUILD_STAMP, UNDECLARED, Submission, SubmissionError, build, build_declared, write
 from submission.check import CheckReport, imported_modules
-from submission.declaration import Declaration, declare
+from submission.declaration import FULL_BUILD_INITIALIZER_SEEDS, Declaration, declare
 from vtube_planning import SceneError
 from vtube_planning.onboard import PlanProfile, SampledTube, StepParams, SwarmStep
 from vtube_planning.planning.plan import Plan
@@ -231,3 +232,17 @@ def test_build_declared_stamps_what_the_check_derived_into_the_file_it_checked(t
 def test_write_creates_the_folder(tmp_path) -> None:
     submission = Submission('print(1)\n', 'x', False, 1)
     assert write(submission, tmp_path / 'a' / 'b.py').read_text() == 'print(1)\n'
+
+
+def test_a_preview_declaration_marks_the_file_not_for_upload_and_points_to_the_full_build() -> None:
+    """Fewer initializer seeds than a full build: the header says NOT FOR UPLOAD above the declaration, and the
+    command it points to ("Rebuild with") builds with the full build's seeds (the defaults)."""
+    submission = unplanned('robotarium_trapezoid')
+    preview = submission.declared(declare(InitializerSample((20.0, 35.5), ()), experiment_s=61.3))
+    header = preview.source.split('"""')[1]
+    assert header.index('NOT FOR UPLOAD: this duration rests on 2 initializer seeds') < header.index('Declare on')
+    rebuild = header.split('Rebuild with:\n')[1].splitlines()[0]
+    assert rebuild == '    vtube submission build robotarium_trapezoid --out FILE --no-planning'
+    assert inspect.signature(build_declared).parameters['initializer_seeds'].default == FULL_BUILD_INITIALIZER_SEEDS
+    full = declare(InitializerSample((20.0,) * FULL_BUILD_INITIALIZER_SEEDS, ()), experiment_s=61.3)
+    assert 'NOT FOR UPLOAD' not in submission.declared(full).source

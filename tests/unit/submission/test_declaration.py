@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import pytest
 
 from robotarium_exp.initializer import InitializerSample
-from submission.declaration import DECLARE_QUANTILE, Declaration, declare
+from submission.declaration import DECLARE_QUANTILE, FULL_BUILD_INITIALIZER_SEEDS, Declaration, declare
 from submission.errors import CheckError
 
 
@@ -40,3 +42,16 @@ def test_the_header_lines_read_back_as_the_same_declaration() -> None:
     text = '"""\n' + '\n'.join(lines) + '\n"""\n'
     assert Declaration.from_header(text) == Declaration(230, 199.5, 30.2, 200, 0.005, 0.0)  # as printed: 0.1 s
     assert Declaration.from_header('no declaration here') is None
+
+
+def test_a_declaration_from_fewer_seeds_than_a_full_build_marks_the_file_not_for_upload() -> None:
+    """The mark comes first and says why; the declaration below it reads back the same; a full build has none."""
+    preview = Declaration(130, 81.6, 43.5, FULL_BUILD_INITIALIZER_SEEDS - 1, 0.0, 0.0)
+    lines = preview.header_lines(6)
+    assert not preview.for_upload and lines[:2] == preview.not_for_upload()
+    assert lines[0] == 'NOT FOR UPLOAD: this duration rests on 199 initializer seeds, not the 200 of a full build'
+    assert 'the command under "Rebuild with" below builds the file to upload' in lines[1]
+    assert lines[2].startswith('Declare on the web form: 6 robots and 130 s') and len(lines) == 4
+    assert Declaration.from_header('"""\n' + '\n'.join(lines) + '\n"""\n') == preview
+    full = replace(preview, runs=FULL_BUILD_INITIALIZER_SEEDS)
+    assert full.for_upload and full.not_for_upload() == [] and full.header_lines(6)[0].startswith('Declare on')

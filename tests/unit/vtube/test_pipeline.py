@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from robotarium_exp.errors import AnalysisError
+from robotarium_exp.experiment import initial_conditions
 from robotarium_exp.scene import load_scene
 from submission.builder import UNDECLARED
 from vtube import pipeline
@@ -31,6 +32,7 @@ from vtube.pipeline import (
     simulate_scene,
 )
 from vtube_planning.errors import VtubeError
+from vtube_planning.swarm.formation import as_positions
 from vtube_planning.swarm.simulate import SimConfig
 
 SHORT = SimConfig(time_limit_s=0.4)
@@ -86,6 +88,7 @@ def test_simulate_writes_the_log_figures_and_scene_copy_and_tells_its_progress(t
     ]
     assert all(path.exists() for path in flown.written)
     assert flown.log == tmp_path / 'sim_A_planned.npz' and flown.swarm.n_robots == 3 and flown.result.planned
+    assert flown.start == pipeline.GRID_START and flown.config == SHORT  # a paper scene: the simulator's grid
     assert opened == [('simulated', 's')] and ticks == sorted(ticks) and 0 < ticks[-1] <= 0.4 + 1e-9
     unplanned = simulate_scene('A', tmp_path, planning=False, n_robots=2, config=SHORT)
     assert [p.name for p in unplanned.written] == [
@@ -232,3 +235,24 @@ def test_the_demo_runs_its_stages_in_order_and_stops_at_a_failure(tmp_path, monk
     done.clear()
     outcome['declaration'] = None
     assert len(list(pipeline.demo(tmp_path))) == 4 and done[-1] == 'build'  # no declaration: not run
+
+
+def test_a_robotarium_scene_is_simulated_from_its_flights_entry_formation(tmp_path, no_figures) -> None:
+    """The hook gives a Robotarium scene's entry formation (for the swarm flown), None for a paper scene; the
+    simulation starts exactly there unless its config gives positions."""
+    paper = load_scene('A')
+    assert pipeline.robotarium_start(paper, paper.swarm) is None
+    scene = load_scene('robotarium_curve')
+    four = replace(scene.swarm, n_robots=4)
+    start = pipeline.robotarium_start(scene, four)
+    assert start is not None
+    np.testing.assert_array_equal(start, initial_conditions(replace(scene, swarm=four))[:2])
+    inside = scene.tube.project(start)
+    assert np.all(inside.clearance_m > 0) and np.all((inside.l_m > 0) & (inside.l_m < scene.tube.length_m))
+    flown = simulate_scene('robotarium_curve', tmp_path, planning=False, n_robots=4, config=SHORT)
+    np.testing.assert_array_equal(flown.result.positions_m[0], start)
+    assert flown.start == pipeline.ROBOTARIUM_START and flown.config.initial_positions_m == as_positions(start)
+    moved = replace(SHORT, initial_positions_m=start - 0.01)
+    given = simulate_scene('robotarium_curve', tmp_path, planning=False, n_robots=4, config=moved)
+    assert given.start == 'the given positions'
+    np.testing.assert_array_equal(given.result.positions_m[0], start - 0.01)

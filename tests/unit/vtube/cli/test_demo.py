@@ -8,7 +8,8 @@ from pathlib import Path
 from vtube import pipeline
 from vtube.cli.app import main
 from vtube.cli.command import View
-from vtube.cli.demo import RUN_TITLE, _titled, demo_view
+from vtube.cli.demo import FLIGHT_MODEL, RUN_TITLE, _titled, demo_view
+from vtube.cli.simulate import simulate_view
 from vtube.cli.submission import build_view
 
 from .test_analyze import analysed
@@ -59,3 +60,11 @@ def test_the_demo_command_renders_until_the_first_failure(tmp_path, monkeypatch,
     captured = capsys.readouterr()
     assert told == [tmp_path / 'd'] and '== simulate with planning ==' in captured.out
     assert 'analysis of' not in captured.out and captured.err.startswith('error: the submission failed')
+
+
+def test_each_simulation_says_its_flight_model_differs_from_the_robotarium_run() -> None:
+    views = list(demo_view(iter([simulated(metrics()), simulated(metrics(), planned=False)])))
+    for view in views:
+        assert view.lines[-1] == FLIGHT_MODEL and "the paper's single integrator" in FLIGHT_MODEL
+        assert 'barrier certificate' in FLIGHT_MODEL
+    assert views[0].lines[2:-1] == simulate_view(simulated(metrics())).lines

@@ -39,7 +39,10 @@ def test_the_view_of_a_planned_passage() -> None:
     assert '  collisions         0 pairs closer than 2 r_p = 0.6 m' in view.lines
     assert '  tube violations    3 robot-steps, 1 robots, up to 0.013 m outside' in view.lines
     assert '  density tracking   mean 0.0123, max 0.0500 /m^2' in view.lines
-    assert view.lines[-1] == '  written            o/sim_C_planned.npz, o/a.png'
+    assert view.lines[-2:] == (
+        f'  start              {pipeline.GRID_START}',
+        '  written            o/sim_C_planned.npz, o/a.png',
+    )  # where the robots started: the grid of a paper scene (Robotarium scenes: tests/unit/vtube/test_pipeline.py)
     assert view.data == {'log': 'o/sim_C_planned.npz', 'metrics': metrics().to_json(), 'provenance': {'p': 1}}
 
 

@@ -15,7 +15,7 @@ import submission.check as check_module
 from robotarium_exp.initializer import InitializerSample
 from submission.builder import UNDECLARED, Submission
 from submission.check import CheckReport, RunReport
-from submission.declaration import declare
+from submission.declaration import FULL_BUILD_INITIALIZER_SEEDS, declare
 from vtube import pipeline
 from vtube.cli.app import main
 from vtube.cli.submission import build_view, check_lines, preflight_view
@@ -74,6 +74,21 @@ def test_the_build_view_unchecked_failed_and_declared() -> None:
     passed = build_view(pipeline.WrittenSubmission(SUB, Path('s.py'), report(GOOD)))
     assert passed.exit_code == 0 and passed.lines[-1] == '  the header records the declaration: 6 robots, 100 s'
     assert '  verdict                PASS' in passed.lines
+
+
+def test_a_preview_build_says_it_is_not_for_upload_and_gives_the_command_that_builds_the_file_to_upload() -> None:
+    """DECLARED rests on 2 initializer seeds: the line before the declaration says so; a full build's says nothing."""
+    preview = build_view(pipeline.WrittenSubmission(SUB, Path('s.py'), report(GOOD))).lines
+    assert preview[-2].startswith('  NOT FOR UPLOAD: this duration rests on 2 initializer seeds, not the 200 of')
+    assert preview[-2].endswith(
+        'Build the file to upload with `vtube submission build robotarium_curve --out experiment.py`.'
+    )
+    unplanned = Submission('x', 'robotarium_trapezoid', False, 6)
+    line = build_view(pipeline.WrittenSubmission(unplanned, Path('s.py'), report(GOOD))).lines[-2]
+    assert line.endswith('`vtube submission build robotarium_trapezoid --out experiment.py --no-planning`.')
+    full = declare(InitializerSample((20.0,) * FULL_BUILD_INITIALIZER_SEEDS, ()), experiment_s=61.3)
+    lines = build_view(pipeline.WrittenSubmission(SUB, Path('s.py'), report(GOOD, declaration=full))).lines
+    assert not any('NOT FOR UPLOAD' in line for line in lines) and lines[-2] == '  verdict                PASS'
 
 
 def preflight_on(stream: io.StringIO, monkeypatch, capsys, seeds: int) -> str:

@@ -1,4 +1,5 @@
-"""The initial formation: a grid of spacing 2 r_a before the entrance, as wide as the entrance allows."""
+"""The initial formation: a grid of spacing 2 r_a before the entrance, as wide as the entrance allows, or the
+positions given."""
 
 from __future__ import annotations
 
@@ -7,12 +8,12 @@ import math
 import numpy as np
 import pytest
 
-from vtube_planning.errors import ParamsError
+from vtube_planning.errors import ParamsError, ShapeError
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
 from vtube_planning.params import SwarmParams
-from vtube_planning.swarm.formation import initial_formation
+from vtube_planning.swarm.formation import as_positions, initial_formation, start_formation
 
 
 def tube(half_width_m: float, heading: float = 0.0) -> VirtualTube:
@@ -58,3 +59,33 @@ def test_the_jitter_is_gaussian_with_the_stated_deviation_and_follows_the_seed()
 def test_an_entrance_too_narrow_for_one_robot_is_named() -> None:
     with pytest.raises(ParamsError, match=r'the entrance \(half-width 0.5 m\) is too narrow .* r_a = 0.8 m'):
         initial_formation(tube(0.5), SwarmParams(), np.random.default_rng(0), 0.0)
+
+
+def test_given_positions_are_flown_as_given_one_per_robot() -> None:
+    """Any (2, N) array-like becomes two rows of floats; the start is exactly those points (no jitter, no grid)."""
+    t = tube(10.0)
+    given = as_positions(np.array([[-0.5, -0.5, -0.9], [0.2, -0.2, 0.0]]))
+    assert (
+        given == ((-0.5, -0.5, -0.9), (0.2, -0.2, 0.0)) and as_positions([[-0.5, -0.5, -0.9], [0.2, -0.2, 0]]) == given
+    )
+    start = start_formation(t, SwarmParams(n_robots=3), given, 7, 0.05)
+    np.testing.assert_array_equal(start, np.array(given))
+    grid = start_formation(t, SwarmParams(n_robots=3), None, 7, 0.05)
+    same = initial_formation(t, SwarmParams(n_robots=3), np.random.default_rng(7), 0.05)
+    np.testing.assert_array_equal(grid, same)  # nothing given: the grid, drawn as before
+    with pytest.raises(ParamsError, match=r'3 initial positions were given for a swarm of 4 robots; .* fly 3 robots'):
+        start_formation(t, SwarmParams(n_robots=4), given, 0, 0.0)
+
+
+@pytest.mark.parametrize(
+    ('value', 'problem'),
+    [
+        (np.zeros((3, 2)), r'must have shape \(2, N\) with N >= 1'),
+        (np.zeros((2, 0)), r'must have shape \(2, N\) with N >= 1'),
+        (np.zeros(2), r'must have shape \(2, N\)'),
+        (np.array([[0.0, np.nan], [0.0, 0.0]]), r'must be finite; robots \[1\] contain NaN'),
+    ],
+)
+def test_bad_given_positions_are_named(value: np.ndarray, problem: str) -> None:
+    with pytest.raises(ShapeError, match=problem):
+        as_positions(value)

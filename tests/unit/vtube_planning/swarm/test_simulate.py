@@ -10,7 +10,7 @@ import pytest
 
 import vtube_planning.swarm.simulate as simulate_module
 from robotarium_exp.scene import load_scene
-from vtube_planning.errors import ParamsError, PlanError
+from vtube_planning.errors import ParamsError, PlanError, ShapeError
 from vtube_planning.log import read_log
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.swarm.simulate import SimConfig, default_constant_speed, simulate
@@ -150,3 +150,27 @@ def test_a_run_that_cannot_fit_in_memory_is_refused_before_it_starts(scene_a, mo
         simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=config)
     monkeypatch.setattr(simulate_module, 'available_memory_bytes', lambda: 1_700_000)
     assert simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=config).t_s.size > 1
+
+
+def test_a_flight_starts_from_the_given_positions_and_its_log_says_so(scene_a) -> None:
+    """Given positions are the first logged step as given, moving along the tube at v_min (no plan); the config keeps
+    them as comparable, hashable rows; a count other than the swarm's is refused before the run."""
+    scene, _ = scene_a
+    tube, swarm = scene.tube, replace(scene.swarm, n_robots=3)
+    given = np.stack(
+        [tube.center_at(l_m) + y_m * tube.normal(l_m) for l_m, y_m in [(1.0, 1.0), (1.0, -1.0), (-2.0, 0)]]
+    )
+    config = SimConfig(time_limit_s=0.1, initial_positions_m=given.T)
+    assert config == SimConfig(time_limit_s=0.1, initial_positions_m=given.T.tolist()) and hash(config) == hash(config)
+    flown = simulate(tube, swarm, scene.control, plan=None, config=config)
+    np.testing.assert_array_equal(flown.positions_m[0], given.T)
+    np.testing.assert_allclose(flown.velocities_mps[0], swarm.v_min_mps * tube.project(given.T).tangent, atol=1e-12)
+    assert flown.meta['start'] == 'given positions'
+    assert (
+        'start'
+        not in simulate(tube, swarm, scene.control, plan=None, config=replace(config, initial_positions_m=None)).meta
+    )
+    with pytest.raises(ParamsError, match='3 initial positions were given for a swarm of 2 robots'):
+        simulate(tube, replace(swarm, n_robots=2), scene.control, plan=None, config=config)
+    with pytest.raises(ShapeError, match=r'initial_positions_m must have shape \(2, N\)'):
+        SimConfig(initial_positions_m=given)
