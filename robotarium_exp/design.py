@@ -11,8 +11,8 @@ value with its reason (``vtube scene show`` prints them):
   rests at the edge of the interaction band, r_s + r_a = the spacing: not compressed, not loose;
 - rho0 = rho_d: the formation's density under the package's measure, so the swarm starts on its plan and cruises
   in the formation it starts in; rho_max = 1 / (2 pi r_s^2) (the formula that reproduces Table 1's value);
-- the look-ahead: the first narrowing's length plus half the formation's length, because the plan is made for the
-  swarm's centre and the front meets the narrowing half a swarm-length earlier;
+- the look-ahead: the first narrowing's length plus the formation's length and its interaction band, because the
+  plan is made for the swarm's centre and the whole swarm must have expanded before its front meets the narrowing;
 - the parking slots beyond the exit: lanes :data:`PARKING_SPACING_M` apart, as many lanes and as deep as the arena
   allows.
 
@@ -170,17 +170,39 @@ def neighbour_counts(ic: FloatArray) -> NDArray[np.int_]:
 
 
 def parking(tube: VirtualTube, n_robots: int) -> FloatArray:
-    """Slots (2, N) beyond the exit, filled farthest first: the widest set of lanes (at most
-    :data:`PARKING_LANES_MAX`) whose slots all lie inside the arena less its margin, the farthest row
-    :data:`PARKING_DEPTH_M` beyond the exit or where the arena ends sooner; when none fits, the widest (the fit
-    verdict then refuses the scene)."""
+    """Slots (2, N) beyond the exit, filled farthest first: the most lanes (at most :data:`PARKING_LANES_MAX`)
+    whose slots all keep :data:`PARKING_WALL_M` from the arena's edge with the farthest row at least on the exit
+    line, that row :data:`PARKING_DEPTH_M` beyond the exit or where the arena ends sooner; when no layout keeps
+    the wall, the one that comes closest (the fit verdict then refuses the scene)."""
     end, tangent = tube.center_at(tube.length_m), tube.tangent(tube.length_m)
-    depth = min(PARKING_DEPTH_M, _room_beyond(end, tangent) - PARKING_WALL_M)
-    candidates = [
-        slots_in_lanes(end, tangent, n_robots, lanes, depth) for lanes in range(min(n_robots, PARKING_LANES_MAX), 0, -1)
-    ]
-    inside = [s for s in candidates if not ROBOTARIUM.outside_arena(s, PARKING_WALL_M).any()]
-    return (inside or candidates)[0]
+    layouts = []
+    for lanes in range(min(n_robots, PARKING_LANES_MAX), 0, -1):
+        room = _deepest(slots_in_lanes(end, tangent, n_robots, lanes, 0.0), tangent)
+        depth = min(PARKING_DEPTH_M, room)
+        if depth >= 0.0:
+            return slots_in_lanes(end, tangent, n_robots, lanes, depth)
+        layouts.append((depth, lanes))
+    depth, lanes = max(layouts)
+    return slots_in_lanes(end, tangent, n_robots, lanes, depth)
+
+
+def _deepest(slots: FloatArray, tangent: FloatArray) -> float:
+    """How far slots (2, N) can move along the tangent with every one keeping :data:`PARKING_WALL_M` from the
+    arena's edge (negative: they must move back; -inf: no move keeps them all inside)."""
+    x0, x1, y0, y1 = ROBOTARIUM.arena_m
+    w = PARKING_WALL_M
+    upper, lower = math.inf, -math.inf
+    for values, direction, low, high in (
+        (slots[0], tangent[0], x0 + w, x1 - w),
+        (slots[1], tangent[1], y0 + w, y1 - w),
+    ):
+        if abs(direction) < 1e-12:
+            if values.min() < low or values.max() > high:
+                return -math.inf
+            continue
+        ends = sorted(((low - values.min()) / direction, (high - values.max()) / direction))
+        lower, upper = max(lower, ends[0]), min(upper, ends[1])
+    return upper if upper >= lower else -math.inf
 
 
 def slots_in_lanes(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int, depth_m: float) -> FloatArray:
@@ -192,18 +214,6 @@ def slots_in_lanes(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: i
     across = (lane - 0.5 * (lanes - 1)) * PARKING_SPACING_M
     slots: FloatArray = end[:, None] + along * tangent[:, None] + across * normal[:, None]
     return slots
-
-
-def _room_beyond(end: FloatArray, tangent: FloatArray) -> float:
-    """How far the exit's centre can go along the tangent before it leaves the arena."""
-    x0, x1, y0, y1 = ROBOTARIUM.arena_m
-    reach = []
-    for value, direction, low, high in ((end[0], tangent[0], x0, x1), (end[1], tangent[1], y0, y1)):
-        if direction > 1e-12:
-            reach.append((high - value) / direction)
-        elif direction < -1e-12:
-            reach.append((low - value) / direction)
-    return min(reach) if reach else math.inf
 
 
 def formation_density(tube: VirtualTube, formation: Formation, r_a_m: float) -> float:

@@ -14,7 +14,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.design import neighbour_counts, start_formation
+from robotarium_exp.design import (
+    PARKING_LANES_MAX,
+    PARKING_SPACING_M,
+    PARKING_WALL_M,
+    neighbour_counts,
+    start_formation,
+)
 from robotarium_exp.errors import ExperimentError
 from robotarium_exp.experiment import TUBE_EDGE_POINTS, ExperimentConfig, flight_data
 from robotarium_exp.flight_data import FlightData
@@ -193,7 +199,8 @@ def _narrowing_start(l_m: FloatArray, half_width_m: FloatArray) -> float | None:
 
 
 def _parking_inside(data: FlightData) -> list[Misfit]:
-    outside = ROBOTARIUM.outside_arena(data.parking_slots, ROBOTARIUM.arena_margin_m)
+    """The parking slots keep the design's wall (less the data's rounding) from the arena's edge."""
+    outside = ROBOTARIUM.outside_arena(data.parking_slots, PARKING_WALL_M - ROUNDING_M)
     if not outside.any():
         return []
     k = int(np.argmax(outside))
@@ -202,9 +209,10 @@ def _parking_inside(data: FlightData) -> list[Misfit]:
     return [
         Misfit(
             f'parking slot {k} beyond the exit lies at ({x:.2f}, {y:.2f}), outside the arena {ROBOTARIUM.arena_text} '
-            f'less {ROBOTARIUM.arena_margin_m} m',
-            f'move the tube exit at ({end[0]:.2f}, {end[1]:.2f}) away from the arena edge (slots need up to 0.5 m '
-            'beyond it and 0.5 m to each side) or use fewer robots',
+            f'less {PARKING_WALL_M} m',
+            f'move the tube exit at ({end[0]:.2f}, {end[1]:.2f}) away from the arena edge (its slots lie in up to '
+            f'{PARKING_LANES_MAX} lanes {PARKING_SPACING_M} m apart, the farthest row on or beyond the exit line) or '
+            'use fewer robots',
         )
     ]
 

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 import submission.sweep as sweep_module
-from robotarium_exp.design import Fit, load_scene
+from robotarium_exp.fit import Fit, Misfit
+from robotarium_exp.scene import load_scene
 from robotarium_exp.experiment import ExperimentConfig, flight_data
 from robotarium_exp.flight_data import FlightData
 from robotarium_exp.spec import ROBOTARIUM
@@ -239,12 +240,11 @@ def test_the_table_puts_scenes_in_rows_and_n_in_columns() -> None:
 
 
 def test_a_case_the_verdict_refuses_is_a_refusal_with_its_reason_and_nothing_is_planned(tmp_path, monkeypatch) -> None:
-    monkeypatch.setattr(
-        sweep_module.design, 'robotarium_fit', lambda scene: Fit(False, 'the formation leaves the box; use N <= 8')
-    )
+    misfit = Misfit('the formation leaves the box', 'use N <= 8')
+    monkeypatch.setattr(sweep_module, 'robotarium_fit', lambda scene: Fit((misfit,)))
     monkeypatch.setattr(sweep_module, 'plan_convex', lambda *a, **k: pytest.fail('planned a refused case'))
     row = case_row(Case('robotarium_trapezoid', 20, 1, tmp_path))
-    assert row == {'status': 'refused', 'reason': 'the formation leaves the box; use N <= 8'}
+    assert row == {'status': 'refused', 'reason': Fit((misfit,)).reason}
 
 
 def test_a_plan_that_fails_or_is_not_certified_fails_the_case_before_any_build(planned, tmp_path, monkeypatch) -> None:
