@@ -29,7 +29,8 @@ FORMER_SWARM = {
     'r_a_m': 0.30,
     'rho_max_per_m2': 15.92,
 }
-FORMER_PLANNING = {'predictive_model': 'local_width', 'lookahead_m': 0.7}
+FORMER_LOOKAHEAD_M = 0.7
+FORMER_PLANNING = {'predictive_model': 'local_width', 'lookahead_m': FORMER_LOOKAHEAD_M}
 # The one documented difference: the former files looked 0.7 m ahead (the 0.5 m narrowing plus half the 0.4 m
 # formation); the declarations look as far as the narrowing (0.5 m), the whole formation (2 rows 0.4 m apart) and its
 # interaction band (r_s + r_a = 0.4 m) together, so the whole swarm has expanded before its front meets the narrowing.
@@ -66,7 +67,7 @@ def test_the_shipped_declarations_give_the_former_files_values(name: str) -> Non
     rho = FORMER_DENSITY[name]
     assert scene.swarm == SwarmParams(**FORMER_SWARM, rho_d_per_m2=rho)
     assert scene.planning.lookahead_m == pytest.approx(LOOKAHEAD_M)  # to 5 cm: the curve's rows spread a little
-    former = replace(scene.planning, lookahead_m=FORMER_PLANNING['lookahead_m'])
+    former = replace(scene.planning, lookahead_m=FORMER_LOOKAHEAD_M)
     assert former == PlanningOptions(**FORMER_PLANNING, rho0_per_m2=rho, grid_step_m=FORMER_GRID[name])
     assert scene.control == FORMER_CONTROL
     assert scene.testbed == 'robotarium' and scene.source == f'<shipped>/{name}.toml'
