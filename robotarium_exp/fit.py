@@ -18,6 +18,7 @@ from robotarium_exp.design import (
     PARKING_LANES_MAX,
     PARKING_SPACING_M,
     PARKING_WALL_M,
+    look_ahead,
     neighbour_counts,
     start_formation,
 )
@@ -164,38 +165,51 @@ def _initializer_order(ic: FloatArray) -> list[Misfit]:
 
 
 def _formation_before_narrowing(data: FlightData) -> list[Misfit]:
-    """The formation's front row and its interaction band end before the tube first narrows."""
+    """The formation's centre starts at least the derived look-ahead (:func:`robotarium_exp.design.look_ahead`)
+    before the tube first narrows: the plan, read at the swarm's centre, must begin its pre-expansion after the
+    swarm has started."""
     samples = data.tube
-    tube = SampledTube(samples.l_m, samples.xy_m, samples.half_width_m, samples.area_m2)
-    start = _narrowing_start(samples.l_m, samples.half_width_m)
-    if start is None:
+    narrowing = _sampled_narrowing(samples.l_m, samples.half_width_m)
+    if narrowing is None:
         return []
-    l_m = tube.project(data.initial_conditions[:2]).l_m
-    band = data.step.r_s_m + data.step.r_a_m
+    start, length = narrowing
+    l_m = (
+        SampledTube(samples.l_m, samples.xy_m, samples.half_width_m, samples.area_m2)
+        .project(data.initial_conditions[:2])
+        .l_m
+    )
     front, back = float(l_m.max()), float(l_m.min())
-    if front + band <= start + 1e-9:
+    ahead = look_ahead(length, front - back)
+    center = 0.5 * (front + back)
+    if center + ahead <= start + 1e-6:
         return []
     # a row's robots lie on one cross-section, rows a spacing apart (the sampled tube projects a row on a bend
     # within millimetres, which rounding to a centimetre could split)
     rows = 1 + int(np.count_nonzero(np.diff(np.sort(l_m)) > 0.5 * ROBOTARIUM.ic_spacing_m))
     columns = math.ceil(data.n_robots / rows)
     pitch = (front - back) / (rows - 1) if rows > 1 else ROBOTARIUM.ic_spacing_m
-    rows_fitting = max(0, math.floor((start - band - back) / pitch + 1e-9) + 1)
-    fewer = f', or use at most {rows_fitting * columns} robots' if rows_fitting else ''
+    fitting = [
+        r for r in range(rows - 1, 0, -1) if back + (r - 1) * pitch / 2 + look_ahead(length, (r - 1) * pitch) <= start
+    ]
+    fewer = f', or use at most {fitting[0] * columns} robots' if fitting else ''
     return [
         Misfit(
-            f'the start formation ({rows} row(s) of up to {columns}) reaches l = {front:.2f} m and, with its '
-            f'interaction band r_s + r_a = {band:.2f} m, the narrowing at l = {start:.2f} m: the swarm cannot '
-            'take its planned density before it',
-            f'lengthen the wide part before the narrowing by {front + band - start:.2f} m{fewer}',
+            f'the start formation ({rows} row(s) of up to {columns}) is centred at l = {center:.2f} m, less than its '
+            f'look-ahead ({ahead:.2f} m: the narrowing and the formation) before the narrowing at l = {start:.2f} m: '
+            'the plan would ask the swarm to expand before it has started',
+            f'lengthen the wide part before the narrowing by {center + ahead - start:.2f} m{fewer}',
         )
     ]
 
 
-def _narrowing_start(l_m: FloatArray, half_width_m: FloatArray) -> float | None:
-    """Where the sampled half-width first falls (by more than a micrometre), or None."""
+def _sampled_narrowing(l_m: FloatArray, half_width_m: FloatArray) -> tuple[float, float] | None:
+    """Where the sampled half-width first falls (by more than a micrometre per sample) and over what length."""
     falling = np.diff(half_width_m) < -1e-6
-    return float(l_m[int(np.argmax(falling))]) if falling.any() else None
+    if not falling.any():
+        return None
+    first = int(np.argmax(falling))
+    stop = first + int(np.argmin(falling[first:])) if not falling[first:].all() else falling.size
+    return float(l_m[first]), float(l_m[stop] - l_m[first])
 
 
 def _parking_inside(data: FlightData) -> list[Misfit]:

@@ -20,7 +20,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from robotarium_exp.design import R_S_M, first_narrowing, formation_density, start_formation
+from robotarium_exp.design import R_S_M, first_narrowing, formation_density, look_ahead, start_formation
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.errors import SceneError
 from vtube_planning.geometry import scene as planning_scenes
@@ -33,8 +33,6 @@ _SCENE_PACKAGE = 'robotarium_exp.scenes'
 TABLE = 'robotarium'
 """The table that declares a Robotarium experiment."""
 
-LOOKAHEAD_STEP_M = 0.05
-"""The look-ahead is rounded to this: a bend that spreads the formation by a centimetre does not move it."""
 Values = dict[str, dict[str, tuple[float | int | str | bool, str]]]
 """Table -> key -> (value, reason)."""
 
@@ -158,13 +156,11 @@ def derived_values(tube: VirtualTube, n_robots: int) -> Values:
         rho_reason = f'no start formation ({formation.problem}): N robots abreast at the entrance'
         length = 0.0
     narrowing = first_narrowing(tube)
-    swarm_length = length + spacing  # the formation and its interaction band, r_s + r_a = the spacing
     ahead = narrowing.length_m if narrowing is not None else 0.0
-    lookahead = round(round((ahead + swarm_length) / LOOKAHEAD_STEP_M) * LOOKAHEAD_STEP_M, 3)
     where = f'the narrowing from l = {narrowing.start_m:.2f} m ({ahead:.2f} m)' if narrowing else 'no narrowing'
     look_reason = (
-        f'{where} plus the formation ({length:.2f} m) and its band ({spacing} m): the plan is made for the '
-        "swarm's centre, and the whole swarm must have expanded before its front meets the narrowing (to 5 cm)"
+        f'{where} plus the formation ({length:.2f} m, at least one band, {spacing} m): the swarm starts that far '
+        'before the narrowing and expands as the plan sees it (robotarium_exp.design.look_ahead, to 5 cm)'
     )
     return {
         'swarm': {
@@ -175,7 +171,7 @@ def derived_values(tube: VirtualTube, n_robots: int) -> Values:
             'rho_max_per_m2': (rho_max, '1 / (2 pi r_s^2), the formula that reproduces Table 1'),
         },
         'planning': {
-            'lookahead_m': (lookahead, look_reason),
+            'lookahead_m': (look_ahead(ahead, length), look_reason),
             'rho0_per_m2': (rho, 'rho_d: the start formation'),
         },
         'control': {},

@@ -29,14 +29,7 @@ def test_initial_conditions_are_spread_for_the_testbed() -> None:
     'name',
     [
         'robotarium_trapezoid',
-        pytest.param(
-            'robotarium_curve',
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason='design.parking compares the slots with its 0.2 m wall without tolerance: the curve (exit '
-                '1.6e-3 rad off +x) gets five lanes, one at y = 0.90 m, where four keep the wall',
-            ),
-        ),
+        'robotarium_curve',
     ],
 )
 def test_parking_slots_keep_the_wall_the_testbed_turns_in(name: str) -> None:

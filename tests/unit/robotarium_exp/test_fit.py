@@ -179,12 +179,6 @@ def line(length_m: float) -> str:
     return f'{{ kind = "line", length_m = {length_m} }}'
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason='since parking keeps 0.3 m and a 0.2 m wall, only N = 1 fits: design.parking measures the wall along the '
-    'exit tangent (room - 0.2 m), so at 35 degrees the farthest row lies 0.14 m from the top edge; for N >= 2 no '
-    'layout keeps the wall and the widest, returned, leaves the arena less its 0.05 m margin',
-)
 def test_a_35_degree_bend_with_the_narrowing_inside_fits_up_to_the_k_it_names(tmp_path: Path) -> None:
     """The issue's new tube. Its formations are built exactly 0.4 m apart on the bend, which the flight data's six
     significant digits carry as 0.399997 m: that must not read as 'closer than 0.4 m'."""

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 import submission.sweep as sweep_module
-from robotarium_exp.fit import Fit, Misfit
-from robotarium_exp.scene import load_scene
 from robotarium_exp.experiment import ExperimentConfig, flight_data
+from robotarium_exp.fit import Fit, Misfit
 from robotarium_exp.flight_data import FlightData
+from robotarium_exp.scene import load_scene
 from robotarium_exp.spec import ROBOTARIUM
 from submission.check import RunReport
 from submission.errors import SubmissionError
