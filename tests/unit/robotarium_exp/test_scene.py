@@ -1,5 +1,5 @@
 """Robotarium scenes declared by intent: the shipped declarations give the values the hand-written files had (but
-the look-ahead, which now covers the whole swarm), the file's own values win and say so, N re-derives what depends on it, bad declarations are refused with the fix."""
+the look-ahead, which now covers the narrowing and the whole formation), the file's own values win and say so, N re-derives what depends on it, bad declarations are refused with the fix."""
 
 from __future__ import annotations
 
@@ -32,9 +32,16 @@ FORMER_SWARM = {
 FORMER_LOOKAHEAD_M = 0.7
 FORMER_PLANNING = {'predictive_model': 'local_width', 'lookahead_m': FORMER_LOOKAHEAD_M}
 # The one documented difference: the former files looked 0.7 m ahead (the 0.5 m narrowing plus half the 0.4 m
-# formation); the declarations look as far as the narrowing (0.5 m), the whole formation (2 rows 0.4 m apart) and its
-# interaction band (r_s + r_a = 0.4 m) together, so the whole swarm has expanded before its front meets the narrowing.
-LOOKAHEAD_M = 0.5 + 0.4 + 0.4
+# formation); the declarations look as far as the narrowing (0.5 m) plus the whole formation (2 rows 0.4 m apart), at
+# least one interaction band (r_s + r_a = 0.4 m): robotarium_exp.design.look_ahead.
+LOOKAHEAD_M = 0.5 + max(0.4, 0.4)
+
+
+def expected_look_ahead(narrowing_m: float, formation_m: float) -> float:
+    """The design's rule, written out: the narrowing plus the formation, at least one band (0.4 m), to 5 cm."""
+    return round((narrowing_m + max(formation_m, 0.4)) / 0.05) * 0.05
+
+
 FORMER_CONTROL = ControlParams(
     avoidance_gain=5e-4, keeping_gain=5e-4, k_ra_m3ps=0.02, r_a_max_m=0.5, feedforward=True, plan_at='center'
 )
@@ -83,7 +90,7 @@ def test_the_derivations_say_why() -> None:
     assert derived['n_robots'].reason == '[robotarium] n_robots'
     assert derived['rho_d_per_m2'].reason.startswith('the start formation (2 row(s) of up to 3, 0.40 m long)')
     assert derived['lookahead_m'].reason.startswith(
-        'the narrowing from l = 1.40 m (0.50 m) plus the formation (0.40 m) and its band (0.4 m)'
+        'the narrowing from l = 1.40 m (0.50 m) plus the formation (0.40 m, at least one band, 0.4 m)'
     )
     assert derived['r_a_m'].reason.startswith('r_s + r_a = 0.4 m')
     grid = {d.name: d for d in load_scene('robotarium_curve').derived}['grid_step_m']
@@ -93,27 +100,31 @@ def test_the_derivations_say_why() -> None:
 def test_a_value_in_the_file_overrides_and_is_reported_given(tmp_path: Path) -> None:
     text = (
         TRAPEZOID_TUBE + '[robotarium]\nn_robots = 6\n[swarm]\nv_max_mps = 0.1\nrho_d_per_m2 = 5.0\n'
-        '[planning]\nlookahead_m = 0.9\n[control]\nk_ra_m3ps = 0.03\n'
+        '[planning]\nlookahead_m = 1.1\n[control]\nk_ra_m3ps = 0.03\n'
     )
     scene, shipped = load_scene(write(tmp_path, text)), load_scene('robotarium_trapezoid')
     assert scene.swarm == replace(shipped.swarm, v_max_mps=0.1, rho_d_per_m2=5.0)
-    assert scene.planning == replace(shipped.planning, lookahead_m=0.9)  # rho0 stays the formation's 6.0
+    assert scene.planning == replace(shipped.planning, lookahead_m=1.1)  # rho0 stays the formation's 6.0
     assert scene.control == replace(shipped.control, k_ra_m3ps=0.03)
     given = {d.name: d for d in scene.derived if d.given}
     assert sorted(given) == ['k_ra_m3ps', 'lookahead_m', 'rho_d_per_m2', 'v_max_mps']
     assert given['v_max_mps'].value == 0.1 and given['v_max_mps'].reason.startswith('set in the file (derived: 0.12, ')
-    assert given['lookahead_m'].reason.startswith('set in the file (derived: 1.3, the narrowing from l = 1.40 m')
+    derived = expected_look_ahead(0.5, 0.4)  # the 2 x 3 formation, 0.4 m long
+    assert given['lookahead_m'].value == 1.1
+    assert given['lookahead_m'].reason.startswith(
+        f'set in the file (derived: {derived:g}, the narrowing from l = 1.40 m'
+    )
 
 
 @pytest.mark.parametrize('n', [1, 3, 4, 9])
 def test_n_robots_re_derives_density_and_look_ahead(n: int) -> None:
     """On the trapezoid: rows of 3 spaced 0.4 m, half-width 0.5 m, r_a = 0.3 m before a 0.5 m narrowing:
-    rho = N / (2 lambda (span + 2 r_a)); look-ahead = 0.5 m + span + the band 0.4 m (to 5 cm)."""
+    rho = N / (2 lambda (span + 2 r_a)); look-ahead = 0.5 m + the span, at least the band 0.4 m (to 5 cm)."""
     scene = load_scene('robotarium_trapezoid', n_robots=n)
     span = 0.4 * ((n + 2) // 3 - 1)
     assert scene.swarm.n_robots == n
     assert scene.swarm.rho_d_per_m2 == scene.planning.rho0_per_m2 == round(n / (2 * 0.5 * (span + 0.6)), 2)
-    assert scene.planning.lookahead_m == pytest.approx(round((0.5 + span + 0.4) / 0.05) * 0.05)
+    assert scene.planning.lookahead_m == pytest.approx(expected_look_ahead(0.5, span))
     assert scene.swarm.r_s_m + scene.swarm.r_a_m == pytest.approx(0.4)
     assert {d.name: d.value for d in scene.derived}['n_robots'] == n
 
@@ -207,4 +218,6 @@ def test_without_a_formation_the_density_is_n_abreast_and_the_look_ahead_one_ban
     assert scene.swarm.rho_d_per_m2 == round(2 / (2 * 0.3 * 2 * 0.3), 2)  # 5.56, below rho_max
     assert derived['rho_d_per_m2'].reason.startswith('no start formation (no cross-section of the tube lies inside')
     assert scene.planning.lookahead_m == 0.4
-    assert derived['lookahead_m'].reason.startswith('no narrowing plus the formation (0.00 m) and its band (0.4 m)')
+    assert derived['lookahead_m'].reason.startswith(
+        'no narrowing plus the formation (0.00 m, at least one band, 0.4 m)'
+    )

@@ -144,4 +144,6 @@ def test_the_show_view_of_a_misfit_carries_exit_1() -> None:
     fit = robotarium_fit(scene)
     view = show_view(SceneShown(scene, scene.tube.summary(), fit, None))
     assert view.exit_code == 1 and view.lines[-1] == f'  Robotarium            {fit.reason}'
-    assert 'use at most 9 robots' in view.lines[-1]
+    # 4 rows of 3 from l = 0.1 m, 0.4 m apart; a row centred at 0.1 m with a 0.9 m look-ahead, two rows at 0.3 m with
+    # 0.9 m end before the narrowing at 1.4 m, three at 0.5 m with 1.3 m do not: at most 2 rows of 3
+    assert 'use at most 6 robots' in view.lines[-1]
