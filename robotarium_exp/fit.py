@@ -8,7 +8,6 @@ compare``, ``submission build`` and ``submission check`` all ask here.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -185,9 +184,10 @@ def _formation_before_narrowing(data: FlightData) -> list[Misfit]:
         return []
     # a row's robots lie on one cross-section, rows a spacing apart (the sampled tube projects a row on a bend
     # within millimetres, which rounding to a centimetre could split)
-    rows = 1 + int(np.count_nonzero(np.diff(np.sort(l_m)) > 0.5 * ROBOTARIUM.ic_spacing_m))
-    columns = math.ceil(data.n_robots / rows)
-    pitch = (front - back) / (rows - 1) if rows > 1 else ROBOTARIUM.ic_spacing_m
+    ordered = np.sort(l_m)
+    row_sizes = np.diff(np.flatnonzero(np.r_[True, np.diff(ordered) > 0.5 * ROBOTARIUM.ic_spacing_m, True]))
+    rows, columns = row_sizes.size, int(row_sizes.max())
+    pitch = ROBOTARIUM.ic_spacing_m  # a smaller formation's rows stand this far apart unless a bend spreads them
     fitting = [
         r for r in range(rows - 1, 0, -1) if back + (r - 1) * pitch / 2 + look_ahead(length, (r - 1) * pitch) <= start
     ]

@@ -130,12 +130,6 @@ def test_the_reason_names_the_first_misfit_and_every_one_is_kept(data: FlightDat
     assert fit.reason == f'does not fit the Robotarium: 25 robots; {fit.misfits[0].fix}'
 
 
-K_FROM_SPREAD_ROWS = (
-    'package bug: the fit counts K with the row pitch of the N-robot formation, which on a bend spreads its rows '
-    '(0.59-0.61 m apart at N = 7); fewer robots stand in rows 0.4 m apart and fit (6 robots), so K is named too low'
-)
-
-
 def at_most(fit: Fit) -> int:
     (k,) = [int(m) for misfit in fit.misfits for m in re.findall(r'use at most (\d+) robots', misfit.fix)]
     return k
@@ -146,7 +140,7 @@ def at_most(fit: Fit) -> int:
     [
         ('robotarium_trapezoid', 10),
         ('robotarium_trapezoid', 20),
-        pytest.param('robotarium_curve', 7, marks=pytest.mark.xfail(strict=True, reason=K_FROM_SPREAD_ROWS)),
+        ('robotarium_curve', 7),
     ],
 )
 def test_the_at_most_k_robots_fix_is_right(name: str, n: int) -> None:
@@ -217,7 +211,6 @@ def test_a_35_degree_bend_with_the_narrowing_inside_fits_up_to_six(tmp_path: Pat
     assert [n for n, fit in fits.items() if fit.fits] == [1, 2, 3, 4, 5, 6]
 
 
-@pytest.mark.xfail(strict=True, reason=K_FROM_SPREAD_ROWS)
 def test_on_a_35_degree_bend_the_fix_names_the_k_that_fits(tmp_path: Path) -> None:
     assert at_most(robotarium_fit(load_scene(thirty_five_degree_bend(tmp_path), n_robots=7))) == 6
 
