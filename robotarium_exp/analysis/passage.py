@@ -114,7 +114,8 @@ class Passage:
     entrance_observed
         Some robot was seen before the entrance before any robot reached it.
     never_inside, not_exited
-        Robots never seen inside the tube; robots not seen past the exit after being inside.
+        Robots never seen inside the tube (from a recorded start: never at or past the entrance); robots not seen
+        past the exit after being inside.
     robots_passed
         Robots seen inside and then past the exit.
     unobserved
@@ -193,6 +194,7 @@ def observed_passage(along: AlongTube, length_m: float, robot_ids: tuple[str, ..
         not_exited=not_exited,
         robots_passed=int(exited.sum()),
         unobserved=tuple(unobserved),
+        start=INFERRED_START,
     )
 
 
