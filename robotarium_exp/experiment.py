@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 from robotarium_exp.design import parking, start_formation
 from robotarium_exp.errors import ExperimentError
-from robotarium_exp.flight import Period, RobotariumLike, build_flight, fly
+from robotarium_exp.flight import Period, RobotariumLike, build_flight, flight_start, fly
 from robotarium_exp.flight_data import FlightData, SafetyData, TubeSamples, Wheels
 from robotarium_exp.spec import ROBOTARIUM
 from robotarium_exp.tracking import FilterSummary, filter_summary
@@ -169,7 +169,8 @@ def run_experiment(
     )
     restart_shared_counters(r)
     flight = build_flight(data)
-    log = LogWriter(log_path, _log_description(scene, config, data, log_meta), flush_every=config.log_every)
+    description = {**_log_description(scene, config, data, log_meta), 'flight_start': flight_start(r, dt)}
+    log = LogWriter(log_path, description, flush_every=config.log_every)
     completed, periods = fly(r, flight, dt, config.max_steps, _recorder(log, tube, dt))
     arrays = log.arrays()
     errors = VerifierCounts.from_simulator(getattr(r, 'errors', None) or getattr(r, '_errors', None) or {})

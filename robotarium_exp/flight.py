@@ -12,7 +12,8 @@ Each period:
    near-identity map and uniform wheel scaling for the others.
 
 The loop (:func:`fly`) hands the commands to ``set_velocities`` and calls ``step()`` until every robot has parked
-or the step limit; the caller records each period as it likes. It needs numpy only and uses the Robotarium
+or the step limit; the caller records each period as it likes, and :func:`flight_start` where on the Robotarium's
+clock the flight (and with it the passage) begins, after the initialization. It needs numpy only and uses the Robotarium
 object through ``get_poses``, ``set_velocities`` and ``step``, so any ``rps`` implementation runs it.
 """
 
@@ -160,3 +161,24 @@ def fly(
         robotarium.set_velocities(np.arange(n), period.dxu)
         robotarium.step()
     return False, max_steps
+
+
+def robotarium_steps(robotarium: object) -> int:
+    """Steps the Robotarium has taken so far, initialization included (``iterations``: ours; ``_iteration``,
+    ``_iterations``: V2's and classic's); 0 when it does not say."""
+    for name in ('iterations', '_iteration', '_iterations'):
+        steps = getattr(robotarium, name, None)
+        if steps:
+            return int(steps)
+    return 0
+
+
+def flight_start(robotarium: object, dt_s: float) -> dict[str, float | int]:
+    """Where the flight begins, for a log's description: the Robotarium's steps before it (the initialization, when
+    one ran), their time, and the log's time ``t_s`` at that moment (0: a flight's log starts with its first period).
+
+    A returned log that records its start is timed as the experiment times it (:mod:`robotarium_exp.analysis.passage`),
+    though every robot starts inside the tube.
+    """
+    steps = robotarium_steps(robotarium)
+    return {'iteration': steps, 'robotarium_time_s': round(steps * dt_s, 6), 't_s': 0.0}

@@ -10,15 +10,17 @@ benchmarks) it takes them from the package instead.
 On the testbed it constructs the Robotarium with the flight's initial conditions and flies it (:func:`fly`). It
 writes the trajectory log of :mod:`vtube_planning.log` as files the testbed returns: one ``vtube_NAME.npy``
 per logged array (``t_s``, ``positions_m``, ``headings_rad``, ...) every 100 steps and at the end, and the
-description in ``vtube_meta.json`` (format, version, scene, tube fingerprint; at the end ``finished`` with the
-simulator's counts). It prints a one-line JSON summary (it lands in ``log.txt``) and calls the generation's
+description in ``vtube_meta.json`` (format, version, scene, tube fingerprint, the flight's start after the
+initialization: :func:`~robotarium_exp.flight.flight_start`; at the end ``finished`` with the simulator's counts).
+The first row of the arrays is the flight's first period, so ``vtube analyze`` of the returned files times the
+passage as ``vtube robotarium run`` does. It prints a one-line JSON summary (it lands in ``log.txt``) and calls the generation's
 end-of-script function.
 """
 
 from __future__ import annotations
 
 # ---- inlined by the builder: the modules, functions and constants named below replace this import block ----
-from robotarium_exp.flight import Period, RobotariumLike, build_flight, fly
+from robotarium_exp.flight import Period, RobotariumLike, build_flight, flight_start, fly, robotarium_steps
 from robotarium_exp.flight_data import FlightData
 from robotarium_exp.safety import SafetyFilter
 from vtube_planning import onboard
@@ -97,6 +99,7 @@ def run(data: FlightData, robotarium_module: RobotariumModule, *, max_steps: int
         'planned': data.planned,
         'n_robots': n,
         'dt_s': dt,
+        'flight_start': flight_start(r, dt),
     }
     rows: dict[str, list[np.ndarray]] = {}
     started = time.time()
@@ -141,7 +144,6 @@ def _summary(
     positions = np.array(rows['positions_m'])
     i, j = np.triu_indices(data.n_robots, k=1)
     gaps = np.hypot(positions[:, 0, i] - positions[:, 0, j], positions[:, 1, i] - positions[:, 1, j])
-    iterations = getattr(r, 'iterations', None) or getattr(r, '_iteration', None) or getattr(r, '_iterations', 0)
     errors = dict(getattr(r, 'errors', None) or getattr(r, '_errors', None) or {})
     return {
         'scene': data.scene,
@@ -150,7 +152,7 @@ def _summary(
         'dt_s': dt,
         'steps': steps,
         'completed': completed,
-        'iterations': int(iterations or 0),
+        'iterations': robotarium_steps(r),
         'min_center_distance_m': round(float(gaps.min()), 4) if gaps.size else None,
         'barrier_correction_max_mps': round(float(np.max(rows['barrier_correction_mps'])), 4),
         'band_dropped_steps': safety.stats.band_dropped if safety is not None else 0,

@@ -24,6 +24,7 @@ import numpy as np
 
 from robotarium_exp.analysis.bags import read_bag
 from robotarium_exp.analysis.matfiles import read_mat
+from robotarium_exp.analysis.passage import FlightStart
 from robotarium_exp.analysis.trajectory import (
     DEFAULT_MAX_GAP,
     MaxGap,
@@ -196,8 +197,7 @@ def _submission_log(
     except LogError as err:
         raise AnalysisError(str(err)) from err
     source['files'] = [str(meta_path)] + [str(folder / f'{SUBMISSION_PREFIX}{name}.npy') for name in sorted(arrays)]
-    source |= {'scene': meta.get('scene'), 'tube_hash': meta.get('tube_hash'), 'planned': meta.get('planned')}
-    return _log_samples(log), source
+    return _log_samples(log), source | _log_source(log, meta, str(meta_path))
 
 
 def load_npz_log(path: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
@@ -206,15 +206,23 @@ def load_npz_log(path: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
         arrays, meta = read_log(path)
     except LogError as err:
         raise AnalysisError(str(err)) from err
-    source = {
-        'kind': 'vtube log',
-        'path': str(path),
-        'files': [str(path)],
+    source = {'kind': 'vtube log', 'path': str(path), 'files': [str(path)]}
+    return _log_samples(arrays), source | _log_source(arrays, meta, str(path))
+
+
+def _log_source(arrays: dict[str, np.ndarray], meta: dict[str, Any], where: str) -> dict[str, Any]:
+    """What a vtube log's description says of its run: scene, tube, plan, and where the flight began when it
+    recorded that (:class:`~robotarium_exp.analysis.passage.FlightStart`, on the trajectory's clock; None for logs
+    that do not record it: simulations, earlier submissions)."""
+    t_s = arrays['t_s']
+    first = float(t_s[0]) if t_s.size else 0.0
+    start = FlightStart.from_record(meta.get('flight_start'), where, first)
+    return {
         'scene': meta.get('scene'),
         'tube_hash': meta.get('tube_hash'),
         'planned': meta.get('planned'),
+        'flight_start': start.to_record() if start is not None else None,
     }
-    return _log_samples(arrays), source
 
 
 def _log_samples(arrays: dict[str, np.ndarray]) -> dict[str, RobotSamples]:

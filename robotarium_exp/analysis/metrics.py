@@ -47,9 +47,11 @@ class TubeMetrics:
     Attributes
     ----------
     passage
-        The passage as observed (a passing time only for a passage observed whole).
+        The passage: timed from the start a flight recorded, else as observed (a passing time only for a passage
+        observed whole).
     tube_violation_steps, robots_outside, max_outside_m
-        Robot-frames with the centre outside the tube while 0 <= l <= L, the robots that ever were, how far out.
+        Robot-frames outside the tube while 0 <= l <= L (the body of radius ``body_radius_m``; 0: the centre), the
+        robots that ever were, how far out.
     narrowing_start_m
         Arc length where the tube first gets narrower than at its entrance.
     extent_start_m, extent_at_narrowing_m
@@ -57,6 +59,8 @@ class TubeMetrics:
         (None without a complete frame, or when the front never reaches it).
     tracking
         Against the plan (None without a plan or a complete frame with the centre inside the tube).
+    body_radius_m
+        The Robotarium robot's for a flight that recorded its start (as the experiment counts), else 0.
     """
 
     passage: Passage
@@ -67,6 +71,7 @@ class TubeMetrics:
     extent_start_m: float | None
     extent_at_narrowing_m: float | None
     tracking: TrackingErrors | None
+    body_radius_m: float = 0.0
 
     def to_json(self) -> dict[str, Any]:
         """The keys ``metrics.json`` holds for a recording analysed in a scene."""
@@ -81,6 +86,7 @@ class TubeMetrics:
             'tube_violation_steps': self.tube_violation_steps,
             'robots_outside': self.robots_outside,
             'max_outside_m': self.max_outside_m,
+            'tube_violation_body_radius_m': self.body_radius_m,
             'narrowing_start_m': self.narrowing_start_m,
             'extent_start_m': self.extent_start_m,
             'extent_at_narrowing_m': self.extent_at_narrowing_m,
@@ -88,6 +94,12 @@ class TubeMetrics:
         if self.tracking is not None:
             out.update(asdict(self.tracking))
         return out
+
+    def violations_counted(self) -> str:
+        """What a tube violation is here, in words."""
+        if self.body_radius_m > 0.0:
+            return f'the body (radius {self.body_radius_m:.3f} m)'
+        return 'the centre'
 
 
 @dataclass(frozen=True)

@@ -4,24 +4,88 @@
 position), and measures the swarm's density (:func:`vtube_planning.onboard.density.swarm_area`, the one definition) on
 the frames where every robot has a position.
 
-A recording may start after the swarm entered, end before it left, or show bodies that never came near the tube.
-:func:`observed_passage` therefore gives a passing time only for a passage it saw whole: some robot before the
-entrance (before any robot reached it), each robot inside the tube at some time, and each robot past the exit
-after that. Otherwise the passing time is None, and the result says which part was not observed.
+A flight of ours on a Robotarium (the submission's files, ``vtube robotarium run``'s log) records where it began
+(:class:`FlightStart`, :func:`robotarium_exp.flight.flight_start`): after the initialization, with every robot
+already inside the tube. :func:`recorded_passage` times it as the experiment does, with the one definition of
+:func:`vtube_planning.swarm.metrics.passage_times` (first robot at l >= 0 to the last at l >= L), from that start.
+
+Any other recording may start after the swarm entered, end before it left, or show bodies that never came near the
+tube. :func:`observed_passage` therefore infers the start, and gives a passing time only for a passage it saw
+whole: some robot before the entrance (before any robot reached it), each robot inside the tube at some time, and
+each robot past the exit after that. Otherwise the passing time is None, and the result says which part was not
+observed. Either result says how its start was known (``Passage.start``).
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.analysis.trajectory import Trajectory
+from robotarium_exp.errors import AnalysisError
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.onboard import swarm_area
+from vtube_planning.swarm.metrics import crossing_times, passage_times
 
 FloatArray = NDArray[np.float64]
+
+INFERRED_START = 'start inferred from the first robot to reach the entrance, one robot having been seen before it'
+"""How :func:`observed_passage` knows where the passage starts."""
+
+
+@dataclass(frozen=True)
+class FlightStart:
+    """Where a recorded flight began (:func:`robotarium_exp.flight.flight_start`).
+
+    Attributes
+    ----------
+    iteration, robotarium_time_s
+        The Robotarium's steps before the flight (the initialization, when one ran), and their time.
+    t_s
+        The flight's first period on the trajectory's clock (seconds from its first frame).
+    """
+
+    iteration: int
+    robotarium_time_s: float
+    t_s: float
+
+    @classmethod
+    def from_record(cls, record: Mapping[str, Any] | None, where: str, first_t_s: float = 0.0) -> FlightStart | None:
+        """The start a log's description records (None: not recorded, as by earlier submissions); its ``t_s`` is on
+        the log's clock, whose first row is at ``first_t_s``."""
+        if record is None:
+            return None
+        try:
+            start = cls(int(record['iteration']), float(record['robotarium_time_s']), float(record['t_s']) - first_t_s)
+        except (KeyError, TypeError, ValueError) as err:
+            msg = (
+                f"{where}: the recorded flight start {record!r} is unreadable ({err!r}); it must hold 'iteration', "
+                "'robotarium_time_s' and 't_s', as robotarium_exp.flight.flight_start writes them. Remove "
+                "'flight_start' from the log's description to have the start inferred instead."
+            )
+            raise AnalysisError(msg) from err
+        if not (start.iteration >= 0 and math.isfinite(start.t_s) and math.isfinite(start.robotarium_time_s)):
+            msg = f'{where}: the recorded flight start {record!r} needs a step count >= 0 and finite times.'
+            raise AnalysisError(msg)
+        return start
+
+    def to_record(self) -> dict[str, float | int]:
+        """The fields, as a loader passes them on in a trajectory's ``source``."""
+        return {'iteration': self.iteration, 'robotarium_time_s': self.robotarium_time_s, 't_s': self.t_s}
+
+    def describe(self) -> str:
+        """The start, in words."""
+        before = (
+            f'after an initialization of {self.iteration} steps ({self.robotarium_time_s:.2f} s)'
+            if self.iteration
+            else 'no initialization before it'
+        )
+        return f'start recorded by the flight at t = {self.t_s:.2f} s, {before}'
 
 
 @dataclass(frozen=True)
@@ -50,11 +114,14 @@ class Passage:
     entrance_observed
         Some robot was seen before the entrance before any robot reached it.
     never_inside, not_exited
-        Robots never seen inside the tube; robots not seen past the exit after being inside.
+        Robots never seen inside the tube (from a recorded start: never at or past the entrance); robots not seen
+        past the exit after being inside.
     robots_passed
         Robots seen inside and then past the exit.
     unobserved
         What was not observed, in words (empty when the passage was).
+    start
+        How the passage's start was known: recorded by the flight, or inferred (:data:`INFERRED_START`).
     """
 
     passing_time_s: float | None
@@ -65,6 +132,7 @@ class Passage:
     not_exited: tuple[str, ...]
     robots_passed: int
     unobserved: tuple[str, ...]
+    start: str = INFERRED_START
 
 
 def along_tube(trajectory: Trajectory, scene: Scene) -> AlongTube:
@@ -126,4 +194,34 @@ def observed_passage(along: AlongTube, length_m: float, robot_ids: tuple[str, ..
         not_exited=not_exited,
         robots_passed=int(exited.sum()),
         unobserved=tuple(unobserved),
+        start=INFERRED_START,
+    )
+
+
+def recorded_passage(along: AlongTube, length_m: float, robot_ids: tuple[str, ...], start: FlightStart) -> Passage:
+    """The passage of a flight that recorded its ``start``, timed as the experiment times it (module docstring) on
+    the frames from the start on; NaN entries of ``along`` are frames without a position."""
+    flown = along.t_s >= start.t_s - 1e-9  # the trajectory's clock is rounded to nanoseconds
+    t, l_m = along.t_s[flown], along.l_m[flown]
+    passing, _, passed, first_entry, last_exit = passage_times(t, l_m, length_m)
+    entered = np.isfinite(crossing_times(t, l_m, 0.0))
+    exited = np.isfinite(crossing_times(t, l_m, length_m))
+    never = tuple(r for r, seen in zip(robot_ids, entered, strict=True) if not seen)
+    not_exited = tuple(r for r, seen, out in zip(robot_ids, entered, exited, strict=True) if seen and not out)
+    unobserved = []
+    if never:
+        unobserved.append(f'never seen at or past the entrance: {", ".join(never)}')
+    if not_exited:
+        unobserved.append(f'not seen past the exit: {", ".join(not_exited)}')
+    before = t < first_entry if math.isfinite(first_entry) else np.zeros(t.size, dtype=bool)
+    return Passage(
+        passing_time_s=passing if math.isfinite(passing) else None,
+        first_entry_s=first_entry if math.isfinite(first_entry) else None,
+        last_exit_s=last_exit if math.isfinite(last_exit) else None,
+        entrance_observed=bool((l_m[before] < 0.0).any()),
+        never_inside=never,
+        not_exited=not_exited,
+        robots_passed=passed,
+        unobserved=tuple(unobserved),
+        start=start.describe(),
     )

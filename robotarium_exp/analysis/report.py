@@ -2,8 +2,10 @@
 
 Works on any :class:`~robotarium_exp.analysis.trajectory.Trajectory` (testbed files, our logs, motion-capture bags).
 Without a scene the result holds the measures that need no tube: robots, frames, each robot's coverage, gaps,
-pairwise distances and collisions. With a scene it adds the passage (:mod:`.passage`: a passing time only for a
-passage observed whole), tube violations over each robot's own coverage, the expansion before the narrowing and,
+pairwise distances and collisions. With a scene it adds the passage (:mod:`.passage`: timed from the start a flight
+of ours recorded, as ``vtube robotarium run`` times it, with the tube violations of the Robotarium robot's body;
+otherwise a passing time only for a passage observed whole, and violations of the centres), tube violations over
+each robot's own coverage, the expansion before the narrowing and,
 with a plan, the tracking errors (on the frames where every robot has a position). The result
 (:class:`~robotarium_exp.analysis.metrics.RecordingMetrics`) records what was read (paths, sizes, hashes), the
 options and the package version.
@@ -23,8 +25,9 @@ import numpy as np
 from robotarium_exp.analysis.distances import PairDistances, pair_distances
 from robotarium_exp.analysis.loaders import input_record
 from robotarium_exp.analysis.metrics import PairMeasure, RecordingMetrics, TrackingErrors, TubeMetrics
-from robotarium_exp.analysis.passage import AlongTube, along_tube, observed_passage
+from robotarium_exp.analysis.passage import AlongTube, FlightStart, along_tube, observed_passage, recorded_passage
 from robotarium_exp.analysis.trajectory import Trajectory
+from robotarium_exp.spec import ROBOTARIUM
 from robotarium_exp.tracking import narrowing_start
 from vtube_planning import __version__
 from vtube_planning.geometry.scene import Scene
@@ -112,16 +115,21 @@ def _pair_measures(
 def _tube_metrics(trajectory: Trajectory, scene: Scene, plan: Plan | None, along: AlongTube) -> TubeMetrics:
     """The passage, tube violations, the swarm's length before the narrowing and the tracking of ``plan``."""
     length = scene.tube.length_m
-    passage = observed_passage(along, length, trajectory.robot_ids)
-    violation_steps, robots_outside, max_outside = tube_violations(along.l_m, along.clearance_m, length)
+    start = FlightStart.from_record(trajectory.source.get('flight_start'), str(trajectory.source.get('path')))
+    if start is None:
+        passage, body_radius = observed_passage(along, length, trajectory.robot_ids), 0.0
+    else:  # a flight of ours on a Robotarium: its robots' bodies, as the experiment counts them
+        passage = recorded_passage(along, length, trajectory.robot_ids, start)
+        body_radius = 0.5 * ROBOTARIUM.robot_diameter_m
+    violation_steps, robots_outside, max_outside = tube_violations(along.l_m, along.clearance_m, length, body_radius)
     complete = along.complete
-    start = narrowing_start(scene)
+    narrowing = narrowing_start(scene)
     l_c = along.l_m[complete]
     extent_start = extent_at_narrowing = None
     tracking = None
     if l_c.size:
         extent = np.ptp(l_c, axis=1)
-        reached = np.flatnonzero(l_c.max(axis=1) >= start)
+        reached = np.flatnonzero(l_c.max(axis=1) >= narrowing)
         extent_start = float(extent[0])
         extent_at_narrowing = float(extent[reached[0]]) if reached.size else None
         if plan is not None:
@@ -133,7 +141,8 @@ def _tube_metrics(trajectory: Trajectory, scene: Scene, plan: Plan | None, along
         tube_violation_steps=violation_steps,
         robots_outside=robots_outside,
         max_outside_m=max_outside,
-        narrowing_start_m=start,
+        body_radius_m=body_radius,
+        narrowing_start_m=narrowing,
         extent_start_m=extent_start,
         extent_at_narrowing_m=extent_at_narrowing,
         tracking=tracking,
@@ -254,6 +263,8 @@ def _notes(label: str, m: RecordingMetrics) -> list[str]:
         lines.append(
             f'\nIgnored ({len(ignored)}): ' + '; '.join(' '.join(str(v) for v in i.values()) for i in ignored[:20])
         )
+    if m.tube is not None:
+        lines.append(f'\nPassage: {m.tube.passage.start}; tube violations of {m.tube.violations_counted()}.')
     if m.tube is not None and m.tube.passage.unobserved:
         unobserved = '; '.join(m.tube.passage.unobserved)
         lines.append(f'\nNo passing time: the passage was not observed whole: {unobserved}.')

@@ -141,6 +141,16 @@ def test_the_returned_file_flies_the_bundled_experiment_and_compare_writes_the_t
     assert returned.min_distance_m == pytest.approx(mine.min_distance_m, abs=0.005)
     assert returned.tube_violation_steps == pytest.approx(mine.tube_violation_steps, rel=0.05)
     np.testing.assert_allclose(positions, experiment.arrays['positions_m'], atol=1e-9)  # in fact, the same trajectory
+    # `vtube analyze` of the returned folder (the demo's last stage) times the flight from the start it recorded
+    analysed = demo_run.stage(Analysed).data.metrics
+    meta = json.loads((folder / 'vtube_meta.json').read_text())
+    assert meta['flight_start']['iteration'] == meta['iterations'] - meta['steps'] + 1 > 0  # after V2's initialization
+    assert analysed.source['flight_start']['t_s'] == 0.0
+    assert analysed.tube.passage.start.startswith('start recorded by the flight')
+    assert analysed.tube.passage.passing_time_s == pytest.approx(mine.passing_time_s, rel=0.01)
+    assert analysed.closest.min_distance_m == pytest.approx(mine.min_distance_m, abs=0.005)
+    assert analysed.tube.tube_violation_steps == pytest.approx(mine.tube_violation_steps, rel=0.05)
+    assert analysed.tube.body_radius_m == 0.5 * ROBOTARIUM.robot_diameter_m
 
 
 def _unstamped(source: str) -> str:

@@ -93,10 +93,10 @@ def analyze_view(analysed: Analysed) -> View:
     if m.tube is not None:
         passage = m.tube.passage
         if passage.passing_time_s is None:
-            lines.append(f'  no passing time: {"; ".join(passage.unobserved)}')
+            lines.append(f'  no passing time: {"; ".join(passage.unobserved)} ({passage.start})')
         else:
-            lines.append(f'  passing time {passage.passing_time_s:.2f} s')
-        lines.append(f'  {m.tube.tube_violation_steps} tube violations (robot-frames)')
+            lines.append(f'  passing time {passage.passing_time_s:.2f} s ({passage.start})')
+        lines.append(f'  {m.tube.tube_violation_steps} tube violations (robot-frames, {m.tube.violations_counted()})')
     lines.append(f'  written {analysed.report}, {analysed.metrics_file}')
     return View(tuple(lines), m.to_json())  # the JSON object: what metrics.json holds under "data"
 

@@ -221,7 +221,7 @@ def passage_metrics(
         collisions count every robot.
     """
     counted = np.ones(l_m.shape[1], dtype=bool) if counted is None else counted
-    passing_time, completed, passed, first_entry, last_exit = _passage_times(t_s, l_m[:, counted], length_m)
+    passing_time, completed, passed, first_entry, last_exit = passage_times(t_s, l_m[:, counted], length_m)
     min_dist = min_distance_over_time(positions_m)
     k_min = int(np.argmin(min_dist))
     violation_steps, robots_outside, max_outside = tube_violations(l_m, clearance_m, length_m, body_radius_m, counted)
@@ -248,7 +248,7 @@ def passage_metrics(
     )
 
 
-def _passage_times(t_s: FloatArray, l_m: FloatArray, length_m: float) -> tuple[float, bool, int, float, float]:
+def passage_times(t_s: FloatArray, l_m: FloatArray, length_m: float) -> tuple[float, bool, int, float, float]:
     """The passing time, whether every robot of ``l_m`` (T, N) exited, how many did, the first entry and the last
     exit (NaN where they did not happen)."""
     entry = crossing_times(t_s, l_m, 0.0)

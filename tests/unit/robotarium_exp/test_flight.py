@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from robotarium_exp.experiment import ExperimentConfig, flight_data
-from robotarium_exp.flight import Flight, Period, build_flight, fly
+from robotarium_exp.flight import Flight, Period, build_flight, flight_start, fly, robotarium_steps
 from robotarium_exp.flight_data import FlightData
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.safety import SafetyFilter
@@ -147,3 +147,19 @@ def test_a_few_steps_on_our_simulator_are_clean(data) -> None:
     np.testing.assert_allclose(before, data.initial_conditions)  # no initialization: the robots start there
     assert r.errors.get('robots_too_close', 0) == 0 and r.errors.get('exceeded_actuator_limits', 0) == 0
     assert np.all(np.hypot(*(r.get_poses()[:2] - before[:2])) > 0)  # every robot moved
+
+
+def test_the_flight_s_start_is_the_robotarium_s_step_count_in_any_generation(data) -> None:
+    assert robotarium_steps(SimpleNamespace(iterations=7, _iteration=3)) == 7  # ours
+    assert robotarium_steps(SimpleNamespace(_iterations=5)) == 5  # PyPI's V2, classic
+    assert robotarium_steps(object()) == 0  # a Robotarium that does not say
+    r = Robotarium(
+        number_of_robots=data.n_robots,
+        show_figure=False,
+        sim_in_real_time=False,
+        initial_conditions=np.array(data.initial_conditions),
+        skip_initialization=True,
+    )
+    assert flight_start(r, r.TIME_STEP) == {'iteration': 0, 'robotarium_time_s': 0.0, 't_s': 0.0}
+    fly(r, build_flight(data), r.TIME_STEP, 2, lambda _k, _period: None)
+    assert flight_start(r, 0.033) == {'iteration': 2, 'robotarium_time_s': 0.066, 't_s': 0.0}

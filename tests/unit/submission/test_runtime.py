@@ -48,8 +48,12 @@ def test_saved_arrays_load_without_pickle(tmp_path, monkeypatch) -> None:
     assert (
         meta['scene'] == 'robotarium_curve' and meta['tube_hash'] == load_scene('robotarium_curve').tube.fingerprint()
     )
+    # the flight starts at the log's first row, after classic's (absent) initialization; 40 steps were sent
+    assert meta['flight_start'] == {'iteration': 0, 'robotarium_time_s': 0.0, 't_s': 0.0}
+    assert meta['iterations'] == summary['iterations'] == summary['steps'] == 40 and not meta['completed']
     returned = load_trajectory([tmp_path])  # the one reader of vtube logs
     assert returned.source['tube_hash'] == meta['tube_hash'] and len(returned.robot_ids) == 6
+    assert returned.source['flight_start'] == meta['flight_start']
     np.testing.assert_array_equal(returned.positions_m, positions)
 
 

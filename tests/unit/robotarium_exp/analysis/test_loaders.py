@@ -91,6 +91,34 @@ def test_a_submission_log_folder_reads_like_any_vtube_log(tmp_path) -> None:
         load_trajectory([tmp_path])
 
 
+def test_a_recorded_flight_start_is_passed_on_on_the_trajectory_s_clock(tmp_path) -> None:
+    """A submission's folder and a `vtube robotarium run` log carry the flight's start (its t_s on the log's clock,
+    here 0.25 s after the log's first row); logs without one (earlier submissions, simulations) carry None."""
+    import json
+
+    from vtube_planning.log import LogWriter
+
+    t, positions, headings = truth()
+    t = t + 1.0  # the log's first row at t = 1.0 s
+    start = {'iteration': 412, 'robotarium_time_s': 13.596, 't_s': 1.25}
+    meta = {'format': 'vtube-trajectory', 'version': 2, 'kind': 'robotarium submission', 'flight_start': start}
+    (tmp_path / 'vtube_meta.json').write_text(json.dumps(meta))
+    for name, values in (('t_s', t), ('positions_m', positions), ('headings_rad', headings)):
+        np.save(tmp_path / f'vtube_{name}.npy', values)
+    expected = start | {'t_s': pytest.approx(0.25, abs=1e-12)}
+    assert load_trajectory([tmp_path]).source['flight_start'] == expected
+    log = LogWriter(tmp_path / 'run.npz', {'kind': 'robotarium experiment', 'flight_start': start})
+    for k in range(t.size):
+        log.append(t_s=t[k], positions_m=positions[k], headings_rad=headings[k])
+    log.flush(finished=True)
+    assert load_trajectory([tmp_path / 'run.npz']).source['flight_start'] == expected
+    (tmp_path / 'vtube_meta.json').write_text(json.dumps(meta | {'flight_start': {'iteration': 'many'}}))
+    with pytest.raises(AnalysisError, match='vtube_meta.json: the recorded flight start .* is unreadable'):
+        load_trajectory([tmp_path])
+    (tmp_path / 'vtube_meta.json').write_text(json.dumps({k: v for k, v in meta.items() if k != 'flight_start'}))
+    assert load_trajectory([tmp_path]).source['flight_start'] is None
+
+
 def test_an_unreadable_type_costs_only_its_topic(tmp_path) -> None:
     from rosbags.highlevel import AnyReader, AnyReaderError
 

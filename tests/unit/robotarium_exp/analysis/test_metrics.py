@@ -64,3 +64,7 @@ def test_the_tube_s_keys_and_strict_json() -> None:
     assert data['passage']['first_entry_s'] == 1.0 and data['scene'] == 's' and data['plan'] is False
     untracked = TubeMetrics(PASSAGE, 0, 0, 0.0, 1.4, None, None, None).to_json()
     assert 'speed_tracking_mean_mps' not in untracked and untracked['tube_violation_steps'] == 0
+    assert data['tube_violation_body_radius_m'] == 0.0 and tube.violations_counted() == 'the centre'
+    body = TubeMetrics(PASSAGE, 0, 0, 0.0, 1.4, None, None, None, body_radius_m=0.055)
+    assert body.to_json()['tube_violation_body_radius_m'] == 0.055
+    assert body.violations_counted() == 'the body (radius 0.055 m)'

@@ -1,13 +1,22 @@
 """The trajectory seen from the trapezoid's tube (straight along y = 0 from x = -1.45, 0.4 m wide at first), and
-the passage as observed, on hand-made cases."""
+the passage as observed or from a recorded start, on hand-made cases."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from robotarium_exp.analysis.passage import AlongTube, Passage, along_tube, observed_passage
+from robotarium_exp.analysis.passage import (
+    INFERRED_START,
+    AlongTube,
+    FlightStart,
+    Passage,
+    along_tube,
+    observed_passage,
+    recorded_passage,
+)
 from robotarium_exp.analysis.trajectory import Trajectory
+from robotarium_exp.errors import AnalysisError
 
 ENTRANCE_X = -1.45
 
@@ -68,3 +77,39 @@ def test_what_was_not_observed_is_said() -> None:
     assert outside.never_inside == ('c',) and outside.unobserved == ('never seen inside the tube: c',)
     before = observed_passage(along_of(np.array([[-1.0], [-0.5]])), 2.0, ('d',))
     assert before.first_entry_s is None and before.unobserved[0] == 'no robot was seen at or past the entrance'
+
+
+START = FlightStart(iteration=120, robotarium_time_s=3.96, t_s=1.0)
+
+
+def test_a_recorded_flight_is_timed_from_its_start_though_every_robot_starts_inside() -> None:
+    l_m = np.array([[-0.4, -0.3], [0.1, 0.2], [1.0, 0.5], [2.1, 1.5], [2.5, 2.0]])  # L = 2; the flight starts at t = 1
+    passage = recorded_passage(along_of(l_m), 2.0, ('a', 'b'), START)
+    assert passage.passing_time_s == 4.0 - 1.0 and passage.first_entry_s == 1.0 and passage.last_exit_s == 4.0
+    assert passage.robots_passed == 2 and passage.unobserved == () and not passage.entrance_observed
+    assert passage.start == 'start recorded by the flight at t = 1.00 s, after an initialization of 120 steps (3.96 s)'
+    inferred = observed_passage(along_of(l_m[1:]), 2.0, ('a', 'b'))  # the same frames without the record
+    assert inferred.passing_time_s is None and inferred.start == INFERRED_START
+
+
+def test_a_recorded_flight_names_the_robots_that_did_not_pass() -> None:
+    l_m = np.array([[0.1, -0.5, 0.3], [1.0, -0.5, 2.5], [2.5, -0.4, 2.6]])
+    start = FlightStart(0, 0.0, 0.0)
+    passage = recorded_passage(along_of(l_m), 2.0, ('a', 'b', 'c'), start)
+    assert passage.passing_time_s is None and passage.last_exit_s is None and passage.first_entry_s == 0.0
+    assert passage.never_inside == ('b',) and passage.not_exited == () and passage.robots_passed == 2
+    assert passage.unobserved == ('never seen at or past the entrance: b',)
+    assert passage.start.endswith('no initialization before it')
+    stuck = recorded_passage(along_of(np.array([[0.1, 0.2], [2.1, 1.0]])), 2.0, ('a', 'b'), start)
+    assert stuck.not_exited == ('b',) and stuck.unobserved == ('not seen past the exit: b',)
+
+
+def test_a_recorded_start_is_read_on_the_trajectory_s_clock_or_refused_with_the_fix() -> None:
+    record = {'iteration': 57, 'robotarium_time_s': 1.881, 't_s': 2.5}
+    start = FlightStart.from_record(record, 'folder', first_t_s=0.5)
+    assert start == FlightStart(57, 1.881, 2.0) and FlightStart.from_record(start.to_record(), 'x') == start
+    assert FlightStart.from_record(None, 'folder') is None  # earlier submissions: inferred
+    with pytest.raises(AnalysisError, match="folder: the recorded flight start .* must hold 'iteration'"):
+        FlightStart.from_record({'iteration': 3}, 'folder')
+    with pytest.raises(AnalysisError, match='needs a step count >= 0 and finite times'):
+        FlightStart.from_record(record | {'t_s': float('nan')}, 'folder')

@@ -42,6 +42,35 @@ def test_passing_time_only_for_an_observed_passage() -> None:
     assert late['passing_time_s'] is None and late['passage']['not_exited']
 
 
+def test_a_flight_that_recorded_its_start_is_timed_from_it_with_the_robots_bodies() -> None:
+    """Three robots start inside the trapezoid's tube at x = -1.2, -1.3, -1.405 (l = 0.25, 0.15, 0.045) and leave it at
+    x = 1.0 at 0.1 m/s; in the narrowing (half-width 0.25 m) the centre of r2 runs 0.03 m from the wall: its body is
+    outside, its centre is not."""
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+    from robotarium_exp.spec import ROBOTARIUM
+
+    t = np.arange(300) * 0.1
+    x = -1.2 + 0.1 * t[:, None] - np.array([0.0, 0.1, 0.205])  # no frame exactly at the exit
+    y = np.broadcast_to(np.array([-0.1, 0.05, 0.22]), x.shape)
+    stamps = np.arange(300, dtype=np.int64) * 100_000_000
+    samples = {f'r{k}': RobotSamples(stamps, np.stack([x[:, k], y[:, k]], axis=1)) for k in range(3)}
+    start = {'iteration': 900, 'robotarium_time_s': 29.7, 't_s': 0.0}
+    scene = load_scene('robotarium_trapezoid')
+    recorded = analyse(assemble(samples, source={'path': 'flight', 'flight_start': start}), scene).metrics.tube
+    inferred = analyse(assemble(samples, source={'path': 'other'}), scene).metrics.tube
+    assert recorded is not None and inferred is not None
+    last_out = (1.0 + 1.405) / 0.1  # analytic: the last robot reaches x = 1.0; the first is inside at t = 0
+    assert recorded.passage.passing_time_s == pytest.approx(last_out, abs=0.1 + 1e-9)
+    assert recorded.passage.start.startswith('start recorded by the flight at t = 0.00 s, after an initialization')
+    assert inferred.passage.passing_time_s is None  # nobody seen before the entrance
+    half = scene.tube.half_width(np.clip(x[:, 2] + 1.45, 0.0, scene.tube.length_m))
+    inside = (x[:, 2] >= -1.45) & (x[:, 2] <= -1.45 + scene.tube.length_m)
+    body = 0.5 * ROBOTARIUM.robot_diameter_m
+    assert recorded.body_radius_m == body and inferred.body_radius_m == 0.0
+    assert recorded.tube_violation_steps == int((inside & (half - 0.22 < body)).sum()) > 0
+    assert inferred.tube_violation_steps == 0 and float(half.min()) == pytest.approx(0.25)
+
+
 def test_typed_metrics_and_their_json_agree() -> None:
     from robotarium_exp.analysis.trajectory import RobotSamples, assemble
 

@@ -11,7 +11,9 @@ from vtube.cli.app import main
 
 
 def analysed(*, robots: int = 3, closest=True, collision_m: float | None = 0.27, tube=True) -> pipeline.Analysed:
-    passage = SimpleNamespace(passing_time_s=None if tube == 'unobserved' else 41.234, unobserved=['the exit'])
+    passage = SimpleNamespace(
+        passing_time_s=None if tube == 'unobserved' else 41.234, unobserved=['the exit'], start='start inferred'
+    )
     metrics = SimpleNamespace(
         frames=120,
         complete_frames=100,
@@ -19,7 +21,9 @@ def analysed(*, robots: int = 3, closest=True, collision_m: float | None = 0.27,
         closest=SimpleNamespace(robots=('r1', 'r2'), min_distance_m=0.31234, time_s=12.345) if closest else None,
         collision_pairs=0,
         collision_distance_m=collision_m,
-        tube=SimpleNamespace(passage=passage, tube_violation_steps=7) if tube else None,
+        tube=SimpleNamespace(passage=passage, tube_violation_steps=7, violations_counted=lambda: 'the centre')
+        if tube
+        else None,
         to_json=lambda: {'robots': robots},
     )
     source = {'kind': 'ros bag', 'path': 'b.mcap', 'ignored': ['/tf_static']}
@@ -36,8 +40,8 @@ def test_the_view_of_an_analysis_in_a_scene() -> None:
             '1 topics/frames/variables ignored'
         ),
         '  minimum distance 0.312 m (r1 and r2, t = 12.35 s), 0 pairs closer than 0.270 m',
-        '  passing time 41.23 s',
-        '  7 tube violations (robot-frames)',
+        '  passing time 41.23 s (start inferred)',
+        '  7 tube violations (robot-frames, the centre)',
         '  written a/report.md, a/metrics.json',
     )
     assert view.data == {'robots': 3}
@@ -49,7 +53,10 @@ def test_the_view_without_a_tube_distances_or_passage() -> None:
     assert lines[1] == '  one robot: no distances, collisions not counted (give --collision-distance)'
     assert len(lines) == 3
     apart = analyze_view(analysed(closest=False, tube='unobserved')).lines
-    assert apart[1].startswith('  no two robots seen at the same time') and apart[2] == '  no passing time: the exit'
+    assert (
+        apart[1].startswith('  no two robots seen at the same time')
+        and apart[2] == '  no passing time: the exit (start inferred)'
+    )
 
 
 def test_the_options_reach_the_pipeline(tmp_path, monkeypatch, capsys) -> None:
