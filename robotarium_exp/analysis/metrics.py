@@ -12,7 +12,7 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from robotarium_exp.analysis.loaders import InputFile
-from robotarium_exp.analysis.passage import Passage
+from robotarium_exp.analysis.passage import INFERRED_START, Passage
 from robotarium_exp.analysis.trajectory import Coverage, Gap
 from vtube_planning.swarm.metrics import strict_json
 
@@ -161,6 +161,21 @@ class RecordingMetrics:
     def collision_pairs(self) -> int | None:
         colliding = self.colliding_pairs
         return None if colliding is None else len(colliding)
+
+    def failures(self) -> tuple[str, ...]:
+        """What the recording shows failed: robots that collided, and, where the flight recorded its start, robots
+        that never entered the tube or never left it (a passage inferred from the data is not judged)."""
+        found = []
+        colliding = self.colliding_pairs
+        if colliding:
+            found.append(f'{len(colliding)} robot pairs came closer than {self.collision_distance_m:.3f} m')
+        passage = self.tube.passage if self.tube is not None else None
+        if passage is not None and passage.start != INFERRED_START:
+            if passage.never_inside:
+                found.append(f'robots {", ".join(passage.never_inside)} never entered the tube')
+            if passage.not_exited:
+                found.append(f'robots {", ".join(passage.not_exited)} never passed the exit')
+        return tuple(found)
 
     def to_json(self) -> dict[str, Any]:
         """``metrics.json``'s entry for this recording: strict JSON, the tube's keys only with a scene."""

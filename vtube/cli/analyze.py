@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from vtube.cli.arguments import positive, regex, writable_folder
-from vtube.cli.command import BadInput, Command, View
+from vtube.cli.command import EXIT_FAILED, EXIT_OK, BadInput, Command, View
 
 if TYPE_CHECKING:
     from vtube.pipeline import Analysed
@@ -97,8 +97,12 @@ def analyze_view(analysed: Analysed) -> View:
         else:
             lines.append(f'  passing time {passage.passing_time_s:.2f} s ({passage.start})')
         lines.append(f'  {m.tube.tube_violation_steps} tube violations (robot-frames, {m.tube.violations_counted()})')
+    failures = m.failures()
+    if failures:
+        lines.append(f'  FAILED: {"; ".join(failures)}')
     lines.append(f'  written {analysed.report}, {analysed.metrics_file}')
-    return View(tuple(lines), m.to_json())  # the JSON object: what metrics.json holds under "data"
+    # the JSON object: what metrics.json holds under "data"
+    return View(tuple(lines), m.to_json(), exit_code=EXIT_FAILED if failures else EXIT_OK)
 
 
 COMMAND = Command(

@@ -68,3 +68,18 @@ def test_the_tube_s_keys_and_strict_json() -> None:
     body = TubeMetrics(PASSAGE, 0, 0, 0.0, 1.4, None, None, None, body_radius_m=0.055)
     assert body.to_json()['tube_violation_body_radius_m'] == 0.055
     assert body.violations_counted() == 'the body (radius 0.055 m)'
+
+
+def test_failures_are_collisions_and_from_a_recorded_start_robots_that_did_not_pass() -> None:
+    """A passage inferred from the data is not judged; one timed from the flight's own start is."""
+    from dataclasses import replace
+
+    from robotarium_exp.analysis.passage import INFERRED_START
+
+    recorded = replace(PASSAGE, never_inside=('c',), not_exited=('b',), start='start recorded by the flight')
+    tube = TubeMetrics(recorded, 0, 0, 0.0, 1.4, None, None, None)
+    assert metrics(None, tube).failures() == ('robots c never entered the tube', 'robots b never passed the exit')
+    inferred = TubeMetrics(replace(recorded, start=INFERRED_START), 0, 0, 0.0, 1.4, None, None, None)
+    assert metrics(None, inferred).failures() == ()
+    assert metrics(0.2, None).failures() == ('1 robot pairs came closer than 0.200 m',)
+    assert metrics(None, TubeMetrics(PASSAGE, 0, 0, 0.0, 1.4, None, None, None)).failures() == ()

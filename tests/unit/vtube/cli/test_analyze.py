@@ -10,7 +10,9 @@ from vtube.cli.analyze import analyze_view
 from vtube.cli.app import main
 
 
-def analysed(*, robots: int = 3, closest=True, collision_m: float | None = 0.27, tube=True) -> pipeline.Analysed:
+def analysed(
+    *, robots: int = 3, closest=True, collision_m: float | None = 0.27, tube=True, failures=()
+) -> pipeline.Analysed:
     passage = SimpleNamespace(
         passing_time_s=None if tube == 'unobserved' else 41.234, unobserved=['the exit'], start='start inferred'
     )
@@ -25,6 +27,7 @@ def analysed(*, robots: int = 3, closest=True, collision_m: float | None = 0.27,
         if tube
         else None,
         to_json=lambda: {'robots': robots},
+        failures=lambda: failures,
     )
     source = {'kind': 'ros bag', 'path': 'b.mcap', 'ignored': ['/tf_static']}
     data = SimpleNamespace(trajectory=SimpleNamespace(source=source, n_robots=robots), metrics=metrics)
@@ -45,6 +48,12 @@ def test_the_view_of_an_analysis_in_a_scene() -> None:
         '  written a/report.md, a/metrics.json',
     )
     assert view.data == {'robots': 3}
+
+
+def test_a_failed_passage_is_said_and_exits_1() -> None:
+    view = analyze_view(analysed(failures=('robots r3 never passed the exit',)))
+    assert view.lines[-2] == '  FAILED: robots r3 never passed the exit' and view.exit_code == 1
+    assert analyze_view(analysed()).exit_code == 0
 
 
 def test_the_view_without_a_tube_distances_or_passage() -> None:
