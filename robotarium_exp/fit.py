@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 
 from robotarium_exp.design import (
     PARKING_LANES_MAX,
+    PARKING_NEAREST_M,
     PARKING_SPACING_M,
     PARKING_WALL_M,
     look_ahead,
@@ -213,20 +214,27 @@ def _sampled_narrowing(l_m: FloatArray, half_width_m: FloatArray) -> tuple[float
 
 
 def _parking_inside(data: FlightData) -> list[Misfit]:
-    """The parking slots keep the design's wall (less the data's rounding) from the arena's edge."""
-    outside = ROBOTARIUM.outside_arena(data.parking_slots, PARKING_WALL_M - ROUNDING_M)
-    if not outside.any():
+    """The parking slots keep the design's wall (less the data's rounding) from the arena's edge, and lie beyond the
+    exit (:func:`robotarium_exp.design.parking`)."""
+    slots, end = data.parking_slots, data.tube.xy_m[:, -1]
+    tangent = data.tube.xy_m[:, -1] - data.tube.xy_m[:, -2]
+    beyond = (tangent / np.hypot(*tangent)) @ (slots - end[:, None])
+    outside = ROBOTARIUM.outside_arena(slots, PARKING_WALL_M - ROUNDING_M)
+    behind = beyond < PARKING_NEAREST_M - ROUNDING_M
+    if not (outside.any() or behind.any()):
         return []
-    k = int(np.argmax(outside))
-    x, y = data.parking_slots[:, k]
-    end = data.tube.xy_m[:, -1]
+    k = int(np.argmax(outside | behind))
+    where = (
+        f'outside the arena {ROBOTARIUM.arena_text} less {PARKING_WALL_M} m'
+        if outside[k]
+        else f'{beyond[k]:.2f} m beyond the exit, less than {PARKING_NEAREST_M} m'
+    )
     return [
         Misfit(
-            f'parking slot {k} beyond the exit lies at ({x:.2f}, {y:.2f}), outside the arena {ROBOTARIUM.arena_text} '
-            f'less {PARKING_WALL_M} m',
-            f'move the tube exit at ({end[0]:.2f}, {end[1]:.2f}) away from the arena edge (its slots lie in up to '
-            f'{PARKING_LANES_MAX} lanes {PARKING_SPACING_M} m apart, the farthest row on or beyond the exit line) or '
-            'use fewer robots',
+            f'parking slot {k} lies at ({slots[0, k]:.2f}, {slots[1, k]:.2f}), {where}',
+            f'move the tube exit at ({end[0]:.2f}, {end[1]:.2f}) away from the arena edge (its {data.n_robots} '
+            f'slots lie in up to {PARKING_LANES_MAX} lanes and rows {PARKING_SPACING_M} m apart, all beyond the '
+            'exit) or use fewer robots',
         )
     ]
 
