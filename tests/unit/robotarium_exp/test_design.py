@@ -11,6 +11,7 @@ import pytest
 from robotarium_exp.design import (
     PARKING_DEPTH_M,
     PARKING_LANES_MAX,
+    PARKING_NEAREST_M,
     PARKING_SPACING_M,
     PARKING_WALL_M,
     WALL_CLEARANCE_M,
@@ -230,11 +231,12 @@ def keeps_the_wall(slots: np.ndarray) -> bool:
 
 
 def scanned_layout(t: VirtualTube, n: int) -> tuple[int, float] | None:
-    """The most lanes, and the deepest farthest row (<= 0.45 m, >= 0: on or beyond the exit line), that keep the
-    wall, found by scanning depths every 0.5 mm; None when no layout does."""
+    """The most lanes, and the deepest farthest row (at most 1 m beyond the exit, the nearest row at least
+    0.08 m beyond it), that keep the wall, found by scanning depths every 0.5 mm; None when no layout does."""
     end, tangent = t.center_at(t.length_m), t.tangent(t.length_m)
     for lanes in range(min(n, PARKING_LANES_MAX), 0, -1):
-        for depth in np.arange(PARKING_DEPTH_M, -1e-9, -5e-4):
+        behind = PARKING_SPACING_M * ((n - 1) // lanes)
+        for depth in np.arange(PARKING_DEPTH_M, PARKING_NEAREST_M + behind - 1e-9, -5e-4):
             if not ROBOTARIUM.outside_arena(slots_in_lanes(end, tangent, n, lanes, depth), PARKING_WALL_M).any():
                 return lanes, float(depth)
     return None
@@ -250,8 +252,8 @@ def assert_parking_rules(slots: np.ndarray, t: VirtualTube) -> None:
     beyond = tangent @ (slots - end[:, None])
     assert np.all(np.diff(beyond) <= 1e-12)
     found = scanned_layout(t, n)
-    if found is None:
-        assert not keeps_the_wall(slots)
+    if found is None:  # the fallback: the fit refuses it (a slot on the wall or behind the exit)
+        assert not keeps_the_wall(slots) or beyond.min() < PARKING_NEAREST_M - 1e-9
         return
     lanes, depth = found
     assert keeps_the_wall(slots) and beyond[0] == pytest.approx(depth, abs=6e-4)
@@ -300,7 +302,7 @@ def test_when_no_slots_fit_the_widest_are_returned_for_the_verdict_to_refuse() -
     edge = straight(0.02, 2.45, (-1.45, 0.97))  # exit at y = 0.97, beyond the margin whatever the lanes
     slots = parking(edge, 7)
     assert ROBOTARIUM.outside_arena(slots, ROBOTARIUM.arena_margin_m).any()
-    assert not keeps_the_wall(slots) and scanned_layout(edge, 7) is None
+    assert scanned_layout(edge, 7) is None and not keeps_the_wall(slots)
 
 
 @pytest.mark.parametrize('name', ['straight', 'wide', 'single_file', 'trapezoid'])

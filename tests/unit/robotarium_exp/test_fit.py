@@ -118,7 +118,7 @@ def test_a_parking_slot_outside(data: FlightData) -> None:
     slots[1, 4] = 0.97
     misfit = only_misfit(replace(data, parking_slots=slots))
     # the trapezoid's farthest row: the arena's edge x = 1.6 less the 0.2 m wall
-    assert misfit.what.startswith('parking slot 4 beyond the exit lies at (1.40, 0.97), outside the arena')
+    assert misfit.what.startswith('parking slot 4 lies at (1.40, 0.97), outside the arena')
     assert misfit.fix.startswith('move the tube exit at (1.00, 0.00) away from the arena edge')
 
 
@@ -197,18 +197,23 @@ def line(length_m: float) -> str:
 
 
 def thirty_five_degree_bend(tmp_path: Path) -> Path:
-    """The issue's new tube: a 35 degree bend, the narrowing (0.4 m, to 0.3 m) from l = 1.3 m."""
+    """The issue's new tube: a 35 degree bend, the narrowing (0.4 m, to 0.3 m) from l = 1.3 m; its exit at 35
+    degrees towards the arena's top edge."""
     arc = '{ kind = "arc", radius_m = 1.2, angle_deg = 35 }'
-    return bend_scene(tmp_path, '[-1.4, -0.3]', f'{line(0.5)}, {arc}, {line(1.2)}', 1.3, 0.3)
+    return bend_scene(tmp_path, '[-1.4, -0.3]', f'{line(0.5)}, {arc}, {line(0.9)}', 1.3, 0.3)
 
 
 def test_a_35_degree_bend_with_the_narrowing_inside_fits_up_to_six(tmp_path: Path) -> None:
     """Its formations are built exactly 0.4 m apart on the bend, which the flight data's six significant digits
     carry as 0.399997 m: that must not read as 'closer than 0.4 m'. Up to six robots stand in two rows centred at
-    l = 0.25 m, a 0.4 + 0.4 m look-ahead before the narrowing at 1.3 m; seven in three rows do not."""
+    l = 0.25 m, a 0.4 + 0.4 m look-ahead before the narrowing at 1.3 m; seven in three rows do not. Beyond the
+    exit, heading 35 degrees towards the top edge, two rows of slots (0.08 m beyond the exit at least, 0.2 m from
+    the edge) hold four robots: five and six are refused for their parking, naming the exit."""
     path = thirty_five_degree_bend(tmp_path)
     fits = {n: robotarium_fit(load_scene(path, n_robots=n)) for n in range(1, 8)}
-    assert [n for n, fit in fits.items() if fit.fits] == [1, 2, 3, 4, 5, 6]
+    assert [n for n, fit in fits.items() if fit.fits] == [1, 2, 3, 4]
+    for n in (5, 6):
+        assert [m.what.split()[0] for m in fits[n].misfits] == ['parking'] and 'move the tube exit' in fits[n].reason
 
 
 def test_on_a_35_degree_bend_the_fix_names_the_k_that_fits(tmp_path: Path) -> None:

@@ -96,11 +96,13 @@ def test_analysis_without_a_tube(tmp_path, capsys) -> None:
     from vtube.cli import main
 
     path = write_bag(tmp_path / 'b', 'mcap', 'tf')
-    assert main(['analyze', str(path), '--out', str(tmp_path / 'a'), '--collision-distance', '0.31']) == 0
+    code = main(['analyze', str(path), '--out', str(tmp_path / 'a'), '--collision-distance', '0.31'])
     out = capsys.readouterr().out
     assert 'without a tube' in out and 'passing time' not in out
     _, xy, _ = truth()
     gaps = [np.hypot(*(xy[:, :, i] - xy[:, :, j]).T) for i, j in ((0, 1), (0, 2), (1, 2))]
+    colliding = sum(int(g.min() < 0.31) for g in gaps)
+    assert code == (1 if colliding else 0) and ('FAILED' in out) == bool(colliding)  # collisions are a failure
     closest = int(np.argmin([g.min() for g in gaps]))
     assert f'minimum distance {gaps[closest].min():.3f} m' in out
     assert f'{sum(int(g.min() < 0.31) for g in gaps)} pairs closer than 0.310 m' in out
