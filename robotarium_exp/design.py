@@ -39,7 +39,8 @@ WALL_CLEARANCE_M = 0.1
 R_S_M = 0.10
 """r_s: the law's barrier keeps 2 r_s = 0.2 m between control points, as much as the safety filter does."""
 PARKING_SPACING_M = 0.3
-"""Between parking slots: the safety filter keeps 0.2 m between control points."""
+"""Between parking lanes and rows: the safety filter keeps 0.2 m between control points, and a robot must pass
+between parked ones (at 0.25 m, eight robots on the trapezoid deadlocked short of their slots)."""
 PARKING_WALL_M = 0.2
 """Between a parking slot and the arena's edge: the barrier keeps control points 0.1 m (R / 2) from the edge, and
 a robot turning into its slot needs another 0.1 m."""
@@ -50,7 +51,7 @@ PARKING_NEAREST_M = 0.08
 parked behind the exit line stands on the tube's walls and in the way of the robots still passing (12 robots in a
 0.6 m tube: 2130 robot-steps with a body on a wall)."""
 PARKING_LANES_MAX = 5
-"""At most this many parking lanes side by side (1 m across)."""
+"""At most this many parking lanes side by side (1.2 m across)."""
 
 
 @dataclass(frozen=True)
