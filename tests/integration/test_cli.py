@@ -96,7 +96,7 @@ def test_study_writes_table_json_and_figure(tmp_path, capsys) -> None:
 
 def test_every_artefact_records_where_it_comes_from(tmp_path, capsys, short_flights) -> None:
     """Plan, Robotarium run (its verdict printed), analysis, simulation and build all record their provenance."""
-    text = resources.files('vtube_planning.scenes').joinpath('robotarium_trapezoid.toml').read_text(encoding='utf-8')
+    text = resources.files('robotarium_exp.scenes').joinpath('robotarium_trapezoid.toml').read_text(encoding='utf-8')
     digest = hashlib.sha256(text.encode()).hexdigest()
 
     def recorded(record: dict, seeds: list[int] | None = None) -> None:
@@ -110,7 +110,9 @@ def test_every_artefact_records_where_it_comes_from(tmp_path, capsys, short_flig
     assert (tmp_path / 'p' / 'scene_robotarium_trapezoid.toml').read_text(encoding='utf-8') == text
     capsys.readouterr()
     run = ['robotarium', 'run', 'robotarium_trapezoid', '--no-initialization', '--plan', str(plan_file)]
-    assert main([*run, '--out', str(tmp_path / 'r'), '--seed', '3']) == 0
+    # the flight's verdict is not this test's subject (exit 1: a parked robot's body cuts the exit's corner, see
+    # test_robotarium_analysis); what it records is
+    assert main([*run, '--out', str(tmp_path / 'r'), '--seed', '3']) in (0, 1)
     said = capsys.readouterr().out
     assert 'would run on the Robotarium' in said and 'too close (pair-steps) 0' in said
     log = tmp_path / 'r' / 'experiment_robotarium_trapezoid_planned.npz'
@@ -139,21 +141,15 @@ def test_every_artefact_records_where_it_comes_from(tmp_path, capsys, short_flig
 NARROW_SCENE = """
 [tube.center]
 start_xy_m = [-1.0, 0.0]
-pieces = [{ kind = "line", length_m = 1.2 }]
+pieces = [{ kind = "line", length_m = 2.0 }]
 [tube.width]
-start_m = 0.05
-parts = [{ kind = "constant" }]
-[swarm]
+start_m = 0.3
+parts = [{ kind = "constant", length_m = 0.8 }, { kind = "linear", length_m = 0.3, to_m = 0.05 }, { kind = "constant" }]
+[robotarium]
 n_robots = 2
-v_min_mps = 0.04
-v_max_mps = 0.12
-a_v_mps2 = 0.02
-a_n_mps2 = 0.02
-r_p_m = 0.07
-r_s_m = 0.10
-r_a_m = 0.30
 """
-"""Two robots in single file through a tube 0.10 m wide: narrower than a body (0.11 m), so both touch the walls."""
+"""Two robots that start abreast where the tube fits the Robotarium, then pass in single file through 0.9 m of tube
+0.10 m wide: narrower than a body (0.11 m), so both touch the walls."""
 
 
 def test_a_robotarium_run_with_bodies_on_the_walls_exits_1_saying_so(tmp_path, capsys) -> None:

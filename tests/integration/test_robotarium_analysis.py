@@ -7,6 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from robotarium_exp.analysis.loaders import load_trajectory
@@ -39,21 +40,24 @@ def test_submission_files_analyse_like_the_simulator_log_of_the_same_run(tmp_pat
     scene = load_scene('robotarium_trapezoid')
     from_files = analyse(load_trajectory([tmp_path]), scene).metrics.to_json()
     from_log = analyse(load_trajectory([tmp_path / 'sim.npz']), scene).metrics.to_json()
-    for key in (
-        'min_distance_m',
-        'collision_pairs',
-        'tube_violation_steps',
-        'frames',
-        'extent_at_narrowing_m',
-    ):
+    for key in ('min_distance_m', 'collision_pairs', 'frames', 'extent_at_narrowing_m'):
         assert from_files[key] == pytest.approx(from_log[key], abs=1e-12)
-    assert from_files['collision_pairs'] == 0 and from_files['tube_violation_steps'] == 0
+    assert from_files['collision_pairs'] == 0
+    # the files count a robot's body on the walls, the log (no recorded start) its centre: never fewer. Known since
+    # the parking slots moved to 0.3 m lanes beyond the exit: a robot that has exited turns towards its lane before
+    # its body has cleared the exit, so the walls are touched only there, within the control point's offset and a
+    # body (0.05 + 0.055 m) of the exit, never inside the tube
+    assert from_files['tube_violation_steps'] >= from_log['tube_violation_steps']
+    along = analyse(load_trajectory([tmp_path]), scene).along
+    assert along is not None
+    on_wall = (along.clearance_m < 0.055) & (along.l_m >= 0.0) & (along.l_m <= scene.tube.length_m)
+    assert np.all(along.l_m[on_wall] >= scene.tube.length_m - 0.105)
     # the files record the flight's start: timed as the experiment times it; the simulator's log does not (inferred,
     # and its robots start inside the tube), but it saw the same entry and exits
     assert from_files['passage']['start'].startswith('start recorded by the flight at t = 0.00 s')
     assert from_log['passing_time_s'] is None and from_log['passage']['start'].startswith('start inferred')
     observed = from_log['last_exit_s'] - from_log['first_entry_s']
     assert from_files['passing_time_s'] == pytest.approx(observed, abs=1e-9) and observed > 0
-    assert from_files['tube_violation_body_radius_m'] > 0 and from_log['tube_violation_steps'] == 0
+    assert from_files['tube_violation_body_radius_m'] > 0 and from_log['tube_violation_body_radius_m'] == 0
     strict = analyse(load_trajectory([tmp_path]), scene, collision_distance_m=1.0).metrics.to_json()  # a larger radius
     assert strict['collision_distance_m'] == 1.0 and strict['collision_pairs'] > 0
