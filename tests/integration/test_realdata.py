@@ -7,7 +7,6 @@ straight tube worked out by hand. Skipped, with the reason, when the recordings 
 
 from __future__ import annotations
 
-import re
 from itertools import combinations
 
 import numpy as np
@@ -18,7 +17,6 @@ from robotarium_exp.analysis.report import analyse
 from robotarium_exp.errors import AnalysisError
 from tests.support.realdata import (
     MRCLAM_ROBOTS,
-    ROOT,
     mrclam_samples,
     realdata_folder,
     write_mrclam_ros1,
@@ -128,16 +126,12 @@ def test_mrclam_tf_lists_the_static_frame_and_the_unread_topic(mrclam, tmp_path)
 
 def straight_scene(x0: float, y0: float, heading_deg: float, length_m: float, half_width_m: float):
     """A straight tube of constant width: arc length and lateral offset by hand (:func:`oracle_observed`)."""
-    text = (ROOT / 'robotarium_exp' / 'scenes' / 'robotarium_trapezoid.toml').read_text(encoding='utf-8')
-    text = re.sub(r'\[workspace\][^\[]*', '', text)
-    tube = (
+    text = (
         f'[tube.center]\nstart_xy_m = [{x0}, {y0}]\nheading_deg = {heading_deg}\n'
         f'pieces = [{{ kind = "line", length_m = {length_m} }}]\n\n'
-        f'[tube.width]\nstart_m = {half_width_m}\nparts = [{{ kind = "constant" }}]\n\n[swarm]'
+        f'[tube.width]\nstart_m = {half_width_m}\nparts = [{{ kind = "constant" }}]\n'
     )
-    return scene_from_text(
-        re.sub(r'\[tube\.center\].*?\[swarm\]', tube, text, flags=re.DOTALL), name='straight', source='test'
-    )
+    return scene_from_text(text, name='straight', source='test')
 
 
 def oracle_observed(
