@@ -65,7 +65,10 @@ class SwarmStep:
     constant_speed_mps
         The forward speed without a plan.
     parking_slots
-        Slots (2, N) beyond the exit for robots that leave the tube; None lets them fly on.
+        Slots (2, N) beyond the exit for robots that leave the tube; None lets them fly on. A robot leaves for its
+        slot once it is as far beyond the exit as the nearest slot: until then the law keeps it off the walls'
+        lines (turning for a slot at the exit put the bodies of robots leaving beside a wall over it: 25
+        robot-steps on the trapezoid without initialization; none since).
     warm_projection
         Project the robots starting from their previous projection (``tube.project_near``: the same arc lengths
         to about 1e-12 m, certified or else searched globally) instead of searching the whole tube each period
@@ -91,6 +94,9 @@ class SwarmStep:
         self.plan = plan
         self.constant_speed_mps = float(constant_speed_mps) if constant_speed_mps is not None else math.nan
         self.parking = Parking(parking_slots, n_robots) if parking_slots is not None else None
+        self.leave_at_m = tube.length_m  # where a robot leaves the tube (``parking_slots``)
+        if parking_slots is not None:
+            self.leave_at_m = max(tube.length_m, float(np.min(tube.project(parking_slots).l_m)))
         self.r_a = np.full(n_robots, float(params.r_a_m))
         self.warm_projection = warm_projection
         self._last: Projection | None = None  # the last period's projection, where the warm start begins
@@ -117,7 +123,7 @@ class SwarmStep:
                 projection = self.tube.project(points)
         self._last = projection
         l_m = projection.l_m
-        exited = l_m > self.tube.length_m  # past the exit: the swarm's passage is over for this robot
+        exited = l_m > self.leave_at_m  # past the exit: the swarm's passage is over for this robot
         parked = self.parking.take(exited) if self.parking is not None else np.zeros(l_m.size, dtype=bool)
         members = ~parked if np.count_nonzero(parked) else None  # None: every robot flies the tube
         swarm_l, radii = (l_m[members], self.r_a[members]) if members is not None and members.any() else (l_m, self.r_a)

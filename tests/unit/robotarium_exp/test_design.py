@@ -279,8 +279,8 @@ def test_parking_slots_keep_the_wall_and_their_spacing(name: str) -> None:
 
 def test_the_trapezoids_slots_are_five_lanes_the_wall_from_the_edge() -> None:
     """Exit (1, 0) facing +x, 0.6 m of arena beyond, 0.2 m of it the wall: rows at 1.4 and 1.1 m, lanes 0.3 m apart
-    across y = 0."""
-    lanes = np.array([-0.6, -0.3, 0.0, 0.3, 0.6])
+    across y = 0, each row filled from the outer lanes in, the lane in front of the exit last."""
+    lanes = np.array([-0.6, 0.6, -0.3, 0.3, 0.0])
     expected = np.array([[1.4] * 5 + [1.1], [*lanes, lanes[0]]])
     np.testing.assert_allclose(parking(TUBES['trapezoid'], 6), expected, atol=1e-12)
 

@@ -111,3 +111,17 @@ def test_the_density_footprint_is_padded_by_the_initial_or_the_current_radius() 
         step.r_a = np.array([1.0, 1.2, 1.4])  # (a3) has grown the radii
         pad = 0.8 if padding == 'initial' else 1.2
         assert step(positions, 0.5).density_per_m2 == pytest.approx(3 / (20 * (8.0 + 2 * pad)))
+
+
+def test_a_robot_leaves_for_its_slot_only_as_far_beyond_the_exit_as_the_nearest_slot() -> None:
+    """Slots 0.3 and 0.6 m beyond a 50 m tube's exit: a robot 0.1 m past the exit still flies the tube (the law's
+    command, a member of the swarm); 0.35 m past, it is parked and heads for its slot (the first: robot order)."""
+    slots = np.array([[50.6, 50.3], [0.0, 0.0]])
+    step = SwarmStep(wide_tube(), PRACTICAL.step_params(SWARM), 2, constant_speed_mps=3.0, parking_slots=slots)
+    behind = step(np.array([[50.1, 40.0], [2.0, 0.0]]), 0.02)
+    assert behind.parked.tolist() == [False, False]
+    np.testing.assert_allclose(behind.velocity[:, 0], behind.command.velocity[:, 0])
+    beyond = step(np.array([[50.35, 40.0], [2.0, 0.0]]), 0.02)
+    assert beyond.parked.tolist() == [True, False]
+    to_slot = slots[:, 0] - np.array([50.35, 2.0])
+    np.testing.assert_allclose(beyond.velocity[:, 0], to_slot * min(1.0, SWARM.v_max_mps / np.hypot(*to_slot)))
