@@ -11,11 +11,11 @@ value with its reason (``vtube scene show`` prints them):
   rests at the edge of the interaction band, r_s + r_a = the spacing: not compressed, not loose;
 - rho0 = rho_d: the formation's density under the package's measure, so the swarm starts on its plan and cruises
   in the formation it starts in; rho_max = 1 / (2 pi r_s^2) (the formula that reproduces Table 1's value);
-- the look-ahead (:func:`look_ahead`): the first narrowing's length plus the formation's length, at least one
-  interaction band, and the formation must start that far before the narrowing (the fit verdict checks it), so
-  that the plan begins its pre-expansion after the swarm has started;
+- the look-ahead (:func:`look_ahead`): the first narrowing's length plus the formation's length plus two
+  interaction bands, so that the density change (p7) asks for before the narrowing is one the rows can make (the
+  fit verdict checks that the formation starts before the narrowing);
 - the parking slots beyond the exit: lanes :data:`PARKING_SPACING_M` apart, as many lanes and as deep as the arena
-  allows.
+  allows (which robot takes which slot is :mod:`vtube_planning.onboard.parking`'s).
 
 Whether the result fits the testbed is :mod:`robotarium_exp.fit`'s one verdict; nothing here refuses.
 """
@@ -50,8 +50,9 @@ PARKING_NEAREST_M = 0.08
 """The nearest parking row lies at least this far beyond the exit (a body, 0.055 m, with 2.5 cm to spare): a robot
 parked behind the exit line stands on the tube's walls and in the way of the robots still passing (12 robots in a
 0.6 m tube: 2130 robot-steps with a body on a wall)."""
-PARKING_LANES_MAX = 5
-"""At most this many parking lanes side by side (1.2 m across)."""
+PARKING_LANES_MAX = 6
+"""At most this many parking lanes side by side (1.5 m across: the arena's 2 m less 0.2 m at each edge holds six;
+with five, twelve robots on the straight sweep tubes had no room beyond the exit)."""
 
 
 @dataclass(frozen=True)
@@ -97,18 +98,21 @@ def first_narrowing(tube: VirtualTube) -> Narrowing | None:
     return None
 
 
+LOOK_AHEAD_BANDS = 2
+"""Interaction bands (the spacing) in the look-ahead beyond the narrowing and the formation (:func:`look_ahead`)."""
 LOOK_AHEAD_STEP_M = 0.05
 """The look-ahead is rounded to this: a bend that spreads the formation by a centimetre does not move it."""
 
 
 def look_ahead(narrowing_m: float, formation_m: float) -> float:
     """The plan's look-ahead for a narrowing ``narrowing_m`` long (0: none) and a formation ``formation_m`` long
-    (back row to front row): the narrowing plus the formation, at least one interaction band (the spacing), to
-    :data:`LOOK_AHEAD_STEP_M`. *Measured* on the trapezoid: the dip's density error at N = 2 (no initialization)
-    is 92 % with the narrowing plus half the formation (0.5 m), 17 % with this (0.9 m); at N = 6 over five V2
-    seeds, 13 % (0.7 m) and 5 %; at N = 8 (seed 0) a longer 1.7 m left no pre-expansion and robots were pushed
-    0.3 m over the narrow part's walls."""
-    span = narrowing_m + max(formation_m, ROBOTARIUM.ic_spacing_m)
+    (back row to front row): the narrowing plus the formation plus :data:`LOOK_AHEAD_BANDS` interaction bands (the
+    spacing), to :data:`LOOK_AHEAD_STEP_M`. The longer the look-ahead, the gentler the density change (p7) asks
+    for before the narrowing, and a swarm in rows of the tube's width can only lengthen to thin out. *Measured*
+    without initialization (the dip's mean density error): the trapezoid at N = 6, 7 % with the narrowing plus the
+    formation (0.9 m), 3 % with one band more, 4 % with two (1.7 m, and 38.1 s to pass instead of 41.7 s); the
+    wide sweep tube at N = 6, 45 %, 24 %, 6 %; the trapezoid at N = 10, 30 % (1.7 m), 27 %, 19 % (2.5 m)."""
+    span = narrowing_m + formation_m + LOOK_AHEAD_BANDS * ROBOTARIUM.ic_spacing_m
     return round(round(span / LOOK_AHEAD_STEP_M) * LOOK_AHEAD_STEP_M, 3)
 
 
@@ -229,14 +233,11 @@ def _deepest(slots: FloatArray, tangent: FloatArray) -> float:
 
 def slots_in_lanes(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int, depth_m: float) -> FloatArray:
     """Slots (2, N) in ``lanes`` lanes and rows :data:`PARKING_SPACING_M` apart, from ``depth_m`` beyond the exit
-    backwards, each row from the outer lanes in: the lanes in front of the exit fill last, so the robots still
-    leaving do not meet parked ones there (the wide sweep tube at N = 6 without initialization: 95 robot-steps with
-    a body on a wall with the lanes in order across, none this way)."""
+    backwards."""
     normal = np.array([-tangent[1], tangent[0]])
     depth, lane = np.divmod(np.arange(n_robots), lanes)
-    offsets = (np.arange(lanes) - 0.5 * (lanes - 1)) * PARKING_SPACING_M
     along = depth_m - PARKING_SPACING_M * depth
-    across = offsets[np.argsort(-np.abs(offsets), kind='stable')][lane]  # the outer lanes first, the exit's last
+    across = (lane - 0.5 * (lanes - 1)) * PARKING_SPACING_M
     slots: FloatArray = end[:, None] + along * tangent[:, None] + across * normal[:, None]
     return slots
 

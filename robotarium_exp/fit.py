@@ -18,7 +18,6 @@ from robotarium_exp.design import (
     PARKING_NEAREST_M,
     PARKING_SPACING_M,
     PARKING_WALL_M,
-    look_ahead,
     neighbour_counts,
     start_formation,
 )
@@ -165,40 +164,37 @@ def _initializer_order(ic: FloatArray) -> list[Misfit]:
 
 
 def _formation_before_narrowing(data: FlightData) -> list[Misfit]:
-    """The formation's centre starts at least the derived look-ahead (:func:`robotarium_exp.design.look_ahead`)
-    before the tube first narrows: the plan, read at the swarm's centre, must begin its pre-expansion after the
-    swarm has started."""
+    """The start formation's front row lies before the tube first narrows: a swarm that starts inside the narrowing
+    is squeezed before it has started (a narrowing inside a bend, eight robots: 219 robot-steps with bodies up to
+    0.2 m over the walls). *Measured*: the stricter rule this replaced, the formation's centre a look-ahead
+    (:func:`robotarium_exp.design.look_ahead`) before the narrowing, refused 35 of the sweep's cases with N <= 12, and
+    without initialization every one of them with N = 4 to 8 and its front row before the narrowing flew (every
+    robot through and parked, no body on a wall, the dip's density error at most 20 %)."""
     samples = data.tube
     narrowing = _sampled_narrowing(samples.l_m, samples.half_width_m)
     if narrowing is None:
         return []
-    start, length = narrowing
+    start = narrowing[0]
     l_m = (
         SampledTube(samples.l_m, samples.xy_m, samples.half_width_m, samples.area_m2)
         .project(data.initial_conditions[:2])
         .l_m
     )
     front, back = float(l_m.max()), float(l_m.min())
-    ahead = look_ahead(length, front - back)
-    center = 0.5 * (front + back)
-    if center + ahead <= start + 1e-6:
+    if front <= start + 1e-6:
         return []
     # a row's robots lie on one cross-section, rows a spacing apart (the sampled tube projects a row on a bend
     # within millimetres, which rounding to a centimetre could split)
     ordered = np.sort(l_m)
     row_sizes = np.diff(np.flatnonzero(np.r_[True, np.diff(ordered) > 0.5 * ROBOTARIUM.ic_spacing_m, True]))
     rows, columns = row_sizes.size, int(row_sizes.max())
-    pitch = ROBOTARIUM.ic_spacing_m  # a smaller formation's rows stand this far apart unless a bend spreads them
-    fitting = [
-        r for r in range(rows - 1, 0, -1) if back + (r - 1) * pitch / 2 + look_ahead(length, (r - 1) * pitch) <= start
-    ]
-    fewer = f', or use at most {fitting[0] * columns} robots' if fitting else ''
+    fitting = int((start - back) // ROBOTARIUM.ic_spacing_m) + 1 if start >= back else 0
+    fewer = f', or use at most {fitting * columns} robots' if 0 < fitting < rows else ''
     return [
         Misfit(
-            f'the start formation ({rows} row(s) of up to {columns}) is centred at l = {center:.2f} m, less than its '
-            f'look-ahead ({ahead:.2f} m: the narrowing and the formation) before the narrowing at l = {start:.2f} m: '
-            'the plan would ask the swarm to expand before it has started',
-            f'lengthen the wide part before the narrowing by {center + ahead - start:.2f} m{fewer}',
+            f'the start formation ({rows} row(s) of up to {columns}) reaches l = {front:.2f} m, past the start of the '
+            f'narrowing at l = {start:.2f} m: the swarm would start inside it',
+            f'lengthen the wide part before the narrowing by {front - start:.2f} m{fewer}',
         )
     ]
 

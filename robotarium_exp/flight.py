@@ -28,10 +28,11 @@ from numpy.typing import NDArray
 
 from robotarium_exp.flight_data import FlightData, Wheels
 from robotarium_exp.rps.utilities.barrier_rows import BarrierSpec
-from robotarium_exp.safety import SafetyFilter
+from robotarium_exp.safety import EXIT_KEEP_M, WALL_KEEP_M, SafetyFilter
 from unicycle_mapping.mapping import si_to_uni, si_to_uni_constrained, uni_to_si_states
 from unicycle_mapping.wheels import scale_to_wheel_limits
 from vtube_planning.onboard import SampledTube, StepResult, SwarmStep
+from vtube_planning.onboard.projection import Projection
 
 FloatArray = NDArray[np.float64]
 
@@ -105,7 +106,7 @@ class Flight:
         flying = ~step.parked
         safe, held = step.velocity, True
         if self.safety is not None:
-            safe, held = self.safety(step.velocity, poses, points, flying)
+            safe, held = self.safety(step.velocity, poses, points, flying, walls(step.projection, flying))
         w = self.wheels
         dxu, _ = scale_to_wheel_limits(
             si_to_uni(safe, poses, self.d), w.base_length_m, w.wheel_radius_m, w.max_wheel_speed_radps
@@ -118,6 +119,20 @@ class Flight:
             )
             dxu[:, flying] = banded
         return Period(poses, points, step, safe, dxu, flying, held)
+
+
+def walls(projection: Projection, flying: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray]:
+    """The safety filter's walls, as the outward normal (2, N) and the room h (N,) above what the rows keep: for a
+    robot flying inside the tube's length, its nearer wall (h: the control point's clearance less
+    :data:`~robotarium_exp.safety.WALL_KEEP_M`); for a parked robot, the exit line behind it (h: how far beyond the
+    exit less :data:`~robotarium_exp.safety.EXIT_KEEP_M`), so that nobody pushes it back beside the tube; NaN (no
+    row) otherwise."""
+    l_m, length = projection.l_m, projection.length_m
+    inside = flying & (l_m >= 0.0) & (l_m <= length)
+    outward = np.where(flying, np.sign(projection.y_m) * projection.normal, -projection.tangent)
+    wall = projection.half_width_m - np.abs(projection.y_m) - WALL_KEEP_M
+    room = np.where(inside, wall, np.where(flying, np.nan, l_m - length - EXIT_KEEP_M))
+    return outward, room
 
 
 def build_flight(data: FlightData) -> Flight:

@@ -10,6 +10,15 @@ saturation. Parked robots (past the exit) keep only the wheel limit. When the ba
 together, safety wins: the band is dropped for that step (and counted), the robots get the barrier's velocity
 through the exact map.
 
+Robots flying the tube also get a row for its nearer wall: ``o . u <= WALL_GAIN_PER_S (c - WALL_KEEP_M)`` for the
+control point's clearance c and the outward normal o, a barrier that keeps the body off the wall's line; parked
+robots get one for the exit line behind them (:data:`EXIT_KEEP_M`), so that robots still leaving do not push them
+back beside the tube (the curve, six robots without initialization: 49 robot-steps, 0.16 m over, without it). The law's
+own keeping push is capped with the rest of its steering at v* - v_min (0.04 m/s at the plan's slowest), and the
+barrier rows between robots do not know the walls: in a crowd entering a narrowing they pushed bodies over the walls
+(the trapezoid at N = 8 without initialization: 104 robot-steps). The wall rows are part of the band: they are
+dropped with it when safety between the robots cannot hold with them.
+
 The QP ``min ||u - u_hat||^2 subject to A u <= b`` is a least-distance problem, solved exactly through
 non-negative least squares (Lawson and Hanson, *Solving Least Squares Problems*, ch. 23) with scipy's ``nnls``:
 numpy and scipy only, so :mod:`submission.builder` inlines this module and the testbed flies the same filter.
@@ -29,6 +38,14 @@ FloatArray = NDArray[np.float64]
 
 FEASIBILITY_TOL = 1e-9
 """Largest violation (relative to a row's scale) of a returned solution's rows."""
+WALL_KEEP_M = 0.09
+"""The control point's clearance the wall rows keep: the body's radius (0.055 m) and 0.035 m for the body's centre
+trailing the control point by d at an angle to the wall."""
+EXIT_KEEP_M = 0.05
+"""How far beyond the exit line a parked robot's control point stays: d, so that its body's centre does not come
+back beside the tube (the nearest slots lie 0.08 m beyond)."""
+WALL_GAIN_PER_S = 1.0
+"""How fast a control point may approach a wall per metre of room above what the rows keep (1/s)."""
 
 
 def least_distance_nnls(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
@@ -98,12 +115,24 @@ class SafetyFilter:
         self.stats = FilterStats()
 
     def __call__(
-        self, u_hat: FloatArray, poses: FloatArray, points: FloatArray, flying: NDArray[np.bool_]
+        self,
+        u_hat: FloatArray,
+        poses: FloatArray,
+        points: FloatArray,
+        flying: NDArray[np.bool_],
+        walls: tuple[FloatArray, FloatArray] | None = None,
     ) -> tuple[FloatArray, bool]:
-        """Filtered control-point velocities (2, N), and whether the band held for the flying robots."""
+        """Filtered control-point velocities (2, N), and whether the band held for the flying robots.
+
+        ``walls``: the outward normal towards each robot's wall (2, N) and the room above what the row keeps (N,),
+        NaN for a robot without one (no row; :func:`robotarium_exp.flight.walls`); None: no wall rows.
+        """
         n = u_hat.shape[1]
         a_safe, b_safe = barrier_rows(points, self.barrier)
         a_band, b_band = self._band_rows(poses, flying)
+        if walls is not None:
+            a_wall, b_wall = self._wall_rows(*walls)
+            a_band, b_band = np.vstack([a_band, a_wall]), np.concatenate([b_band, b_wall])
         a_wheel, b_wheel = self._wheel_rows(poses, ~flying)
         flat = u_hat.reshape(-1, order='F')
         self.stats.solves += 1
@@ -142,6 +171,14 @@ class SafetyFilter:
             a[rows, 2 * k], a[rows, 2 * k + 1] = ex, ey
         b = np.repeat([self.v_max, -self.v_min, self.lateral_max, self.lateral_max], m)
         return a, b
+
+    @staticmethod
+    def _wall_rows(outward: FloatArray, room: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """o . u <= WALL_GAIN_PER_S h for the robots with a wall (a finite room h)."""
+        k = np.flatnonzero(np.isfinite(room))
+        a = np.zeros((k.size, 2 * outward.shape[1]))
+        a[np.arange(k.size), 2 * k], a[np.arange(k.size), 2 * k + 1] = outward[0, k], outward[1, k]
+        return a, WALL_GAIN_PER_S * room[k]
 
     def _wheel_rows(self, poses: FloatArray, robots: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray]:
         """|v| + (L/2) |omega| <= r phi_max, i.e. +/- e.u +/- (L / 2d) e_perp.u <= r phi_max."""

@@ -20,7 +20,14 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from robotarium_exp.design import R_S_M, first_narrowing, formation_density, look_ahead, start_formation
+from robotarium_exp.design import (
+    LOOK_AHEAD_BANDS,
+    R_S_M,
+    first_narrowing,
+    formation_density,
+    look_ahead,
+    start_formation,
+)
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.errors import SceneError
 from vtube_planning.geometry import scene as planning_scenes
@@ -159,8 +166,8 @@ def derived_values(tube: VirtualTube, n_robots: int) -> Values:
     ahead = narrowing.length_m if narrowing is not None else 0.0
     where = f'the narrowing from l = {narrowing.start_m:.2f} m ({ahead:.2f} m)' if narrowing else 'no narrowing'
     look_reason = (
-        f'{where} plus the formation ({length:.2f} m, at least one band, {spacing} m): the swarm starts that far '
-        'before the narrowing and expands as the plan sees it (robotarium_exp.design.look_ahead, to 5 cm)'
+        f'{where} plus the formation ({length:.2f} m) plus {LOOK_AHEAD_BANDS} bands ({spacing} m each): the density '
+        'change the plan asks before the narrowing is one the rows can make (robotarium_exp.design.look_ahead, to 5 cm)'
     )
     return {
         'swarm': {

@@ -1,5 +1,12 @@
-"""Parking beyond the exit: where the arena ends (the Robotarium), robots past the exit drive to the next free slot
-and leave the swarm."""
+"""Parking beyond the exit: where the arena ends (the Robotarium), robots past the exit drive to a free slot and
+leave the swarm.
+
+A robot that leaves takes a free slot of the farthest row that has one (robots bound for a far row do not have to
+pass parked ones), on its own side of the tube's axis where it can, the outermost there: slots in front of the
+exit fill last, and robots do not cross each other's way. Taken in a fixed order across the row, two robots leaving
+side by side swapped sides and stalled face to face (the trapezoid, four robots without initialization); taken
+in order across, the last robots met parked ones in front of the exit.
+"""
 
 from __future__ import annotations
 
@@ -11,19 +18,30 @@ BoolArray = NDArray[np.bool_]
 
 PARKED_WITHIN_M = 0.03
 """A robot is parked when its control point is this close to its slot."""
+ROW_M = 1e-6
+"""Slots whose depths beyond the exit differ by less than this form a row."""
 
 
 class Parking:
-    """The slots (2, N) and which robot holds which (``slot_of``, -1: none yet), kept from period to period."""
+    """The slots (2, N), each one's depth beyond the exit and lateral offset from the tube's axis (``depth_m``,
+    ``offset_m``, (N,)), and which robot holds which (``slot_of``, -1: none yet), kept from period to period."""
 
-    def __init__(self, slots: FloatArray, n_robots: int) -> None:
+    def __init__(self, slots: FloatArray, n_robots: int, depth_m: FloatArray, offset_m: FloatArray) -> None:
         self.slots = slots
+        self.depth_m, self.offset_m = np.asarray(depth_m, dtype=float), np.asarray(offset_m, dtype=float)
         self.slot_of = np.full(n_robots, -1)
 
-    def take(self, exited: BoolArray) -> BoolArray:
-        """Robots past the exit without a slot take the next free ones, in robot order; returns the parked robots."""
+    def take(self, exited: BoolArray, offset_m: FloatArray) -> BoolArray:
+        """Robots past the exit without a slot, in robot order, take one (module doc); ``offset_m`` (N,): the
+        robots' lateral offsets. Returns the robots that hold a slot."""
         for k in np.flatnonzero(exited & (self.slot_of < 0)):
-            self.slot_of[k] = int((self.slot_of >= 0).sum())
+            free = np.setdiff1d(np.arange(self.depth_m.size), self.slot_of)
+            row = free[self.depth_m[free] > self.depth_m[free].max() - ROW_M]
+            side = row[self.offset_m[row] * offset_m[k] >= 0.0]
+            if side.size:
+                self.slot_of[k] = side[np.argmax(np.abs(self.offset_m[side]))]
+            else:
+                self.slot_of[k] = row[np.argmin(np.abs(self.offset_m[row] - offset_m[k]))]
         return self.slot_of >= 0
 
     def drive(

@@ -93,10 +93,11 @@ class SwarmStep:
         self.params = params
         self.plan = plan
         self.constant_speed_mps = float(constant_speed_mps) if constant_speed_mps is not None else math.nan
-        self.parking = Parking(parking_slots, n_robots) if parking_slots is not None else None
-        self.leave_at_m = tube.length_m  # where a robot leaves the tube (``parking_slots``)
+        self.parking, self.leave_at_m = None, tube.length_m  # where a robot leaves the tube (``parking_slots``)
         if parking_slots is not None:
-            self.leave_at_m = max(tube.length_m, float(np.min(tube.project(parking_slots).l_m)))
+            slots = tube.project(parking_slots)
+            self.parking = Parking(parking_slots, n_robots, slots.l_m - tube.length_m, slots.y_m)
+            self.leave_at_m = max(tube.length_m, float(slots.l_m.min()))
         self.r_a = np.full(n_robots, float(params.r_a_m))
         self.warm_projection = warm_projection
         self._last: Projection | None = None  # the last period's projection, where the warm start begins
@@ -124,7 +125,9 @@ class SwarmStep:
         self._last = projection
         l_m = projection.l_m
         exited = l_m > self.leave_at_m  # past the exit: the swarm's passage is over for this robot
-        parked = self.parking.take(exited) if self.parking is not None else np.zeros(l_m.size, dtype=bool)
+        parked = (
+            self.parking.take(exited, projection.y_m) if self.parking is not None else np.zeros(l_m.size, dtype=bool)
+        )
         members = ~parked if np.count_nonzero(parked) else None  # None: every robot flies the tube
         swarm_l, radii = (l_m[members], self.r_a[members]) if members is not None and members.any() else (l_m, self.r_a)
         density = swarm_density(self.tube, swarm_l, p.r_a_m if p.density_padding == 'initial' else float(radii.mean()))

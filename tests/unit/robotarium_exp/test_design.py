@@ -277,12 +277,13 @@ def test_parking_slots_keep_the_wall_and_their_spacing(name: str) -> None:
         assert_parking_rules(slots, TUBES[name])
 
 
-def test_the_trapezoids_slots_are_five_lanes_the_wall_from_the_edge() -> None:
-    """Exit (1, 0) facing +x, 0.6 m of arena beyond, 0.2 m of it the wall: rows at 1.4 and 1.1 m, lanes 0.3 m apart
-    across y = 0, each row filled from the outer lanes in, the lane in front of the exit last."""
-    lanes = np.array([-0.6, 0.6, -0.3, 0.3, 0.0])
-    expected = np.array([[1.4] * 5 + [1.1], [*lanes, lanes[0]]])
-    np.testing.assert_allclose(parking(TUBES['trapezoid'], 6), expected, atol=1e-12)
+def test_the_trapezoids_slots_are_six_lanes_the_wall_from_the_edge() -> None:
+    """Exit (1, 0) facing +x, 0.6 m of arena beyond, 0.2 m of it the wall: rows at 1.4 and 1.1 m, six lanes 0.3 m
+    apart across y = 0 (+-0.75 m, inside the arena's +-0.8 m less the wall)."""
+    lanes = np.array([-0.75, -0.45, -0.15, 0.15, 0.45, 0.75])
+    np.testing.assert_allclose(parking(TUBES['trapezoid'], 6), [[1.4] * 6, lanes], atol=1e-12)
+    expected = np.array([[1.4] * 6 + [1.1], [*lanes, lanes[0]]])
+    np.testing.assert_allclose(parking(TUBES['trapezoid'], 7), expected, atol=1e-12)
 
 
 def test_parking_moves_in_where_the_arena_ends_sooner_and_narrows_near_a_side() -> None:

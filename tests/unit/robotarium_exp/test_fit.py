@@ -88,29 +88,25 @@ def test_robots_zero_and_one_at_crowded_slots(data: FlightData) -> None:
     assert 'order_for_v2_initializer' in misfit.fix
 
 
-def expected_look_ahead(narrowing_m: float, formation_m: float) -> float:
-    """The design's rule, written out: the narrowing plus the formation, at least one band (0.4 m), to 5 cm."""
-    return round((narrowing_m + max(formation_m, 0.4)) / 0.05) * 0.05
-
-
 def test_a_formation_reaching_the_narrowing(data: FlightData) -> None:
-    """Moved 0.3 m forward: rows at l = 0.40 and 0.80 m, centred at 0.60 m; the look-ahead is the 0.5 m narrowing
-    plus the 0.4 m formation, 0.9 m, so the centre is 0.10 m too close to the narrowing at 1.40 m."""
+    """Moved 1.0 m forward: rows at l = 1.1 and 1.5 m, the front row 0.1 m past the narrowing at 1.40 m; the back
+    row alone (3 robots) ends before it."""
     ic = data.initial_conditions.copy()
-    ic[0] += 0.3
+    ic[0] += 1.0
     misfit = only_misfit(replace(data, initial_conditions=ic))
     back, front = float(ic[0].min()) + 1.45, float(ic[0].max()) + 1.45  # l along the straight tube from x = -1.45
-    center, ahead = (back + front) / 2, expected_look_ahead(0.5, front - back)
-    assert ahead == pytest.approx(0.9)
-    assert misfit.what.startswith(f'the start formation (2 row(s) of up to 3) is centred at l = {center:.2f} m')
-    assert f'its look-ahead ({ahead:.2f} m: the narrowing and the formation)' in misfit.what
-    assert 'before the narrowing at l = 1.40 m' in misfit.what
-    # the back row alone (3 robots) is centred at `back`, a one-band look-ahead (0.9 m) before 1.40 m
-    assert back + expected_look_ahead(0.5, 0.0) <= 1.4 < center + ahead
-    assert (
-        misfit.fix
-        == f'lengthen the wide part before the narrowing by {center + ahead - 1.4:.2f} m, or use at most 3 robots'
+    assert back < 1.4 < front
+    assert misfit.what == (
+        f'the start formation (2 row(s) of up to 3) reaches l = {front:.2f} m, past the start of the narrowing at '
+        'l = 1.40 m: the swarm would start inside it'
     )
+    assert misfit.fix == f'lengthen the wide part before the narrowing by {front - 1.4:.2f} m, or use at most 3 robots'
+
+
+def test_a_formation_ending_at_the_narrowing_fits(data: FlightData) -> None:
+    ic = data.initial_conditions.copy()
+    ic[0] += 1.4 - (float(ic[0].max()) + 1.45) - 1e-3  # the front row 1 mm before the narrowing
+    assert fit_of_flight(replace(data, initial_conditions=ic)).fits
 
 
 def test_a_parking_slot_outside(data: FlightData) -> None:
@@ -138,9 +134,9 @@ def at_most(fit: Fit) -> int:
 @pytest.mark.parametrize(
     ('name', 'n'),
     [
-        ('robotarium_trapezoid', 10),
-        ('robotarium_trapezoid', 20),
-        ('robotarium_curve', 7),
+        ('robotarium_trapezoid', 13),
+        ('robotarium_trapezoid', 14),
+        ('robotarium_curve', 12),
     ],
 )
 def test_the_at_most_k_robots_fix_is_right(name: str, n: int) -> None:
@@ -151,19 +147,23 @@ def test_the_at_most_k_robots_fix_is_right(name: str, n: int) -> None:
 
 
 def test_lengthening_the_wide_part_as_the_fix_says_makes_it_fit(tmp_path: Path) -> None:
-    """Seven robots (3 rows, centred at l = 0.50 m, a 0.5 + 0.8 m look-ahead): the fix's lengthening fits in the
-    2.45 m tube (at N = 10 it asks 1.00 m, more than the tube has after its 0.5 m narrowing)."""
+    """Twelve robots (4 rows of 3, the front row at l = 1.32 m) on the trapezoid with its wide part cut to 1.2 m:
+    the fix's lengthening makes it fit, a little less does not."""
     _, text = shipped_scene_text('robotarium_trapezoid')
-    (misfit,) = robotarium_fit(load_scene('robotarium_trapezoid', n_robots=7)).misfits
-    found = re.search(r'by (\d+\.\d\d) m', misfit.fix)
-    assert found is not None
-    wide = 1.4 + float(found.group(1))  # rounded to 1 cm: centre plus look-ahead then within 5 mm of the narrowing
-    for length, fits in ((wide + 0.005, True), (wide - 0.02, False)):
+
+    def wide_part(length: float) -> Path:
         path = tmp_path / f'{length:.3f}.toml'
         path.write_text(
             text.replace('{ kind = "constant", length_m = 1.4 }', f'{{ kind = "constant", length_m = {length} }}')
         )
-        assert robotarium_fit(load_scene(path, n_robots=7)).fits is fits, length
+        return path
+
+    (misfit,) = robotarium_fit(load_scene(wide_part(1.2), n_robots=12)).misfits
+    found = re.search(r'by (\d+\.\d\d) m', misfit.fix)
+    assert found is not None
+    wide = 1.2 + float(found.group(1))  # rounded to 1 cm: the front row then within 5 mm of the narrowing
+    for length, fits in ((wide + 0.005, True), (wide - 0.02, False)):
+        assert robotarium_fit(load_scene(wide_part(length), n_robots=12)).fits is fits, length
 
 
 def test_a_scene_without_a_start_formation_is_refused_with_its_reason(tmp_path: Path) -> None:
@@ -221,35 +221,26 @@ def test_on_a_35_degree_bend_the_fix_names_the_k_that_fits(tmp_path: Path) -> No
 
 
 def test_a_row_on_a_bend_is_one_row(tmp_path: Path) -> None:
-    """On a bend the sampled tube projects a row's robots a few millimetres apart: still one row, so 7 robots stand
-    in 3 rows of 3 (the formation's own rows), and K counts whole rows of 3 with that formation's pitch."""
+    """On a bend the sampled tube projects a row's robots a few millimetres apart: still one row, so 9 robots stand
+    in 3 rows of 3 (the formation's own rows), and K counts the whole rows of 3, 0.4 m apart from the back row, that
+    end before the narrowing."""
     arc = '{ kind = "arc", radius_m = 1.0, angle_deg = 57.3 }'
-    path = bend_scene(tmp_path, '[-1.3, -0.35]', f'{line(0.8)}, {arc}, {line(0.6)}', 1.0, 0.25)
-    scene = load_scene(path, n_robots=7)
+    path = bend_scene(tmp_path, '[-1.3, -0.35]', f'{line(0.8)}, {arc}, {line(0.6)}', 0.7, 0.25)
+    scene = load_scene(path, n_robots=9)
     fit = robotarium_fit(scene)
     (misfit,) = [m for m in fit.misfits if m.what.startswith('the start formation')]
-    assert misfit.what.startswith('the start formation (3 row(s) of up to 3) is centred at')
-    # the oracle: the exact tube's arc lengths of the formation, its first narrowing, the look-ahead rule
-    l_m = np.sort(scene.tube.project(start_formation(scene.tube, 7).poses[:2]).l_m)
+    assert misfit.what.startswith('the start formation (3 row(s) of up to 3) reaches')
+    # the oracle: the exact tube's arc lengths of the formation and its first narrowing
+    l_m = np.sort(scene.tube.project(start_formation(scene.tube, 9).poses[:2]).l_m)
     narrowing = first_narrowing(scene.tube)
     assert narrowing is not None
-    back, pitch = float(l_m[0]), float(l_m[-1] - l_m[0]) / 2
-    rows = [
-        r
-        for r in (1, 2)
-        if back + (r - 1) * pitch / 2 + expected_look_ahead(narrowing.length_m, (r - 1) * pitch) <= narrowing.start_m
-    ]
+    rows = [r for r in (1, 2) if float(l_m[0]) + (r - 1) * 0.4 <= narrowing.start_m]
     assert at_most(fit) == 3 * max(rows)
 
 
 def test_when_no_row_fits_before_the_narrowing_the_fix_does_not_offer_fewer_robots(data: FlightData) -> None:
     ic = data.initial_conditions.copy()
-    ic[0] += 0.6  # the back row at l = 0.70 m: with a one-band look-ahead (0.9 m) it reaches 1.60 m, beyond 1.40 m
+    ic[0] += 1.5  # the back row at l = 1.6 m, past the narrowing at 1.40 m
     misfit = only_misfit(replace(data, initial_conditions=ic))
-    back, front = float(ic[0].min()) + 1.45, float(ic[0].max()) + 1.45
-    assert back + expected_look_ahead(0.5, 0.0) > 1.4
-    center = (back + front) / 2
-    assert (
-        misfit.fix
-        == f'lengthen the wide part before the narrowing by {center + expected_look_ahead(0.5, front - back) - 1.4:.2f} m'
-    )
+    front = float(ic[0].max()) + 1.45
+    assert misfit.fix == f'lengthen the wide part before the narrowing by {front - 1.4:.2f} m'

@@ -32,14 +32,14 @@ FORMER_SWARM = {
 FORMER_LOOKAHEAD_M = 0.7
 FORMER_PLANNING = {'predictive_model': 'local_width', 'lookahead_m': FORMER_LOOKAHEAD_M}
 # The one documented difference: the former files looked 0.7 m ahead (the 0.5 m narrowing plus half the 0.4 m
-# formation); the declarations look as far as the narrowing (0.5 m) plus the whole formation (2 rows 0.4 m apart), at
-# least one interaction band (r_s + r_a = 0.4 m): robotarium_exp.design.look_ahead.
-LOOKAHEAD_M = 0.5 + max(0.4, 0.4)
+# formation); the declarations look as far as the narrowing (0.5 m) plus the whole formation (2 rows 0.4 m apart)
+# plus two interaction bands (r_s + r_a = 0.4 m each): robotarium_exp.design.look_ahead.
+LOOKAHEAD_M = 0.5 + 0.4 + 2 * 0.4
 
 
 def expected_look_ahead(narrowing_m: float, formation_m: float) -> float:
-    """The design's rule, written out: the narrowing plus the formation, at least one band (0.4 m), to 5 cm."""
-    return round((narrowing_m + max(formation_m, 0.4)) / 0.05) * 0.05
+    """The design's rule, written out: the narrowing plus the formation plus two bands (0.4 m each), to 5 cm."""
+    return round((narrowing_m + formation_m + 0.8) / 0.05) * 0.05
 
 
 FORMER_CONTROL = ControlParams(
