@@ -188,7 +188,8 @@ def _formation_before_narrowing(data: FlightData) -> list[Misfit]:
     ordered = np.sort(l_m)
     row_sizes = np.diff(np.flatnonzero(np.r_[True, np.diff(ordered) > 0.5 * ROBOTARIUM.ic_spacing_m, True]))
     rows, columns = row_sizes.size, int(row_sizes.max())
-    fitting = int((start - back) // ROBOTARIUM.ic_spacing_m) + 1 if start >= back else 0
+    pitch = max(ROBOTARIUM.ic_spacing_m, (front - back) / max(rows - 1, 1))  # a bend spreads the rows
+    fitting = int((start - back + 1e-6) // pitch) + 1 if start >= back else 0
     fewer = f', or use at most {fitting * columns} robots' if 0 < fitting < rows else ''
     return [
         Misfit(

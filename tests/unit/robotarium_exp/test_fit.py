@@ -135,15 +135,20 @@ def at_most(fit: Fit) -> int:
     ('name', 'n'),
     [
         ('robotarium_trapezoid', 13),
-        ('robotarium_trapezoid', 14),
-        ('robotarium_curve', 12),
+        ('robotarium_trapezoid', 15),
+        ('robotarium_curve', 10),
     ],
 )
 def test_the_at_most_k_robots_fix_is_right(name: str, n: int) -> None:
-    fit = robotarium_fit(load_scene(name, n_robots=n))
-    k = at_most(fit)
-    assert robotarium_fit(load_scene(name, n_robots=k)).fits
-    assert not robotarium_fit(load_scene(name, n_robots=k + 1)).fits
+    """K robots start before the narrowing, K + 1 do not (the curve's nine robots are then refused for their
+    parking, another misfit)."""
+
+    def formation_misfits(k: int) -> list[Misfit]:
+        fit = robotarium_fit(load_scene(name, n_robots=k))
+        return [m for m in fit.misfits if m.what.startswith('the start formation')]
+
+    k = at_most(robotarium_fit(load_scene(name, n_robots=n)))
+    assert not formation_misfits(k) and formation_misfits(k + 1)
 
 
 def test_lengthening_the_wide_part_as_the_fix_says_makes_it_fit(tmp_path: Path) -> None:
@@ -203,21 +208,23 @@ def thirty_five_degree_bend(tmp_path: Path) -> Path:
     return bend_scene(tmp_path, '[-1.4, -0.3]', f'{line(0.5)}, {arc}, {line(0.9)}', 1.3, 0.3)
 
 
-def test_a_35_degree_bend_with_the_narrowing_inside_fits_up_to_six(tmp_path: Path) -> None:
+def test_a_35_degree_bend_with_the_narrowing_inside_fits_up_to_four(tmp_path: Path) -> None:
     """Its formations are built exactly 0.4 m apart on the bend, which the flight data's six significant digits
-    carry as 0.399997 m: that must not read as 'closer than 0.4 m'. Up to six robots stand in two rows centred at
-    l = 0.25 m, a 0.4 + 0.4 m look-ahead before the narrowing at 1.3 m; seven in three rows do not. Beyond the
-    exit, heading 35 degrees towards the top edge, two rows of slots (0.08 m beyond the exit at least, 0.2 m from
-    the edge) hold four robots: five and six are refused for their parking, naming the exit."""
+    carry as 0.399997 m: that must not read as 'closer than 0.4 m'. Up to nine robots stand in three rows that end
+    before the narrowing at 1.3 m, ten in four do not; beyond the exit, heading 35 degrees towards the top edge, the
+    slots (0.08 m beyond the exit at least, 0.2 m from the edge) hold four robots: five to ten are refused for their
+    parking, naming the exit, and ten for their formation too."""
     path = thirty_five_degree_bend(tmp_path)
-    fits = {n: robotarium_fit(load_scene(path, n_robots=n)) for n in range(1, 8)}
+    fits = {n: robotarium_fit(load_scene(path, n_robots=n)) for n in range(1, 11)}
     assert [n for n, fit in fits.items() if fit.fits] == [1, 2, 3, 4]
-    for n in (5, 6):
+    for n in range(5, 10):
         assert [m.what.split()[0] for m in fits[n].misfits] == ['parking'] and 'move the tube exit' in fits[n].reason
+    assert [m.what.split()[1] for m in fits[10].misfits] == ['start', 'slot']
 
 
 def test_on_a_35_degree_bend_the_fix_names_the_k_that_fits(tmp_path: Path) -> None:
-    assert at_most(robotarium_fit(load_scene(thirty_five_degree_bend(tmp_path), n_robots=7))) == 6
+    """Rows spread on the bend (four rows reach 1.87 m): K counts rows at the formation's own pitch."""
+    assert at_most(robotarium_fit(load_scene(thirty_five_degree_bend(tmp_path), n_robots=10))) == 9
 
 
 def test_a_row_on_a_bend_is_one_row(tmp_path: Path) -> None:

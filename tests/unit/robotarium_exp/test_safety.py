@@ -3,11 +3,16 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
+from robotarium_exp.flight import walls
 from robotarium_exp.rps.utilities.barrier_certificates import least_distance
 from robotarium_exp.rps.utilities.barrier_rows import BarrierSpec, barrier_rows
-from robotarium_exp.safety import SafetyFilter, least_distance_nnls
+from robotarium_exp.safety import EXIT_KEEP_M, WALL_GAIN_PER_S, WALL_KEEP_M, SafetyFilter, least_distance_nnls
 from robotarium_exp.spec import ROBOTARIUM
+from vtube_planning.geometry.centerline import ArcPath, ArcPiece
+from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.geometry.width import WidthPart, WidthProfile
 
 BARRIER = BarrierSpec(0.2, 100.0, 0.12, ROBOTARIUM.arena_m, False)
 
@@ -70,3 +75,33 @@ def test_safety_wins_over_the_band_and_is_counted() -> None:
     a, b = barrier_rows(points, BARRIER)
     assert np.all(a @ u.reshape(-1, order='F') <= b + 1e-9)  # safe
     assert f.stats.intervention_mps > 0.15
+
+
+def test_a_wall_row_slows_the_approach_to_the_wall_and_no_more() -> None:
+    """One robot heading along +x, asked to slide towards a wall above it (outward normal +y) 0.02 m beyond what the
+    rows keep: its velocity towards the wall is cut to WALL_GAIN_PER_S x 0.02 m, its forward speed kept; a robot
+    with no wall (NaN) and one moving away from its wall are untouched."""
+    f = safety_filter()
+    poses = np.array([[-1.0, 0.0, 1.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    points = poses[:2] + 0.05 * np.vstack([np.cos(poses[2]), np.sin(poses[2])])
+    u_hat = np.array([[0.1, 0.1, 0.1], [0.03, 0.03, -0.03]])
+    outward = np.array([[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]])
+    room = np.array([0.02, np.nan, 0.02])
+    u, held = f(u_hat, poses, points, np.ones(3, dtype=bool), (outward, room))
+    assert held
+    np.testing.assert_allclose(u[:, 0], [0.1, WALL_GAIN_PER_S * 0.02], atol=1e-9)
+    np.testing.assert_allclose(u[:, 1:], u_hat[:, 1:], atol=1e-12)
+    closer = f(u_hat, poses, points, np.ones(3, dtype=bool), (outward, np.array([-0.01, np.nan, 0.02])))[0]
+    assert closer[1, 0] == pytest.approx(-WALL_GAIN_PER_S * 0.01)  # inside what the row keeps: driven back
+
+
+def test_the_walls_of_a_flight_are_the_nearer_wall_or_the_exit_line() -> None:
+    """walls(): a flying robot inside the tube, its nearer wall (room: clearance less WALL_KEEP_M); a parked robot,
+    the exit line behind it (room: how far beyond the exit less EXIT_KEEP_M); a flying robot past either end, none."""
+    tube = VirtualTube(ArcPath((ArcPiece(2.0),)), WidthProfile(0.5, (WidthPart('constant', 2.0),)))
+    points = np.array([[1.0, 1.0, 2.3, 2.3, -0.2], [0.3, -0.45, 0.1, 0.0, 0.0]])
+    flying = np.array([True, True, False, True, True])
+    outward, room = walls(tube.project(points), flying)
+    np.testing.assert_allclose(outward[:, :3], [[0.0, 0.0, -1.0], [1.0, -1.0, 0.0]], atol=1e-12)
+    np.testing.assert_allclose(room[:3], [0.2 - WALL_KEEP_M, 0.05 - WALL_KEEP_M, 0.3 - EXIT_KEEP_M], atol=1e-9)
+    assert np.isnan(room[3:]).all()

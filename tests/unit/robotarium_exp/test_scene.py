@@ -90,7 +90,7 @@ def test_the_derivations_say_why() -> None:
     assert derived['n_robots'].reason == '[robotarium] n_robots'
     assert derived['rho_d_per_m2'].reason.startswith('the start formation (2 row(s) of up to 3, 0.40 m long)')
     assert derived['lookahead_m'].reason.startswith(
-        'the narrowing from l = 1.40 m (0.50 m) plus the formation (0.40 m, at least one band, 0.4 m)'
+        'the narrowing from l = 1.40 m (0.50 m) plus the formation (0.40 m) plus 2 bands (0.4 m each)'
     )
     assert derived['r_a_m'].reason.startswith('r_s + r_a = 0.4 m')
     grid = {d.name: d for d in load_scene('robotarium_curve').derived}['grid_step_m']
@@ -208,16 +208,16 @@ def test_an_unknown_scene_lists_the_shipped_ones() -> None:
         load_scene('nowhere')
 
 
-def test_without_a_formation_the_density_is_n_abreast_and_the_look_ahead_one_band(tmp_path: Path) -> None:
+def test_without_a_formation_the_density_is_n_abreast_and_the_look_ahead_two_bands(tmp_path: Path) -> None:
     """A tube hugging the arena's top edge (no cross-section in the start box), constant width: N robots abreast at
-    the entrance, padded by r_a, capped at rho_max; no narrowing: one band (0.4 m), no formation."""
+    the entrance, padded by r_a, capped at rho_max; no narrowing and no formation: two bands (0.8 m)."""
     text = '[tube.center]\nstart_xy_m = [-1.45, 0.88]\npieces = [{ kind = "line", length_m = 2.4 }]\n'
     text += '[tube.width]\nstart_m = 0.3\nparts = [{ kind = "constant" }]\n[robotarium]\nn_robots = 2\n'
     scene = load_scene(write(tmp_path, text))
     derived = {d.name: d for d in scene.derived}
     assert scene.swarm.rho_d_per_m2 == round(2 / (2 * 0.3 * 2 * 0.3), 2)  # 5.56, below rho_max
     assert derived['rho_d_per_m2'].reason.startswith('no start formation (no cross-section of the tube lies inside')
-    assert scene.planning.lookahead_m == 0.4
+    assert scene.planning.lookahead_m == 0.8
     assert derived['lookahead_m'].reason.startswith(
-        'no narrowing plus the formation (0.00 m, at least one band, 0.4 m)'
+        'no narrowing plus the formation (0.00 m) plus 2 bands (0.4 m each)'
     )

@@ -43,8 +43,9 @@ LANE_M = 0.1
 
 @pytest.fixture(scope='module')
 def planned() -> tuple[Scene, Plan, FlightData]:
-    """The trapezoid with two robots, its plan and its flight data."""
+    """The trapezoid with two robots looking 0.5 m ahead (a plan with a dip), its plan and its flight data."""
     scene = load_scene('robotarium_trapezoid', n_robots=2)
+    scene = replace(scene, planning=replace(scene.planning, lookahead_m=0.5))
     plan = plan_convex(scene.tube, scene.swarm, scene.planning, scene=scene.name)
     return scene, plan, flight_data(scene, plan, ExperimentConfig())
 

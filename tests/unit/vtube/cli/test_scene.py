@@ -140,10 +140,10 @@ def test_scene_show_of_a_misfit_exits_1_with_every_reason(tmp_path, capsys) -> N
 
 
 def test_the_show_view_of_a_misfit_carries_exit_1() -> None:
-    scene = load_scene('robotarium_trapezoid', n_robots=10)
+    scene = load_scene('robotarium_trapezoid', n_robots=13)
     fit = robotarium_fit(scene)
     view = show_view(SceneShown(scene, scene.tube.summary(), fit, None))
-    assert view.exit_code == 1 and view.lines[-1] == f'  Robotarium            {fit.reason}'
-    # 4 rows of 3 from l = 0.1 m, 0.4 m apart; a row centred at 0.1 m with a 0.9 m look-ahead, two rows at 0.3 m with
-    # 0.9 m end before the narrowing at 1.4 m, three at 0.5 m with 1.3 m do not: at most 2 rows of 3
-    assert 'use at most 6 robots' in view.lines[-1]
+    verdict = view.lines.index(f'  Robotarium            {fit.reason}')
+    assert view.exit_code == 1 and view.lines[verdict + 1].strip().startswith('also: parking slot 12')
+    # 5 rows of up to 3 from l = 0.12 m, 0.4 m apart: four end before the narrowing at 1.4 m, the fifth does not
+    assert 'use at most 12 robots' in view.lines[verdict]

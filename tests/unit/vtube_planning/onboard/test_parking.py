@@ -1,39 +1,63 @@
-"""Parking beyond the exit: the slots' layout, who takes which slot, driving there."""
+"""Parking beyond the exit: which robot takes which slot (the farthest row first, on its own side, the outermost
+there), driving there."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from robotarium_exp.design import slots_in_lanes
 from vtube_planning.onboard.parking import PARKED_WITHIN_M, Parking
 
+# two rows (0.6 and 0.3 m beyond an exit at x = 0 facing +x) of four lanes, 0.3 m apart across y = 0
+OFFSETS = np.array([-0.45, -0.15, 0.15, 0.45])
+SLOTS = np.array([[0.6] * 4 + [0.3] * 4, [*OFFSETS, *OFFSETS]])
 
-def test_robots_past_the_exit_take_the_next_free_slots_in_robot_order() -> None:
-    parking = Parking(slots_in_lanes(np.array([0.0, 0.0]), np.array([1.0, 0.0]), 4, 4, 0.45), 4)
-    parked = parking.take(np.array([False, True, False, True]))
-    assert parked.tolist() == [False, True, False, True] and parking.slot_of.tolist() == [-1, 0, -1, 1]
-    parked = parking.take(np.array([True, True, False, False]))  # robot 1 keeps its slot
-    assert parking.slot_of.tolist() == [2, 0, -1, 1] and parked.tolist() == [True, True, False, True]
+
+def lanes() -> Parking:
+    return Parking(SLOTS, 8, SLOTS[0], SLOTS[1])
+
+
+def test_robots_take_the_farthest_row_on_their_side_outermost_first() -> None:
+    parking = lanes()
+    y = np.array([0.1, -0.1, 0.05, 0.2, -0.2, 0.0, 0.0, 0.0])
+    parked = parking.take(np.array([True, True, False, False, False, False, False, False]), y)
+    assert parked.tolist() == [True, True] + [False] * 6
+    assert parking.slot_of[:2].tolist() == [3, 0]  # robot 0 left of the axis: +0.45; robot 1 right: -0.45
+    parking.take(np.array([True, True, True, True, False, False, False, False]), y)
+    assert parking.slot_of[:4].tolist() == [3, 0, 2, 1]  # robot 2 (left): +0.15; robot 3 (left, none left): nearest
+    parking.take(np.array([True] * 5 + [False] * 3), y)
+    assert parking.slot_of[4] == 4  # the far row is full: the near row, right of the axis, outermost
+
+
+def test_a_robot_on_the_axis_takes_either_side_and_robots_keep_their_slots() -> None:
+    parking = lanes()
+    parking.take(np.array([True] + [False] * 7), np.zeros(8))
+    assert parking.slot_of[0] in (0, 3)
+    first = parking.slot_of[0]
+    parking.take(np.array([True] * 8), np.zeros(8))  # robot 0 keeps its slot; every slot is taken once
+    assert parking.slot_of[0] == first and sorted(parking.slot_of.tolist()) == list(range(8))
+    assert set(parking.slot_of[:4].tolist()) == {0, 1, 2, 3}  # the first four fill the far row
 
 
 def test_parked_robots_drive_to_their_slots_at_most_at_v_max() -> None:
     slots = np.array([[1.0, 2.0], [0.0, 0.0]])
-    parking = Parking(slots, 2)
-    parking.take(np.array([True, True]))
-    points = np.array([[0.0, 2.0 - 0.5 * PARKED_WITHIN_M], [0.0, 0.0]])
+    parking = Parking(slots, 2, np.array([1.0, 2.0]), np.zeros(2))
+    parking.take(np.array([True, True]), np.zeros(2))
+    assert parking.slot_of.tolist() == [1, 0]  # the farthest row first
+    points = np.array([[0.0, 1.0 - 0.5 * PARKED_WITHIN_M], [0.0, 0.0]])
     velocity, done = parking.drive(points, np.array([True, True]), np.zeros((2, 2)), v_max_mps=0.2)
-    np.testing.assert_allclose(velocity[:, 0], [0.2, 0.0])  # 1 m away: capped at v_max towards the slot
+    np.testing.assert_allclose(velocity[:, 0], [0.2, 0.0])  # 2 m away: capped at v_max towards the slot
     np.testing.assert_allclose(velocity[:, 1], [0.5 * PARKED_WITHIN_M, 0.0])  # near: the remaining offset
     assert not done
-    _, done = parking.drive(slots + 0.5 * PARKED_WITHIN_M / np.sqrt(2), np.array([True, True]), np.zeros((2, 2)), 0.2)
+    at = slots[:, parking.slot_of] + 0.5 * PARKED_WITHIN_M / np.sqrt(2)
+    _, done = parking.drive(at, np.array([True, True]), np.zeros((2, 2)), 0.2)
     assert done
 
 
 def test_robots_not_parked_keep_their_commands_and_hold_up_done() -> None:
-    parking = Parking(np.array([[1.0, 2.0], [0.0, 0.0]]), 2)
-    parked = parking.take(np.array([True, False]))
+    parking = Parking(np.array([[1.0, 2.0], [0.0, 0.0]]), 2, np.array([1.0, 2.0]), np.zeros(2))
+    parked = parking.take(np.array([True, False]), np.zeros(2))
     command = np.array([[0.3, 0.4], [0.1, -0.1]])
-    velocity, done = parking.drive(np.array([[1.0, 0.0], [0.0, 0.0]]), parked, command, 0.2)
+    velocity, done = parking.drive(np.array([[2.0, 0.0], [0.0, 0.0]]), parked, command, 0.2)
     np.testing.assert_allclose(velocity[:, 1], command[:, 1])
     assert not done
     np.testing.assert_allclose(velocity[:, 0], 0.0, atol=1e-12)
