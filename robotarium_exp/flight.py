@@ -31,8 +31,7 @@ from robotarium_exp.rps.utilities.barrier_rows import BarrierSpec
 from robotarium_exp.safety import EXIT_KEEP_M, WALL_KEEP_M, SafetyFilter
 from unicycle_mapping.mapping import si_to_uni, si_to_uni_constrained, uni_to_si_states
 from unicycle_mapping.wheels import scale_to_wheel_limits
-from vtube_planning.onboard import SampledTube, StepResult, SwarmStep
-from vtube_planning.onboard.projection import Projection
+from vtube_planning.onboard import Projection, SampledTube, StepResult, SwarmStep
 
 FloatArray = NDArray[np.float64]
 
