@@ -7,7 +7,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from robotarium_exp.analysis.loaders import load_trajectory
@@ -42,16 +41,9 @@ def test_submission_files_analyse_like_the_simulator_log_of_the_same_run(tmp_pat
     from_log = analyse(load_trajectory([tmp_path / 'sim.npz']), scene).metrics.to_json()
     for key in ('min_distance_m', 'collision_pairs', 'frames', 'extent_at_narrowing_m'):
         assert from_files[key] == pytest.approx(from_log[key], abs=1e-12)
-    assert from_files['collision_pairs'] == 0
-    # the files count a robot's body on the walls, the log (no recorded start) its centre: never fewer. Known since
-    # the parking slots moved to 0.3 m lanes beyond the exit: a robot that has exited turns towards its lane before
-    # its body has cleared the exit, so the walls are touched only there, within the control point's offset and a
-    # body (0.05 + 0.055 m) of the exit, never inside the tube
-    assert from_files['tube_violation_steps'] >= from_log['tube_violation_steps']
-    along = analyse(load_trajectory([tmp_path]), scene).along
-    assert along is not None
-    on_wall = (along.clearance_m < 0.055) & (along.l_m >= 0.0) & (along.l_m <= scene.tube.length_m)
-    assert np.all(along.l_m[on_wall] >= scene.tube.length_m - 0.105)
+    # the files count a robot's body on the walls, the log (no recorded start) its centre: neither touches
+    assert from_files['collision_pairs'] == 0 and from_files['tube_violation_steps'] == 0
+    assert from_log['tube_violation_steps'] == 0
     # the files record the flight's start: timed as the experiment times it; the simulator's log does not (inferred,
     # and its robots start inside the tube), but it saw the same entry and exits
     assert from_files['passage']['start'].startswith('start recorded by the flight at t = 0.00 s')
