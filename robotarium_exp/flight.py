@@ -122,12 +122,13 @@ class Flight:
 
 def walls(projection: Projection, flying: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray]:
     """The safety filter's walls, as the outward normal (2, N) and the room h (N,) above what the rows keep: for a
-    robot flying inside the tube's length, its nearer wall (h: the control point's clearance less
+    robot flying from the entrance on (past the exit too, on the walls' extension, until it leaves for its slot:
+    its control point passes the exit before its body does), its nearer wall (h: the control point's clearance less
     :data:`~robotarium_exp.safety.WALL_KEEP_M`); for a parked robot, the exit line behind it (h: how far beyond the
     exit less :data:`~robotarium_exp.safety.EXIT_KEEP_M`), so that nobody pushes it back beside the tube; NaN (no
     row) otherwise."""
     l_m, length = projection.l_m, projection.length_m
-    inside = flying & (l_m >= 0.0) & (l_m <= length)
+    inside = flying & (l_m >= 0.0)  # past the exit too, until it leaves: its body may still be beside the walls
     outward = np.where(flying, np.sign(projection.y_m) * projection.normal, -projection.tangent)
     wall = projection.half_width_m - np.abs(projection.y_m) - WALL_KEEP_M
     room = np.where(inside, wall, np.where(flying, np.nan, l_m - length - EXIT_KEEP_M))

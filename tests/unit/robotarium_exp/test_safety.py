@@ -96,12 +96,14 @@ def test_a_wall_row_slows_the_approach_to_the_wall_and_no_more() -> None:
 
 
 def test_the_walls_of_a_flight_are_the_nearer_wall_or_the_exit_line() -> None:
-    """walls(): a flying robot inside the tube, its nearer wall (room: clearance less WALL_KEEP_M); a parked robot,
-    the exit line behind it (room: how far beyond the exit less EXIT_KEEP_M); a flying robot past either end, none."""
+    """walls(): a flying robot inside the tube, its nearer wall (room: clearance less WALL_KEEP_M), and past the
+    exit (not yet left for its slot) the walls' extension; a parked robot, the exit line behind it (room: how far
+    beyond the exit less EXIT_KEEP_M); a robot before the entrance, none."""
     tube = VirtualTube(ArcPath((ArcPiece(2.0),)), WidthProfile(0.5, (WidthPart('constant', 2.0),)))
-    points = np.array([[1.0, 1.0, 2.3, 2.3, -0.2], [0.3, -0.45, 0.1, 0.0, 0.0]])
+    points = np.array([[1.0, 1.0, 2.3, 2.05, -0.2], [0.3, -0.45, 0.1, -0.4, 0.0]])
     flying = np.array([True, True, False, True, True])
     outward, room = walls(tube.project(points), flying)
-    np.testing.assert_allclose(outward[:, :3], [[0.0, 0.0, -1.0], [1.0, -1.0, 0.0]], atol=1e-12)
-    np.testing.assert_allclose(room[:3], [0.2 - WALL_KEEP_M, 0.05 - WALL_KEEP_M, 0.3 - EXIT_KEEP_M], atol=1e-9)
-    assert np.isnan(room[3:]).all()
+    np.testing.assert_allclose(outward[:, :4], [[0.0, 0.0, -1.0, 0.0], [1.0, -1.0, 0.0, -1.0]], atol=1e-12)
+    expected = [0.2 - WALL_KEEP_M, 0.05 - WALL_KEEP_M, 0.3 - EXIT_KEEP_M, 0.1 - WALL_KEEP_M]
+    np.testing.assert_allclose(room[:4], expected, atol=1e-9)
+    assert np.isnan(room[4])
