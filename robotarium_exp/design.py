@@ -109,9 +109,9 @@ def look_ahead(narrowing_m: float, formation_m: float) -> float:
     (back row to front row): the narrowing plus the formation plus :data:`LOOK_AHEAD_BANDS` interaction bands (the
     spacing), to :data:`LOOK_AHEAD_STEP_M`. The longer the look-ahead, the gentler the density change (p7) asks
     for before the narrowing, and a swarm in rows of the tube's width can only lengthen to thin out. *Measured*
-    without initialization (the dip's mean density error): the trapezoid at N = 6, 7 % with the narrowing plus the
-    formation (0.9 m), 3 % with one band more, 4 % with two (1.7 m, and 38.1 s to pass instead of 41.7 s); the
-    wide sweep tube at N = 6, 45 %, 24 %, 6 %; the trapezoid at N = 10, 30 % (1.7 m), 27 %, 19 % (2.5 m)."""
+    with ``vtube robotarium run --no-initialization`` (the dip's mean density error), without the two bands against
+    with them: the trapezoid at N = 6, 7 % (0.9 m) against 4 % (1.7 m; 38.1 s to pass instead of 41.6 s); the wide
+    sweep tube at N = 6, 45 % against 6 %; the trapezoid at N = 10, 30 % against 19 %."""
     span = narrowing_m + formation_m + LOOK_AHEAD_BANDS * ROBOTARIUM.ic_spacing_m
     return round(round(span / LOOK_AHEAD_STEP_M) * LOOK_AHEAD_STEP_M, 3)
 
