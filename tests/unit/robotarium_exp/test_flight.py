@@ -131,14 +131,19 @@ def test_the_loop_stops_when_the_swarm_is_done_without_sending_that_period() -> 
     assert fake.steps == 2 and [float(v[0, 0]) for _, v in fake.sent] == [0.01, 0.02]
 
 
-def test_a_few_steps_on_our_simulator_are_clean(data) -> None:
-    r = Robotarium(
+def at_initial_conditions(data) -> Robotarium:
+    """Our simulator with the flight's robots already at its initial conditions (no initialization)."""
+    return Robotarium(
         number_of_robots=data.n_robots,
         show_figure=False,
         sim_in_real_time=False,
         initial_conditions=np.array(data.initial_conditions),
         skip_initialization=True,
     )
+
+
+def test_a_few_steps_on_our_simulator_are_clean(data) -> None:
+    r = at_initial_conditions(data)
     flight = build_flight(data)
     seen: list[Period] = []
     completed, periods = fly(r, flight, r.TIME_STEP, 3, lambda _k, period: seen.append(period))
@@ -153,13 +158,7 @@ def test_the_flight_s_start_is_the_robotarium_s_step_count_in_any_generation(dat
     assert robotarium_steps(SimpleNamespace(iterations=7, _iteration=3)) == 7  # ours
     assert robotarium_steps(SimpleNamespace(_iterations=5)) == 5  # PyPI's V2, classic
     assert robotarium_steps(object()) == 0  # a Robotarium that does not say
-    r = Robotarium(
-        number_of_robots=data.n_robots,
-        show_figure=False,
-        sim_in_real_time=False,
-        initial_conditions=np.array(data.initial_conditions),
-        skip_initialization=True,
-    )
+    r = at_initial_conditions(data)
     assert flight_start(r, r.TIME_STEP) == {'iteration': 0, 'robotarium_time_s': 0.0, 't_s': 0.0}
     fly(r, build_flight(data), r.TIME_STEP, 2, lambda _k, _period: None)
     assert flight_start(r, 0.033) == {'iteration': 2, 'robotarium_time_s': 0.066, 't_s': 0.0}
