@@ -38,7 +38,7 @@ from vtube_planning._validate import is_real
 from vtube_planning.errors import VtubeError
 from vtube_planning.geometry.scene import load_scene
 from vtube_planning.onboard import SATURATIONS
-from vtube_planning.study import ABLATIONS, BASELINE_MODES, MODELS, REPLANNING_MODES, Point, RunSettings
+from vtube_planning.study import ABLATIONS, BASELINE_MODES, COMPENSATIONS, MODELS, REPLANNING_MODES, Point, RunSettings
 from vtube_planning.swarm.faults import FAILURE_MODES
 
 if sys.version_info >= (3, 11):
@@ -53,7 +53,8 @@ class CampaignError(VtubeError, ValueError):
 
 
 AXES: dict[str, type] = {'scene': str, 'n_robots': int, 'model': str, 'saturation': str, 'pose_noise_m': float}
-AXES |= {'latency_steps': int, 'failure': str, 'dropout': float, 'seed': int, 'mode': str}
+AXES |= {'latency_steps': int, 'lag_s': float, 'compensation': str, 'failure': str, 'dropout': float}
+AXES |= {'seed': int, 'mode': str}
 """The axes (the fields of :class:`Point`) in the order runs are expanded: a cell's modes and seeds are adjacent."""
 METRICS: dict[str, type] = {
     'passing_time_s': float,
@@ -73,6 +74,7 @@ _CHOICES = {
     'model': tuple(MODELS),
     'saturation': SATURATIONS,
     'failure': ('none', *FAILURE_MODES),
+    'compensation': COMPENSATIONS,
 }
 
 
@@ -194,9 +196,15 @@ class Campaign:
         }
 
 
+LATER_AXES = {'lag_s': 0.0, 'compensation': 'none'}
+"""Axes added after campaigns were committed, with their defaults: a run at a default leaves them out of its key, so
+that the tables written before keep their keys (a rerun resumes them)."""
+
+
 def run_key(point: Point, settings: RunSettings) -> str:
     """A run's stable key: a hash of its point and the campaign's settings (16 hex digits)."""
-    text = json.dumps({'point': asdict(point), 'settings': asdict(settings)}, sort_keys=True)
+    fields = {k: v for k, v in asdict(point).items() if k not in LATER_AXES or v != LATER_AXES[k]}
+    text = json.dumps({'point': fields, 'settings': asdict(settings)}, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -236,7 +244,9 @@ def _check_values(axis: str, values: Iterable[Any]) -> None:
         if axis in _CHOICES and value not in _CHOICES[axis]:
             msg = f'axes.{axis} holds {value!r}; choose from {", ".join(map(repr, _CHOICES[axis]))}.'
             raise CampaignError(msg)
-        low = {'n_robots': 1, 'seed': 0, 'latency_steps': 0, 'pose_noise_m': 0.0, 'dropout': 0.0}.get(axis)
+        low = {'n_robots': 1, 'seed': 0, 'latency_steps': 0, 'lag_s': 0.0, 'pose_noise_m': 0.0, 'dropout': 0.0}.get(
+            axis
+        )
         if low is not None and value < low or axis == 'dropout' and value >= 1.0:
             bound = 'in [0, 1)' if axis == 'dropout' else f'>= {low}'
             msg = f'axes.{axis} holds {value!r}; its values must be {bound}.'

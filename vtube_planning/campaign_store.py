@@ -15,7 +15,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from vtube_planning.campaign import AXES, METRICS, Campaign, CampaignError, run_key
+from vtube_planning.campaign import AXES, LATER_AXES, METRICS, Campaign, CampaignError, run_key
 
 RUNS_FILE, CAMPAIGN_FILE = 'runs.csv', 'campaign.json'
 
@@ -48,13 +48,14 @@ def prepare_table(
         if table.is_file():
             with table.open(newline='', encoding='utf-8') as handle:
                 reader = csv.DictReader(handle)
-                if reader.fieldnames is not None and reader.fieldnames != columns:
+                later = [c for c in columns if c in LATER_AXES and c not in (reader.fieldnames or columns)]
+                if reader.fieldnames is not None and reader.fieldnames != [c for c in columns if c not in later]:
                     msg = f'{table} has other columns than this {what}; give another --out.'
                     raise CampaignError(msg)
                 for row in reader:
                     whole = None not in row.values() and None not in row
                     if whole and row['key'] in keys and not row['error'] and row['version']:
-                        done[row['key']] = row
+                        done[row['key']] = {**{c: LATER_AXES[c] for c in later}, **row}  # a table from before
         _write_atomically(recorded, json.dumps(record, indent=1) + '\n')
         _write_atomically(table, _csv_text(columns, done.values()))
     except OSError as err:
@@ -100,7 +101,7 @@ def read_results(out: Path) -> tuple[Campaign, list[dict[str, Any]], int]:
 def typed_row(row: Mapping[str, Any], columns: list[str]) -> dict[str, Any]:
     """A table row with each column of its known type again (numbers, booleans; an empty metric is NaN)."""
     kinds: dict[str, type] = AXES | METRICS | {'wall_s': float}
-    return {c: _typed(row[c], kinds.get(c, str)) for c in columns}
+    return {c: _typed(row[c] if c in row or c not in LATER_AXES else LATER_AXES[c], kinds.get(c, str)) for c in columns}
 
 
 def _typed(value: Any, kind: type) -> Any:

@@ -215,6 +215,10 @@ class ControlParams:
     kdtree_above
         Use a k-d tree for neighbours above this many robots, all pairs below (default: the measured crossover
         :data:`~vtube_planning.onboard.params.KDTREE_ABOVE`; both give the same law).
+    compensate_delay_steps, compensate_lag_s
+        The command delay (control periods, >= 0) and first-order lag (s, >= 0) to compensate: the controller acts
+        on where each robot will be when its command arrives, predicted from the commands already sent
+        (:class:`~vtube_planning.onboard.delay.CommandPredictor`). Both 0 (the default): it acts on where they are.
     """
 
     avoidance_gain: float = 1.0
@@ -227,8 +231,15 @@ class ControlParams:
     density_padding: DensityPadding = 'initial'
     plan_at: PlanAt = 'robot'
     kdtree_above: int = KDTREE_ABOVE
+    compensate_delay_steps: float = 0.0
+    compensate_lag_s: float = 0.0
 
     def __post_init__(self) -> None:
+        for name in ('compensate_delay_steps', 'compensate_lag_s'):
+            value = getattr(self, name)
+            if not is_real(value) or value < 0:
+                msg = f'control {name} must be a finite number >= 0 (0: nothing to compensate); got {value!r}.'
+                raise ParamsError(msg)
         for name in ('avoidance_gain', 'keeping_gain'):
             if not is_positive(getattr(self, name)):
                 msg = f'control {name} must be a finite number > 0; got {getattr(self, name)!r}.'
@@ -289,4 +300,6 @@ class ControlParams:
             feedforward=self.feedforward,
             plan_at=self.plan_at,
             kdtree_above=self.kdtree_above,
+            compensate_delay_steps=float(self.compensate_delay_steps),
+            compensate_lag_s=float(self.compensate_lag_s),
         )

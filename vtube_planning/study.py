@@ -17,6 +17,7 @@ import numpy as np
 
 from vtube_planning.baselines.flocking import FlockingParams, flocking_command
 from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
+from vtube_planning.errors import ParamsError
 from vtube_planning.geometry.scene import Scene, load_scene
 from vtube_planning.onboard import Saturation
 from vtube_planning.params import ControlParams, PlanningOptions, SwarmParams
@@ -29,6 +30,8 @@ from vtube_planning.swarm.simulate import SimConfig, SimResult, default_constant
 
 MODES = ('planning', 'no planning')
 BASELINE_MODES = ('flocking', 'flocking (v_min)', 'nmpc')
+COMPENSATIONS = ('none', 'known', 'known-1', 'known+1')
+"""What delay the controller compensates (:meth:`Point.compensated`)."""
 BASELINE_SCENES = ('C', 'D')
 
 
@@ -142,8 +145,19 @@ class Point:
     saturation: Saturation | None = None
     pose_noise_m: float = 0.0
     latency_steps: int = 0
+    lag_s: float = 0.0
+    compensation: str = 'none'
     failure: FailureMode | Literal['none'] = 'none'
     dropout: float = 0.0
+
+    def compensated(self) -> tuple[float, float]:
+        """The delay (periods) and lag (s) the controller compensates: none, or the run's own (``'known'``), or
+        the run's delay misjudged by whole periods (``'known-1'``, ``'known+1'``: one period less or more; never
+        below 0)."""
+        if self.compensation == 'none':
+            return 0.0, 0.0
+        offset = {'known': 0, 'known-1': -1, 'known+1': 1}[self.compensation]
+        return float(max(0, self.latency_steps + offset)), self.lag_s
 
 
 @dataclass(frozen=True)
@@ -162,7 +176,17 @@ def run_point(point: Point, settings: RunSettings = RunSettings()) -> dict[str, 
     same reference for every mode: mean |rho - rho*(l_c)| while the swarm's centre is in the tube), the share of
     in-tube robot-steps moving backwards, and NMPC's converged share (NaN for the other modes)."""
     scene = load_scene(point.scene)
-    scene = replace(scene, control=replace(scene.control, saturation=point.saturation or scene.control.saturation))
+    if point.compensation != 'none' and point.mode in BASELINE_MODES:
+        msg = f'delay compensation acts in the swarm step, which the baseline {point.mode!r} does not fly; use none.'
+        raise ParamsError(msg)
+    delay, lag = point.compensated()
+    control = replace(
+        scene.control,
+        saturation=point.saturation or scene.control.saturation,
+        compensate_delay_steps=delay,
+        compensate_lag_s=lag,
+    )
+    scene = replace(scene, control=control)
     swarm = replace(scene.swarm, n_robots=point.n_robots or scene.swarm.n_robots)
     reference = _cached_plan(scene, swarm, scene.planning.predictive_model)  # the full plan
     setup = ablation_setup(point.mode, scene, swarm, settings.dt_s)
@@ -176,6 +200,7 @@ def run_point(point: Point, settings: RunSettings = RunSettings()) -> dict[str, 
         acceleration_limits=MODELS[point.model],
         pose_noise_m=point.pose_noise_m,
         latency_steps=point.latency_steps,
+        lag_s=point.lag_s,
         failure=failure,
         dropout=point.dropout,
         replan_every_s=setup.replan_every_s,

@@ -145,7 +145,10 @@ COMPARISONS = (
 CLAIMS = (('passing_time_s', 'lower', 'passing time [s]'), ('min_distance_m', 'higher', 'min distance [m]'))
 
 
-CELL_AXES = ('scene', 'n_robots', 'model', 'saturation', 'pose_noise_m', 'latency_steps', 'failure', 'dropout')
+CELL_AXES = (
+    *('scene', 'n_robots', 'model', 'saturation', 'pose_noise_m'),
+    *('latency_steps', 'lag_s', 'compensation', 'failure', 'dropout'),
+)
 """What a row's mode is compared within (a cell): every field of :class:`Point` but the mode and the seed."""
 
 
@@ -160,6 +163,10 @@ def setting_text(row: dict[str, Any]) -> str:
         words.append(f'pose noise {row["pose_noise_m"]:g} m')
     if row.get('latency_steps'):
         words.append(f'latency {row["latency_steps"]} periods')
+    if row.get('lag_s'):
+        words.append(f'lag {row["lag_s"]:g} s')
+    if row.get('compensation') not in (None, 'none'):
+        words.append(f'compensation {row["compensation"]}')
     if row.get('failure') not in (None, 'none'):
         words.append(f'a robot fails ({row["failure"]})')
     if row.get('dropout'):

@@ -4,6 +4,7 @@ The submission builder inlines these modules' sources, in the order of :data:`MO
 runs; they import nothing but numpy, scipy, the standard library and each other.
 """
 
+from vtube_planning.onboard.delay import CommandPredictor, lag_response
 from vtube_planning.onboard.density import swarm_area, swarm_density
 from vtube_planning.onboard.law import Command, avoidance_velocity, interaction_gains, velocity_command
 from vtube_planning.onboard.params import (
@@ -36,6 +37,7 @@ MODULES = (
     'vtube_planning.onboard.law',
     'vtube_planning.onboard.radius',
     'vtube_planning.onboard.parking',
+    'vtube_planning.onboard.delay',
     'vtube_planning.onboard.stepper',
 )
 """The modules in dependency order (each imports only modules before it): the order the builder inlines them."""
@@ -48,6 +50,7 @@ __all__ = [
     'PLAN_AT',
     'SATURATIONS',
     'Command',
+    'CommandPredictor',
     'DensityPadding',
     'Law',
     'PlanAt',
@@ -61,6 +64,7 @@ __all__ = [
     'SwarmStep',
     'avoidance_velocity',
     'interaction_gains',
+    'lag_response',
     'swarm_area',
     'swarm_density',
     'velocity_command',

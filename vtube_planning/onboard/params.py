@@ -58,6 +58,9 @@ class StepParams:
         length of the swarm's robots, for which the plan is made (A16); :data:`PlanAt`.
     kdtree_above
         Find neighbours with a k-d tree above this many robots, all pairs below.
+    compensate_delay_steps, compensate_lag_s
+        The command delay (control periods) and lag (s) the step compensates by acting on where the robots will be
+        (:class:`~vtube_planning.onboard.delay.CommandPredictor`); both 0: it acts on where they are.
     """
 
     r_s_m: float
@@ -74,3 +77,10 @@ class StepParams:
     feedforward: bool = False
     plan_at: PlanAt = 'robot'
     kdtree_above: int = KDTREE_ABOVE
+    compensate_delay_steps: float = 0.0
+    compensate_lag_s: float = 0.0
+
+    @property
+    def compensates(self) -> bool:
+        """Whether the step acts on predicted positions (a delay or a lag to compensate)."""
+        return self.compensate_delay_steps > 0.0 or self.compensate_lag_s > 0.0

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from vtube_planning.onboard.delay import CommandPredictor
 from vtube_planning.onboard.density import swarm_density
 from vtube_planning.onboard.law import Command, velocity_command
 from vtube_planning.onboard.params import StepParams
@@ -73,6 +74,13 @@ class SwarmStep:
         Project the robots starting from their previous projection (``tube.project_near``: the same arc lengths
         to about 1e-12 m, certified or else searched globally) instead of searching the whole tube each period
         (``tube.project``). Only when the step projects, i.e. is not given the projection.
+    velocity
+        The robots' velocity (2, N) before the first command, for the delay compensation
+        (``params.compensates``): what they do until the first command arrives; None: at rest.
+
+    With ``params.compensates`` the step acts on where every robot will be once its command arrives, predicted
+    from the commands the step gave (:meth:`sent` replaces the last one when the caller sent another); a given
+    projection is then ignored, the predicted points are projected.
     """
 
     def __init__(
@@ -85,6 +93,7 @@ class SwarmStep:
         constant_speed_mps: float | None = None,
         parking_slots: FloatArray | None = None,
         warm_projection: bool = True,
+        velocity: FloatArray | None = None,
     ) -> None:
         if plan is None and constant_speed_mps is None:
             msg = 'a swarm step without a plan needs constant_speed_mps, the forward speed to fly.'
@@ -101,6 +110,9 @@ class SwarmStep:
         self.r_a = np.full(n_robots, float(params.r_a_m))
         self.warm_projection = warm_projection
         self._last: Projection | None = None  # the last period's projection, where the warm start begins
+        self._velocity = velocity  # the robots' velocity before the first command (the predictor's start)
+        self.predictor: CommandPredictor | None = None  # made at the first period, which gives the period
+        self._sent: FloatArray | None = None  # the last period's command, told to the predictor at the next one
 
     def __call__(
         self, points: FloatArray, dt_s: float, projection: Projection | None = None, others: FloatArray | None = None
@@ -117,6 +129,13 @@ class SwarmStep:
         if np.count_nonzero(np.isfinite(points)) < points.size:  # a count: the cheapest test of a small array
             msg = f'points of robots {np.flatnonzero(~np.isfinite(points).all(axis=0)).tolist()} are not finite.'
             raise ValueError(msg)
+        if p.compensates:
+            if self.predictor is None:
+                delay, lag = p.compensate_delay_steps, p.compensate_lag_s
+                self.predictor = CommandPredictor(self.r_a.size, delay, lag, dt_s, self._velocity)
+            if self._sent is not None:
+                self.predictor.sent(self._sent)
+            points, projection = self.predictor.predict(points), None
         if projection is None:
             if self.warm_projection and self._last is not None:
                 projection = self.tube.project_near(points, self._last)
@@ -145,4 +164,10 @@ class SwarmStep:
             velocity, done = self.parking.drive(points, parked, velocity, p.v_max_mps)
         if self.plan is not None:
             self.r_a = next_radius(r_a, density, self.plan.density(l_plan), p, dt_s)
+        self._sent = velocity
         return StepResult(velocity, command, projection, forward_speed, density, r_a, parked, done)
+
+    def sent(self, velocity: FloatArray) -> None:
+        """The caller sent ``velocity`` (2, N) this period instead of the step's own command (a safety filter
+        changed it): the delay compensation predicts from what was sent."""
+        self._sent = np.array(velocity, dtype=float)

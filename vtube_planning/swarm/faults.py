@@ -1,6 +1,6 @@
 """The simulator's fault models, each off by default and drawn from its own seeded stream.
 
-Pose noise on what the controller sees, command latency, a robot failing at an arc length, and dropped messages
+Pose noise on what the controller sees, command latency and lag, a robot failing at an arc length, and dropped messages
 (neighbours avoid a robot where they last heard it). :class:`Faults` applies them to one run, step by step.
 """
 
@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from vtube_planning._validate import is_real
 from vtube_planning.errors import ParamsError
 from vtube_planning.geometry.tube import VirtualTube
-from vtube_planning.onboard import Projection
+from vtube_planning.onboard import Projection, lag_response
 
 FloatArray = NDArray[np.float64]
 
@@ -53,8 +53,10 @@ class Faults:
     ----------
     seed
         The run's seed; the noise and the losses each draw from their own stream of it.
-    pose_noise_m, dropout, latency_steps, failure
+    pose_noise_m, dropout, latency_steps, lag_s, failure
         As in :class:`~vtube_planning.swarm.simulate.SimConfig`.
+    dt_s
+        The control period (the lag's time step).
     positions, velocity
         The robots' initial positions (what they first heard of each other) and velocities (what they keep until
         the first delayed command arrives), (2, N).
@@ -67,6 +69,8 @@ class Faults:
         pose_noise_m: float,
         dropout: float,
         latency_steps: int,
+        lag_s: float,
+        dt_s: float,
         failure: RobotFailure | None,
         positions: FloatArray,
         velocity: FloatArray,
@@ -76,6 +80,8 @@ class Faults:
         self._losses = np.random.default_rng([seed, 2])
         self._heard: FloatArray = positions.copy()  # where the robots last heard each other
         self._pending = deque([velocity] * latency_steps)  # commands computed, not yet applied
+        self.lag_s, self.dt_s = lag_s, dt_s
+        self._lagged = velocity.copy()  # the lag's output at the start of the period
         self._failed_velocity: FloatArray | None = None  # the failed robot's velocity from the failure on
         self.working = np.ones(positions.shape[1], dtype=bool)
         """The robots that count for the passage (all but a failed one)."""
@@ -99,11 +105,13 @@ class Faults:
         return None
 
     def delayed(self, commanded: FloatArray) -> FloatArray:
-        """The command that reaches the robots now: ``commanded`` itself, or with latency the one computed
-        ``latency_steps`` periods ago."""
+        """The velocity the robots fly this period: ``commanded`` itself, or with latency the one computed
+        ``latency_steps`` periods ago, through the lag (its mean over the period) when there is one."""
         if self._pending:
             self._pending.append(commanded)
-            return self._pending.popleft()
+            commanded = self._pending.popleft()
+        if self.lag_s > 0:
+            commanded, self._lagged = lag_response(commanded, self._lagged, self.dt_s, self.lag_s)
         return commanded
 
     def failed(self, velocity: FloatArray, l_m: FloatArray) -> FloatArray:

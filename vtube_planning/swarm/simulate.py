@@ -70,6 +70,9 @@ class SimConfig:
     latency_steps
         Fault: a command reaches the robots this many control periods after it was computed (until then they
         keep their initial velocity). 0: off.
+    lag_s
+        Fault: the command that reaches the robots acts through a first-order lag of this time constant (s; each
+        period's velocity is the lag's mean over the period, so positions follow it exactly). 0: off.
     failure
         Fault: a robot that fails at an arc length (:class:`RobotFailure`); None: off. Once failed it no longer
         counts for the passage (the run ends, and the passing time is taken, when the working robots have passed)
@@ -92,6 +95,7 @@ class SimConfig:
     acceleration_limits: bool = False
     pose_noise_m: float = 0.0
     latency_steps: int = 0
+    lag_s: float = 0.0
     failure: RobotFailure | None = None
     dropout: float = 0.0
     replan_every_s: float = 0.0
@@ -119,6 +123,9 @@ class SimConfig:
             raise ParamsError(msg)
         if not (is_real(self.replan_every_s) and self.replan_every_s >= 0):
             msg = f'simulation replan_every_s must be a finite number >= 0 (0: never); got {self.replan_every_s!r}.'
+            raise ParamsError(msg)
+        if not (is_real(self.lag_s) and self.lag_s >= 0):
+            msg = f'simulation lag_s must be a finite number >= 0 (0: no lag); got {self.lag_s!r}.'
             raise ParamsError(msg)
         if isinstance(self.latency_steps, bool) or not isinstance(self.latency_steps, int) or self.latency_steps < 0:
             msg = f'simulation latency_steps must be a whole number >= 0 (0: none); got {self.latency_steps!r}.'
@@ -222,7 +229,7 @@ def simulate(
     n = positions.shape[1]
     velocity = _initial_speed(swarm, plan, initial_speed_mps) * tube.project(positions).tangent
     profile = plan.profile if plan is not None else None
-    stepper = SwarmStep(tube, step_params, n, plan=profile, constant_speed_mps=forward_const)
+    stepper = SwarmStep(tube, step_params, n, plan=profile, constant_speed_mps=forward_const, velocity=velocity)
     steps = _step_count(tube, swarm, config, positions)
     description = _description(tube, swarm, control, plan, config, n, meta)
     log = LogWriter(log_path, description, flush_every=config.log_every)
@@ -290,6 +297,8 @@ def _faults(config: SimConfig, baseline: Baseline | None, positions: FloatArray,
         pose_noise_m=config.pose_noise_m,
         dropout=config.dropout,
         latency_steps=config.latency_steps,
+        lag_s=config.lag_s,
+        dt_s=config.dt_s,
         failure=config.failure,
         positions=positions,
         velocity=velocity,

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import hashlib
+import json
+from dataclasses import asdict, replace
 from importlib import resources
 
 import pytest
@@ -34,6 +37,10 @@ def test_a_campaign_file_expands_into_runs_with_stable_keys(tmp_path) -> None:
     assert [p.seed for p in points[:6]] == [0, 0, 1, 1, 2, 2] and points[0].mode == 'planning'
     keys = [run_key(p, campaign.settings) for p in points]
     assert len(set(keys)) == len(keys)
+    before = {k: v for k, v in asdict(points[0]).items() if k not in ('lag_s', 'compensation')}  # axes added later
+    text = json.dumps({'point': before, 'settings': asdict(campaign.settings)}, sort_keys=True)
+    assert keys[0] == hashlib.sha256(text.encode()).hexdigest()[:16]  # tables written before keep their keys
+    assert run_key(replace(points[0], compensation='known'), campaign.settings) not in keys
     assert keys == [run_key(p, campaign.settings) for p in Campaign.from_toml(path).points()]  # stable
     moved = write(tmp_path, FAULTS + '[settings]\nfailure_at = 0.25\n', 'moved.toml')
     assert not set(keys) & {run_key(p, RunSettings(failure_at=0.25)) for p in Campaign.from_toml(moved).points()}
@@ -50,6 +57,11 @@ BAD_CAMPAIGNS = {
     'unknown mode': (FAULTS.replace('"no planning"', '"fast"'), "axes.mode holds 'fast'; choose from 'planning'"),
     'wrong type': (FAULTS.replace('0.02', '"high"'), "axes.pose_noise_m holds 'high'; its values must be floats"),
     'out of range': (FAULTS.replace('0.02', '-0.1'), 'axes.pose_noise_m holds -0.1; its values must be >= 0.0'),
+    'unknown compensation': (
+        FAULTS + 'compensation = ["maybe"]\n',
+        "axes.compensation holds 'maybe'; choose from 'none', 'known', 'known-1', 'known+1'.",
+    ),
+    'negative lag': (FAULTS + 'lag_s = [-0.2]\n', 'axes.lag_s holds -0.2; its values must be >= 0.0'),
     'unknown scene': (FAULTS.replace('"D"', '"Z"'), "unknown scene 'Z'; shipped scenes are"),
     'unknown setting': (FAULTS + '[settings]\nspeed = 1\n', "unknown setting 'speed'; the settings are dt_s"),
     'bad setting': (FAULTS + '[settings]\nfailure_at = 2.0\n', 'settings.failure_at must be in [0, 1]'),

@@ -112,3 +112,25 @@ def test_typed_rows_get_numbers_booleans_and_nan_back() -> None:
     assert typed['seed'] == 3 and isinstance(typed['seed'], int)
     assert math.isnan(typed['passing_time_s']) and typed['completed'] is False
     assert typed['wall_s'] == 1.5 and typed['scene'] == 'C' and typed['extra'] == 7
+
+
+def test_a_table_written_before_the_later_axes_is_read_and_resumed_with_their_defaults(tmp_path, campaign) -> None:
+    """A committed table without the lag and compensation columns (written before they existed): its rows keep their
+    keys, read back with the defaults, and a resumed run rewrites it with every column."""
+    out = tmp_path / 'out'
+    older = [c for c in campaign.columns if c not in ('lag_s', 'compensation')]
+    out.mkdir()
+    (out / CAMPAIGN_FILE).write_text(json.dumps(campaign.to_json(), indent=1) + '\n', encoding='utf-8')
+    rows = [{c: v for c, v in finished_row(campaign, k).items() if c in older} for k in range(2)]
+    write_rows(out / RUNS_FILE, older, rows)
+    _, rows, missing = read_results(out)
+    assert missing == 2 and [(r['lag_s'], r['compensation']) for r in rows] == [(0.0, 'none')] * 2
+    keys = {run_key(p, campaign.settings) for p in campaign.points()}
+    done = prepare_folder(campaign, out, keys)
+    assert len(done) == 2 and all(row['compensation'] == 'none' for row in done.values())
+    with (out / RUNS_FILE).open(newline='', encoding='utf-8') as handle:
+        assert csv.DictReader(handle).fieldnames == campaign.columns
+    other = [c for c in older if c != 'dropout']  # any other missing column still refuses the table
+    write_rows(out / RUNS_FILE, other, [])
+    with pytest.raises(CampaignError, match='has other columns than this campaign'):
+        prepare_folder(campaign, out, keys)

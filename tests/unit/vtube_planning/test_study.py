@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 from vtube.cli import main
+from vtube_planning.errors import ParamsError
 from vtube_planning.geometry.scene import load_scene
-from vtube_planning.study import ABLATIONS, ablation_setup
+from vtube_planning.study import ABLATIONS, Point, ablation_setup, run_point
 from vtube_planning.swarm.simulate import SimConfig, default_constant_speed, simulate
 
 
@@ -65,3 +66,13 @@ def test_bad_grid_arguments(tmp_path, capsys) -> None:
     assert "axes.model holds 'fast'; choose from 'paper', 'acceleration limits'." in capsys.readouterr().err
     assert main(['ablation', '--out', str(tmp_path), '--saturations', 'clip']) == 2
     assert "axes.saturation holds 'clip'; choose from 'radial', 'forward'." in capsys.readouterr().err
+
+
+def test_the_compensated_delay_is_the_runs_own_or_misjudged_by_a_period() -> None:
+    assert Point('C', latency_steps=3, lag_s=0.1).compensated() == (0.0, 0.0)
+    assert Point('C', latency_steps=3, lag_s=0.1, compensation='known').compensated() == (3.0, 0.1)
+    assert Point('C', latency_steps=3, compensation='known-1').compensated() == (2.0, 0.0)
+    assert Point('C', latency_steps=3, compensation='known+1').compensated() == (4.0, 0.0)
+    assert Point('C', latency_steps=0, compensation='known-1').compensated() == (0.0, 0.0)  # never below 0
+    with pytest.raises(ParamsError, match="the baseline 'flocking' does not fly"):
+        run_point(Point('C', mode='flocking', latency_steps=2, compensation='known'))

@@ -59,6 +59,10 @@ def test_bad_controller_input_raises() -> None:
         ControlParams(r_a_max_m=0.5).radius_cap(SWARM)
     with pytest.raises(ParamsError, match='needs r_a_m > r_s_m'):
         ControlParams().step_params(SwarmParams(r_s_m=0.4, r_a_m=0.4))
+    with pytest.raises(ParamsError, match='compensate_delay_steps must be a finite number >= 0'):
+        ControlParams(compensate_delay_steps=-1.0)
+    with pytest.raises(ParamsError, match='compensate_lag_s must be a finite number >= 0'):
+        ControlParams(compensate_lag_s=float('nan'))
 
 
 def test_every_control_option_reaches_the_step() -> None:
@@ -77,6 +81,8 @@ def test_every_control_option_reaches_the_step() -> None:
         'density_padding': 'current',
         'plan_at': 'center',
         'kdtree_above': 7,
+        'compensate_delay_steps': 2.0,
+        'compensate_lag_s': 0.1,
     }
     assert {f.name for f in fields(ControlParams)} == set(changed)
     for name, value in changed.items():

@@ -1,4 +1,5 @@
-"""Fault models of the simulator: pose noise, command latency, a failing robot; each off by default and seeded."""
+"""Fault models of the simulator: pose noise, command latency and lag, a failing robot; each off by default and
+seeded."""
 
 from __future__ import annotations
 
@@ -60,6 +61,23 @@ def test_commands_arrive_exactly_latency_periods_late(scene_a, latency: int) -> 
     np.testing.assert_array_equal(prompt.velocities_mps[1:], prompt.commands_mps[:-1])  # latency 0: next step
 
 
+def test_a_lag_makes_each_period_fly_the_lags_mean_velocity(scene_a) -> None:
+    """After the latency, v[k + 1] is the mean over the period of a first-order lag driven by u[k - latency] from
+    its state, which ends at u + (state - u) exp(-dt / lag): recomputed here period by period."""
+    scene, plan = scene_a
+    latency, lag, dt = 2, 0.15, 0.02
+    config = SimConfig(time_limit_s=2.0, latency_steps=latency, lag_s=lag, dt_s=dt)
+    result = simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=config)
+    v, u = result.velocities_mps, result.commands_mps
+    state, decay = v[0].copy(), math.exp(-dt / lag)
+    for k in range(len(v) - 1):
+        arriving = v[0] if k < latency else u[k - latency]
+        mean = arriving + (state - arriving) * (lag / dt) * (1.0 - decay)
+        np.testing.assert_allclose(v[k + 1], mean, atol=1e-12)
+        state = arriving + (state - arriving) * decay
+    assert np.abs(v[-1] - u[-1 - latency - 1]).max() > 1e-3  # the lag shows: not the delayed command itself
+
+
 @pytest.mark.parametrize('mode', ['stop', 'coast'])
 def test_a_failed_robot_stops_or_coasts_and_the_others_pass_it(scene_a, mode: str) -> None:
     scene, plan = scene_a
@@ -93,6 +111,8 @@ def test_bad_fault_settings_are_refused(scene_a) -> None:
         SimConfig(pose_noise_m=-0.1)
     with pytest.raises(ParamsError, match='latency_steps must be a whole number >= 0'):
         SimConfig(latency_steps=True)
+    with pytest.raises(ParamsError, match='lag_s must be a finite number >= 0'):
+        SimConfig(lag_s=-0.1)
     with pytest.raises(ParamsError, match="failure mode must be one of \\('stop', 'coast'\\)"):
         RobotFailure(robot=0, at_m=1.0, mode='explode')
     with pytest.raises(ParamsError, match='robots 0..19'):

@@ -25,7 +25,8 @@ POINTS = np.array([[2.0, 5.0, 8.0], [0.0, 1.0, -1.0]])
 def period(*, baseline=None, failure=None, latency: int = 0, limits: bool = False) -> SimulatedPeriod:
     stepper = SwarmStep(TUBE, ControlParams().step_params(SWARM), 3, constant_speed_mps=3.0)
     faults = Faults(
-        0, pose_noise_m=0.0, dropout=0.0, latency_steps=latency, failure=failure, positions=POINTS,
+        0, pose_noise_m=0.0, dropout=0.0, latency_steps=latency, lag_s=0.0, dt_s=0.1, failure=failure,
+        positions=POINTS,
         velocity=np.zeros((2, 3)),
     )  # fmt: skip
     return SimulatedPeriod(TUBE, SWARM, 0.1, limits, stepper, baseline, None, faults)
