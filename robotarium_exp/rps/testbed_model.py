@@ -109,17 +109,19 @@ NAMES = "'ideal', 'fitted' or 'fitted:K' with K > 0 (delay and lag times K, e.g.
 class TestbedModelError(RobotariumError, ValueError):
     """A testbed model's name that is none of the accepted forms."""
 
+    __test__ = False
+
 
 def testbed_model(name: str | TestbedModel) -> TestbedModel:
     """The model called ``name`` (a model is returned as it is); :class:`TestbedModelError` names the forms."""
     if isinstance(name, TestbedModel):
         return name
-    base, _, factor = str(name).strip().partition(':')
+    base, colon, factor = str(name).strip().partition(':')
     models = {'ideal': IDEAL, 'fitted': FITTED}
-    if base not in models or (base == 'ideal' and factor):
+    if base not in models or (base == 'ideal' and colon):
         msg = f'unknown testbed model {name!r}; give {NAMES}.'
         raise TestbedModelError(msg)
-    if not factor:
+    if not colon:
         return models[base]
     try:
         k = float(factor)
