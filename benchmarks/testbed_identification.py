@@ -46,7 +46,7 @@ def response(u: np.ndarray, delay: float, lag_s: float) -> np.ndarray:
     padded = np.vstack([np.zeros((whole + 1, u.shape[1])), u])
     delayed = (1 - frac) * padded[1 : 1 + len(u)] + frac * padded[: len(u)]
     if lag_s <= 0:
-        return delayed
+        return np.asarray(delayed)
     alpha = 1 - np.exp(-DT / lag_s)
     return np.asarray(lfilter([alpha], [1, alpha - 1], delayed, axis=0))
 
@@ -123,7 +123,8 @@ def pose_noise(runs: list[Run]) -> tuple[float, float, float]:
         along.append((residual[:, 0] * c + residual[:, 1] * s)[ok])
         across.append((-residual[:, 0] * s + residual[:, 1] * c)[ok])
         heading.append(residual[:, 2][ok])
-    return tuple(_robust_sd(np.concatenate(x)) / scale for x in (along, across, heading))  # type: ignore[return-value]
+    sd_along, sd_across, sd_heading = (_robust_sd(np.concatenate(x)) / scale for x in (along, across, heading))
+    return sd_along, sd_across, sd_heading
 
 
 def _robust_sd(x: np.ndarray) -> float:

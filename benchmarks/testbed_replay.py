@@ -67,7 +67,7 @@ def replay(run: Run, model: TestbedModel, every: int) -> np.ndarray:
             errors.append(np.hypot(pose[0] - truth[0], pose[1] - truth[1]))
     step = np.hypot(*np.diff(run.poses[:, :2], axis=0).transpose(1, 0, 2))  # (T-1, N)
     jumped = np.array([(step[k : k + longest] > 0.02).any(axis=0) for k in starts]).reshape(-1)
-    return np.array(errors).T[~jumped]
+    return np.asarray(np.array(errors).T[~jumped])
 
 
 def table(runs: list[Run], names: list[str], every: int) -> list[str]:

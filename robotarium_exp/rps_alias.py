@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from robotarium_exp.recorder import as_its_generation, recording
+from robotarium_exp.recorder import recording
 from robotarium_exp.rps.testbed_model import NAMES, TestbedModel, TestbedModelError, testbed_model
 from robotarium_exp.rps.utilities.barrier_certificates import use_qp_solver
 
@@ -110,7 +110,8 @@ def with_testbed_model(cls: type, model: str | TestbedModel) -> type:
             kwargs.setdefault('testbed_model', chosen)
             super().__init__(*args, **kwargs)
 
-    return as_its_generation(WithTestbedModel, cls)
+    WithTestbedModel.__name__ = cls.__name__
+    return WithTestbedModel
 
 
 def seed_rps(seed: int) -> None:
@@ -153,6 +154,8 @@ def _model(text: str) -> TestbedModel:
 def main() -> None:
     parser = _parser()
     args = parser.parse_args()
+    if args.classic and args.testbed_model is not None:
+        parser.error('--testbed-model acts on the V2 simulator only; drop --classic or --testbed-model.')
     if not args.command:
         parser.error('give the script to run, e.g. python -m robotarium_exp.rps_alias my_script.py')
     script = Path(args.command[0])
@@ -164,8 +167,6 @@ def main() -> None:
         parser.error(f'{script} is not a Python script ({err}).')
     if args.exact_qp:
         use_qp_solver('exact')
-    if args.classic and args.testbed_model is not None:
-        parser.error('--testbed-model acts on the V2 simulator only; drop --classic or --testbed-model.')
     install(classic=args.classic, seed=args.seed, log_path=args.log, testbed_model=args.testbed_model)
     sys.argv = list(args.command)
     try:

@@ -108,19 +108,16 @@ class Robotarium(ARobotarium):
         self._called_step_already = True
         self._checked_poses_already = False
         self._errors: dict[str, int] = {}
-        self._iteration = 0
-        self.initialization_steps = 0
-        self._testbed: Testbed | None = None
-        self._moving = self._velocities
-        """The velocities that moved the robots in the last step (the command itself unless a testbed model acts)."""
+        self._iteration, self.initialization_steps = 0, 0
+        self._testbed: Testbed | None = None  # none while initializing: the initialization stays ideal
+        self._moving = self._velocities  # what moved the robots in the last step: the command unless a model acts
         if skip_initialization:
             self._poses = self.initial_conditions.copy()
         else:
             self.initialize(self.initial_conditions)
             self.initialization_steps = self._iteration
         self.initializing = False
-        if not model.is_ideal:
-            self._testbed = Testbed(model, number_of_robots, self.TIME_STEP)
+        self._testbed = None if model.is_ideal else Testbed(model, number_of_robots, self.TIME_STEP)
 
     @property
     def errors(self) -> dict[str, int]:

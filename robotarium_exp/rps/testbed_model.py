@@ -83,25 +83,28 @@ IDEAL = TestbedModel()
 
 FITTED = TestbedModel(
     name='fitted',
-    delay_v_steps=4.5,
+    delay_v_steps=5.0,
     delay_omega_steps=5.0,
     lag_s=0.19,
-    speed_gain=1.023,
-    speed_gain_sd=0.012,
-    turn_gain=0.99,
-    turn_gain_sd=0.03,
-    turn_bias_rad_s=-0.004,
-    turn_bias_sd_rad_s=0.02,
-    noise_along_m=0.00057,
-    noise_across_m=0.00033,
-    noise_heading_rad=0.0012,
+    speed_gain=1.018,
+    speed_gain_sd=0.010,
+    turn_gain=0.983,
+    turn_gain_sd=0.025,
+    turn_bias_rad_s=-0.0015,
+    turn_bias_sd_rad_s=0.0068,
+    noise_along_m=0.00054,
+    noise_across_m=0.00032,
+    noise_heading_rad=0.0013,
     heading_quantum_rad=0.001,
-    stale_rate=0.0,
-    stale_rate_still=0.0,
-    jump_rate=0.0012,
-    jump_m=0.03,
+    stale_rate=0.037,
+    stale_rate_still=0.756,
+    jump_rate=0.0004,
+    jump_m=0.035,
 )
-"""The numbers ``benchmarks/testbed_identification.py`` measured (docs/robotarium.md, "the testbed model")."""
+"""What ``benchmarks/testbed_identification.py`` measured on 37 real runs (docs/robotarium.md, "the testbed model"):
+delays of 5.0 iterations (v and omega), lags of 0.18 s (v) and 0.20 s (omega), here one lag of 0.19 s; gains and
+bias as medians with robust sds over robots and runs. The issue's numbers differ a little (delay of v 4.5, speed gain
+1.023, turn gain 0.99, bias -0.004, jumps 1.2 per 1000): these are ours."""
 
 NAMES = "'ideal', 'fitted' or 'fitted:K' with K > 0 (delay and lag times K, e.g. 'fitted:2')"
 
