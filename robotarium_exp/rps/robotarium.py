@@ -47,8 +47,6 @@ INITIALIZATION_STEP_LIMIT = 60_000
 """Steps (33 simulated minutes) after which the initialization is declared stuck. V2 has no limit and hangs."""
 DEADLOCK_STEPS = 5 * 30
 DEADLOCK_EPSILON_M = 0.1
-STILL = 1e-3
-"""A robot whose speed (m/s) and turn rate (rad/s) are both below this stands still (for the stale poses)."""
 
 
 class Robotarium(ARobotarium):
@@ -200,7 +198,7 @@ class Robotarium(ARobotarium):
         self._checked_poses_already = True
         poses: FloatArray = self._poses.copy()
         if self._testbed is not None:
-            return self._testbed.observe(poses, still=np.all(np.abs(self._moving) < STILL, axis=0))
+            return self._testbed.observe(poses)
         return poses
 
     def step(self) -> None:

@@ -3,7 +3,8 @@
 The bundled simulator moves a robot in the same iteration as its command and hands back its exact pose. The real
 GRITSbot-X robots respond after a pure delay (per channel, in iterations) and a first-order lag, with per-robot
 speed and turn-rate gains and a turn-rate bias; the poses the tracker returns are noisy along and across the
-heading, headings come in steps, some poses are repeated (stale) and a few jump. ``benchmarks/testbed_identification.py``
+heading, headings come in steps, some poses are repeated (stale: most of them while a robot stands) and a few
+jump. A robot standing still (no command acting on it) does not turn at its bias rate. ``benchmarks/testbed_identification.py``
 measures these numbers on real runs; ``docs/robotarium.md`` ("the testbed model") gives them with their sources.
 
 * :func:`testbed_model` turns a name into a model: ``ideal`` (today's simulator, bit for bit), ``fitted`` (the
@@ -106,6 +107,9 @@ delays of 5.0 iterations (v and omega), lags of 0.18 s (v) and 0.20 s (omega), h
 bias as medians with robust sds over robots and runs. The issue's numbers differ a little (delay of v 4.5, speed gain
 1.023, turn gain 0.99, bias -0.004, jumps 1.2 per 1000): these are ours."""
 
+STILL = 1e-3
+"""A command (m/s, rad/s) below this in both channels leaves a robot standing still."""
+
 NAMES = "'ideal', 'fitted' or 'fitted:K' with K > 0 (delay and lag times K, e.g. 'fitted:2')"
 
 
@@ -172,11 +176,17 @@ class Testbed:
         self._history[0] = command
         self._lagged += self._alpha * (self.delayed() - self._lagged)
         moving: FloatArray = self.gains * self._lagged
-        moving[1] += self.bias
+        moving[1] += np.where(self.still(), 0.0, self.bias)
         return moving
 
-    def observe(self, poses: FloatArray, still: NDArray[np.bool_]) -> FloatArray:
-        """What the tracker hands back for the true ``poses`` (3xN); ``still``: robots standing still.
+    def still(self) -> NDArray[np.bool_]:
+        """The robots standing still: the command acting on them (delayed, lagged) is below ``STILL`` in both
+        channels. They do not turn at the bias rate, and their poses go stale at ``stale_rate_still``."""
+        still: NDArray[np.bool_] = np.all(np.abs(self._lagged) < STILL, axis=0)
+        return still
+
+    def observe(self, poses: FloatArray) -> FloatArray:
+        """What the tracker hands back for the true ``poses`` (3xN).
 
         The same draws every call (3 noise, stale, jump, direction per robot), whatever the outcome.
         """
@@ -194,7 +204,7 @@ class Testbed:
         seen[0] += np.where(jumps, m.jump_m * np.cos(2 * np.pi * direction), 0.0)
         seen[1] += np.where(jumps, m.jump_m * np.sin(2 * np.pi * direction), 0.0)
         if self._last_seen is not None:
-            stale = stale_u < np.where(still, m.stale_rate_still, m.stale_rate)
+            stale = stale_u < np.where(self.still(), m.stale_rate_still, m.stale_rate)
             seen[:, stale] = self._last_seen[:, stale]
         self._last_seen = seen.copy()
         return seen

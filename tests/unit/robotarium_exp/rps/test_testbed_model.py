@@ -99,6 +99,8 @@ def test_gains_and_bias_scale_the_integrated_motion_as_by_hand() -> None:
         x, y = x + DT * 0.11 * math.cos(theta), y + DT * 0.11 * math.sin(theta)
         theta += DT * (0.9 * 0.5 + 0.05)
     np.testing.assert_allclose(true[-1][:, 0], [x, y, theta], atol=1e-12)
+    _, standing, _ = fly(model, np.zeros((25, 2, 1)))
+    np.testing.assert_array_equal(standing[-1], standing[0])  # no command acting: the bias does not turn it
 
 
 def test_per_robot_gains_are_drawn_seeded_with_the_models_spread() -> None:
@@ -120,7 +122,7 @@ def test_pose_noise_has_the_models_spread_along_and_across_the_heading() -> None
     n, draws = 50, 200
     poses = np.vstack([np.zeros((2, n)), np.random.uniform(-3, 3, n)])
     testbed = Testbed(model, n, DT)
-    seen = np.array([testbed.observe(poses, still=np.zeros(n, dtype=bool)) for _ in range(draws)])
+    seen = np.array([testbed.observe(poses) for _ in range(draws)])
     d = seen - poses
     c, s = np.cos(poses[2]), np.sin(poses[2])
     along, across = d[:, 0] * c + d[:, 1] * s, -d[:, 0] * s + d[:, 1] * c
@@ -138,11 +140,13 @@ def test_headings_come_in_quanta_and_stale_and_jumping_poses_at_their_rates() ->
     n, draws = 100, 300
     testbed = Testbed(model, n, DT)
     still = np.arange(n) < n // 2
+    testbed.actuate(np.where(still, 0.0, 0.1) * np.ones((2, n)))  # the other half moves
+    assert np.array_equal(testbed.still(), still)
     previous = None
     repeats, jumps = np.zeros(n), 0
     for k in range(draws):
         poses = np.vstack([np.full(n, 0.001 * k), np.zeros(n), np.random.uniform(-3, 3, n)])
-        seen = testbed.observe(poses, still)
+        seen = testbed.observe(poses)
         np.testing.assert_allclose(seen[2] * 1000, np.round(seen[2] * 1000), atol=1e-9)
         if previous is not None:
             repeats += np.all(seen == previous, axis=0)
