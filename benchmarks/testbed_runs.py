@@ -16,7 +16,6 @@ In both, the pose at index k is what ``get_poses`` returned at iteration k and t
 
 from __future__ import annotations
 
-import hashlib
 import io
 import warnings
 from dataclasses import dataclass
@@ -55,17 +54,25 @@ def default_files(more: Path | None) -> list[Path]:
 
 
 def load_runs(files: list[Path]) -> list[Run]:
-    """The runs in ``files`` that hold poses and commands, each once (the same poses in two files count once)."""
-    runs, seen = [], set()
+    """The runs in ``files`` that hold poses and commands, each once: a run whose poses are the start of another's
+    (the same run saved earlier, e.g. ``robotarium_data.mat`` at 4800 steps beside ``robotarium2_data.mat`` at
+    5000) gives way to the longer."""
+    runs: list[Run] = []
     for path in files:
         run = read_run(path)
-        if run is None:
+        if run is None or run.poses.shape[0] <= 100:
             continue
-        digest = hashlib.sha256(run.poses.tobytes()).hexdigest()
-        if digest not in seen and run.poses.shape[0] > 100:
-            seen.add(digest)
+        same = [k for k, kept in enumerate(runs) if _one_starts_the_other(run.poses, kept.poses)]
+        if not same:
             runs.append(run)
+        elif len(run.poses) > len(runs[same[0]].poses):
+            runs[same[0]] = run
     return runs
+
+
+def _one_starts_the_other(a: np.ndarray, b: np.ndarray) -> bool:
+    t = min(len(a), len(b))
+    return a.shape[1:] == b.shape[1:] and np.array_equal(a[:t], b[:t])
 
 
 def read_run(path: Path) -> Run | None:
