@@ -11,7 +11,7 @@ or, inside Python, ``install()`` before the script imports ``rps``. By default `
 both generations draw from (V2's charger slots and deadlock escapes, classic's random start poses); ``--log`` makes
 the simulator record every pose it hands out (:mod:`robotarium_exp.recorder`);
 ``--exact-qp`` makes the barrier certificates solve their QPs exactly and faster, instead of as the testbed does
-(:func:`robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`); ``--testbed-model`` makes the V2
+(:func:`robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`); ``--testbed-model`` makes the
 simulator act like the real robots (``ideal``, the default, ``fitted``, ``fitted:K``:
 :mod:`robotarium_exp.rps.testbed_model`).
 
@@ -79,10 +79,8 @@ def install(
 ) -> None:
     """Register the bundled simulator's modules under the names ``rps``, ``rps.robotarium``, ``rps.utilities...``.
 
-    ``testbed_model`` (V2 only): the model every ``Robotarium()`` of the script gets unless it names one.
+    ``testbed_model``: the model every ``Robotarium()`` of the script gets unless it names one (either generation).
     """
-    if classic and testbed_model is not None:
-        raise TestbedModelError('the testbed model acts on the V2 simulator only; drop --classic or the model.')
     package, suffixes = ('robotarium_exp.rps_classic', CLASSIC_MODULES) if classic else ('robotarium_exp.rps', MODULES)
     for suffix in suffixes:
         sys.modules['rps' + suffix] = importlib.import_module(package + suffix)
@@ -102,7 +100,7 @@ def install(
 
 
 def with_testbed_model(cls: type, model: str | TestbedModel) -> type:
-    """``cls`` (V2's Robotarium) whose instances get ``testbed_model=model`` unless the script passes one."""
+    """``cls`` (either generation's Robotarium) whose instances get ``testbed_model=model`` unless the script passes one."""
     chosen = testbed_model(model)
 
     class WithTestbedModel(cls):  # type: ignore[misc, unused-ignore]  # a subclass of the class chosen at run time
@@ -154,8 +152,6 @@ def _model(text: str) -> TestbedModel:
 def main() -> None:
     parser = _parser()
     args = parser.parse_args()
-    if args.classic and args.testbed_model is not None:
-        parser.error('--testbed-model acts on the V2 simulator only; drop --classic or --testbed-model.')
     if not args.command:
         parser.error('give the script to run, e.g. python -m robotarium_exp.rps_alias my_script.py')
     script = Path(args.command[0])

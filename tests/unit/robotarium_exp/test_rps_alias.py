@@ -437,12 +437,18 @@ def test_main_passes_the_testbed_model_to_every_robotarium(tmp_path, monkeypatch
     assert capsys.readouterr().out == f'fitted:2 {delay} Robotarium\n'
 
 
+@pytest.mark.usefixtures('clean_rps')
+def test_install_gives_the_classic_generation_its_testbed_model_too() -> None:
+    rps_alias.install(classic=True, testbed_model='fitted')
+    r = sys.modules['rps.robotarium'].Robotarium(1, False, False, np.zeros((3, 1)))
+    assert r._testbed.model is rps_alias.testbed_model('fitted') and hasattr(r, 'call_at_scripts_end')
+
+
 @pytest.mark.parametrize(
     ('argv', 'message'),
     [
         (['--testbed-model', 'fitted:0', 'x.py'], "the scale '0' is not a number > 0"),
         (['--testbed-model', 'real', 'x.py'], "'ideal', 'fitted' or 'fitted:K'"),
-        (['--classic', '--testbed-model', 'fitted', 'x.py'], '--testbed-model acts on the V2 simulator only'),
         ([], 'give the script to run'),
         (['missing.py'], 'missing.py: no such script'),
         (['--seed', '-1', 'x.py'], "'-1' is not a whole number >= 0"),
