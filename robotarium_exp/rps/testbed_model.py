@@ -174,7 +174,8 @@ class Testbed:
         """The velocities [v; omega] (2xN) that move the robots this iteration, given this iteration's command."""
         self._history = np.roll(self._history, 1, axis=0)
         self._history[0] = command
-        self._lagged += self._alpha * (self.delayed() - self._lagged)
+        delayed = self.delayed()
+        self._lagged = delayed if self._alpha == 1.0 else self._lagged + self._alpha * (delayed - self._lagged)
         moving: FloatArray = self.gains * self._lagged
         moving[1] += np.where(self.still(), 0.0, self.bias)
         return moving
