@@ -1,6 +1,7 @@
 """Run an unchanged ``rps`` script on the bundled simulator: make ``import rps...`` resolve to ours.
 
-    python -m robotarium_exp.rps_alias [--classic] [--seed N] [--log FILE.npz] [--exact-qp] my_script.py [args...]
+    python -m robotarium_exp.rps_alias [--classic] [--seed N] [--log FILE.npz] [--exact-qp]
+                                       [--testbed-model NAME] my_script.py [args...]
 
 or, inside Python, ``install()`` before the script imports ``rps``. By default ``rps`` is V2
 (:mod:`robotarium_exp.rps`: robots are driven from the chargers to the initial conditions, ``debug()``);
@@ -10,7 +11,9 @@ or, inside Python, ``install()`` before the script imports ``rps``. By default `
 both generations draw from (V2's charger slots and deadlock escapes, classic's random start poses); ``--log`` makes
 the simulator record every pose it hands out (:mod:`robotarium_exp.recorder`);
 ``--exact-qp`` makes the barrier certificates solve their QPs exactly and faster, instead of as the testbed does
-(:func:`robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`).
+(:func:`robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`); ``--testbed-model`` makes the
+simulator act like the real robots (``ideal``, the default, ``fitted``, ``fitted:K``:
+:mod:`robotarium_exp.rps.testbed_model`).
 
 A script that dies on ``np.mat`` (removed in numpy 2, used by several classic examples) gets a message naming the
 fix instead of a bare ``AttributeError``, and exit code 1.
@@ -26,10 +29,12 @@ import sys
 import traceback
 import types
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from robotarium_exp.recorder import recording
+from robotarium_exp.rps.testbed_model import NAMES, TestbedModel, TestbedModelError, testbed_model
 from robotarium_exp.rps.utilities.barrier_certificates import use_qp_solver
 
 MODULES = (
@@ -65,8 +70,17 @@ CLASSIC_MODULES = (
 """The classic package's modules (no examples package; one more certificate module)."""
 
 
-def install(*, classic: bool = False, seed: int | None = None, log_path: str | None = None) -> None:
-    """Register the bundled simulator's modules under the names ``rps``, ``rps.robotarium``, ``rps.utilities...``."""
+def install(
+    *,
+    classic: bool = False,
+    seed: int | None = None,
+    log_path: str | None = None,
+    testbed_model: str | TestbedModel | None = None,
+) -> None:
+    """Register the bundled simulator's modules under the names ``rps``, ``rps.robotarium``, ``rps.utilities...``.
+
+    ``testbed_model``: the model every ``Robotarium()`` of the script gets unless it names one (either generation).
+    """
     package, suffixes = ('robotarium_exp.rps_classic', CLASSIC_MODULES) if classic else ('robotarium_exp.rps', MODULES)
     for suffix in suffixes:
         sys.modules['rps' + suffix] = importlib.import_module(package + suffix)
@@ -74,6 +88,8 @@ def install(*, classic: bool = False, seed: int | None = None, log_path: str | N
     cls = original.Robotarium
     if seed is not None:
         seed_rps(seed)
+    if testbed_model is not None:
+        cls = with_testbed_model(cls, testbed_model)
     if log_path is not None:
         cls = recording(cls, log_path)
     module = types.ModuleType('rps.robotarium', original.__doc__)
@@ -81,6 +97,19 @@ def install(*, classic: bool = False, seed: int | None = None, log_path: str | N
     module.__dict__['Robotarium'] = cls
     sys.modules['rps.robotarium'] = module
     vars(sys.modules['rps'])['robotarium'] = module
+
+
+def with_testbed_model(cls: type, model: str | TestbedModel) -> type:
+    """``cls`` (either generation's Robotarium) whose instances get ``testbed_model=model`` unless the script passes one."""
+    chosen = testbed_model(model)
+
+    class WithTestbedModel(cls):  # type: ignore[misc, unused-ignore]  # a subclass of the class chosen at run time
+        def __init__(self, *args: Any, **kwargs: Any) -> None:
+            kwargs.setdefault('testbed_model', chosen)
+            super().__init__(*args, **kwargs)
+
+    WithTestbedModel.__name__ = cls.__name__
+    return WithTestbedModel
 
 
 def seed_rps(seed: int) -> None:
@@ -99,6 +128,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument('--seed', type=_seed, default=None, help='seed random and np.random, >= 0 (default: none)')
     parser.add_argument('--log', default=None, metavar='FILE.npz', help='record every pose handed out to this log')
     parser.add_argument('--exact-qp', action='store_true', help='solve the certificates exactly (DAQP), not as V2')
+    parser.add_argument(
+        '--testbed-model', type=_model, default=None, metavar='NAME', help=f'what the real robots do: {NAMES}'
+    )
     parser.add_argument('command', nargs=argparse.REMAINDER, metavar='SCRIPT [ARGS ...]', help='the script to run')
     return parser
 
@@ -108,6 +140,13 @@ def _seed(text: str) -> int:
         msg = f'{text!r} is not a whole number >= 0'
         raise argparse.ArgumentTypeError(msg)
     return int(text)
+
+
+def _model(text: str) -> TestbedModel:
+    try:
+        return testbed_model(text)
+    except TestbedModelError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def main() -> None:
@@ -124,7 +163,7 @@ def main() -> None:
         parser.error(f'{script} is not a Python script ({err}).')
     if args.exact_qp:
         use_qp_solver('exact')
-    install(classic=args.classic, seed=args.seed, log_path=args.log)
+    install(classic=args.classic, seed=args.seed, log_path=args.log, testbed_model=args.testbed_model)
     sys.argv = list(args.command)
     try:
         runpy.run_path(sys.argv[0], run_name='__main__')

@@ -12,6 +12,12 @@
   ``random`` and are driven to the initial conditions by V2's hybrid pose controller under a unicycle barrier
   certificate, with V2's deadlock escapes (random waypoints from ``np.random``). Those steps count towards the
   duration but are not validated. With the same ``random.seed`` and ``np.random.seed`` the draws are V2's draws.
+* ``testbed_model`` (a name or a :class:`~robotarium_exp.rps.testbed_model.TestbedModel`): what the real robots
+  do to the commands and the poses. ``'ideal'`` (the default) is the simulator above, bit for bit and without an
+  extra draw; with another model (``'fitted'``, ``'fitted:2'``) the clipped command drives the robots through the
+  model's delay, lag, gains and bias, ``get_poses`` returns the poses with its noise, heading steps, stale repeats
+  and jumps, and the verifier still counts the true poses. The initialization stays ideal; the model's per-robot
+  draws are made when it ends (:mod:`robotarium_exp.rps.testbed_model`).
 
 Randomness comes from ``random`` and ``np.random``, as in V2, so that a script's seeds (or ``rps_alias --seed``)
 make a run reproducible.
@@ -28,6 +34,8 @@ from numpy.typing import NDArray
 
 from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.robotarium_abc import ARobotarium
+from robotarium_exp.rps.testbed_model import Testbed, TestbedModel
+from robotarium_exp.rps.testbed_model import testbed_model as named_model
 from robotarium_exp.rps.utilities.barrier_certificates import create_uni_barrier_certificate
 from robotarium_exp.rps.utilities.controllers import create_pose_controller_hybrid
 from robotarium_exp.rps.utilities.misc import create_at_pose, generate_initial_poses, generate_random_poses
@@ -63,6 +71,7 @@ class Robotarium(ARobotarium):
         show_distance_endpoints: bool = True,
         show_distance_rays: bool = False,
         show_obstacles: bool = True,
+        testbed_model: str | TestbedModel = 'ideal',
         **unknown: Any,
     ) -> None:
         if unknown:
@@ -71,6 +80,7 @@ class Robotarium(ARobotarium):
                 stacklevel=2,
             )
         _check_arguments(number_of_robots, show_figure, sim_in_real_time, use_distance_sensors, initial_conditions)
+        model = named_model(testbed_model)
         charger_poses = generate_initial_poses(
             number_of_robots,
             width=float(self.BOUNDARIES[1] - self.BOUNDARIES[0] - self.ROBOT_DIAMETER),
@@ -96,14 +106,16 @@ class Robotarium(ARobotarium):
         self._called_step_already = True
         self._checked_poses_already = False
         self._errors: dict[str, int] = {}
-        self._iteration = 0
-        self.initialization_steps = 0
+        self._iteration, self.initialization_steps = 0, 0
+        self._testbed: Testbed | None = None  # none while initializing: the initialization stays ideal
+        self._moving = self._velocities  # what moved the robots in the last step: the command unless a model acts
         if skip_initialization:
             self._poses = self.initial_conditions.copy()
         else:
             self.initialize(self.initial_conditions)
             self.initialization_steps = self._iteration
         self.initializing = False
+        self._testbed = None if model.is_ideal else Testbed(model, number_of_robots, self.TIME_STEP)
 
     @property
     def errors(self) -> dict[str, int]:
@@ -185,6 +197,8 @@ class Robotarium(ARobotarium):
         self._called_step_already = False
         self._checked_poses_already = True
         poses: FloatArray = self._poses.copy()
+        if self._testbed is not None:
+            return self._testbed.observe(poses)
         return poses
 
     def step(self) -> None:
@@ -197,10 +211,11 @@ class Robotarium(ARobotarium):
         self._iteration += 1
         self._velocities = self._threshold(self._velocities)
         self._velocities_old = self._velocities.copy()
-        travel = self.TIME_STEP * self._velocities[0]
+        self._moving = self._velocities if self._testbed is None else self._testbed.actuate(self._velocities)
+        travel = self.TIME_STEP * self._moving[0]
         self._poses[0] += travel * np.cos(self._poses[2])
         self._poses[1] += travel * np.sin(self._poses[2])
-        self._poses[2] += self.TIME_STEP * self._velocities[1]
+        self._poses[2] += self.TIME_STEP * self._moving[1]
         self._poses[2] = np.arctan2(np.sin(self._poses[2]), np.cos(self._poses[2]))
         if self._distance_sensors_enabled:
             self._distances = simulate_distance_sensors(
@@ -234,7 +249,7 @@ class Robotarium(ARobotarium):
 
     def simulate_encoder_readings(self) -> None:
         """Wheel revolutions in counts (28 per motor turn, gear ratio 100.37), noise growing with sqrt(counts)."""
-        wheels = self._uni_to_diff(self._velocities)
+        wheels = self._uni_to_diff(self._moving)
         delta = wheels * self.TIME_STEP * self.ENCODER_COUNTS_PER_REVOLUTION * self.MOTOR_GEAR_RATIO / (2 * np.pi)
         delta += self.ENCODER_NOISE_STD * np.sqrt(np.maximum(np.abs(delta), 1.0)) * np.random.randn(*delta.shape)
         self._encoders += np.round(delta)
@@ -257,7 +272,7 @@ class Robotarium(ARobotarium):
     def simulate_gyros(self) -> None:
         n = self.number_of_robots
         noise = self.GYRO_NOISE_STDS[:, None] * np.random.randn(3, n)
-        self._gyros = np.vstack([np.zeros(n), np.zeros(n), self._velocities[1]]) + noise
+        self._gyros = np.vstack([np.zeros(n), np.zeros(n), self._moving[1]]) + noise
 
     def simulate_magnetometers(self) -> None:
         n, theta = self.number_of_robots, self._poses[2]

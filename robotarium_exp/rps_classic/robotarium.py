@@ -7,6 +7,10 @@
   commands (:meth:`RobotariumABC._validate`), then forward Euler with the commands as ``set_velocities`` clipped
   them, headings rewrapped; with a figure, the drawing and (real time) a wait for the rest of the 0.033 s.
 * ``call_at_scripts_end()`` prints classic's report: the duration rounded up to whole seconds, then the counts.
+* ``testbed_model`` (keyword only, beyond classic; :mod:`robotarium_exp.rps.testbed_model`): ``'ideal'`` (the
+  default) is the above, bit for bit; with another model the command, clipped per wheel as the testbed does, moves
+  the robots through the model's delay, lag, gains and bias, and ``get_poses()`` returns a noisy copy of the poses
+  (no longer the array itself); the validation counts the true poses.
 
 Like classic's ``from rps.robotarium_abc import *``, this module also offers ``RobotariumABC``, ``np``, ``plt``,
 ``patches``, ``math`` and ``time``.
@@ -23,6 +27,8 @@ import numpy as np
 from matplotlib import patches
 
 from robotarium_exp.rps.errors import RobotariumError
+from robotarium_exp.rps.testbed_model import Testbed, TestbedModel
+from robotarium_exp.rps.testbed_model import testbed_model as named_model
 from robotarium_exp.rps_classic.robotarium_abc import FloatArray, RobotariumABC
 
 __all__ = ['Robotarium', 'RobotariumABC', 'math', 'np', 'patches', 'plt', 'time']
@@ -37,8 +43,12 @@ class Robotarium(RobotariumABC):
         show_figure: bool = True,
         sim_in_real_time: bool = True,
         initial_conditions: FloatArray = np.array([]),  # noqa: B008 - classic's default, never mutated (empty)
+        *,
+        testbed_model: str | TestbedModel = 'ideal',
     ) -> None:
+        model = named_model(testbed_model)
         super().__init__(number_of_robots, show_figure, sim_in_real_time, initial_conditions)
+        self._testbed = None if model.is_ideal else Testbed(model, self.number_of_robots, self.time_step)
         self.previous_render_time = time.time()
         self.sim_in_real_time = sim_in_real_time
         self._called_step_already = True
@@ -52,7 +62,7 @@ class Robotarium(RobotariumABC):
             raise RobotariumError('Can only call get_poses() once per call of step().')
         self._called_step_already = False
         self._checked_poses_already = True
-        return self.poses
+        return self.poses if self._testbed is None else self._testbed.observe(self.poses.copy())
 
     def step(self) -> None:
         """Validate the commands, integrate one time step in place, redraw (and wait, in real time)."""
@@ -63,6 +73,9 @@ class Robotarium(RobotariumABC):
         self._errors = self._validate()
         self._iterations += 1
         poses, v, omega = self.poses, self.velocities[0, :], self.velocities[1, :]
+        if self._testbed is not None:  # the testbed clips each wheel, then its model acts
+            wheels = np.clip(self._uni_to_diff(self.velocities), -self.max_wheel_velocity, self.max_wheel_velocity)
+            v, omega = self._testbed.actuate(self._diff_to_uni(wheels))
         poses[0, :] = poses[0, :] + self.time_step * np.cos(poses[2, :]) * v
         poses[1, :] = poses[1, :] + self.time_step * np.sin(poses[2, :]) * v
         poses[2, :] = poses[2, :] + self.time_step * omega

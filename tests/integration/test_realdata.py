@@ -256,3 +256,18 @@ def test_report_records_inputs_options_and_is_strict_json(tmp_path) -> None:
     assert m['options']['max_gap'] == '0.05s' and m['vtube_version']
     assert len([i for i in m['source']['ignored'] if 'is not read' in i['reason']]) == 18
     assert m['passing_time_s'] is None and m['passage']['unobserved']
+
+
+def test_the_testbed_identification_finds_a_delay_of_3_to_7_iterations_on_robotarium_cbf4() -> None:
+    """The recorded commands and poses of a real 4-robot run: the least-squares delay of both channels is 3-7
+    iterations, and with it the speed gain is near 1 (the identification of benchmarks/testbed_identification.py)."""
+    from benchmarks.testbed_identification import fit_channel, per_robot
+    from benchmarks.testbed_runs import read_run
+
+    run = read_run(REALDATA / 'robotarium-cbf4' / 'robotarium2_data.mat')
+    assert run is not None and run.poses.shape == (5000, 3, 4) and run.commands.shape == (5000, 2, 4)
+    for channel in (0, 1):
+        delay, lag, _ = fit_channel([run], channel)
+        assert 3 <= delay <= 7 and 0 < lag < 0.5
+    gains = per_robot([run], 0, *fit_channel([run], 0)[:2])[:, 0]
+    assert np.all(np.abs(gains - 1) < 0.1)

@@ -339,6 +339,8 @@ def test_constructors_take_v2s_keywords_with_v2s_defaults(qualified: str, robots
     expected['number_of_robots'] = repr(robots)
     if qualified == CONSTRUCTORS[1]:  # the shared part knows nothing of timing and initialization
         del expected['sim_in_real_time'], expected['skip_initialization']
+    else:  # beyond V2: what the real robots do (robotarium_exp.rps.testbed_model), ideal by default
+        expected['testbed_model'] = repr('ideal')
     assert named == expected
 
 
@@ -419,9 +421,34 @@ def test_main_runs_the_script_with_its_arguments_and_the_chosen_solver(tmp_path,
     assert capsys.readouterr().out == "exact ['--fast', '2'] robotarium_exp.rps.robotarium\n"
 
 
+@pytest.mark.usefixtures('clean_rps')
+def test_main_passes_the_testbed_model_to_every_robotarium(tmp_path, monkeypatch, capsys) -> None:
+    script = tmp_path / 'model.py'
+    script.write_text(
+        'import numpy as np\nimport rps.robotarium as rr\n'
+        'r = rr.Robotarium(number_of_robots=1, show_figure=False, sim_in_real_time=False,'
+        ' initial_conditions=np.zeros((3, 1)), skip_initialization=True)\n'
+        'print(r._testbed.model.name, r._testbed.model.delay_omega_steps, type(r).__name__)\n',
+        encoding='utf-8',
+    )
+    monkeypatch.setattr(sys, 'argv', ['rps_alias', '--testbed-model', 'fitted:2', '--seed', '1', str(script)])
+    rps_alias.main()
+    delay = 2 * rps_alias.testbed_model('fitted').delay_omega_steps
+    assert capsys.readouterr().out == f'fitted:2 {delay} Robotarium\n'
+
+
+@pytest.mark.usefixtures('clean_rps')
+def test_install_gives_the_classic_generation_its_testbed_model_too() -> None:
+    rps_alias.install(classic=True, testbed_model='fitted')
+    r = sys.modules['rps.robotarium'].Robotarium(1, False, False, np.zeros((3, 1)))
+    assert r._testbed.model is rps_alias.testbed_model('fitted') and hasattr(r, 'call_at_scripts_end')
+
+
 @pytest.mark.parametrize(
     ('argv', 'message'),
     [
+        (['--testbed-model', 'fitted:0', 'x.py'], "the scale '0' is not a number > 0"),
+        (['--testbed-model', 'real', 'x.py'], "'ideal', 'fitted' or 'fitted:K'"),
         ([], 'give the script to run'),
         (['missing.py'], 'missing.py: no such script'),
         (['--seed', '-1', 'x.py'], "'-1' is not a whole number >= 0"),

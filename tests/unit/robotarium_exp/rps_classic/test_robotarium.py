@@ -155,3 +155,43 @@ def test_random_initial_conditions_are_classic_grid_cells() -> None:
 
 
 # ---------------------------------------------------------------------- the alias
+
+
+# ---------------------------------------------------------------------- the testbed model (beyond classic)
+
+
+def _classic_flight(model: object, steps: int = 30) -> tuple[np.ndarray, np.ndarray, Robotarium]:
+    """Poses handed out and true poses over ``steps`` random commands within the limits, from a fixed start."""
+    from dataclasses import replace
+
+    from robotarium_exp.rps.testbed_model import IDEAL
+
+    rng = np.random.default_rng(4)
+    extra = (
+        {}
+        if model is None
+        else {'testbed_model': replace(IDEAL, name='k', **model) if isinstance(model, dict) else model}
+    )
+    r = Robotarium(2, False, False, np.array([[0.0, 0.5], [0.0, 0.2], [0.0, 1.0]]), **extra)
+    seen, true = [], []
+    for _ in range(steps):
+        seen.append(r.get_poses().copy())
+        r.set_velocities(np.arange(2), np.vstack([rng.uniform(0, 0.1, 2), rng.uniform(-1, 1, 2)]))
+        r.step()
+        true.append(r.poses.copy())
+    return np.array(seen), np.array(true), r
+
+
+def test_the_ideal_testbed_model_is_classic_bit_for_bit() -> None:
+    seen, true, _ = _classic_flight(None)
+    seen_ideal, true_ideal, ideal = _classic_flight('ideal')
+    np.testing.assert_array_equal(seen_ideal, seen)
+    np.testing.assert_array_equal(true_ideal, true)
+    assert ideal.get_poses() is ideal.poses  # still the array itself
+
+
+def test_a_testbed_delay_of_k_iterations_shifts_classic_motion_by_k_steps() -> None:
+    _, ideal, _ = _classic_flight('ideal')
+    _, delayed, r = _classic_flight({'delay_v_steps': 3.0, 'delay_omega_steps': 3.0})
+    np.testing.assert_allclose(delayed[3:], ideal[:-3], atol=1e-12)
+    assert r.get_poses() is not r.poses  # a model's poses are a copy
