@@ -63,14 +63,20 @@ class ComparisonRow:
 
 
 def compare(
-    scene: Scene, plan: Plan, seeds: list[int], run_done: Callable[[], None] | None = None
+    scene: Scene,
+    plan: Plan,
+    seeds: list[int],
+    run_done: Callable[[], None] | None = None,
+    testbed_model: str = 'ideal',
 ) -> list[ComparisonRow]:
-    """One row per seed and mode (planned, unplanned); ``run_done`` is called after each run (a progress bar)."""
+    """One row per seed and mode (planned, unplanned); ``run_done`` is called after each run (a progress bar);
+    the simulator flies ``testbed_model`` (:func:`robotarium_exp.rps.testbed_model.testbed_model`)."""
     rows = []
     for seed in seeds:
         for planned in (True, False):
             seed_rps(seed)  # the same V2 initialization draws for both modes
-            result = run_experiment(Robotarium, scene, plan if planned else None, ExperimentConfig(planning=planned))
+            config, kwargs = ExperimentConfig(planning=planned), {'testbed_model': testbed_model}
+            result = run_experiment(Robotarium, scene, plan if planned else None, config, robotarium_kwargs=kwargs)
             tracked = plan_tracking(result.arrays, plan, scene)
             rows.append(
                 ComparisonRow(

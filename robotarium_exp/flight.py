@@ -106,6 +106,7 @@ class Flight:
         safe, held = step.velocity, True
         if self.safety is not None:
             safe, held = self.safety(step.velocity, poses, points, flying, walls(step.projection, flying))
+            self.stepper.sent(safe)  # a delay compensation predicts from what the robots are sent
         w = self.wheels
         dxu, _ = scale_to_wheel_limits(
             si_to_uni(safe, poses, self.d), w.base_length_m, w.wheel_radius_m, w.max_wheel_speed_radps

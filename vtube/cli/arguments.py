@@ -28,6 +28,17 @@ def count(text: str) -> int:
     return value
 
 
+def testbed_model_name(text: str) -> str:
+    """An argparse type: a testbed model's name (``ideal``, ``fitted``, ``fitted:K``), checked."""
+    from robotarium_exp.rps.testbed_model import testbed_model
+
+    try:
+        testbed_model(text)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from err
+    return text
+
+
 def positive(text: str) -> float:
     """An argparse type: a finite number > 0."""
     try:

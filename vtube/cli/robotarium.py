@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from vtube.cli.arguments import count, whole, writable_folder
+from vtube.cli.arguments import count, testbed_model_name, whole, writable_folder
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
 from vtube.cli.render import progress_bar
 
@@ -53,6 +53,17 @@ def experiment_arguments(parser: argparse.ArgumentParser) -> None:
         '--seed', type=whole, default=0, help='seed of the initialization (charger slots, escapes), >= 0'
     )
     parser.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
+    testbed_model_argument(parser)
+
+
+def testbed_model_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        '--testbed-model',
+        type=testbed_model_name,
+        default='ideal',
+        help="what the real robots do to commands and poses: ideal (V2's simulator), fitted (delay, lag, gains, "
+        'noise fitted to real runs, docs/robotarium.md), fitted:K (delay and lag times K)',
+    )
 
 
 def experiment(args: argparse.Namespace) -> RobotariumRun:
@@ -83,7 +94,7 @@ def experiment(args: argparse.Namespace) -> RobotariumRun:
         plan,
         config,
         log_path=out / f'{stem}.npz',
-        robotarium_kwargs={'skip_initialization': args.no_initialization},
+        robotarium_kwargs={'skip_initialization': args.no_initialization, 'testbed_model': args.testbed_model},
         log_meta={'provenance': provenance(scene=scene, plan_file=args.plan, seeds=[args.seed])},
     )
     tracking = plan_tracking(result.arrays, plan, scene) if plan is not None else None
@@ -160,6 +171,7 @@ def comparison_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--out', type=Path, required=True, help='folder for the table (.md) and the rows (.json)')
     parser.add_argument('--seeds', type=count, default=5, help='initialization seeds 0..n-1, n >= 1')
     parser.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan)')
+    testbed_model_argument(parser)
 
 
 def comparison(args: argparse.Namespace) -> Comparison:
@@ -178,7 +190,7 @@ def comparison(args: argparse.Namespace) -> Comparison:
     plan = plan_for(scene, plan_file=args.plan)
     with progress_bar('experiments', 'run') as bar:
         bar.reset(total=2 * args.seeds)
-        rows = compare(scene, plan, list(range(args.seeds)), run_done=bar.update)
+        rows = compare(scene, plan, list(range(args.seeds)), run_done=bar.update, testbed_model=args.testbed_model)
     table = comparison_table(rows)
     out.mkdir(parents=True, exist_ok=True)
     written = (out / f'compare_{scene.name}.md', out / f'compare_{scene.name}.json')

@@ -69,6 +69,25 @@ def test_one_period_maps_filters_and_bands_the_commands(data) -> None:
     assert flight.safety.stats.solves == 1
 
 
+def test_a_delay_compensation_predicts_from_the_filtered_velocity(data) -> None:
+    """With a delay to compensate, the next period acts on the control points moved by what the robots were sent
+    (the safety filter's velocity), not by the swarm step's own command."""
+    from vtube_planning.onboard.delay import CommandPredictor
+
+    compensating = replace(data, step=replace(data.step, compensate_delay_steps=2.0))
+    flight = build_flight(compensating)
+    poses = np.array(data.initial_conditions)
+    first = flight(poses, DT)
+    assert np.abs(first.safe_mps - first.step.velocity).max() > 0.01  # the filter changed the command (from rest)
+    oracle = CommandPredictor(data.n_robots, 2.0, 0.0, DT)
+    oracle.sent(first.safe_mps)
+    second = flight(poses, DT)
+    points = uni_to_si_states(poses, data.projection_distance_m)
+    expected = oracle.predict(points)
+    assert np.abs(expected - points).max() > 1e-3  # the prediction moved them
+    np.testing.assert_allclose(second.step.projection.l_m, flight.stepper.tube.project(expected).l_m, atol=1e-12)
+
+
 def test_without_a_filter_the_exact_map_and_uniform_wheel_scaling(data) -> None:
     unsafe = build_flight(replace(data, safety=None))
     assert unsafe.safety is None

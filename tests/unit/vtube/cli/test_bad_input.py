@@ -59,6 +59,13 @@ BAD = [
     ('negative radius', 'analyze {tmp}/shapes --out {out} --collision-distance -1', 2, "'-1' is not a number > 0"),
     ('output under a file', 'plan A --out {tmp}/binary.py/plan', 2, 'choose another --out before any run starts'),
     ('scene off the arena', 'robotarium run A --out {out}', 2, 'does not fit the Robotarium'),
+    (
+        'unknown testbed model',
+        'robotarium run robotarium_curve --out {out} --testbed-model fitted:0',
+        2,
+        "testbed model 'fitted:0': the scale '0' is not a number > 0",
+    ),
+    ('compare, testbed model', 'robotarium compare robotarium_curve --out {out} --testbed-model real', 2, "'real'"),
     ('missing campaign', 'campaign run {tmp}/none.toml --out {out}', 2, 'does not exist; give the path to a .toml'),
     ('negative workers', 'campaign run {tmp}/none.toml --workers -1', 2, "'-1' is not a whole number >= 0"),
     ('alias without a script', 'rps_alias --seed 1', 2, 'give the script to run'),
