@@ -17,6 +17,8 @@ noise, under a millimetre); the verifier counts the true poses.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 import itertools
 import multiprocessing
 from collections.abc import Sequence
@@ -46,7 +48,8 @@ def fly(scene_name: str, model_name: str, compensation: str, seed: int, initiali
         scene = replace(scene, control=control)
     seed_rps(seed)
     kwargs = {'skip_initialization': not initialize, 'testbed_model': model_name}
-    result = run_experiment(Robotarium, scene, plan, ExperimentConfig(planning=True), robotarium_kwargs=kwargs)
+    with contextlib.redirect_stdout(io.StringIO()):  # V2's "Initializing..." lines
+        result = run_experiment(Robotarium, scene, plan, ExperimentConfig(planning=True), robotarium_kwargs=kwargs)
     e, m = result.errors, result.metrics
     return {
         'too_close': e.too_close,

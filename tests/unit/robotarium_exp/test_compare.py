@@ -54,7 +54,8 @@ def test_compare_runs_both_modes_per_seed_on_the_same_draws(monkeypatch) -> None
     seeded: list[int] = []
     monkeypatch.setattr(compare_module, 'seed_rps', seeded.append)
 
-    def run(cls, scene, plan, config):
+    def run(cls, scene, plan, config, robotarium_kwargs):
+        assert robotarium_kwargs == {'testbed_model': 'fitted:2'}  # the model reaches every run's simulator
         runs.append((seeded[-1], config.planning))
         assert (plan is not None) == config.planning
         return SimpleNamespace(
@@ -72,7 +73,9 @@ def test_compare_runs_both_modes_per_seed_on_the_same_draws(monkeypatch) -> None
     monkeypatch.setattr(compare_module, 'run_experiment', run)
     monkeypatch.setattr(compare_module, 'plan_tracking', lambda arrays, plan, scene: tracked)
     done: list[int] = []
-    rows = compare_module.compare(SimpleNamespace(), SimpleNamespace(), [5, 7], run_done=lambda: done.append(1))  # type: ignore[arg-type]
+    rows = compare_module.compare(
+        SimpleNamespace(), SimpleNamespace(), [5, 7], run_done=lambda: done.append(1), testbed_model='fitted:2'
+    )  # type: ignore[arg-type]
     assert runs == [(5, True), (5, False), (7, True), (7, False)] and seeded == [5, 5, 7, 7] and len(done) == 4
     assert [(r.seed, r.planned) for r in rows] == runs
     r = rows[0]

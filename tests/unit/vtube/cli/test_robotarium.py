@@ -112,13 +112,13 @@ def test_compare_draws_its_runs_and_writes_the_table_and_rows(tmp_path, monkeypa
     """The runs stubbed (their loop is robotarium_exp's; the real one in tests/integration/test_demo.py)."""
     calls = []
 
-    def compare(scene, plan, seeds, run_done=None):
-        calls.append((scene.name, plan.scene, seeds))
+    def compare(scene, plan, seeds, run_done=None, testbed_model='ideal'):
+        calls.append((scene.name, plan.scene, seeds, testbed_model))
         return stubbed_rows(seeds, run_done)
 
     monkeypatch.setattr(compare_module, 'compare', compare)
     assert main(['robotarium', 'compare', 'robotarium_curve', '--seeds', '2', '--out', str(tmp_path / 'c')]) == 0
-    assert calls == [('robotarium_curve', 'robotarium_curve', [0, 1])]
+    assert calls == [('robotarium_curve', 'robotarium_curve', [0, 1], 'ideal')]
     out = capsys.readouterr().out
     assert out.startswith('scene robotarium_curve, V2 initialization seeds 0..1, mean [min, max]:\n| measure |')
     rows = json.loads((tmp_path / 'c' / 'compare_robotarium_curve.json').read_text())
@@ -128,7 +128,7 @@ def test_compare_draws_its_runs_and_writes_the_table_and_rows(tmp_path, monkeypa
 
 
 def test_compare_with_a_failed_run_exits_1_naming_its_seed_and_mode(tmp_path, monkeypatch, capsys) -> None:
-    def compare(scene, plan, seeds, run_done=None):
+    def compare(scene, plan, seeds, run_done=None, testbed_model='ideal'):
         return stubbed_rows(seeds, run_done, failed=(1, False))
 
     monkeypatch.setattr(compare_module, 'compare', compare)
