@@ -29,6 +29,7 @@ from submission import runtime
 from submission.check import RUN_TIMEOUT_S, CheckReport, check, imported_modules
 from submission.declaration import FULL_BUILD_INITIALIZER_SEEDS, Declaration
 from submission.errors import SubmissionError
+from submission.robustness import CHECKED_MODELS
 from vtube_planning import __version__
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
@@ -100,6 +101,7 @@ def build_declared(
     run_timeout_s: float = RUN_TIMEOUT_S,
     progress: Callable[[str], None] | None = None,
     seed_done: Callable[[], None] | None = None,
+    testbed_models: tuple[str, ...] = CHECKED_MODELS,
 ) -> tuple[Submission, CheckReport]:
     """Build the submission, write it to ``path`` and check it (:func:`submission.check.check`, options as there);
     when it passes, stamp the declaration the check derived into the header of the file checked and rewrite it.
@@ -113,6 +115,7 @@ def build_declared(
         run_timeout_s=run_timeout_s,
         progress=progress,
         seed_done=seed_done,
+        testbed_models=testbed_models,
     )
     if report.passed and report.declaration is not None:
         submission = submission.declared(report.declaration)

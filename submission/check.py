@@ -3,16 +3,18 @@
 1. It compiles as Python 3.10 and imports only the standard library, ``rps`` and the server's packages
    (``server_libraries.txt``, parsed from its AST); it carries vtube flight data (``DATA``, read without running
    the file).
-2. It runs on the bundled simulator with V2's initialization phase for several seeds, and on the PyPI
+2. It runs on the bundled simulator with V2's initialization phase for several seeds under each testbed model of
+   :data:`submission.robustness.CHECKED_MODELS` (the real robots' delay, lag and noise), and on the PyPI
    ``robotarium-python-simulator`` when that is installed, each in a fresh process and folder, through
    :mod:`submission.recording`: what the simulator itself held (the poses and commands it validated each step,
    its error counters and step count) is recorded. Nothing the file prints or saves is read.
 3. The verdict of a run: it ends normally after the end-of-script call; the simulator counted no robots too
    close, none outside the arena and no actuator-limit steps, and neither do the verifier's rules
    (:func:`robotarium_exp.verifier.recount`) applied to its recorded poses and commands; every robot ends past
-   the tube's exit (completion). The robot count to declare is the simulator's.
+   the tube's exit (completion). The robot count to declare is the simulator's. Runs under the stress models
+   (``fitted:2``) are reported with their margins (:mod:`submission.robustness`) but do not decide the verdict.
 4. The duration to declare (:mod:`submission.declaration`): V2's initializer alone for the file's initial
-   conditions over many seeds, plus the longest experiment by the simulators' step counts. Every run must fit
+   conditions over many seeds, plus the longest experiment of the verdict's runs. Every run must fit
    the verifier's ``duration_factor`` times the declaration (the header's, when it records one).
 """
 
@@ -38,6 +40,7 @@ from robotarium_exp.verifier import VerifierCounts, closest_centres_m, recount
 from submission.declaration import Declaration, declare
 from submission.errors import CheckError
 from submission.recording import SimulatorRecord, read_record
+from submission.robustness import CHECKED_MODELS, VERDICT_MODELS, Margins, margins
 from vtube_planning.onboard import SampledTube
 
 Backend = Literal['bundled', 'pypi']
@@ -61,11 +64,13 @@ class RunReport:
     timed_out_s: float | None = None
     record: SimulatorRecord | None = None
     completed: bool = False
+    model: str = 'ideal'
 
     @property
     def label(self) -> str:
-        """The run's name in reports: the simulator, and the seed."""
-        return self.backend + (f' seed {self.seed}' if self.seed is not None else '')
+        """The run's name in reports: the simulator, the seed, the testbed model unless ideal."""
+        seed = f' seed {self.seed}' if self.seed is not None else ''
+        return self.backend + seed + (f' {self.model}' if self.model != 'ideal' else '')
 
     @property
     def counted(self) -> VerifierCounts | None:
@@ -136,6 +141,8 @@ class CheckReport:
     declaration: Declaration | None = None
     declaration_problem: str = ''
     header_declaration: Declaration | None = None
+    stress_runs: tuple[RunReport, ...] = ()
+    margins: tuple[Margins, ...] = ()
 
     @property
     def passed(self) -> bool:
@@ -205,15 +212,22 @@ def file_flight_data(source: str) -> FlightData:
 
 
 def run_file(
-    path: Path, backend: Backend, seed: int | None, data: FlightData, timeout_s: float = RUN_TIMEOUT_S
+    path: Path,
+    backend: Backend,
+    seed: int | None,
+    data: FlightData,
+    timeout_s: float = RUN_TIMEOUT_S,
+    testbed_model: str = 'ideal',
 ) -> RunReport:
-    """Run the submission in a fresh process and folder on 'bundled' (V2 initialization) or 'pypi', recording the
-    simulator (:mod:`submission.recording`); a run that does not finish within ``timeout_s`` is stopped."""
+    """Run the submission in a fresh process and folder on 'bundled' (V2 initialization; under ``testbed_model``)
+    or 'pypi', recording the simulator (:mod:`submission.recording`); a run that does not finish within
+    ``timeout_s`` is stopped."""
     with tempfile.TemporaryDirectory() as folder:
         env = dict(os.environ, VTUBE_HEADLESS='1', MPLBACKEND='Agg')
         record_path = Path(folder) / RECORD_FILE
         command = [sys.executable, '-m', 'submission.recording', '--simulator', backend, '--record', str(record_path)]
         command += ['--seed', str(seed)] if seed is not None else []
+        command += ['--testbed-model', testbed_model] if testbed_model != 'ideal' else []
         try:
             result = subprocess.run(
                 [*command, str(path)],
@@ -225,9 +239,10 @@ def run_file(
                 check=False,
             )
         except subprocess.TimeoutExpired:
-            return RunReport(backend, seed, -1, timed_out_s=timeout_s)
+            return RunReport(backend, seed, -1, timed_out_s=timeout_s, model=testbed_model)
         record = read_record(record_path) if record_path.is_file() else None
-    return RunReport(backend, seed, result.returncode, result.stderr[-400:], None, record, _completed(record, data))
+    tail, completed = result.stderr[-400:], _completed(record, data)
+    return RunReport(backend, seed, result.returncode, tail, None, record, completed, testbed_model)
 
 
 def _completed(record: SimulatorRecord | None, data: FlightData) -> bool:
@@ -246,10 +261,11 @@ def check(
     run_timeout_s: float = RUN_TIMEOUT_S,
     progress: Callable[[str], None] | None = None,
     seed_done: Callable[[], None] | None = None,
+    testbed_models: tuple[str, ...] = CHECKED_MODELS,
 ) -> CheckReport:
-    """Run the whole preflight on a submission file; the initializer alone over ``initializer_seeds`` seeds; each
-    run of the file stopped after ``run_timeout_s``; ``progress`` is told what starts, ``seed_done`` each
-    initializer seed that ends."""
+    """Run the whole preflight on a submission file: ``seeds`` runs under each of ``testbed_models``; the
+    initializer alone over ``initializer_seeds`` seeds; each run of the file stopped after ``run_timeout_s``;
+    ``progress`` is told what starts, ``seed_done`` each initializer seed that ends."""
     path = Path(path).resolve()
     source = _read_source(path, seeds)
     try:
@@ -265,10 +281,16 @@ def check(
     if not fit.fits:
         return CheckReport(str(path), misfits=tuple(map(str, fit.misfits)))
     tell = progress or (lambda text: None)
-    runs = []
-    for seed in range(seeds):
-        tell(f'running the file on the bundled simulator, seed {seed} (at most {run_timeout_s:g} s)')
-        runs.append(run_file(path, 'bundled', seed, data, run_timeout_s))
+    runs: list[RunReport] = []
+    by_model: dict[str, list[RunReport]] = {}
+    for model in testbed_models:
+        if model != 'ideal' and not all(run.ok for run in by_model.get('ideal', [])):
+            break  # no margins for a file that fails in the ideal simulator already
+        by_model[model] = []
+        for seed in range(seeds):
+            tell(f'running the file on the bundled simulator, seed {seed}, {model} (at most {run_timeout_s:g} s)')
+            by_model[model].append(run_file(path, 'bundled', seed, data, run_timeout_s, model))
+        runs += by_model[model] if model in VERDICT_MODELS else []
     if importlib.util.find_spec('rps') is not None:
         tell(f'running the file on the PyPI simulator (at most {run_timeout_s:g} s)')
         runs.append(run_file(path, 'pypi', None, data, run_timeout_s))
@@ -281,6 +303,8 @@ def check(
         robots=robots.pop() if len(robots) == 1 else None,
         initializer=initializer,
         header_declaration=Declaration.from_header(source),
+        stress_runs=tuple(run for model, done in by_model.items() if model not in VERDICT_MODELS for run in done),
+        margins=tuple(margins(m, [(r.ok, r.record, r.duration_s) for r in done], data) for m, done in by_model.items()),
     )
     return _declared(report, initializer)
 
@@ -311,7 +335,7 @@ def _declared(report: CheckReport, initializer: InitializerSample) -> CheckRepor
     if report.experiment_s is None:
         return report
     try:
-        derived = declare(initializer, report.experiment_s)
+        derived = replace(declare(initializer, report.experiment_s), margins=report.margins)
     except CheckError as err:
         return replace(report, declaration_problem=str(err))
     recorded = report.header_declaration

@@ -17,6 +17,7 @@ import numpy as np
 
 from robotarium_exp.initializer import InitializerSample
 from robotarium_exp.spec import ROBOTARIUM
+from submission import robustness
 from submission.errors import CheckError
 
 DECLARE_QUANTILE = 0.995
@@ -37,6 +38,8 @@ class Declaration:
     runs: int
     overrun_share: float
     stuck_share: float
+    margins: tuple[robustness.Margins, ...] = ()
+    """The runs' margins under each testbed model (:mod:`submission.robustness`), recorded in the header."""
 
     def basis(self) -> str:
         """What the duration rests on, in one line."""
@@ -67,6 +70,7 @@ class Declaration:
             *self.not_for_upload(),
             f'Declare on the web form: {robots} robots and {self.duration_s} s, derived by `vtube submission check`',
             f'from {self.basis()}.',
+            *(margin.line() for margin in self.margins),
         ]
 
     @classmethod
@@ -77,7 +81,13 @@ class Declaration:
             return None
         duration, runs, quantile, experiment, overruns, stuck = found.groups()
         return cls(
-            int(duration), float(quantile), float(experiment), int(runs), float(overruns) / 100, float(stuck) / 100
+            int(duration),
+            float(quantile),
+            float(experiment),
+            int(runs),
+            float(overruns) / 100,
+            float(stuck) / 100,
+            robustness.from_header(source),
         )
 
 

@@ -1,8 +1,9 @@
 """Run a script on a Robotarium simulator and record what the simulator itself held, for the preflight to verify.
 
-    python -m submission.recording --simulator bundled|pypi [--seed N] --record FILE.npz SCRIPT
+    python -m submission.recording --simulator bundled|pypi [--seed N] [--testbed-model NAME] --record FILE.npz SCRIPT
 
-``bundled`` resolves ``import rps`` to the bundled V2 simulator (:mod:`robotarium_exp.rps_alias`, seeded like it),
+``bundled`` resolves ``import rps`` to the bundled V2 simulator (:mod:`robotarium_exp.rps_alias`, seeded like it,
+under the testbed model ``NAME``: :mod:`robotarium_exp.rps.testbed_model`),
 ``pypi`` to the installed PyPI simulator. Either way the script's ``Robotarium`` class is replaced by a subclass
 that, at every ``step()`` after the initialization, copies the poses and the commands the simulator is about to
 validate, and, when the script ends however it ends, writes them with the simulator's own counters (its error
@@ -172,10 +173,11 @@ def read_record(path: str | Path) -> SimulatorRecord:
     )
 
 
-def install(simulator: Simulator, seed: int | None, recorder: _Recorder) -> None:
-    """Make ``import rps.robotarium`` give the chosen simulator with the recording ``Robotarium``."""
+def install(simulator: Simulator, seed: int | None, recorder: _Recorder, testbed_model: str = 'ideal') -> None:
+    """Make ``import rps.robotarium`` give the chosen simulator with the recording ``Robotarium`` (the bundled one
+    under ``testbed_model``)."""
     if simulator == 'bundled':
-        rps_alias.install(seed=seed)
+        rps_alias.install(seed=seed, testbed_model=None if testbed_model == 'ideal' else testbed_model)
     elif seed is not None:
         rps_alias.seed_rps(seed)
     module = importlib.import_module('rps.robotarium')
@@ -186,11 +188,12 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(prog='python -m submission.recording', description=__doc__.splitlines()[0])
     parser.add_argument('--simulator', choices=('bundled', 'pypi'), required=True)
     parser.add_argument('--seed', type=int, default=None, help='seed random and np.random (default: none)')
+    parser.add_argument('--testbed-model', default='ideal', help='the bundled simulator under this testbed model')
     parser.add_argument('--record', type=Path, required=True, metavar='FILE.npz', help='where to write the record')
     parser.add_argument('script', type=Path, help='the script to run')
     args = parser.parse_args(argv)
     recorder = _Recorder()
-    install(args.simulator, args.seed, recorder)
+    install(args.simulator, args.seed, recorder, args.testbed_model)
     sys.argv = [str(args.script)]
     try:
         runpy.run_path(str(args.script), run_name='__main__')

@@ -222,16 +222,23 @@ def build_submission(
     declare: bool = True,
     seeds: int = 3,
     initializer_seeds: int = 200,
+    testbed_models: tuple[str, ...] | None = None,
 ) -> WrittenSubmission:
     """Write the single-file submission for a Robotarium scene (its plan from ``plan_file``, or planned here) to
-    ``out``; with ``declare``, preflighted and rewritten with the duration to declare
+    ``out``; with ``declare``, preflighted under ``testbed_models`` (None: every model of
+    :data:`submission.robustness.CHECKED_MODELS`) and rewritten with the duration to declare
     (:func:`submission.builder.build_declared`: one build, one preflight)."""
     scene = load_scene(name_or_path)
     plan = plan_for(scene, plan_file=plan_file) if planning else None
     if not declare:
         submission = build(scene, plan)
         return WrittenSubmission(submission, write(submission, out), None)
-    submission, report = build_declared(scene, plan, out, seeds=seeds, initializer_seeds=initializer_seeds)
+    from submission.robustness import CHECKED_MODELS
+
+    models = CHECKED_MODELS if testbed_models is None else testbed_models
+    submission, report = build_declared(
+        scene, plan, out, seeds=seeds, initializer_seeds=initializer_seeds, testbed_models=models
+    )
     return WrittenSubmission(submission, out, report)
 
 

@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from vtube.cli.arguments import count, positive
+from vtube.cli.arguments import count, positive, testbed_model_name
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
 from vtube.cli.render import progress_bar, tell
 
@@ -23,6 +23,24 @@ def initializer_seeds_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         '--initializer-seeds', type=count, default=200, help="V2's initializer alone, for the duration to declare, >= 1"
     )
+    parser.add_argument(
+        '--testbed-models',
+        type=testbed_models,
+        default=None,
+        help='the runs fly under these testbed models, ideal first (default ideal,fitted,fitted:2: ideal and fitted '
+        'decide the verdict, the others are stress tests reported with their margins)',
+    )
+
+
+def testbed_models(text: str) -> tuple[str, ...]:
+    """An argparse type: testbed model names, comma-separated, ``ideal`` first."""
+    names = tuple(name.strip() for name in text.split(','))
+    for name in names:
+        testbed_model_name(name)
+    if names[0] != 'ideal':
+        msg = f'{text!r}: the first testbed model must be ideal (the simulator the testbed accepts files by)'
+        raise argparse.ArgumentTypeError(msg)
+    return names
 
 
 def build_arguments(parser: argparse.ArgumentParser) -> None:
@@ -48,6 +66,7 @@ def build(args: argparse.Namespace) -> WrittenSubmission:
         declare=not args.no_declare,
         seeds=args.seeds,
         initializer_seeds=args.initializer_seeds,
+        testbed_models=args.testbed_models,
     )
 
 
@@ -110,6 +129,7 @@ def preflight(args: argparse.Namespace) -> CheckReport:
             run_timeout_s=args.run_timeout_s or RUN_TIMEOUT_S,
             progress=tell,
             seed_done=seed_done,
+            **({} if args.testbed_models is None else {'testbed_models': args.testbed_models}),
         )
     finally:
         for bar in bars:
@@ -135,8 +155,10 @@ def check_lines(report: CheckReport) -> list[str]:
         f'  {"run":<16} {"done":>5} {"too close":>10} {"outside":>8} {"actuator":>9} {"min dist [m]":>13} '
         f'{"duration [s]":>13}'
     )
-    lines += [_run_line(run) for run in report.runs]
+    lines += [_run_line(run) for run in (*report.runs, *report.stress_runs)]
     lines += [f'  FAIL: {problem}' for problem in report.problems]
+    lines += [f'  stress ({run.label}): {problem}' for run in report.stress_runs for problem in run.problems]
+    lines += [f'  margins                {margin.line()}' for margin in report.margins]
     declared = report.declaration
     lines.append(
         f'  declare                {report.robots or "?"} robots, '

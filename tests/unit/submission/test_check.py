@@ -5,6 +5,7 @@ the runs."""
 from __future__ import annotations
 
 import ast
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +26,7 @@ from submission.check import (
 from submission.declaration import Declaration, declare
 from submission.errors import CheckError
 from submission.recording import SimulatorRecord
+from submission.robustness import CHECKED_MODELS
 
 ROOT = Path(__file__).resolve().parents[3]
 SCENES = ('robotarium_trapezoid', 'robotarium_curve')
@@ -145,9 +147,9 @@ def fake_runs(monkeypatch):
     """``run_file`` and the initializer stubbed: each run a clean record of 1000 steps; the calls in order."""
     calls: list[object] = []
 
-    def run_file(path, backend, seed, data, timeout_s):
-        calls.append((backend, seed, timeout_s))
-        return RunReport(backend, seed, 0, record=record(1000), completed=True)
+    def run_file(path, backend, seed, data, timeout_s, model='ideal'):
+        calls.append((backend, seed, timeout_s) + ((model,) if model != 'ideal' else ()))
+        return RunReport(backend, seed, 0, record=record(1000), completed=True, model=model)
 
     def initializer(ic, seeds, seed_done=None):
         for _ in seeds:
@@ -167,17 +169,35 @@ def test_check_runs_each_seed_then_the_pypi_simulator_then_the_initializer(tmp_p
     path = write(build('robotarium_trapezoid', None), tmp_path / 'sub.py')
     told: list[str] = []
     report = check(path, seeds=2, initializer_seeds=3, run_timeout_s=7.0, progress=told.append, seed_done=lambda: None)
-    assert fake_runs == [('bundled', 0, 7.0), ('bundled', 1, 7.0), ('pypi', None, 7.0), *['seed done'] * 3]
-    assert [run.backend for run in report.runs] == ['bundled', 'bundled', 'pypi'] and report.passed
+    models = [('bundled', seed, 7.0, model) for model in ('fitted', 'fitted:2') for seed in (0, 1)]
+    ideal = [('bundled', 0, 7.0), ('bundled', 1, 7.0)]
+    assert fake_runs == [*ideal, *models, ('pypi', None, 7.0), *['seed done'] * 3]
+    assert [run.label for run in report.runs] == [
+        'bundled seed 0',
+        'bundled seed 1',
+        'bundled seed 0 fitted',
+        'bundled seed 1 fitted',
+        'pypi',
+    ]
+    assert [run.label for run in report.stress_runs] == ['bundled seed 0 fitted:2', 'bundled seed 1 fitted:2']
+    assert report.passed and [(m.model, m.runs, m.clean) for m in report.margins] == [
+        ('ideal', 2, 2),
+        ('fitted', 2, 2),
+        ('fitted:2', 2, 2),
+    ]
     assert told == [
-        'running the file on the bundled simulator, seed 0 (at most 7 s)',
-        'running the file on the bundled simulator, seed 1 (at most 7 s)',
+        *[
+            f'running the file on the bundled simulator, seed {s}, {m} (at most 7 s)'
+            for m in CHECKED_MODELS
+            for s in (0, 1)
+        ],
         'running the file on the PyPI simulator (at most 7 s)',
         "V2's initializer alone for the file's initial conditions, 3 seeds",
     ]
     assert report.robots == 2 and report.header_declaration is None  # the simulator's count, not the file's
     expected = declare(InitializerSample((20.0, 21.0, 22.0), ()), experiment_s=1000 * 0.033)
-    assert report.declaration == expected and report.declare_duration_s == expected.duration_s
+    assert report.declaration == replace(expected, margins=report.margins)
+    assert report.declare_duration_s == expected.duration_s
 
 
 def test_the_header_records_the_declaration_and_the_check_reads_it_back(tmp_path, fake_runs) -> None:
@@ -240,3 +260,67 @@ def test_completion_is_every_robot_past_the_exit_of_the_files_tube() -> None:
 
 def _rest(rec: SimulatorRecord) -> tuple:
     return (np.zeros((1, 2, 6)), rec.dt_s, rec.errors, rec.iterations, rec.initialization_steps, 1, True)
+
+
+def test_a_stress_model_reports_margins_and_a_verdict_model_decides(tmp_path, monkeypatch) -> None:
+    """A run that fails under fitted:2 is a stress result (the file passes, its margins say so); under fitted it
+    fails the file; when the ideal runs fail already, no other model is flown."""
+    path = write(build('robotarium_trapezoid', None), tmp_path / 'sub.py')
+    flown: list[str] = []
+
+    def run_file(path, backend, seed, data, timeout_s, model='ideal'):
+        if backend == 'bundled':
+            flown.append(model)
+        bad = model in failing
+        errors = {'robots_too_close': 4} if bad else None
+        return RunReport(backend, seed, 0, record=record(1000, errors=errors, gap_m=0.1 if bad else 0.5),
+                         completed=True, model=model)  # fmt: skip
+
+    monkeypatch.setattr(check_module, 'run_file', run_file)
+    monkeypatch.setattr(
+        check_module, 'initializer_durations', lambda ic, seeds, seed_done=None: InitializerSample((20.0,), ())
+    )
+    for failing, passes, models in [
+        ({'fitted:2'}, True, list(CHECKED_MODELS)),
+        ({'fitted'}, False, list(CHECKED_MODELS)),
+        ({'ideal'}, False, ['ideal']),
+    ]:
+        flown.clear()
+        report = check(path, seeds=1, initializer_seeds=1)
+        assert report.passed == passes and flown == models, failing
+        margins = {m.model: m for m in report.margins}
+        assert sorted(margins) == sorted(models)
+        for model, margin in margins.items():
+            assert margin.clean == (model not in failing)
+            assert margin.min_distance_m == pytest.approx(0.1 if model in failing else 0.5)
+    assert not any('fitted:2' in problem for problem in report.problems)
+
+
+def test_the_margins_are_measured_on_the_tube_and_read_back_from_the_header(tmp_path) -> None:
+    """On the shipped trapezoid (straight along x, l = x + 1.45): the margins' passing time and body-on-wall steps
+    recomputed by hand, and the header's lines read back as the same margins."""
+    from robotarium_exp.experiment import ExperimentConfig, flight_data
+    from robotarium_exp.scene import load_scene
+    from robotarium_exp.spec import ROBOTARIUM
+    from submission.robustness import Margins, from_header, margins
+
+    scene = load_scene('robotarium_trapezoid')
+    data = flight_data(scene, None, ExperimentConfig(planning=False))
+    steps = 300
+    poses = np.zeros((steps, 3, 2))
+    poses[:, 0, :] = -1.40 + 0.01 * np.arange(steps)[:, None]  # 1 cm a step along the axis, from l = 0.05 m
+    poses[:, 1, 0], poses[:, 1, 1] = 0.2, -0.2
+    run = SimulatorRecord(poses, np.zeros((steps, 2, 2)), 0.033, {}, steps, 0, 1, True)
+    found = margins('fitted', [(True, run, steps * 0.033), (False, None, None)], data)
+    l_m = poses[:, 0, 0] + 1.45
+    inside = l_m <= scene.tube.length_m
+    assert found.runs == 2 and found.clean == 1 and found.min_distance_m == pytest.approx(0.4)
+    assert found.passing_time_s == pytest.approx(np.argmin(inside) * 0.033, abs=0.034)  # the last robot out
+    over = 0.2 + 0.5 * ROBOTARIUM.robot_diameter_m > scene.tube.half_width(np.minimum(l_m, scene.tube.length_m))
+    expected = 2 * int((over & inside).sum())  # both robots, symmetric
+    assert expected > 20 and abs(found.wall_steps - expected) <= 4  # the sampled tube against the exact one
+    declaration = replace(declare(InitializerSample((20.0,), ()), experiment_s=30.0), margins=(found,))
+    source = build('robotarium_trapezoid', None, declaration=declaration).source
+    rounded = Margins('fitted', 2, 1, round(found.min_distance_m, 3), found.wall_steps,
+                      round(found.passing_time_s, 1), round(found.duration_s, 1))  # fmt: skip
+    assert from_header(source) == (rounded,) and Declaration.from_header(source).margins == (rounded,)

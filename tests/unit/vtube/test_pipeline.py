@@ -169,13 +169,13 @@ def test_a_submission_is_written_undeclared_or_built_declared(tmp_path, monkeypa
     assert written.submission.scene == 'robotarium_trapezoid' and not written.submission.planned
     calls = []
 
-    def build_declared(scene, plan, out, *, seeds, initializer_seeds):
-        calls.append((scene.name, plan is None, out, seeds, initializer_seeds))
+    def build_declared(scene, plan, out, *, seeds, initializer_seeds, testbed_models):
+        calls.append((scene.name, plan is None, out, seeds, initializer_seeds, testbed_models))
         return written.submission, SimpleNamespace(passed=True, declaration='the declaration')
 
     monkeypatch.setattr(pipeline, 'build_declared', build_declared)
     declared = build_submission('robotarium_trapezoid', tmp_path / 'b.py', planning=False, seeds=2, initializer_seeds=5)
-    assert calls == [('robotarium_trapezoid', True, tmp_path / 'b.py', 2, 5)]
+    assert calls == [('robotarium_trapezoid', True, tmp_path / 'b.py', 2, 5, ('ideal', 'fitted', 'fitted:2'))]
     assert declared.declaration == 'the declaration' and declared.path == tmp_path / 'b.py'
     failed = WrittenSubmission(written.submission, tmp_path, SimpleNamespace(passed=False, declaration='x'))
     assert failed.declaration is None  # a file that failed its check records no declaration

@@ -65,6 +65,12 @@ BAD = [
         2,
         "testbed model 'fitted:0': the scale '0' is not a number > 0",
     ),
+    (
+        'testbed models without ideal first',
+        'submission check {tmp}/binary.py --testbed-models fitted,ideal',
+        2,
+        'the first testbed model must be ideal',
+    ),
     ('compare, testbed model', 'robotarium compare robotarium_curve --out {out} --testbed-model real', 2, "'real'"),
     ('missing campaign', 'campaign run {tmp}/none.toml --out {out}', 2, 'does not exist; give the path to a .toml'),
     ('negative workers', 'campaign run {tmp}/none.toml --workers -1', 2, "'-1' is not a whole number >= 0"),

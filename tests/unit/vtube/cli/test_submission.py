@@ -124,11 +124,13 @@ def test_the_build_options_reach_the_pipeline(tmp_path, monkeypatch, capsys) -> 
 
     monkeypatch.setattr(pipeline, 'build_submission', build_submission)
     out = tmp_path / 's.py'
-    assert main(['submission', 'build', 'robotarium_curve', '--out', str(out), '--seeds', '2']) == 0
+    argv = ['submission', 'build', 'robotarium_curve', '--out', str(out), '--seeds', '2']
+    assert main([*argv, '--testbed-models', 'ideal, fitted']) == 0
     assert calls[-1] == (
         'robotarium_curve',
         out,
-        {'planning': True, 'plan_file': None, 'declare': True, 'seeds': 2, 'initializer_seeds': 200},
+        {'planning': True, 'plan_file': None, 'declare': True, 'seeds': 2, 'initializer_seeds': 200}
+        | {'testbed_models': ('ideal', 'fitted')},
     )
     assert main(['submission', 'build', 'x', '--out', str(out), '--no-planning', '--no-declare', '--plan', 'p']) == 0
     assert calls[-1][2] | {'seeds': 0} == {
@@ -137,6 +139,7 @@ def test_the_build_options_reach_the_pipeline(tmp_path, monkeypatch, capsys) -> 
         'declare': False,
         'seeds': 0,
         'initializer_seeds': 200,
+        'testbed_models': None,
     }
     assert 'check it before uploading' in capsys.readouterr().out
 

@@ -1,0 +1,102 @@
+"""How a submission's flight holds up under the real robots: its margins per testbed model.
+
+The preflight flies the file on the bundled simulator under the testbed models of :data:`CHECKED_MODELS`
+(:mod:`robotarium_exp.rps.testbed_model`): ``ideal`` (V2's simulator) and ``fitted`` (the delay, lag, gains and
+noise fitted to real runs) decide the verdict, and the declared duration covers both; ``fitted:2`` (twice the delay
+and lag) is a stress test whose margins are reported and recorded in the header, not a condition of the verdict.
+A model's margins: how many of its runs were clean and completed, the smallest distance between two robots' centres,
+the robot-steps with a body over a wall, and the longest passing time and run.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from robotarium_exp.flight_data import FlightData
+from robotarium_exp.spec import ROBOTARIUM
+from robotarium_exp.verifier import closest_centres_m
+from submission.recording import SimulatorRecord
+from vtube_planning.onboard import SampledTube
+from vtube_planning.swarm.metrics import passage_metrics
+
+CHECKED_MODELS = ('ideal', 'fitted', 'fitted:2')
+"""The testbed models a preflight flies, in order."""
+VERDICT_MODELS = ('ideal', 'fitted')
+"""The models whose runs decide the verdict and the declared duration (the others are stress tests)."""
+HEADER_PREFIX = 'Under testbed model'
+
+
+@dataclass(frozen=True)
+class Margins:
+    """One testbed model's runs, summed up (NaN where no run left a record)."""
+
+    model: str
+    runs: int
+    clean: int
+    min_distance_m: float
+    wall_steps: int
+    passing_time_s: float
+    duration_s: float
+
+    def line(self) -> str:
+        """The margins in one line (the header records it; :func:`from_header` reads it back)."""
+        return (
+            f'{HEADER_PREFIX} {self.model}: {self.clean} of {self.runs} runs clean, min distance '
+            f'{self.min_distance_m:.3f} m, body on a wall {self.wall_steps} robot-steps, passing at most '
+            f'{self.passing_time_s:.1f} s, run at most {self.duration_s:.1f} s.'
+        )
+
+
+HEADER_MARGINS = re.compile(
+    rf'{HEADER_PREFIX} (\S+): (\d+) of (\d+) runs clean, min distance (\S+) m, body on a wall (\d+) robot-steps, '
+    r'passing at most (\S+) s, run at most (\S+) s\.'
+)
+
+
+def from_header(source: str) -> tuple[Margins, ...]:
+    """The margins a submission's header records (none in a file built before they were)."""
+    found = []
+    for model, clean, runs, distance, wall, passing, duration in HEADER_MARGINS.findall(source):
+        found.append(Margins(model, int(runs), int(clean), float(distance), int(wall), float(passing), float(duration)))
+    return tuple(found)
+
+
+def record_metrics(record: SimulatorRecord, data: FlightData) -> tuple[float, float, int]:
+    """A run's passing time, smallest centre distance and body-on-wall robot-steps, from the poses the simulator
+    validated (its true poses) on the file's tube."""
+    poses = record.poses
+    if poses.shape[0] == 0:
+        return math.nan, math.nan, 0
+    tube = SampledTube(data.tube.l_m, data.tube.xy_m, data.tube.half_width_m, data.tube.area_m2)
+    projected = [tube.project(p[:2]) for p in poses]
+    metrics = passage_metrics(
+        record.dt_s * np.arange(poses.shape[0], dtype=float),
+        poses[:, :2],
+        np.array([p.l_m for p in projected]),
+        np.array([p.clearance_m for p in projected]),
+        tube.length_m,
+        collision_distance_m=ROBOTARIUM.collision_diameter_m,
+        body_radius_m=0.5 * ROBOTARIUM.robot_diameter_m,
+    )
+    return metrics.passing_time_s, closest_centres_m(poses), metrics.tube_violation_steps
+
+
+def margins(model: str, runs: Sequence[tuple[bool, SimulatorRecord | None, float | None]], data: FlightData) -> Margins:
+    """A model's margins from its runs, each (clean: no problem found, its record, its duration by the simulator's
+    count)."""
+    measured = [record_metrics(record, data) for _, record, _ in runs if record is not None]
+    durations = [d for _, _, d in runs if d is not None]
+    return Margins(
+        model,
+        len(runs),
+        sum(ok for ok, _, _ in runs),
+        min((m[1] for m in measured), default=math.nan),
+        sum(m[2] for m in measured),
+        max((m[0] for m in measured), default=math.nan),
+        max(durations, default=math.nan),
+    )
