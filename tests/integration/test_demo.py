@@ -37,6 +37,9 @@ CHECK_SEEDS = 1
 """Bundled runs of the demo's preflight (the demo itself asks for 2; one more seed of the same file adds no check)."""
 INITIALIZER_SEEDS = 1
 """V2's initializer alone in the demo's preflight (the demo asks for 20: the same run repeated for a quantile)."""
+CHECK_MODELS = ('ideal', 'fitted')
+"""The testbed models of the demo's preflight: the two that decide the verdict (the stress model, fitted:2, is
+exercised by the unit tests of the check with its runs stubbed)."""
 
 
 @dataclass(frozen=True)
@@ -57,7 +60,8 @@ class DemoRun:
 @pytest.fixture(scope='module')
 def demo_run(tmp_path_factory: pytest.TempPathFactory) -> DemoRun:
     """``vtube demo`` in this process, its stages recorded as they end; the submission's preflight with
-    :data:`CHECK_SEEDS` and :data:`INITIALIZER_SEEDS` (the only change to the demo: fewer repetitions)."""
+    :data:`CHECK_SEEDS`, :data:`INITIALIZER_SEEDS` and :data:`CHECK_MODELS` (the only change to the demo: fewer
+    repetitions)."""
     from vtube import pipeline
     from vtube.cli.app import main
 
@@ -71,7 +75,8 @@ def demo_run(tmp_path_factory: pytest.TempPathFactory) -> DemoRun:
             yield stage
 
     def fewer_seeds(*args: Any, **kwargs: Any) -> Any:
-        return build_submission(*args, **(kwargs | {'seeds': CHECK_SEEDS, 'initializer_seeds': INITIALIZER_SEEDS}))
+        fewer = {'seeds': CHECK_SEEDS, 'initializer_seeds': INITIALIZER_SEEDS, 'testbed_models': CHECK_MODELS}
+        return build_submission(*args, **(kwargs | fewer))
 
     out, err = io.StringIO(), io.StringIO()
     with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
@@ -172,11 +177,18 @@ def test_the_demos_submission_is_the_committed_file_but_for_its_declaration(demo
 def test_the_demos_submission_passes_the_preflight_on_both_simulators(demo_run) -> None:
     pytest.importorskip('rps.robotarium')  # the PyPI simulator (test extra)
     report = demo_run.stage(WrittenSubmission).report
-    assert [run.backend for run in report.runs] == ['bundled'] * CHECK_SEEDS + ['pypi']
+    assert [(run.backend, run.model) for run in report.runs] == [
+        *[('bundled', model) for model in CHECK_MODELS for _ in range(CHECK_SEEDS)],
+        ('pypi', 'ideal'),
+    ]
     for run in report.runs:
         assert run.ok, (run.label, run.problems, run.stderr_tail)
         assert run.min_center_distance_m > 0.135
     assert report.passed and report.robots == 6
+    assert [(m.model, m.runs, m.clean) for m in report.margins] == [(m, CHECK_SEEDS, CHECK_SEEDS) for m in CHECK_MODELS]
+    assert all(m.wall_steps == 0 and m.min_distance_m > 0.135 for m in report.margins)
+    fitted = report.runs[CHECK_SEEDS]  # the fitted model flew: not the ideal run's poses
+    assert not np.array_equal(fitted.record.poses[:100], report.runs[0].record.poses[:100])
     declared = report.declaration
     assert declared is not None and report.initializer is not None and report.initializer.runs == INITIALIZER_SEEDS
     assert declared.duration_s >= max(report.initializer.durations_s) + declared.experiment_s - 10
