@@ -144,6 +144,10 @@ def preflight_view(report: CheckReport) -> View:
     return View(tuple(check_lines(report)), data, EXIT_OK if report.passed else EXIT_FAILED)
 
 
+RUN_WIDTH = 23
+"""The run column: 'bundled seed 0 fitted:2' fits."""
+
+
 def check_lines(report: CheckReport) -> list[str]:
     """A preflight's report in lines: imports, one row per run (the simulator's counts), every problem found, the
     declaration, the verdict."""
@@ -152,7 +156,7 @@ def check_lines(report: CheckReport) -> list[str]:
         return [*lines, f'  FAIL: imports missing on the Robotarium server: {", ".join(report.disallowed_imports)}']
     lines.append('  imports                only the standard library, numpy/scipy/matplotlib/cvxopt and rps: ok')
     lines.append(
-        f'  {"run":<16} {"done":>5} {"too close":>10} {"outside":>8} {"actuator":>9} {"min dist [m]":>13} '
+        f'  {"run":<{RUN_WIDTH}} {"done":>5} {"too close":>10} {"outside":>8} {"actuator":>9} {"min dist [m]":>13} '
         f'{"duration [s]":>13}'
     )
     lines += [_run_line(run) for run in (*report.runs, *report.stress_runs)]
@@ -176,11 +180,11 @@ def _run_line(run: RunReport) -> str:
     """One run of the file as the simulator recorded it, or why there is no record."""
     counted, closest, duration = run.counted, run.min_center_distance_m, run.duration_s
     if run.timed_out_s is not None:
-        return f'  {run.label:<16} did not finish in {run.timed_out_s:g} s'
+        return f'  {run.label:<{RUN_WIDTH}} did not finish in {run.timed_out_s:g} s'
     if counted is None or duration is None:
-        return f'  {run.label:<16} left no record of the simulator (exit {run.returncode})'
+        return f'  {run.label:<{RUN_WIDTH}} left no record of the simulator (exit {run.returncode})'
     return (
-        f'  {run.label:<16} {"yes" if run.completed else "no":>5} {counted.too_close:>10} {counted.outside:>8} '
+        f'  {run.label:<{RUN_WIDTH}} {"yes" if run.completed else "no":>5} {counted.too_close:>10} {counted.outside:>8} '
         f'{counted.actuator:>9} {"-" if closest is None else f"{closest:.3f}":>13} {duration:>13.1f}'
     )
 

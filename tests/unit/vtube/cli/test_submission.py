@@ -41,7 +41,8 @@ def test_a_passing_preflight_in_lines_and_json() -> None:
     timed_out = RunReport('pypi', None, -1, timed_out_s=3.0)
     lines = check_lines(report(GOOD, header_declaration=DECLARED))
     assert lines[0] == 'submission /f.py' and 'only the standard library' in lines[1]
-    assert lines[3] == '  bundled seed 0     yes          0        0         0         0.500           3.5'
+    assert lines[3] == '  bundled seed 0            yes          0        0         0         0.500           3.5'
+    assert lines[2].index('done') + 4 == lines[3].index('yes') + 3  # right-aligned columns line up
     assert lines[-4:] == [
         '  declare                6 robots, 100 s',
         f'  duration from          {DECLARED.basis()}',
