@@ -50,8 +50,8 @@ def test_a_passing_preflight_in_lines_and_json() -> None:
         '  verdict                PASS',
     ]
     failing = check_lines(report(GOOD, timed_out, RunReport('bundled', 1, 1), declaration=None))
-    assert '  pypi             did not finish in 3 s' in failing
-    assert '  bundled seed 1   left no record of the simulator (exit 1)' in failing
+    assert f'  {"pypi":<23} did not finish in 3 s' in failing
+    assert f'  {"bundled seed 1":<23} left no record of the simulator (exit 1)' in failing
     assert '  FAIL: pypi: did not finish in 3 s (raise --run-timeout if it should)' in failing
     assert failing[-2:] == ['  declare                6 robots, no duration', '  verdict                FAIL']
     imports = check_lines(CheckReport('/f.py', disallowed_imports=('cvxpy', 'torch')))
