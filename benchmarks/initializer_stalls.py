@@ -1,0 +1,173 @@
+"""How often V2's initializer stalls on the sweep's start formations, under the current rule and variants of it.
+
+    python -m benchmarks.initializer_stalls [--formations s_curve:4 ...] [--variants current heading_up ...]
+        [--seeds 150] [--first 1000] [--limit 15000] [--workers 2]
+
+Prints one row per formation x variant: runs stuck (not at the initial conditions within ``--limit`` steps) of
+runs, the median and 90 % duration (simulated s) of those that finished, the turn the flight needs at its start
+(the largest heading difference between a slot's pose and the tube's tangent there) and the formation's front
+row against the first narrowing (a variant that pushes the formation into the narrowing does not fit the sweep).
+The runs are :func:`robotarium_exp.initializer.initializer_durations`'s (V2's initializer, step for step).
+
+The variants (implemented here, not in ``robotarium_exp``; the current rule is
+:func:`robotarium_exp.design.start_formation`):
+
+- ``current``: the start formation as built (rows 0.4 m apart, headings along the tube, robots 0 and 1 on the two
+  slots with the fewest neighbours, front first);
+- ``heading_up``: the same slots and order, every heading pointing away from the nearer charger row (+90 degrees
+  below y = 0, -90 degrees above), the approach of a robot from the nearer chargers (the flight turns them);
+- ``spacing_0.5`` / ``spacing_0.6``: rows and columns 0.5 / 0.6 m apart (where the entrance has room);
+- ``far_pair``: robots 0 and 1 on the pair of slots farthest apart among those with the fewest neighbours (or one
+  more), the front one first;
+- ``back_pair``: robots 0 and 1 on the back row's outer slots, whose approach no robot crosses once it has arrived.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import itertools
+import math
+from collections.abc import Callable
+from unittest import mock
+
+import numpy as np
+from numpy.typing import NDArray
+
+from robotarium_exp import design
+from robotarium_exp.initializer import initializer_durations
+from robotarium_exp.scene import load_scene
+from robotarium_exp.spec import ROBOTARIUM
+from vtube_planning.geometry.tube import VirtualTube
+
+FloatArray = NDArray[np.float64]
+
+FORMATIONS = {
+    's_curve:4': ('docs/sweep/tubes/s_curve.toml', 4),
+    's_curve:6': ('docs/sweep/tubes/s_curve.toml', 6),
+    'bend35:4': ('docs/sweep/tubes/bend35.toml', 4),
+    'bend35:6': ('docs/sweep/tubes/bend35.toml', 6),
+    'bend60:4': ('docs/sweep/tubes/bend60.toml', 4),
+    'narrowing_in_bend:6': ('docs/sweep/tubes/narrowing_in_bend.toml', 6),
+    'robotarium_curve:6': ('robotarium_curve', 6),
+    'robotarium_curve:8': ('robotarium_curve', 8),
+    'narrow:8': ('docs/sweep/tubes/narrow.toml', 8),
+    'robotarium_trapezoid:6': ('robotarium_trapezoid', 6),
+    'robotarium_trapezoid:10': ('robotarium_trapezoid', 10),
+}
+"""The sweep's flying formations with N >= 4 (``docs/sweep/sweep.md``), as ``name:N``."""
+
+
+def current(tube: VirtualTube, n: int) -> FloatArray:
+    """The start formation as :func:`robotarium_exp.design.start_formation` builds it."""
+    return design.start_formation(tube, n).poses
+
+
+def heading_up(tube: VirtualTube, n: int) -> FloatArray:
+    """The current slots and order, headings away from the nearer charger row."""
+    poses = current(tube, n)
+    headings = np.where(poses[1] <= 0.0, np.pi / 2, -np.pi / 2)
+    turned: FloatArray = np.vstack([poses[:2], headings])
+    return turned
+
+
+def spaced(spacing_m: float) -> Callable[[VirtualTube, int], FloatArray]:
+    """The current rule with rows and columns ``spacing_m`` apart."""
+
+    def build(tube: VirtualTube, n: int) -> FloatArray:
+        with mock.patch.object(design, 'ROBOTARIUM', dataclasses.replace(ROBOTARIUM, ic_spacing_m=spacing_m)):
+            return current(tube, n)
+
+    return build
+
+
+def _reordered(poses: FloatArray, first: list[int]) -> FloatArray:
+    """``poses`` with the slots ``first`` as robots 0 and 1 (front first), the rest in their order."""
+    ahead = poses[0] * np.cos(poses[2]) + poses[1] * np.sin(poses[2])
+    first = sorted(first, key=lambda k: -float(ahead[k]))
+    order = first + [k for k in range(poses.shape[1]) if k not in first]
+    reordered: FloatArray = poses[:, order]
+    return reordered
+
+
+def far_pair(tube: VirtualTube, n: int) -> FloatArray:
+    """Robots 0 and 1 on the pair farthest apart among the slots with the fewest neighbours (or one more)."""
+    poses = current(tube, n)
+    counts = design.neighbour_counts(poses)
+    calm = [k for k in range(n) if counts[k] <= counts.min() + 1]
+    pair = max(itertools.combinations(calm, 2), key=lambda p: float(np.hypot(*(poses[:2, p[0]] - poses[:2, p[1]]))))
+    return _reordered(poses, list(pair))
+
+
+def back_pair(tube: VirtualTube, n: int) -> FloatArray:
+    """Robots 0 and 1 on the back row's two outer slots (the two rearmost slots farthest apart)."""
+    poses = current(tube, n)
+    ahead = poses[0] * np.cos(poses[2]) + poses[1] * np.sin(poses[2])
+    back = [k for k in range(n) if ahead[k] <= ahead.min() + 0.5 * ROBOTARIUM.ic_spacing_m]
+    if len(back) < 2:
+        back = [int(k) for k in np.argsort(ahead)[:2]]
+    pair = max(itertools.combinations(back, 2), key=lambda p: float(np.hypot(*(poses[:2, p[0]] - poses[:2, p[1]]))))
+    return _reordered(poses, list(pair))
+
+
+VARIANTS: dict[str, Callable[[VirtualTube, int], FloatArray]] = {
+    'current': current,
+    'heading_up': heading_up,
+    'spacing_0.5': spaced(0.5),
+    'spacing_0.6': spaced(0.6),
+    'far_pair': far_pair,
+    'back_pair': back_pair,
+}
+
+
+def flight_turn_deg(tube: VirtualTube, poses: FloatArray) -> float:
+    """The largest turn (degrees) from a slot's heading to the tube's tangent there."""
+    tangent = tube.tangent(tube.project(poses[:2]).l_m)
+    turn = np.arctan2(tangent[:, 1], tangent[:, 0]) - poses[2]
+    return float(np.degrees(np.abs(np.arctan2(np.sin(turn), np.cos(turn))).max()))
+
+
+def front_margin_m(tube: VirtualTube, poses: FloatArray) -> float:
+    """From the formation's front slot to the first narrowing along the tube (m; inf: none, negative: inside)."""
+    narrowing = design.first_narrowing(tube)
+    front = float(np.max(tube.project(poses[:2]).l_m))
+    return narrowing.start_m - front if narrowing is not None else math.inf
+
+
+def row(formation: str, variant: str, seeds: range, limit: int, workers: int) -> str:
+    """One table row: the formation built by the variant, run once per seed."""
+    path, n = FORMATIONS[formation]
+    tube = load_scene(path, n_robots=n).tube
+    poses = VARIANTS[variant](tube, n)
+    if np.isnan(poses).any():
+        return f'| {formation} | {variant} | no formation | | | | | |'
+    sample = initializer_durations(poses, seeds, limit, workers=workers)
+    q = np.quantile(sample.durations_s, [0.5, 0.9]) if sample.durations_s else [math.nan, math.nan]
+    stuck = ' '.join(str(s) for s in sample.stuck_seeds)
+    return (
+        f'| {formation} | {variant} | {len(sample.stuck_seeds)} of {sample.runs} | {q[0]:.1f} | {q[1]:.1f} | '
+        f'{flight_turn_deg(tube, poses):.0f} | {front_margin_m(tube, poses):.2f} | {stuck} |'
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--formations', nargs='+', default=list(FORMATIONS), choices=list(FORMATIONS))
+    parser.add_argument('--variants', nargs='+', default=['current'], choices=list(VARIANTS))
+    parser.add_argument('--seeds', type=int, default=150)
+    parser.add_argument('--first', type=int, default=1000)
+    parser.add_argument('--limit', type=int, default=15000, help='steps before a run counts as stuck')
+    parser.add_argument('--workers', type=int, default=2)
+    args = parser.parse_args()
+    seeds = range(args.first, args.first + args.seeds)
+    print(
+        '| formation | variant | stuck | median [s] | 90 % [s] | flight turn [deg] | front to narrowing [m] '
+        '| stuck seeds |'
+    )
+    print('|---|---|---|---|---|---|---|---|')
+    for formation, variant in itertools.product(args.formations, args.variants):
+        print(row(formation, variant, seeds, args.limit, args.workers), flush=True)
+
+
+if __name__ == '__main__':
+    main()
