@@ -110,6 +110,48 @@ def back_pair(tube: VirtualTube, n: int) -> FloatArray:
     return _reordered(poses, list(pair))
 
 
+CLEARANCE_M = 0.25
+"""A straight approach passing closer than this to another slot counts as blocked: V2's unicycle barrier keeps
+0.15 m + 2 x 0.05 m between the projection points, so no robot passes between two neighbours 0.4 m apart."""
+
+
+def chargers() -> FloatArray:
+    """V2's 22 charger slots (2, 22): 11 along the bottom edge and 11 along the top, a body's diameter inside."""
+    x0, x1, y0, y1 = ROBOTARIUM.arena_m
+    inset = 0.5 * ROBOTARIUM.robot_diameter_m
+    x = np.repeat(np.linspace(x0 + inset, x1 - inset, 11), 2)
+    y = np.tile([y0 + inset, y1 - inset], 11)
+    slots: FloatArray = np.array([x, y])
+    return slots
+
+
+def blocked_share(poses: FloatArray) -> FloatArray:
+    """Per slot, the share of chargers whose straight line to it passes within :data:`CLEARANCE_M` of another slot."""
+    start = chargers()
+    n = poses.shape[1]
+    share = np.zeros(n)
+    for k in range(n):
+        path = poses[:2, k : k + 1] - start  # (2, chargers): charger -> slot k
+        others = np.delete(poses[:2], k, axis=1)  # (2, n - 1)
+        rel = others[:, None, :] - start[:, :, None]  # (2, chargers, n - 1)
+        along = np.clip((path[:, :, None] * rel).sum(axis=0) / (path**2).sum(axis=0)[:, None], 0.0, 1.0)
+        gap = np.hypot(*(rel - along[None] * path[:, :, None]))
+        share[k] = float(np.mean(gap.min(axis=1) < CLEARANCE_M)) if n > 1 else 0.0
+    return share
+
+
+def clear_path(tube: VirtualTube, n: int) -> FloatArray:
+    """Robots 0 and 1 on the two slots whose straight approach from the chargers is least often blocked by
+    another slot (ties: fewer neighbours, then the front one), robot 0 the clearer."""
+    poses = current(tube, n)
+    share, counts = blocked_share(poses), design.neighbour_counts(poses)
+    ahead = poses[0] * np.cos(poses[2]) + poses[1] * np.sin(poses[2])
+    first = sorted(range(n), key=lambda k: (round(float(share[k]), 6), counts[k], -round(float(ahead[k]), 6)))[:2]
+    order = first + [k for k in range(n) if k not in first]
+    reordered: FloatArray = poses[:, order]
+    return reordered
+
+
 VARIANTS: dict[str, Callable[[VirtualTube, int], FloatArray]] = {
     'current': current,
     'heading_up': heading_up,
@@ -117,6 +159,7 @@ VARIANTS: dict[str, Callable[[VirtualTube, int], FloatArray]] = {
     'spacing_0.6': spaced(0.6),
     'far_pair': far_pair,
     'back_pair': back_pair,
+    'clear_path': clear_path,
 }
 
 
