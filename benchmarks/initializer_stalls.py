@@ -1,7 +1,7 @@
 """How often V2's initializer stalls on the sweep's start formations, under the current rule and variants of it.
 
     python -m benchmarks.initializer_stalls [--formations s_curve:4 ...] [--variants current heading_up ...]
-        [--seeds 150] [--first 1000] [--limit 15000] [--workers 2]
+        [--seeds 150] [--first 1000] [--limit 15000] [--workers 2] [--trace SEED]
 
 Prints one row per formation x variant: runs stuck (not at the initial conditions within ``--limit`` steps) of
 runs, the median and 90 % duration (simulated s) of those that finished, the turn the flight needs at its start
@@ -37,6 +37,7 @@ from unittest import mock
 import numpy as np
 from numpy.typing import NDArray
 
+import robotarium_exp.rps.robotarium as simulator
 from robotarium_exp import design
 from robotarium_exp.initializer import initializer_durations
 from robotarium_exp.scene import load_scene
@@ -217,6 +218,31 @@ def row(formation: str, variant: str, seeds: range, limit: int, workers: int) ->
     )
 
 
+def trace(formation: str, variant: str, seed: int, limit: int) -> None:
+    """Print where each robot started, where it stands after the run (at most ``limit`` steps) and why not done."""
+    path, n = FORMATIONS[formation]
+    ic = VARIANTS[variant](load_scene(path, n_robots=n).tube, n)
+    seen: list[FloatArray] = []
+    step = simulator.Robotarium.step
+
+    def recording(self: simulator.Robotarium) -> None:
+        seen.append(self._poses.copy())
+        step(self)
+
+    with mock.patch.object(simulator.Robotarium, 'step', recording):
+        stuck = initializer_durations(ic, [seed], limit, workers=1).stuck_seeds
+    start, end = seen[0], seen[-1]
+    gaps = np.hypot(*(end[:2, :, None] - end[:2, None, :])) + np.diag(np.full(n, np.inf))
+    turn = np.arctan2(np.sin(end[2] - ic[2]), np.cos(end[2] - ic[2]))
+    print(f'{formation} {variant} seed {seed}: {"stuck" if stuck else "done"} after {len(seen)} steps')
+    for k in range(n):
+        print(
+            f'robot {k}: charger ({start[0, k]:+.2f}, {start[1, k]:+.2f}), slot ({ic[0, k]:+.2f}, {ic[1, k]:+.2f}), '
+            f'at ({end[0, k]:+.2f}, {end[1, k]:+.2f}) {np.hypot(*(end[:2, k] - ic[:2, k])):.3f} m from it, '
+            f'heading off {turn[k]:+.2f} rad, nearest robot {int(np.argmin(gaps[k]))} at {gaps[k].min():.2f} m'
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--formations', nargs='+', default=list(FORMATIONS), choices=list(FORMATIONS))
@@ -225,7 +251,11 @@ def main() -> None:
     parser.add_argument('--first', type=int, default=1000)
     parser.add_argument('--limit', type=int, default=15000, help='steps before a run counts as stuck')
     parser.add_argument('--workers', type=int, default=2)
+    parser.add_argument('--trace', type=int, metavar='SEED', help='trace one seed of the first formation and variant')
     args = parser.parse_args()
+    if args.trace is not None:
+        trace(args.formations[0], args.variants[0], args.trace, args.limit)
+        return
     seeds = range(args.first, args.first + args.seeds)
     print(
         '| formation | variant | stuck | median [s] | 90 % [s] | flight turn [deg] | front to narrowing [m] '
