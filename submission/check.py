@@ -288,7 +288,8 @@ def check(
             break  # no margins for a file that fails in the ideal simulator already
         by_model[model] = []
         for seed in range(seeds):
-            tell(f'running the file on the bundled simulator, seed {seed}, {model} (at most {run_timeout_s:g} s)')
+            under = f', {model}' if model != 'ideal' else ''
+            tell(f'running the file on the bundled simulator, seed {seed}{under} (at most {run_timeout_s:g} s)')
             by_model[model].append(run_file(path, 'bundled', seed, data, run_timeout_s, model))
         runs += by_model[model] if model in VERDICT_MODELS else []
     if importlib.util.find_spec('rps') is not None:

@@ -3,10 +3,15 @@
 from __future__ import annotations
 
 import csv
+import signal
 import sys
+import threading
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from types import FrameType
 from typing import Any
 
 from tqdm import tqdm
@@ -43,7 +48,9 @@ def run_campaign(
 
     The folder is checked before any run starts: writable, and holding no other campaign. ``progress`` draws a bar
     on stderr (runs done / total, failures, elapsed and remaining time); None: when stderr is a terminal. An
-    interruption leaves every finished row in the table; the same call again runs only the missing ones.
+    interruption leaves every finished row in the table; the same call again runs only the missing ones. Ctrl-C
+    stops it even when Python drops the KeyboardInterrupt (raised inside a finaliser, "Exception ignored"): the
+    interruption is noted, and the loop stops after the row of the run it fell in.
     """
     started = time.perf_counter()
     points = campaign.points()
@@ -54,7 +61,7 @@ def run_campaign(
     failed = 0
     show = sys.stderr.isatty() if progress is None else progress
     bar = tqdm(total=len(points), initial=len(points) - len(todo), unit='run', disable=not show, file=sys.stderr)
-    with (out / RUNS_FILE).open('a', newline='', encoding='utf-8') as handle, bar:
+    with (out / RUNS_FILE).open('a', newline='', encoding='utf-8') as handle, bar, _noting_interrupts() as noted:
         writer = csv.DictWriter(handle, fieldnames=campaign.columns)
         for i, row in map_unordered(_execute, todo, workers=workers, client=client):
             row = {'key': run_key(todo[i][0], campaign.settings), **asdict(todo[i][0]), **row}
@@ -64,8 +71,31 @@ def run_campaign(
             failed += bool(row['error'])
             bar.update()
             bar.set_postfix(failed=failed, refresh=False)
+            if noted.is_set():
+                raise KeyboardInterrupt
     ordered = [typed_row(rows[k], campaign.columns) for k in keys]
     return Outcome(ordered, len(points) - len(todo), len(todo), failed, time.perf_counter() - started)
+
+
+@contextmanager
+def _noting_interrupts() -> Iterator[threading.Event]:
+    """While inside, SIGINT (Ctrl-C) sets the event it yields before raising KeyboardInterrupt as Python does; off
+    the main thread, where no handler can be installed, the event is never set."""
+    noted = threading.Event()
+    if threading.current_thread() is not threading.main_thread():
+        yield noted
+        return
+    previous = signal.getsignal(signal.SIGINT)
+
+    def note(signum: int, frame: FrameType | None) -> None:
+        noted.set()
+        signal.default_int_handler(signum, frame)
+
+    signal.signal(signal.SIGINT, note)
+    try:
+        yield noted
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def _execute(job: tuple[Point, RunSettings, tuple[str, ...]]) -> dict[str, Any]:

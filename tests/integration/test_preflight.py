@@ -90,7 +90,9 @@ def test_a_submission_that_never_ends_or_prints_nothing_is_reported_so(tmp_path,
     assert main(['submission', 'check', str(files['forever']), *limits]) == 1
     forever = capsys.readouterr()
     assert 'Traceback' not in forever.err
-    assert 'bundled seed 0   did not finish in 1 s' in forever.out and 'verdict                FAIL' in forever.out
+    assert (
+        f'{"bundled seed 0":<23} did not finish in 1 s' in forever.out and 'verdict                FAIL' in forever.out
+    )
     assert 'seed 0 (at most 1 s)' in forever.err  # told before it waits
     assert "V2's initializer:" not in forever.err  # no bar off a terminal
     # the silent file ends at once, but a loaded machine may take more than 1 s to start Python and import numpy

@@ -187,7 +187,7 @@ def test_check_runs_each_seed_then_the_pypi_simulator_then_the_initializer(tmp_p
     ]
     assert told == [
         *[
-            f'running the file on the bundled simulator, seed {s}, {m} (at most 7 s)'
+            f'running the file on the bundled simulator, seed {s}{"" if m == "ideal" else ", " + m} (at most 7 s)'
             for m in CHECKED_MODELS
             for s in (0, 1)
         ],

@@ -75,6 +75,33 @@ def test_an_interrupted_campaign_resumes_with_only_the_missing_runs(tmp_path, ca
         assert row['passing_time_s'] == fake_metrics(point)['passing_time_s'] and row['version']
 
 
+def test_a_ctrl_c_that_python_drops_still_stops_the_campaign_after_that_run(tmp_path, capsys, monkeypatch) -> None:
+    """A SIGINT whose KeyboardInterrupt is swallowed where it lands (in a finaliser Python only says "Exception
+    ignored"): the run finishes, its row is kept, and the campaign stops there with exit 130."""
+    import signal
+
+    import vtube_planning.campaign_runner as runner_module
+
+    calls = []
+
+    def run(point, settings):
+        calls.append(point)
+        if len(calls) == 3:
+            try:
+                signal.raise_signal(signal.SIGINT)  # Ctrl-C during the third run...
+            except KeyboardInterrupt:
+                pass  # ...dropped where it landed
+        return fake_metrics(point)
+
+    monkeypatch.setattr(runner_module, 'run_point', run)
+    path, out = write(tmp_path, SMALL), tmp_path / 'out'
+    assert main(['campaign', 'run', str(path), '--out', str(out), '--workers', '1']) == 130
+    assert 'interrupted: every finished run is in' in capsys.readouterr().err
+    _, rows, missing = read_results(out)
+    assert len(calls) == 3 and len(rows) == 3 and missing == 5
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # the handler is given back
+
+
 def test_a_run_that_raises_is_recorded_and_the_others_go_on(tmp_path, capsys, fake_runs) -> None:
     calls, fail = fake_runs
     path, out = write(tmp_path, SMALL), tmp_path / 'out'
