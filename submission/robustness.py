@@ -16,13 +16,15 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 
 from robotarium_exp.flight_data import FlightData
 from robotarium_exp.spec import ROBOTARIUM
-from robotarium_exp.verifier import closest_centres_m
 from submission.recording import SimulatorRecord
-from vtube_planning.onboard import SampledTube
-from vtube_planning.swarm.metrics import passage_metrics
+from vtube_planning.onboard import SampledTube, StepTube
+from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics
+
+FloatArray = NDArray[np.float64]
 
 CHECKED_MODELS = ('ideal', 'fitted', 'fitted:2')
 """The testbed models a preflight flies, in order."""
@@ -66,24 +68,35 @@ def from_header(source: str) -> tuple[Margins, ...]:
     return tuple(found)
 
 
-def record_metrics(record: SimulatorRecord, data: FlightData) -> tuple[float, float, int]:
-    """A run's passing time, smallest centre distance and body-on-wall robot-steps, from the poses the simulator
-    validated (its true poses) on the file's tube."""
+def record_passage(
+    record: SimulatorRecord, tube: StepTube, collision_distance_m: float
+) -> tuple[PassageMetrics, FloatArray, FloatArray]:
+    """A recorded run's passage through ``tube``, from the poses the simulator validated (its true poses), with
+    bodies of the testbed's robots: the metrics, the times (T,) and every robot's arc length (T, N)."""
     poses = record.poses
-    if poses.shape[0] == 0:
-        return math.nan, math.nan, 0
-    tube = SampledTube(data.tube.l_m, data.tube.xy_m, data.tube.half_width_m, data.tube.area_m2)
-    projected = [tube.project(p[:2]) for p in poses]
+    steps, _, n = poses.shape
+    t_s = record.dt_s * np.arange(steps, dtype=float)
+    projection = tube.project(poses[:, :2].transpose(1, 0, 2).reshape(2, -1))
+    l_m = projection.l_m.reshape(steps, n)
     metrics = passage_metrics(
-        record.dt_s * np.arange(poses.shape[0], dtype=float),
+        t_s,
         poses[:, :2],
-        np.array([p.l_m for p in projected]),
-        np.array([p.clearance_m for p in projected]),
+        l_m,
+        projection.clearance_m.reshape(steps, n),
         tube.length_m,
-        collision_distance_m=ROBOTARIUM.collision_diameter_m,
+        collision_distance_m=collision_distance_m,
         body_radius_m=0.5 * ROBOTARIUM.robot_diameter_m,
     )
-    return metrics.passing_time_s, closest_centres_m(poses), metrics.tube_violation_steps
+    return metrics, t_s, l_m
+
+
+def record_metrics(record: SimulatorRecord, data: FlightData) -> tuple[float, float, int]:
+    """A run's passing time, smallest centre distance and body-on-wall robot-steps on the file's tube."""
+    if record.poses.shape[0] == 0:
+        return math.nan, math.nan, 0
+    tube = SampledTube(data.tube.l_m, data.tube.xy_m, data.tube.half_width_m, data.tube.area_m2)
+    metrics, _, _ = record_passage(record, tube, ROBOTARIUM.collision_diameter_m)
+    return metrics.passing_time_s, metrics.min_distance_m, metrics.tube_violation_steps
 
 
 def margins(model: str, runs: Sequence[tuple[bool, SimulatorRecord | None, float | None]], data: FlightData) -> Margins:

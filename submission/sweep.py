@@ -33,11 +33,11 @@ from robotarium_exp.errors import RobotariumExpError
 from robotarium_exp.fit import robotarium_fit
 from robotarium_exp.flight_data import FlightData
 from robotarium_exp.scene import load_scene
-from robotarium_exp.spec import ROBOTARIUM
 from robotarium_exp.tracking import plan_tracking
 from submission.builder import build, write
 from submission.check import RUN_TIMEOUT_S, RunReport, file_flight_data, run_file
 from submission.errors import SubmissionError
+from submission.robustness import record_passage
 from vtube_planning import __version__
 from vtube_planning.campaign_store import RUNS_FILE, prepare_table
 from vtube_planning.errors import VtubeError
@@ -47,7 +47,6 @@ from vtube_planning.onboard import swarm_area
 from vtube_planning.onboard.parking import PARKED_WITHIN_M
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
-from vtube_planning.swarm.metrics import passage_metrics
 
 DIP_ERROR_BAR = 0.25
 """The largest mean relative density error |rho - rho*| / rho* over the plan's dip that passes (issue 31)."""
@@ -106,20 +105,8 @@ def measure_run(run: RunReport, data: FlightData, scene: Scene, plan: Plan) -> R
     record, counted, recounted = run.record, run.counted, run.recounted
     if record is None or counted is None or recounted is None or record.poses.shape[0] < 2:
         return RunMeasures(run.label, tuple(run.problems) or ('left no steps',), 0, 0, 0, through=False)
-    poses, tube = record.poses, scene.tube
-    steps, _, n = poses.shape
-    t_s = record.dt_s * np.arange(steps, dtype=float)
-    projection = tube.project(poses[:, :2].transpose(1, 0, 2).reshape(2, -1))
-    l_m, clearance = projection.l_m.reshape(steps, n), projection.clearance_m.reshape(steps, n)
-    metrics = passage_metrics(
-        t_s,
-        poses[:, :2],
-        l_m,
-        clearance,
-        tube.length_m,
-        collision_distance_m=2.0 * scene.swarm.r_p_m,
-        body_radius_m=0.5 * ROBOTARIUM.robot_diameter_m,
-    )
+    poses, tube, n = record.poses, scene.tube, record.poses.shape[2]
+    metrics, t_s, l_m = record_passage(record, tube, 2.0 * scene.swarm.r_p_m)
     arrays = {
         't_s': t_s,
         'l_m': l_m,

@@ -146,8 +146,16 @@ CLAIMS = (('passing_time_s', 'lower', 'passing time [s]'), ('min_distance_m', 'h
 
 
 CELL_AXES = (
-    *('scene', 'n_robots', 'model', 'saturation', 'pose_noise_m'),
-    *('latency_steps', 'lag_s', 'compensation', 'failure', 'dropout'),
+    'scene',
+    'n_robots',
+    'model',
+    'saturation',
+    'pose_noise_m',
+    'latency_steps',
+    'lag_s',
+    'compensation',
+    'failure',
+    'dropout',
 )
 """What a row's mode is compared within (a cell): every field of :class:`Point` but the mode and the seed."""
 
