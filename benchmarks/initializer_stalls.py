@@ -12,17 +12,19 @@ The runs are :func:`robotarium_exp.initializer.initializer_durations`'s (V2's in
 The variants (implemented here, not in ``robotarium_exp``; the current rule is
 :func:`robotarium_exp.design.start_formation`):
 
-- ``current``: the start formation as built (rows 0.4 m apart, headings along the tube, robots 0 and 1 on the two
-  slots with the fewest neighbours, front first);
+- ``current``: the start formation as built (rows 0.4 m apart, headings along the tube, robot 0 on a slot with
+  the fewest neighbours, front first, robot 1 more than 0.55 m from it: :func:`robotarium_exp.design.order_for_v2_initializer`);
+- ``least_crowded``: the rule it replaced, robots 0 and 1 on the two slots with the fewest neighbours, front first;
 - ``heading_up``: the same slots and order, every heading pointing away from the nearer charger row (+90 degrees
   below y = 0, -90 degrees above), the approach of a robot from the nearer chargers (the flight turns them);
 - ``spacing_0.5`` / ``spacing_0.6``: rows and columns 0.5 / 0.6 m apart (where the entrance has room);
 - ``far_pair``: robots 0 and 1 on the pair of slots farthest apart among those with the fewest neighbours (or one
   more), the front one first;
 - ``back_pair``: robots 0 and 1 on the back row's two outer slots;
-- ``clear_path``: robots 0 and 1 on the slots whose straight line from the chargers is least often blocked;
-- ``apart``: the recommended rule, robot 1 not robot 0's neighbour (``docs/robotarium.md`` §2.6, "Where the
-  initializer still stalls", with the measured table and the traced mechanism).
+- ``clear_path``: robots 0 and 1 on the slots whose straight line from the chargers is least often blocked.
+
+``docs/robotarium.md`` §2.6 ("Where the initializer still stalls") has the measured table and the traced mechanism;
+its ``apart`` rows are today's ``current``.
 """
 
 from __future__ import annotations
@@ -103,24 +105,12 @@ def far_pair(tube: VirtualTube, n: int) -> FloatArray:
     return _reordered(poses, list(pair))
 
 
-APART_M = 0.55
-"""Robots 0 and 1 at least this far apart (``apart``): every traced stall had their slots 0.40-0.50 m apart; a
-2 x 2 grid's diagonal (0.57 m) is just beyond."""
-
-
-def apart(tube: VirtualTube, n: int) -> FloatArray:
-    """The recommended rule: robot 0 as now (fewest neighbours, front first), robot 1 the first slot in the same
-    order more than :data:`APART_M` from it, else the slot farthest from it."""
-    poses = current(tube, n)  # already in the current order: robot 0 first
-    gaps = np.hypot(*(poses[:2] - poses[:2, :1]))
+def least_crowded(tube: VirtualTube, n: int) -> FloatArray:
+    """The former rule: robots 0 and 1 on the two slots with the fewest neighbours, front first."""
+    poses = current(tube, n)
     counts = design.neighbour_counts(poses)
     ahead = poses[0] * np.cos(poses[2]) + poses[1] * np.sin(poses[2])
-    rest = sorted(range(1, n), key=lambda k: (counts[k], -round(float(ahead[k]), 6), k))
-    apart_ones = [k for k in rest if gaps[k] > APART_M]
-    second = apart_ones[0] if apart_ones else int(np.argmax(gaps))
-    order = [0, second] + [k for k in range(1, n) if k != second]
-    reordered: FloatArray = poses[:, order]
-    return reordered
+    return _reordered(poses, sorted(range(n), key=lambda k: (counts[k], -round(float(ahead[k]), 6), k))[:2])
 
 
 def back_pair(tube: VirtualTube, n: int) -> FloatArray:
@@ -178,13 +168,13 @@ def clear_path(tube: VirtualTube, n: int) -> FloatArray:
 
 VARIANTS: dict[str, Callable[[VirtualTube, int], FloatArray]] = {
     'current': current,
+    'least_crowded': least_crowded,
     'heading_up': heading_up,
     'spacing_0.5': spaced(0.5),
     'spacing_0.6': spaced(0.6),
     'far_pair': far_pair,
     'back_pair': back_pair,
     'clear_path': clear_path,
-    'apart': apart,
 }
 
 

@@ -50,6 +50,9 @@ PARKING_NEAREST_M = 0.08
 """The nearest parking row lies at least this far beyond the exit (a body, 0.055 m, with 2.5 cm to spare): a robot
 parked behind the exit line stands on the tube's walls and in the way of the robots still passing (12 robots in a
 0.6 m tube: 2130 robot-steps with a body on a wall)."""
+INITIALIZER_APART_M = 0.55
+"""Robots 0 and 1 start more than this far apart: every traced stall of V2's initializer had their slots 0.40-0.50
+m apart (``docs/robotarium.md`` §2.6); the diagonal of a 2 x 2 grid at the spacing (0.57 m) is just beyond."""
 PARKING_LANES_MAX = 6
 """At most this many parking lanes side by side (1.5 m across: the arena's 2 m less 0.2 m at each edge holds six;
 with five, twelve robots on the straight sweep tubes had no room beyond the exit)."""
@@ -170,20 +173,27 @@ def first_inside_box(tube: VirtualTube) -> float | None:
 
 
 def order_for_v2_initializer(ic: FloatArray) -> list[int]:
-    """Robot order for V2's initializer: the two slots with the fewest neighbours, front first, as robots 0 and 1.
+    """Robot order for V2's initializer: robot 0 the slot with the fewest neighbours (front first), robot 1 the
+    first slot in that order more than :data:`INITIALIZER_APART_M` from it (else the slot farthest from it).
 
     V2 chooses the robots it rescues from deadlocks with ``np.isin`` of their indices against the boolean "arrived"
     mask, so robot 0 is never rescued while any robot is on its way and robot 1 never once any has arrived
-    (``docs/robotarium.md`` §2.6). A robot that ends its approach about 0.02 m from its slot, facing away from its
-    heading, can then rock between approaching and turning for good when a neighbour's barrier row bends its turn.
-    Slots with fewer neighbours within 1.25 x the spacing bend less. *Measured* on the trapezoid's formation with
-    the bundled V2 initializer: 7 of 458 seeds stuck with a middle slot as robot 1, none of 500 with the front
-    corners as robots 0 and 1 (90 % of the initializations within 82 s instead of 124 s).
+    (``docs/robotarium.md`` §2.6). Every traced stall had robots 0 and 1 within 0.5 m of each other: one stops in
+    a gap next to the other, or their final turns bend each other's for good. *Measured*
+    (``python -m benchmarks.initializer_stalls``): on the two formations at risk (``s_curve`` and ``bend35``, N = 4)
+    the former rule (the two least crowded slots, 0.40-0.50 m apart there) stalled 2 of 300 initializations, this
+    one 0 of 300; on the trapezoid's formation, robots 0 and 1 at the front corners (0.8 m apart, which both rules
+    choose), 0 of 500.
     """
     n = ic.shape[1]
     neighbours = neighbour_counts(ic)
     ahead = ic[0] * np.cos(ic[2]) + ic[1] * np.sin(ic[2])  # how far along its heading: the front row first
-    first = sorted(range(n), key=lambda k: (neighbours[k], -round(float(ahead[k]), 6), k))[:2]
+    ranked = sorted(range(n), key=lambda k: (neighbours[k], -round(float(ahead[k]), 6), k))
+    if n < 2:
+        return ranked
+    gaps = np.hypot(*(ic[:2] - ic[:2, ranked[0], None]))
+    apart = [k for k in ranked[1:] if gaps[k] > INITIALIZER_APART_M]
+    first = [ranked[0], apart[0] if apart else int(np.argmax(gaps))]
     return first + [k for k in range(n) if k not in first]
 
 

@@ -14,11 +14,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.design import (
+    INITIALIZER_APART_M,
     PARKING_LANES_MAX,
     PARKING_NEAREST_M,
     PARKING_SPACING_M,
     PARKING_WALL_M,
-    neighbour_counts,
     start_formation,
 )
 from robotarium_exp.errors import ExperimentError
@@ -146,18 +146,16 @@ def _formation_spacing(ic: FloatArray) -> list[Misfit]:
 
 
 def _initializer_order(ic: FloatArray) -> list[Misfit]:
-    """Robots 0 and 1 at the least crowded slots (:func:`robotarium_exp.design.order_for_v2_initializer`)."""
-    if ic.shape[1] < 3:
-        return []
-    neighbours = neighbour_counts(ic)
-    have, least = sorted(neighbours[:2].tolist()), sorted(neighbours.tolist())[:2]
-    if have == least:
+    """Robots 0 and 1 more than :data:`~robotarium_exp.design.INITIALIZER_APART_M` apart wherever two slots are
+    (:func:`robotarium_exp.design.order_for_v2_initializer`)."""
+    gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))
+    if ic.shape[1] < 3 or gaps[0, 1] > INITIALIZER_APART_M or gaps.max() <= INITIALIZER_APART_M:
         return []
     return [
         Misfit(
-            f'robots 0 and 1 start at slots with {have[0]} and {have[1]} neighbours, where slots with {least[0]} and '
-            f"{least[1]} exist: V2's initializer never rescues robots 0 and 1 from a deadlock, and at a crowded "
-            'slot they can stall for good (docs/robotarium.md §2.6)',
+            f'robots 0 and 1 start {gaps[0, 1]:.2f} m apart: V2\'s initializer never rescues robots 0 and 1 from '
+            f'a deadlock, and within {INITIALIZER_APART_M} m of each other they can block each other for good '
+            '(docs/robotarium.md §2.6)',
             'reorder the robots with robotarium_exp.design.order_for_v2_initializer',
         )
     ]

@@ -144,12 +144,30 @@ def test_the_column_count_follows_the_entrance_width(formations) -> None:
 
 
 @pytest.mark.parametrize('name', sorted(TUBES))
-def test_robots_zero_and_one_stand_at_the_least_crowded_slots(name: str, formations) -> None:
+def test_robot_zero_is_least_crowded_and_robot_one_apart_from_it(name: str, formations) -> None:
+    """Robot 0 at a slot with the fewest neighbours; robot 1 more than 0.55 m from it wherever a slot is, and
+    no slot both farther and less crowded (or as crowded and ahead) than robot 1's passed over."""
     for n in range(3, 21):
         ic = formations[name, n].poses
         d = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))
         neighbours = (d < 1.25 * SPACING).sum(axis=0) - 1
-        assert sorted(neighbours[:2]) == sorted(neighbours)[:2], (name, n)
+        assert neighbours[0] == neighbours.min(), (name, n)
+        if d[0].max() > 0.55:
+            assert d[0, 1] > 0.55, (name, n)
+            calmer = [k for k in range(2, n) if d[0, k] > 0.55 and neighbours[k] < neighbours[1]]
+            assert not calmer, (name, n, calmer)
+        else:
+            assert d[0, 1] == d[0].max(), (name, n)
+
+
+def test_robot_one_leaves_a_neighbouring_calm_slot_for_one_apart() -> None:
+    """A 2 x 2 grid (0.4 m): robot 0 the front left; the front right is its neighbour (0.4 m), so robot 1 takes
+    the diagonal (0.57 m), the rule's reason to exist (s_curve, N = 4)."""
+    grid = np.array([[0.0, 0.0, -0.4, -0.4], [0.2, -0.2, 0.2, -0.2], [0.0] * 4])
+    order = order_for_v2_initializer(grid)
+    assert order[:2] == [0, 3] and sorted(order) == [0, 1, 2, 3]
+    pair = np.array([[0.0, -0.4], [0.0, 0.0], [0.0, 0.0]])
+    assert order_for_v2_initializer(pair) == [0, 1]  # none apart: the farthest, the only other
 
 
 def test_the_order_puts_the_front_corners_first_and_keeps_every_robot() -> None:

@@ -45,7 +45,7 @@ def test_planning_without_a_plan_is_refused() -> None:
 
 
 def test_robots_zero_and_one_take_the_front_corners() -> None:
-    """V2 never rescues robots 0 and 1 from a late deadlock: they get the slots with the fewest neighbours."""
+    """V2 never rescues robots 0 and 1 from a late deadlock: the least crowded slots, 0.8 m apart, take them."""
     ic = initial_conditions(load_scene('robotarium_trapezoid'))
     gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))
     neighbours = (gaps < 0.5).sum(axis=0) - 1
@@ -57,7 +57,7 @@ def test_robots_zero_and_one_take_the_front_corners() -> None:
     data = flight_data(load_scene('robotarium_trapezoid'), None, ExperimentConfig(planning=False))
     reasons = [str(m) for m in fit_of_flight(replace(data, initial_conditions=grid)).misfits]
     risk = [r for r in reasons if r.startswith('robots 0 and 1')]  # robot 1 in the middle of the front row
-    assert risk and risk[0].startswith('robots 0 and 1 start at slots with 2 and 3 neighbours')
+    assert risk and risk[0].startswith('robots 0 and 1 start 0.40 m apart')
     assert 'order_for_v2_initializer' in risk[0]
     ordered = [str(m) for m in fit_of_flight(replace(data, initial_conditions=grid[:, order])).misfits]
     assert not [r for r in ordered if r.startswith('robots 0 and 1')]

@@ -79,12 +79,13 @@ def test_two_robots_too_close(data: FlightData) -> None:
     assert 'start_formation' in misfit.fix
 
 
-def test_robots_zero_and_one_at_crowded_slots(data: FlightData) -> None:
+def test_robots_zero_and_one_side_by_side(data: FlightData) -> None:
     ic = data.initial_conditions
-    crowded = int(np.argmax(neighbour_counts(ic)))  # a middle slot of the 2 x 3 grid: three neighbours
-    swapped = ic[:, [0, crowded, *[k for k in range(1, 6) if k != crowded]]]
+    gaps = np.hypot(*(ic[:2] - ic[:2, :1]))
+    beside = int(np.argmin(np.where(gaps > 0, gaps, np.inf)))  # robot 0's neighbour in the 2 x 3 grid, 0.4 m away
+    swapped = ic[:, [0, beside, *[k for k in range(1, 6) if k != beside]]]
     misfit = only_misfit(replace(data, initial_conditions=swapped))
-    assert misfit.what.startswith('robots 0 and 1 start at slots with 2 and 3 neighbours, where slots with 2 and 2')
+    assert misfit.what.startswith('robots 0 and 1 start 0.40 m apart')
     assert 'order_for_v2_initializer' in misfit.fix
 
 
