@@ -6,7 +6,7 @@
 Each scene is flown planned on the bundled simulator with V2's initialization (seeds 0..n-1; the same seed gives
 the same initialization in every column) under each testbed model (:mod:`robotarium_exp.rps.testbed_model`), with
 the swarm step acting on where the robots are (``none``), or compensating the fitted model's delay and lag
-(``fitted``: what a submission knows of the real robots), or the flown model's own (``own``: the same as
+(``fitted``: the Robotarium scenes' default, what a submission knows of the real robots), or the flown model's own (``own``: the same as
 ``fitted`` under ``fitted``; under ``ideal`` it is ``none``). Printed per scene, model and compensation, over the
 seeds: the verifier's counts (pair-steps too close, steps outside, actuator steps), runs in which every robot
 passed and parked, body-on-wall robot-steps, the smallest distance between centres, and the passing time (mean
@@ -41,11 +41,10 @@ def fly(scene_name: str, model_name: str, compensation: str, seed: int, initiali
 
     scene = load_scene(scene_name)
     plan = plan_for(scene)
-    known = {'none': None, 'fitted': testbed_model('fitted'), 'own': testbed_model(model_name)}[compensation]
-    if known is not None:
-        delay = 0.5 * (known.delay_v_steps + known.delay_omega_steps)
-        control = replace(scene.control, compensate_delay_steps=delay, compensate_lag_s=known.lag_s)
-        scene = replace(scene, control=control)
+    known = {'none': testbed_model('ideal'), 'fitted': testbed_model('fitted'), 'own': testbed_model(model_name)}
+    model = known[compensation]
+    delay = 0.5 * (model.delay_v_steps + model.delay_omega_steps)
+    scene = replace(scene, control=replace(scene.control, compensate_delay_steps=delay, compensate_lag_s=model.lag_s))
     seed_rps(seed)
     kwargs = {'skip_initialization': not initialize, 'testbed_model': model_name}
     with contextlib.redirect_stdout(io.StringIO()):  # V2's "Initializing..." lines

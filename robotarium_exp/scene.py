@@ -28,6 +28,7 @@ from robotarium_exp.design import (
     look_ahead,
     start_formation,
 )
+from robotarium_exp.rps.testbed_model import FITTED
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.errors import SceneError
 from vtube_planning.geometry import scene as planning_scenes
@@ -62,6 +63,12 @@ ROBOTARIUM_VALUES: Values = {
         'r_a_max_m': (0.5, "the band can reach the narrowing's density in the wide part"),
         'feedforward': (True, "the plan's dip raises r_a ahead of the density error"),
         'plan_at': ('center', "the plan is made for the swarm's centre (docs/theory.md A16)"),
+        'compensate_delay_steps': (
+            0.5 * (FITTED.delay_v_steps + FITTED.delay_omega_steps),
+            "the real robots' command delay (testbed model 'fitted', docs/robotarium.md §2.8): the step acts on where "
+            'the robots will be when its command arrives (docs/theory.md §9)',
+        ),
+        'compensate_lag_s': (FITTED.lag_s, "the real robots' first-order lag, compensated with the delay"),
     },
 }
 """The Robotarium's values of every Robotarium scene, with their reasons (README, On the Robotarium)."""

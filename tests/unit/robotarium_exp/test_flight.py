@@ -74,7 +74,7 @@ def test_a_delay_compensation_predicts_from_the_filtered_velocity(data) -> None:
     (the safety filter's velocity), not by the swarm step's own command."""
     from vtube_planning.onboard.delay import CommandPredictor
 
-    compensating = replace(data, step=replace(data.step, compensate_delay_steps=2.0))
+    compensating = replace(data, step=replace(data.step, compensate_delay_steps=2.0, compensate_lag_s=0.0))
     flight = build_flight(compensating)
     poses = np.array(data.initial_conditions)
     first = flight(poses, DT)

@@ -167,7 +167,7 @@ def test_the_builder_refuses_initial_conditions_that_can_stall_the_initializer(m
 
     monkeypatch.setattr(design, 'order_for_v2_initializer', lambda ic: list(range(ic.shape[1])))
     with pytest.raises(
-        SubmissionError, match=r"'robotarium_trapezoid' does not fit .*robots 0 and 1 start at slots with 2 and 3 "
+        SubmissionError, match=r"'robotarium_trapezoid' does not fit .*robots 0 and 1 start 0.40 m apart"
     ):
         build('robotarium_trapezoid', None)
 
