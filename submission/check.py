@@ -230,7 +230,7 @@ def run_file(
         command += ['--testbed-model', testbed_model] if testbed_model != 'ideal' else []
         try:
             result = subprocess.run(
-                [*command, str(path)],
+                [*command, str(Path(path).resolve())],  # the run's folder is not ours: a relative path is lost
                 cwd=folder,
                 env=env,
                 capture_output=True,

@@ -25,11 +25,12 @@ n_robots = 6
 """
 
 
-def test_two_robots_through_a_short_tube_passes_and_a_rerun_skips_it(tmp_path: Path, capsys) -> None:
+def test_two_robots_through_a_short_tube_passes_and_a_rerun_skips_it(tmp_path: Path, capsys, monkeypatch) -> None:
     scene = tmp_path / 'short.toml'
     scene.write_text(SHORT_TUBE, encoding='utf-8')
+    monkeypatch.chdir(tmp_path)  # the output named relatively, as the README's command does
     out = tmp_path / 'sweep'
-    command = ['robotarium', 'sweep', str(scene), '--n', '2', '--seeds', '1', '--out', str(out)]
+    command = ['robotarium', 'sweep', 'short.toml', '--n', '2', '--seeds', '1', '--out', 'sweep']
     assert main(command) == 0, capsys.readouterr()
     with (out / 'runs.csv').open(newline='', encoding='utf-8') as handle:
         (row,) = csv.DictReader(handle)

@@ -44,14 +44,16 @@ class Parking:
                 self.slot_of[k] = row[np.argmin(np.abs(self.offset_m[row] - offset_m[k]))]
         return self.slot_of >= 0
 
-    def drive(
-        self, points: FloatArray, parked: BoolArray, velocity: FloatArray, v_max_mps: float
-    ) -> tuple[FloatArray, bool]:
-        """Parked robots drive to their slots at up to v_max; done when every robot is in its slot."""
-        slots = self.slots
-        to_slot = slots[:, self.slot_of[parked]] - points[:, parked]
+    def drive(self, points: FloatArray, parked: BoolArray, velocity: FloatArray, v_max_mps: float) -> FloatArray:
+        """Parked robots drive to their slots at up to v_max; the others keep their ``velocity``."""
+        to_slot = self.slots[:, self.slot_of[parked]] - points[:, parked]
         reach = np.maximum(np.hypot(to_slot[0], to_slot[1]), 1e-9)
         velocity = velocity.copy()
         velocity[:, parked] = to_slot * np.minimum(1.0, v_max_mps / reach)
-        done = bool(parked.all()) and bool(np.all(np.hypot(*(slots[:, self.slot_of] - points)) < PARKED_WITHIN_M))
-        return velocity, done
+        return velocity
+
+    def all_in(self, points: FloatArray, parked: BoolArray) -> bool:
+        """Done: every robot holds a slot and its control point (``points``, (2, N)) is within
+        :data:`PARKED_WITHIN_M` of it."""
+        near = np.hypot(*(self.slots[:, self.slot_of] - points)) < PARKED_WITHIN_M
+        return bool(parked.all()) and bool(near.all())

@@ -129,6 +129,7 @@ class SwarmStep:
         if np.count_nonzero(np.isfinite(points)) < points.size:  # a count: the cheapest test of a small array
             msg = f'points of robots {np.flatnonzero(~np.isfinite(points).all(axis=0)).tolist()} are not finite.'
             raise ValueError(msg)
+        measured = points
         if p.compensates:
             if self.predictor is None:
                 delay, lag = p.compensate_delay_steps, p.compensate_lag_s
@@ -161,7 +162,8 @@ class SwarmStep:
         if self.parking is None:
             done = np.count_nonzero(exited) == exited.size
         else:
-            velocity, done = self.parking.drive(points, parked, velocity, p.v_max_mps)
+            velocity = self.parking.drive(points, parked, velocity, p.v_max_mps)
+            done = self.parking.all_in(measured, parked)  # where the robots are seen, not where they are predicted
         if self.plan is not None:
             self.r_a = next_radius(r_a, density, self.plan.density(l_plan), p, dt_s)
         self._sent = velocity

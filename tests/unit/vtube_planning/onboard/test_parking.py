@@ -44,20 +44,20 @@ def test_parked_robots_drive_to_their_slots_at_most_at_v_max() -> None:
     parking.take(np.array([True, True]), np.zeros(2))
     assert parking.slot_of.tolist() == [1, 0]  # the farthest row first
     points = np.array([[0.0, 1.0 - 0.5 * PARKED_WITHIN_M], [0.0, 0.0]])
-    velocity, done = parking.drive(points, np.array([True, True]), np.zeros((2, 2)), v_max_mps=0.2)
+    velocity = parking.drive(points, np.array([True, True]), np.zeros((2, 2)), v_max_mps=0.2)
     np.testing.assert_allclose(velocity[:, 0], [0.2, 0.0])  # 2 m away: capped at v_max towards the slot
     np.testing.assert_allclose(velocity[:, 1], [0.5 * PARKED_WITHIN_M, 0.0])  # near: the remaining offset
-    assert not done
+    assert not parking.all_in(points, np.array([True, True]))
     at = slots[:, parking.slot_of] + 0.5 * PARKED_WITHIN_M / np.sqrt(2)
-    _, done = parking.drive(at, np.array([True, True]), np.zeros((2, 2)), 0.2)
-    assert done
+    assert parking.all_in(at, np.array([True, True]))
 
 
 def test_robots_not_parked_keep_their_commands_and_hold_up_done() -> None:
     parking = Parking(np.array([[1.0, 2.0], [0.0, 0.0]]), 2, np.array([1.0, 2.0]), np.zeros(2))
     parked = parking.take(np.array([True, False]), np.zeros(2))
     command = np.array([[0.3, 0.4], [0.1, -0.1]])
-    velocity, done = parking.drive(np.array([[2.0, 0.0], [0.0, 0.0]]), parked, command, 0.2)
+    velocity = parking.drive(np.array([[2.0, 0.0], [0.0, 0.0]]), parked, command, 0.2)
     np.testing.assert_allclose(velocity[:, 1], command[:, 1])
-    assert not done
+    assert parking.slot_of.tolist() == [1, -1]
+    assert not parking.all_in(np.array([[2.0, 2.0], [0.0, 0.0]]), parked)  # robot 0 in its slot; 1 holds none
     np.testing.assert_allclose(velocity[:, 0], 0.0, atol=1e-12)

@@ -131,3 +131,24 @@ def test_a_robot_leaves_for_its_slot_only_as_far_beyond_the_exit_as_the_nearest_
     assert beyond.parked.tolist() == [True, False]
     to_slot = slots[:, 0] - np.array([50.35, 2.0])
     np.testing.assert_allclose(beyond.velocity[:, 0], to_slot * min(1.0, SWARM.v_max_mps / np.hypot(*to_slot)))
+
+
+def test_with_a_delay_to_compensate_the_robots_seen_in_their_slots_are_done() -> None:
+    """Parking steers the predicted control points, but "done" is where the robots are seen: robots standing in
+    their slots while a fast command is still on its way (one period of three in flight: predicted 0.2 m on) are
+    done; robots 0.05 m beyond their slots, predicted back in them, are not."""
+    slots = np.array([[50.6, 50.3], [0.0, 0.0]])
+    params = replace(PRACTICAL, compensate_delay_steps=3.0).step_params(SWARM)
+    at_slots = slots.copy()
+    step = SwarmStep(wide_tube(), params, 2, constant_speed_mps=3.0, parking_slots=slots)
+    step(at_slots, 0.1)
+    step.sent(np.array([[2.0, 2.0], [0.0, 0.0]]))  # 2 m/s in x for one period of 0.1 s: 0.2 m ahead
+    seen_in = step(at_slots, 0.1)
+    assert seen_in.parked.all() and seen_in.done
+    np.testing.assert_allclose(seen_in.velocity, [[-0.2, -0.2], [0.0, 0.0]], atol=1e-12)  # back to the slots
+    beyond = SwarmStep(wide_tube(), params, 2, constant_speed_mps=3.0, parking_slots=slots)
+    beyond(slots + [[0.05], [0.0]], 0.1)
+    beyond.sent(np.array([[-0.5, -0.5], [0.0, 0.0]]))  # 0.05 m back in one period: predicted at the slots
+    predicted_in = beyond(slots + [[0.05], [0.0]], 0.1)
+    assert predicted_in.parked.all() and not predicted_in.done
+    np.testing.assert_allclose(predicted_in.velocity, 0.0, atol=1e-12)
