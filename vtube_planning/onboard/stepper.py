@@ -67,9 +67,9 @@ class SwarmStep:
         The forward speed without a plan.
     parking_slots
         Slots (2, N) beyond the exit for robots that leave the tube; None lets them fly on. A robot leaves for its
-        slot once it is as far beyond the exit as the nearest slot: until then the law keeps it off the walls'
-        lines (turning for a slot at the exit put the bodies of robots leaving beside a wall over it: 25
-        robot-steps on the trapezoid without initialization; none since).
+        slot once it is as far beyond the exit as the nearest slot: until then it flies the law, along the tube
+        (turning for a slot at the exit put the bodies of robots leaving beside a wall over it: 25 robot-steps on
+        the trapezoid without initialization). The swarm is done when every robot is *seen* in its slot.
     warm_projection
         Project the robots starting from their previous projection (``tube.project_near``: the same arc lengths
         to about 1e-12 m, certified or else searched globally) instead of searching the whole tube each period
