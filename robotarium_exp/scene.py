@@ -65,8 +65,10 @@ ROBOTARIUM_VALUES: Values = {
         'plan_at': ('center', "the plan is made for the swarm's centre (docs/theory.md A16)"),
         'compensate_delay_steps': (
             0.5 * (FITTED.delay_v_steps + FITTED.delay_omega_steps),
-            "the real robots' command delay (testbed model 'fitted', docs/robotarium.md §2.8): the step acts on where "
-            'the robots will be when its command arrives (docs/theory.md §9)',
+            (
+                "the real robots' command delay (testbed model 'fitted', docs/robotarium.md §2.8): the step acts on "
+                'where the robots will be when its command arrives (docs/theory.md §9)'
+            ),
         ),
         'compensate_lag_s': (FITTED.lag_s, "the real robots' first-order lag, compensated with the delay"),
     },
