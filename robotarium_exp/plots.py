@@ -39,7 +39,7 @@ def _arena_panel(ax: Axes, result: ExperimentResult, scene: Scene) -> None:
 
     arrays = result.arrays
     t = arrays['t_s']
-    draw_tube(ax, scene.tube, n_sections=8)
+    draw_tube(ax, scene.tube, n_sections=8, obstacles=scene.obstacles)
     xmin, xmax, ymin, ymax = ROBOTARIUM.arena_m
     ax.add_patch(Rectangle((xmin, ymin), xmax - xmin, ymax - ymin, fill=False, ec='k', lw=1.2))
     cmap = colormaps['viridis']

@@ -12,6 +12,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from vtube_planning.geometry.obstacles import Obstacles
     from vtube_planning.geometry.scene import Scene
     from vtube_planning.geometry.tube import VirtualTube
     from vtube_planning.geometry.workspace import Workspace
@@ -19,8 +20,20 @@ if TYPE_CHECKING:
     from vtube_planning.swarm.simulate import SimResult
 
 
-def draw_tube(ax: Axes, tube: VirtualTube, *, n_sections: int = 12) -> None:
-    """Draw a tube in the plane: filled interior, boundaries, centre line, cross-sections, entrance and exit."""
+def draw_tube(ax: Axes, tube: VirtualTube, *, n_sections: int = 12, obstacles: Obstacles | None = None) -> None:
+    """Draw a tube in the plane: filled interior, boundaries, centre line, cross-sections, entrance and exit, and
+    the ``obstacles`` around it (grey)."""
+    from matplotlib.patches import Circle
+    from matplotlib.patches import Polygon as PolygonPatch
+
+    discs = obstacles.discs if obstacles else ()
+    polygons = obstacles.polygons if obstacles else ()
+    for k, disc in enumerate(discs):
+        label = 'obstacles' if k == 0 else None
+        ax.add_patch(Circle(disc.center_m, disc.radius_m, color='0.55', alpha=0.8, lw=0, label=label))
+    for k, polygon in enumerate(polygons):
+        label = 'obstacles' if k == 0 and not discs else None
+        ax.add_patch(PolygonPatch(np.array(polygon.vertices_m), color='0.55', alpha=0.8, lw=0, label=label))
     grid = np.linspace(0.0, tube.length_m, 1200)
     left, right = tube.boundaries(grid)
     center = tube.center_at(grid)
@@ -48,7 +61,7 @@ def scene_figure(scene: Scene) -> Figure:
     fig = Figure(figsize=(10.0, 7.5), layout='constrained')
     grid_spec = fig.add_gridspec(2, 2, height_ratios=[1.6, 1.0])
     ax_plane = fig.add_subplot(grid_spec[0, :])
-    draw_tube(ax_plane, tube)
+    draw_tube(ax_plane, tube, obstacles=scene.obstacles)
     if scene.workspace is not None:
         _draw_workspace(ax_plane, scene.workspace)
     ax_plane.legend(loc='best', fontsize=8)

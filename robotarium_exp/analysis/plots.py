@@ -59,7 +59,7 @@ def _paths_figure(results: dict[str, Analysis], scene: Scene | None) -> Figure:
     axes = np.atleast_1d(paths.subplots(len(results), 1))
     for ax, (label, a) in zip(axes, results.items(), strict=True):
         if scene is not None:
-            draw_tube(ax, scene.tube, n_sections=8)
+            draw_tube(ax, scene.tube, n_sections=8, obstacles=scene.obstacles)
         p, t = a.trajectory.positions_m, a.trajectory.t_s
         for k in range(p.shape[2]):
             ax.plot(p[:, 0, k], p[:, 1, k], color='0.6', lw=0.6)

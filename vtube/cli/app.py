@@ -11,7 +11,7 @@ from typing import Any
 from robotarium_exp.errors import RobotariumExpError
 from robotarium_exp.rps.errors import RobotariumError
 from unicycle_mapping.errors import MappingError
-from vtube.cli import analyze, demo, plan, robotarium, scene, simulate, study, submission, sweep
+from vtube.cli import analyze, demo, plan, robotarium, scene, simulate, study, submission, sweep, tube
 from vtube.cli.command import EXIT_BAD_INPUT, EXIT_INTERRUPTED, BadInput, Command
 from vtube.cli.render import error, interrupted, render
 from vtube_planning.errors import VtubeError
@@ -20,6 +20,7 @@ COMMANDS: dict[str, Command[Any]] = {
     command.words: command
     for command in (
         *scene.COMMANDS,
+        tube.COMMAND,
         plan.COMMAND,
         simulate.COMMAND,
         *study.COMMANDS,
@@ -34,6 +35,7 @@ COMMANDS: dict[str, Command[Any]] = {
 
 GROUPS = {
     'scene': 'list and draw scenes',
+    'tube': 'generate a tube from an obstacle map',
     'campaign': 'run a study declared in a TOML file, anywhere, resumably',
     'robotarium': 'the tube experiment on the bundled Robotarium simulator',
     'submission': 'build and check the single file for the remote Robotarium',

@@ -24,6 +24,9 @@ value of the wrong type raises :class:`SceneError` naming the file, the table an
     [swarm]                             # optional; any SwarmParams field, Table 1 defaults otherwise
     [planning]                          # optional; any PlanningOptions field
     [control]                           # optional; any ControlParams field (controller gains and options)
+    [obstacles]                         # optional; discs = [{ center_m = [x, y], radius_m = r }],
+                                        # polygons = [{ vertices_m = [[x, y], ...] }]: no cross-section of
+                                        # the tube may meet one (proved on loading, obstacles.obstacle_certificate)
     [workspace]                         # optional; x_min_m, x_max_m, y_min_m, y_max_m, margin_m: the tube
                                         # boundaries must stay inside the rectangle by at least margin_m
 """
@@ -47,6 +50,7 @@ else:  # Python 3.10 (ROS 2 Humble on Ubuntu 22.04)
 from vtube_planning._validate import is_real
 from vtube_planning.errors import SceneError, VtubeError
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece, CenterCurve, SplineCurve
+from vtube_planning.geometry.obstacles import NO_OBSTACLES, Obstacles, certified_obstacles
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
 from vtube_planning.geometry.workspace import Workspace
@@ -96,6 +100,8 @@ class Scene:
         The testbed the scene is declared for (``'robotarium'``: a ``[robotarium]`` table), or None.
     derived
         The values derived from the declaration, with their reasons (empty for a scene that writes them all).
+    obstacles
+        Obstacles around the tube (``[obstacles]``): drawn, and certified clear of every cross-section on loading.
     """
 
     name: str
@@ -110,6 +116,7 @@ class Scene:
     text: str = ''
     testbed: str | None = None
     derived: tuple[Derived, ...] = ()
+    obstacles: Obstacles = NO_OBSTACLES
 
 
 def list_scenes() -> list[str]:
@@ -206,7 +213,10 @@ def tube_from_data(data: dict[str, Any], *, name: str, source: str) -> VirtualTu
 def _build(data: dict[str, Any], tube: VirtualTube, *, source: str) -> Scene:
     where = _Where(source)
     where.keys(
-        data, '', required=('tube',), optional=('title', 'description', 'swarm', 'planning', 'control', 'workspace')
+        data,
+        '',
+        required=('tube',),
+        optional=('title', 'description', 'swarm', 'planning', 'control', 'workspace', 'obstacles'),
     )
     name = tube.name
     swarm = SwarmParams(**_options(data, 'swarm', SwarmParams, where))
@@ -216,6 +226,10 @@ def _build(data: dict[str, Any], tube: VirtualTube, *, source: str) -> Scene:
     if 'workspace' in data:
         workspace = Workspace(**_options(data, 'workspace', Workspace, where))
         _check_workspace(tube, workspace, where)
+    try:
+        obstacles = certified_obstacles(tube, data['obstacles']) if 'obstacles' in data else NO_OBSTACLES
+    except SceneError as err:
+        raise where.fail(str(err)) from err
     return Scene(
         name=name,
         title=str(data.get('title', name)),
@@ -226,6 +240,7 @@ def _build(data: dict[str, Any], tube: VirtualTube, *, source: str) -> Scene:
         control=control,
         workspace=workspace,
         source=source,
+        obstacles=obstacles,
     )
 
 

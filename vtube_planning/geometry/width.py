@@ -15,6 +15,7 @@ Outside [0, L] the profile continues with its end values (the tube's straight ex
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -147,6 +148,23 @@ class WidthProfile:
         inside = (l_m >= 0.0) & (l_m <= self.length_m)
         return np.where(inside, self._poly(np.clip(l_m, 0.0, self.length_m), 1), 0.0)
 
+    def max_abs_slope(self) -> float:
+        """max |d lambda / dl| over [0, L], exact: the slope of each polynomial piece (degree 3 at most) at both
+        ends of the piece and where its own derivative vanishes."""
+        slope = self._poly.derivative()
+        widths = np.diff(slope.x)
+        candidates = [np.abs(slope(slope.x))]
+        if slope.c.shape[0] == 3:  # quadratic slopes: a x^2 + b x + c on [0, h], extremum at -b / 2a
+            a, b = slope.c[0], slope.c[1]
+            with np.errstate(divide='ignore', invalid='ignore'):
+                vertex = np.where(a != 0.0, -b / (2.0 * a), -1.0)
+            inside = (vertex > 0.0) & (vertex < widths)
+            candidates.append(np.abs(slope(slope.x[:-1][inside] + vertex[inside])))
+        elif slope.c.shape[0] > 3:
+            msg = f'width pieces of degree {slope.c.shape[0]} are not expected (at most cubic).'
+            raise TubeError(msg)
+        return float(max(float(np.nanmax(c)) if c.size else 0.0 for c in candidates))
+
     def area(self, l_m: FloatArray) -> FloatArray:
         """Cumulative area A(l) = integral_0^l 2 lambda in m^2 (negative for l < 0, as the extension's area)."""
         l_m = np.asarray(l_m, dtype=float)
@@ -230,3 +248,33 @@ def _polynomial_pieces(start_m: float, parts: tuple[WidthPart, ...]) -> tuple[li
                 add(corner, [0.0, -slope / (2.0 * corner), slope, to - 0.5 * slope * corner])
         value = to
     return breaks, coefs
+
+
+def width_under(l_m: FloatArray, bound: FloatArray, slope_max: float, cells: int) -> WidthProfile:
+    """A width profile over [l_m[0] = 0, l_m[-1]] that never exceeds ``bound`` (sampled at the increasing ``l_m``;
+    the caller accounts for what lies between samples), with |d lambda / dl| <= ``slope_max``: ``cells`` ramps
+    (``linear`` parts with corners of a tenth of their length) or constant parts between evenly spaced knots.
+
+    A ramp lies between the values at its two knots, and a knot's value v_j is the bound's minimum over both parts
+    that meet there, so the width stays under the bound. Values are then lowered, never raised, until neighbours
+    differ by at most ``slope_max`` x 0.9 x the part's length (a ramp with corners c rises (length - c) x its
+    steepest slope).
+    """
+    knots = np.linspace(0.0, float(l_m[-1]), cells + 1)
+    part = float(knots[1] - knots[0])
+    corner = DEFAULT_CORNER_FRACTION * part
+    values = np.array([bound[(l_m >= a - part - 1e-12) & (l_m <= a + part + 1e-12)].min() for a in knots])
+    rise = slope_max * (part - corner)
+    for k in range(1, cells + 1):  # forward and backward: the largest values below these with rises <= rise
+        values[k] = min(values[k], values[k - 1] + rise)
+    for k in range(cells - 1, -1, -1):
+        values[k] = min(values[k], values[k + 1] + rise)
+    parts: list[WidthPart] = []
+    for a, b in itertools.pairwise(values):
+        if b != a:
+            parts.append(WidthPart('linear', part, to_m=float(b), corner_m=corner))
+        elif parts and parts[-1].kind == 'constant':
+            parts[-1] = WidthPart('constant', parts[-1].length_m + part)
+        else:
+            parts.append(WidthPart('constant', part))
+    return WidthProfile(float(values[0]), tuple(parts))

@@ -44,6 +44,7 @@ def test_every_command_is_reachable_by_its_words(capsys) -> None:
     assert {words.split()[0] for words in COMMANDS if ' ' in words} == set(GROUPS)
     assert first_words == {
         'scene',
+        'tube',
         'plan',
         'simulate',
         'study',

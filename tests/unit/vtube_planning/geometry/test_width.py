@@ -62,3 +62,22 @@ def test_width_with_kinks_is_not_c1_and_names_the_arc_length() -> None:
 def test_negative_width_names_the_arc_length() -> None:
     with pytest.raises(TubeError, match=r'to_m = -1.0 m at l = 9\.000 m'):
         WidthProfile(3.0, (WidthPart('constant', 5.0), WidthPart('smooth', 4.0, to_m=-1.0)))
+
+
+@pytest.mark.parametrize('seed', range(5))
+def test_the_width_under_a_bound_stays_under_it_with_its_slope_limited(seed: int) -> None:
+    """Random rough bounds: the fitted width never exceeds the bound at any sample, its steepest slope (exact) is
+    within the limit, and it loses little against the widest slope-limited function under the bound (the lower
+    envelope min_k bound_k + slope |l - l_k|): at most a slope over two parts (0.75 m each)."""
+    from vtube_planning.geometry.width import width_under
+
+    rng = np.random.default_rng(seed)
+    l_m = np.linspace(0.0, 30.0, 3001)
+    bound = 1.5 + np.cumsum(rng.normal(0.0, 0.05, l_m.size)).clip(-1.0, 1.0)
+    bound[1200:1800] = 2.0  # 6 m flat
+    width = width_under(l_m, bound, 0.3, 40)
+    assert width.length_m == pytest.approx(30.0, rel=1e-12)
+    assert np.all(width.value(l_m) <= bound + 1e-12)
+    assert width.max_abs_slope() <= 0.3 + 1e-12
+    envelope = (bound[None, :] + 0.3 * np.abs(l_m[:, None] - l_m[None, :])).min(axis=1)
+    assert np.all(width.value(l_m) >= envelope - 0.3 * 2 * 0.75 - 1e-9)

@@ -1,0 +1,178 @@
+"""Tube generation from an obstacle map: a certified, regular tube through the passage, checked independently at
+1 cm; refusals that name the place and the reason; seeded random maps; the map file and its round trip."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from matplotlib.path import Path as MplPath
+
+from vtube_planning.errors import SceneError
+from vtube_planning.geometry.generate import TubeGenerationError, TubeSpec, generate_tube
+from vtube_planning.geometry.map_file import generated_scene
+from vtube_planning.geometry.obstacles import Disc, Obstacles, Polygon
+from vtube_planning.geometry.scene import scene_from_text
+from vtube_planning.geometry.workspace import Workspace
+
+MAP = Workspace(0.0, 20.0, 0.0, 10.0, margin_m=0.2)
+
+
+def wall_with_gap(gap_low: float, gap_high: float) -> Obstacles:
+    """A wall across the map at x in [9, 11] with a gap between y = gap_low and y = gap_high."""
+    return Obstacles(
+        polygons=(
+            Polygon(((9.0, 0.0), (11.0, 0.0), (11.0, gap_low), (9.0, gap_low))),
+            Polygon(((9.0, gap_high), (11.0, gap_high), (11.0, 10.0), (9.0, 10.0))),
+        )
+    )
+
+
+def spec(obstacles: Obstacles, **options: float) -> TubeSpec:
+    values = {'half_width_min_m': 0.5, 'half_width_max_m': 2.0, 'margin_m': 0.1, 'resolution_m': 0.1, **options}
+    return TubeSpec(MAP, obstacles, (1.0, 2.0), (19.0, 8.0), **values)  # type: ignore[arg-type]
+
+
+def tube_points(tube, step_m: float = 0.01) -> np.ndarray:
+    """Every cross-section every 1 cm, 101 points across each."""
+    l_m = np.arange(0.0, tube.length_m + step_m, step_m).clip(max=tube.length_m)
+    centers, normals, half = tube.center_at(l_m), tube.normal(l_m), tube.half_width(l_m)
+    across = np.linspace(-1.0, 1.0, 101)
+    return (centers[:, None, :] + (half[:, None] * across)[:, :, None] * normals[:, None, :]).reshape(-1, 2)
+
+
+def assert_misses(tube, obstacles: Obstacles, margin_m: float) -> None:
+    """No point of the tube within ``margin_m`` of an obstacle, by an independent test: discs by distance, polygons
+    by matplotlib's inside test on the polygon grown by the margin (its edges' offset squares)."""
+    points = tube_points(tube)
+    for disc in obstacles.discs:
+        assert np.hypot(*(points - disc.center_m).T).min() >= disc.radius_m + margin_m - 1e-9
+    for polygon in obstacles.polygons:
+        xy = np.array(polygon.vertices_m)
+        assert not MplPath(xy).contains_points(points).any()
+        for a, b in zip(xy, np.roll(xy, -1, axis=0)):
+            d = b - a
+            t = np.clip(((points - a) @ d) / (d @ d), 0.0, 1.0)
+            assert np.hypot(*(points - a - t[:, None] * d).T).min() >= margin_m - 1e-9
+
+
+def test_the_tube_threads_the_gap_regular_and_clear() -> None:
+    obstacles = wall_with_gap(4.0, 7.0)  # 3 m gap: room 1.5 m around its middle line y = 5.5
+    made = generate_tube(spec(obstacles))
+    tube = made.tube
+    assert made.certificate.clear
+    assert np.allclose(tube.center_at(np.array([0.0]))[0], [1.0, 2.0])
+    assert np.allclose(tube.center_at(np.array([tube.length_m]))[0], [19.0, 8.0], atol=1e-9)
+    at_wall = tube.project(np.array([[10.0], [5.5]]))
+    assert abs(float(at_wall.y_m[0])) < 1.0  # through the gap
+    l_m = np.linspace(0.0, tube.length_m, 20001)
+    half = tube.half_width(l_m)
+    assert half.min() >= 0.5 - 1e-12 and half.max() <= 2.0 + 1e-12
+    assert np.max(half * np.abs(tube.curvature(l_m))) <= 0.8 + 1e-9  # curvature_share
+    assert tube.width.max_abs_slope() <= 0.3 + 1e-12
+    assert_misses(tube, obstacles, 0.1)
+    left, right = tube.boundaries(l_m)
+    for side in (left, right):
+        assert np.all(MAP.clearance(side) >= MAP.margin_m - 1e-9)
+
+
+def test_a_gap_too_narrow_is_refused_with_the_widest_passage() -> None:
+    with pytest.raises(TubeGenerationError, match=r'no passage .* the widest has about 0\.3[5-9]\d m') as refused:
+        generate_tube(spec(wall_with_gap(4.0, 4.8)))  # 0.8 m: room 0.4 m, the tube needs 0.5 + 0.1 + ...
+    assert 'lower half_width_min_m or margin_m, or move an obstacle' in str(refused.value)
+
+
+def test_a_start_inside_an_obstacle_or_a_tight_turn_is_refused_with_its_place() -> None:
+    blocked = Obstacles((Disc((1.0, 2.0), 0.3),))
+    with pytest.raises(TubeGenerationError, match=r'the start \(1\.000, 2\.000\) has 0\.000 m of room'):
+        generate_tube(spec(blocked))
+    # a zigzag through two offset gaps forces turns sharper than a 20 m radius allows
+    zigzag = Obstacles(
+        polygons=(
+            Polygon(((6.0, 0.0), (7.0, 0.0), (7.0, 7.0), (6.0, 7.0))),
+            Polygon(((13.0, 3.0), (14.0, 3.0), (14.0, 10.0), (13.0, 10.0))),
+        )
+    )
+    with pytest.raises(TubeGenerationError, match=r'the turn of \d+ degrees at \(\d+\.\d+, \d+\.\d+\) has room'):
+        generate_tube(spec(zigzag, turn_radius_min_m=20.0))
+    made = generate_tube(spec(zigzag, turn_radius_min_m=0.5))  # a gentler limit threads it
+    assert_misses(made.tube, zigzag, 0.1)
+
+
+@pytest.mark.parametrize('seed', range(8))
+def test_seeded_random_forests_give_a_clear_tube_or_a_refusal(seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    discs = tuple(
+        Disc((float(x), float(y)), float(r))
+        for x, y, r in zip(rng.uniform(3, 17, 12), rng.uniform(0, 10, 12), rng.uniform(0.3, 1.2, 12), strict=True)
+    )
+    obstacles = Obstacles(discs)
+    try:
+        made = generate_tube(spec(obstacles, half_width_min_m=0.3))
+    except TubeGenerationError as err:
+        assert str(err)  # a refusal says why
+        return
+    assert made.certificate.clear
+    assert_misses(made.tube, obstacles, 0.1)
+
+
+MAP_FILE = """
+title = "Gap"
+
+[tube.generate]
+start_m = [1.0, 2.0]
+goal_m = [19.0, 8.0]
+half_width_min_m = 0.5
+half_width_max_m = 2.0
+margin_m = 0.1
+
+[workspace]
+x_min_m = 0.0
+x_max_m = 20.0
+y_min_m = 0.0
+y_max_m = 10.0
+margin_m = 0.2
+
+[obstacles]
+polygons = [
+    { vertices_m = [[9.0, 0.0], [11.0, 0.0], [11.0, 4.0], [9.0, 4.0]] },
+    { vertices_m = [[9.0, 7.0], [11.0, 7.0], [11.0, 10.0], [9.0, 10.0]] },
+]
+
+[swarm]
+v_min_mps = 1.0
+"""
+
+
+def test_the_map_file_becomes_a_scene_that_loads_to_the_same_tube() -> None:
+    text, made = generated_scene(MAP_FILE, 'gap.toml')
+    assert '\n[tube.generate]' not in text and '\n[tube.center]' in text and '\n[obstacles]' in text
+    assert text.index('[tube.center]') > text.index('title = "Gap"')  # in place of [tube.generate]
+    assert 'turn_radius_min_m = 1.0' in text  # v_min^2 / a_n from [swarm]: 1^2 / 1
+    scene = scene_from_text(text, name='gap', source='gap_scene.toml')
+    l_m = np.linspace(0.0, made.tube.length_m, 5001)
+    assert scene.tube.length_m == pytest.approx(made.tube.length_m, rel=1e-12)
+    np.testing.assert_allclose(scene.tube.center_at(l_m), made.tube.center_at(l_m), atol=1e-9)
+    np.testing.assert_allclose(scene.tube.half_width(l_m), made.tube.half_width(l_m), atol=1e-12)
+    assert len(scene.obstacles.polygons) == 2 and scene.swarm.v_min_mps == 1.0
+
+
+def test_map_file_errors_name_the_fix() -> None:
+    with pytest.raises(SceneError, match=r"missing field 'goal_m' in \[tube.generate\]"):
+        generated_scene(MAP_FILE.replace('goal_m = [19.0, 8.0]\n', ''), 'gap.toml')
+    with pytest.raises(SceneError, match=r"unknown key 'width_m' in \[tube.generate\]"):
+        generated_scene(MAP_FILE.replace('margin_m = 0.1\n', 'width_m = 0.1\n', 1), 'gap.toml')
+    with pytest.raises(SceneError, match=r'a map file needs \[workspace\]'):
+        generated_scene(MAP_FILE.split('[workspace]')[0], 'gap.toml')
+    with pytest.raises(SceneError, match=r'half_width_min_m must be a finite number > 0'):
+        generated_scene(MAP_FILE.replace('half_width_min_m = 0.5', 'half_width_min_m = -0.5'), 'gap.toml')
+
+
+def test_the_readme_example_map_gives_a_certified_tube_that_misses_its_obstacles() -> None:
+    from pathlib import Path
+
+    path = Path(__file__).parents[4] / 'docs' / 'maps' / 'forest.toml'
+    text, made = generated_scene(path.read_text(encoding='utf-8'), str(path))
+    scene = scene_from_text(text, name='forest', source='forest_scene.toml')
+    assert len(scene.obstacles.discs) == 30 and len(scene.obstacles.polygons) == 3
+    assert scene.tube.summary()['curvature_radius_min_m'] >= 4.0  # v_min^2 / a_n of Table 1
+    assert_misses(made.tube, scene.obstacles, 0.3)

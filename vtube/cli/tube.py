@@ -1,0 +1,66 @@
+"""``vtube tube generate``: a regular tube generated from an obstacle map, written as an ordinary scene file."""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from vtube.cli.command import BadInput, Command, View
+
+if TYPE_CHECKING:
+    from vtube_planning.geometry.generate import GeneratedTube
+
+
+@dataclass(frozen=True)
+class TubeGenerated:
+    """The scene file written from ``source``, and the tube generated."""
+
+    source: Path
+    path: Path
+    generated: GeneratedTube
+    seconds: float
+
+
+def generate_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        'map', type=Path, help='a map file: a scene file with [tube.generate], [workspace], [obstacles]'
+    )
+    parser.add_argument('--out', type=Path, required=True, help='the scene file to write (must not exist)')
+
+
+def generate(args: argparse.Namespace) -> TubeGenerated:
+    import time
+
+    from vtube_planning.geometry.map_file import generated_scene
+
+    path: Path = args.out
+    if path.exists():
+        msg = f'{path} exists; give another file name (nothing was written).'
+        raise BadInput(msg)
+    started = time.perf_counter()
+    text, generated = generated_scene(args.map.read_text(encoding='utf-8'), str(args.map))
+    seconds = time.perf_counter() - started
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text, encoding='utf-8')
+    return TubeGenerated(args.map, path, generated, seconds)
+
+
+def generate_view(result: TubeGenerated) -> View:
+    summary, certificate = result.generated.tube.summary(), result.generated.certificate
+    return View(
+        (
+            f'tube generated from {result.source} in {result.seconds:.2f} s, written to {result.path}',
+            f'  length                {summary["length_m"]:.3f} m, {len(result.generated.path_m)} path vertices',
+            f'  half-width            {summary["half_width_min_m"]:.3f} .. {summary["half_width_max_m"]:.3f} m',
+            f'  min curvature radius  {summary["curvature_radius_min_m"]:.3f} m',
+            f'  max lambda |kappa|    {summary["lambda_kappa_max"]:.3f}  (regular below 1)',
+            f'  obstacles             clear: closest {certificate}',
+        )
+    )
+
+
+COMMAND = Command(
+    'tube generate', 'generate a regular tube from an obstacle map', generate_arguments, generate, generate_view
+)

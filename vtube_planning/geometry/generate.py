@@ -1,0 +1,362 @@
+"""A regular virtual tube from an obstacle map: a path through the free space, lines and arcs, a width under the
+clearance, certified.
+
+The paper plans on a tube generated beforehand from the obstacles ([b12]); this is vtube's own generator
+(``docs/theory.md`` §10 gives the reasoning). The steps:
+
+1. *Clearance* on a grid of ``resolution_m``: each node's exact distance to the nearest obstacle or map edge
+   (:meth:`~vtube_planning.geometry.obstacles.Obstacles.clearance`).
+2. *Path*: the cheapest 8-connected grid path from start to goal through the nodes that leave room for the
+   narrowest tube (``half_width_min_m`` + ``margin_m``), each step costing its length times 1 + lambda_max /
+   clearance, so the path keeps to the middle of passages (Dijkstra, ``scipy.sparse.csgraph``). No path: refused
+   with the widest passage there is (the largest room for which start and goal stay connected).
+3. *Centre curve*: the path pulled straight (a vertex is dropped while the straight segment that skips it keeps the
+   room), then each corner rounded by the largest circular arc that fits in half of each neighbouring segment and
+   keeps the room; an arc below ``turn_radius_min_m`` is refused with the corner. Lines and arcs: an exact
+   :class:`~vtube_planning.geometry.centerline.ArcPath`, written as ``pieces`` in a scene file.
+4. *Width*: under the bound min(clearance - margin - the certificate's share, ``curvature_share`` / |kappa|,
+   ``half_width_max_m``), as ramps and constant parts between knots about 8 grid cells apart, with |lambda'| at
+   most ``slope_max`` (:func:`~vtube_planning.geometry.width.width_under`).
+5. *Certificate*: :class:`~vtube_planning.geometry.tube.VirtualTube` checks regularity (lambda |kappa| < 1, no
+   crossing cross-sections), :func:`~vtube_planning.geometry.obstacles.obstacle_certificate` proves that no
+   cross-section meets an obstacle between its samples, and every boundary keeps ``margin_m`` inside the map.
+
+Every refusal is a :class:`TubeGenerationError` naming the place and the reason.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import ndimage, sparse
+from scipy.sparse import csgraph
+
+from vtube_planning._validate import is_positive, is_real
+from vtube_planning.errors import TubeError, VtubeError
+from vtube_planning.geometry.centerline import ArcPath, ArcPiece
+from vtube_planning.geometry.obstacles import ObstacleCertificate, Obstacles, obstacle_certificate
+from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.geometry.width import WidthProfile, width_under
+from vtube_planning.geometry.workspace import Workspace
+
+FloatArray = NDArray[np.float64]
+
+
+class TubeGenerationError(VtubeError, ValueError):
+    """No certified tube for this map: the message names the place and the reason."""
+
+
+@dataclass(frozen=True)
+class TubeSpec:
+    """What to generate: the map (its rectangle and obstacles), start and goal, and the tube's limits.
+
+    Attributes
+    ----------
+    bounds
+        The map's rectangle; its ``margin_m`` is kept between the tube's boundaries and the map's edge.
+    obstacles
+        Discs and polygons.
+    start_m, goal_m
+        Where the centre curve starts and ends.
+    half_width_min_m, half_width_max_m
+        The narrowest half-width accepted (a passage with less room is refused) and the widest generated.
+    margin_m
+        Kept between the tube's walls and every obstacle.
+    turn_radius_min_m
+        The smallest radius of curvature of the centre curve (the planner's (p2) with (p4) need r_t >= v_min^2 /
+        a_n).
+    curvature_share
+        lambda <= curvature_share x r_t, below 1: regularity with room to spare.
+    slope_max
+        The largest |d lambda / dl|.
+    resolution_m
+        The grid of the path search.
+    """
+
+    bounds: Workspace
+    obstacles: Obstacles
+    start_m: tuple[float, float]
+    goal_m: tuple[float, float]
+    half_width_min_m: float
+    half_width_max_m: float
+    margin_m: float = 0.0
+    turn_radius_min_m: float = 0.0
+    curvature_share: float = 0.8
+    slope_max: float = 0.3
+    resolution_m: float = 0.1
+
+    def __post_init__(self) -> None:
+        for name in ('half_width_min_m', 'half_width_max_m', 'resolution_m', 'curvature_share', 'slope_max'):
+            if not is_positive(getattr(self, name)):
+                msg = f'tube generation: {name} must be a finite number > 0; got {getattr(self, name)!r}.'
+                raise TubeGenerationError(msg)
+        for name in ('margin_m', 'turn_radius_min_m'):
+            value = getattr(self, name)
+            if not is_real(value) or value < 0.0:
+                msg = f'tube generation: {name} must be a finite number >= 0; got {value!r}.'
+                raise TubeGenerationError(msg)
+        if self.half_width_max_m < self.half_width_min_m or self.curvature_share >= 1.0:
+            msg = (
+                'tube generation needs half_width_min_m <= half_width_max_m and curvature_share < 1; got '
+                f'{self.half_width_min_m}, {self.half_width_max_m}, {self.curvature_share}.'
+            )
+            raise TubeGenerationError(msg)
+        for name in ('start_m', 'goal_m'):
+            point = getattr(self, name)
+            if len(point) != 2 or not all(is_real(v) for v in point):
+                msg = f'tube generation: {name} must be [x, y], finite; got {point!r}.'
+                raise TubeGenerationError(msg)
+
+    @property
+    def certificate_share_m(self) -> float:
+        """What the obstacle certificate needs beyond the wall ((1 + slope) x half its sample spacing)."""
+        return (1.0 + self.slope_max) * 0.5 * min(0.01, 0.125 * self.half_width_min_m)
+
+    @property
+    def sample_m(self) -> float:
+        """The spacing of the width's samples along the centre curve."""
+        return 0.25 * self.resolution_m
+
+    @property
+    def room_m(self) -> float:
+        """The clearance the narrowest tube needs around its centre: lambda_min, the margin, and what the
+        certificate and the width's samples take."""
+        return self.half_width_min_m + self.margin_m + self.certificate_share_m + 0.5 * self.sample_m
+
+    def clearance(self, points_m: FloatArray) -> FloatArray:
+        """Distance (k,) of (k, 2) points to the nearest obstacle or to the map's edge less its margin."""
+        edge = self.bounds.clearance(points_m) - self.bounds.margin_m + self.margin_m
+        return np.minimum(self.obstacles.clearance(points_m), edge)
+
+
+@dataclass(frozen=True)
+class GeneratedTube:
+    """A certified tube and how it was made: the tube, the path's vertices, the obstacle certificate."""
+
+    tube: VirtualTube
+    path_m: FloatArray
+    certificate: ObstacleCertificate
+
+
+def generate_tube(spec: TubeSpec, name: str = 'generated') -> GeneratedTube:
+    """The tube of ``spec`` (module doc), certified; :class:`TubeGenerationError` when there is none."""
+    grid = _Grid(spec)
+    path = grid.path()
+    corners = _pulled_straight(path, grid)
+    center = _rounded(corners, grid)
+    even = np.linspace(0.0, center.length_m, max(2, math.ceil(center.length_m / spec.sample_m) + 1))
+    joints = center.breakpoints[1:-1]  # both sides of every joint: an arc shorter than the spacing is sampled
+    samples = np.unique(np.concatenate([even, joints - 1e-9, joints + 1e-9]))
+    width = _width_parts(center, samples, spec)
+    try:
+        tube = VirtualTube(center, width, name=name)
+    except TubeError as err:
+        msg = f'the generated tube is not regular: {err}'
+        raise TubeGenerationError(msg) from err
+    certificate = obstacle_certificate(tube, spec.obstacles)
+    if not certificate.clear:
+        msg = f'the generated tube meets an obstacle: {certificate}'
+        raise TubeGenerationError(msg)
+    for points in tube.boundaries(samples):
+        edge = spec.bounds.clearance(points) - spec.bounds.margin_m
+        if edge.min() < -1e-9:
+            k = int(np.argmin(edge))
+            msg = f'the generated tube leaves the map at ({points[k, 0]:.3f}, {points[k, 1]:.3f}).'
+            raise TubeGenerationError(msg)
+    return GeneratedTube(tube, corners, certificate)
+
+
+class _Grid:
+    """The search grid: node centres, their clearance, and the free nodes (room for the narrowest tube)."""
+
+    def __init__(self, spec: TubeSpec) -> None:
+        b, h = spec.bounds, spec.resolution_m
+        self.spec = spec
+        self.x = np.arange(b.x_min_m + 0.5 * h, b.x_max_m, h)
+        self.y = np.arange(b.y_min_m + 0.5 * h, b.y_max_m, h)
+        if self.x.size < 2 or self.y.size < 2:
+            msg = f'the map ({b}) is smaller than two grid cells of resolution_m = {h}.'
+            raise TubeGenerationError(msg)
+        xx, yy = np.meshgrid(self.x, self.y, indexing='ij')
+        self.clear = spec.clearance(np.column_stack([xx.ravel(), yy.ravel()])).reshape(xx.shape)
+        self.free = self.clear >= spec.room_m + 0.5 * math.sqrt(2.0) * h  # a step between nodes keeps the room
+
+    def node(self, point: tuple[float, float], what: str) -> tuple[int, int]:
+        room = float(self.spec.clearance(np.array([point]))[0])
+        if room < self.spec.room_m:
+            msg = (
+                f'the {what} ({point[0]:.3f}, {point[1]:.3f}) has {room:.3f} m of room to the nearest obstacle or '
+                f'edge, less than the narrowest tube needs ({self.spec.room_m:.3f} m: half_width_min_m, margin_m '
+                'and 1 to 2 cm for the certificate); '
+                f'move the {what}.'
+            )
+            raise TubeGenerationError(msg)
+        i, j = np.abs(self.x - point[0]).argmin(), np.abs(self.y - point[1]).argmin()
+        return int(i), int(j)
+
+    def path(self) -> FloatArray:
+        """The cheapest free path (k, 2) from start to goal, its ends the given points."""
+        spec = self.spec
+        start, goal = self.node(spec.start_m, 'start'), self.node(spec.goal_m, 'goal')
+        shape = self.clear.shape
+        free = self.free.copy()
+        free[start] = free[goal] = True  # their room was checked exactly
+        weight = 1.0 + spec.half_width_max_m / np.maximum(self.clear, 1e-9)
+        index = np.arange(free.size).reshape(shape)
+        rows, cols, costs = [], [], []
+        for di, dj in ((1, 0), (0, 1), (1, 1), (1, -1)):
+            a = (slice(0, shape[0] - di), slice(max(0, -dj), shape[1] - max(0, dj)))
+            b = (slice(di, shape[0]), slice(max(0, dj), shape[1] - max(0, -dj)))
+            both = free[a] & free[b]
+            step = spec.resolution_m * math.hypot(di, dj)
+            rows.append(index[a][both])
+            cols.append(index[b][both])
+            costs.append(step * 0.5 * (weight[a][both] + weight[b][both]))
+        graph = sparse.coo_matrix(
+            (np.concatenate(costs), (np.concatenate(rows), np.concatenate(cols))), shape=(free.size, free.size)
+        ).tocsr()
+        source, target = int(index[start]), int(index[goal])
+        distances, previous = csgraph.dijkstra(graph, directed=False, indices=source, return_predecessors=True)
+        if not np.isfinite(distances[target]):
+            widest, needed = self._widest_passage(start, goal), spec.room_m + 0.5 * math.sqrt(2.0) * spec.resolution_m
+            msg = (
+                f'no passage from the start to the goal leaves {needed:.3f} m of room (half_width_min_m, '
+                f"margin_m, the certificate's share and half a grid diagonal); the widest has about {widest:.3f} m (to the grid's "
+                f'{spec.resolution_m} m): lower half_width_min_m or margin_m, or move an obstacle.'
+            )
+            raise TubeGenerationError(msg)
+        nodes = [target]
+        while nodes[-1] != source:
+            nodes.append(int(previous[nodes[-1]]))
+        i, j = np.unravel_index(np.array(nodes[::-1]), shape)
+        points = np.column_stack([self.x[i], self.y[j]])
+        points[0], points[-1] = spec.start_m, spec.goal_m
+        return points
+
+    def room(self, points: FloatArray) -> FloatArray:
+        """A lower bound (k,) of the clearance of (k, 2) points: the nearest node's less the distance to it (the
+        clearance is 1-Lipschitz)."""
+        h = self.spec.resolution_m
+        i = np.clip(np.rint((points[:, 0] - self.x[0]) / h).astype(int), 0, self.x.size - 1)
+        j = np.clip(np.rint((points[:, 1] - self.y[0]) / h).astype(int), 0, self.y.size - 1)
+        room: FloatArray = self.clear[i, j] - np.hypot(points[:, 0] - self.x[i], points[:, 1] - self.y[j])
+        return room
+
+    def _widest_passage(self, start: tuple[int, int], goal: tuple[int, int]) -> float:
+        """The largest clearance c for which start and goal are connected through nodes of clearance >= c (to
+        the grid's resolution)."""
+        levels = np.unique(self.clear[self.clear > 0.0])
+        lo, hi = 0, levels.size - 1
+        best = 0.0
+        while lo <= hi:
+            mid = (lo + hi) // 2
+            labels, _ = ndimage.label(self.clear >= levels[mid], structure=np.ones((3, 3)))
+            if labels[start] and labels[start] == labels[goal]:
+                best, lo = float(levels[mid]), mid + 1
+            else:
+                hi = mid - 1
+        return best
+
+
+def _segment_room(a: FloatArray, b: FloatArray, grid: _Grid) -> float:
+    """A lower bound of the clearance along the segment a-b: samples a fifth of the resolution apart (less half
+    their spacing: the clearance is 1-Lipschitz)."""
+    step = 0.2 * grid.spec.resolution_m
+    n = max(2, math.ceil(float(np.hypot(*(b - a))) / step) + 1)
+    points = a + np.linspace(0.0, 1.0, n)[:, None] * (b - a)
+    return float(grid.room(points).min()) - 0.5 * float(np.hypot(*(b - a))) / (n - 1)
+
+
+def _pulled_straight(path: FloatArray, grid: _Grid) -> FloatArray:
+    """The path's vertices with every vertex dropped whose neighbours see each other with the room kept."""
+    kept = [0]
+    while kept[-1] < len(path) - 1:
+        i, j = kept[-1], kept[-1] + 1
+        while j + 1 < len(path) and _segment_room(path[i], path[j + 1], grid) >= grid.spec.room_m:
+            j += 1
+        kept.append(j)
+    return path[kept]
+
+
+def _rounded(corners: FloatArray, grid: _Grid) -> ArcPath:
+    """Lines between the corners, each corner rounded by the largest arc that fits in half of each neighbouring
+    segment (most of the first and last) and keeps the room; refused below ``turn_radius_min_m``."""
+    spec = grid.spec
+    d = np.diff(corners, axis=0)
+    lengths = np.hypot(d[:, 0], d[:, 1])
+    headings = np.arctan2(d[:, 1], d[:, 0])
+    turns = np.angle(np.exp(1j * np.diff(headings)))  # (-pi, pi]
+    n_seg = lengths.size
+    share = np.full(n_seg, 0.5)
+    share[0] = share[-1] = 0.9  # the first and last segments serve one corner each
+    radii = np.zeros(turns.size)
+    for k, turn in enumerate(turns):
+        if abs(turn) < 1e-9:
+            continue
+        tangent = min(share[k] * lengths[k], share[k + 1] * lengths[k + 1])
+        radius = tangent / math.tan(0.5 * abs(turn))
+        while radius >= spec.turn_radius_min_m and not _arc_keeps_room(corners[k + 1], headings[k], turn, radius, grid):
+            radius *= 0.8
+        if radius < max(spec.turn_radius_min_m, 1e-6):
+            x, y = corners[k + 1]
+            msg = (
+                f'the turn of {math.degrees(abs(turn)):.0f} degrees at ({x:.3f}, {y:.3f}) has room for an arc of '
+                f'radius {radius:.3f} m at most, less than turn_radius_min_m = {spec.turn_radius_min_m}; move the '
+                'obstacles near it apart, or the start or goal.'
+            )
+            raise TubeGenerationError(msg)
+        radii[k] = radius
+    tangents = radii * np.tan(0.5 * np.abs(turns))
+    pieces: list[ArcPiece] = []
+    for k in range(n_seg):
+        straight = lengths[k] - (tangents[k - 1] if k > 0 else 0.0) - (tangents[k] if k < turns.size else 0.0)
+        if straight > 1e-9:
+            pieces.append(ArcPiece(float(straight)))
+        if k < turns.size and radii[k] > 0.0:
+            pieces.append(ArcPiece(float(radii[k] * abs(turns[k])), radius_m=float(radii[k]), left=bool(turns[k] > 0)))
+    return ArcPath(tuple(pieces), (float(corners[0, 0]), float(corners[0, 1])), float(headings[0]))
+
+
+def _arc_keeps_room(corner: FloatArray, heading: float, turn: float, radius: float, grid: _Grid) -> bool:
+    """Whether the arc rounding ``corner`` (entered at ``heading``, turning by ``turn``) keeps the room."""
+    tangent = radius * math.tan(0.5 * abs(turn))
+    entry = corner - tangent * np.array([math.cos(heading), math.sin(heading)])
+    side = 1.0 if turn > 0 else -1.0
+    normal = side * np.array([-math.sin(heading), math.cos(heading)])
+    center = entry + radius * normal
+    n = max(3, math.ceil(radius * abs(turn) / (0.2 * grid.spec.resolution_m)) + 1)
+    angles = np.linspace(0.0, turn, n)
+    start_angle = math.atan2(*(entry - center)[::-1])
+    points = center + radius * np.column_stack([np.cos(start_angle + angles), np.sin(start_angle + angles)])
+    spacing = radius * abs(turn) / (n - 1)
+    return bool(grid.room(points).min() - 0.5 * spacing >= grid.spec.room_m)
+
+
+def _width_parts(center: ArcPath, l_m: FloatArray, spec: TubeSpec) -> WidthProfile:
+    """A width under the bound (module doc, step 4) at the samples ``l_m``, with knots about 8 grid cells apart
+    (:func:`~vtube_planning.geometry.width.width_under`)."""
+    positions, _, kappa = center.frame(l_m)
+    with np.errstate(divide='ignore'):
+        curvature_bound = np.where(np.abs(kappa) > 0.0, spec.curvature_share / np.abs(kappa), np.inf)
+    bound = np.minimum.reduce(
+        [
+            spec.clearance(positions) - 0.5 * spec.sample_m - spec.margin_m - spec.certificate_share_m,
+            curvature_bound,
+            np.full(l_m.size, spec.half_width_max_m),
+        ]
+    )
+    if bound.min() < spec.half_width_min_m:
+        k = int(np.argmin(bound))
+        x, y = positions[k]
+        msg = (
+            f'at l = {l_m[k]:.3f} m, ({x:.3f}, {y:.3f}), the centre curve leaves room for a half-width of '
+            f'{max(bound[k], 0.0):.3f} m, less than half_width_min_m = {spec.half_width_min_m}'
+            + (' (the curve turns too tightly there)' if curvature_bound[k] <= bound[k] else '')
+            + '; lower half_width_min_m or margin_m, or move the obstacles apart.'
+        )
+        raise TubeGenerationError(msg)
+    cells = max(1, math.ceil(center.length_m / (8.0 * spec.resolution_m)))
+    return width_under(l_m, bound, spec.slope_max, cells)

@@ -1,0 +1,131 @@
+"""Map files: a scene file whose tube is to be generated, and the scene file the generator writes from it.
+
+A map file is a scene file (:mod:`vtube_planning.geometry.scene`) with ``[tube.generate]`` in place of
+``[tube.center]`` and ``[tube.width]``, a ``[workspace]`` (the map's rectangle) and ``[obstacles]``::
+
+    [tube.generate]
+    start_m = [2.0, 20.0]
+    goal_m = [78.0, 20.0]
+    half_width_min_m = 1.0       # a passage with less room is refused
+    half_width_max_m = 4.0
+    margin_m = 0.3               # optional; every other key of TubeSpec is optional too (turn_radius_min_m
+                                 # defaults to v_min^2 / a_n of the file's [swarm]: what the planner needs)
+
+:func:`generated_scene` generates the tube (:func:`~vtube_planning.geometry.generate.generate_tube`) and returns
+the file's text with ``[tube.generate]`` replaced by the tube's ``[tube.center]`` (lines and arcs) and
+``[tube.width]`` (constant and linear parts), every number written exactly (``repr``): an ordinary scene file that
+loads to the very tube generated, its obstacles certified again on loading.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import sys
+from dataclasses import fields
+from typing import Any
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # Python 3.10
+    import tomli as tomllib
+
+from vtube_planning.errors import SceneError
+from vtube_planning.geometry.centerline import ArcPath
+from vtube_planning.geometry.generate import GeneratedTube, TubeSpec, generate_tube
+from vtube_planning.geometry.obstacles import Obstacles, obstacles_from_table
+from vtube_planning.geometry.workspace import Workspace
+from vtube_planning.params import SwarmParams
+
+_TABLE = re.compile(r'^\s*\[')
+_GENERATE = re.compile(r'^\s*\[\s*tube\s*\.\s*generate\s*\]\s*(#.*)?$')
+
+
+def map_spec(data: dict[str, Any], source: str) -> TubeSpec:
+    """The generation spec of a map file's tables; :class:`SceneError` names what is missing or wrong."""
+    tube = data.get('tube')
+    if not isinstance(tube, dict) or set(tube) != {'generate'} or not isinstance(tube['generate'], dict):
+        msg = f'{source}: a map file has [tube.generate] and no other [tube] table (see vtube_planning.geometry.map_file).'
+        raise SceneError(msg)
+    table = dict(tube['generate'])
+    allowed = {f.name for f in fields(TubeSpec)} - {'bounds', 'obstacles'}
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        msg = f'{source}: unknown key {unknown[0]!r} in [tube.generate]; expected one of: {", ".join(sorted(allowed))}.'
+        raise SceneError(msg)
+    for key in ('start_m', 'goal_m', 'half_width_min_m', 'half_width_max_m'):
+        if key not in table:
+            msg = f'{source}: missing field {key!r} in [tube.generate]; add it.'
+            raise SceneError(msg)
+    if 'workspace' not in data:
+        msg = f'{source}: a map file needs [workspace] (x_min_m, x_max_m, y_min_m, y_max_m, margin_m): the map.'
+        raise SceneError(msg)
+    try:
+        bounds = Workspace(**data['workspace'])
+        obstacles = obstacles_from_table(data['obstacles']) if 'obstacles' in data else Obstacles()
+        if 'turn_radius_min_m' not in table:
+            swarm = SwarmParams(**{k: v for k, v in data.get('swarm', {}).items() if k in _SWARM_FIELDS})
+            table['turn_radius_min_m'] = swarm.v_min_mps**2 / swarm.a_n_mps2
+        table['start_m'], table['goal_m'] = tuple(table['start_m']), tuple(table['goal_m'])
+        return TubeSpec(bounds=bounds, obstacles=obstacles, **table)
+    except (TypeError, ValueError) as err:
+        msg = f'{source}: {err}'
+        raise SceneError(msg) from err
+
+
+_SWARM_FIELDS = {f.name for f in fields(SwarmParams)}
+
+
+def generated_scene(text: str, source: str) -> tuple[str, GeneratedTube]:
+    """The scene file generated from a map file's ``text`` (module doc), and the generated tube."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        msg = f'{source}: not valid TOML: {err}'
+        raise SceneError(msg) from err
+    spec = map_spec(data, source)
+    generated = generate_tube(spec)
+    lines, skipping = [], False
+    for line in text.splitlines():
+        if _GENERATE.match(line):
+            skipping = True
+            lines.extend(_tube_tables(generated, spec))
+            continue
+        if skipping and _TABLE.match(line):
+            skipping = False
+        if not skipping:
+            lines.append(line)
+    return '\n'.join(lines).rstrip() + '\n', generated
+
+
+def _tube_tables(generated: GeneratedTube, spec: TubeSpec) -> list[str]:
+    """``[tube.center]`` and ``[tube.width]`` of the generated tube, numbers exact."""
+    center = generated.tube.center
+    if not isinstance(center, ArcPath):  # the generator makes lines and arcs
+        msg = 'the generated centre curve is not a path of lines and arcs.'
+        raise SceneError(msg)
+    x, y = center.start_xy_m
+    lines = [
+        (
+            f'# generated by `vtube tube generate` from [tube.generate] start_m = {list(spec.start_m)!r}, goal_m = '
+            f'{list(spec.goal_m)!r}, half_width_min_m = {spec.half_width_min_m!r}, half_width_max_m = '
+            f'{spec.half_width_max_m!r}, margin_m = {spec.margin_m!r}, turn_radius_min_m = {spec.turn_radius_min_m!r}'
+        ),
+        '[tube.center]',
+        f'start_xy_m = [{x!r}, {y!r}]',
+        f'heading_deg = {math.degrees(center.heading_rad)!r}',
+        'pieces = [',
+    ]
+    for piece in center.pieces:
+        if piece.radius_m is None:
+            lines.append(f'    {{ kind = "line", length_m = {piece.length_m!r} }},')
+        else:
+            angle = math.degrees(piece.length_m / piece.radius_m) * (1.0 if piece.left else -1.0)
+            lines.append(f'    {{ kind = "arc", radius_m = {piece.radius_m!r}, angle_deg = {angle!r} }},')
+    width = generated.tube.width
+    lines += [']', '', '[tube.width]', f'start_m = {width.start_m!r}', 'parts = [']
+    for part in width.parts:
+        to = f', to_m = {part.to_m!r}' if part.to_m is not None else ''
+        corner = f', corner_m = {part.corner_m!r}' if part.corner_m is not None else ''
+        lines.append(f'    {{ kind = "{part.kind}", length_m = {part.length_m!r}{to}{corner} }},')
+    return [*lines, ']', '']

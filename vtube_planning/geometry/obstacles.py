@@ -1,0 +1,195 @@
+"""Obstacles in the plane (discs and polygons), their exact clearance, and the certificate that a tube misses them.
+
+The clearance of a point is its distance to the nearest obstacle, 0 on or inside one: a disc's is
+max(0, |p - c| - r), a polygon's 0 inside it (even-odd rule) and otherwise the distance to its nearest edge. Both
+are exact and 1-Lipschitz in the point. That is what :func:`obstacle_certificate` rests on: along the centre curve
+(unit speed) the clearance minus the half-width changes by at most 1 + max|lambda'| per metre, so samples ``h``
+apart that each keep more than (1 + max|lambda'|) h / 2 prove that no cross-section anywhere meets an obstacle (a
+cross-section of half-length lambda lies in the free disc of radius clearance around its centre point).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from vtube_planning._validate import is_real
+from vtube_planning.errors import SceneError
+from vtube_planning.geometry.tube import VirtualTube
+
+FloatArray = NDArray[np.float64]
+
+_BLOCK = 4096
+"""Points per block in the clearance of many points (bounds the (points x edges) arrays)."""
+
+
+@dataclass(frozen=True)
+class Disc:
+    """A disc obstacle: centre (x, y) and radius, in metres."""
+
+    center_m: tuple[float, float]
+    radius_m: float
+
+    def __post_init__(self) -> None:
+        if len(self.center_m) != 2 or not all(is_real(v) for v in (*self.center_m, self.radius_m)):
+            msg = f'a disc needs center_m = [x, y] and radius_m, finite numbers; got {self}.'
+            raise SceneError(msg)
+        if self.radius_m <= 0.0:
+            msg = f'a disc needs radius_m > 0; got {self.radius_m}.'
+            raise SceneError(msg)
+
+
+@dataclass(frozen=True)
+class Polygon:
+    """A polygon obstacle: its vertices (x, y) in metres, in order (closed implicitly; inside by the even-odd
+    rule)."""
+
+    vertices_m: tuple[tuple[float, float], ...]
+
+    def __post_init__(self) -> None:
+        if len(self.vertices_m) < 3 or any(len(v) != 2 for v in self.vertices_m):
+            msg = f'a polygon needs vertices_m = [[x, y], ...] with at least 3 vertices; got {self.vertices_m}.'
+            raise SceneError(msg)
+        if not all(is_real(c) for v in self.vertices_m for c in v):
+            msg = f'polygon vertices must be finite numbers; got {self.vertices_m}.'
+            raise SceneError(msg)
+        xy = np.array(self.vertices_m, dtype=float)
+        area = 0.5 * float(np.dot(xy[:, 0], np.roll(xy[:, 1], -1)) - np.dot(xy[:, 1], np.roll(xy[:, 0], -1)))
+        if abs(area) < 1e-12:
+            msg = f'a polygon needs a non-zero area; its vertices {self.vertices_m} lie on a line.'
+            raise SceneError(msg)
+
+    def edges(self) -> tuple[FloatArray, FloatArray]:
+        """Start and end points (k, 2) of its k edges."""
+        a = np.array(self.vertices_m, dtype=float)
+        return a, np.roll(a, -1, axis=0)
+
+
+@dataclass(frozen=True)
+class Obstacles:
+    """The obstacles of a scene."""
+
+    discs: tuple[Disc, ...] = ()
+    polygons: tuple[Polygon, ...] = ()
+
+    def __bool__(self) -> bool:
+        return bool(self.discs or self.polygons)
+
+    def clearance(self, points_m: FloatArray) -> FloatArray:
+        """Distance (k,) of (k, 2) points to the nearest obstacle, 0 on or inside one; inf without obstacles."""
+        points = np.asarray(points_m, dtype=float).reshape(-1, 2)
+        out = np.full(points.shape[0], np.inf)
+        for start in range(0, points.shape[0], _BLOCK):
+            block = points[start : start + _BLOCK]
+            out[start : start + _BLOCK] = self._clearance_block(block)
+        return out
+
+    def _clearance_block(self, p: FloatArray) -> FloatArray:
+        best = np.full(p.shape[0], np.inf)
+        if self.discs:
+            centers = np.array([d.center_m for d in self.discs])
+            radii = np.array([d.radius_m for d in self.discs])
+            gaps = np.hypot(p[:, None, 0] - centers[None, :, 0], p[:, None, 1] - centers[None, :, 1]) - radii
+            best = np.minimum(best, np.maximum(gaps.min(axis=1), 0.0))
+        for polygon in self.polygons:
+            a, b = polygon.edges()
+            d = b - a  # (e, 2)
+            rel = p[:, None, :] - a[None, :, :]  # (k, e, 2)
+            t = np.clip((rel * d).sum(axis=2) / (d * d).sum(axis=1), 0.0, 1.0)
+            nearest = np.hypot(*(rel - t[:, :, None] * d).transpose(2, 0, 1)).min(axis=1)
+            upward = (a[None, :, 1] <= p[:, None, 1]) != (b[None, :, 1] <= p[:, None, 1])
+            with np.errstate(divide='ignore', invalid='ignore'):
+                x_cross = a[:, 0] + (p[:, None, 1] - a[:, 1]) * d[:, 0] / d[:, 1]
+            inside = (np.count_nonzero(upward & (p[:, None, 0] < x_cross), axis=1) % 2) == 1
+            best = np.minimum(best, np.where(inside, 0.0, nearest))
+        return best
+
+    def table(self) -> dict[str, list[dict[str, Any]]]:
+        """The ``[obstacles]`` table of a scene file (:func:`obstacles_from_table` reads it back)."""
+        table: dict[str, list[dict[str, Any]]] = {}
+        if self.discs:
+            table['discs'] = [{'center_m': list(d.center_m), 'radius_m': d.radius_m} for d in self.discs]
+        if self.polygons:
+            table['polygons'] = [{'vertices_m': [list(v) for v in p.vertices_m]} for p in self.polygons]
+        return table
+
+
+NO_OBSTACLES = Obstacles()
+"""A scene without obstacles."""
+
+
+def obstacles_from_table(table: object) -> Obstacles:
+    """The obstacles of a scene file's ``[obstacles]`` table (``discs = [{center_m, radius_m}]``, ``polygons =
+    [{vertices_m}]``); a wrong key or value raises :class:`SceneError` naming it."""
+    if not isinstance(table, Mapping):
+        msg = '[obstacles] must be a table with discs = [...] and/or polygons = [...].'
+        raise SceneError(msg)
+    unknown = set(table) - {'discs', 'polygons'}
+    if unknown:
+        msg = f'unknown key(s) {sorted(unknown)} in [obstacles]; it takes discs and polygons.'
+        raise SceneError(msg)
+    discs = [_entry(d, {'center_m', 'radius_m'}, 'discs') for d in table.get('discs', [])]
+    polygons = [_entry(p, {'vertices_m'}, 'polygons') for p in table.get('polygons', [])]
+    return Obstacles(
+        tuple(Disc(tuple(d['center_m']), d['radius_m']) for d in discs),
+        tuple(Polygon(tuple(tuple(v) for v in p['vertices_m'])) for p in polygons),
+    )
+
+
+def certified_obstacles(tube: VirtualTube, table: object) -> Obstacles:
+    """The obstacles of an ``[obstacles]`` table, refused (:class:`SceneError`) unless ``tube`` misses them all."""
+    obstacles = obstacles_from_table(table)
+    certificate = obstacle_certificate(tube, obstacles)
+    if not certificate.clear:
+        msg = f'the tube meets an obstacle: {certificate}; move or narrow the tube.'
+        raise SceneError(msg)
+    return obstacles
+
+
+def _entry(entry: object, keys: set[str], kind: str) -> Mapping[str, Any]:
+    if not isinstance(entry, Mapping) or set(entry) != keys:
+        msg = f'each of [obstacles] {kind} needs exactly the keys {sorted(keys)}; got {entry!r}.'
+        raise SceneError(msg)
+    return entry
+
+
+@dataclass(frozen=True)
+class ObstacleCertificate:
+    """Whether a tube misses the obstacles, proved on samples ``step_m`` apart: the smallest margin (clearance of
+    the centre point minus the half-width) found, where, and the margin the proof needs (:func:`obstacle_certificate`)."""
+
+    clear: bool
+    margin_m: float
+    needed_m: float
+    l_m: float
+    point_m: tuple[float, float]
+    step_m: float
+
+    def __str__(self) -> str:
+        x, y = self.point_m
+        return (
+            f'at l = {self.l_m:.3f} m, ({x:.3f}, {y:.3f}), the nearest obstacle is {self.margin_m:.4f} m beyond the '
+            f'tube wall ({self.needed_m:.4f} m needed between samples {self.step_m:.4f} m apart)'
+        )
+
+
+def obstacle_certificate(tube: VirtualTube, obstacles: Obstacles, step_m: float | None = None) -> ObstacleCertificate:
+    """Prove (or refute) that no cross-section of ``tube`` meets ``obstacles`` (module doc): samples ``step_m``
+    apart (default: 1/8 of the narrowest half-width, at most 1 cm) must each keep a margin of at least
+    (1 + max|lambda'|) step / 2."""
+    narrowest = float(np.min(tube.half_width(np.linspace(0.0, tube.length_m, 2001))))
+    step = float(step_m) if step_m is not None else min(0.01, narrowest / 8.0)
+    n = max(2, math.ceil(tube.length_m / step) + 1)
+    l_m = np.linspace(0.0, tube.length_m, n)
+    step = tube.length_m / (n - 1)
+    centers = tube.center_at(l_m)
+    margin = obstacles.clearance(centers) - tube.half_width(l_m)
+    needed = (1.0 + tube.width.max_abs_slope()) * step / 2.0
+    k = int(np.argmin(margin))
+    point = (float(centers[k, 0]), float(centers[k, 1]))
+    return ObstacleCertificate(bool(margin[k] >= needed), float(margin[k]), needed, float(l_m[k]), point, step)
