@@ -28,13 +28,13 @@ def test_clearance_of_a_disc_and_a_square_analytically() -> None:
 
 
 def independent_clearance(obstacles: Obstacles, points: np.ndarray) -> np.ndarray:
-    """Inside by matplotlib's point-in-polygon; outside, the distance to edges sampled every 0.1 mm."""
+    """Inside by matplotlib's point-in-polygon; outside, the distance to edges sampled every 0.75 mm or less."""
     out = np.full(len(points), np.inf)
     for disc in obstacles.discs:
         out = np.minimum(out, np.maximum(np.hypot(*(points - disc.center_m).T) - disc.radius_m, 0.0))
     for polygon in obstacles.polygons:
         xy = np.array(polygon.vertices_m)
-        edges = [a + np.linspace(0, 1, 40001)[:, None] * (b - a) for a, b in zip(xy, np.roll(xy, -1, axis=0))]
+        edges = [a + np.linspace(0, 1, 4001)[:, None] * (b - a) for a, b in zip(xy, np.roll(xy, -1, axis=0))]
         dense = np.vstack(edges)
         nearest = np.array([np.hypot(*(dense - p).T).min() for p in points])
         inside = MplPath(xy).contains_points(points)
@@ -46,7 +46,7 @@ def test_clearance_matches_an_independent_computation_at_random_points() -> None
     rng = np.random.default_rng(3)
     obstacles = Obstacles((Disc((5.0, 1.0), 0.7), Disc((-2.0, 4.0), 1.5)), (L_SHAPE,))
     points = rng.uniform(-4.0, 7.0, size=(300, 2))
-    np.testing.assert_allclose(obstacles.clearance(points), independent_clearance(obstacles, points), atol=2e-5)
+    np.testing.assert_allclose(obstacles.clearance(points), independent_clearance(obstacles, points), atol=4e-4)
 
 
 def test_clearance_is_one_lipschitz() -> None:
