@@ -10,9 +10,9 @@ The paper plans on a tube generated beforehand from the obstacles ([b12]); this 
    narrowest tube (``half_width_min_m`` + ``margin_m``), each step costing its length times 1 + lambda_max /
    clearance, so the path keeps to the middle of passages (Dijkstra, ``scipy.sparse.csgraph``). No path: refused
    with the widest passage there is (the largest room for which start and goal stay connected).
-3. *Centre curve*: the path pulled straight (a vertex is dropped while the straight segment that skips it keeps the
-   room), then each corner rounded by the largest circular arc that fits in half of each neighbouring segment and
-   keeps the room; an arc below ``turn_radius_min_m`` is refused with the corner. Lines and arcs: an exact
+3. *Centre curve*: the path pulled straight (:func:`_pulled_straight`) or, if that one cannot be rounded,
+   simplified (:func:`_simplified`), then each corner rounded by the largest circular arc that fits in its share of the
+   neighbouring segments and keeps the room; an arc below ``turn_radius_min_m`` is refused with the corner. Lines and arcs: an exact
    :class:`~vtube_planning.geometry.centerline.ArcPath`, written as ``pieces`` in a scene file.
 4. *Width*: under the bound min(clearance - margin - the certificate's share, ``curvature_share`` / |kappa|,
    ``half_width_max_m``), as ramps and constant parts between knots about 8 grid cells apart, with |lambda'| at
@@ -145,8 +145,7 @@ def generate_tube(spec: TubeSpec, name: str = 'generated') -> GeneratedTube:
     """The tube of ``spec`` (module doc), certified; :class:`TubeGenerationError` when there is none."""
     grid = _Grid(spec)
     path = grid.path()
-    corners = _pulled_straight(path, grid)
-    center = _rounded(corners, grid)
+    corners, center = _centre_curve(path, grid)
     even = np.linspace(0.0, center.length_m, max(2, math.ceil(center.length_m / spec.sample_m) + 1))
     joints = center.breakpoints[1:-1]  # both sides of every joint: an arc shorter than the spacing is sampled
     samples = np.unique(np.concatenate([even, joints - 1e-9, joints + 1e-9]))
@@ -270,8 +269,22 @@ def _segment_room(a: FloatArray, b: FloatArray, grid: _Grid) -> float:
     return float(grid.room(points).min()) - 0.5 * float(np.hypot(*(b - a))) / (n - 1)
 
 
+def _centre_curve(path: FloatArray, grid: _Grid) -> tuple[FloatArray, ArcPath]:
+    """The corners and the rounded centre curve of the path pulled straight or, when that one cannot be rounded,
+    simplified; the first refusal when neither can."""
+    refusals = []
+    for corners_of in (_pulled_straight, _simplified):
+        corners = corners_of(path, grid)
+        try:
+            return corners, _rounded(corners, grid)
+        except TubeGenerationError as err:
+            refusals.append(err)
+    raise refusals[0]
+
+
 def _pulled_straight(path: FloatArray, grid: _Grid) -> FloatArray:
-    """The path's vertices with every vertex dropped whose neighbours see each other with the room kept."""
+    """The path's vertices with every vertex dropped whose neighbours see each other with the room kept: the
+    straightest path, whose corners graze the obstacles."""
     kept = [0]
     while kept[-1] < len(path) - 1:
         i, j = kept[-1], kept[-1] + 1
@@ -281,31 +294,67 @@ def _pulled_straight(path: FloatArray, grid: _Grid) -> FloatArray:
     return path[kept]
 
 
+def _simplified(path: FloatArray, grid: _Grid) -> FloatArray:
+    """The path's vertices that a chord cannot replace (Ramer-Douglas-Peucker): a chord replaces the vertices
+    between its ends when it keeps the tube's room and strays from them by at most half their spare room (their
+    clearance beyond the tube's), or a grid cell. The corners left lie on the path, which keeps to the middle of
+    passages, so the arcs that round them, cutting a corner by r (1 / cos(turn / 2) - 1), find room there; a chord
+    pulled tight past an obstacle (the straightest path) leaves none."""
+    room, h = grid.spec.room_m, grid.spec.resolution_m
+    spare = grid.room(path) - room
+    keep = {0, len(path) - 1}
+    stack = [(0, len(path) - 1)]
+    while stack:
+        i, j = stack.pop()
+        if j - i < 2:
+            continue
+        a, d = path[i], path[j] - path[i]
+        inner = path[i + 1 : j] - a
+        stray = np.abs(d[0] * inner[:, 1] - d[1] * inner[:, 0]) / max(float(np.hypot(*d)), 1e-12)
+        tolerance = max(0.5 * float(spare[i : j + 1].min()), h)
+        if stray.max() <= tolerance and _segment_room(path[i], path[j], grid) >= room:
+            continue
+        k = i + 1 + int(np.argmax(stray))
+        keep.add(k)
+        stack += [(i, k), (k, j)]
+    return path[sorted(keep)]
+
+
 def _rounded(corners: FloatArray, grid: _Grid) -> ArcPath:
-    """Lines between the corners, each corner rounded by the largest arc that fits in half of each neighbouring
-    segment (most of the first and last) and keeps the room; refused below ``turn_radius_min_m``."""
+    """Lines between the corners, each corner rounded by the largest arc that fits in its share of each
+    neighbouring segment and keeps the room; refused below ``turn_radius_min_m``. A segment between two corners is
+    shared in proportion to tan(turn / 2), what each corner's tangent needs for the same radius (so that both reach
+    a radius when the segment allows it for both); the first and last segments serve one corner (0.9 of them)."""
     spec = grid.spec
     d = np.diff(corners, axis=0)
     lengths = np.hypot(d[:, 0], d[:, 1])
     headings = np.arctan2(d[:, 1], d[:, 0])
     turns = np.angle(np.exp(1j * np.diff(headings)))  # (-pi, pi]
     n_seg = lengths.size
-    share = np.full(n_seg, 0.5)
-    share[0] = share[-1] = 0.9  # the first and last segments serve one corner each
+    need = np.tan(0.5 * np.abs(turns))
     radii = np.zeros(turns.size)
     for k, turn in enumerate(turns):
         if abs(turn) < 1e-9:
             continue
-        tangent = min(share[k] * lengths[k], share[k + 1] * lengths[k + 1])
-        radius = tangent / math.tan(0.5 * abs(turn))
-        while radius >= spec.turn_radius_min_m and not _arc_keeps_room(corners[k + 1], headings[k], turn, radius, grid):
-            radius *= 0.8
-        if radius < max(spec.turn_radius_min_m, 1e-6):
+        before = 0.9 if k == 0 else need[k] / (need[k - 1] + need[k])
+        after = 0.9 if k + 1 == n_seg - 1 else need[k] / (need[k] + need[k + 1])
+        tangent = min(before * lengths[k], after * lengths[k + 1])
+        largest = tangent / math.tan(0.5 * abs(turn))  # what the neighbouring segments allow
+        smallest = max(spec.turn_radius_min_m, 1e-6)
+        candidates = [float(r) for r in largest * 0.8 ** np.arange(20) if r > smallest]
+        candidates += [smallest] if largest >= smallest else []
+        radius = next((r for r in candidates if _arc_keeps_room(corners[k + 1], headings[k], turn, r, grid)), None)
+        if radius is None:
             x, y = corners[k + 1]
+            why = (
+                f'the neighbouring corners leave room for a radius of {largest:.3f} m at most'
+                if largest < smallest
+                else f"an arc of radius {smallest:.3f} m or more comes closer to an obstacle than the tube's room"
+            )
             msg = (
-                f'the turn of {math.degrees(abs(turn)):.0f} degrees at ({x:.3f}, {y:.3f}) has room for an arc of '
-                f'radius {radius:.3f} m at most, less than turn_radius_min_m = {spec.turn_radius_min_m}; move the '
-                'obstacles near it apart, or the start or goal.'
+                f'the turn of {math.degrees(abs(turn)):.0f} degrees at ({x:.3f}, {y:.3f}) cannot be rounded with '
+                f'turn_radius_min_m = {spec.turn_radius_min_m}: {why}; move the obstacles near it apart, or the '
+                'start or goal.'
             )
             raise TubeGenerationError(msg)
         radii[k] = radius

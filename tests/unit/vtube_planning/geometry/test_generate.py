@@ -92,7 +92,10 @@ def test_a_start_inside_an_obstacle_or_a_tight_turn_is_refused_with_its_place() 
             Polygon(((13.0, 3.0), (14.0, 3.0), (14.0, 10.0), (13.0, 10.0))),
         )
     )
-    with pytest.raises(TubeGenerationError, match=r'the turn of \d+ degrees at \(\d+\.\d+, \d+\.\d+\) has room'):
+    with pytest.raises(
+        TubeGenerationError,
+        match=r'the turn of \d+ degrees at \(\d+\.\d+, \d+\.\d+\) cannot be rounded with turn_radius_min_m = 20.0',
+    ):
         generate_tube(spec(zigzag, turn_radius_min_m=20.0))
     made = generate_tube(spec(zigzag, turn_radius_min_m=0.5))  # a gentler limit threads it
     assert_misses(made.tube, zigzag, 0.1)
