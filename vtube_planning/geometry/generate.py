@@ -4,8 +4,10 @@ clearance, certified.
 The paper plans on a tube generated beforehand from the obstacles ([b12]); this is vtube's own generator
 (``docs/theory.md`` §10 gives the reasoning). The steps:
 
-1. *Clearance* on a grid of ``resolution_m``: each node's exact distance to the nearest obstacle or map edge
-   (:meth:`~vtube_planning.geometry.obstacles.Obstacles.clearance`).
+1. *Clearance* on a grid of ``resolution_m``: each node's distance to the nearest node inside an obstacle, less
+   half a cell's diagonal (``scipy.ndimage.distance_transform_edt``), or to the map's edge: a lower bound that
+   guides the search (what is certified uses the exact clearance,
+   :meth:`~vtube_planning.geometry.obstacles.Obstacles.clearance`).
 2. *Path*: the cheapest 8-connected grid path from start to goal through the nodes that leave room for the
    narrowest tube (``half_width_min_m`` + ``margin_m``), each step costing its length times 1 + lambda_max /
    clearance, so the path keeps to the middle of passages (Dijkstra, ``scipy.sparse.csgraph``). No path: refused
@@ -180,7 +182,15 @@ class _Grid:
             msg = f'the map ({b}) is smaller than two grid cells of resolution_m = {h}.'
             raise TubeGenerationError(msg)
         xx, yy = np.meshgrid(self.x, self.y, indexing='ij')
-        self.clear = spec.clearance(np.column_stack([xx.ravel(), yy.ravel()])).reshape(xx.shape)
+        nodes = np.column_stack([xx.ravel(), yy.ravel()])
+        occupied = spec.obstacles.inside(nodes).reshape(xx.shape)
+        # the distance to the nearest occupied node, less half a cell's diagonal (an obstacle's edge lies within it
+        # of an occupied node next to a free one): a lower bound of the clearance, for the search only
+        to_obstacle = (
+            ndimage.distance_transform_edt(~occupied) * h - 0.5 * math.sqrt(2.0) * h if occupied.any() else np.inf
+        )
+        edge = (b.clearance(nodes) - b.margin_m + spec.margin_m).reshape(xx.shape)
+        self.clear = np.minimum(np.maximum(to_obstacle, 0.0), edge)
         self.free = self.clear >= spec.room_m + 0.5 * math.sqrt(2.0) * h  # a step between nodes keeps the room
 
     def node(self, point: tuple[float, float], what: str) -> tuple[int, int]:

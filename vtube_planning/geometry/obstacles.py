@@ -89,6 +89,22 @@ class Obstacles:
             out[start : start + _BLOCK] = self._clearance_block(block)
         return out
 
+    def inside(self, points_m: FloatArray) -> NDArray[np.bool_]:
+        """Whether each of (k, 2) points lies in an obstacle (on a disc's rim counts), (k,); each obstacle tests
+        only the points in its bounding box."""
+        points = np.asarray(points_m, dtype=float).reshape(-1, 2)
+        hit = np.zeros(points.shape[0], dtype=bool)
+        for disc in self.discs:
+            (cx, cy), r = disc.center_m, disc.radius_m
+            near = np.flatnonzero((np.abs(points[:, 0] - cx) <= r) & (np.abs(points[:, 1] - cy) <= r))
+            hit[near] |= np.hypot(points[near, 0] - cx, points[near, 1] - cy) <= r
+        for polygon in self.polygons:
+            xy = np.array(polygon.vertices_m)
+            low, high = xy.min(axis=0), xy.max(axis=0)
+            near = np.flatnonzero(np.all((points >= low) & (points <= high), axis=1))
+            hit[near] |= Obstacles((), (polygon,)).clearance(points[near]) == 0.0
+        return hit
+
     def _clearance_block(self, p: FloatArray) -> FloatArray:
         best = np.full(p.shape[0], np.inf)
         if self.discs:
@@ -96,18 +112,28 @@ class Obstacles:
             radii = np.array([d.radius_m for d in self.discs])
             gaps = np.hypot(p[:, None, 0] - centers[None, :, 0], p[:, None, 1] - centers[None, :, 1]) - radii
             best = np.minimum(best, np.maximum(gaps.min(axis=1), 0.0))
-        for polygon in self.polygons:
-            a, b = polygon.edges()
-            d = b - a  # (e, 2)
+        if self.polygons:
+            a, d, starts = self._edges()
             rel = p[:, None, :] - a[None, :, :]  # (k, e, 2)
             t = np.clip((rel * d).sum(axis=2) / (d * d).sum(axis=1), 0.0, 1.0)
-            nearest = np.hypot(*(rel - t[:, :, None] * d).transpose(2, 0, 1)).min(axis=1)
-            upward = (a[None, :, 1] <= p[:, None, 1]) != (b[None, :, 1] <= p[:, None, 1])
+            gaps = np.hypot(*(rel - t[:, :, None] * d).transpose(2, 0, 1))  # (k, e)
+            upward = (a[None, :, 1] <= p[:, None, 1]) != (a[None, :, 1] + d[None, :, 1] <= p[:, None, 1])
             with np.errstate(divide='ignore', invalid='ignore'):
                 x_cross = a[:, 0] + (p[:, None, 1] - a[:, 1]) * d[:, 0] / d[:, 1]
-            inside = (np.count_nonzero(upward & (p[:, None, 0] < x_cross), axis=1) % 2) == 1
-            best = np.minimum(best, np.where(inside, 0.0, nearest))
+            crossings = np.add.reduceat((upward & (p[:, None, 0] < x_cross)).astype(np.int64), starts, axis=1)
+            nearest = np.minimum.reduceat(gaps, starts, axis=1)  # (k, polygons)
+            best = np.minimum(best, np.where(crossings % 2 == 1, 0.0, nearest).min(axis=1))
         return best
+
+    def _edges(self) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:
+        """Every polygon's edges in one array: starts (e, 2), directions (e, 2), and where each polygon's edges
+        begin."""
+        pairs = [polygon.edges() for polygon in self.polygons]
+        a = np.vstack([start for start, _ in pairs])
+        d = np.vstack([end - start for start, end in pairs])
+        counts = np.array([len(start) for start, _ in pairs])
+        starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.intp)
+        return a, d, starts
 
     def table(self) -> dict[str, list[dict[str, Any]]]:
         """The ``[obstacles]`` table of a scene file (:func:`obstacles_from_table` reads it back)."""

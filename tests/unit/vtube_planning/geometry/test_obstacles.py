@@ -150,3 +150,11 @@ def test_a_scene_keeps_its_obstacles_and_refuses_a_tube_through_one() -> None:
     with pytest.raises(SceneError, match=r's.toml: the tube meets an obstacle: at l = 5.000 m, .*move or narrow'):
         scene_from_text(SCENE.replace('DISC_Y', '1.2'), name='s', source='s.toml')
     assert not scene_from_text(SCENE.split('[obstacles]')[0], name='s', source='s.toml').obstacles
+
+
+def test_inside_agrees_with_a_zero_clearance() -> None:
+    rng = np.random.default_rng(6)
+    obstacles = Obstacles((Disc((5.0, 1.0), 0.5),), (L_SHAPE, SQUARE))
+    points = np.vstack([rng.uniform(-1.0, 7.0, size=(4000, 2)), [[5.5, 1.0], [5.0, 1.51]]])  # a rim point, one out
+    np.testing.assert_array_equal(obstacles.inside(points), obstacles.clearance(points) == 0.0)
+    assert obstacles.inside(points[-2:]).tolist() == [True, False]
