@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from matplotlib.path import Path as MplPath
 
+from tests.support.tube_clearance import closest_approach
 from vtube_planning.errors import SceneError
 from vtube_planning.geometry.generate import TubeGenerationError, TubeSpec, generate_tube
 from vtube_planning.geometry.map_file import generated_scene
@@ -32,27 +32,9 @@ def spec(obstacles: Obstacles, **options: float) -> TubeSpec:
     return TubeSpec(MAP, obstacles, (1.0, 2.0), (19.0, 8.0), **values)  # type: ignore[arg-type]
 
 
-def tube_points(tube, step_m: float = 0.01, across: int = 101) -> np.ndarray:
-    """Every cross-section ``step_m`` apart (1 cm), ``across`` points across each."""
-    l_m = np.arange(0.0, tube.length_m + step_m, step_m).clip(max=tube.length_m)
-    centers, normals, half = tube.center_at(l_m), tube.normal(l_m), tube.half_width(l_m)
-    fractions = np.linspace(-1.0, 1.0, across)
-    return (centers[:, None, :] + (half[:, None] * fractions)[:, :, None] * normals[:, None, :]).reshape(-1, 2)
-
-
 def assert_misses(tube, obstacles: Obstacles, margin_m: float, step_m: float = 0.01, across: int = 101) -> None:
-    """No point of the tube within ``margin_m`` of an obstacle, by an independent test: discs by distance, polygons
-    by matplotlib's inside test on the polygon grown by the margin (its edges' offset squares)."""
-    points = tube_points(tube, step_m, across)
-    for disc in obstacles.discs:
-        assert np.hypot(*(points - disc.center_m).T).min() >= disc.radius_m + margin_m - 1e-9
-    for polygon in obstacles.polygons:
-        xy = np.array(polygon.vertices_m)
-        assert not MplPath(xy).contains_points(points).any()
-        for a, b in zip(xy, np.roll(xy, -1, axis=0)):
-            d = b - a
-            t = np.clip(((points - a) @ d) / (d @ d), 0.0, 1.0)
-            assert np.hypot(*(points - a - t[:, None] * d).T).min() >= margin_m - 1e-9
+    """No sampled point of the tube within ``margin_m`` of an obstacle (:mod:`tests.support.tube_clearance`)."""
+    assert closest_approach(tube, obstacles, step_m, across) >= margin_m - 1e-9
 
 
 def test_the_tube_threads_the_gap_regular_and_clear() -> None:
