@@ -76,6 +76,9 @@ class TubeSpec:
         The largest |d lambda / dl|.
     resolution_m
         The grid of the path search.
+    start_heading_deg, goal_heading_deg, lead_m
+        Optional headings at the start and the goal, each held straight for at least ``lead_m`` (a start
+        formation in rows across the tube, parking lanes beyond its exit).
     """
 
     bounds: Workspace
@@ -89,13 +92,20 @@ class TubeSpec:
     curvature_share: float = 0.8
     slope_max: float = 0.3
     resolution_m: float = 0.1
+    start_heading_deg: float | None = None
+    goal_heading_deg: float | None = None
+    lead_m: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ('half_width_min_m', 'half_width_max_m', 'resolution_m', 'curvature_share', 'slope_max'):
             if not is_positive(getattr(self, name)):
                 msg = f'tube generation: {name} must be a finite number > 0; got {getattr(self, name)!r}.'
                 raise TubeGenerationError(msg)
-        for name in ('margin_m', 'turn_radius_min_m'):
+        for name in ('start_heading_deg', 'goal_heading_deg'):
+            if getattr(self, name) is not None and not is_real(getattr(self, name)):
+                msg = f'tube generation: {name} must be a finite number of degrees; got {getattr(self, name)!r}.'
+                raise TubeGenerationError(msg)
+        for name in ('margin_m', 'turn_radius_min_m', 'lead_m'):
             value = getattr(self, name)
             if not is_real(value) or value < 0.0:
                 msg = f'tube generation: {name} must be a finite number >= 0; got {value!r}.'
@@ -113,6 +123,21 @@ class TubeSpec:
                 raise TubeGenerationError(msg)
 
     @property
+    def search_ends(self) -> tuple[tuple[float, float], tuple[float, float]]:
+        """Where the path search starts and ends: the start and goal, or the ends of their straight leads (twice
+        ``lead_m`` along the heading given: the arc that turns off a lead takes at most half of it)."""
+
+        def along(point: tuple[float, float], heading: float | None, sign: float) -> tuple[float, float]:
+            if heading is None:
+                return point
+            reach = sign * 2.0 * self.lead_m
+            return point[0] + reach * math.cos(math.radians(heading)), point[1] + reach * math.sin(
+                math.radians(heading)
+            )
+
+        return along(self.start_m, self.start_heading_deg, 1.0), along(self.goal_m, self.goal_heading_deg, -1.0)
+
+    @property
     def certificate_share_m(self) -> float:
         """What the obstacle certificate needs beyond the wall ((1 + slope) x half its sample spacing)."""
         return (1.0 + self.slope_max) * 0.5 * min(0.01, 0.125 * self.half_width_min_m)
@@ -128,10 +153,21 @@ class TubeSpec:
         certificate and the width's samples take."""
         return self.half_width_min_m + self.margin_m + self.certificate_share_m + 0.5 * self.sample_m
 
-    def clearance(self, points_m: FloatArray) -> FloatArray:
-        """Distance (k,) of (k, 2) points to the nearest obstacle or to the map's edge less its margin."""
-        edge = self.bounds.clearance(points_m) - self.bounds.margin_m + self.margin_m
-        return np.minimum(self.obstacles.clearance(points_m), edge)
+    def edge_reach(self, points_m: FloatArray, normals: FloatArray) -> FloatArray:
+        """How far (k,) a cross-section through each of (k, 2) points along its (k, 2) unit normal can reach, both
+        ways, before it leaves the map less its margin: the map's edge bounds the width across the tube only (a
+        tube may meet the edge head-on at its start and goal)."""
+        b, m = self.bounds, self.bounds.margin_m
+        low, high = np.array([b.x_min_m + m, b.y_min_m + m]), np.array([b.x_max_m - m, b.y_max_m - m])
+        with np.errstate(divide='ignore', invalid='ignore'):
+            forward = np.where(
+                normals > 0, (high - points_m) / normals, np.where(normals < 0, (low - points_m) / normals, np.inf)
+            )
+            backward = np.where(
+                normals > 0, (points_m - low) / normals, np.where(normals < 0, (points_m - high) / normals, np.inf)
+            )
+        reach: FloatArray = np.minimum(forward.min(axis=1), backward.min(axis=1))
+        return reach
 
 
 @dataclass(frozen=True)
@@ -189,18 +225,26 @@ class _Grid:
         to_obstacle = (
             ndimage.distance_transform_edt(~occupied) * h - 0.5 * math.sqrt(2.0) * h if occupied.any() else np.inf
         )
-        edge = (b.clearance(nodes) - b.margin_m + spec.margin_m).reshape(xx.shape)
+        # the map's edge counts as an obstacle for the search, except within the room of the start and goal, where
+        # the tube may meet it head-on (the width's own bound takes the edge across the tube: TubeSpec.edge_reach)
+        edge = b.clearance(nodes) - b.margin_m + spec.margin_m
+        ends = np.array([spec.start_m, spec.goal_m])
+        near_end = np.hypot(*(nodes[:, None, :] - ends[None, :, :]).transpose(2, 0, 1)).min(axis=1) <= 2 * spec.room_m
+        edge = np.where(near_end & (edge >= -spec.bounds.margin_m + spec.margin_m), np.inf, edge).reshape(xx.shape)
         self.clear = np.minimum(np.maximum(to_obstacle, 0.0), edge)
         self.free = self.clear >= spec.room_m + 0.5 * math.sqrt(2.0) * h  # a step between nodes keeps the room
 
     def node(self, point: tuple[float, float], what: str) -> tuple[int, int]:
-        room = float(self.spec.clearance(np.array([point]))[0])
+        room = float(self.spec.obstacles.clearance(np.array([point]))[0])
+        inside = float(self.spec.bounds.clearance(np.array([point]))[0]) >= self.spec.bounds.margin_m
+        if not inside:
+            msg = f'the {what} ({point[0]:.3f}, {point[1]:.3f}) lies outside the map less its margin; move it.'
+            raise TubeGenerationError(msg)
         if room < self.spec.room_m:
             msg = (
-                f'the {what} ({point[0]:.3f}, {point[1]:.3f}) has {room:.3f} m of room to the nearest obstacle or '
-                f'edge, less than the narrowest tube needs ({self.spec.room_m:.3f} m: half_width_min_m, margin_m '
-                'and 1 to 2 cm for the certificate); '
-                f'move the {what}.'
+                f'the {what} ({point[0]:.3f}, {point[1]:.3f}) has {room:.3f} m of room to the nearest obstacle, '
+                f'less than the narrowest tube needs ({self.spec.room_m:.3f} m: half_width_min_m, margin_m '
+                'and 1 to 2 cm for the certificate); move it.'
             )
             raise TubeGenerationError(msg)
         i, j = np.abs(self.x - point[0]).argmin(), np.abs(self.y - point[1]).argmin()
@@ -209,7 +253,9 @@ class _Grid:
     def path(self) -> FloatArray:
         """The cheapest free path (k, 2) from start to goal, its ends the given points."""
         spec = self.spec
-        start, goal = self.node(spec.start_m, 'start'), self.node(spec.goal_m, 'goal')
+        ends = spec.search_ends
+        start = self.node(ends[0], 'start' if spec.start_heading_deg is None else "end of the start's straight lead")
+        goal = self.node(ends[1], 'goal' if spec.goal_heading_deg is None else "start of the goal's straight lead")
         shape = self.clear.shape
         free = self.free.copy()
         free[start] = free[goal] = True  # their room was checked exactly
@@ -242,7 +288,7 @@ class _Grid:
             nodes.append(int(previous[nodes[-1]]))
         i, j = np.unravel_index(np.array(nodes[::-1]), shape)
         points = np.column_stack([self.x[i], self.y[j]])
-        points[0], points[-1] = spec.start_m, spec.goal_m
+        points[0], points[-1] = ends
         return points
 
     def room(self, points: FloatArray) -> FloatArray:
@@ -282,11 +328,25 @@ def _segment_room(a: FloatArray, b: FloatArray, grid: _Grid) -> float:
 def _centre_curve(path: FloatArray, grid: _Grid) -> tuple[FloatArray, ArcPath]:
     """The corners and the rounded centre curve of the path pulled straight or, when that one cannot be rounded,
     simplified; the first refusal when neither can."""
+    spec = grid.spec
+    head = [spec.start_m] if spec.start_heading_deg is not None else []
+    tail = [spec.goal_m] if spec.goal_heading_deg is not None else []
+    leads = ([(np.array(spec.start_m), path[0])] if head else []) + (
+        [(path[-1], np.array(spec.goal_m))] if tail else []
+    )
+    for one, other in leads:
+        if _segment_room(one, other, grid) < spec.room_m:
+            msg = (
+                f'the straight lead from ({one[0]:.3f}, {one[1]:.3f}) to ({other[0]:.3f}, {other[1]:.3f}) has too '
+                'little room; shorten lead_m or turn the heading.'
+            )
+            raise TubeGenerationError(msg)
     refusals = []
     for corners_of in (_pulled_straight, _simplified):
-        corners = corners_of(path, grid)
+        core = _pulled_straight(corners_of(path, grid)[::-1], grid)[::-1]  # and back: no short last hop
+        corners = np.vstack([np.array(head).reshape(-1, 2), core, np.array(tail).reshape(-1, 2)])
         try:
-            return corners, _rounded(corners, grid)
+            return corners, _rounded(corners, grid, (bool(head), bool(tail)))
         except TubeGenerationError as err:
             refusals.append(err)
     raise refusals[0]
@@ -330,11 +390,12 @@ def _simplified(path: FloatArray, grid: _Grid) -> FloatArray:
     return path[sorted(keep)]
 
 
-def _rounded(corners: FloatArray, grid: _Grid) -> ArcPath:
+def _rounded(corners: FloatArray, grid: _Grid, leads: tuple[bool, bool] = (False, False)) -> ArcPath:
     """Lines between the corners, each corner rounded by the largest arc that fits in its share of each
     neighbouring segment and keeps the room; refused below ``turn_radius_min_m``. A segment between two corners is
     shared in proportion to tan(turn / 2), what each corner's tangent needs for the same radius (so that both reach
-    a radius when the segment allows it for both); the first and last segments serve one corner (0.9 of them)."""
+    a radius when the segment allows it for both); the first and last segments serve one corner (0.9 of them, half
+    of a straight lead: ``leads``)."""
     spec = grid.spec
     d = np.diff(corners, axis=0)
     lengths = np.hypot(d[:, 0], d[:, 1])
@@ -346,8 +407,8 @@ def _rounded(corners: FloatArray, grid: _Grid) -> ArcPath:
     for k, turn in enumerate(turns):
         if abs(turn) < 1e-9:
             continue
-        before = 0.9 if k == 0 else need[k] / (need[k - 1] + need[k])
-        after = 0.9 if k + 1 == n_seg - 1 else need[k] / (need[k] + need[k + 1])
+        before = (0.5 if leads[0] else 0.9) if k == 0 else need[k] / (need[k - 1] + need[k])
+        after = (0.5 if leads[1] else 0.9) if k + 1 == n_seg - 1 else need[k] / (need[k] + need[k + 1])
         tangent = min(before * lengths[k], after * lengths[k + 1])
         largest = tangent / math.tan(0.5 * abs(turn))  # what the neighbouring segments allow
         smallest = max(spec.turn_radius_min_m, 1e-6)
@@ -397,12 +458,14 @@ def _arc_keeps_room(corner: FloatArray, heading: float, turn: float, radius: flo
 def _width_parts(center: ArcPath, l_m: FloatArray, spec: TubeSpec) -> WidthProfile:
     """A width under the bound (module doc, step 4) at the samples ``l_m``, with knots about 8 grid cells apart
     (:func:`~vtube_planning.geometry.width.width_under`)."""
-    positions, _, kappa = center.frame(l_m)
+    positions, tangents, kappa = center.frame(l_m)
+    normals = np.column_stack([-tangents[:, 1], tangents[:, 0]])
     with np.errstate(divide='ignore'):
         curvature_bound = np.where(np.abs(kappa) > 0.0, spec.curvature_share / np.abs(kappa), np.inf)
     bound = np.minimum.reduce(
         [
-            spec.clearance(positions) - 0.5 * spec.sample_m - spec.margin_m - spec.certificate_share_m,
+            spec.obstacles.clearance(positions) - 0.5 * spec.sample_m - spec.margin_m - spec.certificate_share_m,
+            spec.edge_reach(positions, normals) - 0.5 * spec.sample_m,
             curvature_bound,
             np.full(l_m.size, spec.half_width_max_m),
         ]

@@ -65,7 +65,7 @@ def test_a_gap_too_narrow_is_refused_with_the_widest_passage() -> None:
 
 def test_a_start_inside_an_obstacle_or_a_tight_turn_is_refused_with_its_place() -> None:
     blocked = Obstacles((Disc((1.0, 2.0), 0.3),))
-    with pytest.raises(TubeGenerationError, match=r'the start \(1\.000, 2\.000\) has 0\.000 m of room'):
+    with pytest.raises(TubeGenerationError, match=r'the start \(1\.000, 2\.000\) has 0\.000 m of room .* move it'):
         generate_tube(spec(blocked))
     # a zigzag through two offset gaps forces turns sharper than a 20 m radius allows
     zigzag = Obstacles(
@@ -161,3 +161,19 @@ def test_the_readme_example_map_gives_a_certified_tube_that_misses_its_obstacles
     assert len(scene.obstacles.discs) == 30 and len(scene.obstacles.polygons) == 3
     assert scene.tube.summary()['curvature_radius_min_m'] >= 4.0  # v_min^2 / a_n of Table 1
     assert_misses(made.tube, scene.obstacles, 0.3)
+
+
+def test_headings_at_the_ends_are_held_straight_for_the_lead() -> None:
+    obstacles = wall_with_gap(4.0, 7.0)
+    made = generate_tube(spec(obstacles, start_heading_deg=0.0, goal_heading_deg=90.0, lead_m=1.0))
+    tube, pieces = made.tube, made.tube.center.pieces
+    assert pieces[0].radius_m is None and pieces[0].length_m >= 1.0 - 1e-9
+    assert pieces[-1].radius_m is None and pieces[-1].length_m >= 1.0 - 1e-9
+    np.testing.assert_allclose(tube.tangent(np.array([0.0, tube.length_m])), [[1.0, 0.0], [0.0, 1.0]], atol=1e-9)
+    assert_misses(tube, obstacles, 0.1, step_m=0.05, across=21)
+    with pytest.raises(
+        TubeGenerationError, match=r"the end of the start's straight lead \(1\.000, 0\.000\) lies outside"
+    ):
+        generate_tube(spec(obstacles, start_heading_deg=-90.0, lead_m=1.0))  # 2 m down from y = 2: off the map
+    with pytest.raises(TubeGenerationError, match='the straight lead from .* has too little room'):
+        generate_tube(spec(obstacles, start_heading_deg=0.0, lead_m=5.5))  # 11 m along y = 2: through the wall
