@@ -37,3 +37,8 @@ class SolverError(VtubeError, RuntimeError):
 
 class LogError(VtubeError, ValueError):
     """A trajectory log that cannot be read."""
+
+
+class TubeGenerationError(VtubeError, ValueError):
+    """No certified tube for an obstacle map (:mod:`vtube_planning.geometry.generate`): the message names the place
+    and the reason."""

@@ -12,7 +12,7 @@ The paper plans on a tube generated beforehand from the obstacles ([b12]); this 
    narrowest tube (``half_width_min_m`` + ``margin_m``), each step costing its length times 1 + lambda_max /
    clearance, so the path keeps to the middle of passages (Dijkstra, ``scipy.sparse.csgraph``). No path: refused
    with the widest passage there is (the largest room for which start and goal stay connected).
-3. *Centre curve*: the path pulled straight (:func:`_pulled_straight`) or, if that one cannot be rounded,
+3. *Centre curve*: the path pulled straight (``_pulled_straight``) or, if that one cannot be rounded,
    simplified (:func:`_simplified`), then each corner rounded by the largest circular arc that fits in its share of the
    neighbouring segments and keeps the room; an arc below ``turn_radius_min_m`` is refused with the corner. Lines and arcs: an exact
    :class:`~vtube_planning.geometry.centerline.ArcPath`, written as ``pieces`` in a scene file.
@@ -23,7 +23,8 @@ The paper plans on a tube generated beforehand from the obstacles ([b12]); this 
    crossing cross-sections), :func:`~vtube_planning.geometry.obstacles.obstacle_certificate` proves that no
    cross-section meets an obstacle between its samples, and every boundary keeps ``margin_m`` inside the map.
 
-Every refusal is a :class:`TubeGenerationError` naming the place and the reason.
+Steps 1-3 are :mod:`vtube_planning.geometry.centre_path`'s. Every refusal is a
+:class:`~vtube_planning.errors.TubeGenerationError` naming the place and the reason.
 """
 
 from __future__ import annotations
@@ -33,22 +34,17 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import ndimage, sparse
-from scipy.sparse import csgraph
 
 from vtube_planning._validate import is_positive, is_real
-from vtube_planning.errors import TubeError, VtubeError
-from vtube_planning.geometry.centerline import ArcPath, ArcPiece
+from vtube_planning.errors import TubeError, TubeGenerationError
+from vtube_planning.geometry.centerline import ArcPath
+from vtube_planning.geometry.centre_path import SearchGrid, centre_curve
 from vtube_planning.geometry.obstacles import ObstacleCertificate, Obstacles, obstacle_certificate
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthProfile, width_under
 from vtube_planning.geometry.workspace import Workspace
 
 FloatArray = NDArray[np.float64]
-
-
-class TubeGenerationError(VtubeError, ValueError):
-    """No certified tube for this map: the message names the place and the reason."""
 
 
 @dataclass(frozen=True)
@@ -181,9 +177,9 @@ class GeneratedTube:
 
 def generate_tube(spec: TubeSpec, name: str = 'generated') -> GeneratedTube:
     """The tube of ``spec`` (module doc), certified; :class:`TubeGenerationError` when there is none."""
-    grid = _Grid(spec)
+    grid = SearchGrid(spec)
     path = grid.path()
-    corners, center = _centre_curve(path, grid)
+    corners, center = centre_curve(path, grid)
     even = np.linspace(0.0, center.length_m, max(2, math.ceil(center.length_m / spec.sample_m) + 1))
     joints = center.breakpoints[1:-1]  # both sides of every joint: an arc shorter than the spacing is sampled
     samples = np.unique(np.concatenate([even, joints - 1e-9, joints + 1e-9]))
@@ -204,255 +200,6 @@ def generate_tube(spec: TubeSpec, name: str = 'generated') -> GeneratedTube:
             msg = f'the generated tube leaves the map at ({points[k, 0]:.3f}, {points[k, 1]:.3f}).'
             raise TubeGenerationError(msg)
     return GeneratedTube(tube, corners, certificate)
-
-
-class _Grid:
-    """The search grid: node centres, their clearance, and the free nodes (room for the narrowest tube)."""
-
-    def __init__(self, spec: TubeSpec) -> None:
-        b, h = spec.bounds, spec.resolution_m
-        self.spec = spec
-        self.x = np.arange(b.x_min_m + 0.5 * h, b.x_max_m, h)
-        self.y = np.arange(b.y_min_m + 0.5 * h, b.y_max_m, h)
-        if self.x.size < 2 or self.y.size < 2:
-            msg = f'the map ({b}) is smaller than two grid cells of resolution_m = {h}.'
-            raise TubeGenerationError(msg)
-        xx, yy = np.meshgrid(self.x, self.y, indexing='ij')
-        nodes = np.column_stack([xx.ravel(), yy.ravel()])
-        occupied = spec.obstacles.inside(nodes).reshape(xx.shape)
-        # the distance to the nearest occupied node, less half a cell's diagonal (an obstacle's edge lies within it
-        # of an occupied node next to a free one): a lower bound of the clearance, for the search only
-        to_obstacle = (
-            ndimage.distance_transform_edt(~occupied) * h - 0.5 * math.sqrt(2.0) * h if occupied.any() else np.inf
-        )
-        # the map's edge counts as an obstacle for the search, except within the room of the start and goal, where
-        # the tube may meet it head-on (the width's own bound takes the edge across the tube: TubeSpec.edge_reach)
-        edge = b.clearance(nodes) - b.margin_m + spec.margin_m
-        ends = np.array([spec.start_m, spec.goal_m])
-        near_end = np.hypot(*(nodes[:, None, :] - ends[None, :, :]).transpose(2, 0, 1)).min(axis=1) <= 2 * spec.room_m
-        edge = np.where(near_end & (edge >= -spec.bounds.margin_m + spec.margin_m), np.inf, edge).reshape(xx.shape)
-        self.clear = np.minimum(np.maximum(to_obstacle, 0.0), edge)
-        self.free = self.clear >= spec.room_m + 0.5 * math.sqrt(2.0) * h  # a step between nodes keeps the room
-
-    def node(self, point: tuple[float, float], what: str) -> tuple[int, int]:
-        room = float(self.spec.obstacles.clearance(np.array([point]))[0])
-        inside = float(self.spec.bounds.clearance(np.array([point]))[0]) >= self.spec.bounds.margin_m
-        if not inside:
-            msg = f'the {what} ({point[0]:.3f}, {point[1]:.3f}) lies outside the map less its margin; move it.'
-            raise TubeGenerationError(msg)
-        if room < self.spec.room_m:
-            msg = (
-                f'the {what} ({point[0]:.3f}, {point[1]:.3f}) has {room:.3f} m of room to the nearest obstacle, '
-                f'less than the narrowest tube needs ({self.spec.room_m:.3f} m: half_width_min_m, margin_m '
-                'and 1 to 2 cm for the certificate); move it.'
-            )
-            raise TubeGenerationError(msg)
-        i, j = np.abs(self.x - point[0]).argmin(), np.abs(self.y - point[1]).argmin()
-        return int(i), int(j)
-
-    def path(self) -> FloatArray:
-        """The cheapest free path (k, 2) from start to goal, its ends the given points."""
-        spec = self.spec
-        ends = spec.search_ends
-        start = self.node(ends[0], 'start' if spec.start_heading_deg is None else "end of the start's straight lead")
-        goal = self.node(ends[1], 'goal' if spec.goal_heading_deg is None else "start of the goal's straight lead")
-        shape = self.clear.shape
-        free = self.free.copy()
-        free[start] = free[goal] = True  # their room was checked exactly
-        weight = 1.0 + spec.half_width_max_m / np.maximum(self.clear, 1e-9)
-        index = np.arange(free.size).reshape(shape)
-        rows, cols, costs = [], [], []
-        for di, dj in ((1, 0), (0, 1), (1, 1), (1, -1)):
-            a = (slice(0, shape[0] - di), slice(max(0, -dj), shape[1] - max(0, dj)))
-            b = (slice(di, shape[0]), slice(max(0, dj), shape[1] - max(0, -dj)))
-            both = free[a] & free[b]
-            step = spec.resolution_m * math.hypot(di, dj)
-            rows.append(index[a][both])
-            cols.append(index[b][both])
-            costs.append(step * 0.5 * (weight[a][both] + weight[b][both]))
-        graph = sparse.coo_matrix(
-            (np.concatenate(costs), (np.concatenate(rows), np.concatenate(cols))), shape=(free.size, free.size)
-        ).tocsr()
-        source, target = int(index[start]), int(index[goal])
-        distances, previous = csgraph.dijkstra(graph, directed=False, indices=source, return_predecessors=True)
-        if not np.isfinite(distances[target]):
-            widest, needed = self._widest_passage(start, goal), spec.room_m + 0.5 * math.sqrt(2.0) * spec.resolution_m
-            msg = (
-                f'no passage from the start to the goal leaves {needed:.3f} m of room (half_width_min_m, '
-                f"margin_m, the certificate's share and half a grid diagonal); the widest has about {widest:.3f} m (to the grid's "
-                f'{spec.resolution_m} m): lower half_width_min_m or margin_m, or move an obstacle.'
-            )
-            raise TubeGenerationError(msg)
-        nodes = [target]
-        while nodes[-1] != source:
-            nodes.append(int(previous[nodes[-1]]))
-        i, j = np.unravel_index(np.array(nodes[::-1]), shape)
-        points = np.column_stack([self.x[i], self.y[j]])
-        points[0], points[-1] = ends
-        return points
-
-    def room(self, points: FloatArray) -> FloatArray:
-        """A lower bound (k,) of the clearance of (k, 2) points: the nearest node's less the distance to it (the
-        clearance is 1-Lipschitz)."""
-        h = self.spec.resolution_m
-        i = np.clip(np.rint((points[:, 0] - self.x[0]) / h).astype(int), 0, self.x.size - 1)
-        j = np.clip(np.rint((points[:, 1] - self.y[0]) / h).astype(int), 0, self.y.size - 1)
-        room: FloatArray = self.clear[i, j] - np.hypot(points[:, 0] - self.x[i], points[:, 1] - self.y[j])
-        return room
-
-    def _widest_passage(self, start: tuple[int, int], goal: tuple[int, int]) -> float:
-        """The largest clearance c for which start and goal are connected through nodes of clearance >= c (to
-        the grid's resolution)."""
-        levels = np.unique(self.clear[self.clear > 0.0])
-        lo, hi = 0, levels.size - 1
-        best = 0.0
-        while lo <= hi:
-            mid = (lo + hi) // 2
-            labels, _ = ndimage.label(self.clear >= levels[mid], structure=np.ones((3, 3)))
-            if labels[start] and labels[start] == labels[goal]:
-                best, lo = float(levels[mid]), mid + 1
-            else:
-                hi = mid - 1
-        return best
-
-
-def _segment_room(a: FloatArray, b: FloatArray, grid: _Grid) -> float:
-    """A lower bound of the clearance along the segment a-b: samples a fifth of the resolution apart (less half
-    their spacing: the clearance is 1-Lipschitz)."""
-    step = 0.2 * grid.spec.resolution_m
-    n = max(2, math.ceil(float(np.hypot(*(b - a))) / step) + 1)
-    points = a + np.linspace(0.0, 1.0, n)[:, None] * (b - a)
-    return float(grid.room(points).min()) - 0.5 * float(np.hypot(*(b - a))) / (n - 1)
-
-
-def _centre_curve(path: FloatArray, grid: _Grid) -> tuple[FloatArray, ArcPath]:
-    """The corners and the rounded centre curve of the path pulled straight or, when that one cannot be rounded,
-    simplified; the first refusal when neither can."""
-    spec = grid.spec
-    head = [spec.start_m] if spec.start_heading_deg is not None else []
-    tail = [spec.goal_m] if spec.goal_heading_deg is not None else []
-    leads = ([(np.array(spec.start_m), path[0])] if head else []) + (
-        [(path[-1], np.array(spec.goal_m))] if tail else []
-    )
-    for one, other in leads:
-        if _segment_room(one, other, grid) < spec.room_m:
-            msg = (
-                f'the straight lead from ({one[0]:.3f}, {one[1]:.3f}) to ({other[0]:.3f}, {other[1]:.3f}) has too '
-                'little room; shorten lead_m or turn the heading.'
-            )
-            raise TubeGenerationError(msg)
-    refusals = []
-    for corners_of in (_pulled_straight, _simplified):
-        core = _pulled_straight(corners_of(path, grid)[::-1], grid)[::-1]  # and back: no short last hop
-        corners = np.vstack([np.array(head).reshape(-1, 2), core, np.array(tail).reshape(-1, 2)])
-        try:
-            return corners, _rounded(corners, grid, (bool(head), bool(tail)))
-        except TubeGenerationError as err:
-            refusals.append(err)
-    raise refusals[0]
-
-
-def _pulled_straight(path: FloatArray, grid: _Grid) -> FloatArray:
-    """The path's vertices with every vertex dropped whose neighbours see each other with the room kept: the
-    straightest path, whose corners graze the obstacles."""
-    kept = [0]
-    while kept[-1] < len(path) - 1:
-        i, j = kept[-1], kept[-1] + 1
-        while j + 1 < len(path) and _segment_room(path[i], path[j + 1], grid) >= grid.spec.room_m:
-            j += 1
-        kept.append(j)
-    return path[kept]
-
-
-def _simplified(path: FloatArray, grid: _Grid) -> FloatArray:
-    """The path's vertices that a chord cannot replace (Ramer-Douglas-Peucker): a chord replaces the vertices
-    between its ends when it keeps the tube's room and strays from them by at most half their spare room (their
-    clearance beyond the tube's), or a grid cell. The corners left lie on the path, which keeps to the middle of
-    passages, so the arcs that round them, cutting a corner by r (1 / cos(turn / 2) - 1), find room there; a chord
-    pulled tight past an obstacle (the straightest path) leaves none."""
-    room, h = grid.spec.room_m, grid.spec.resolution_m
-    spare = grid.room(path) - room
-    keep = {0, len(path) - 1}
-    stack = [(0, len(path) - 1)]
-    while stack:
-        i, j = stack.pop()
-        if j - i < 2:
-            continue
-        a, d = path[i], path[j] - path[i]
-        inner = path[i + 1 : j] - a
-        stray = np.abs(d[0] * inner[:, 1] - d[1] * inner[:, 0]) / max(float(np.hypot(*d)), 1e-12)
-        tolerance = max(0.5 * float(spare[i : j + 1].min()), h)
-        if stray.max() <= tolerance and _segment_room(path[i], path[j], grid) >= room:
-            continue
-        k = i + 1 + int(np.argmax(stray))
-        keep.add(k)
-        stack += [(i, k), (k, j)]
-    return path[sorted(keep)]
-
-
-def _rounded(corners: FloatArray, grid: _Grid, leads: tuple[bool, bool] = (False, False)) -> ArcPath:
-    """Lines between the corners, each corner rounded by the largest arc that fits in its share of each
-    neighbouring segment and keeps the room; refused below ``turn_radius_min_m``. A segment between two corners is
-    shared in proportion to tan(turn / 2), what each corner's tangent needs for the same radius (so that both reach
-    a radius when the segment allows it for both); the first and last segments serve one corner (0.9 of them, half
-    of a straight lead: ``leads``)."""
-    spec = grid.spec
-    d = np.diff(corners, axis=0)
-    lengths = np.hypot(d[:, 0], d[:, 1])
-    headings = np.arctan2(d[:, 1], d[:, 0])
-    turns = np.angle(np.exp(1j * np.diff(headings)))  # (-pi, pi]
-    n_seg = lengths.size
-    need = np.tan(0.5 * np.abs(turns))
-    radii = np.zeros(turns.size)
-    for k, turn in enumerate(turns):
-        if abs(turn) < 1e-9:
-            continue
-        before = (0.5 if leads[0] else 0.9) if k == 0 else need[k] / (need[k - 1] + need[k])
-        after = (0.5 if leads[1] else 0.9) if k + 1 == n_seg - 1 else need[k] / (need[k] + need[k + 1])
-        tangent = min(before * lengths[k], after * lengths[k + 1])
-        largest = tangent / math.tan(0.5 * abs(turn))  # what the neighbouring segments allow
-        smallest = max(spec.turn_radius_min_m, 1e-6)
-        candidates = [float(r) for r in largest * 0.8 ** np.arange(20) if r > smallest]
-        candidates += [smallest] if largest >= smallest else []
-        radius = next((r for r in candidates if _arc_keeps_room(corners[k + 1], headings[k], turn, r, grid)), None)
-        if radius is None:
-            x, y = corners[k + 1]
-            why = (
-                f'the neighbouring corners leave room for a radius of {largest:.3f} m at most'
-                if largest < smallest
-                else f"an arc of radius {smallest:.3f} m or more comes closer to an obstacle than the tube's room"
-            )
-            msg = (
-                f'the turn of {math.degrees(abs(turn)):.0f} degrees at ({x:.3f}, {y:.3f}) cannot be rounded with '
-                f'turn_radius_min_m = {spec.turn_radius_min_m}: {why}; move the obstacles near it apart, or the '
-                'start or goal.'
-            )
-            raise TubeGenerationError(msg)
-        radii[k] = radius
-    tangents = radii * np.tan(0.5 * np.abs(turns))
-    pieces: list[ArcPiece] = []
-    for k in range(n_seg):
-        straight = lengths[k] - (tangents[k - 1] if k > 0 else 0.0) - (tangents[k] if k < turns.size else 0.0)
-        if straight > 1e-9:
-            pieces.append(ArcPiece(float(straight)))
-        if k < turns.size and radii[k] > 0.0:
-            pieces.append(ArcPiece(float(radii[k] * abs(turns[k])), radius_m=float(radii[k]), left=bool(turns[k] > 0)))
-    return ArcPath(tuple(pieces), (float(corners[0, 0]), float(corners[0, 1])), float(headings[0]))
-
-
-def _arc_keeps_room(corner: FloatArray, heading: float, turn: float, radius: float, grid: _Grid) -> bool:
-    """Whether the arc rounding ``corner`` (entered at ``heading``, turning by ``turn``) keeps the room."""
-    tangent = radius * math.tan(0.5 * abs(turn))
-    entry = corner - tangent * np.array([math.cos(heading), math.sin(heading)])
-    side = 1.0 if turn > 0 else -1.0
-    normal = side * np.array([-math.sin(heading), math.cos(heading)])
-    center = entry + radius * normal
-    n = max(3, math.ceil(radius * abs(turn) / (0.2 * grid.spec.resolution_m)) + 1)
-    angles = np.linspace(0.0, turn, n)
-    start_angle = math.atan2(*(entry - center)[::-1])
-    points = center + radius * np.column_stack([np.cos(start_angle + angles), np.sin(start_angle + angles)])
-    spacing = radius * abs(turn) / (n - 1)
-    return bool(grid.room(points).min() - 0.5 * spacing >= grid.spec.room_m)
 
 
 def _width_parts(center: ArcPath, l_m: FloatArray, spec: TubeSpec) -> WidthProfile:

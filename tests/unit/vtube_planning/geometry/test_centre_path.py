@@ -1,0 +1,26 @@
+"""The search grid and the centre curve: the grid's room is a lower bound of the obstacles' clearance, the path keeps
+the room, and the lines and arcs pass through the path's ends with their turns no tighter than the limit."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tests.unit.vtube_planning.geometry.test_generate import spec, wall_with_gap
+from vtube_planning.geometry.centre_path import SearchGrid, centre_curve
+
+
+def test_the_grid_room_is_a_lower_bound_and_the_path_keeps_it() -> None:
+    tube_spec = spec(wall_with_gap(4.0, 7.0))
+    grid = SearchGrid(tube_spec)
+    rng = np.random.default_rng(8)
+    points = rng.uniform([0.5, 0.5], [19.5, 9.5], size=(3000, 2))
+    assert np.all(grid.room(points) <= tube_spec.obstacles.clearance(points) + 1e-9)  # the edge is the search's
+    path = grid.path()
+    assert np.allclose(path[0], tube_spec.start_m) and np.allclose(path[-1], tube_spec.goal_m)
+    assert np.all(tube_spec.obstacles.clearance(path) >= tube_spec.room_m - 1e-9)
+    corners, center = centre_curve(path, grid)
+    assert len(corners) < len(path) / 10  # the grid's staircase is gone
+    ends = center.frame(np.array([0.0, center.length_m]))[0]
+    np.testing.assert_allclose(ends, [tube_spec.start_m, tube_spec.goal_m], atol=1e-9)
+    radii = [piece.radius_m for piece in center.pieces if piece.radius_m is not None]
+    assert radii and min(radii) >= tube_spec.turn_radius_min_m
