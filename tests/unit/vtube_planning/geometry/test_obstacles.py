@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from matplotlib.path import Path as MplPath
 
+from tests.support.scenes import LINE_SCENE
 from vtube_planning.errors import SceneError
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece
 from vtube_planning.geometry.obstacles import Disc, Obstacles, Polygon, obstacle_certificate, obstacles_from_table
@@ -133,22 +134,20 @@ def test_the_obstacles_table_and_its_errors() -> None:
         obstacles_from_table({'polygons': [{'vertices_m': [[0, 0], [1, 1], [2, 2]]}]})
 
 
-SCENE = """
-[tube.center]
-pieces = [{ kind = "line", length_m = 10.0 }]
-[tube.width]
-start_m = 1.0
-parts = [{ kind = "constant" }]
+SCENE = (
+    LINE_SCENE
+    + """
 [obstacles]
 discs = [{ center_m = [5.0, DISC_Y], radius_m = 0.5 }]
 """
+)  # the tube: y in [-2, 2] for x in [0, 10]
 
 
 def test_a_scene_keeps_its_obstacles_and_refuses_a_tube_through_one() -> None:
-    scene = scene_from_text(SCENE.replace('DISC_Y', '2.0'), name='s', source='s.toml')
-    assert scene.obstacles.discs == (Disc((5.0, 2.0), 0.5),)
+    scene = scene_from_text(SCENE.replace('DISC_Y', '3.0'), name='s', source='s.toml')
+    assert scene.obstacles.discs == (Disc((5.0, 3.0), 0.5),)
     with pytest.raises(SceneError, match=r's.toml: the tube meets an obstacle: at l = 5.000 m, .*move or narrow'):
-        scene_from_text(SCENE.replace('DISC_Y', '1.2'), name='s', source='s.toml')
+        scene_from_text(SCENE.replace('DISC_Y', '2.2'), name='s', source='s.toml')
     assert not scene_from_text(SCENE.split('[obstacles]')[0], name='s', source='s.toml').obstacles
 
 
