@@ -61,6 +61,9 @@ class TubeMetrics:
         Against the plan (None without a plan or a complete frame with the centre inside the tube).
     body_radius_m
         The Robotarium robot's for a flight that recorded its start (as the experiment counts), else 0.
+    obstacle_clearance_m
+        Per robot, the smallest distance from its body (``body_radius_m``; 0: its centre) to the scene's obstacles
+        over the recording, 0 when it touched one; None for a scene without obstacles or a robot never seen.
     """
 
     passage: Passage
@@ -72,6 +75,7 @@ class TubeMetrics:
     extent_at_narrowing_m: float | None
     tracking: TrackingErrors | None
     body_radius_m: float = 0.0
+    obstacle_clearance_m: tuple[float | None, ...] | None = None
 
     def to_json(self) -> dict[str, Any]:
         """The keys ``metrics.json`` holds for a recording analysed in a scene."""
@@ -90,6 +94,7 @@ class TubeMetrics:
             'narrowing_start_m': self.narrowing_start_m,
             'extent_start_m': self.extent_start_m,
             'extent_at_narrowing_m': self.extent_at_narrowing_m,
+            'obstacle_clearance_m': list(self.obstacle_clearance_m) if self.obstacle_clearance_m is not None else None,
         }
         if self.tracking is not None:
             out.update(asdict(self.tracking))
@@ -175,6 +180,10 @@ class RecordingMetrics:
                 found.append(f'robots {", ".join(passage.never_inside)} never entered the tube')
             if passage.not_exited:
                 found.append(f'robots {", ".join(passage.not_exited)} never passed the exit')
+        clearances = self.tube.obstacle_clearance_m if self.tube is not None else None
+        touched = [r for r, c in zip(self.robot_ids, clearances or (), strict=False) if c is not None and c <= 0.0]
+        if touched:
+            found.append(f'robots {", ".join(touched)} touched an obstacle')
         return tuple(found)
 
     def to_json(self) -> dict[str, Any]:

@@ -112,6 +112,19 @@ def _pair_measures(
     )
 
 
+def _obstacle_clearance(trajectory: Trajectory, scene: Scene, body_radius: float) -> tuple[float | None, ...] | None:
+    """Per robot, the smallest distance of its body to the scene's obstacles over the frames it was seen."""
+    if not scene.obstacles:
+        return None
+    out: list[float | None] = []
+    for k in range(len(trajectory.robot_ids)):
+        points = trajectory.positions_m[:, :, k]
+        seen = points[np.all(np.isfinite(points), axis=1)]
+        gap = float(scene.obstacles.clearance(seen).min()) - body_radius if seen.size else None
+        out.append(None if gap is None else max(gap, 0.0))
+    return tuple(out)
+
+
 def _tube_metrics(trajectory: Trajectory, scene: Scene, plan: Plan | None, along: AlongTube) -> TubeMetrics:
     """The passage, tube violations, the swarm's length before the narrowing and the tracking of ``plan``."""
     length = scene.tube.length_m
@@ -137,6 +150,7 @@ def _tube_metrics(trajectory: Trajectory, scene: Scene, plan: Plan | None, along
             errors = tracking_errors(l_c, speed, density, plan, length)
             tracking = TrackingErrors(**errors) if errors else None
     return TubeMetrics(
+        obstacle_clearance_m=_obstacle_clearance(trajectory, scene, body_radius),
         passage=passage,
         tube_violation_steps=violation_steps,
         robots_outside=robots_outside,

@@ -97,6 +97,11 @@ def analyze_view(analysed: Analysed) -> View:
         else:
             lines.append(f'  passing time {passage.passing_time_s:.2f} s ({passage.start})')
         lines.append(f'  {m.tube.tube_violation_steps} tube violations (robot-frames, {m.tube.violations_counted()})')
+        clearances = m.tube.obstacle_clearance_m
+        if clearances is not None:
+            seen = [(c, r) for c, r in zip(clearances, m.robot_ids, strict=True) if c is not None]
+            closest = f'{min(seen)[0]:.3f} m ({min(seen)[1]})' if seen else 'no robot seen'
+            lines.append(f'  closest approach to an obstacle {closest}, {m.tube.violations_counted()}')
     failures = m.failures()
     if failures:
         lines.append(f'  FAILED: {"; ".join(failures)}')

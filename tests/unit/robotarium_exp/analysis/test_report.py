@@ -106,3 +106,38 @@ def test_analysis_without_a_tube(tmp_path, capsys) -> None:
     closest = int(np.argmin([g.min() for g in gaps]))
     assert f'minimum distance {gaps[closest].min():.3f} m' in out
     assert f'{sum(int(g.min() < 0.31) for g in gaps)} pairs closer than 0.310 m' in out
+
+
+def test_each_robots_clearance_from_the_scenes_obstacles(tmp_path) -> None:
+    """Three robots along y = -0.2, 0 and 0.2 past a disc of radius 0.05 at (0, 0.45): their centres come 0.2, 0.4
+    and 0.6 m from its rim, analytically; a robot through the disc touched it, and the analysis fails."""
+    from dataclasses import replace
+
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+    from vtube_planning.geometry.obstacles import Disc, Obstacles
+
+    scene = replace(load_scene('robotarium_trapezoid'), obstacles=Obstacles((Disc((0.0, 0.45), 0.05),)))
+    t = np.arange(400) * 0.1
+    x = -1.8 + 0.01 * np.arange(400)[:, None] + np.zeros(3)
+    stamps = np.arange(400, dtype=np.int64) * 100_000_000
+
+    def metrics(lanes):
+        samples = {
+            f'r{k}': RobotSamples(stamps, np.stack([x[:, k], np.full(t.size, lanes[k])], axis=1)) for k in range(3)
+        }
+        return analyse(assemble(samples, source={'path': 'synthetic'}), scene).metrics
+
+    clear = metrics([0.2, 0.0, -0.2])
+    np.testing.assert_allclose(clear.tube.obstacle_clearance_m, [0.2, 0.4, 0.6], atol=1e-12)
+    assert clear.to_json()['obstacle_clearance_m'] == pytest.approx([0.2, 0.4, 0.6])
+    assert not clear.failures()
+    through = metrics([0.45, 0.0, -0.2])
+    assert through.tube.obstacle_clearance_m[0] == 0.0 and through.failures() == ('robots r0 touched an obstacle',)
+    assert load_scene('robotarium_trapezoid').obstacles == Obstacles()
+    assert (
+        analyse(
+            assemble({'r0': RobotSamples(stamps, np.stack([x[:, 0], np.zeros(400)], axis=1))}, source={'path': 's'}),
+            load_scene('robotarium_trapezoid'),
+        ).metrics.tube.obstacle_clearance_m
+        is None
+    )
