@@ -15,6 +15,7 @@ from vtube_planning.errors import (
     ShapeError,
     SolverError,
     TubeError,
+    TubeGenerationError,
     VtubeError,
 )
 
@@ -29,6 +30,7 @@ from vtube_planning.errors import (
         (PlanError, ValueError),
         (LogError, ValueError),
         (SolverError, RuntimeError),
+        (TubeGenerationError, ValueError),
     ],
 )
 def test_each_error_is_caught_as_vtube_error_and_as_its_builtin(error: type[Exception], builtin: type) -> None:
@@ -39,4 +41,4 @@ def test_each_error_is_caught_as_vtube_error_and_as_its_builtin(error: type[Exce
 
 def test_the_module_defines_no_error_outside_the_hierarchy() -> None:
     defined = [c for _, c in inspect.getmembers(errors, inspect.isclass) if c.__module__ == errors.__name__]
-    assert len(defined) == 8 and all(issubclass(c, VtubeError) for c in defined)
+    assert len(defined) == 9 and all(issubclass(c, VtubeError) for c in defined)

@@ -11,7 +11,7 @@ from vtube.cli.app import main
 
 
 def analysed(
-    *, robots: int = 3, closest=True, collision_m: float | None = 0.27, tube=True, failures=()
+    *, robots: int = 3, closest=True, collision_m: float | None = 0.27, tube=True, failures=(), clearances=None
 ) -> pipeline.Analysed:
     passage = SimpleNamespace(
         passing_time_s=None if tube == 'unobserved' else 41.234, unobserved=['the exit'], start='start inferred'
@@ -23,9 +23,15 @@ def analysed(
         closest=SimpleNamespace(robots=('r1', 'r2'), min_distance_m=0.31234, time_s=12.345) if closest else None,
         collision_pairs=0,
         collision_distance_m=collision_m,
-        tube=SimpleNamespace(passage=passage, tube_violation_steps=7, violations_counted=lambda: 'the centre')
+        tube=SimpleNamespace(
+            passage=passage,
+            tube_violation_steps=7,
+            violations_counted=lambda: 'the centre',
+            obstacle_clearance_m=clearances,
+        )
         if tube
         else None,
+        robot_ids=('r1', 'r2', 'r3')[:robots],
         to_json=lambda: {'robots': robots},
         failures=lambda: failures,
     )
@@ -48,6 +54,12 @@ def test_the_view_of_an_analysis_in_a_scene() -> None:
         '  written a/report.md, a/metrics.json',
     )
     assert view.data == {'robots': 3}
+
+
+def test_the_closest_approach_to_an_obstacle_is_said_when_the_scene_has_obstacles() -> None:
+    lines = analyze_view(analysed(clearances=(0.3, None, 0.12))).lines
+    assert lines[-2] == '  closest approach to an obstacle 0.120 m (r3), the centre'
+    assert not any('obstacle' in line for line in analyze_view(analysed()).lines)
 
 
 def test_a_failed_passage_is_said_and_exits_1() -> None:
