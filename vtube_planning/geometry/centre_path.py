@@ -44,7 +44,7 @@ class SearchGrid:
         edge = b.clearance(nodes) - b.margin_m + spec.margin_m
         ends = np.array([spec.start_m, spec.goal_m])
         near_end = np.hypot(*(nodes[:, None, :] - ends[None, :, :]).transpose(2, 0, 1)).min(axis=1) <= 2 * spec.room_m
-        edge = np.where(near_end & (edge >= -spec.bounds.margin_m + spec.margin_m), np.inf, edge).reshape(xx.shape)
+        edge = np.where(near_end, np.inf, edge).reshape(xx.shape)  # every node lies inside the map
         self.clear = np.minimum(np.maximum(to_obstacle, 0.0), edge)
         self.free = self.clear >= spec.room_m + 0.5 * math.sqrt(2.0) * h  # a step between nodes keeps the room
 

@@ -155,15 +155,15 @@ class TubeSpec:
         tube may meet the edge head-on at its start and goal)."""
         b, m = self.bounds, self.bounds.margin_m
         low, high = np.array([b.x_min_m + m, b.y_min_m + m]), np.array([b.x_max_m - m, b.y_max_m - m])
-        with np.errstate(divide='ignore', invalid='ignore'):
-            forward = np.where(
-                normals > 0, (high - points_m) / normals, np.where(normals < 0, (low - points_m) / normals, np.inf)
-            )
-            backward = np.where(
-                normals > 0, (points_m - low) / normals, np.where(normals < 0, (points_m - high) / normals, np.inf)
-            )
-        reach: FloatArray = np.minimum(forward.min(axis=1), backward.min(axis=1))
-        return reach
+
+        def along(direction: FloatArray) -> FloatArray:  # to the rectangle's side the direction points at
+            with np.errstate(divide='ignore', invalid='ignore'):
+                side = np.where(direction > 0, high, low)
+                steps = np.where(direction != 0, (side - points_m) / direction, np.inf)
+            reach: FloatArray = steps.min(axis=1)
+            return reach
+
+        return np.minimum(along(normals), along(-normals))
 
 
 @dataclass(frozen=True)
