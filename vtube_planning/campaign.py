@@ -1,7 +1,7 @@
 """Campaigns: a study declared as axes, run anywhere, streamed to disk, resumable.
 
 A campaign (a TOML file for ``vtube campaign run``, or built by ``vtube study`` and ``vtube ablation``) names the
-values of each axis of :class:`~vtube_planning.study.Point` (scene, mode, swarm size, seed, robot model,
+values of each axis of :class:`~vtube_planning.study.Point` (scene, random map, mode, swarm size, seed, robot model,
 saturation and the faults), the metrics to keep and what every run shares (:class:`~vtube_planning.study.RunSettings`)::
 
     name = "faults"
@@ -13,6 +13,8 @@ saturation and the faults), the metrics to keep and what every run shares (:clas
     mode = ["planning", "no planning"]
     seed = 10                       # seeds 0..9 (or a list)
     pose_noise_m = [0.0, 0.02, 0.05]
+    # map = ["bottleneck"]          # fly the scene's swarm through tubes generated on random maps instead
+    # map_seed = [0, 2, 3]          # (vtube_planning.geometry.maps; also map_clutter, map_width_m)
 
     [settings]
     failure_at = 0.5                # where a failing robot fails, times the tube's length
@@ -36,6 +38,7 @@ from typing import Any
 
 from vtube_planning._validate import is_real
 from vtube_planning.errors import VtubeError
+from vtube_planning.geometry.maps import CLUTTER, FAMILIES, WIDTH_M, WIDTH_RANGE_M
 from vtube_planning.geometry.scene import load_scene
 from vtube_planning.onboard import SATURATIONS
 from vtube_planning.study import ABLATIONS, BASELINE_MODES, COMPENSATIONS, MODELS, REPLANNING_MODES, Point, RunSettings
@@ -52,7 +55,8 @@ class CampaignError(VtubeError, ValueError):
     another campaign."""
 
 
-AXES: dict[str, type] = {'scene': str, 'n_robots': int, 'model': str, 'saturation': str, 'pose_noise_m': float}
+AXES: dict[str, type] = {'scene': str, 'map': str, 'map_seed': int, 'map_clutter': int, 'map_width_m': float}
+AXES |= {'n_robots': int, 'model': str, 'saturation': str, 'pose_noise_m': float}
 AXES |= {'latency_steps': int, 'lag_s': float, 'compensation': str, 'failure': str, 'dropout': float}
 AXES |= {'seed': int, 'mode': str}
 """The axes (the fields of :class:`Point`) in the order runs are expanded: a cell's modes and seeds are adjacent."""
@@ -75,6 +79,7 @@ _CHOICES = {
     'saturation': SATURATIONS,
     'failure': ('none', *FAILURE_MODES),
     'compensation': COMPENSATIONS,
+    'map': ('none', *FAMILIES),
 }
 
 
@@ -196,7 +201,8 @@ class Campaign:
         }
 
 
-LATER_AXES = {'lag_s': 0.0, 'compensation': 'none'}
+LATER_AXES: dict[str, Any] = {'lag_s': 0.0, 'compensation': 'none'}
+LATER_AXES |= {'map': 'none', 'map_seed': 0, 'map_clutter': CLUTTER, 'map_width_m': WIDTH_M}
 """Axes added after campaigns were committed, with their defaults: a run at a default leaves them out of its key, so
 that the tables written before keep their keys (a rerun resumes them)."""
 
@@ -209,10 +215,11 @@ def run_key(point: Point, settings: RunSettings) -> str:
 
 
 def _axis_values(axis: str, value: Any, base: Path | None) -> tuple[Any, ...]:
-    """An axis's values from TOML: a list (a seed count n stands for 0..n-1); scene files relative to ``base``."""
-    if axis == 'seed' and isinstance(value, int) and not isinstance(value, bool):
+    """An axis's values from TOML: a list (a seed count n stands for 0..n-1, for the runs' and the maps' seeds);
+    scene files relative to ``base``."""
+    if axis in ('seed', 'map_seed') and isinstance(value, int) and not isinstance(value, bool):
         if value < 1:
-            msg = f'axes.seed = {value} runs no seed; give a count >= 1 (seeds 0..n-1) or a list of seeds.'
+            msg = f'axes.{axis} = {value} runs no seed; give a count >= 1 (seeds 0..n-1) or a list of seeds.'
             raise CampaignError(msg)
         return tuple(range(value))
     if not isinstance(value, list):
@@ -244,11 +251,12 @@ def _check_values(axis: str, values: Iterable[Any]) -> None:
         if axis in _CHOICES and value not in _CHOICES[axis]:
             msg = f'axes.{axis} holds {value!r}; choose from {", ".join(map(repr, _CHOICES[axis]))}.'
             raise CampaignError(msg)
-        low = {'n_robots': 1, 'seed': 0, 'latency_steps': 0, 'lag_s': 0.0, 'pose_noise_m': 0.0, 'dropout': 0.0}.get(
-            axis
-        )
-        if low is not None and value < low or axis == 'dropout' and value >= 1.0:
-            bound = 'in [0, 1)' if axis == 'dropout' else f'>= {low}'
+        low = {'n_robots': 1, 'seed': 0, 'latency_steps': 0, 'lag_s': 0.0, 'pose_noise_m': 0.0, 'dropout': 0.0}
+        low |= {'map_seed': 0, 'map_clutter': 0, 'map_width_m': WIDTH_RANGE_M[0]}
+        high = {'dropout': 1.0, 'map_width_m': WIDTH_RANGE_M[1] + 1e-12}
+        if axis in low and value < low[axis] or axis in high and value >= high[axis]:
+            bounds = {'dropout': 'in [0, 1)', 'map_width_m': f'in [{WIDTH_RANGE_M[0]:g}, {WIDTH_RANGE_M[1]:g}] m'}
+            bound = bounds.get(axis, f'>= {low.get(axis)}')
             msg = f'axes.{axis} holds {value!r}; its values must be {bound}.'
             raise CampaignError(msg)
         if axis == 'scene':

@@ -4,7 +4,7 @@ The paper's comparison flies every scene and seed once with the plan (planned sp
 without (constant mid-range speed, constant r_a), from the same jittered initial formation; on scenes C and D the
 paper's baselines (optimized flocking with v_min = 0 as the paper ran it and a speed-constrained variant;
 distributed NMPC) too. The ablation modes (ABLATIONS) each switch one part of the method off on the same code path.
-Reports are in :mod:`vtube_planning.study_report`; every study runs as a campaign (:mod:`vtube_planning.campaign`).
+Reports are in :mod:`vtube_planning.paper_report` and :mod:`vtube_planning.study_report`; every study runs as a campaign (:mod:`vtube_planning.campaign`).
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ import numpy as np
 from vtube_planning.baselines.flocking import FlockingParams, flocking_command
 from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
 from vtube_planning.errors import ParamsError
+from vtube_planning.geometry.maps import CLUTTER, WIDTH_M, scene_on_map
 from vtube_planning.geometry.scene import Scene, load_scene
 from vtube_planning.onboard import Saturation
 from vtube_planning.params import ControlParams, PlanningOptions, SwarmParams
@@ -132,12 +133,17 @@ def _cached_plan(scene: Scene, swarm: SwarmParams, model: str) -> Plan:
 
 @dataclass(frozen=True)
 class Point:
-    """One run of a study: where (scene, swarm size N), how (mode of ABLATIONS or BASELINE_MODES, robot model of
-    MODELS, saturation of SATURATIONS), which seed, and which faults (:class:`~vtube_planning.swarm.simulate.SimConfig`;
-    ``failure``: 'none', or the failing robot's mode, 'stop' or 'coast', placed by :class:`RunSettings`).
-    ``n_robots`` and ``saturation`` None: the scene's own."""
+    """One run of a study: where (scene, swarm size N, and a random map whose generated tube replaces the scene's:
+    ``map`` a family of :mod:`vtube_planning.geometry.maps` or 'none', with its seed and difficulty), how (mode of
+    ABLATIONS or BASELINE_MODES, robot model of MODELS, saturation of SATURATIONS), which seed, and which faults
+    (:class:`~vtube_planning.swarm.simulate.SimConfig`; ``failure``: 'none', or the failing robot's mode, 'stop' or
+    'coast', placed by :class:`RunSettings`). ``n_robots`` and ``saturation`` None: the scene's own."""
 
     scene: str
+    map: str = 'none'
+    map_seed: int = 0
+    map_clutter: int = CLUTTER
+    map_width_m: float = WIDTH_M
     mode: str = 'planning'
     n_robots: int | None = None
     seed: int = 0
@@ -159,6 +165,13 @@ class Point:
         offset = {'known': 0, 'known-1': -1, 'known+1': 1}[self.compensation]
         return float(max(0, self.latency_steps + offset)), self.lag_s
 
+    def load_scene(self) -> Scene:
+        """The scene flown: the named one, on its random map if the point has one."""
+        scene = load_scene(self.scene)
+        if self.map == 'none':
+            return scene
+        return scene_on_map(scene, self.map, self.map_seed, clutter=self.map_clutter, width_m=self.map_width_m)
+
 
 @dataclass(frozen=True)
 class RunSettings:
@@ -175,7 +188,7 @@ def run_point(point: Point, settings: RunSettings = RunSettings()) -> dict[str, 
     """Fly one run and measure it: the passage's metrics, the density error against the *full* plan's rho* (the
     same reference for every mode: mean |rho - rho*(l_c)| while the swarm's centre is in the tube), the share of
     in-tube robot-steps moving backwards, and NMPC's converged share (NaN for the other modes)."""
-    scene = load_scene(point.scene)
+    scene = point.load_scene()
     if point.compensation != 'none' and point.mode in BASELINE_MODES:
         msg = f'delay compensation acts in the swarm step, which the baseline {point.mode!r} does not fly; use none.'
         raise ParamsError(msg)

@@ -59,12 +59,12 @@ def paired_differences_figure(rows: list[dict[str, Any]]) -> Figure:
     line per comparison and cell (scene, N, setting); filled where the claim holds."""
     from matplotlib.figure import Figure
 
-    from vtube_planning.study_report import CLAIMS, COMPARISONS, paired_table, setting_text
+    from vtube_planning.study_report import CLAIMS, COMPARISONS, paired_table, place_text, setting_text
 
     table = paired_table(rows)
 
     def label(p: dict[str, Any]) -> str:
-        return f'{p["a"]} - {p["b"]}  |  {p["scene"]}, N={p["n_robots"]}, {setting_text(p)}'
+        return f'{p["a"]} - {p["b"]}  |  {place_text(p)}, N={p["n_robots"]}, {setting_text(p)}'
 
     present = list(dict.fromkeys(label(p) for p in table))
     labels = [text for a, b, _ in COMPARISONS for text in present if text.startswith(f'{a} - {b}  |')]
@@ -97,7 +97,8 @@ def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
     modes = list(dict.fromkeys(r['mode'] for r in rows))
     groups: dict[tuple[str, str, str], list[dict[str, Any]]] = {}  # (scene, mode, cell label): rows, in one pass
     for r in rows:
-        groups.setdefault((r['scene'], r['mode'], f'N={r["n_robots"]}, {setting_text(r)}'), []).append(r)
+        where = '' if r.get('map') in (None, 'none') else f'{r["map"]} map {r["map_seed"]}, '
+        groups.setdefault((r['scene'], r['mode'], f'{where}N={r["n_robots"]}, {setting_text(r)}'), []).append(r)
     cells = {s: list(dict.fromkeys(label for scene, _, label in groups if scene == s)) for s in scenes}
     height = sum(0.3 * len(c) + 0.9 for c in cells.values())
     fig = Figure(figsize=(13.0, 1.0 + height), layout='constrained')
@@ -135,3 +136,36 @@ def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
     handles = [fig.axes[0].plot([], [], 'o', color=colors[m], label=m)[0] for m in modes]
     fig.legend(handles=handles, loc='outside lower center', ncols=min(len(modes), 6), fontsize=8)
     return fig
+
+
+def map_differences_figure(rows: list[dict[str, Any]]) -> Figure:
+    """A study over random maps (:func:`~vtube_planning.study_report.map_differences`): one panel per metric, one
+    line per comparison and population of maps; a dot per map (its mean paired difference over its seeds) and the
+    mean over maps with its 95 % interval, filled where the claim holds."""
+    from matplotlib.figure import Figure
+
+    from vtube_planning.study_report import CLAIMS, map_differences, setting_text
+
+    found = map_differences(rows)
+    labels = list(dict.fromkeys(_map_label(f, setting_text(f)) for f in found))
+    fig = Figure(figsize=(12.0, 1.4 + 0.5 * len(labels)), layout='constrained')
+    axes = fig.subplots(1, len(CLAIMS), sharey=True)
+    colors = {'holds': 'tab:blue', 'reversed': 'tab:red', 'does not hold': 'tab:gray'}
+    spread = np.random.default_rng(0)
+    for ax, (metric, _, title) in zip(axes, CLAIMS, strict=True):
+        for f in (f for f in found if f['metric'] == metric):
+            k, e, color = labels.index(_map_label(f, setting_text(f))), f['estimate'], colors[f['verdict']]
+            ax.plot(f['per_map'], k + spread.uniform(-0.25, 0.25, len(f['per_map'])), '.', ms=3, color='0.6')
+            ax.hlines(k, e.low, e.high, color=color, lw=3)
+            ax.plot(e.value, k, 'o', color=color, mfc=color if f['verdict'] == 'holds' else 'white')
+        ax.axvline(0.0, color='k', lw=0.8)
+        ax.set_xlabel(f'difference in {title} (dots: one per map)')
+    axes[0].set_yticks(range(len(labels)), labels, fontsize=7)
+    axes[0].set_ylim(len(labels) - 0.5, -0.5)
+    return fig
+
+
+def _map_label(f: dict[str, Any], setting: str) -> str:
+    return (
+        f'{f["a"]} - {f["b"]}  |  {len(f["per_map"])} {f["map"]} maps, scene {f["scene"]}, N={f["n_robots"]}, {setting}'
+    )

@@ -1,10 +1,9 @@
-"""Reports of a study: the paper's comparison per scene, and the grid's cells, paired comparisons and verdicts.
+"""Reports of a study's grid: its cells, paired comparisons and verdicts, and the comparisons over random maps.
 
-The paper's claim, checked per scene on the means over seeds and per seed (:func:`summarise`): with planning the
-passing time is shorter, the minimum distance larger, and no two robots collide; against the baselines, planning
-passes more safely. :func:`grid_markdown` reports each cell of a grid with bootstrap intervals and the paired
-differences of COMPARISONS (:mod:`vtube_planning.stats`). Rows are those of :func:`~vtube_planning.study.run_point`
-with their :class:`~vtube_planning.study.Point`'s fields.
+:func:`grid_markdown` reports each cell of a grid with bootstrap intervals and the paired differences of
+COMPARISONS (:mod:`vtube_planning.stats`); over random maps, :func:`map_differences` takes the maps as the sample.
+Rows are those of :func:`~vtube_planning.study.run_point` with their :class:`~vtube_planning.study.Point`'s fields;
+the paper's comparison per scene is in :mod:`vtube_planning.paper_report`.
 """
 
 from __future__ import annotations
@@ -16,122 +15,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning.stats import Estimate, cell_values, mean_interval, paired_difference, verdict
-from vtube_planning.study import BASELINE_MODES, RunSettings
-
-
-def summarise(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """Per scene: means and ranges per mode, and whether the paper's claims hold (on means and per seed)."""
-    out = []
-    for name in dict.fromkeys(r['scene'] for r in rows):
-        entry: dict[str, Any] = {'scene': name}
-        per_mode = {}
-        modes = list(dict.fromkeys(r['mode'] for r in rows if r['scene'] == name))
-        entry['modes'] = modes
-        for mode in modes:
-            sel = [r for r in rows if r['scene'] == name and r['mode'] == mode]
-            passing = np.array([r['passing_time_s'] for r in sel])
-            distance = np.array([r['min_distance_m'] for r in sel])
-            per_mode[mode] = sel
-            entry[mode] = {
-                'passing_time_s': float(passing.mean()),
-                'passing_time_range_s': [float(passing.min()), float(passing.max())],
-                'min_distance_m': float(distance.mean()),
-                'min_distance_range_m': [float(distance.min()), float(distance.max())],
-                'collision_pairs': int(sum(r['collision_pairs'] for r in sel)),
-                'incursion_depth_m': float(max(r['incursion_depth_m'] for r in sel)),
-                'nmpc_converged_share': float(np.mean([r['nmpc_converged_share'] for r in sel])),
-                'tube_violation_steps': int(sum(r['tube_violation_steps'] for r in sel)),
-                'completed': all(r['completed'] for r in sel),
-            }
-        planned, unplanned = entry['planning'], entry['no planning']
-        entry['claim_on_means'] = (
-            planned['passing_time_s'] < unplanned['passing_time_s']
-            and planned['min_distance_m'] > unplanned['min_distance_m']
-            and planned['collision_pairs'] == 0
-        )
-        pairs = zip(per_mode['planning'], per_mode['no planning'], strict=True)
-        entry['claim_per_seed'] = [
-            {
-                'seed': p['seed'],
-                'holds': p['passing_time_s'] < u['passing_time_s']
-                and p['min_distance_m'] > u['min_distance_m']
-                and p['collision_pairs'] == 0,
-            }
-            for p, u in pairs
-        ]
-        entry['safer_than'] = {
-            mode: planned['collision_pairs'] < entry[mode]['collision_pairs']
-            or (
-                planned['collision_pairs'] == entry[mode]['collision_pairs'] == 0
-                and planned['min_distance_m'] > entry[mode]['min_distance_m']
-            )
-            for mode in modes
-            if mode in BASELINE_MODES
-        }
-        out.append(entry)
-    return out
-
-
-def study_markdown(
-    summary: list[dict[str, Any]], seeds: list[int], acceleration_limits: bool, settings: RunSettings | None = None
-) -> str:
-    """The comparison as a Markdown table, with the claim's verdict per scene."""
-    settings = settings or RunSettings()
-    model = 'with the acceleration limits (3), (4) per robot' if acceleration_limits else "the paper's model"
-    lines = [
-        (
-            f'Scenes with and without planning, Table 1 swarm (N = 20), {model}, dt = {settings.dt_s} s, '
-            f'seeds {seeds[0]}..{seeds[-1]} (initial jitter {settings.jitter_m} m). Means over seeds, [min, max].'
-        ),
-        '',
-        (
-            '| scene | mode | passing time [s] | min distance [m] | collisions (pairs) | deepest incursion [m] '
-            '| tube violations (robot-steps) |'
-        ),
-        '|---|---|---|---|---|---|---|',
-    ]
-    for entry in summary:
-        for mode in entry['modes']:
-            e = entry[mode]
-            lo, hi = e['passing_time_range_s']
-            dlo, dhi = e['min_distance_range_m']
-            lines.append(
-                f'| {entry["scene"]} | {mode} | {e["passing_time_s"]:.2f} [{lo:.2f}, {hi:.2f}] | '
-                f'{e["min_distance_m"]:.3f} [{dlo:.3f}, {dhi:.3f}] | {e["collision_pairs"]} | '
-                f'{e["incursion_depth_m"]:.3f} | {e["tube_violation_steps"]} |'
-            )
-    lines += ['', "The paper's claim (with planning: shorter passing time, larger minimum distance, no collision):", '']
-    for entry in summary:
-        held = [c['seed'] for c in entry['claim_per_seed'] if c['holds']]
-        failed = [c['seed'] for c in entry['claim_per_seed'] if not c['holds']]
-        verdict = 'holds' if entry['claim_on_means'] else 'does not hold'
-        detail = f'; per seed it holds for {len(held)} of {len(held) + len(failed)}'
-        if failed:
-            detail += f' (not for seed {", ".join(map(str, failed))})'
-        lines.append(f'- scene {entry["scene"]}: {verdict} on the means{detail}.')
-    compared = [entry for entry in summary if entry['safer_than']]
-    if compared:
-        lines += [
-            '',
-            (
-                'Against the baselines (planning safer: fewer collisions, or none on either side and a '
-                'larger minimum distance):'
-            ),
-            '',
-        ]
-        for entry in compared:
-            for mode, safer in entry['safer_than'].items():
-                lines.append(
-                    f'- scene {entry["scene"]}, {mode}: {"holds" if safer else "does not hold"} '
-                    f'({entry["planning"]["collision_pairs"]} against {entry[mode]["collision_pairs"]} '
-                    'collision pairs).'
-                )
-        solved = [entry for entry in compared if 'nmpc' in entry['modes']]
-        if solved:
-            lines += ['', "NMPC's solves (IPOPT, every agent every 0.1 s) that converged, mean over seeds:", '']
-            lines += [f'- scene {e["scene"]}: {e["nmpc"]["nmpc_converged_share"]:.1%}.' for e in solved]
-    return '\n'.join(lines) + '\n'
-
 
 COMPARISONS = (
     ('planning', 'no planning', "the paper's comparison"),
@@ -147,6 +30,10 @@ CLAIMS = (('passing_time_s', 'lower', 'passing time [s]'), ('min_distance_m', 'h
 
 CELL_AXES = (
     'scene',
+    'map',
+    'map_seed',
+    'map_clutter',
+    'map_width_m',
     'n_robots',
     'model',
     'saturation',
@@ -162,6 +49,19 @@ CELL_AXES = (
 
 def _cell(row: dict[str, Any]) -> tuple[Any, ...]:
     return tuple(row.get(axis) for axis in CELL_AXES)
+
+
+def place_text(row: dict[str, Any]) -> str:
+    """Where a cell flies: its scene, and its random map if it has one."""
+    if row.get('map') in (None, 'none'):
+        return f'Scene {row["scene"]}'
+    return f'Scene {row["scene"]} on {_population_text(row)} map {row["map_seed"]}'
+
+
+def _population_text(row: dict[str, Any]) -> str:
+    """The maps a random map is drawn from: its family and difficulty."""
+    opening = f', opening {row["map_width_m"]:g} m' if row['map'] == 'bottleneck' else ''
+    return f'{row["map"]} (clutter {row["map_clutter"]}{opening})'
 
 
 def setting_text(row: dict[str, Any]) -> str:
@@ -188,9 +88,10 @@ def verdict_summary(rows: list[dict[str, Any]]) -> str:
     table = paired_table(rows)
     settings = list(dict.fromkeys(setting_text(p) for p in table))
     compared = [c for c in COMPARISONS if any((p['a'], p['b']) == c[:2] for p in table)]
+    cells = '(scene, map, N)' if any(r.get('map') not in (None, 'none') for r in rows) else '(scene, N)'
     lines = [
         (
-            'Cells (scene, N) where a beats b (+), the interval includes zero (=), or b beats a (-); '
+            f'Cells {cells} where a beats b (+), the interval includes zero (=), or b beats a (-); '
             'T: passing time (shorter is better), D: minimum distance (larger is better).'
         ),
         '',
@@ -211,6 +112,62 @@ def verdict_summary(rows: list[dict[str, Any]]) -> str:
                 counts.append(f'{letter} +{plus} ={same} -{minus}')
             cols.append(', '.join(counts))
         lines.append(f'| {setting} | ' + ' | '.join(cols) + ' |')
+    return '\n'.join(lines) + '\n'
+
+
+def map_differences(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Over the random maps of each population (scene, N, setting, map family and difficulty), the comparisons of
+    COMPARISONS on each metric of CLAIMS: the mean over maps of each map's mean paired difference (a - b over its
+    seeds) with its 95 % bootstrap interval over maps (the maps are the sample: the claim is about the family, not
+    one map) and verdict, ``per_map``: each map's mean difference, and ``counts``: the verdicts of the maps' own paired intervals. A map whose runs did not
+    all complete is left out of that comparison."""
+    out = []
+    mapped = [r for r in rows if r.get('map') not in (None, 'none')]
+    for population in dict.fromkeys(_population(r) for r in mapped):
+        sel = [r for r in mapped if _population(r) == population]
+        maps = [[r for r in sel if r['map_seed'] == seed] for seed in dict.fromkeys(r['map_seed'] for r in sel)]
+        for a, b, _ in COMPARISONS:
+            for metric, better, _ in CLAIMS:
+                pairs = [(cell_values(m, metric, mode=a), cell_values(m, metric, mode=b)) for m in maps]
+                pairs = [(x, y) for x, y in pairs if x.size and x.size == y.size and np.all(np.isfinite(x - y))]
+                if len(pairs) < 2:
+                    continue
+                per_map = [float(np.mean(x - y)) for x, y in pairs]
+                estimate = mean_interval(per_map)
+                own = [verdict(d, better) for d in (_paired(x, y) for x, y in pairs) if d is not None]
+                counts = ' '.join(f'{s}{own.count(v)}' for s, v in zip('+=-', _VERDICTS, strict=True))
+                first = sel[0] | {'a': a, 'b': b, 'metric': metric, 'per_map': per_map, 'counts': counts}
+                out.append(first | {'estimate': estimate, 'verdict': verdict(estimate, better)})
+    return out
+
+
+_VERDICTS = ('holds', 'does not hold', 'reversed')
+
+
+def _population(row: dict[str, Any]) -> tuple[Any, ...]:
+    return row['scene'], row['n_robots'], row['map'], row['map_clutter'], row['map_width_m'], setting_text(row)
+
+
+def map_summary(rows: list[dict[str, Any]]) -> str:
+    """The table of :func:`map_differences` (empty for rows without random maps)."""
+    found = map_differences(rows)
+    if not found:
+        return ''
+    lines = [
+        (
+            "Over the random maps (each map the mean of its seeds; 95 % interval over maps), and how many maps' own "
+            'intervals say a beats b (+), cannot tell (=) or b beats a (-):'
+        ),
+        '',
+        '| maps | setting | comparison (a - b) | ' + ' | '.join(t for _, _, t in CLAIMS) + ' |',
+        '|---|---|---|' + '---|' * len(CLAIMS),
+    ]
+    for head in dict.fromkeys((*_population(f), f['a'], f['b']) for f in found):
+        match = {f['metric']: f for f in found if (*_population(f), f['a'], f['b']) == head}
+        f = next(iter(match.values()))
+        cols = [f'{g["estimate"].text(3)}: {g["verdict"]} ({g["counts"]})' for g in match.values()]
+        maps = f'{len(f["per_map"])} {_population_text(f)} maps, scene {f["scene"]}, N = {f["n_robots"]}'
+        lines.append(f'| {maps} | {setting_text(f)} | {f["a"]} - {f["b"]} | ' + ' | '.join(cols) + ' |')
     return '\n'.join(lines) + '\n'
 
 
@@ -268,7 +225,7 @@ def grid_markdown(rows: list[dict[str, Any]]) -> str:
     (:func:`mode_summary`), then per cell (scene, N, setting) each mode's means with 95 % bootstrap intervals and
     the paired differences of COMPARISONS with their intervals and verdicts (a claim holds only where the interval
     excludes zero)."""
-    lines: list[str] = [verdict_summary(rows), mode_summary(rows)]
+    lines: list[str] = [verdict_summary(rows), map_summary(rows), mode_summary(rows)]
     for cell in dict.fromkeys(_cell(r) for r in rows):
         sel = [r for r in rows if _cell(r) == cell]
         modes = list(dict.fromkeys(r['mode'] for r in sel))
@@ -276,7 +233,7 @@ def grid_markdown(rows: list[dict[str, Any]]) -> str:
         first = sel[0]
         columns = [c for c in _CELL_COLUMNS if c[0] in first]
         lines += [
-            f'### Scene {first["scene"]}, N = {first["n_robots"]}, {setting_text(first)} ({len(seeds)} seeds)',
+            f'### {place_text(first)}, N = {first["n_robots"]}, {setting_text(first)} ({len(seeds)} seeds)',
             '',
             '| mode | ' + ' | '.join(header for _, header, _ in columns) + ' |',
             '|---|' + '---|' * len(columns),

@@ -128,9 +128,9 @@ def study(args: argparse.Namespace) -> StudyDone:
 
     from vtube_planning import plots, study_plots
     from vtube_planning.campaign import Campaign
+    from vtube_planning.paper_report import study_markdown, summarise
     from vtube_planning.params import SwarmParams
     from vtube_planning.study import BASELINE_MODES, BASELINE_SCENES, MODES
-    from vtube_planning.study_report import study_markdown, summarise
     from vtube_planning.swarm.metrics import strict_json
 
     out: Path = args.out
@@ -227,7 +227,7 @@ def write_report(out: Path) -> CampaignReport | None:
     it holds no finished run)."""
     from vtube_planning import plots, study_plots
     from vtube_planning.campaign_store import read_results
-    from vtube_planning.study_report import grid_markdown
+    from vtube_planning.study_report import grid_markdown, map_differences
 
     campaign, rows, missing = read_results(out)
     if not rows:
@@ -237,8 +237,9 @@ def write_report(out: Path) -> CampaignReport | None:
         head += f' ({missing} of the grid missing or failed: the tables are partial; rerun the campaign to finish)'
     text = f'{head}.\n\n' + grid_markdown(rows)
     (out / 'report.md').write_text(text, encoding='utf-8')
+    differences = study_plots.map_differences_figure if map_differences(rows) else study_plots.paired_differences_figure
     figures = (
-        plots.save_figure(study_plots.paired_differences_figure(rows), out / 'differences.png'),
+        plots.save_figure(differences(rows), out / 'differences.png'),
         plots.save_figure(study_plots.cell_means_figure(rows), out / 'means.png'),
     )
     return CampaignReport(text, (out / 'report.md', *figures))

@@ -10,17 +10,22 @@ scenes (half-width 1.2 to 4.5 m, 0.3 m kept from the obstacles, turns no tighter
   a random height, and ``clutter`` discs on either side.
 
 :func:`random_map` draws one map of a family from its seed (numpy's ``default_rng``): the same family, seed and
-difficulty give the same map on every machine.
+difficulty give the same map on every machine. :func:`scene_on_map` flies a scene's swarm through the tube
+generated on such a map (the campaign axes ``map``, ``map_seed``, ``map_clutter`` and ``map_width_m``).
 """
 
 from __future__ import annotations
 
+import functools
 import math
+from dataclasses import replace
 
 import numpy as np
 
-from vtube_planning.geometry.generate import TubeSpec
+from vtube_planning.errors import ParamsError
+from vtube_planning.geometry.generate import GeneratedTube, TubeSpec, generate_tube
 from vtube_planning.geometry.obstacles import Disc, Obstacles, Polygon
+from vtube_planning.geometry.scene import Scene
 from vtube_planning.geometry.workspace import Workspace
 
 FAMILIES = ('forest', 'blocks', 'bottleneck')
@@ -30,11 +35,21 @@ CLEAR_OF_ENDS_M = 6.0
 """No obstacle within this distance of the start or the goal."""
 LIMITS = {'half_width_min_m': 1.2, 'half_width_max_m': 4.5, 'margin_m': 0.3, 'turn_radius_min_m': 4.0}
 """The tube's limits: the paper's narrowest and widest half-width (scenes A-D), Table 1's v_min^2 / a_n."""
+CLUTTER, WIDTH_M = 30, 4.0
+"""The default difficulty: obstacles per map, and the bottleneck's opening."""
+WIDTH_RANGE_M = (1.0, 20.0)
+"""The openings a bottleneck can have: from below 2 lambda_min (refused) to half the map's height."""
 
 
-def random_map(family: str, seed: int, *, clutter: int = 30, width_m: float = 4.0) -> TubeSpec:
+def random_map(family: str, seed: int, *, clutter: int = CLUTTER, width_m: float = WIDTH_M) -> TubeSpec:
     """The map of ``family`` (module doc) drawn from ``seed``, with ``clutter`` obstacles and, for ``bottleneck``,
-    an opening ``width_m`` wide; a ValueError names an unknown family."""
+    an opening ``width_m`` wide; a ValueError names an unknown family or a difficulty out of range."""
+    if clutter < 0 or seed < 0 or not WIDTH_RANGE_M[0] <= width_m <= WIDTH_RANGE_M[1]:
+        msg = (
+            f'a random map needs seed >= 0, clutter >= 0 and an opening width_m in [{WIDTH_RANGE_M[0]:g}, '
+            f'{WIDTH_RANGE_M[1]:g}] m; got seed {seed}, clutter {clutter}, width_m {width_m}.'
+        )
+        raise ValueError(msg)
     rng = np.random.default_rng(seed)
     if family == 'forest':
         obstacles = Obstacles(_discs(rng, clutter, (8.0, 72.0)))
@@ -54,6 +69,34 @@ def random_map(family: str, seed: int, *, clutter: int = 30, width_m: float = 4.
         raise ValueError(msg)
     bounds = Workspace(0.0, SIZE_M[0], 0.0, SIZE_M[1], margin_m=0.5)
     return TubeSpec(bounds, obstacles, START_M, GOAL_M, **LIMITS)
+
+
+def scene_on_map(scene: Scene, family: str, seed: int, *, clutter: int = CLUTTER, width_m: float = WIDTH_M) -> Scene:
+    """``scene`` (its swarm, planning options and gains) with its tube replaced by the one generated on the map of
+    :func:`random_map`, the map's obstacles kept; :class:`~vtube_planning.errors.TubeGenerationError` when the map
+    is refused. The maps are at the paper's scale, so the scene must be one of the paper's size (not a testbed's)."""
+    if scene.testbed is not None:
+        msg = (
+            f'scene {scene.name!r} is declared for the {scene.testbed}; the random maps are 80 m x 40 m, at the '
+            "paper's scale: fly them with a scene of that scale (A-D or your own without a testbed table)."
+        )
+        raise ParamsError(msg)
+    made = _generated(family, seed, clutter, width_m)
+    where = f'{family} map {seed} (clutter {clutter}, opening {width_m:g} m)'
+    return replace(
+        scene,
+        name=f'{scene.name} on the {where}',
+        tube=made.tube,
+        obstacles=random_map(family, seed, clutter=clutter, width_m=width_m).obstacles,
+        workspace=None,
+        source=f'{scene.source} on the {where}',
+    )
+
+
+@functools.lru_cache(maxsize=64)
+def _generated(family: str, seed: int, clutter: int, width_m: float) -> GeneratedTube:
+    """The tube of a random map, generated once per process (a campaign flies each map in several modes)."""
+    return generate_tube(random_map(family, seed, clutter=clutter, width_m=width_m), name=f'{family}-{seed}')
 
 
 def _clear_of_ends(x: float, y: float, reach: float) -> bool:

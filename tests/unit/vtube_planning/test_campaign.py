@@ -37,7 +37,11 @@ def test_a_campaign_file_expands_into_runs_with_stable_keys(tmp_path) -> None:
     assert [p.seed for p in points[:6]] == [0, 0, 1, 1, 2, 2] and points[0].mode == 'planning'
     keys = [run_key(p, campaign.settings) for p in points]
     assert len(set(keys)) == len(keys)
-    before = {k: v for k, v in asdict(points[0]).items() if k not in ('lag_s', 'compensation')}  # axes added later
+    before = {
+        k: v
+        for k, v in asdict(points[0]).items()
+        if k not in ('lag_s', 'compensation', 'map', 'map_seed', 'map_clutter', 'map_width_m')
+    }  # axes added later
     text = json.dumps({'point': before, 'settings': asdict(campaign.settings)}, sort_keys=True)
     assert keys[0] == hashlib.sha256(text.encode()).hexdigest()[:16]  # tables written before keep their keys
     assert run_key(replace(points[0], compensation='known'), campaign.settings) not in keys
@@ -48,10 +52,12 @@ def test_a_campaign_file_expands_into_runs_with_stable_keys(tmp_path) -> None:
     own = Campaign.from_toml(write(tmp_path, '[axes]\nscene = ["mine.toml"]\n', 'own.toml'))
     mine = load_scene(scene_file)
     assert own.points() == [Point(str(scene_file), n_robots=mine.swarm.n_robots, saturation=mine.control.saturation)]
+    maps = Campaign.from_toml(write(tmp_path, FAULTS + 'map = ["forest"]\nmap_seed = 2\n', 'maps.toml')).points()
+    assert len(maps) == 2 * len(points) and {(p.map, p.map_seed) for p in maps} == {('forest', 0), ('forest', 1)}
 
 
 BAD_CAMPAIGNS = {
-    'unknown axis': (FAULTS + 'speed = [1.0]\n', "unknown axis 'speed'; the axes are scene, n_robots"),
+    'unknown axis': (FAULTS + 'speed = [1.0]\n', "unknown axis 'speed'; the axes are scene, map, map_seed"),
     'unknown metric': ('metrics = ["fun"]\n' + FAULTS, "unknown metric 'fun'; choose from passing_time_s"),
     'empty grid': (FAULTS.replace('seed = 3', 'seed = []'), 'axes.seed has no values, so the grid is empty'),
     'unknown mode': (FAULTS.replace('"no planning"', '"fast"'), "axes.mode holds 'fast'; choose from 'planning'"),
@@ -71,6 +77,12 @@ BAD_CAMPAIGNS = {
         'does not exist in a swarm of 20',
     ),
     'not TOML': (FAULTS + '[axes\n', 'not a valid TOML file'),
+    'unknown map': (FAULTS + 'map = ["maze"]\n', "axes.map holds 'maze'; choose from 'none', 'forest', 'blocks'"),
+    'opening too wide': (
+        FAULTS + 'map = ["bottleneck"]\nmap_width_m = [30.0]\n',
+        'axes.map_width_m holds 30.0; its values must be in [1, 20] m',
+    ),
+    'no map seed': (FAULTS + 'map = ["forest"]\nmap_seed = 0\n', 'axes.map_seed = 0 runs no seed'),
 }
 
 

@@ -76,3 +76,12 @@ def test_the_compensated_delay_is_the_runs_own_or_misjudged_by_a_period() -> Non
     assert Point('C', latency_steps=0, compensation='known-1').compensated() == (0.0, 0.0)  # never below 0
     with pytest.raises(ParamsError, match="the baseline 'flocking' does not fly"):
         run_point(Point('C', mode='flocking', latency_steps=2, compensation='known'))
+
+
+def test_a_point_on_a_random_map_flies_that_maps_tube() -> None:
+    from vtube_planning.geometry.maps import scene_on_map
+
+    point = Point('C', map='forest', map_seed=3, map_clutter=10)
+    assert point.load_scene().tube.length_m == scene_on_map(load_scene('C'), 'forest', 3, clutter=10).tube.length_m
+    assert Point('C').load_scene().tube.length_m == load_scene('C').tube.length_m  # no map: the scene's own tube
+    assert point.load_scene().tube.length_m != load_scene('C').tube.length_m

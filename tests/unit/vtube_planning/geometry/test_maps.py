@@ -4,6 +4,7 @@ asked for, and each family gives certified tubes (checked at 1 cm) as well as re
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -54,3 +55,26 @@ def test_blocks_give_certified_tubes_and_refusals_with_reasons() -> None:
         assert_misses(made.tube, spec.obstacles, 0.3, step_m=0.1, across=11)  # 1 cm: the benchmark's
         outcomes.append('certified')
     assert 'certified' in outcomes and any(o != 'certified' for o in outcomes), outcomes
+
+
+def test_a_difficulty_out_of_range_is_named() -> None:
+    with pytest.raises(ValueError, match=r'opening width_m in \[1, 20\] m; got seed 0, clutter 30, width_m 25'):
+        random_map('bottleneck', 0, width_m=25.0)
+    with pytest.raises(ValueError, match='clutter >= 0'):
+        random_map('forest', 0, clutter=-1)
+
+
+def test_a_scene_on_a_map_flies_the_maps_tube_with_its_own_swarm() -> None:
+    from vtube_planning.errors import ParamsError
+    from vtube_planning.geometry.maps import scene_on_map
+    from vtube_planning.geometry.scene import load_scene
+
+    scene = load_scene('C')
+    spec = random_map('bottleneck', 0, width_m=5.0)
+    on = scene_on_map(scene, 'bottleneck', 0, width_m=5.0)
+    fresh = generate_tube(spec).tube
+    assert on.tube.center.pieces == fresh.center.pieces and on.tube.width.parts == fresh.width.parts
+    assert on.obstacles == spec.obstacles and on.swarm == scene.swarm and on.control == scene.control
+    assert on.source != scene.source != scene_on_map(scene, 'bottleneck', 1, width_m=5.0).source  # plans cached apart
+    with pytest.raises(ParamsError, match="declared for the robotarium; the random maps are 80 m x 40 m"):
+        scene_on_map(replace(scene, testbed='robotarium'), 'bottleneck', 0)
