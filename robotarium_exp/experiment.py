@@ -136,6 +136,7 @@ def flight_data(scene: Scene, plan: Plan | None, config: ExperimentConfig) -> Fl
         plan=plan.profile if plan is not None and config.planning else None,
         tube=TubeSamples(samples.l_m, samples.xy_m, samples.half_width_m, samples.area_m2),
         tube_edges_m=np.stack([left.T, right.T]),
+        obstacle_outlines_m=scene.obstacles.outlines(),
         initial_conditions=initial_conditions(scene),
         parking_slots=parking(scene.tube, swarm.n_robots),
         projection_distance_m=config.projection_distance_m,

@@ -75,6 +75,8 @@ class FlightData:
         The plan's profile, or None: an unplanned flight (constant speed, constant r_a).
     tube
         The sampled tube; ``tube_edges_m`` (2, 2, K) its left and right boundary, for drawing.
+    obstacle_outlines_m
+        The scene's obstacles, each a closed outline (2, K), for drawing (the arena holds none: they are virtual).
     initial_conditions
         Poses (3, N) the testbed initializes the robots to.
     parking_slots
@@ -97,6 +99,7 @@ class FlightData:
     plan: PlanProfile | None
     tube: TubeSamples
     tube_edges_m: FloatArray
+    obstacle_outlines_m: tuple[FloatArray, ...]
     initial_conditions: FloatArray
     parking_slots: FloatArray
     projection_distance_m: float
@@ -136,6 +139,7 @@ class FlightData:
             plan=None if profile is None else PlanProfile(**_arrays(profile, PlanProfile)),
             tube=TubeSamples(**_arrays(plain['tube'], TubeSamples)),
             tube_edges_m=_array(plain['tube_edges_m']),
+            obstacle_outlines_m=tuple(_array(outline) for outline in plain['obstacle_outlines_m']),
             initial_conditions=_array(plain['initial_conditions']),
             parking_slots=_array(plain['parking_slots']),
             projection_distance_m=float(plain['projection_distance_m']),

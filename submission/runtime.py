@@ -59,13 +59,16 @@ class RobotariumModule(Protocol):
     Robotarium: Callable[..., RobotariumLike]
 
 
-def draw_tube(r: object, edges_m: np.ndarray) -> None:
-    """Draw the tube's boundaries (2, 2, K) on the arena figure, if the Robotarium has a figure."""
+def draw_tube(r: object, data: FlightData) -> None:
+    """Draw the tube's boundaries and the virtual obstacles (filled grey outlines: V2's ``obstacles=`` would draw
+    line segments only, and the classic API has none) on the arena figure, if the Robotarium has a figure."""
     axes = getattr(r, '_axes_handle', None) or getattr(r, 'axes', None)
     if axes is None or isinstance(axes, list):
         return
-    for side in edges_m:
+    for side in data.tube_edges_m:
         axes.plot(side[0], side[1], color='tab:blue', linewidth=2, zorder=0)
+    for outline in data.obstacle_outlines_m:
+        axes.fill(outline[0], outline[1], color='0.55', alpha=0.8, linewidth=0, zorder=0)
 
 
 def save_log(rows: dict[str, list[np.ndarray]], meta: dict[str, object]) -> None:
@@ -87,7 +90,7 @@ def run(data: FlightData, robotarium_module: RobotariumModule, *, max_steps: int
         initial_conditions=np.array(data.initial_conditions),
     )
     if show:
-        draw_tube(r, data.tube_edges_m)
+        draw_tube(r, data)
     dt = float(getattr(r, 'TIME_STEP', getattr(r, 'time_step', data.time_step_s)))
     flight = build_flight(data)
     meta: dict[str, object] = {

@@ -135,6 +135,16 @@ class Obstacles:
         starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.intp)
         return a, d, starts
 
+    def outlines(self, points_per_disc: int = 48) -> tuple[FloatArray, ...]:
+        """Each obstacle's closed outline (2, K) for drawing where no patch type exists (the testbed's figure): a
+        polygon's vertices, a disc's ``points_per_disc`` points on its circle; the first point is repeated last."""
+        angle = np.linspace(0.0, 2.0 * math.pi, points_per_disc + 1)
+        circles = [
+            np.array(d.center_m)[:, None] + d.radius_m * np.stack([np.cos(angle), np.sin(angle)]) for d in self.discs
+        ]
+        shapes = [np.array((*p.vertices_m, p.vertices_m[0]), dtype=float).T for p in self.polygons]
+        return (*circles, *shapes)
+
     def table(self) -> dict[str, list[dict[str, Any]]]:
         """The ``[obstacles]`` table of a scene file (:func:`obstacles_from_table` reads it back)."""
         table: dict[str, list[dict[str, Any]]] = {}

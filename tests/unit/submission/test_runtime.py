@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -65,24 +66,32 @@ def test_the_log_is_saved_as_npy_files_and_a_description(tmp_path, monkeypatch) 
     assert json.loads((tmp_path / META_FILE).read_text()) == {'finished': False}
 
 
-def test_the_tube_is_drawn_on_a_figure_only() -> None:
+def test_the_tube_and_the_obstacles_are_drawn_on_a_figure_only() -> None:
     drawn = []
 
     class Axes:
         def plot(self, x, y, **style) -> None:
-            drawn.append((list(x), list(y), style['color']))
+            drawn.append(('line', list(x), list(y), style['color']))
+
+        def fill(self, x, y, **style) -> None:
+            drawn.append(('fill', list(x), list(y), style['color']))
 
     class WithFigure:
         _axes_handle = Axes()
 
-    edges = np.arange(8.0).reshape(2, 2, 2)
-    draw_tube(WithFigure(), edges)
-    assert drawn == [([0.0, 1.0], [2.0, 3.0], 'tab:blue'), ([4.0, 5.0], [6.0, 7.0], 'tab:blue')]
-    draw_tube(object(), edges)  # no figure: nothing to draw on, no error
+    square = np.array([[0.0, 1.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 1.0, 0.0]])
+    data = SimpleNamespace(tube_edges_m=np.arange(8.0).reshape(2, 2, 2), obstacle_outlines_m=(square,))
+    draw_tube(WithFigure(), data)
+    assert drawn == [
+        ('line', [0.0, 1.0], [2.0, 3.0], 'tab:blue'),
+        ('line', [4.0, 5.0], [6.0, 7.0], 'tab:blue'),
+        ('fill', square[0].tolist(), square[1].tolist(), '0.55'),
+    ]
+    draw_tube(object(), data)  # no figure: nothing to draw on, no error
 
     class Classic:
         def __init__(self) -> None:
             self.axes: list = []  # the classic simulator's list when there is no figure
 
-    draw_tube(Classic(), edges)
-    assert len(drawn) == 2
+    draw_tube(Classic(), data)
+    assert len(drawn) == 3

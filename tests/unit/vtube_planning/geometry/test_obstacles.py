@@ -157,3 +157,12 @@ def test_inside_agrees_with_a_zero_clearance() -> None:
     points = np.vstack([rng.uniform(-1.0, 7.0, size=(4000, 2)), [[5.5, 1.0], [5.0, 1.51]]])  # a rim point, one out
     np.testing.assert_array_equal(obstacles.inside(points), obstacles.clearance(points) == 0.0)
     assert obstacles.inside(points[-2:]).tolist() == [True, False]
+
+
+def test_outlines_are_closed_and_lie_on_each_obstacles_boundary() -> None:
+    obstacles = Obstacles((Disc((1.0, 2.0), 0.5),), (Polygon(((0.0, 0.0), (2.0, 0.0), (0.0, 1.0))),))
+    circle, triangle = obstacles.outlines(points_per_disc=12)
+    assert circle.shape == (2, 13) and np.allclose(np.hypot(circle[0] - 1.0, circle[1] - 2.0), 0.5)
+    assert triangle.T.tolist() == [[0.0, 0.0], [2.0, 0.0], [0.0, 1.0], [0.0, 0.0]]
+    assert np.allclose(obstacles.clearance(np.hstack([circle, triangle]).T), 0.0)  # on a boundary
+    assert Obstacles().outlines() == ()
