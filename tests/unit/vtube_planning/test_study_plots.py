@@ -81,3 +81,27 @@ def test_the_cell_means_figure_draws_means_intervals_and_collision_shares() -> N
     shares = sorted(round(p.get_width(), 9) for p in share_ax.patches)
     assert shares == [0.0, round(1 / 6, 9)]
     assert distance_ax.get_title() == 'scene C: min distance [m]'
+
+
+def test_the_map_figure_draws_a_dot_per_map_and_the_interval_over_maps() -> None:
+    from vtube_planning.study_plots import map_differences_figure
+    from vtube_planning.study_report import map_differences
+
+    rows = []
+    for map_seed in range(4):  # on map k, planning is k + 1 s faster (rows_of's 1 s and k more)
+        for r in rows_of():
+            gain = float(map_seed) if r['mode'] == 'planning' else 0.0
+            rows.append(r | {'map': 'forest', 'map_seed': map_seed, 'map_clutter': 30, 'map_width_m': 4.0}
+                        | {'passing_time_s': r['passing_time_s'] - gain})  # fmt: skip
+    found = {f['metric']: f for f in map_differences(rows)}
+    time = found['passing_time_s']
+    assert np.allclose(time['per_map'], [-1.0, -2.0, -3.0, -4.0], atol=0.01)
+    fig = map_differences_figure(rows)
+    ax = fig.axes[0]
+    dots = [line for line in ax.lines if line.get_marker() == '.']
+    assert len(dots) == 1 and sorted(dots[0].get_xdata()) == sorted(time['per_map'])
+    assert [t.get_text() for t in ax.get_yticklabels()] == [
+        'planning - no planning  |  4 forest maps, scene C, N=20, paper model, radial sat'
+    ]
+    (interval,) = ax.collections
+    assert np.allclose(interval.get_segments()[0][:, 0], [time['estimate'].low, time['estimate'].high])
