@@ -51,7 +51,7 @@ def test_a_single_pixel_is_a_closed_square_of_the_resolution() -> None:
 
 
 @pytest.mark.parametrize('first_k', [1, 16])
-@pytest.mark.parametrize('seed', range(6))
+@pytest.mark.parametrize('seed', range(4))
 def test_clearance_is_the_distance_to_the_nearest_of_all_occupied_squares(seed: int, first_k: int, monkeypatch) -> None:
     """Against every occupied square; from 1 nearest centre asked at first (doubled until the candidates are
     proved enough) and from 16."""
@@ -252,3 +252,30 @@ def test_the_table_round_trips_relative_to_any_folder_and_the_obstacles_hash(tmp
     assert hash(obstacles) == hash(obstacles_from_table(written, scenes)) and bool(obstacles)
     moved = obstacles_from_table({'images': [{**table['images'][0], 'origin_m': [-1.0, 0.55]}]}, maps)
     assert moved != Obstacles(images=obstacles.images)
+
+
+def test_the_warehouse_example_generates_a_tube_clear_of_its_drawn_boxes(tmp_path: Path) -> None:
+    """docs/maps/warehouse.toml: its image is the boxes warehouse.py draws (pixel-aligned), and the tube generated
+    keeps its margin from them as polygons (the independent check)."""
+    import importlib.util
+
+    from vtube_planning.geometry.map_file import generated_scene
+    from vtube_planning.geometry.scene import load_scene
+
+    maps = Path(__file__).parents[4] / 'docs' / 'maps'
+    spec = importlib.util.spec_from_file_location('warehouse', maps / 'warehouse.py')
+    assert spec is not None and spec.loader is not None
+    drawing = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(drawing)
+    boxes = Obstacles(
+        polygons=tuple(Polygon(((a, c), (b, c), (b, d), (a, d))) for a, b, c, d in drawing.BOXES_M),
+    )
+    source = maps / 'warehouse.toml'
+    text, made = generated_scene(source.read_text(encoding='utf-8'), str(source), tmp_path)  # written there
+    (tmp_path / 'warehouse_scene.toml').write_text(text, encoding='utf-8')
+    scene = load_scene(tmp_path / 'warehouse_scene.toml')
+    (image,) = scene.obstacles.images
+    assert np.array_equal(image.occupied, drawing.occupancy())
+    points = np.random.default_rng(5).uniform([-1.0, -1.0], [41.0, 21.0], (4000, 2))
+    np.testing.assert_allclose(scene.obstacles.clearance(points), boxes.clearance(points), rtol=0, atol=1e-12)
+    assert closest_approach(made.tube, boxes, step_m=0.04, across=31) >= 0.2 - 1e-9  # margin_m of the map
