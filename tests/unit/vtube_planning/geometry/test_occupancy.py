@@ -279,3 +279,17 @@ def test_the_warehouse_example_generates_a_tube_clear_of_its_drawn_boxes(tmp_pat
     points = np.random.default_rng(5).uniform([-1.0, -1.0], [41.0, 21.0], (4000, 2))
     np.testing.assert_allclose(scene.obstacles.clearance(points), boxes.clearance(points), rtol=0, atol=1e-12)
     assert closest_approach(made.tube, boxes, step_m=0.04, across=31) >= 0.2 - 1e-9  # margin_m of the map
+
+
+def test_a_scene_file_reads_its_image_beside_it_and_refuses_a_tube_through_it(tmp_path: Path) -> None:
+    from tests.unit.vtube_planning.geometry.test_obstacles import SCENE
+    from vtube_planning.geometry.scene import load_scene
+
+    block = np.ones((2, 2), bool)  # 1 x 1 m at 0.5 m per pixel; the tube: y in [-2, 2] for x in [0, 10]
+    np.save(tmp_path / 'block.npy', block)
+    text = SCENE.split('[obstacles]')[0] + '[obstacles]\nimages = [{ file = "block.npy", resolution_m = 0.5, '
+    (tmp_path / 'clear.toml').write_text(text + 'origin_m = [4.5, 2.1] }]\n', encoding='utf-8')
+    assert load_scene(tmp_path / 'clear.toml').obstacles.images[0].occupied.all()
+    (tmp_path / 'through.toml').write_text(text + 'origin_m = [4.5, 1.5] }]\n', encoding='utf-8')
+    with pytest.raises(SceneError, match=r'through\.toml: the tube meets an obstacle: at l = .*move or narrow'):
+        load_scene(tmp_path / 'through.toml')
