@@ -1,4 +1,5 @@
-"""Figures of :mod:`vtube_planning` objects. matplotlib is imported here only, when a figure is drawn."""
+"""Figures of :mod:`vtube_planning` objects. matplotlib is imported here only, when a figure is drawn (and by
+:mod:`vtube_planning.geometry.occupancy` to read an obstacle image)."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from vtube_planning.geometry.obstacles import Obstacles
+    from vtube_planning.geometry.occupancy import OccupancyImage
     from vtube_planning.geometry.scene import Scene
     from vtube_planning.geometry.tube import VirtualTube
     from vtube_planning.geometry.workspace import Workspace
@@ -34,6 +36,8 @@ def draw_tube(ax: Axes, tube: VirtualTube, *, n_sections: int = 12, obstacles: O
     for k, polygon in enumerate(polygons):
         label = 'obstacles' if k == 0 and not discs else None
         ax.add_patch(PolygonPatch(np.array(polygon.vertices_m), color='0.55', alpha=0.8, lw=0, label=label))
+    for k, image in enumerate(obstacles.images if obstacles else ()):
+        _draw_image(ax, image, 'obstacles' if k == 0 and not (discs or polygons) else None)
     grid = np.linspace(0.0, tube.length_m, 1200)
     left, right = tube.boundaries(grid)
     center = tube.center_at(grid)
@@ -51,6 +55,18 @@ def draw_tube(ax: Axes, tube: VirtualTube, *, n_sections: int = 12, obstacles: O
     ax.set_aspect('equal')
     ax.set_xlabel('x [m]')
     ax.set_ylabel('y [m]')
+
+
+def _draw_image(ax: Axes, image: OccupancyImage, label: str | None) -> None:
+    """Draw an occupancy image's occupied pixels (grey as the other obstacles; free pixels transparent), row 0 at
+    the top of its extent, pixel for pixel."""
+    from matplotlib.patches import Rectangle
+
+    rgba = np.zeros((*image.occupied.shape, 4))
+    rgba[image.occupied] = (0.55, 0.55, 0.55, 0.8)
+    ax.imshow(rgba, extent=image.extent_m, origin='upper', interpolation='nearest', zorder=1)
+    if label is not None:  # an image has no legend entry of its own
+        ax.add_patch(Rectangle(image.origin_m, 0.0, 0.0, color='0.55', alpha=0.8, lw=0, label=label))
 
 
 def scene_figure(scene: Scene) -> Figure:

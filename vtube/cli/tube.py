@@ -40,7 +40,7 @@ def generate(args: argparse.Namespace) -> TubeGenerated:
         msg = f'{path} exists; give another file name (nothing was written).'
         raise BadInput(msg)
     started = time.perf_counter()
-    text, generated = generated_scene(args.map.read_text(encoding='utf-8'), str(args.map))
+    text, generated = generated_scene(args.map.read_text(encoding='utf-8'), str(args.map), path.parent)
     seconds = time.perf_counter() - started
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(text, encoding='utf-8')

@@ -33,9 +33,13 @@ class SearchGrid:
             raise TubeGenerationError(msg)
         xx, yy = np.meshgrid(self.x, self.y, indexing='ij')
         nodes = np.column_stack([xx.ravel(), yy.ravel()])
-        occupied = spec.obstacles.inside(nodes).reshape(xx.shape)
+        occupied = spec.obstacles.inside(nodes)
+        for image in spec.obstacles.images:  # a node whose cell meets an occupied pixel: a pixel smaller than a
+            occupied |= image.meets_squares(nodes, 0.5 * h)  # cell between nodes is not missed
+        occupied = occupied.reshape(xx.shape)
         # the distance to the nearest occupied node, less half a cell's diagonal (an obstacle's edge lies within it
-        # of an occupied node next to a free one): a lower bound of the clearance, for the search only
+        # of an occupied node next to a free one; every point of an image's pixel lies in an occupied node's cell):
+        # a lower bound of the clearance, for the search only
         to_obstacle = (
             ndimage.distance_transform_edt(~occupied) * h - 0.5 * math.sqrt(2.0) * h if occupied.any() else np.inf
         )

@@ -4,8 +4,9 @@ clearance, certified.
 The paper plans on a tube generated beforehand from the obstacles ([b12]); this is vtube's own generator
 (``docs/theory.md`` §10 gives the reasoning). The steps:
 
-1. *Clearance* on a grid of ``resolution_m``: each node's distance to the nearest node inside an obstacle, less
-   half a cell's diagonal (``scipy.ndimage.distance_transform_edt``), or to the map's edge: a lower bound that
+1. *Clearance* on a grid of ``resolution_m``: each node's distance to the nearest node inside an obstacle (or
+   whose cell meets an occupancy image's occupied pixel: pixels smaller than a cell are not missed), less half a
+   cell's diagonal (``scipy.ndimage.distance_transform_edt``), or to the map's edge: a lower bound that
    guides the search (what is certified uses the exact clearance,
    :meth:`~vtube_planning.geometry.obstacles.Obstacles.clearance`).
 2. *Path*: the cheapest 8-connected grid path from start to goal through the nodes that leave room for the
@@ -56,7 +57,7 @@ class TubeSpec:
     bounds
         The map's rectangle; its ``margin_m`` is kept between the tube's boundaries and the map's edge.
     obstacles
-        Discs and polygons.
+        Discs, polygons and occupancy images.
     start_m, goal_m
         Where the centre curve starts and ends.
     half_width_min_m, half_width_max_m

@@ -15,14 +15,22 @@ A map file is a scene file (:mod:`vtube_planning.geometry.scene`) with ``[tube.g
 the file's text with ``[tube.generate]`` replaced by the tube's ``[tube.center]`` (lines and arcs) and
 ``[tube.width]`` (constant and linear parts), every number written exactly (``repr``): an ordinary scene file that
 loads to the very tube generated, its obstacles certified again on loading.
+
+``[obstacles]`` may hold occupancy images (``images = [{ file = "room.png", resolution_m = 0.05, origin_m = [x0,
+y0] }]``, :mod:`vtube_planning.geometry.occupancy`; ``file`` relative to the map file's folder). The scene file
+written keeps the map file's text but for those two tables; with images, its ``[obstacles]`` is written anew, each
+``file`` relative to the folder the scene file is written to (absolute when it cannot be, on another drive), so
+that it still finds the image.
 """
 
 from __future__ import annotations
 
+import json
 import math
 import re
 import sys
 from dataclasses import fields
+from pathlib import Path
 from typing import Any
 
 if sys.version_info >= (3, 11):
@@ -39,6 +47,7 @@ from vtube_planning.params import SwarmParams
 
 _TABLE = re.compile(r'^\s*\[')
 _GENERATE = re.compile(r'^\s*\[\s*tube\s*\.\s*generate\s*\]\s*(#.*)?$')
+_OBSTACLES = re.compile(r'^\s*\[\[?\s*obstacles\s*[.\]]')
 
 
 def map_spec(data: dict[str, Any], source: str) -> TubeSpec:
@@ -62,7 +71,7 @@ def map_spec(data: dict[str, Any], source: str) -> TubeSpec:
         raise SceneError(msg)
     try:
         bounds = Workspace(**data['workspace'])
-        obstacles = obstacles_from_table(data['obstacles']) if 'obstacles' in data else Obstacles()
+        obstacles = obstacles_from_table(data['obstacles'], Path(source).parent) if 'obstacles' in data else Obstacles()
         if 'turn_radius_min_m' not in table:
             swarm = SwarmParams(**{k: v for k, v in data.get('swarm', {}).items() if k in _SWARM_FIELDS})
             table['turn_radius_min_m'] = swarm.v_min_mps**2 / swarm.a_n_mps2
@@ -76,8 +85,9 @@ def map_spec(data: dict[str, Any], source: str) -> TubeSpec:
 _SWARM_FIELDS = {f.name for f in fields(SwarmParams)}
 
 
-def generated_scene(text: str, source: str) -> tuple[str, GeneratedTube]:
-    """The scene file generated from a map file's ``text`` (module doc), and the generated tube."""
+def generated_scene(text: str, source: str, folder: Path | None = None) -> tuple[str, GeneratedTube]:
+    """The scene file generated from a map file's ``text`` (module doc), to be written in ``folder`` (the map
+    file's folder by default), and the generated tube."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
@@ -85,17 +95,50 @@ def generated_scene(text: str, source: str) -> tuple[str, GeneratedTube]:
         raise SceneError(msg) from err
     spec = map_spec(data, source)
     generated = generate_tube(spec)
+    images = bool(spec.obstacles.images)
     lines, skipping = [], False
     for line in text.splitlines():
-        if _GENERATE.match(line):
+        if _GENERATE.match(line) or (images and _OBSTACLES.match(line)):
             skipping = True
-            lines.extend(_tube_tables(generated, spec))
+            lines.extend(_tube_tables(generated, spec) if _GENERATE.match(line) else [])
             continue
         if skipping and _TABLE.match(line):
             skipping = False
         if not skipping:
             lines.append(line)
-    return '\n'.join(lines).rstrip() + '\n', generated
+    scene = '\n'.join(lines).rstrip() + '\n'
+    if images:
+        out = Path(source).parent if folder is None else Path(folder)
+        scene += '\n' + _obstacles_table(spec.obstacles, out)
+        try:
+            same = obstacles_from_table(tomllib.loads(scene).get('obstacles'), out) == spec.obstacles
+        except tomllib.TOMLDecodeError:
+            same = False
+        if not same:
+            msg = f'{source}: write [obstacles] as one table [obstacles] with discs, polygons, images = [...].'
+            raise SceneError(msg)
+    return scene, generated
+
+
+def _obstacles_table(obstacles: Obstacles, folder: Path) -> str:
+    """``[obstacles]`` in TOML, numbers exact, an image's ``file`` relative to ``folder`` when it can be."""
+    lines = ['[obstacles]']
+    for kind, entries in obstacles.table(folder).items():
+        lines.append(f'{kind} = [')
+        for entry in entries:
+            values = ', '.join(f'{key} = {_toml(value)}' for key, value in entry.items())
+            lines.append(f'    {{ {values} }},')
+        lines.append(']')
+    return '\n'.join(lines) + '\n'
+
+
+def _toml(value: object) -> str:
+    """A number (exact), a string or a list of them in TOML."""
+    if isinstance(value, str):
+        return json.dumps(value)  # a JSON string is a TOML basic string
+    if isinstance(value, (list, tuple)):
+        return '[' + ', '.join(_toml(v) for v in value) + ']'
+    return repr(float(value)) if isinstance(value, float) else repr(value)
 
 
 def _tube_tables(generated: GeneratedTube, spec: TubeSpec) -> list[str]:

@@ -1,7 +1,10 @@
-"""Obstacles in the plane (discs and polygons), their exact clearance, and the certificate that a tube misses them.
+"""Obstacles in the plane (discs, polygons and occupancy images), their exact clearance, and the certificate that a
+tube misses them.
 
 The clearance of a point is its distance to the nearest obstacle, 0 on or inside one: a disc's is
-max(0, |p - c| - r), a polygon's 0 inside it (even-odd rule) and otherwise the distance to its nearest edge. Both
+max(0, |p - c| - r), a polygon's 0 inside it (even-odd rule) and otherwise the distance to its nearest edge, an
+occupancy image's the distance to the nearest of its occupied pixels, each a closed square
+(:mod:`vtube_planning.geometry.occupancy`: a SLAM or ROS ``map_server`` map, read with ROS's conventions). All
 are exact and 1-Lipschitz in the point. That is what :func:`obstacle_certificate` rests on: along the centre curve
 (unit speed) the clearance minus the half-width changes by at most 1 + max|lambda'| per metre, so samples ``h``
 apart that each keep more than (1 + max|lambda'|) h / 2 prove that no cross-section anywhere meets an obstacle (a
@@ -13,6 +16,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -20,6 +24,7 @@ from numpy.typing import NDArray
 
 from vtube_planning._validate import is_real
 from vtube_planning.errors import SceneError
+from vtube_planning.geometry.occupancy import OccupancyImage, image_from_entry
 from vtube_planning.geometry.tube import VirtualTube
 
 FloatArray = NDArray[np.float64]
@@ -72,13 +77,14 @@ class Polygon:
 
 @dataclass(frozen=True)
 class Obstacles:
-    """The obstacles of a scene."""
+    """The obstacles of a scene: discs, polygons and occupancy images."""
 
     discs: tuple[Disc, ...] = ()
     polygons: tuple[Polygon, ...] = ()
+    images: tuple[OccupancyImage, ...] = ()
 
     def __bool__(self) -> bool:
-        return bool(self.discs or self.polygons)
+        return bool(self.discs or self.polygons or self.images)
 
     def clearance(self, points_m: FloatArray) -> FloatArray:
         """Distance (k,) of (k, 2) points to the nearest obstacle, 0 on or inside one; inf without obstacles."""
@@ -103,6 +109,8 @@ class Obstacles:
             low, high = xy.min(axis=0), xy.max(axis=0)
             near = np.flatnonzero(np.all((points >= low) & (points <= high), axis=1))
             hit[near] |= Obstacles((), (polygon,)).clearance(points[near]) == 0.0
+        for image in self.images:
+            hit |= image.inside(points)
         return hit
 
     def _clearance_block(self, p: FloatArray) -> FloatArray:
@@ -123,6 +131,8 @@ class Obstacles:
             crossings = np.add.reduceat((upward & (p[:, None, 0] < x_cross)).astype(np.int64), starts, axis=1)
             nearest = np.minimum.reduceat(gaps, starts, axis=1)  # (k, polygons)
             best = np.minimum(best, np.where(crossings % 2 == 1, 0.0, nearest).min(axis=1))
+        for image in self.images:
+            best = np.minimum(best, image.clearance(p))
         return best
 
     def _edges(self) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:
@@ -137,7 +147,8 @@ class Obstacles:
 
     def outlines(self, points_per_disc: int = 48) -> tuple[FloatArray, ...]:
         """Each obstacle's closed outline (2, K) for drawing where no patch type exists (the testbed's figure): a
-        polygon's vertices, a disc's ``points_per_disc`` points on its circle; the first point is repeated last."""
+        polygon's vertices, a disc's ``points_per_disc`` points on its circle; the first point is repeated last.
+        Occupancy images have none (their pixels are drawn as an image where a figure is ours, ``plots``)."""
         angle = np.linspace(0.0, 2.0 * math.pi, points_per_disc + 1)
         circles = [
             np.array(d.center_m)[:, None] + d.radius_m * np.stack([np.cos(angle), np.sin(angle)]) for d in self.discs
@@ -145,13 +156,16 @@ class Obstacles:
         shapes = [np.array((*p.vertices_m, p.vertices_m[0]), dtype=float).T for p in self.polygons]
         return (*circles, *shapes)
 
-    def table(self) -> dict[str, list[dict[str, Any]]]:
-        """The ``[obstacles]`` table of a scene file (:func:`obstacles_from_table` reads it back)."""
+    def table(self, folder: Path | None = None) -> dict[str, list[dict[str, Any]]]:
+        """The ``[obstacles]`` table of a scene file in ``folder`` (:func:`obstacles_from_table` reads it back):
+        an image's ``file`` relative to ``folder`` when it can be, else absolute (absolute without ``folder``)."""
         table: dict[str, list[dict[str, Any]]] = {}
         if self.discs:
             table['discs'] = [{'center_m': list(d.center_m), 'radius_m': d.radius_m} for d in self.discs]
         if self.polygons:
             table['polygons'] = [{'vertices_m': [list(v) for v in p.vertices_m]} for p in self.polygons]
+        if self.images:
+            table['images'] = [image.entry(folder) for image in self.images]
         return table
 
 
@@ -159,27 +173,34 @@ NO_OBSTACLES = Obstacles()
 """A scene without obstacles."""
 
 
-def obstacles_from_table(table: object) -> Obstacles:
+def obstacles_from_table(table: object, folder: Path | None = None) -> Obstacles:
     """The obstacles of a scene file's ``[obstacles]`` table (``discs = [{center_m, radius_m}]``, ``polygons =
-    [{vertices_m}]``); a wrong key or value raises :class:`SceneError` naming it."""
+    [{vertices_m}]``, ``images = [{file, resolution_m, origin_m, occupied_thresh}]``, an image's ``file`` relative
+    to ``folder``, the scene file's); a wrong key or value raises :class:`SceneError` naming it."""
     if not isinstance(table, Mapping):
-        msg = '[obstacles] must be a table with discs = [...] and/or polygons = [...].'
+        msg = '[obstacles] must be a table with discs = [...], polygons = [...] and/or images = [...].'
         raise SceneError(msg)
-    unknown = set(table) - {'discs', 'polygons'}
+    unknown = set(table) - {'discs', 'polygons', 'images'}
     if unknown:
-        msg = f'unknown key(s) {sorted(unknown)} in [obstacles]; it takes discs and polygons.'
+        msg = f'unknown key(s) {sorted(unknown)} in [obstacles]; it takes discs, polygons and images.'
         raise SceneError(msg)
+    for kind in ('discs', 'polygons', 'images'):
+        if not isinstance(table.get(kind, []), list):
+            msg = f'[obstacles] {kind} must be a list [...] of tables; got {table[kind]!r}.'
+            raise SceneError(msg)
     discs = [_entry(d, {'center_m', 'radius_m'}, 'discs') for d in table.get('discs', [])]
     polygons = [_entry(p, {'vertices_m'}, 'polygons') for p in table.get('polygons', [])]
     return Obstacles(
         tuple(Disc(tuple(d['center_m']), d['radius_m']) for d in discs),
         tuple(Polygon(tuple(tuple(v) for v in p['vertices_m'])) for p in polygons),
+        tuple(image_from_entry(entry, folder) for entry in table.get('images', [])),
     )
 
 
-def certified_obstacles(tube: VirtualTube, table: object) -> Obstacles:
-    """The obstacles of an ``[obstacles]`` table, refused (:class:`SceneError`) unless ``tube`` misses them all."""
-    obstacles = obstacles_from_table(table)
+def certified_obstacles(tube: VirtualTube, table: object, folder: Path | None = None) -> Obstacles:
+    """The obstacles of an ``[obstacles]`` table (images read relative to ``folder``), refused
+    (:class:`SceneError`) unless ``tube`` misses them all."""
+    obstacles = obstacles_from_table(table, folder)
     certificate = obstacle_certificate(tube, obstacles)
     if not certificate.clear:
         msg = f'the tube meets an obstacle: {certificate}; move or narrow the tube.'

@@ -24,9 +24,9 @@ value of the wrong type raises :class:`SceneError` naming the file, the table an
     [swarm]                             # optional; any SwarmParams field, Table 1 defaults otherwise
     [planning]                          # optional; any PlanningOptions field
     [control]                           # optional; any ControlParams field (controller gains and options)
-    [obstacles]                         # optional; discs = [{ center_m = [x, y], radius_m = r }],
-                                        # polygons = [{ vertices_m = [[x, y], ...] }]: no cross-section of
-                                        # the tube may meet one (proved on loading, obstacles.obstacle_certificate)
+    [obstacles]                         # optional; discs = [{ center_m = [x, y], radius_m = r }], polygons =
+                                        # [{ vertices_m = [[x, y], ...] }], images (geometry.occupancy): no cross-
+                                        # section may meet one (proved on loading, obstacles.obstacle_certificate)
     [workspace]                         # optional; x_min_m, x_max_m, y_min_m, y_max_m, margin_m: the tube
                                         # boundaries must stay inside the rectangle by at least margin_m
 """
@@ -226,8 +226,9 @@ def _build(data: dict[str, Any], tube: VirtualTube, *, source: str) -> Scene:
     if 'workspace' in data:
         workspace = Workspace(**_options(data, 'workspace', Workspace, where))
         _check_workspace(tube, workspace, where)
+    folder = Path(source).parent  # an image of [obstacles] is read relative to the scene file's folder
     try:
-        obstacles = certified_obstacles(tube, data['obstacles']) if 'obstacles' in data else NO_OBSTACLES
+        obstacles = certified_obstacles(tube, data['obstacles'], folder) if 'obstacles' in data else NO_OBSTACLES
     except SceneError as err:
         raise where.fail(str(err)) from err
     return Scene(

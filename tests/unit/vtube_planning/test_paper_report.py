@@ -40,6 +40,8 @@ def test_the_claim_holds_on_the_means_and_fails_on_the_seed_where_it_fails() -> 
 
 
 def test_a_collision_with_planning_breaks_the_claim() -> None:
-    rows = [_row('planning', s, 18.0, 0.9, pairs=1) for s in (0, 1)] + [_row('no planning', s, 22.0, 0.8) for s in (0, 1)]
+    rows = [_row('planning', s, 18.0, 0.9, pairs=1) for s in (0, 1)] + [
+        _row('no planning', s, 22.0, 0.8) for s in (0, 1)
+    ]
     (entry,) = summarise(rows)
     assert not entry['claim_on_means'] and not any(s['holds'] for s in entry['claim_per_seed'])

@@ -72,3 +72,22 @@ def test_save_figure_makes_the_folder_and_writes_a_png(tmp_path, scene) -> None:
     fig.add_subplot().plot([0, 1], [1, 0])
     path = save_figure(fig, tmp_path / 'a' / 'b.png', dpi=20)
     assert path == tmp_path / 'a' / 'b.png' and path.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
+
+
+def test_an_occupancy_image_is_drawn_pixel_for_pixel_over_its_extent() -> None:
+    from matplotlib.figure import Figure
+
+    from vtube_planning.geometry.obstacles import Obstacles
+    from vtube_planning.geometry.occupancy import OccupancyImage
+    from vtube_planning.plots import draw_tube
+
+    occupied = np.zeros((3, 4), bool)
+    occupied[0, 0] = True  # the top-left pixel
+    image = OccupancyImage(occupied, 0.5, (10.0, 20.0))
+    ax = Figure().add_subplot()
+    draw_tube(ax, load_scene('robotarium_trapezoid').tube, obstacles=Obstacles(images=(image,)))
+    (drawn,) = ax.get_images()
+    assert tuple(drawn.get_extent()) == (10.0, 12.0, 20.0, 21.5) and drawn.origin == 'upper'
+    alpha = np.asarray(drawn.get_array())[:, :, 3]
+    assert alpha[0, 0] > 0 and alpha.sum() == alpha[0, 0]  # only the occupied pixel is painted
+    assert ax.get_legend_handles_labels()[1].count('obstacles') == 1  # a legend entry, once

@@ -28,3 +28,29 @@ def test_a_map_without_a_passage_exits_2_with_the_reason(tmp_path: Path, capsys)
     assert main([*COMMAND.words.split(), str(map_path), '--out', str(out)]) == 2
     assert 'no passage from the start to the goal' in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_an_image_map_generates_a_scene_elsewhere_that_still_finds_the_image(tmp_path: Path, capsys) -> None:
+    """The map's image is read relative to the map file; the scene written into another folder names it relative
+    to that folder, loads to the same obstacles and a tube the independent check finds clear of the margin."""
+    import numpy as np
+    from matplotlib.image import imsave
+
+    from tests.support.tube_clearance import closest_approach
+    from tests.unit.vtube_planning.geometry.test_occupancy import WALL, wall_image
+    from vtube_planning.geometry.obstacles import Obstacles
+    from vtube_planning.geometry.scene import load_scene
+
+    maps, out = tmp_path / 'maps', tmp_path / 'out' / 'scenes' / 'gap_scene.toml'
+    maps.mkdir()
+    imsave(maps / 'gap.png', np.repeat(1.0 - wall_image()[:, :, None], 3, axis=2))  # occupied: black
+    image = '[obstacles]\nimages = [{ file = "gap.png", resolution_m = 0.25, origin_m = [0.0, 0.0] }]\n'
+    (maps / 'gap.toml').write_text(MAP_FILE.split('[obstacles]')[0] + image, encoding='utf-8')
+    assert main([*COMMAND.words.split(), str(maps / 'gap.toml'), '--out', str(out)]) == 0
+    assert 'file = "../../maps/gap.png"' in out.read_text(encoding='utf-8')
+    scene = load_scene(out)
+    assert scene.obstacles == load_scene(out).obstacles and len(scene.obstacles.images) == 1
+    assert scene.obstacles.images[0].source == str(maps / 'gap.png')
+    assert closest_approach(scene.tube, Obstacles(polygons=WALL), step_m=0.02, across=41) >= 0.1 - 1e-9
+    capsys.readouterr()
+    assert main(['scene', 'show', str(out)]) == 0

@@ -76,5 +76,5 @@ def test_a_scene_on_a_map_flies_the_maps_tube_with_its_own_swarm() -> None:
     assert on.tube.center.pieces == fresh.center.pieces and on.tube.width.parts == fresh.width.parts
     assert on.obstacles == spec.obstacles and on.swarm == scene.swarm and on.control == scene.control
     assert on.source != scene.source != scene_on_map(scene, 'bottleneck', 1, width_m=5.0).source  # plans cached apart
-    with pytest.raises(ParamsError, match="declared for the robotarium; the random maps are 80 m x 40 m"):
+    with pytest.raises(ParamsError, match='declared for the robotarium; the random maps are 80 m x 40 m'):
         scene_on_map(replace(scene, testbed='robotarium'), 'bottleneck', 0)
