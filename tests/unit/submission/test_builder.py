@@ -246,3 +246,33 @@ def test_a_preview_declaration_marks_the_file_not_for_upload_and_points_to_the_f
     assert inspect.signature(build_declared).parameters['initializer_seeds'].default == FULL_BUILD_INITIALIZER_SEEDS
     full = declare(InitializerSample((20.0,) * FULL_BUILD_INITIALIZER_SEEDS, ()), experiment_s=61.3)
     assert 'NOT FOR UPLOAD' not in submission.declared(full).source
+
+
+def test_hostile_titles_paths_and_commands_stay_text_in_a_file_that_compiles(tmp_path, monkeypatch) -> None:
+    """Text from a scene file, its path and the command line can never end the docstring or become code."""
+    import ast
+
+    text = (ROOT / 'robotarium_exp' / 'scenes' / 'robotarium_trapezoid.toml').read_text()
+    hostile = 'T"""; import os; os.system("echo pwned") #\\U\\x00 é'
+    title = next(line for line in text.splitlines() if line.startswith('title'))
+    folder = tmp_path / 'C:\\Users\\"""x'
+    folder.mkdir()
+    path = folder / 'trap.toml'
+    path.write_text(text.replace(title, f"title = '''{hostile}'''"), encoding='utf-8')
+    monkeypatch.setattr('sys.argv', ['vtube', 'submission', 'build', str(path), '--out', 'a"""b\\N{x}.py'])
+    source = build(path, None).source
+    tree = ast.parse(source)  # it compiles
+    docstring = ast.get_docstring(tree, clean=False) or ''
+    assert f"Scene 'trap': {hostile}. 6 robots" in docstring  # the title reads back as itself: text
+    assert 'a"""b\\N{x}.py' in docstring and str(folder) in docstring  # the command and the path read back as typed
+    calls = [n for n in ast.walk(tree) if isinstance(n, ast.Attribute) and n.attr == 'system']
+    assert calls == [] and all('pwned' not in ast.unparse(node) for node in tree.body[1:])  # text only
+
+
+def test_non_finite_flight_data_is_refused_before_a_file_exists(monkeypatch) -> None:
+    from robotarium_exp.flight_data import FlightData
+
+    real = FlightData.to_plain
+    monkeypatch.setattr(FlightData, 'to_plain', lambda self: real(self) | {'constant_speed_mps': float('nan')})
+    with pytest.raises(SubmissionError, match=r"the flight data holds nan at DATA\['constant_speed_mps'\]"):
+        build('robotarium_trapezoid', None)
