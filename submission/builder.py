@@ -111,7 +111,7 @@ def _check_finite(value: object, where: str = 'DATA') -> None:
         raise SubmissionError(msg)
 
 
-def _check_source(source: str, plain: dict[str, object]) -> None:
+def _check_source(source: str, plain: object) -> None:
     """The file as the testbed will read it: it compiles, its docstring is the only statement before its
     ``__future__`` import, and its DATA reads back as the data embedded (text from a scene file or a command line
     stays text)."""

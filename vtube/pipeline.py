@@ -62,7 +62,7 @@ def plan_for(scene: Scene, swarm: SwarmParams | None = None, plan_file: Path | N
     swarm = swarm or scene.swarm
     if plan_file is None:
         return plan_convex(scene.tube, swarm, scene.planning, scene=scene.name)
-    loaded = Plan.load(plan_file)
+    loaded = Plan.load(plan_file, scene.tube)
     loaded.check_matches(scene.tube, swarm, scene.planning, scene=scene.name)
     return loaded
 

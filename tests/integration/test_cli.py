@@ -19,6 +19,7 @@ from pathlib import Path
 import pytest
 
 import vtube_planning.swarm.simulate as simulate_module
+from robotarium_exp.scene import load_scene as robotarium_scene
 from tests.support.bags import write_bag
 from vtube.cli.app import main
 from vtube_planning.log import read_log
@@ -106,7 +107,7 @@ def test_every_artefact_records_where_it_comes_from(tmp_path, capsys, short_flig
 
     assert main(['plan', 'robotarium_trapezoid', '--out', str(tmp_path / 'p')]) == 0
     plan_file = tmp_path / 'p' / 'plan_robotarium_trapezoid.npz'
-    recorded(Plan.load(plan_file).provenance)
+    recorded(Plan.load(plan_file, robotarium_scene('robotarium_trapezoid').tube).provenance)
     assert (tmp_path / 'p' / 'scene_robotarium_trapezoid.toml').read_text(encoding='utf-8') == text
     capsys.readouterr()
     run = ['robotarium', 'run', 'robotarium_trapezoid', '--no-initialization', '--plan', str(plan_file)]

@@ -13,7 +13,7 @@ Plans are saved as ``.npz`` files of plain arrays plus one JSON string (loaded w
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any, Literal
 
@@ -252,47 +252,63 @@ class Plan:
         return write_npz(path, arrays, meta)
 
     @classmethod
-    def load(cls, path: str | Path) -> Plan:
-        """Read a plan written by :meth:`save`."""
+    def load(cls, path: str | Path, tube: VirtualTube) -> Plan:
+        """Read a plan written by :meth:`save` for ``tube``. Its numbers are checked (finite; a grid from 0 to the
+        tube's length; speeds and densities > 0), and everything derived from them (the certificate, the active
+        sets, the objective, the tube's half-widths and speed limits) is computed again, never read from the file:
+        an edited plan is judged by what it now holds."""
+        where = f'plan file {str(path)!r}'
         arrays, meta = read_npz(path, PlanError, 'plan file')
         if meta.get('format_version') != FORMAT_VERSION:
             msg = (
-                f'plan file {str(path)!r} has format {meta.get("format_version")!r}; this vtube reads format '
+                f'{where} has format {meta.get("format_version")!r}; this vtube reads format '
                 f'{FORMAT_VERSION}. Plan again with vtube plan.'
             )
             raise PlanError(msg)
-        active = {k.removeprefix('active_'): arrays.pop(k) for k in list(arrays) if k.startswith('active_')}
+        active = [k for k in arrays if k.startswith('active_')]
         fields = ['time_s', 'objective', 'certificate', 'solved', 'scene', 'swarm', 'options', 'tube_hash']
         fields.append('provenance')
         missing = [name for name in ARRAYS if name not in arrays] + [name for name in fields if name not in meta]
-        extra = [name for name in arrays if name not in ARRAYS]
+        extra = [name for name in arrays if name not in ARRAYS and name not in active]
         shapes = {name: arrays[name].shape for name in ARRAYS if name in arrays}
         if missing or extra or len(set(shapes.values())) > 1 or any(len(shape) != 1 for shape in shapes.values()):
             msg = (
-                f'plan file {str(path)!r} is damaged: expected the arrays {list(ARRAYS)} of one length and the '
+                f'{where} is damaged: expected the arrays {list(ARRAYS)} of one length and the '
                 f'fields {fields}; missing {missing}, unexpected {extra}, shapes {shapes}. Plan again with '
                 'vtube plan.'
             )
             raise PlanError(msg)
+        if meta['tube_hash'] != tube.fingerprint():
+            msg = (
+                f'the plan in {where} (made for scene {meta["scene"]!r}) does not fit this tube: it was made for a '
+                'different tube. Plan this scene first (vtube plan SCENE --out DIR) and pass that plan.'
+            )
+            raise PlanError(msg)
         try:
+            if not isinstance(meta['provenance'], (dict, type(None))) or not isinstance(meta['scene'], str):
+                raise TypeError('its scene must be a name and its provenance a table')
             swarm, options = SwarmParams(**meta['swarm']), PlanningOptions(**meta['options'])
             solved = SolveRecord.from_json(meta['solved'])
         except (TypeError, ValueError, KeyError) as err:
-            msg = f'plan file {str(path)!r} records parameters this vtube does not know ({err}). Plan again with vtube plan.'
+            msg = f'{where} records parameters this vtube does not know ({err}). Plan again with vtube plan.'
             raise PlanError(msg) from err
-        return cls(
-            **arrays,
-            time_s=meta['time_s'],
-            objective=meta['objective'],
-            certificate=meta['certificate'],
-            active=active,
-            solved=solved,
-            scene=meta['scene'],
-            swarm=swarm,
-            options=options,
-            tube_hash=meta['tube_hash'],
-            provenance=meta['provenance'],
-        )
+        l_m, speed, density = (np.asarray(arrays[k], dtype=float) for k in ('l_m', 'speed_mps', 'density_per_m2'))
+        problem = _unusable(l_m, speed, density, tube.length_m)
+        if problem:
+            raise PlanError(f'{where} holds no usable plan: {problem}. Plan again with vtube plan.')
+        plan = make_plan(tube, swarm, options, l_m, speed, density, solved=solved, scene=meta['scene'])
+        return replace(plan, provenance=meta['provenance'])
+
+
+def _unusable(l_m: FloatArray, speed: FloatArray, density: FloatArray, length_m: float) -> str:
+    """What makes a plan's numbers unusable on a tube of ``length_m`` ('' when nothing)."""
+    if not all(np.all(np.isfinite(a)) for a in (l_m, speed, density)):
+        return 'a grid point, speed or density is not a finite number'
+    if l_m.size < 2 or l_m[0] != 0.0 or np.any(np.diff(l_m) <= 0.0) or abs(l_m[-1] - length_m) > 1e-9 * length_m:
+        return f"its grid does not rise from 0 to the tube's length {length_m:g} m"
+    if np.any(speed <= 0.0) or np.any(density <= 0.0):
+        return 'a speed or a density is not > 0'
+    return ''
 
 
 def _read_only(values: NDArray[Any]) -> NDArray[Any]:

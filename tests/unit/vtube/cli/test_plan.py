@@ -18,7 +18,7 @@ def test_plan_writes_plan_file_and_figure(tmp_path, capsys) -> None:
     assert main(['plan', 'C', '--out', str(tmp_path), '--grid-step', '0.5']) == 0
     text = capsys.readouterr().out
     assert 'certificate           certified' in text and 'min 0.1' in text
-    plan = Plan.load(tmp_path / 'plan_C.npz')
+    plan = Plan.load(tmp_path / 'plan_C.npz', load_scene('C').tube)
     assert plan.scene == 'C' and plan.options.grid_step_m == 0.5 and plan.l_m.size == 121
     assert (tmp_path / 'plan_C.png').read_bytes()[:4] == b'\x89PNG'
 

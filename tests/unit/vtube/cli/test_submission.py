@@ -13,6 +13,7 @@ import pytest
 
 import submission.check as check_module
 from robotarium_exp.initializer import InitializerSample
+from robotarium_exp.scene import load_scene
 from submission.builder import UNDECLARED, Submission
 from submission.check import CheckReport, RunReport
 from submission.declaration import FULL_BUILD_INITIALIZER_SEEDS, declare
@@ -170,12 +171,14 @@ def test_a_plan_file_is_flown_as_given_and_refused_elsewhere(tmp_path, capsys) -
     namespace: dict = {}
     exec(compile(out.read_text(), 'submission', 'exec'), namespace)  # noqa: S102 -- the file just built
     slowness = np.asarray(namespace['DATA']['plan']['slowness_spm'])
-    np.testing.assert_allclose(slowness, 1.0 / Plan.load(plan_file).speed_mps, rtol=6e-6)  # six digits
+    np.testing.assert_allclose(
+        slowness, 1.0 / Plan.load(plan_file, load_scene(copy).tube).speed_mps, rtol=6e-6
+    )  # six digits
     capsys.readouterr()
     # another tube, another swarm: refused with the reason, exit 2, nothing written
     assert main(['simulate', 'robotarium_curve', '--plan', str(plan_file), '--out', str(tmp_path / 's')]) == 2
     err = capsys.readouterr().err
-    assert "error: the plan (made for scene 'robotarium_trapezoid') does not fit scene 'robotarium_curve'" in err
+    assert "(made for scene 'robotarium_trapezoid') does not fit this tube" in err
     assert 'a different tube' in err and not (tmp_path / 's').exists()
     assert main(['simulate', 'robotarium_trapezoid', '--n', '5', '--plan', str(plan_file), '--out', str(tmp_path)]) == 2
     assert 'other swarm parameters (n_robots)' in capsys.readouterr().err

@@ -239,7 +239,7 @@ def test_an_uncertified_plan_says_which_constraint_fails_where() -> None:
 
 def test_plan_round_trips_through_its_file(tmp_path, shipped_plans: dict[str, Plan]) -> None:
     plan = shipped_plans['D']
-    loaded = Plan.load(plan.save(tmp_path / 'sub' / 'plan.npz'))
+    loaded = Plan.load(plan.save(tmp_path / 'sub' / 'plan.npz'), load_scene('D').tube)
     for name in ('l_m', 'speed_mps', 'density_per_m2', 'half_width_m', 'speed_limit_mps'):
         np.testing.assert_array_equal(getattr(loaded, name), getattr(plan, name))
     assert loaded.certificate == plan.certificate and loaded.objective == plan.objective
@@ -265,7 +265,7 @@ def test_corrupt_plan_file_gives_plan_error(tmp_path) -> None:
     bad = tmp_path / 'bad.npz'
     bad.write_bytes(b'PK\x03\x04 not really a zip')
     with pytest.raises(PlanError, match='cannot read plan file .*bad.npz'):
-        Plan.load(bad)
+        Plan.load(bad, load_scene('A').tube)
 
 
 def test_weighting_density_makes_the_swarm_slow_down_where_p7_binds() -> None:
@@ -279,3 +279,44 @@ def test_weighting_density_makes_the_swarm_slow_down_where_p7_binds() -> None:
     assert np.abs(weighted.l_m[weighted.active['p7']] - weighted.l_m[k]).min() < 1.0  # where (p7) binds
     assert weighted.density_per_m2[near].min() > faithful.density_per_m2[near].min()
     assert weighted.is_certified(CERTIFIED)
+
+
+def _tampered(tmp_path, plan: Plan, name: str, arrays: dict | None = None, meta: dict | None = None):
+    from vtube_planning.npzfile import read_npz, write_npz
+
+    stored, recorded = read_npz(plan.save(tmp_path / 'plan.npz'), PlanError, 'plan file')
+    return write_npz(tmp_path / name, stored | (arrays or {}), recorded | (meta or {}))
+
+
+def test_an_edited_plan_is_judged_by_what_it_holds_not_by_its_recorded_certificate(
+    tmp_path, shipped_plans: dict[str, Plan]
+) -> None:
+    plan, tube = shipped_plans['D'], load_scene('D').tube
+    fast = plan.speed_mps.copy()
+    fast[5] = 50.0  # far above v_max; the recorded certificate still says every constraint holds
+    perfect = {'certificate': dict.fromkeys(plan.certificate, 0.0)}
+    loaded = Plan.load(_tampered(tmp_path, plan, 'fast.npz', {'speed_mps': fast}, perfect), tube)
+    assert not loaded.is_certified() and loaded.certificate['p2'] > 1.0
+    assert any(f.startswith('(p2) ') for f in loaded.failures(tube))
+    assert loaded.time_s < plan.time_s  # the objective recomputed too
+
+
+@pytest.mark.parametrize(
+    ('arrays', 'meta', 'match'),
+    [
+        ({'speed_mps': 0.0}, None, 'holds no usable plan: a speed or a density is not > 0'),
+        ({'density_per_m2': np.nan}, None, 'a grid point, speed or density is not a finite number'),
+        ({'l_m': 2.0}, None, "its grid does not rise from 0 to the tube's length"),
+        (None, {'provenance': [1, 2]}, 'its scene must be a name and its provenance a table'),
+        (None, {'tube_hash': 'feed'}, "made for scene 'D'\\) does not fit this tube"),
+    ],
+)
+def test_a_plan_with_unusable_numbers_is_refused(tmp_path, shipped_plans, arrays, meta, match) -> None:
+    plan = shipped_plans['D']
+    edited = {}
+    for name, value in (arrays or {}).items():
+        values = getattr(plan, name).copy()
+        values[3] = value
+        edited[name] = values
+    with pytest.raises(PlanError, match=match):
+        Plan.load(_tampered(tmp_path, plan, 'bad.npz', edited, meta), load_scene('D').tube)
