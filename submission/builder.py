@@ -16,6 +16,7 @@ import inspect
 import math
 import pprint
 import sys
+import tempfile
 import textwrap
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -32,6 +33,7 @@ from submission.declaration import FULL_BUILD_INITIALIZER_SEEDS, Declaration
 from submission.errors import SubmissionError
 from submission.robustness import CHECKED_MODELS
 from vtube_planning import __version__
+from vtube_planning.files import write_atomically
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.provenance import provenance, sha256_of
@@ -147,32 +149,37 @@ def build_declared(
     progress: Callable[[str], None] | None = None,
     seed_done: Callable[[], None] | None = None,
     testbed_models: tuple[str, ...] = CHECKED_MODELS,
-) -> tuple[Submission, CheckReport]:
-    """Build the submission, write it to ``path`` and check it (:func:`submission.check.check`, options as there);
-    when it passes, stamp the declaration the check derived into the header of the file checked and rewrite it.
-    A file that fails keeps no declaration."""
+) -> tuple[Submission, CheckReport, Path]:
+    """Build the submission and check it (:func:`submission.check.check`, options as there) in a private folder;
+    when it passes, stamp the declaration the check derived into the header of the file checked and write that to
+    ``path``. A file that fails keeps no declaration and is written beside, as ``NAME.failed.py``: whatever was
+    at ``path`` (an earlier declared build) stays until a build passes. Returns the submission, the report (naming
+    the file written) and the file written."""
+    path = Path(path)
     submission = build(scene, plan)
-    write(submission, path)
-    report = check(
-        path,
-        seeds=seeds,
-        initializer_seeds=initializer_seeds,
-        run_timeout_s=run_timeout_s,
-        progress=progress,
-        seed_done=seed_done,
-        testbed_models=testbed_models,
-    )
+    with tempfile.TemporaryDirectory(prefix='vtube-build-') as folder:
+        report = check(
+            write(submission, Path(folder) / path.name),
+            seeds=seeds,
+            initializer_seeds=initializer_seeds,
+            run_timeout_s=run_timeout_s,
+            progress=progress,
+            seed_done=seed_done,
+            testbed_models=testbed_models,
+        )
     if report.passed and report.declaration is not None:
         submission = submission.declared(report.declaration)
-        write(submission, path)
-    return submission, report
+        written = write(submission, path)
+    else:
+        written = write(submission, path.with_name(f'{path.stem}.failed{path.suffix}'))
+    return submission, replace(report, path=str(written)), written
 
 
 def write(submission: Submission, path: str | Path) -> Path:
     """Write the submission's source; creates the folder."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(submission.source, encoding='utf-8')
+    write_atomically(path, submission.source)
     return path
 
 

@@ -42,6 +42,7 @@ from vtube_planning import __version__
 from vtube_planning.campaign_store import RUNS_FILE, prepare_table
 from vtube_planning.errors import VtubeError
 from vtube_planning.executors import map_unordered
+from vtube_planning.files import write_atomically
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.onboard import swarm_area
 from vtube_planning.onboard.parking import PARKED_WITHIN_M
@@ -271,7 +272,7 @@ def sweep(
                 on_row(row)
     ordered = [rows[key] for key in keys]
     markdown = out / TABLE_FILE
-    markdown.write_text(sweep_markdown(ordered, seeds), encoding='utf-8')
+    write_atomically(markdown, sweep_markdown(ordered, seeds))
     seconds = time.perf_counter() - started
     return SweepOutcome(ordered, len(keys) - len(todo), len(todo), seconds, out / RUNS_FILE, markdown)
 

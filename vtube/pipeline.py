@@ -32,6 +32,7 @@ from submission.builder import Submission, build, build_declared, write
 from submission.check import CheckReport
 from submission.declaration import Declaration
 from vtube_planning import plots
+from vtube_planning.files import write_atomically
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.log import LogWriter
 from vtube_planning.params import SwarmParams
@@ -236,10 +237,10 @@ def build_submission(
     from submission.robustness import CHECKED_MODELS
 
     models = CHECKED_MODELS if testbed_models is None else testbed_models
-    submission, report = build_declared(
+    submission, report, written = build_declared(
         scene, plan, out, seeds=seeds, initializer_seeds=initializer_seeds, testbed_models=models
     )
-    return WrittenSubmission(submission, out, report)
+    return WrittenSubmission(submission, written, report)
 
 
 @dataclass(frozen=True)
@@ -269,7 +270,7 @@ def run_on_bundled(script: Path, folder: Path, *, seed: int = 0) -> Returned:
             traceback.print_exc()
             ok = False
     log = folder / 'log.txt'
-    log.write_text(printed.getvalue() + complained.getvalue(), encoding='utf-8')
+    write_atomically(log, printed.getvalue() + complained.getvalue())
     return Returned(folder, log, ok)
 
 

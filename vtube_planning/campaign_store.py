@@ -10,12 +10,12 @@ import csv
 import io
 import json
 import math
-import os
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
 from vtube_planning.campaign import AXES, LATER_AXES, METRICS, Campaign, CampaignError, run_key
+from vtube_planning.files import write_atomically
 
 RUNS_FILE, CAMPAIGN_FILE = 'runs.csv', 'campaign.json'
 
@@ -56,8 +56,8 @@ def prepare_table(
                     whole = None not in row.values() and None not in row
                     if whole and row['key'] in keys and not row['error'] and row['version']:
                         done[row['key']] = {**{c: LATER_AXES[c] for c in later}, **row}  # a table from before
-        _write_atomically(recorded, json.dumps(record, indent=1) + '\n')
-        _write_atomically(table, _csv_text(columns, done.values()))
+        write_atomically(recorded, json.dumps(record, indent=1) + '\n')
+        write_atomically(table, _csv_text(columns, done.values()))
     except OSError as err:
         msg = f'cannot write to {out} ({err.strerror or err}); choose another --out before any run starts.'
         raise OSError(msg) from err
@@ -70,13 +70,6 @@ def _csv_text(columns: list[str], rows: Iterable[dict[str, Any]]) -> str:
     writer.writeheader()
     writer.writerows(rows)
     return text.getvalue()
-
-
-def _write_atomically(path: Path, text: str) -> None:
-    """Write ``text`` to a temporary file beside ``path`` and rename it over: never a partial file at ``path``."""
-    temporary = path.with_name(f'.{path.name}.partial')
-    temporary.write_text(text, encoding='utf-8', newline='')
-    os.replace(temporary, path)
 
 
 def read_results(out: Path) -> tuple[Campaign, list[dict[str, Any]], int]:

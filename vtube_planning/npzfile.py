@@ -7,7 +7,6 @@ the file on disk is always complete; reading never unpickles (a returned data fi
 from __future__ import annotations
 
 import json
-import os
 import zipfile
 from pathlib import Path
 from typing import Any
@@ -15,21 +14,17 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from vtube_planning.files import write_atomically
+
 META_KEY = 'meta'
 
 
 def write_npz(path: str | Path, arrays: dict[str, NDArray[Any]], meta: dict[str, Any]) -> Path:
-    """Write arrays and JSON metadata to ``path`` atomically; creates the folder."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + '.tmp')
-    with tmp.open('wb') as fh:
-        # the ** dicts are typed loosely because mypy also matches them against savez's allow_pickle: bool
-        meta_member: dict[str, Any] = {META_KEY: np.array(json.dumps(meta))}
-        array_members: dict[str, Any] = arrays
-        np.savez(fh, **meta_member, **array_members)
-    os.replace(tmp, path)
-    return path
+    """Write arrays and JSON metadata to ``path`` atomically (:func:`~vtube_planning.files.write_atomically`)."""
+    # the ** dicts are typed loosely because mypy also matches them against savez's allow_pickle: bool
+    meta_member: dict[str, Any] = {META_KEY: np.array(json.dumps(meta))}
+    array_members: dict[str, Any] = arrays
+    return write_atomically(path, lambda handle: np.savez(handle, **meta_member, **array_members))
 
 
 def read_npz(path: str | Path, error: type[Exception], what: str) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:

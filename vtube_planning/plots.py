@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from vtube_planning.files import write_atomically
+
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
@@ -323,8 +325,6 @@ def animate(
 
 
 def save_figure(fig: Figure, path: str | Path, *, dpi: int = 120) -> Path:
-    """Write a figure, creating the folder; returns the path written."""
+    """Write a figure (atomically, :func:`~vtube_planning.files.write_atomically`); returns the path written."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi)
-    return path
+    return write_atomically(path, lambda handle: fig.savefig(handle, dpi=dpi, format=path.suffix[1:] or 'png'))

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from vtube_planning import __version__
+from vtube_planning.files import write_atomically
 
 if TYPE_CHECKING:
     from vtube_planning.geometry.scene import Scene
@@ -63,6 +64,4 @@ def provenance(
 def copy_scene(scene: Scene, folder: Path) -> Path:
     """Write the scene's file into ``folder`` as ``scene_<name>.toml`` (the same bytes it was read from)."""
     path = folder / f'scene_{scene.name}.toml'
-    folder.mkdir(parents=True, exist_ok=True)
-    path.write_text(scene.text, encoding='utf-8')
-    return path
+    return write_atomically(path, scene.text)

@@ -30,6 +30,7 @@ from robotarium_exp.analysis.trajectory import Trajectory
 from robotarium_exp.spec import ROBOTARIUM
 from robotarium_exp.tracking import narrowing_start
 from vtube_planning import __version__
+from vtube_planning.files import write_atomically
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.provenance import provenance
@@ -184,8 +185,9 @@ def write_report(out: Path, results: dict[str, Analysis], scene: Scene | None, p
     from vtube_planning.plots import save_figure
 
     out.mkdir(parents=True, exist_ok=True)
-    (out / 'metrics.json').write_text(
-        json.dumps({k: a.metrics.to_json() for k, a in results.items()}, indent=1, allow_nan=False), encoding='utf-8'
+    write_atomically(
+        out / 'metrics.json',
+        json.dumps({k: a.metrics.to_json() for k, a in results.items()}, indent=1, allow_nan=False),
     )
     figures = {
         name: save_figure(fig, out / f'{name}.png').name for name, fig in analysis_figures(results, scene, plan).items()
@@ -199,7 +201,7 @@ def write_report(out: Path, results: dict[str, Analysis], scene: Scene | None, p
         lines += _notes(label, analysis.metrics)
     lines += [''] + [f'![{name}]({file})' for name, file in figures.items()] + ['']
     path = out / 'report.md'
-    path.write_text('\n'.join(lines), encoding='utf-8')
+    write_atomically(path, '\n'.join(lines))
     return path
 
 

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 from vtube.cli.arguments import count, testbed_model_name, whole, writable_folder
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
 from vtube.cli.render import progress_bar
+from vtube_planning.files import write_atomically
 
 if TYPE_CHECKING:
     from robotarium_exp.experiment import ExperimentConfig, ExperimentResult
@@ -194,8 +195,8 @@ def comparison(args: argparse.Namespace) -> Comparison:
     table = comparison_table(rows)
     out.mkdir(parents=True, exist_ok=True)
     written = (out / f'compare_{scene.name}.md', out / f'compare_{scene.name}.json')
-    written[0].write_text(table, encoding='utf-8')
-    written[1].write_text(json.dumps([row.to_json() for row in rows], indent=1, allow_nan=False))
+    write_atomically(written[0], table)
+    write_atomically(written[1], json.dumps([row.to_json() for row in rows], indent=1, allow_nan=False))
     return Comparison(scene.name, args.seeds, table, written, failed_runs(rows))
 
 

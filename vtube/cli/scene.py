@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 from vtube.cli.arguments import figure_file
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, BadInput, Command, View
+from vtube_planning.files import write_atomically
 
 if TYPE_CHECKING:
     from robotarium_exp.fit import Fit
@@ -122,7 +123,7 @@ def export(args: argparse.Namespace) -> SceneExported:
         msg = f'{path} exists; give another file name (nothing was written).'
         raise BadInput(msg)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(text, encoding='utf-8')
+    write_atomically(path, text)
     return SceneExported(spelled, path)
 
 

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 from vtube.cli.arguments import count, parse_sizes, positive, whole, words, writable_folder
 from vtube.cli.command import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_OK, BadInput, Command, Interrupted, View
+from vtube_planning.files import write_atomically
 
 if TYPE_CHECKING:
     from vtube_planning.campaign import Campaign
@@ -144,9 +145,9 @@ def study(args: argparse.Namespace) -> StudyDone:
     rows = [row for row in run.outcome.rows if not row['error']]
     summary = summarise(rows)
     text = study_markdown(summary, list(range(args.seeds)), args.acceleration_limits)
-    (out / 'study.md').write_text(text, encoding='utf-8')
-    (out / 'study.json').write_text(
-        json.dumps(strict_json({'rows': rows, 'summary': summary}), indent=1, allow_nan=False), encoding='utf-8'
+    write_atomically(out / 'study.md', text)
+    write_atomically(
+        out / 'study.json', json.dumps(strict_json({'rows': rows, 'summary': summary}), indent=1, allow_nan=False)
     )
     figure = plots.save_figure(study_plots.study_figure(summary, 2 * SwarmParams().r_p_m), out / 'study.png')
     claims = all(e['claim_on_means'] for e in summary)
@@ -236,7 +237,7 @@ def write_report(out: Path) -> CampaignReport | None:
     if missing:
         head += f' ({missing} of the grid missing or failed: the tables are partial; rerun the campaign to finish)'
     text = f'{head}.\n\n' + grid_markdown(rows)
-    (out / 'report.md').write_text(text, encoding='utf-8')
+    write_atomically(out / 'report.md', text)
     differences = study_plots.map_differences_figure if map_differences(rows) else study_plots.paired_differences_figure
     figures = (
         plots.save_figure(differences(rows), out / 'differences.png'),

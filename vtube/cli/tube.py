@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from vtube.cli.command import BadInput, Command, View
+from vtube_planning.files import write_atomically
 
 if TYPE_CHECKING:
     from vtube_planning.geometry.generate import GeneratedTube
@@ -43,7 +44,7 @@ def generate(args: argparse.Namespace) -> TubeGenerated:
     text, generated = generated_scene(args.map.read_text(encoding='utf-8'), str(args.map), path.parent)
     seconds = time.perf_counter() - started
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(text, encoding='utf-8')
+    write_atomically(path, text)
     return TubeGenerated(args.map, path, generated, seconds)
 
 

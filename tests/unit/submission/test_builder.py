@@ -207,12 +207,13 @@ def test_the_declaration_is_stamped_into_the_built_file() -> None:
 
 
 def test_build_declared_stamps_what_the_check_derived_into_the_file_it_checked(tmp_path, monkeypatch) -> None:
-    """One build, one check (stubbed here: the real one is in tests/integration/test_preflight.py)."""
+    """One build, one check (stubbed here: the real one is in tests/integration/test_preflight.py), of a file in a
+    private folder: ``--out`` is written only when the check passed; a failed build goes beside it."""
     declaration = declare(InitializerSample((20.0, 35.5), ()), experiment_s=61.3)
-    checked: list[tuple[str, dict]] = []
+    checked: list[tuple[Path, str, dict]] = []
 
     def check(path, **options):
-        checked.append((Path(path).read_text(encoding='utf-8'), options))
+        checked.append((Path(path), Path(path).read_text(encoding='utf-8'), options))
         return CheckReport(str(path), declaration=declaration, declaration_problem=verdict.pop())
 
     monkeypatch.setattr(builder_module, 'check', check)
@@ -220,13 +221,17 @@ def test_build_declared_stamps_what_the_check_derived_into_the_file_it_checked(t
     monkeypatch.setattr(CheckReport, 'passed', property(lambda self: not self.declaration_problem))
     scene = load_scene('robotarium_trapezoid')
     path = tmp_path / 'deep' / 'sub.py'
-    failed, report = build_declared(scene, None, path, seeds=2, initializer_seeds=7)
-    assert not report.passed and UNDECLARED in path.read_text() and failed.source == path.read_text()
-    assert UNDECLARED in checked[0][0]
-    assert checked[0][1]['seeds'] == 2 and checked[0][1]['initializer_seeds'] == 7
-    passed, _ = build_declared(scene, None, path)
-    assert Declaration.from_header(path.read_text()) == declaration and passed.source == path.read_text()
-    assert UNDECLARED in checked[1][0]  # it checked the file before stamping it
+    failed, report, written = build_declared(scene, None, path, seeds=2, initializer_seeds=7)
+    assert not report.passed and not path.exists() and written == tmp_path / 'deep' / 'sub.failed.py'
+    assert report.path == str(written) and failed.source == written.read_text() and UNDECLARED in failed.source
+    assert checked[0][0].parent != path.parent and checked[0][0].name == 'sub.py' and UNDECLARED in checked[0][1]
+    assert checked[0][2]['seeds'] == 2 and checked[0][2]['initializer_seeds'] == 7
+    passed, _, written = build_declared(scene, None, path)
+    assert written == path and Declaration.from_header(path.read_text()) == declaration
+    assert passed.source == path.read_text() and UNDECLARED in checked[1][1]  # it checked the file before stamping
+    before = path.read_text()
+    verdict.append('fails')  # a declared file in place: a later build that fails leaves it as it was
+    assert build_declared(scene, None, path)[2].name == 'sub.failed.py' and path.read_text() == before
 
 
 def test_write_creates_the_folder(tmp_path) -> None:

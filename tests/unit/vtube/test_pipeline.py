@@ -171,7 +171,7 @@ def test_a_submission_is_written_undeclared_or_built_declared(tmp_path, monkeypa
 
     def build_declared(scene, plan, out, *, seeds, initializer_seeds, testbed_models):
         calls.append((scene.name, plan is None, out, seeds, initializer_seeds, testbed_models))
-        return written.submission, SimpleNamespace(passed=True, declaration='the declaration')
+        return written.submission, SimpleNamespace(passed=True, declaration='the declaration'), out
 
     monkeypatch.setattr(pipeline, 'build_declared', build_declared)
     declared = build_submission('robotarium_trapezoid', tmp_path / 'b.py', planning=False, seeds=2, initializer_seeds=5)
