@@ -91,17 +91,25 @@ class Obstacles:
 
     def inside(self, points_m: FloatArray) -> NDArray[np.bool_]:
         """Whether each of (k, 2) points lies in an obstacle (on a disc's rim counts), (k,); each obstacle tests
-        only the points in its bounding box."""
+        only the points in its bounding box (found by bisection among the points sorted by x)."""
         points = np.asarray(points_m, dtype=float).reshape(-1, 2)
         hit = np.zeros(points.shape[0], dtype=bool)
+        order = np.argsort(points[:, 0], kind='stable')  # a grid's nodes come sorted: linear time
+        xs = points[order, 0]
+
+        def in_box(low: FloatArray, high: FloatArray) -> NDArray[np.intp]:
+            among = order[np.searchsorted(xs, low[0], side='left') : np.searchsorted(xs, high[0], side='right')]
+            keep: NDArray[np.intp] = among[(points[among, 1] >= low[1]) & (points[among, 1] <= high[1])]
+            return keep
+
         for disc in self.discs:
             (cx, cy), r = disc.center_m, disc.radius_m
-            near = np.flatnonzero((np.abs(points[:, 0] - cx) <= r) & (np.abs(points[:, 1] - cy) <= r))
+            near = in_box(np.array([cx - 2 * r, cy - 2 * r]), np.array([cx + 2 * r, cy + 2 * r]))  # then exactly:
+            near = near[(np.abs(points[near, 0] - cx) <= r) & (np.abs(points[near, 1] - cy) <= r)]
             hit[near] |= np.hypot(points[near, 0] - cx, points[near, 1] - cy) <= r
         for polygon in self.polygons:
             xy = np.array(polygon.vertices_m)
-            low, high = xy.min(axis=0), xy.max(axis=0)
-            near = np.flatnonzero(np.all((points >= low) & (points <= high), axis=1))
+            near = in_box(xy.min(axis=0), xy.max(axis=0))
             hit[near] |= Obstacles((), (polygon,)).clearance(points[near]) == 0.0
         return hit
 
