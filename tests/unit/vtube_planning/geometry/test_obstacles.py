@@ -157,3 +157,14 @@ def test_inside_agrees_with_a_zero_clearance() -> None:
     points = np.vstack([rng.uniform(-1.0, 7.0, size=(4000, 2)), [[5.5, 1.0], [5.0, 1.51]]])  # a rim point, one out
     np.testing.assert_array_equal(obstacles.inside(points), obstacles.clearance(points) == 0.0)
     assert obstacles.inside(points[-2:]).tolist() == [True, False]
+
+
+def test_inside_finds_the_points_on_a_bounding_box_in_any_order() -> None:
+    obstacles = Obstacles((Disc((6.0, 1.0), 1.0),), (L_SHAPE, SQUARE))
+    xx, yy = np.meshgrid(np.arange(-1.0, 8.0, 0.25), np.arange(-1.0, 4.0, 0.25), indexing='ij')  # hits the boxes' sides
+    grid = np.column_stack([xx.ravel(), yy.ravel()])
+    shuffled = np.random.default_rng(11).permutation(len(grid))
+    inside = obstacles.inside(grid)
+    np.testing.assert_array_equal(inside, obstacles.clearance(grid) == 0.0)
+    np.testing.assert_array_equal(obstacles.inside(grid[shuffled]), inside[shuffled])
+    assert inside[np.all(grid == [7.0, 1.0], axis=1)].all() and inside[np.all(grid == [3.0, 1.0], axis=1)].all()
