@@ -3,6 +3,7 @@ that follow the path (steps 1-3 of :mod:`vtube_planning.geometry.generate`)."""
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import TYPE_CHECKING
 
@@ -18,6 +19,9 @@ if TYPE_CHECKING:
     from vtube_planning.geometry.generate import TubeSpec
 
 FloatArray = NDArray[np.float64]
+
+_BATCH = 16
+"""Segments that :func:`_pulled_straight` tries at once."""
 
 
 class SearchGrid:
@@ -131,12 +135,29 @@ class SearchGrid:
 
 
 def _segment_room(a: FloatArray, b: FloatArray, grid: SearchGrid) -> float:
-    """A lower bound of the clearance along the segment a-b: samples a fifth of the resolution apart (less half
-    their spacing: the clearance is 1-Lipschitz)."""
-    step = 0.2 * grid.spec.resolution_m
-    n = max(2, math.ceil(float(np.hypot(*(b - a))) / step) + 1)
-    points = a + np.linspace(0.0, 1.0, n)[:, None] * (b - a)
-    return float(grid.room(points).min()) - 0.5 * float(np.hypot(*(b - a))) / (n - 1)
+    """A lower bound of the clearance along the segment a-b (:func:`_segment_rooms`)."""
+    return float(_segment_rooms(a, b[None, :], grid)[0])
+
+
+def _segment_rooms(a: FloatArray, ends: FloatArray, grid: SearchGrid) -> FloatArray:
+    """Lower bounds (k,) of the clearance along the segments from a to each of (k, 2) ends: samples a fifth of the
+    resolution apart (less half their spacing: the clearance is 1-Lipschitz), all segments' in one lookup."""
+    d = ends - a
+    lengths = np.hypot(d[:, 0], d[:, 1])
+    n = np.maximum(2, np.ceil(lengths / (0.2 * grid.spec.resolution_m)).astype(int) + 1)
+    along = np.concatenate([_fractions(int(m)) for m in n])
+    points = a + along[:, None] * np.repeat(d, n, axis=0)
+    lowest = np.minimum.reduceat(grid.room(points), np.concatenate([[0], np.cumsum(n)[:-1]]))
+    rooms: FloatArray = lowest - 0.5 * lengths / (n - 1)
+    return rooms
+
+
+@functools.lru_cache(maxsize=4096)
+def _fractions(n: int) -> FloatArray:
+    """n fractions from 0 to 1, evenly spaced (read-only: shared)."""
+    fractions = np.linspace(0.0, 1.0, n)
+    fractions.flags.writeable = False
+    return fractions
 
 
 def centre_curve(path: FloatArray, grid: SearchGrid) -> tuple[FloatArray, ArcPath]:
@@ -172,8 +193,12 @@ def _pulled_straight(path: FloatArray, grid: SearchGrid) -> FloatArray:
     kept = [0]
     while kept[-1] < len(path) - 1:
         i, j = kept[-1], kept[-1] + 1
-        while j + 1 < len(path) and _segment_room(path[i], path[j + 1], grid) >= grid.spec.room_m:
-            j += 1
+        while j + 1 < len(path):  # the next _BATCH candidates at once; j stops before the first without room
+            keeps = _segment_rooms(path[i], path[j + 1 : j + 1 + _BATCH], grid) >= grid.spec.room_m
+            kept_too = keeps.size if keeps.all() else int(np.argmin(keeps))
+            j += kept_too
+            if kept_too < keeps.size:
+                break
         kept.append(j)
     return path[kept]
 
