@@ -46,9 +46,10 @@ class SearchGrid:
         # the map's edge counts as an obstacle for the search, except within the room of the start and goal, where
         # the tube may meet it head-on (the width's own bound takes the edge across the tube: TubeSpec.edge_reach)
         edge = b.clearance(nodes) - b.margin_m + spec.margin_m
-        ends = np.array([spec.start_m, spec.goal_m])
-        near_end = np.hypot(*(nodes[:, None, :] - ends[None, :, :]).transpose(2, 0, 1)).min(axis=1) <= 2 * spec.room_m
-        edge = np.where(near_end, np.inf, edge).reshape(xx.shape)  # every node lies inside the map
+        near_end = np.zeros(xx.shape, dtype=bool)
+        for x_end, y_end in (spec.start_m, spec.goal_m):
+            near_end |= np.hypot(self.x[:, None] - x_end, self.y[None, :] - y_end) <= 2 * spec.room_m
+        edge = np.where(near_end, np.inf, edge.reshape(xx.shape))  # every node lies inside the map
         self.clear = np.minimum(np.maximum(to_obstacle, 0.0), edge)
         self.free = self.clear >= spec.room_m + 0.5 * math.sqrt(2.0) * h  # a step between nodes keeps the room
 
@@ -113,8 +114,8 @@ class SearchGrid:
         """A lower bound (k,) of the obstacles' clearance of (k, 2) points (the map's edge counts too, but for
         near the start and goal): the nearest node's less the distance to it (the clearance is 1-Lipschitz)."""
         h = self.spec.resolution_m
-        i = np.clip(np.rint((points[:, 0] - self.x[0]) / h).astype(int), 0, self.x.size - 1)
-        j = np.clip(np.rint((points[:, 1] - self.y[0]) / h).astype(int), 0, self.y.size - 1)
+        i = np.minimum(np.maximum(np.rint((points[:, 0] - self.x[0]) / h).astype(int), 0), self.x.size - 1)
+        j = np.minimum(np.maximum(np.rint((points[:, 1] - self.y[0]) / h).astype(int), 0), self.y.size - 1)
         room: FloatArray = self.clear[i, j] - np.hypot(points[:, 0] - self.x[i], points[:, 1] - self.y[j])
         return room
 
