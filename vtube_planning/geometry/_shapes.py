@@ -24,7 +24,7 @@ SLACK = 1e-9
 """Relative slack of :meth:`Shapes.near` (far above the rounding of the distances it compares)."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Shapes:
     """Discs and polygons as arrays: ``centers`` (c, 2), ``radii`` (c,); every polygon's edges, starts ``a``
     (e, 2) and directions ``d`` (e, 2), ``owner`` (e,) the polygon of each, ``counts`` (p,) its edges, and the
