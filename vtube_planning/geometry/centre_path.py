@@ -3,7 +3,6 @@ that follow the path (steps 1-3 of :mod:`vtube_planning.geometry.generate`)."""
 
 from __future__ import annotations
 
-import functools
 import math
 from typing import TYPE_CHECKING
 
@@ -146,19 +145,12 @@ def _segment_rooms(a: FloatArray, ends: FloatArray, grid: SearchGrid) -> FloatAr
     d = ends - a
     lengths = np.hypot(d[:, 0], d[:, 1])
     n = np.maximum(2, np.ceil(lengths / (0.2 * grid.spec.resolution_m)).astype(int) + 1)
-    along = np.concatenate([_fractions(int(m)) for m in n])
+    first = np.concatenate([[0], np.cumsum(n)[:-1]])
+    along = (np.arange(n.sum()) - np.repeat(first, n)) * np.repeat(1.0 / (n - 1), n)  # np.linspace(0, 1, n) each
+    along[first + n - 1] = 1.0
     points = a + along[:, None] * np.repeat(d, n, axis=0)
-    lowest = np.minimum.reduceat(grid.room(points), np.concatenate([[0], np.cumsum(n)[:-1]]))
-    rooms: FloatArray = lowest - 0.5 * lengths / (n - 1)
+    rooms: FloatArray = np.minimum.reduceat(grid.room(points), first) - 0.5 * lengths / (n - 1)
     return rooms
-
-
-@functools.lru_cache(maxsize=4096)
-def _fractions(n: int) -> FloatArray:
-    """n fractions from 0 to 1, evenly spaced (read-only: shared)."""
-    fractions = np.linspace(0.0, 1.0, n)
-    fractions.flags.writeable = False
-    return fractions
 
 
 def centre_curve(path: FloatArray, grid: SearchGrid) -> tuple[FloatArray, ArcPath]:
