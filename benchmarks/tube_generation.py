@@ -6,7 +6,8 @@ takes, and whether every certified tube misses its obstacles (independently, at 
 
 Per family (:mod:`vtube_planning.geometry.maps`, 80 m x 40 m at 0.1 m): maps; certified tubes; refusals by
 reason (no passage with the room, a corner too tight for the 4 m radius, other); the generation time per map
-(median and largest, seconds of one process); certified tubes the independent check finds within the 0.3 m margin
+(median and largest, seconds of one process; ``benchmarks/tube_generation_speed.py`` times generation alone, and
+against another checkout); certified tubes the independent check finds within the 0.3 m margin
 of an obstacle (``tests/support/tube_clearance.py``: 1 cm along, 101 points across; must be 0); and certified tubes
 whose plan (Table 1's swarm, the convex planner) is certified.
 """

@@ -19,6 +19,9 @@ if TYPE_CHECKING:
 
 FloatArray = NDArray[np.float64]
 
+_BATCH = 16
+"""Segments that :func:`_pulled_straight` tries at once."""
+
 
 class SearchGrid:
     """The search grid: node centres, their clearance, and the free nodes (room for the narrowest tube)."""
@@ -46,9 +49,10 @@ class SearchGrid:
         # the map's edge counts as an obstacle for the search, except within the room of the start and goal, where
         # the tube may meet it head-on (the width's own bound takes the edge across the tube: TubeSpec.edge_reach)
         edge = b.clearance(nodes) - b.margin_m + spec.margin_m
-        ends = np.array([spec.start_m, spec.goal_m])
-        near_end = np.hypot(*(nodes[:, None, :] - ends[None, :, :]).transpose(2, 0, 1)).min(axis=1) <= 2 * spec.room_m
-        edge = np.where(near_end, np.inf, edge).reshape(xx.shape)  # every node lies inside the map
+        near_end = np.zeros(xx.shape, dtype=bool)
+        for x_end, y_end in (spec.start_m, spec.goal_m):
+            near_end |= np.hypot(self.x[:, None] - x_end, self.y[None, :] - y_end) <= 2 * spec.room_m
+        edge = np.where(near_end, np.inf, edge.reshape(xx.shape))  # every node lies inside the map
         self.clear = np.minimum(np.maximum(to_obstacle, 0.0), edge)
         self.free = self.clear >= spec.room_m + 0.5 * math.sqrt(2.0) * h  # a step between nodes keeps the room
 
@@ -113,8 +117,8 @@ class SearchGrid:
         """A lower bound (k,) of the obstacles' clearance of (k, 2) points (the map's edge counts too, but for
         near the start and goal): the nearest node's less the distance to it (the clearance is 1-Lipschitz)."""
         h = self.spec.resolution_m
-        i = np.clip(np.rint((points[:, 0] - self.x[0]) / h).astype(int), 0, self.x.size - 1)
-        j = np.clip(np.rint((points[:, 1] - self.y[0]) / h).astype(int), 0, self.y.size - 1)
+        i = np.minimum(np.maximum(np.rint((points[:, 0] - self.x[0]) / h).astype(int), 0), self.x.size - 1)
+        j = np.minimum(np.maximum(np.rint((points[:, 1] - self.y[0]) / h).astype(int), 0), self.y.size - 1)
         room: FloatArray = self.clear[i, j] - np.hypot(points[:, 0] - self.x[i], points[:, 1] - self.y[j])
         return room
 
@@ -135,12 +139,22 @@ class SearchGrid:
 
 
 def _segment_room(a: FloatArray, b: FloatArray, grid: SearchGrid) -> float:
-    """A lower bound of the clearance along the segment a-b: samples a fifth of the resolution apart (less half
-    their spacing: the clearance is 1-Lipschitz)."""
-    step = 0.2 * grid.spec.resolution_m
-    n = max(2, math.ceil(float(np.hypot(*(b - a))) / step) + 1)
-    points = a + np.linspace(0.0, 1.0, n)[:, None] * (b - a)
-    return float(grid.room(points).min()) - 0.5 * float(np.hypot(*(b - a))) / (n - 1)
+    """A lower bound of the clearance along the segment a-b (:func:`_segment_rooms`)."""
+    return float(_segment_rooms(a, b[None, :], grid)[0])
+
+
+def _segment_rooms(a: FloatArray, ends: FloatArray, grid: SearchGrid) -> FloatArray:
+    """Lower bounds (k,) of the clearance along the segments from a to each of (k, 2) ends: samples a fifth of the
+    resolution apart (less half their spacing: the clearance is 1-Lipschitz), all segments' in one lookup."""
+    d = ends - a
+    lengths = np.hypot(d[:, 0], d[:, 1])
+    n = np.maximum(2, np.ceil(lengths / (0.2 * grid.spec.resolution_m)).astype(int) + 1)
+    first = np.concatenate([[0], np.cumsum(n)[:-1]])
+    along = (np.arange(n.sum()) - np.repeat(first, n)) * np.repeat(1.0 / (n - 1), n)  # np.linspace(0, 1, n) each
+    along[first + n - 1] = 1.0
+    points = a + along[:, None] * np.repeat(d, n, axis=0)
+    rooms: FloatArray = np.minimum.reduceat(grid.room(points), first) - 0.5 * lengths / (n - 1)
+    return rooms
 
 
 def centre_curve(path: FloatArray, grid: SearchGrid) -> tuple[FloatArray, ArcPath]:
@@ -176,8 +190,12 @@ def _pulled_straight(path: FloatArray, grid: SearchGrid) -> FloatArray:
     kept = [0]
     while kept[-1] < len(path) - 1:
         i, j = kept[-1], kept[-1] + 1
-        while j + 1 < len(path) and _segment_room(path[i], path[j + 1], grid) >= grid.spec.room_m:
-            j += 1
+        while j + 1 < len(path):  # the next _BATCH candidates at once; j stops before the first without room
+            keeps = _segment_rooms(path[i], path[j + 1 : j + 1 + _BATCH], grid) >= grid.spec.room_m
+            kept_too = keeps.size if keeps.all() else int(np.argmin(keeps))
+            j += kept_too
+            if kept_too < keeps.size:
+                break
         kept.append(j)
     return path[kept]
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -24,13 +25,14 @@ from numpy.typing import NDArray
 
 from vtube_planning._validate import is_real
 from vtube_planning.errors import SceneError
+from vtube_planning.geometry._shapes import Shapes
 from vtube_planning.geometry.occupancy import OccupancyImage, image_from_entry
 from vtube_planning.geometry.tube import VirtualTube
 
 FloatArray = NDArray[np.float64]
 
-_BLOCK = 4096
-"""Points per block in the clearance of many points (bounds the (points x edges) arrays)."""
+_NEAR = 256
+"""Consecutive points that share one choice of the obstacles that may be nearest (:meth:`Obstacles.clearance`)."""
 
 
 @dataclass(frozen=True)
@@ -69,11 +71,6 @@ class Polygon:
             msg = f'a polygon needs a non-zero area; its vertices {self.vertices_m} lie on a line.'
             raise SceneError(msg)
 
-    def edges(self) -> tuple[FloatArray, FloatArray]:
-        """Start and end points (k, 2) of its k edges."""
-        a = np.array(self.vertices_m, dtype=float)
-        return a, np.roll(a, -1, axis=0)
-
 
 @dataclass(frozen=True)
 class Obstacles:
@@ -87,63 +84,49 @@ class Obstacles:
         return bool(self.discs or self.polygons or self.images)
 
     def clearance(self, points_m: FloatArray) -> FloatArray:
-        """Distance (k,) of (k, 2) points to the nearest obstacle, 0 on or inside one; inf without obstacles."""
+        """Distance (k,) of (k, 2) points to the nearest obstacle, 0 on or inside one; inf without obstacles. Each
+        block of consecutive points measures only the obstacles that may be nearest to some of them
+        (:meth:`Shapes.near <vtube_planning.geometry._shapes.Shapes.near>`, exact)."""
         points = np.asarray(points_m, dtype=float).reshape(-1, 2)
         out = np.full(points.shape[0], np.inf)
-        for start in range(0, points.shape[0], _BLOCK):
-            block = points[start : start + _BLOCK]
-            out[start : start + _BLOCK] = self._clearance_block(block)
+        shapes = self._shapes
+        for start in range(0, points.shape[0], _NEAR):
+            block = points[start : start + _NEAR]
+            out[start : start + _NEAR] = shapes.near(block).clearance(block)
+        for image in self.images:
+            out = np.minimum(out, image.clearance(points))
         return out
 
     def inside(self, points_m: FloatArray) -> NDArray[np.bool_]:
         """Whether each of (k, 2) points lies in an obstacle (on a disc's rim counts), (k,); each obstacle tests
-        only the points in its bounding box."""
+        only the points in its bounding box (found by bisection among the points sorted by x)."""
         points = np.asarray(points_m, dtype=float).reshape(-1, 2)
         hit = np.zeros(points.shape[0], dtype=bool)
+        order = np.argsort(points[:, 0], kind='stable')  # a grid's nodes come sorted: linear time
+        xs = points[order, 0]
+
+        def in_box(low: FloatArray, high: FloatArray) -> NDArray[np.intp]:
+            among = order[np.searchsorted(xs, low[0], side='left') : np.searchsorted(xs, high[0], side='right')]
+            keep: NDArray[np.intp] = among[(points[among, 1] >= low[1]) & (points[among, 1] <= high[1])]
+            return keep
+
         for disc in self.discs:
             (cx, cy), r = disc.center_m, disc.radius_m
-            near = np.flatnonzero((np.abs(points[:, 0] - cx) <= r) & (np.abs(points[:, 1] - cy) <= r))
+            near = in_box(np.array([cx - 2 * r, cy - 2 * r]), np.array([cx + 2 * r, cy + 2 * r]))  # then exactly:
+            near = near[(np.abs(points[near, 0] - cx) <= r) & (np.abs(points[near, 1] - cy) <= r)]
             hit[near] |= np.hypot(points[near, 0] - cx, points[near, 1] - cy) <= r
-        for polygon in self.polygons:
-            xy = np.array(polygon.vertices_m)
-            low, high = xy.min(axis=0), xy.max(axis=0)
-            near = np.flatnonzero(np.all((points >= low) & (points <= high), axis=1))
-            hit[near] |= Obstacles((), (polygon,)).clearance(points[near]) == 0.0
+        shapes = self._shapes
+        for k in range(len(self.polygons)):
+            near = in_box(shapes.low[k], shapes.high[k])
+            hit[near] |= shapes.polygon(k).clearance(points[near]) == 0.0
         for image in self.images:
             hit |= image.inside(points)
         return hit
 
-    def _clearance_block(self, p: FloatArray) -> FloatArray:
-        best = np.full(p.shape[0], np.inf)
-        if self.discs:
-            centers = np.array([d.center_m for d in self.discs])
-            radii = np.array([d.radius_m for d in self.discs])
-            gaps = np.hypot(p[:, None, 0] - centers[None, :, 0], p[:, None, 1] - centers[None, :, 1]) - radii
-            best = np.minimum(best, np.maximum(gaps.min(axis=1), 0.0))
-        if self.polygons:
-            a, d, starts = self._edges()
-            rel = p[:, None, :] - a[None, :, :]  # (k, e, 2)
-            t = np.clip((rel * d).sum(axis=2) / (d * d).sum(axis=1), 0.0, 1.0)
-            gaps = np.hypot(*(rel - t[:, :, None] * d).transpose(2, 0, 1))  # (k, e)
-            upward = (a[None, :, 1] <= p[:, None, 1]) != (a[None, :, 1] + d[None, :, 1] <= p[:, None, 1])
-            with np.errstate(divide='ignore', invalid='ignore'):
-                x_cross = a[:, 0] + (p[:, None, 1] - a[:, 1]) * d[:, 0] / d[:, 1]
-            crossings = np.add.reduceat((upward & (p[:, None, 0] < x_cross)).astype(np.int64), starts, axis=1)
-            nearest = np.minimum.reduceat(gaps, starts, axis=1)  # (k, polygons)
-            best = np.minimum(best, np.where(crossings % 2 == 1, 0.0, nearest).min(axis=1))
-        for image in self.images:
-            best = np.minimum(best, image.clearance(p))
-        return best
-
-    def _edges(self) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:
-        """Every polygon's edges in one array: starts (e, 2), directions (e, 2), and where each polygon's edges
-        begin."""
-        pairs = [polygon.edges() for polygon in self.polygons]
-        a = np.vstack([start for start, _ in pairs])
-        d = np.vstack([end - start for start, end in pairs])
-        counts = np.array([len(start) for start, _ in pairs])
-        starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.intp)
-        return a, d, starts
+    @cached_property
+    def _shapes(self) -> Shapes:
+        discs = [(d.center_m, d.radius_m) for d in self.discs]
+        return Shapes.of(discs, [np.array(p.vertices_m, dtype=float) for p in self.polygons])
 
     def outlines(self, points_per_disc: int = 48) -> tuple[FloatArray, ...]:
         """Each obstacle's closed outline (2, K) for drawing where no patch type exists (the testbed's figure): a

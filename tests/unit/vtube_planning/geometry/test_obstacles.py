@@ -166,3 +166,14 @@ def test_outlines_are_closed_and_lie_on_each_obstacles_boundary() -> None:
     assert triangle.T.tolist() == [[0.0, 0.0], [2.0, 0.0], [0.0, 1.0], [0.0, 0.0]]
     assert np.allclose(obstacles.clearance(np.hstack([circle, triangle]).T), 0.0)  # on a boundary
     assert Obstacles().outlines() == ()
+
+
+def test_inside_finds_the_points_on_a_bounding_box_in_any_order() -> None:
+    obstacles = Obstacles((Disc((6.0, 1.0), 1.0),), (L_SHAPE, SQUARE))
+    xx, yy = np.meshgrid(np.arange(-1.0, 8.0, 0.25), np.arange(-1.0, 4.0, 0.25), indexing='ij')  # hits the boxes' sides
+    grid = np.column_stack([xx.ravel(), yy.ravel()])
+    shuffled = np.random.default_rng(11).permutation(len(grid))
+    inside = obstacles.inside(grid)
+    np.testing.assert_array_equal(inside, obstacles.clearance(grid) == 0.0)
+    np.testing.assert_array_equal(obstacles.inside(grid[shuffled]), inside[shuffled])
+    assert inside[np.all(grid == [7.0, 1.0], axis=1)].all() and inside[np.all(grid == [3.0, 1.0], axis=1)].all()
