@@ -2,14 +2,15 @@
 takes, and whether every certified tube misses its obstacles (independently, at 1 cm) and plans certified.
 
     python -m benchmarks.tube_generation [--seeds 100] [--families forest,blocks,bottleneck] [--workers 2]
-        [--no-plan]
+        [--no-plan] [--list]
 
 Per family (:mod:`vtube_planning.geometry.maps`, 80 m x 40 m at 0.1 m): maps; certified tubes; refusals by
 reason (no passage with the room, a corner too tight for the 4 m radius, other); the generation time per map
 (median and largest, seconds of one process; ``benchmarks/tube_generation_speed.py`` times generation alone, and
 against another checkout); certified tubes the independent check finds within the 0.3 m margin
 of an obstacle (``tests/support/tube_clearance.py``: 1 cm along, 101 points across; must be 0); and certified tubes
-whose plan (Table 1's swarm, the convex planner) is certified.
+whose plan (Table 1's swarm, the convex planner) is certified. ``--list`` also prints each family's certified seeds
+(what a campaign's ``map_seed`` axis lists: ``docs/maps_study/campaign.toml``) and every refusal with its reason.
 """
 
 from __future__ import annotations
@@ -56,6 +57,7 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser.add_argument('--families', default='forest,blocks,bottleneck')
     parser.add_argument('--workers', type=int, default=2)
     parser.add_argument('--no-plan', action='store_true')
+    parser.add_argument('--list', action='store_true', help="each family's certified seeds, and every refusal")
     args = parser.parse_args(argv)
     families = args.families.split(',')
     jobs = [(f, s, not args.no_plan) for f in families for s in range(args.seeds)]
@@ -77,9 +79,13 @@ def main(argv: Sequence[str] | None = None) -> None:
             f'{count["other"]} | {statistics.median(seconds):.2f} ({max(seconds):.2f}) | '
             f'{sum(not r["clear"] for r in made)} | {plans} |'
         )
-    for r in rows:
-        if r['outcome'] == 'other':
-            print(f'other refusal ({r["family"]}): {r["text"]}')
+    for (family, seed, _), r in zip(jobs, rows, strict=True):
+        if r['outcome'] == 'other' or args.list and r['outcome'] != 'certified':
+            print(f'{family} seed {seed} refused ({r["outcome"]}): {r["text"]}')
+    if args.list:
+        for family in families:
+            seeds = [s for (f, s, _), r in zip(jobs, rows, strict=True) if f == family and r['outcome'] == 'certified']
+            print(f'{family} certified seeds ({len(seeds)}): {seeds}')
 
 
 if __name__ == '__main__':
