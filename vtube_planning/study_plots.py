@@ -159,9 +159,10 @@ def map_differences_figure(rows: list[dict[str, Any]]) -> Figure:
             ax.hlines(k, e.low, e.high, color=color, lw=3)
             ax.plot(e.value, k, 'o', color=color, mfc=color if f['verdict'] == 'holds' else 'white')
         ax.axvline(0.0, color='k', lw=0.8)
-        ax.set_xlabel(f'difference in {title} (dots: one per map)')
+        ax.set_xlabel(f'difference in {title}')
     axes[0].set_yticks(range(len(labels)), labels, fontsize=7)
     axes[0].set_ylim(len(labels) - 0.5, -0.5)
+    fig.suptitle('a - b: a dot per map (its seeds\' mean), the mean over maps with its 95 % interval', fontsize=9)
     return fig
 
 
