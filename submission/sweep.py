@@ -39,7 +39,7 @@ from submission.check import RUN_TIMEOUT_S, RunReport, file_flight_data, run_fil
 from submission.errors import SubmissionError
 from submission.robustness import record_passage
 from vtube_planning import __version__
-from vtube_planning.campaign_store import RUNS_FILE, prepare_table
+from vtube_planning.campaign_store import RUNS_FILE, holding, prepare_table
 from vtube_planning.errors import VtubeError
 from vtube_planning.executors import map_unordered
 from vtube_planning.files import write_atomically
@@ -257,19 +257,21 @@ def sweep(
     cases = [Case(s, n, seeds, out / FILES_FOLDER, run_timeout_s) for s in scenes for n in sizes]
     keys = [case_key(case) for case in cases]
     record = {'kind': 'robotarium sweep', 'scenes': list(scenes), 'n_robots': list(sizes), 'seeds': seeds}
-    rows = prepare_table(out, SWEEP_FILE, record, COLUMNS, set(keys), what='sweep')
-    todo = [k for k, key in enumerate(keys) if key not in rows]
-    with (out / RUNS_FILE).open('a', newline='', encoding='utf-8') as handle:
-        writer = csv.DictWriter(handle, fieldnames=COLUMNS)
-        for i, measured in map_unordered(_execute, [cases[k] for k in todo], workers=jobs):
-            case, key = cases[todo[i]], keys[todo[i]]
-            head = {'key': key, 'scene': scene_label(case.scene), 'n_robots': case.n_robots, 'reason': ''}
-            row = head | dict.fromkeys(MEASURES, '') | measured
-            writer.writerow(row)
-            handle.flush()
-            rows[key] = row
-            if on_row is not None:
-                on_row(row)
+    with holding(out, 'sweep'):
+        expected = {key: {'version': __version__} for key in keys}  # rows of another version: refused
+        rows = prepare_table(out, SWEEP_FILE, record, COLUMNS, expected, what='sweep')
+        todo = [k for k, key in enumerate(keys) if key not in rows]
+        with (out / RUNS_FILE).open('a', newline='', encoding='utf-8') as handle:
+            writer = csv.DictWriter(handle, fieldnames=COLUMNS)
+            for i, measured in map_unordered(_execute, [cases[k] for k in todo], workers=jobs):
+                case, key = cases[todo[i]], keys[todo[i]]
+                head = {'key': key, 'scene': scene_label(case.scene), 'n_robots': case.n_robots, 'reason': ''}
+                row = head | dict.fromkeys(MEASURES, '') | measured
+                writer.writerow(row)
+                handle.flush()
+                rows[key] = row
+                if on_row is not None:
+                    on_row(row)
     ordered = [rows[key] for key in keys]
     markdown = out / TABLE_FILE
     write_atomically(markdown, sweep_markdown(ordered, seeds))

@@ -168,8 +168,9 @@ class Campaign:
 
     @property
     def columns(self) -> list[str]:
-        """The table's columns: the run's key, every axis, the metrics kept, wall time, version, error."""
-        return ['key', *AXES, *self.metrics, 'wall_s', 'version', 'error']
+        """The table's columns: the run's key, every axis, the metrics kept, wall time, the package's version, the
+        scene file's sha256 (of its text), error."""
+        return ['key', *AXES, *self.metrics, 'wall_s', 'version', 'scene_sha256', 'error']
 
     def points(self) -> list[Point]:
         """Every run, grid after grid, each grid in the order of AXES, with each scene's own N and saturation
@@ -205,6 +206,8 @@ LATER_AXES: dict[str, Any] = {'lag_s': 0.0, 'compensation': 'none'}
 LATER_AXES |= {'map': 'none', 'map_seed': 0, 'map_clutter': CLUTTER, 'map_width_m': WIDTH_M}
 """Axes added after campaigns were committed, with their defaults: a run at a default leaves them out of its key, so
 that the tables written before keep their keys (a rerun resumes them)."""
+LATER_COLUMNS = LATER_AXES | {'scene_sha256': ''}
+"""Columns a table written before may lack, and what its rows hold there (no scene hash: not recorded then)."""
 
 
 def run_key(point: Point, settings: RunSettings) -> str:

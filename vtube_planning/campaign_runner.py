@@ -17,9 +17,11 @@ from typing import Any
 from tqdm import tqdm
 
 from vtube_planning import __version__
-from vtube_planning.campaign import Campaign, run_key
-from vtube_planning.campaign_store import RUNS_FILE, prepare_folder, typed_row
+from vtube_planning.campaign import Campaign, CampaignError, run_key
+from vtube_planning.campaign_store import RUNS_FILE, holding, prepare_folder, typed_row
 from vtube_planning.executors import map_unordered
+from vtube_planning.geometry.scene import load_scene
+from vtube_planning.provenance import sha256_of
 from vtube_planning.study import Point, RunSettings, run_point
 
 
@@ -46,7 +48,9 @@ def run_campaign(
     """Run every run of ``campaign`` not yet in ``out/runs.csv`` (:func:`~vtube_planning.executors.map_unordered`:
     ``workers`` local processes, or the Dask ``client``), appending each row as it comes.
 
-    The folder is checked before any run starts: writable, and holding no other campaign. ``progress`` draws a bar
+    The folder is held while the campaign runs (:func:`~vtube_planning.campaign_store.holding`: a second run on it
+    is refused) and checked before any run starts: writable, holding no other campaign, and no finished run made
+    with another version of the package or another text of its scene file. ``progress`` draws a bar
     on stderr (runs done / total, failures, elapsed and remaining time); None: when stderr is a terminal. An
     interruption leaves every finished row in the table; the same call again runs only the missing ones. Ctrl-C
     stops it even when Python drops the KeyboardInterrupt (raised inside a finaliser, "Exception ignored"): the
@@ -55,24 +59,34 @@ def run_campaign(
     started = time.perf_counter()
     points = campaign.points()
     keys = [run_key(p, campaign.settings) for p in points]
-    done = prepare_folder(campaign, out, set(keys))
-    todo = [(p, campaign.settings, campaign.metrics) for p, k in zip(points, keys, strict=True) if k not in done]
-    rows = dict(done)
-    failed = 0
-    show = sys.stderr.isatty() if progress is None else progress
-    bar = tqdm(total=len(points), initial=len(points) - len(todo), unit='run', disable=not show, file=sys.stderr)
-    with (out / RUNS_FILE).open('a', newline='', encoding='utf-8') as handle, bar, _noting_interrupts() as noted:
-        writer = csv.DictWriter(handle, fieldnames=campaign.columns)
-        for i, row in map_unordered(_execute, todo, workers=workers, client=client):
-            row = {'key': run_key(todo[i][0], campaign.settings), **asdict(todo[i][0]), **row}
-            writer.writerow(row)
-            handle.flush()
-            rows[row['key']] = row
-            failed += bool(row['error'])
-            bar.update()
-            bar.set_postfix(failed=failed, refresh=False)
-            if noted.is_set():
-                raise KeyboardInterrupt
+    scenes = {name: sha256_of(load_scene(name).text) for name in dict.fromkeys(p.scene for p in points)}
+    expected = {k: {'version': __version__, 'scene_sha256': scenes[p.scene]} for p, k in zip(points, keys, strict=True)}
+    with holding(out, 'campaign'):
+        done = prepare_folder(campaign, out, expected)
+        todo = [(p, campaign.settings, campaign.metrics) for p, k in zip(points, keys, strict=True) if k not in done]
+        rows, failed = dict(done), 0
+        show = sys.stderr.isatty() if progress is None else progress
+        bar = tqdm(total=len(points), initial=len(points) - len(todo), unit='run', disable=not show, file=sys.stderr)
+        with (out / RUNS_FILE).open('a', newline='', encoding='utf-8') as handle, bar, _noting_interrupts() as noted:
+            writer = csv.DictWriter(handle, fieldnames=campaign.columns)
+            for i, row in map_unordered(_execute, todo, workers=workers, client=client):
+                point = todo[i][0]
+                if row['version'] != __version__:
+                    msg = (
+                        f'a worker runs vtube {row["version"]}, this process {__version__}: their rows would mix. '
+                        'Install the same version everywhere the campaign runs.'
+                    )
+                    raise CampaignError(msg)
+                row = {'key': run_key(point, campaign.settings), **asdict(point), **row}
+                row['scene_sha256'] = scenes[point.scene]
+                writer.writerow(row)
+                handle.flush()
+                rows[row['key']] = row
+                failed += bool(row['error'])
+                bar.update()
+                bar.set_postfix(failed=failed, refresh=False)
+                if noted.is_set():
+                    raise KeyboardInterrupt
     ordered = [typed_row(rows[k], campaign.columns) for k in keys]
     return Outcome(ordered, len(points) - len(todo), len(todo), failed, time.perf_counter() - started)
 

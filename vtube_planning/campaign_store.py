@@ -10,28 +10,101 @@ import csv
 import io
 import json
 import math
-from collections.abc import Iterable, Mapping
+import os
+import socket
+import time
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-from vtube_planning.campaign import AXES, LATER_AXES, METRICS, Campaign, CampaignError, run_key
+from vtube_planning.campaign import AXES, LATER_COLUMNS, METRICS, Campaign, CampaignError, run_key
 from vtube_planning.files import write_atomically
 
-RUNS_FILE, CAMPAIGN_FILE = 'runs.csv', 'campaign.json'
+RUNS_FILE, CAMPAIGN_FILE, LOCK_FILE = 'runs.csv', 'campaign.json', '.lock'
 
 
-def prepare_folder(campaign: Campaign, out: Path, keys: set[str]) -> dict[str, dict[str, Any]]:
+@contextmanager
+def holding(out: Path, what: str) -> Iterator[None]:
+    """Hold ``out`` for one run of a table while inside: ``out/.lock``, created exclusively, names this process; a
+    second run on the folder is refused (:class:`CampaignError`, naming who holds it) instead of writing the same
+    table, so no finished row can be lost or written twice. A lock left by a process of this machine that is gone
+    (killed) is taken over; the lock is removed on leaving."""
+    out.mkdir(parents=True, exist_ok=True)
+    lock = out / LOCK_FILE
+    me = {'pid': os.getpid(), 'host': socket.gethostname(), 'since': time.strftime('%Y-%m-%dT%H:%M:%S')}
+    for _ in range(2):
+        try:
+            descriptor = os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
+        except FileExistsError:
+            holder = _holder(lock)
+            if holder.get('host') == me['host'] and not _alive(holder.get('pid')):
+                lock.unlink(missing_ok=True)  # left by a run that was killed: take it over
+                continue
+            msg = (
+                f'{out} is being written by another {what} run (process {holder.get("pid", "?")} on '
+                f'{holder.get("host", "?")}, since {holder.get("since", "?")}); wait for it to finish, or, if that '
+                f'run is dead, delete {lock}.'
+            )
+            raise CampaignError(msg) from None
+        with os.fdopen(descriptor, 'w', encoding='utf-8') as handle:
+            json.dump(me, handle)
+        break
+    else:
+        msg = f'{out}: could not take {lock} (another run took it meanwhile); run again.'
+        raise CampaignError(msg)
+    try:
+        yield
+    finally:
+        if _holder(lock) == me:
+            lock.unlink(missing_ok=True)
+
+
+def _holder(lock: Path) -> dict[str, Any]:
+    try:
+        holder = json.loads(lock.read_text(encoding='utf-8'))
+    except (OSError, ValueError):
+        return {}
+    return holder if isinstance(holder, dict) else {}
+
+
+def _alive(pid: object) -> bool:
+    """Whether a process of this machine with this id exists (True when it cannot be told)."""
+    if not isinstance(pid, int) or pid <= 0:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True
+    return True
+
+
+def prepare_folder(
+    campaign: Campaign, out: Path, expected: Mapping[str, Mapping[str, str]]
+) -> dict[str, dict[str, Any]]:
     """Check ``out`` before any run (writable, no other campaign in it), record the campaign there, and keep the
     rows of runs already done (each rewritten whole: a line cut by an interruption, or a failed run, is dropped
-    and its run done again). Returns the done rows by key."""
-    return prepare_table(out, CAMPAIGN_FILE, campaign.to_json(), campaign.columns, keys, what='campaign')
+    and its run done again). ``expected``: per run's key, what its row must record (:func:`prepare_table`).
+    Returns the done rows by key."""
+    return prepare_table(out, CAMPAIGN_FILE, campaign.to_json(), campaign.columns, expected, what='campaign')
 
 
 def prepare_table(
-    out: Path, record_file: str, record: Mapping[str, Any], columns: list[str], keys: set[str], *, what: str
+    out: Path,
+    record_file: str,
+    record: Mapping[str, Any],
+    columns: list[str],
+    expected: Mapping[str, Mapping[str, str]],
+    *,
+    what: str,
 ) -> dict[str, dict[str, Any]]:
     """:func:`prepare_folder` for any table of runs (``runs.csv`` with ``columns``, among them ``key``, ``error``
-    and ``version``) recorded with its settings ``record`` in ``out/record_file``; ``what`` names it in errors."""
+    and ``version``) recorded with its settings ``record`` in ``out/record_file``; ``what`` names it in errors.
+    ``expected`` holds the keys of the runs and, per key, the columns a finished row must hold as they are now
+    (the package's version, the scene file's hash): a finished row that records another value is refused, not
+    resumed (an empty value, from a table written before the column existed, is accepted)."""
     recorded = out / record_file
     try:
         out.mkdir(parents=True, exist_ok=True)
@@ -48,14 +121,24 @@ def prepare_table(
         if table.is_file():
             with table.open(newline='', encoding='utf-8') as handle:
                 reader = csv.DictReader(handle)
-                later = [c for c in columns if c in LATER_AXES and c not in (reader.fieldnames or columns)]
+                later = [c for c in columns if c in LATER_COLUMNS and c not in (reader.fieldnames or columns)]
                 if reader.fieldnames is not None and reader.fieldnames != [c for c in columns if c not in later]:
                     msg = f'{table} has other columns than this {what}; give another --out.'
                     raise CampaignError(msg)
                 for row in reader:
                     whole = None not in row.values() and None not in row
-                    if whole and row['key'] in keys and not row['error'] and row['version']:
-                        done[row['key']] = {**{c: LATER_AXES[c] for c in later}, **row}  # a table from before
+                    if whole and row['key'] in expected and not row['error'] and row['version']:
+                        done[row['key']] = {**{c: LATER_COLUMNS[c] for c in later}, **row}  # a table from before
+        changed = {
+            (c, done[k][c], v) for k in done for c, v in expected[k].items() if done[k].get(c, '') not in ('', v)
+        }
+        if changed:
+            found = '; '.join(f'{c} {old!r} where this run has {new!r}' for c, old, new in sorted(changed)[:3])
+            msg = (
+                f'{table} holds finished runs made otherwise ({found}): resuming would mix their results with new '
+                'ones. Give another --out, or delete the folder to run them all again.'
+            )
+            raise CampaignError(msg)
         write_atomically(recorded, json.dumps(record, indent=1) + '\n')
         write_atomically(table, _csv_text(columns, done.values()))
     except OSError as err:
@@ -94,7 +177,10 @@ def read_results(out: Path) -> tuple[Campaign, list[dict[str, Any]], int]:
 def typed_row(row: Mapping[str, Any], columns: list[str]) -> dict[str, Any]:
     """A table row with each column of its known type again (numbers, booleans; an empty metric is NaN)."""
     kinds: dict[str, type] = AXES | METRICS | {'wall_s': float}
-    return {c: _typed(row[c] if c in row or c not in LATER_AXES else LATER_AXES[c], kinds.get(c, str)) for c in columns}
+    return {
+        c: _typed(row[c] if c in row or c not in LATER_COLUMNS else LATER_COLUMNS[c], kinds.get(c, str))
+        for c in columns
+    }
 
 
 def _typed(value: Any, kind: type) -> Any:

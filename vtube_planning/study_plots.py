@@ -162,7 +162,7 @@ def map_differences_figure(rows: list[dict[str, Any]]) -> Figure:
         ax.set_xlabel(f'difference in {title}')
     axes[0].set_yticks(range(len(labels)), labels, fontsize=7)
     axes[0].set_ylim(len(labels) - 0.5, -0.5)
-    fig.suptitle('a - b: a dot per map (its seeds\' mean), the mean over maps with its 95 % interval', fontsize=9)
+    fig.suptitle("a - b: a dot per map (its seeds' mean), the mean over maps with its 95 % interval", fontsize=9)
     return fig
 
 

@@ -129,12 +129,13 @@ def test_the_file_names_its_folder_and_the_report_shows_the_metrics_kept(tmp_pat
     assert '| mode | passing time [s] | min distance [m] | 5 % min distance [m] |\n' in report
     assert '| setting | mode | runs not completed |' in report and 'density error' not in report
     with (tmp_path / 'results' / RUNS_FILE).open(newline='', encoding='utf-8') as handle:
-        assert next(csv.reader(handle))[-6:] == [
+        assert next(csv.reader(handle))[-7:] == [
             'passing_time_s',
             'min_distance_m',
             'completed',
             'wall_s',
             'version',
+            'scene_sha256',
             'error',
         ]
 
@@ -148,3 +149,38 @@ def test_a_folder_of_another_campaign_is_refused(tmp_path, capsys, fake_runs) ->
     assert main(['campaign', 'run', str(other), '--out', str(out), '--workers', '1']) == 2
     assert 'holds the results of another campaign' in capsys.readouterr().err
     assert (out / RUNS_FILE).read_text() == before  # nothing lost
+
+
+def test_two_runs_on_one_folder_lose_no_finished_run_and_write_none_twice(tmp_path, fake_runs, monkeypatch) -> None:
+    """Ten times, two runs of one campaign start together on one folder: one holds it, the other is refused (or,
+    started after the first ended, finds everything done); the table has every run exactly once."""
+    import threading
+    import time
+
+    from vtube_planning import campaign_runner
+    from vtube_planning.campaign import Campaign, CampaignError
+
+    slow = campaign_runner.run_point
+    monkeypatch.setattr(
+        campaign_runner, 'run_point', lambda point, settings: (time.sleep(0.002), slow(point, settings))[1]
+    )
+    campaign = Campaign.from_toml(write(tmp_path, SMALL))
+    keys = {run_key(p, campaign.settings) for p in campaign.points()}
+    for attempt in range(10):
+        out, refused = tmp_path / f'out{attempt}', []
+
+        def run(out=out, refused=refused) -> None:
+            try:
+                campaign_runner.run_campaign(campaign, out, progress=False)
+            except CampaignError as err:
+                refused.append(str(err))
+
+        threads = [threading.Thread(target=run) for _ in range(2)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join()
+        with (out / RUNS_FILE).open(newline='', encoding='utf-8') as handle:
+            written = [row['key'] for row in csv.DictReader(handle)]
+        assert sorted(written) == sorted(keys)  # every run once: none lost, none twice
+        assert all('is being written by another campaign run' in text for text in refused)
