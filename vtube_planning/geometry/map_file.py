@@ -9,7 +9,8 @@ A map file is a scene file (:mod:`vtube_planning.geometry.scene`) with ``[tube.g
     half_width_min_m = 1.0       # a passage with less room is refused
     half_width_max_m = 4.0
     margin_m = 0.3               # optional; every other key of TubeSpec is optional too (turn_radius_min_m
-                                 # defaults to v_min^2 / a_n of the file's [swarm]: what the planner needs)
+                                 # defaults to v_min^2 / a_n of the file's [swarm]: what the planner needs;
+                                 # a Robotarium map file, with [robotarium], must give it)
 
 :func:`generated_scene` generates the tube (:func:`~vtube_planning.geometry.generate.generate_tube`) and returns
 the file's text with ``[tube.generate]`` replaced by the tube's ``[tube.center]`` (lines and arcs) and
@@ -66,6 +67,12 @@ def map_spec(data: dict[str, Any], source: str) -> TubeSpec:
         if key not in table:
             msg = f'{source}: missing field {key!r} in [tube.generate]; add it.'
             raise SceneError(msg)
+    if 'robotarium' in data and 'turn_radius_min_m' not in table:
+        msg = (
+            f'{source}: a Robotarium map file needs turn_radius_min_m in [tube.generate] (the robots\' v_min^2 / a_n; '
+            'the layouts in docs/maps use 0.6): the default, from [swarm], is the paper\'s scale.'
+        )
+        raise SceneError(msg)
     if 'workspace' not in data:
         msg = f'{source}: a map file needs [workspace] (x_min_m, x_max_m, y_min_m, y_max_m, margin_m): the map.'
         raise SceneError(msg)

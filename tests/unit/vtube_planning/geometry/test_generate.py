@@ -150,6 +150,8 @@ def test_map_file_errors_name_the_fix() -> None:
         generated_scene(MAP_FILE.split('[workspace]')[0], 'gap.toml')
     with pytest.raises(SceneError, match=r'half_width_min_m must be a finite number > 0'):
         generated_scene(MAP_FILE.replace('half_width_min_m = 0.5', 'half_width_min_m = -0.5'), 'gap.toml')
+    with pytest.raises(SceneError, match=r'a Robotarium map file needs turn_radius_min_m in \[tube.generate\]'):
+        generated_scene(MAP_FILE + '\n[robotarium]\nn_robots = 6\n', 'gap.toml')  # no silent 4 m turns in the arena
 
 
 def test_the_readme_example_map_gives_a_certified_tube_that_misses_its_obstacles() -> None:
