@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -22,17 +23,26 @@ def render(views: View | Iterator[View], *, as_json: bool) -> int:
     from vtube_planning.swarm.metrics import strict_json
 
     text = sys.stderr if as_json else sys.stdout
-    for view in (views,) if isinstance(views, View) else views:
-        for line in view.lines:
-            print(line, file=text)
-        if view.error is not None:
-            error(view.error)
-        if as_json and view.data is not None:
-            data = strict_json(dict(view.data) | {'exit_code': view.exit_code})
-            print(json.dumps(data, allow_nan=False))
-        if view.exit_code != EXIT_OK:
-            return view.exit_code
+    try:
+        for view in (views,) if isinstance(views, View) else views:
+            for line in view.lines:
+                print(line, file=text)
+            if view.error is not None:
+                error(view.error)
+            if as_json and view.data is not None:
+                data = strict_json(dict(view.data) | {'exit_code': view.exit_code})
+                print(json.dumps(data, allow_nan=False))
+            if view.exit_code != EXIT_OK:
+                return view.exit_code
+    except BrokenPipeError:  # the reader went away (``| head``): no more output, and no error about it
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # nor at the interpreter's final flush
+        return views.exit_code if isinstance(views, View) else EXIT_PIPE_CLOSED
     return EXIT_OK
+
+
+EXIT_PIPE_CLOSED = 141
+"""A streamed command whose reader closed the pipe before its end (what a shell reports for SIGPIPE): its result
+was not all read, so neither success nor a failure is claimed."""
 
 
 def error(text: str) -> None:
