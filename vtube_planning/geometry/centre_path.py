@@ -19,6 +19,10 @@ if TYPE_CHECKING:
 
 FloatArray = NDArray[np.float64]
 
+Box = tuple[float, float, float, float]
+"""A rectangle: x_min, x_max, y_min, y_max (m)."""
+End = tuple[float, float] | Box
+"""An end of the tube: a point, or a rectangle to choose it in."""
 _BATCH = 16
 """Segments that :func:`_pulled_straight` tries at once."""
 
@@ -78,9 +82,66 @@ class SearchGrid:
         ends = spec.search_ends
         start = self.node(ends[0], 'start' if spec.start_heading_deg is None else "end of the start's straight lead")
         goal = self.node(ends[1], 'goal' if spec.goal_heading_deg is None else "start of the goal's straight lead")
-        shape = self.clear.shape
+        index = np.arange(self.free.size).reshape(self.free.shape)
+        source, target = int(index[start]), int(index[goal])
+        distances, previous = csgraph.dijkstra(
+            self._graph((start, goal)), directed=False, indices=source, return_predecessors=True
+        )
+        if not np.isfinite(distances[target]):
+            raise self._no_passage(start, goal)
+        points = self._nodes_back(previous, source, target)
+        points[0], points[-1] = ends
+        return points
+
+    def cheapest_ends(self, start: End, goal: End) -> tuple[tuple[float, float], tuple[float, float]]:
+        """The start and goal the cheapest free path joins (:meth:`path`'s cost; one search from every start node):
+        each end a point, kept, or a rectangle (x_min, x_max, y_min, y_max), in which the grid node with room for the
+        narrowest tube that the cheapest path leaves from or arrives at is chosen."""
+        index = np.arange(self.free.size).reshape(self.free.shape)
+        chosen = [self._candidates(end, what) for end, what in ((start, 'start'), (goal, 'goal'))]
+        points = tuple(self.node((e[0], e[1]), what) for e, what in ((start, 'start'), (goal, 'goal')) if len(e) == 2)
+        distances, _, sources = csgraph.dijkstra(
+            self._graph(points), directed=False, indices=index[chosen[0]], min_only=True, return_predecessors=True
+        )
+        targets = index[chosen[1]]
+        if not np.isfinite(distances[targets]).any():
+            first, last = (np.unravel_index(int(index[c][0]), self.free.shape) for c in chosen)
+            raise self._no_passage((int(first[0]), int(first[1])), (int(last[0]), int(last[1])))
+        target = int(targets[np.argmin(distances[targets])])
+        ends = []
+        for end, node in ((start, int(sources[target])), (goal, target)):
+            i, j = np.unravel_index(node, self.free.shape)
+            ends.append((float(end[0]), float(end[1])) if len(end) == 2 else (float(self.x[i]), float(self.y[j])))
+        return ends[0], ends[1]
+
+    def _candidates(self, end: End, what: str) -> NDArray[np.bool_]:
+        """The nodes an end may be: a point's own node, or the free nodes inside a rectangle."""
+        if len(end) == 2:
+            mask = np.zeros(self.free.shape, dtype=bool)
+            mask[self.node((end[0], end[1]), what)] = True
+            return mask
+        return self._in_box((end[0], end[1], end[2], end[3]), what)
+
+    def _in_box(self, box: Box, what: str) -> NDArray[np.bool_]:
+        """The free nodes inside a rectangle (x_min, x_max, y_min, y_max); none: a TubeGenerationError."""
+        x0, x1, y0, y1 = box
+        inside = ((self.x >= x0) & (self.x <= x1))[:, None] & ((self.y >= y0) & (self.y <= y1))[None, :]
+        chosen: NDArray[np.bool_] = inside & self.free
+        if not chosen.any():
+            msg = (
+                f'no point of the {what} region x {x0:g}..{x1:g}, y {y0:g}..{y1:g} m has room for the narrowest tube '
+                f'({self.spec.room_m:.3f} m to every obstacle and the map edge); enlarge or move it.'
+            )
+            raise TubeGenerationError(msg)
+        return chosen
+
+    def _graph(self, ends: tuple[tuple[int, int], ...]) -> sparse.csr_matrix:
+        """The 8-connected graph of the free nodes (and of ``ends``, whose room was checked exactly), each step
+        weighted by its length times 1 + half_width_max / clearance (the path keeps to the middle of passages)."""
+        spec, shape = self.spec, self.clear.shape
         free = self.free.copy()
-        free[start] = free[goal] = True  # their room was checked exactly
+        for end in ends:
+            free[end] = True
         weight = 1.0 + spec.half_width_max_m / np.maximum(self.clear, 1e-9)
         index = np.arange(free.size).reshape(shape)
         rows, cols, costs = [], [], []
@@ -92,26 +153,26 @@ class SearchGrid:
             rows.append(index[a][both])
             cols.append(index[b][both])
             costs.append(step * 0.5 * (weight[a][both] + weight[b][both]))
-        graph = sparse.coo_matrix(
+        return sparse.coo_matrix(
             (np.concatenate(costs), (np.concatenate(rows), np.concatenate(cols))), shape=(free.size, free.size)
         ).tocsr()
-        source, target = int(index[start]), int(index[goal])
-        distances, previous = csgraph.dijkstra(graph, directed=False, indices=source, return_predecessors=True)
-        if not np.isfinite(distances[target]):
-            widest, needed = self._widest_passage(start, goal), spec.room_m + 0.5 * math.sqrt(2.0) * spec.resolution_m
-            msg = (
-                f'no passage from the start to the goal leaves {needed:.3f} m of room (half_width_min_m, '
-                f"margin_m, the certificate's share and half a grid diagonal); the widest has about {widest:.3f} m (to the grid's "
-                f'{spec.resolution_m} m): lower half_width_min_m or margin_m, or move an obstacle.'
-            )
-            raise TubeGenerationError(msg)
+
+    def _nodes_back(self, previous: NDArray[np.intp], source: int, target: int) -> FloatArray:
         nodes = [target]
         while nodes[-1] != source:
             nodes.append(int(previous[nodes[-1]]))
-        i, j = np.unravel_index(np.array(nodes[::-1]), shape)
-        points = np.column_stack([self.x[i], self.y[j]])
-        points[0], points[-1] = ends
-        return points
+        i, j = np.unravel_index(np.array(nodes[::-1]), self.clear.shape)
+        return np.column_stack([self.x[i], self.y[j]])
+
+    def _no_passage(self, start: tuple[int, int], goal: tuple[int, int]) -> TubeGenerationError:
+        spec = self.spec
+        widest, needed = self._widest_passage(start, goal), spec.room_m + 0.5 * math.sqrt(2.0) * spec.resolution_m
+        msg = (
+            f'no passage from the start to the goal leaves {needed:.3f} m of room (half_width_min_m, '
+            f"margin_m, the certificate's share and half a grid diagonal); the widest has about {widest:.3f} m (to the grid's "
+            f'{spec.resolution_m} m): lower half_width_min_m or margin_m, or move an obstacle.'
+        )
+        return TubeGenerationError(msg)
 
     def room(self, points: FloatArray) -> FloatArray:
         """A lower bound (k,) of the obstacles' clearance of (k, 2) points (the map's edge counts too, but for

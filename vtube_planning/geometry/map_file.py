@@ -4,8 +4,8 @@ A map file is a scene file (:mod:`vtube_planning.geometry.scene`) with ``[tube.g
 ``[tube.center]`` and ``[tube.width]``, a ``[workspace]`` (the map's rectangle) and ``[obstacles]``::
 
     [tube.generate]
-    start_m = [2.0, 20.0]
-    goal_m = [78.0, 20.0]
+    start_m = [2.0, 20.0]        # or start_region_m = [x_min, x_max, y_min, y_max]: the generator chooses the
+    goal_m = [78.0, 20.0]        # node of the region the cheapest path joins (goal_region_m likewise)
     half_width_min_m = 1.0       # a passage with less room is refused
     half_width_max_m = 4.0
     margin_m = 0.3               # optional; every other key of TubeSpec is optional too (turn_radius_min_m
@@ -30,7 +30,7 @@ import json
 import math
 import re
 import sys
-from dataclasses import fields
+from dataclasses import fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -39,8 +39,10 @@ if sys.version_info >= (3, 11):
 else:  # Python 3.10
     import tomli as tomllib
 
+from vtube_planning._validate import is_real
 from vtube_planning.errors import SceneError
 from vtube_planning.geometry.centerline import ArcPath
+from vtube_planning.geometry.centre_path import Box, SearchGrid
 from vtube_planning.geometry.generate import GeneratedTube, TubeSpec, generate_tube
 from vtube_planning.geometry.obstacles import Obstacles, obstacles_from_table
 from vtube_planning.geometry.workspace import Workspace
@@ -58,12 +60,16 @@ def map_spec(data: dict[str, Any], source: str) -> TubeSpec:
         msg = f'{source}: a map file has [tube.generate] and no other [tube] table (see vtube_planning.geometry.map_file).'
         raise SceneError(msg)
     table = dict(tube['generate'])
-    allowed = {f.name for f in fields(TubeSpec)} - {'bounds', 'obstacles'}
+    allowed = {f.name for f in fields(TubeSpec)} - {'bounds', 'obstacles'} | set(_REGIONS.values())
     unknown = sorted(set(table) - allowed)
     if unknown:
         msg = f'{source}: unknown key {unknown[0]!r} in [tube.generate]; expected one of: {", ".join(sorted(allowed))}.'
         raise SceneError(msg)
-    for key in ('start_m', 'goal_m', 'half_width_min_m', 'half_width_max_m'):
+    for point, region in _REGIONS.items():
+        if (point in table) == (region in table):
+            msg = f'{source}: give one of {point!r} ([x, y]) and {region!r} ([x_min, x_max, y_min, y_max]) in [tube.generate].'
+            raise SceneError(msg)
+    for key in ('half_width_min_m', 'half_width_max_m'):
         if key not in table:
             msg = f'{source}: missing field {key!r} in [tube.generate]; add it.'
             raise SceneError(msg)
@@ -82,14 +88,37 @@ def map_spec(data: dict[str, Any], source: str) -> TubeSpec:
         if 'turn_radius_min_m' not in table:
             swarm = SwarmParams(**{k: v for k, v in data.get('swarm', {}).items() if k in _SWARM_FIELDS})
             table['turn_radius_min_m'] = swarm.v_min_mps**2 / swarm.a_n_mps2
+        boxes = {point: _box(table.pop(region), region) for point, region in _REGIONS.items() if region in table}
+        for point, box in boxes.items():  # a first guess, which decides nothing but where the map's edge is relaxed
+            table[point] = (0.5 * (box[0] + box[1]), 0.5 * (box[2] + box[3]))
         table['start_m'], table['goal_m'] = tuple(table['start_m']), tuple(table['goal_m'])
-        return TubeSpec(bounds=bounds, obstacles=obstacles, **table)
+        spec = TubeSpec(bounds=bounds, obstacles=obstacles, **table)
+        if not boxes:
+            return spec
+        start, goal = SearchGrid(spec).cheapest_ends(
+            boxes.get('start_m', spec.start_m), boxes.get('goal_m', spec.goal_m)
+        )
+        return replace(spec, start_m=start, goal_m=goal)
     except (TypeError, ValueError) as err:
         msg = f'{source}: {err}'
         raise SceneError(msg) from err
 
 
 _SWARM_FIELDS = {f.name for f in fields(SwarmParams)}
+_REGIONS = {'start_m': 'start_region_m', 'goal_m': 'goal_region_m'}
+"""Each end is a point, or a region (a rectangle) in which the generator chooses it (:func:`map_spec`)."""
+
+
+def _box(value: object, key: str) -> Box:
+    """A region [x_min, x_max, y_min, y_max] of [tube.generate], checked."""
+    if not (isinstance(value, list) and len(value) == 4 and all(is_real(v) for v in value)):
+        raise ValueError(f'{key} must be [x_min, x_max, y_min, y_max], finite numbers; got {value!r}')
+    x0, x1, y0, y1 = (float(v) for v in value)
+    if x0 > x1 or y0 > y1:
+        raise ValueError(
+            f'{key} must be [x_min, x_max, y_min, y_max] with x_min <= x_max, y_min <= y_max; got {value!r}'
+        )
+    return x0, x1, y0, y1
 
 
 def generated_scene(text: str, source: str, folder: Path | None = None) -> tuple[str, GeneratedTube]:

@@ -142,7 +142,7 @@ def test_the_map_file_becomes_a_scene_that_loads_to_the_same_tube() -> None:
 
 
 def test_map_file_errors_name_the_fix() -> None:
-    with pytest.raises(SceneError, match=r"missing field 'goal_m' in \[tube.generate\]"):
+    with pytest.raises(SceneError, match=r"give one of 'goal_m' \(\[x, y\]\) and 'goal_region_m'"):
         generated_scene(MAP_FILE.replace('goal_m = [19.0, 8.0]\n', ''), 'gap.toml')
     with pytest.raises(SceneError, match=r"unknown key 'width_m' in \[tube.generate\]"):
         generated_scene(MAP_FILE.replace('margin_m = 0.1\n', 'width_m = 0.1\n', 1), 'gap.toml')
@@ -179,3 +179,33 @@ def test_headings_at_the_ends_are_held_straight_for_the_lead() -> None:
         generate_tube(spec(obstacles, start_heading_deg=-90.0, lead_m=1.0))  # 2 m down from y = 2: off the map
     with pytest.raises(TubeGenerationError, match='the straight lead from .* has too little room'):
         generate_tube(spec(obstacles, start_heading_deg=0.0, lead_m=5.5))  # 11 m along y = 2: through the wall
+
+
+def test_an_end_given_as_a_region_is_the_node_the_cheapest_path_joins() -> None:
+    """The start anywhere in x 1..3, y 1..9: the chosen node is, by a search back from the goal over the same
+    graph (an independent recomputation), the cheapest of the region's free nodes; the tube then starts there."""
+    from scipy.sparse import csgraph
+
+    from vtube_planning.geometry.centre_path import SearchGrid
+
+    grid = SearchGrid(spec(wall_with_gap(4.0, 7.0)))
+    start, goal = grid.cheapest_ends((1.0, 3.0, 1.0, 9.0), (19.0, 8.0))
+    assert goal == (19.0, 8.0)  # a point end is kept
+    index = np.arange(grid.free.size).reshape(grid.free.shape)
+    goal_node = grid.node(goal, 'goal')
+    back = csgraph.dijkstra(grid._graph((goal_node,)), directed=False, indices=int(index[goal_node]))
+    region = grid._in_box((1.0, 3.0, 1.0, 9.0), 'start')
+    chosen = int(index[np.abs(grid.x - start[0]).argmin(), np.abs(grid.y - start[1]).argmin()])
+    assert region.flat[chosen] and back[chosen] == back[index[region]].min()
+    text, made = generated_scene(
+        MAP_FILE.replace('start_m = [1.0, 2.0]', 'start_region_m = [1.0, 3.0, 1.0, 9.0]'), 'g.toml'
+    )
+    assert np.allclose(made.tube.center_at(0.0), start) and 'start_m = [' in text  # the comment records the choice
+    with pytest.raises(SceneError, match=r"give one of 'goal_m' \(\[x, y\]\) and 'goal_region_m'"):
+        generated_scene(
+            MAP_FILE.replace('goal_m = [19.0, 8.0]', 'goal_region_m = [18, 19, 7, 9]\ngoal_m = [19.0, 8.0]'), 'g.toml'
+        )
+    with pytest.raises(SceneError, match=r'start_region_m must be \[x_min, x_max, y_min, y_max\] with x_min <= x_max'):
+        generated_scene(MAP_FILE.replace('start_m = [1.0, 2.0]', 'start_region_m = [3.0, 1.0, 1.0, 9.0]'), 'g.toml')
+    with pytest.raises(TubeGenerationError, match='no point of the start region x 9..11, y 1..3 m has room'):
+        grid.cheapest_ends((9.0, 11.0, 1.0, 3.0), goal)  # inside the wall
