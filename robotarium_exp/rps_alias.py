@@ -136,8 +136,8 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _seed(text: str) -> int:
-    if not text.isdigit():
-        msg = f'{text!r} is not a whole number >= 0'
+    if not text.isdigit() or int(text) >= 2**32:
+        msg = f'{text!r} is not a seed from 0 to 2**32 - 1 (np.random.seed takes 32 bits)'
         raise argparse.ArgumentTypeError(msg)
     return int(text)
 

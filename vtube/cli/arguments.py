@@ -19,6 +19,19 @@ def whole(text: str) -> int:
     return int(text)
 
 
+SEED_MAX = 2**32 - 1
+"""The largest seed: ``np.random.seed`` (what Robotarium scripts seed) takes 32 bits."""
+
+
+def seed(text: str) -> int:
+    """An argparse type: a seed, a whole number from 0 to 2**32 - 1."""
+    value = whole(text)
+    if value > SEED_MAX:
+        msg = f'{text!r} is not a seed from 0 to {SEED_MAX} (2**32 - 1)'
+        raise argparse.ArgumentTypeError(msg)
+    return value
+
+
 def count(text: str) -> int:
     """An argparse type: a whole number >= 1."""
     value = whole(text)

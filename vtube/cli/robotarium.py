@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from vtube.cli.arguments import count, testbed_model_name, whole, writable_folder
+from vtube.cli.arguments import count, seed, testbed_model_name, writable_folder
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
 from vtube.cli.render import progress_bar
 from vtube_planning.files import write_atomically
@@ -51,7 +51,7 @@ def experiment_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--no-barrier', action='store_true', help='send the swarm commands without the certificate')
     parser.add_argument('--no-initialization', action='store_true', help='start at the initial conditions directly')
     parser.add_argument(
-        '--seed', type=whole, default=0, help='seed of the initialization (charger slots, escapes), >= 0'
+        '--seed', type=seed, default=0, help='seed of the initialization (charger slots, escapes), >= 0'
     )
     parser.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
     testbed_model_argument(parser)

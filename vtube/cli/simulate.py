@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from vtube.cli.arguments import count, positive, whole, writable_folder
+from vtube.cli.arguments import count, positive, seed, writable_folder
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
 from vtube.cli.render import progress_bars
 
@@ -21,7 +21,7 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         '--n', type=count, default=None, dest='n_robots', help="swarm size, >= 1 (default: the scene's)"
     )
-    parser.add_argument('--seed', type=whole, default=0, help='seed of the initial formation jitter, >= 0')
+    parser.add_argument('--seed', type=seed, default=0, help='seed of the initial formation jitter, >= 0')
     parser.add_argument(
         '--acceleration-limits',
         action='store_true',

@@ -26,6 +26,12 @@ PRECIOUS = b'an earlier result that a failed command must not touch'
 
 BAD = [
     ('negative seed', 'simulate A --out {out} --seed -1', 2, "argument --seed: '-1' is not a whole number >= 0"),
+    (
+        'seed over 32 bits',
+        'robotarium run robotarium_trapezoid --out {out} --seed 4294967296',
+        2,
+        "'4294967296' is not a seed from 0 to 4294967295",
+    ),
     ('no seeds', 'study --out {out} --seeds 0', 2, "argument --seeds: '0' is not a whole number >= 1"),
     ('no robots', 'simulate A --out {out} --n 0', 2, "argument --n: '0' is not a whole number >= 1"),
     ('grid too fine', 'plan A --out {out} --grid-step 1e-6', 2, 'use a grid step of at least 0.003 m'),
@@ -76,7 +82,13 @@ BAD = [
     ('negative workers', 'campaign run {tmp}/none.toml --workers -1', 2, "'-1' is not a whole number >= 0"),
     ('alias without a script', 'rps_alias --seed 1', 2, 'give the script to run'),
     ('alias, missing script', 'rps_alias {tmp}/none.py', 2, 'none.py: no such script'),
-    ('alias, bad seed', 'rps_alias --seed x {tmp}/binary.py', 2, "argument --seed: 'x' is not a whole number >= 0"),
+    (
+        'alias, bad seed',
+        'rps_alias --seed x {tmp}/binary.py',
+        2,
+        "argument --seed: 'x' is not a seed from 0 to 2**32 - 1",
+    ),
+    ('alias, seed over 32 bits', 'rps_alias --seed 4294967296 {tmp}/binary.py', 2, "'4294967296' is not a seed from 0"),
     ('alias, binary script', 'rps_alias {tmp}/binary.py', 2, 'binary.py is not a Python script'),
 ]
 
