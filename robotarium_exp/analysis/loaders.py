@@ -146,9 +146,17 @@ def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[
     arrays, broken = {}, []
     for path in files:
         try:
-            arrays[path.stem.removeprefix(SUBMISSION_PREFIX)] = np.load(path, allow_pickle=False)
+            loaded = np.load(path, allow_pickle=False)
         except (OSError, ValueError, EOFError) as err:
-            broken.append(f'{path.name} ({err})')
+            broken.append(f'{path.name} ({" ".join(str(err).split())})')
+            continue
+        if not isinstance(loaded, np.ndarray) or not (
+            np.issubdtype(loaded.dtype, np.number) or np.issubdtype(loaded.dtype, np.bool_)
+        ):
+            what = 'an archive of arrays' if not isinstance(loaded, np.ndarray) else f'{loaded.dtype} values'
+            broken.append(f'{path.name} (holds {what}, not one array of numbers)')
+            continue
+        arrays[path.stem.removeprefix(SUBMISSION_PREFIX)] = loaded
     source = {
         'kind': 'robotarium submission',
         'path': str(folder),
