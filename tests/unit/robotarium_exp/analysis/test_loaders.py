@@ -64,11 +64,11 @@ def test_bad_input_gives_clear_errors(tmp_path) -> None:
     with pytest.raises(AnalysisError, match=r"truncated or corrupt: \['vtube_poses.npy"):
         load_trajectory([folder])
     np.save(folder / 'vtube_poses.npy', np.full((10, 3, 2), 'x'))  # strings where numbers belong
-    with pytest.raises(AnalysisError, match=r"vtube_poses.npy \(holds <U1 values, not one array of numbers\)"):
+    with pytest.raises(AnalysisError, match=r'vtube_poses.npy \(holds <U1 values, not one array of numbers\)'):
         load_trajectory([folder])
     np.savez(folder / 'archive.npz', poses=poses)
     (folder / 'archive.npz').rename(folder / 'vtube_poses.npy')  # a zip archive under the array's name
-    with pytest.raises(AnalysisError, match=r"vtube_poses.npy \(holds an archive of arrays"):
+    with pytest.raises(AnalysisError, match=r'vtube_poses.npy \(holds an archive of arrays'):
         load_trajectory([folder])
     with pytest.raises(AnalysisError, match='does not exist'):
         load_trajectory([tmp_path / 'missing.csv'])
