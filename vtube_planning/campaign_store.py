@@ -170,24 +170,37 @@ def read_results(out: Path) -> tuple[Campaign, list[dict[str, Any]], int]:
             if None not in row.values() and None not in row and not row['error']
         }
     keys = [run_key(p, campaign.settings) for p in campaign.points()]
-    rows = [typed_row(found[k], campaign.columns) for k in keys if k in found]
+    rows = []
+    for key in (k for k in keys if k in found):
+        try:
+            rows.append(typed_row(found[key], campaign.columns))
+        except CampaignError as err:
+            msg = (
+                f'{table}, the run {key}: {err} (the table was edited): restore the file, or delete the row and '
+                'rerun the campaign to run it again.'
+            )
+            raise CampaignError(msg) from err
     return campaign, rows, len(keys) - len(rows)
 
 
 def typed_row(row: Mapping[str, Any], columns: list[str]) -> dict[str, Any]:
-    """A table row with each column of its known type again (numbers, booleans; an empty metric is NaN)."""
+    """A table row with each column of its known type again (numbers, booleans; an empty metric is NaN); a value
+    that is not of its column's type (a table edited by hand) raises :class:`CampaignError` naming it."""
     kinds: dict[str, type] = AXES | METRICS | {'wall_s': float}
     return {
-        c: _typed(row[c] if c in row or c not in LATER_COLUMNS else LATER_COLUMNS[c], kinds.get(c, str))
+        c: _typed(row[c] if c in row or c not in LATER_COLUMNS else LATER_COLUMNS[c], kinds.get(c, str), c)
         for c in columns
     }
 
 
-def _typed(value: Any, kind: type) -> Any:
+def _typed(value: Any, kind: type, column: str) -> Any:
     if not isinstance(value, str):
         return value
-    if kind is bool:
-        return value == 'True'
     if kind in (int, float) and value == '':
         return math.nan
-    return kind(value)
+    try:
+        return {'True': True, 'False': False}[value] if kind is bool else kind(value)
+    except (KeyError, ValueError):
+        words = {int: 'a whole number', float: 'a number', bool: 'True or False'}.get(kind, kind.__name__)
+        msg = f'{column} = {value!r} is not {words}'
+        raise CampaignError(msg) from None

@@ -175,3 +175,15 @@ def test_a_folder_is_held_by_one_run_and_a_dead_runs_lock_is_taken_over(tmp_path
         holding(out, 'campaign'),
     ):
         pass
+
+
+def test_a_value_edited_by_hand_is_named_not_a_traceback(tmp_path, campaign) -> None:
+    out = tmp_path / 'out'
+    keys = [run_key(p, campaign.settings) for p in campaign.points()]
+    prepare_folder(campaign, out, {key: {} for key in keys})
+    for column, value, words in (('passing_time_s', 'fast', 'a number'), ('completed', 'yes', 'True or False')):
+        write_rows(out / RUNS_FILE, campaign.columns, [finished_row(campaign, 0, **{column: value})])
+        with pytest.raises(CampaignError, match=rf"runs.csv, the run {keys[0]}: {column} = '{value}' is not {words}"):
+            read_results(out)
+    with pytest.raises(CampaignError, match="seed = 'abc' is not a whole number"):
+        typed_row({'seed': 'abc'}, ['seed'])
