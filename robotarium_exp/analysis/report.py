@@ -26,7 +26,7 @@ from robotarium_exp.analysis.distances import PairDistances, pair_distances
 from robotarium_exp.analysis.loaders import input_record
 from robotarium_exp.analysis.metrics import PairMeasure, RecordingMetrics, TrackingErrors, TubeMetrics
 from robotarium_exp.analysis.passage import AlongTube, FlightStart, along_tube, observed_passage, recorded_passage
-from robotarium_exp.analysis.trajectory import Trajectory
+from robotarium_exp.analysis.trajectory import PLAUSIBLE_M, Trajectory
 from robotarium_exp.spec import ROBOTARIUM
 from robotarium_exp.tracking import narrowing_start
 from vtube_planning import __version__
@@ -270,7 +270,7 @@ def _notes(label: str, m: RecordingMetrics) -> list[str]:
     repeated, non_finite = sum(c.repeated_stamps for c in m.coverage), sum(c.non_finite for c in m.coverage)
     if repeated or non_finite:
         lines.append(
-            f'\nSamples left out: {repeated} at a repeated stamp, {non_finite} with a NaN or infinite position.'
+            f'\nSamples left out: {repeated} at a repeated stamp, {non_finite} with a NaN, infinite or implausible (beyond {PLAUSIBLE_M:g} m) position.'
         )
     if m.gaps:
         lines.append(f'\n{len(m.gaps)} gap(s), never interpolated across: {[asdict(g) for g in m.gaps[:5]]}')

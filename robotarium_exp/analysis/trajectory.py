@@ -29,6 +29,11 @@ IntArray = NDArray[np.int64]
 _MAX_GAP = re.compile(r'^\s*(?P<value>\d+(?:\.\d*)?|\.\d+)\s*(?P<unit>s|ms|periods?|p)\s*$')
 
 
+PLAUSIBLE_M = 1.0e6
+"""A position coordinate beyond this (m) is no measurement (no arena or motion-capture volume is that large): the
+sample is left out and counted with the non-finite ones."""
+
+
 @dataclass(frozen=True)
 class MaxGap:
     """The longest hole between two samples of a robot that is bridged by interpolation; a longer one is a gap.
@@ -98,7 +103,8 @@ class Coverage:
     before_first, after_last, in_gaps
         Frames at which it has none, by reason.
     repeated_stamps, non_finite
-        Samples left out: a second sample at a stamp already seen, a NaN or infinite position.
+        Samples left out: a second sample at a stamp already seen, a position that is NaN, infinite or beyond
+        PLAUSIBLE_M.
     max_gap_s
         The longest hole bridged for this robot.
     """
@@ -195,7 +201,7 @@ def _clean(rid: str, samples: RobotSamples) -> tuple[IntArray, FloatArray, Float
     order = np.argsort(stamps, kind='stable')
     stamps, xy = stamps[order], xy[order]
     heading = None if heading is None else heading[order]
-    finite = np.all(np.isfinite(xy), axis=1)
+    finite = np.all(np.abs(xy) <= PLAUSIBLE_M, axis=1)  # False for NaN too
     stamps, xy = stamps[finite], xy[finite]
     heading = None if heading is None else heading[finite]
     first = np.concatenate([[True], np.diff(stamps) > 0])[: stamps.size]  # (none left: empty)

@@ -56,10 +56,11 @@ def test_bad_input_gives_clear_errors(tmp_path) -> None:
     np.save(folder / 'vtube_t.npy', np.arange(10) * 0.033)
     poses = np.zeros((10, 3, 2))
     poses[4, 0, 1] = np.nan
+    poses[6, 1, 1] = 1e300  # no measurement either
     np.save(folder / 'vtube_poses.npy', poses)
     scene = load_scene('robotarium_trapezoid')
-    nan_pose = analyse(load_trajectory([folder]), scene).metrics.to_json()  # a NaN pose is left out and counted
-    assert [c['non_finite'] for c in nan_pose['coverage']] == [0, 1] and nan_pose['frames'] == 10
+    nan_pose = analyse(load_trajectory([folder]), scene).metrics.to_json()  # left out and counted
+    assert [c['non_finite'] for c in nan_pose['coverage']] == [0, 2] and nan_pose['frames'] == 10
     (folder / 'vtube_poses.npy').write_bytes((folder / 'vtube_poses.npy').read_bytes()[:120])  # truncated
     with pytest.raises(AnalysisError, match=r"truncated or corrupt: \['vtube_poses.npy"):
         load_trajectory([folder])
