@@ -39,7 +39,7 @@ def read_npz(path: str | Path, error: type[Exception], what: str) -> tuple[dict[
                 with loaded as data:
                     arrays = {key: data[key] for key in data.files}
     except (OSError, ValueError, EOFError, zipfile.BadZipFile) as err:
-        msg = f'cannot read {what} {str(path)!r}: it is not an .npz archive, or it is damaged ({err}); {hint}.'
+        msg = f'cannot read {what} {str(path)!r}: it is not an .npz archive, or it is damaged ({why(err)}); {hint}.'
         raise error(msg) from err
     if bare:
         msg = f'{str(path)!r} holds one bare array (.npy), not a {what}; {hint}.'
@@ -53,3 +53,12 @@ def read_npz(path: str | Path, error: type[Exception], what: str) -> tuple[dict[
         msg = f'cannot read {what} {str(path)!r}: its metadata is damaged ({err}); {hint}.'
         raise error(msg) from err
     return arrays, meta
+
+
+def why(err: BaseException) -> str:
+    """Why numpy could not read a file, in one line; pickled objects named as refused (numpy's own message
+    suggests allow_pickle=True, which would let a data file run code: vtube never does that)."""
+    text = ' '.join(str(err).split())
+    return (
+        'it holds pickled objects, which are never loaded: a data file must not run code' if 'pickle' in text else text
+    )

@@ -37,6 +37,7 @@ from robotarium_exp.errors import AnalysisError
 from vtube_planning.errors import LogError
 from vtube_planning.log import REQUIRED as LOG_REQUIRED
 from vtube_planning.log import checked_log, read_log
+from vtube_planning.npzfile import why
 
 SUBMISSION_PREFIX = 'vtube_'
 SUBMISSION_META = 'vtube_meta.json'
@@ -148,7 +149,7 @@ def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[
         try:
             loaded = np.load(path, allow_pickle=False)
         except (OSError, ValueError, EOFError) as err:
-            broken.append(f'{path.name} ({" ".join(str(err).split())})')
+            broken.append(f'{path.name} ({why(err)})')
             continue
         if not isinstance(loaded, np.ndarray) or not (
             np.issubdtype(loaded.dtype, np.number) or np.issubdtype(loaded.dtype, np.bool_)

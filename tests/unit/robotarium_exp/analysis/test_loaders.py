@@ -67,6 +67,10 @@ def test_bad_input_gives_clear_errors(tmp_path) -> None:
     np.save(folder / 'vtube_poses.npy', np.full((10, 3, 2), 'x'))  # strings where numbers belong
     with pytest.raises(AnalysisError, match=r'vtube_poses.npy \(holds <U1 values, not one array of numbers\)'):
         load_trajectory([folder])
+    np.save(folder / 'vtube_poses.npy', np.array([{'x': 1}], dtype=object))  # pickled objects: never loaded
+    with pytest.raises(AnalysisError, match=r'holds pickled objects, which are never loaded') as raised:
+        load_trajectory([folder])
+    assert 'allow_pickle' not in str(raised.value)  # no advice to load them
     np.savez(folder / 'archive.npz', poses=poses)
     (folder / 'archive.npz').rename(folder / 'vtube_poses.npy')  # a zip archive under the array's name
     with pytest.raises(AnalysisError, match=r'vtube_poses.npy \(holds an archive of arrays'):
