@@ -32,8 +32,10 @@ def test_writing_again_replaces_the_file_whole(tmp_path) -> None:
 def test_object_arrays_are_never_unpickled(tmp_path) -> None:
     path = tmp_path / 'evil.npz'
     np.savez(path, **{META_KEY: np.array('{}')}, obj=np.array([{'a': 1}], dtype=object))
-    with pytest.raises(LogError, match=r"cannot read log .*evil.npz'.*give a log as vtube writes it"):
+    with pytest.raises(LogError, match=r"cannot read log .*evil.npz'.*give a log as vtube writes it") as raised:
         read_npz(path, LogError, 'log')
+    assert 'holds pickled objects, which are never loaded' in str(raised.value)
+    assert 'allow_pickle' not in str(raised.value)  # numpy's advice to load them is not passed on
 
 
 def saving(save, *args, **kwargs):
