@@ -74,10 +74,52 @@ def connect(address: str, timeout_s: float = 10.0) -> Any:
         )
         raise ExecutorError(msg) from err
     try:
-        return Client(address, timeout=timeout_s)
+        client = Client(address, timeout=timeout_s)
     except (OSError, TimeoutError, ValueError) as err:
         msg = (
             f'no Dask scheduler answered at {address} within {timeout_s:g} s ({" ".join(str(err).split())}); '
             'check the address, start one with `dask scheduler`, or raise --scheduler-timeout.'
         )
         raise ExecutorError(msg) from err
+    try:
+        checked_workers(client, address, timeout_s)
+    except BaseException:
+        client.close()
+        raise
+    return client
+
+
+def checked_workers(client: Any, address: str, timeout_s: float) -> None:
+    """Refuse a cluster that would hang or mix results: no worker within ``timeout_s``, or a worker that cannot
+    import vtube or runs another version of it than this process."""
+    try:
+        client.wait_for_workers(1, timeout=timeout_s)
+    except (OSError, TimeoutError) as err:
+        msg = (
+            f'the Dask scheduler at {address} has no worker after {timeout_s:g} s; start one with `dask worker '
+            f'{address}` where vtube is installed, or raise --scheduler-timeout.'
+        )
+        raise ExecutorError(msg) from err
+    try:
+        versions = client.run(_vtube_version)
+    except Exception as err:  # whatever the worker raised (ModuleNotFoundError: no vtube there), named below
+        msg = (
+            f'a worker of the Dask scheduler at {address} cannot run vtube ({type(err).__name__}: '
+            f'{" ".join(str(err).split())}); install it there: pip install "vtube[cluster]".'
+        )
+        raise ExecutorError(msg) from err
+    other = {worker: v for worker, v in versions.items() if v != _vtube_version()}
+    if other:
+        worker, version = next(iter(other.items()))
+        msg = (
+            f'the Dask worker {worker} runs vtube {version}, this process {_vtube_version()}: their rows would mix; '
+            'install the same version on every worker.'
+        )
+        raise ExecutorError(msg)
+
+
+def _vtube_version() -> str:
+    """The version of vtube this process (or a worker) runs."""
+    from vtube_planning import __version__
+
+    return __version__

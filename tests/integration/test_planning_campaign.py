@@ -73,3 +73,12 @@ def test_progress_is_drawn_on_a_terminal_and_not_on_a_pipe(tmp_path) -> None:
     code, drawn = stderr_on_a_terminal(['campaign', 'run', str(path), '--out', str(tmp_path / 'a'), '--workers', '1'])
     assert code == 0 and b'2/2' in drawn and b'failed=0' in drawn
     assert stderr_on_a_pipe(['campaign', 'run', str(path), '--out', str(tmp_path / 'b'), '--workers', '1']) == (0, '')
+
+
+def test_a_scheduler_without_workers_is_refused_within_the_timeout() -> None:
+    distributed = pytest.importorskip('distributed')
+    from vtube_planning.executors import ExecutorError, connect
+
+    refused = pytest.raises(ExecutorError, match='has no worker after 1 s; start one with `dask worker')
+    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=':0') as cluster, refused:
+        connect(cluster.scheduler_address, timeout_s=1.0)  # an error after the timeout, not a silent wait

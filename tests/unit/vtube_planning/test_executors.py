@@ -60,3 +60,37 @@ def test_a_scheduler_that_does_not_answer_is_named_with_the_timeout() -> None:
 
 def test_the_executor_error_is_a_vtube_error_and_a_runtime_error() -> None:
     assert issubclass(ExecutorError, VtubeError) and issubclass(ExecutorError, RuntimeError)
+
+
+class FakeClient:
+    """A Dask client whose cluster has ``workers`` (None: none ever comes) answering ``run`` with ``answer``."""
+
+    def __init__(self, answer: object) -> None:
+        self.answer = answer
+
+    def wait_for_workers(self, n: int, timeout: float) -> None:
+        if self.answer is None:
+            raise TimeoutError(f'only 0/{n} workers arrived after {timeout}')
+
+    def run(self, fn):
+        if isinstance(self.answer, BaseException):
+            raise self.answer
+        return self.answer
+
+
+@pytest.mark.parametrize(
+    ('answer', 'match'),
+    [
+        (None, r'the Dask scheduler at tcp://h:1 has no worker after 0.5 s; start one with `dask worker tcp://h:1`'),
+        (ModuleNotFoundError("No module named 'vtube_planning'"), r'cannot run vtube \(ModuleNotFoundError: No module'),
+        ({'tcp://w:2': '0.0.1'}, r'the Dask worker tcp://w:2 runs vtube 0.0.1, this process '),
+    ],
+)
+def test_a_cluster_without_workers_or_without_this_vtube_is_refused(answer, match) -> None:
+    from vtube_planning.executors import ExecutorError, checked_workers
+
+    with pytest.raises(ExecutorError, match=match):
+        checked_workers(FakeClient(answer), 'tcp://h:1', 0.5)
+    from vtube_planning import __version__
+
+    checked_workers(FakeClient({'tcp://w:2': __version__}), 'tcp://h:1', 0.5)  # the same version: accepted
