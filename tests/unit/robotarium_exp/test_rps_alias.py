@@ -451,7 +451,7 @@ def test_install_gives_the_classic_generation_its_testbed_model_too() -> None:
         (['--testbed-model', 'real', 'x.py'], "'ideal', 'fitted' or 'fitted:K'"),
         ([], 'give the script to run'),
         (['missing.py'], 'missing.py: no such script'),
-        (['--seed', '-1', 'x.py'], "'-1' is not a whole number >= 0"),
+        (['--seed', '-1', 'x.py'], "'-1' is not a seed from 0 to 2**32 - 1"),
         (['bad.py'], 'bad.py is not a Python script'),
     ],
 )
