@@ -29,6 +29,9 @@ IntArray = NDArray[np.int64]
 _MAX_GAP = re.compile(r'^\s*(?P<value>\d+(?:\.\d*)?|\.\d+)\s*(?P<unit>s|ms|periods?|p)\s*$')
 
 
+SAMPLING_S = (1e-4, 10.0)
+"""The median interval between a robot's samples must lie in this range (s): a tracker or a testbed samples at 0.1 Hz
+to 10 kHz; anything else is stamps read in the wrong unit."""
 PLAUSIBLE_M = 1.0e6
 """A position coordinate beyond this (m) is no measurement (no arena or motion-capture volume is that large): the
 sample is left out and counted with the non-finite ones."""
@@ -185,14 +188,44 @@ class Trajectory:
         return complete
 
 
+def _check_time(rid: str, stamps: IntArray) -> None:
+    """Refuse a robot's stamps that are not a recording's time, rather than re-sort or merge them into wrong
+    frames: stamps that go back (a clock that jumped, or samples out of order), all one stamp, or an interval
+    between samples outside SAMPLING_S (stamps in another unit than the loader read them in)."""
+    if stamps.size < 2:
+        return
+    step = np.diff(stamps)
+    if np.any(step < 0):
+        k = int(np.argmin(step))
+        msg = (
+            f'robot {rid!r}: its time stamps go back by up to {-step[k] * 1e-9:.3f} s ({int((step < 0).sum())} of '
+            f'{step.size} steps, the largest at sample {k + 1}): the clock jumped or the samples are out of order, and '
+            're-sorting them would pair positions of different moments; analyse the parts before and after separately.'
+        )
+        raise AnalysisError(msg)
+    interval_s = float(np.median(step[step > 0])) * 1e-9 if np.any(step > 0) else 0.0
+    if interval_s == 0.0:
+        msg = f'robot {rid!r}: all {stamps.size} samples have the same time stamp: the recording holds no time.'
+        raise AnalysisError(msg)
+    if not SAMPLING_S[0] <= interval_s <= SAMPLING_S[1]:
+        msg = (
+            f'robot {rid!r}: its samples are {interval_s:.3g} s apart (median), outside {SAMPLING_S[0]:g}-'
+            f'{SAMPLING_S[1]:g} s: the stamps are in another unit than seconds (milliseconds, nanoseconds?); '
+            'convert them to seconds.'
+        )
+        raise AnalysisError(msg)
+
+
 def seconds_to_ns(t_s: ArrayLike) -> IntArray:
     """Stamps in seconds (a file's float array) as integer nanoseconds, rounded to the nanosecond."""
     return np.round(np.asarray(t_s, dtype=float) * 1e9).astype(np.int64)
 
 
 def _clean(rid: str, samples: RobotSamples) -> tuple[IntArray, FloatArray, FloatArray | None, int, int]:
-    """Sorted by stamp, non-finite positions and repeated stamps left out (and counted)."""
+    """The samples in time (:func:`_check_time`), non-finite or implausible positions and repeated stamps left out
+    (and counted)."""
     stamps = np.asarray(samples.stamps_ns, dtype=np.int64)
+    _check_time(rid, stamps)
     xy = np.asarray(samples.xy_m, dtype=float).reshape(-1, 2)
     heading = None if samples.heading_rad is None else np.asarray(samples.heading_rad, dtype=float)
     if stamps.ndim != 1 or xy.shape[0] != stamps.size or (heading is not None and heading.shape != stamps.shape):

@@ -30,3 +30,28 @@ def test_gaps_in_integer_nanoseconds_and_max_gap() -> None:
     assert len(strict.gaps) == 2
     with pytest.raises(AnalysisError, match="'3' is not a number with a unit"):
         MaxGap.parse('3')
+
+
+def test_stamps_that_are_no_recordings_time_are_refused_not_resorted() -> None:
+    """A clock that jumps back 5 s (two robots 0.4 m apart throughout: re-sorting would pair positions of other
+    moments), one stamp for every sample, stamps in milliseconds read as seconds: each refused, naming it."""
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+    period = 10_000_000  # 0.01 s
+    stamps = np.arange(2000, dtype=np.int64) * period
+    jumped = np.where(np.arange(2000) < 1000, stamps, stamps - 5_000_000_000)  # back by 5 s half-way
+    moving = np.stack([np.linspace(0.0, 10.0, 2000), np.zeros(2000)], axis=1)
+    aside = moving + [0.0, 0.4]
+    assemble({'a': RobotSamples(stamps, moving), 'b': RobotSamples(stamps, aside)}, source={})  # in time: fine
+    cases = (
+        (
+            jumped,
+            r"robot 'a': its time stamps go back by up to 4.990 s \(1 of 1999 steps, the largest at sample 1000\)",
+        ),
+        (np.zeros(2000, dtype=np.int64), "robot 'a': all 2000 samples have the same time stamp"),
+        (stamps * 2000, r"robot 'a': its samples are 20 s apart \(median\), outside 0.0001-10 s"),
+        (stamps // 1000, r"robot 'a': its samples are 1e-05 s apart \(median\).*another unit than seconds"),
+    )
+    for bad, match in cases:
+        with pytest.raises(AnalysisError, match=match):
+            assemble({'a': RobotSamples(bad, moving), 'b': RobotSamples(stamps, aside)}, source={})
