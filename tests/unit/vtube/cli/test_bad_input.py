@@ -8,7 +8,9 @@ survive the failure.
 
 from __future__ import annotations
 
+import csv
 import functools
+import json
 import sys
 from pathlib import Path
 
@@ -18,7 +20,8 @@ import pytest
 from robotarium_exp import rps_alias
 from robotarium_exp.scene import load_scene
 from vtube.cli.app import main
-from vtube_planning.npzfile import write_npz
+from vtube_planning.campaign import Campaign, run_key
+from vtube_planning.npzfile import read_npz, write_npz
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.swarm.simulate import SimConfig, simulate
 
@@ -54,6 +57,16 @@ BAD = [
     ('npy as plan', 'simulate A --out {out} --plan {tmp}/bare.npy', 2, 'holds one bare array (.npy), not a plan'),
     ('plan missing a field', 'simulate A --out {out} --plan {tmp}/cut_plan.npz', 2, "missing ['speed_mps']"),
     ('plan of another scene', 'simulate B --out {out} --plan {tmp}/plan_A.npz', 2, "made for scene 'A'"),
+    (
+        'plan with a zero speed',
+        'simulate A --out {out} --plan {tmp}/zero_speed.npz',
+        2,
+        'a speed or a density is not > 0',
+    ),
+    ('pickled poses', 'analyze {tmp}/pickled --out {out}', 2, 'holds pickled objects, which are never loaded'),
+    ('clock jumps back', 'analyze {tmp}/clock_back --out {out}', 2, 'time stamps go back by up to 0.967 s'),
+    ('stamps in milliseconds', 'analyze {tmp}/milliseconds --out {out}', 2, 'in another unit than seconds'),
+    ('edited campaign table', 'campaign report {tmp}/edited', 2, "seed = 'abc' is not a whole number"),
     ('log of another scene', 'analyze {tmp}/log_A.npz --scene B --out {out}', 2, "recorded in scene 'A', whose tube"),
     ('poses of a wrong shape', 'analyze {tmp}/shapes --out {out}', 2, 'vtube_poses.npy the poses (T, 3, N)'),
     ('log of wrong shapes', 'analyze {tmp}/bad_log.npz --out {out}', 2, 'positions_m (T, 2, N); got (3,) and (4, 3)'),
@@ -119,6 +132,28 @@ def bad_files(tmp_path_factory) -> Path:
     (tmp / 'nan_poses').mkdir()
     np.save(tmp / 'nan_poses' / 'vtube_t.npy', 0.033 * np.arange(5))
     np.save(tmp / 'nan_poses' / 'vtube_poses.npy', np.full((5, 3, 2), np.nan))
+    stored, recorded = read_npz(tmp / 'plan_A.npz', ValueError, 'plan')
+    write_npz(
+        tmp / 'zero_speed.npz',
+        stored | {'speed_mps': np.where(np.arange(stored['l_m'].size) == 3, 0.0, stored['speed_mps'])},
+        recorded,
+    )
+    returned = {'pickled': (0.033 * np.arange(50), np.array([{'x': 1}], dtype=object))}
+    returned['clock_back'] = (np.r_[0.033 * np.arange(25), 0.033 * np.arange(25) - 0.175], np.zeros((50, 3, 2)))
+    returned['milliseconds'] = (33.0 * np.arange(50), np.zeros((50, 3, 2)))
+    for name, (t_s, poses) in returned.items():
+        (tmp / name).mkdir()
+        np.save(tmp / name / 'vtube_t.npy', t_s)
+        np.save(tmp / name / 'vtube_poses.npy', poses, allow_pickle=True)
+    (tmp / 'edited').mkdir()
+    campaign = '{"name": "c", "grids": [{"scene": ["C"]}], "metrics": ["passing_time_s"], "settings": {}}'
+    (tmp / 'edited' / 'campaign.json').write_text(campaign)
+    edited = Campaign.from_dict(json.loads(campaign))
+    row = dict.fromkeys(edited.columns, '') | {'key': run_key(edited.points()[0], edited.settings), 'version': '1'}
+    with (tmp / 'edited' / 'runs.csv').open('w', newline='') as handle:
+        writer = csv.DictWriter(handle, fieldnames=edited.columns)
+        writer.writeheader()
+        writer.writerow(row | {'scene': 'C', 'mode': 'planning', 'seed': 'abc'})  # a seed typed over by hand
     (tmp / 'shapes').mkdir()
     np.save(tmp / 'shapes' / 'vtube_t.npy', np.zeros(5))
     np.save(tmp / 'shapes' / 'vtube_poses.npy', np.zeros((5, 7)))
