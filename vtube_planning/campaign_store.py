@@ -199,7 +199,7 @@ def _typed(value: Any, kind: type, column: str) -> Any:
     if kind in (int, float) and value == '':
         return math.nan
     try:
-        return {'True': True, 'False': False}[value] if kind is bool else kind(value)
+        return {'True': True, 'False': False, '': False}[value] if kind is bool else kind(value)  # '': a failed run
     except (KeyError, ValueError):
         words = {int: 'a whole number', float: 'a number', bool: 'True or False'}.get(kind, kind.__name__)
         msg = f'{column} = {value!r} is not {words}'
