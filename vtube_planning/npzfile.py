@@ -57,7 +57,7 @@ def read_npz(path: str | Path, error: type[Exception], what: str) -> tuple[dict[
 
 def why(err: BaseException) -> str:
     """Why numpy could not read a file, in one line; pickled objects named as refused (numpy's own message
-    suggests allow_pickle=True, which would let a data file run code: vtube never does that)."""
+    suggests turning pickling on for the load, which would let a data file run code: vtube never does)."""
     text = ' '.join(str(err).split())
     return (
         'it holds pickled objects, which are never loaded: a data file must not run code' if 'pickle' in text else text

@@ -144,7 +144,7 @@ def bad_files(tmp_path_factory) -> Path:
     for name, (t_s, poses) in returned.items():
         (tmp / name).mkdir()
         np.save(tmp / name / 'vtube_t.npy', t_s)
-        np.save(tmp / name / 'vtube_poses.npy', poses, allow_pickle=True)
+        np.save(tmp / name / 'vtube_poses.npy', poses)  # np.save pickles object arrays by default
     (tmp / 'edited').mkdir()
     campaign = '{"name": "c", "grids": [{"scene": ["C"]}], "metrics": ["passing_time_s"], "settings": {}}'
     (tmp / 'edited' / 'campaign.json').write_text(campaign)

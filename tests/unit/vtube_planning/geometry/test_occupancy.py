@@ -217,7 +217,7 @@ def test_bad_images_are_refused_naming_the_problem_and_the_fix(tmp_path, file, c
     if isinstance(content, bytes):
         (tmp_path / file).write_bytes(content)
     elif isinstance(content, str):
-        np.save(tmp_path / file, np.array([{'a': 1}], dtype=object), allow_pickle=True)
+        np.save(tmp_path / file, np.array([{'a': 1}], dtype=object))  # pickled: np.save's default
     elif content is not None:
         np.save(tmp_path / file, content)
     entry = {'file': file, 'resolution_m': 0.1, 'origin_m': [0.0, 0.0], **change}
