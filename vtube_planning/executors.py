@@ -51,13 +51,24 @@ def _processes(fn: Callable[[Any], Any], items: Sequence[Any], workers: int) -> 
 
 
 def _dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any) -> Iterator[tuple[int, Any]]:
-    from distributed import as_completed
+    from concurrent.futures import CancelledError
+
+    from distributed import KilledWorker, as_completed
+    from distributed.comm.core import CommClosedError
+
+    lost = (KilledWorker, CommClosedError, CancelledError, TimeoutError)  # the cluster's failures, not fn's errors
 
     futures = client.map(fn, list(items), pure=False)
     index = {future.key: i for i, future in enumerate(futures)}
     try:
         for future in as_completed(futures):
             yield index[future.key], future.result()
+    except lost as err:
+        msg = (
+            f'the Dask cluster failed during the runs ({type(err).__name__}: {" ".join(str(err).split())}); every '
+            'run finished before it is kept: start the cluster again and rerun the same command.'
+        )
+        raise ExecutorError(msg) from err
     finally:
         client.cancel(futures)
 

@@ -94,3 +94,47 @@ def test_a_cluster_without_workers_or_without_this_vtube_is_refused(answer, matc
     from vtube_planning import __version__
 
     checked_workers(FakeClient({'tcp://w:2': __version__}), 'tcp://h:1', 0.5)  # the same version: accepted
+
+
+def test_a_cluster_that_fails_mid_way_is_named_after_the_runs_it_finished(monkeypatch) -> None:
+    """The scheduler goes away at the second future (CommClosedError): the first result is yielded, then a clear
+    ExecutorError; an error of ``fn`` itself still propagates as it is."""
+    distributed = pytest.importorskip('distributed')
+    from distributed.comm.core import CommClosedError
+
+    from vtube_planning.executors import ExecutorError, map_unordered
+
+    class Future:
+        def __init__(self, key: int, outcome: object) -> None:
+            self.key, self.outcome = key, outcome
+
+        def result(self) -> object:
+            if isinstance(self.outcome, BaseException):
+                raise self.outcome
+            return self.outcome
+
+    class Client:
+        def __init__(self) -> None:
+            self.outcomes: tuple[object, ...] = ()
+            self.cancelled: list[Future] = []
+
+        def map(self, fn, items, pure):
+            return [Future(k, outcome) for k, outcome in enumerate(self.outcomes)]
+
+        def cancel(self, futures) -> None:
+            self.cancelled.extend(futures)
+
+    monkeypatch.setattr(distributed, 'as_completed', iter)
+    client = Client()
+    client.outcomes = ('first', CommClosedError('in <TCP (closed)>: Stream is closed'), 'third')
+    got = []
+    with pytest.raises(
+        ExecutorError,
+        match=r'the Dask cluster failed during the runs \(CommClosedError: in <TCP .*rerun the same command',
+    ):
+        for i, value in map_unordered(str, ['a', 'b', 'c'], client=client):
+            got.append((i, value))
+    assert got == [(0, 'first')] and len(client.cancelled) == 3
+    client.outcomes = (ValueError('the run itself'),)
+    with pytest.raises(ValueError, match='the run itself'):
+        list(map_unordered(str, ['a'], client=client))
