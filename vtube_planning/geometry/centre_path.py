@@ -99,7 +99,8 @@ class SearchGrid:
         narrowest tube that the cheapest path leaves from or arrives at is chosen."""
         index = np.arange(self.free.size).reshape(self.free.shape)
         chosen = [self._candidates(end, what) for end, what in ((start, 'start'), (goal, 'goal'))]
-        points = tuple(self.node((e[0], e[1]), what) for e, what in ((start, 'start'), (goal, 'goal')) if len(e) == 2)
+        cells = [np.argwhere(c)[0] for c, e in zip(chosen, (start, goal), strict=True) if len(e) == 2]
+        points = tuple((int(i), int(j)) for i, j in cells)  # a point's node (room checked exactly) joins the graph
         distances, _, sources = csgraph.dijkstra(
             self._graph(points), directed=False, indices=index[chosen[0]], min_only=True, return_predecessors=True
         )
