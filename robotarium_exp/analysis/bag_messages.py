@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from robotarium_exp.analysis.bag_layouts import Poses, bulk_poses, heading
 from robotarium_exp.errors import AnalysisError
 
 POSE_STAMPED = 'geometry_msgs/msg/PoseStamped'
@@ -29,32 +30,57 @@ NO_FRAME = ''  # Pose2D has no header: it fits any world frame
 
 Row = tuple[int, int, float, float, float, float, float, float]  # stamp sec, nanosec, x, y, quaternion x, y, z, w
 FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
 Message = tuple[bytes, int]  # raw bytes and bag time (ns)
 Decoded = tuple[list[Any], list[int] | None, int, Exception | None]
 """Messages decoded, their bag times (None when every message of the batch decoded), failures, the first error."""
 Decoder = Callable[[list[Message]], Decoded]
 Handler = Callable[[list[Message]], tuple[int, Exception | None]]
 """Takes a batch of a connection's messages; gives how many did not decode and the first error."""
-BATCH = 64
-"""Messages of one connection decoded together: small enough that the decoded objects die young."""
+BATCH = 1024
+"""Messages of one connection decoded together: enough for the bulk reading of one layout
+(:mod:`~robotarium_exp.analysis.bag_layouts`), few enough that decoded objects die young."""
 
 
 @dataclass
 class PoseStream:
-    """Rows of one candidate robot: one topic in one reference frame, or one (child, parent) pair of a /tf topic."""
+    """Samples of one candidate robot: one topic in one reference frame, or one (child, parent) pair of a /tf topic.
+
+    Kept as arrays, so that no message object lives on: stamps (integer nanoseconds) and x, y, heading, in buffers
+    that grow by half when full (few large allocations, which the system takes back when freed: thousands of small
+    ones would leave the process's memory fragmented at twice the data's size).
+    """
 
     robot: str
     frame: str
     topic: str
     tf: bool
-    chunks: list[FloatArray] = field(default_factory=list)  # (k, 8) rows: floats, so that no message object lives on
+    size: int = 0
+    stamps: IntArray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    values: FloatArray = field(default_factory=lambda: np.zeros((0, 3)))
 
     def add(self, rows: list[Row]) -> None:
         if rows:
-            self.chunks.append(np.array(rows, dtype=float))  # seconds (< 2**31) and nanoseconds are exact as floats
+            a = np.array(rows, dtype=float)  # seconds (< 2**31) and nanoseconds are exact as floats
+            stamps = a[:, 0].astype(np.int64) * 1_000_000_000 + a[:, 1].astype(np.int64)
+            self.add_poses(Poses(stamps, a[:, 2:4], heading(a[:, 4], a[:, 5], a[:, 6], a[:, 7]), self.frame))
 
-    def array(self) -> FloatArray:
-        return np.concatenate(self.chunks) if self.chunks else np.zeros((0, 8))
+    def add_poses(self, poses: Poses) -> None:
+        end = self.size + poses.stamps_ns.size
+        if end > self.stamps.size:
+            capacity = max(end, self.stamps.size * 3 // 2, 4096)
+            self.stamps = np.concatenate([self.stamps[: self.size], np.zeros(capacity - self.size, dtype=np.int64)])
+            self.values = np.concatenate([self.values[: self.size], np.zeros((capacity - self.size, 3))])
+        self.stamps[self.size : end] = poses.stamps_ns
+        self.values[self.size : end, :2] = poses.xy_m
+        self.values[self.size : end, 2] = poses.heading_rad
+        self.size = end
+
+    def arrays(self) -> tuple[IntArray, FloatArray]:
+        """Stamps (k,) and x, y, heading (k, 3), in the order received (the buffers cut to them once)."""
+        if self.stamps.size != self.size:
+            self.stamps, self.values = self.stamps[: self.size].copy(), self.values[: self.size].copy()
+        return self.stamps, self.values
 
 
 @dataclass
@@ -114,7 +140,7 @@ def handler_for(c: Any, ros1: bool, defaults: Any, selection: Selection) -> Hand
         return _on_tf(topic, decode, selection, stream_of)
     if c.msgtype == POSE_2D:
         return _on_pose_2d(decode, stream_of, name)
-    return _on_poses(decode, stream_of, name, c.msgtype == ODOMETRY)
+    return _on_poses(decode, stream_of, name, c.msgtype == ODOMETRY, ros1)
 
 
 def _deserializer(connection: Any, ros1: bool, defaults: Any, stores: dict[tuple[str, str], Any]) -> Decoder:
@@ -178,10 +204,23 @@ def _on_pose_2d(decode: Decoder, stream_of: Callable[[str, str], PoseStream], na
     return on_pose_2d
 
 
-def _on_poses(decode: Decoder, stream_of: Callable[[str, str], PoseStream], name: str, odometry: bool) -> Handler:
-    """Handler of a PoseStamped or Odometry topic: one stream per reference frame (``header.frame_id``)."""
+def _on_poses(
+    decode: Decoder, stream_of: Callable[[str, str], PoseStream], name: str, odometry: bool, ros1: bool
+) -> Handler:
+    """Handler of a PoseStamped or Odometry topic: one stream per reference frame (``header.frame_id``); a batch of
+    one layout read in bulk (:func:`~robotarium_exp.analysis.bag_layouts.bulk_poses`), any other decoded."""
 
     def on_poses(batch: list[Message]) -> tuple[int, Exception | None]:
+        if batch:
+            head, _, failures, _ = decode(batch[:1])
+            if not failures:
+                m = head[0]
+                at = (m.pose.pose if odometry else m.pose).position
+                first = (m.header.stamp.sec, m.header.stamp.nanosec, m.header.frame_id, at.x, at.y)
+                bulk = bulk_poses([raw for raw, _ in batch], ros1, odometry, first)
+                if bulk is not None:
+                    stream_of(name, bulk.frame).add_poses(bulk)
+                    return 0, None
         messages, _, failures, problem = decode(batch)
         poses = [m.pose.pose for m in messages] if odometry else [m.pose for m in messages]
         stamps = [m.header.stamp for m in messages]

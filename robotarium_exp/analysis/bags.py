@@ -30,14 +30,13 @@ from robotarium_exp.analysis.bag_messages import (
     NO_FRAME,
     SUPPORTED,
     TF_MESSAGE,
-    FloatArray,
     Handler,
     Message,
     PoseStream,
     Selection,
     handler_for,
 )
-from robotarium_exp.analysis.trajectory import RobotSamples
+from robotarium_exp.analysis.trajectory import RobotSamples, check_time
 from robotarium_exp.errors import AnalysisError
 
 DEFAULT_TOPIC_PATTERNS = (
@@ -191,7 +190,7 @@ def _robots(
     """Robots from the candidate pose streams: /tf frames that move, and pose topics, in the world frame."""
     moving = []
     for poses in candidates.values():
-        xy = poses.array()[:, 2:4]
+        xy = poses.arrays()[1][:, :2]
         if poses.tf and np.all(xy == xy[0]):
             ignored.append({'topic': poses.topic, 'frame': poses.robot, 'reason': 'does not move'})
         else:
@@ -205,18 +204,24 @@ def _robots(
         )
         raise AnalysisError(msg)
     world = world_frame if world_frame is not None else (frames[0] if frames else None)
-    rows: dict[str, list[FloatArray]] = defaultdict(list)
+    streams: dict[str, list[PoseStream]] = defaultdict(list)
     for poses in moving:
         if poses.frame in (world, NO_FRAME):
-            rows[poses.robot].append(poses.array())
+            streams[poses.robot].append(poses)
         else:
             where = {'topic': poses.topic, 'frame': poses.robot} if poses.tf else {'topic': poses.topic}
             ignored.append({**where, 'reason': f'pose in frame {poses.frame!r}, not the world frame {world!r}'})
-    samples = {}
-    for robot, parts in rows.items():
-        arr = np.concatenate(parts)
-        stamps = arr[:, 0].astype(np.int64) * 1_000_000_000 + arr[:, 1].astype(np.int64)
-        qx, qy, qz, qw = arr[:, 4], arr[:, 5], arr[:, 6], arr[:, 7]
-        heading = np.arctan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-        samples[robot] = RobotSamples(stamps, arr[:, 2:4], heading)
-    return samples, world
+    return {robot: _samples(robot, parts) for robot, parts in streams.items()}, world
+
+
+def _samples(robot: str, streams: list[PoseStream]) -> RobotSamples:
+    """One robot's samples from its streams: each must be in time (:func:`check_time`); several (a robot on two
+    topics) are merged by stamp."""
+    for stream in streams:
+        check_time(robot, stream.arrays()[0])
+    stamps, values = streams[0].arrays()
+    if len(streams) > 1:
+        stamps, values = (np.concatenate(a) for a in zip(*(s.arrays() for s in streams), strict=True))
+        order = np.argsort(stamps, kind='stable')
+        stamps, values = stamps[order], values[order]
+    return RobotSamples(stamps, values[:, :2], values[:, 2])

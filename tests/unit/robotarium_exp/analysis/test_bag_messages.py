@@ -10,6 +10,7 @@ import numpy as np
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
 
+from robotarium_exp.analysis.bag_layouts import Poses
 from robotarium_exp.analysis.bag_messages import (
     NO_FRAME,
     ODOMETRY,
@@ -30,15 +31,21 @@ def selection(topics: list[str] | None = None, frame: str = r'^(?P<robot>r\d)$')
     return Selection(topics, [VRPN], re.compile(frame))
 
 
-def test_a_stream_collects_rows_as_floats() -> None:
+def test_a_stream_collects_stamps_and_poses_as_arrays() -> None:
     stream = PoseStream('r1', 'world', '/t', False)
-    assert stream.array().shape == (0, 8)
+    assert stream.arrays()[0].shape == (0,) and stream.arrays()[1].shape == (0, 3)
+    stream = PoseStream('r1', 'world', '/t', False)
     stream.add([])
     stream.add([(1, 5, 0.1, 0.2, 0.0, 0.0, 0.0, 1.0)])
-    stream.add([(2, 7, 0.3, 0.4, 0.0, 0.0, 1.0, 0.0)] * 2)
-    rows = stream.array()
-    assert rows.shape == (3, 8) and rows.dtype == np.float64 and len(stream.chunks) == 2
-    np.testing.assert_array_equal(rows[:, :2], [[1, 5], [2, 7], [2, 7]])
+    stream.add([(2, 7, 0.3, 0.4, 0.0, 0.0, 1.0, 0.0)] * 2)  # a half turn about z
+    stream.add_poses(Poses(np.arange(5000, dtype=np.int64), np.ones((5000, 2)), np.zeros(5000), 'world'))  # grows
+    stamps, values = stream.arrays()
+    assert stamps.shape == (5003,) and values.shape == (5003, 3) and stamps.dtype == np.int64
+    assert stream.arrays()[0] is stamps  # cut to size once
+    np.testing.assert_array_equal(stamps[:3], [1_000_000_005, 2_000_000_007, 2_000_000_007])
+    np.testing.assert_allclose(values[:3], [[0.1, 0.2, 0.0], [0.3, 0.4, math.pi], [0.3, 0.4, math.pi]])
+    np.testing.assert_array_equal(stamps[3:], np.arange(5000))
+    np.testing.assert_array_equal(values[3:], np.c_[np.ones((5000, 2)), np.zeros(5000)])
 
 
 def test_robots_are_named_by_the_pattern_or_by_the_topic_asked_for() -> None:
@@ -84,25 +91,24 @@ def feed(path, s: Selection) -> None:
                 assert handler(batch) == (0, None)
 
 
-def test_pose_messages_become_rows_of_stamp_position_and_quaternion(tmp_path) -> None:
+def test_pose_messages_become_stamps_positions_and_headings(tmp_path) -> None:
     s = selection()
     feed(write_bag(tmp_path / 'p', 'sqlite3', 'pose'), s)
     _, xy, theta = truth()
     assert sorted(s.candidates) == [(r, 'world', f'/vrpn_client_node/{r}/pose') for r in ROBOTS]
-    rows = s.candidates['r2', 'world', '/vrpn_client_node/r2/pose'].array()
-    stamps = START_NS + np.arange(len(rows)) * PERIOD_NS
-    np.testing.assert_array_equal(rows[:, 0] * 1e9 + rows[:, 1], stamps.astype(float))
-    np.testing.assert_allclose(rows[:, 2:4], xy[:, :, 1])
-    np.testing.assert_allclose(rows[:, 6:8], np.stack([np.sin(theta[:, 1] / 2), np.cos(theta[:, 1] / 2)], 1))
+    stamps, values = s.candidates['r2', 'world', '/vrpn_client_node/r2/pose'].arrays()
+    np.testing.assert_array_equal(stamps, START_NS + np.arange(len(stamps)) * PERIOD_NS)
+    np.testing.assert_allclose(values[:, :2], xy[:, :, 1])
+    np.testing.assert_allclose(values[:, 2], theta[:, 1], atol=1e-12)
 
 
 def test_pose_2d_takes_the_bag_time_and_no_frame(tmp_path) -> None:
     s = Selection(None, [re.compile(r'^/(?P<robot>[^/]+)/pose2d$')], re.compile('.*'))
     feed(write_bag(tmp_path / 'p2', 'mcap', 'pose2d'), s)
-    rows = s.candidates['r3', NO_FRAME, '/r3/pose2d'].array()
+    stamps, values = s.candidates['r3', NO_FRAME, '/r3/pose2d'].arrays()
     _, _, theta = truth()
-    np.testing.assert_array_equal(rows[:, 0], (START_NS + np.arange(len(rows)) * PERIOD_NS) // 1_000_000_000)
-    assert math.isclose(rows[5, 6], math.sin(theta[5, 2] / 2)) and np.all(rows[:, 4:6] == 0.0)
+    np.testing.assert_array_equal(stamps, START_NS + np.arange(len(stamps)) * PERIOD_NS)  # the bag's time
+    np.testing.assert_allclose(values[:, 2], theta[:, 2], atol=1e-12)
 
 
 def test_tf_frames_are_named_by_the_frame_pattern(tmp_path) -> None:
