@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import NDArray
 
 from vtube_planning.plots import draw_tube
 
@@ -16,10 +17,15 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from robotarium_exp.analysis.report import Analysis
+    from robotarium_exp.analysis.trajectory import Trajectory
     from vtube_planning.geometry.scene import Scene
     from vtube_planning.planning.plan import Plan
 
 
+DRAWN_FRAMES = 100_000
+"""Frames drawn in a line at most (more than a figure has pixels): a longer recording is thinned to every k-th frame
+for its paths (frames where a robot has no position kept, so that lines still break there) and to each block's
+smallest value for the minimum distance (so that no close approach is hidden)."""
 SOURCES = {'data': 'the recording analysed', 'comparison': 'the simulation given with --compare'}
 """What each source of a report is, in the figures' titles and legends."""
 
@@ -46,7 +52,8 @@ def _paths_figure(results: dict[str, Analysis], scene: Scene | None) -> Figure:
 
     cmap = colormaps['viridis']
     t_end = max(float(a.trajectory.t_s[-1]) for a in results.values()) or 1.0
-    drawn = [a.trajectory.positions_m.transpose(0, 2, 1).reshape(-1, 2) for a in results.values()]
+    thinned = {label: a.trajectory.positions_m[_drawn(a.trajectory)] for label, a in results.items()}
+    drawn = [p.transpose(0, 2, 1).reshape(-1, 2) for p in thinned.values()]
     if scene is not None:
         drawn += list(scene.tube.boundaries(np.linspace(0.0, scene.tube.length_m, 200)))
     points = np.vstack(drawn)
@@ -60,9 +67,9 @@ def _paths_figure(results: dict[str, Analysis], scene: Scene | None) -> Figure:
     for ax, (label, a) in zip(axes, results.items(), strict=True):
         if scene is not None:
             draw_tube(ax, scene.tube, n_sections=8, obstacles=scene.obstacles)
+        for k in range(a.trajectory.n_robots):
+            ax.plot(thinned[label][:, 0, k], thinned[label][:, 1, k], color='0.6', lw=0.6)
         p, t = a.trajectory.positions_m, a.trajectory.t_s
-        for k in range(p.shape[2]):
-            ax.plot(p[:, 0, k], p[:, 1, k], color='0.6', lw=0.6)
         for step in np.unique(np.linspace(0, t.size - 1, 7).astype(int)):
             ax.scatter(*p[step], s=25, color=cmap(t[step] / t_end), edgecolors='k', linewidths=0.3, zorder=3)
         ax.set_xlim(low[0], high[0])
@@ -71,6 +78,15 @@ def _paths_figure(results: dict[str, Analysis], scene: Scene | None) -> Figure:
         ax.set_title(f'{_named(label)}: paths, robots at seven instants', fontsize=10)
     paths.colorbar(ScalarMappable(Normalize(0.0, t_end), cmap), ax=list(axes), label='time [s]', shrink=0.8)
     return paths
+
+
+def _drawn(trajectory: Trajectory) -> NDArray[np.bool_]:
+    """The frames of ``trajectory`` drawn in its paths (:data:`DRAWN_FRAMES`)."""
+    drawn = np.zeros(trajectory.t_s.size, dtype=bool)
+    drawn[:: -(-trajectory.t_s.size // DRAWN_FRAMES)] = True
+    drawn[-1] = True
+    drawn |= ~trajectory.complete_frames()
+    return drawn
 
 
 def _tracking_figure(results: dict[str, Analysis], scene: Scene, plan: Plan | None) -> Figure:
@@ -111,7 +127,8 @@ def _distance_figure(results: dict[str, Analysis]) -> Figure:
     distance = Figure(figsize=(8.0, 3.5), layout='constrained')
     ax = distance.add_subplot()
     for label, a in results.items():
-        ax.plot(a.trajectory.t_s, a.distances.frame_min_m, label=_named(label))
+        starts = np.arange(0, a.trajectory.t_s.size, -(-a.trajectory.t_s.size // DRAWN_FRAMES))
+        ax.plot(a.trajectory.t_s[starts], np.fmin.reduceat(a.distances.frame_min_m, starts), label=_named(label))
     collision = next((a.metrics.collision_distance_m for a in results.values()), None)
     if collision is not None:
         ax.axhline(collision, color='tab:red', ls='--', label='collision distance')

@@ -2,10 +2,14 @@
 
 Sources differ in rate and completeness: robots start and stop at different times, drop out for seconds, and are
 stamped at their own instants. Loaders therefore hand over each robot's own samples (:class:`RobotSamples`, stamps
-in integer nanoseconds), and :func:`assemble` puts them on one clock without resampling: the frames are the union
-of every robot's stamps. A robot has a position at a frame when it has a sample there, or when the frame lies
-between two of its samples that are at most the largest bridged hole (:class:`MaxGap`) apart (linear
-interpolation); elsewhere its position is NaN. Nothing is dropped silently: every sample left out (a repeated
+in integer nanoseconds), and :func:`assemble` puts them on one clock without resampling the robots' rate: the frames
+are the robots' stamps, where stamps that fall within half the shortest sampling period of a frame's first stamp
+are one frame (:func:`frame_stamps`: a motion-capture system that stamps each body a few milliseconds apart gives
+one frame per capture, not one per body, and the frames stay as many as one robot's samples, or at most twice as
+many, whatever the number of robots). A robot has a position at a frame when it has a sample there, or when the
+frame lies between two of its samples that are at most the largest bridged hole (:class:`MaxGap`) apart (linear
+interpolation), or else when one of its samples falls within the frame's window (its first and last samples, and
+the ends of gaps); elsewhere its position is NaN. Nothing is dropped silently: every sample left out (a repeated
 stamp, a non-finite position) and every frame a robot misses (before its first sample, after its last, inside a
 gap) is counted in its :class:`Coverage`.
 """
@@ -188,7 +192,7 @@ class Trajectory:
         return complete
 
 
-def _check_time(rid: str, stamps: IntArray) -> None:
+def check_time(rid: str, stamps: IntArray) -> None:
     """Refuse a robot's stamps that are not a recording's time, rather than re-sort or merge them into wrong
     frames: stamps that go back (a clock that jumped, or samples out of order), all one stamp, or an interval
     between samples outside SAMPLING_S (stamps in another unit than the loader read them in)."""
@@ -222,35 +226,64 @@ def seconds_to_ns(t_s: ArrayLike) -> IntArray:
 
 
 def _clean(rid: str, samples: RobotSamples) -> tuple[IntArray, FloatArray, FloatArray | None, int, int]:
-    """The samples in time (:func:`_check_time`), non-finite or implausible positions and repeated stamps left out
-    (and counted)."""
+    """The samples, in time (:func:`check_time`), with non-finite or implausible positions and repeated stamps left
+    out (and counted); copied only when something is left out."""
     stamps = np.asarray(samples.stamps_ns, dtype=np.int64)
-    _check_time(rid, stamps)
     xy = np.asarray(samples.xy_m, dtype=float).reshape(-1, 2)
     heading = None if samples.heading_rad is None else np.asarray(samples.heading_rad, dtype=float)
     if stamps.ndim != 1 or xy.shape[0] != stamps.size or (heading is not None and heading.shape != stamps.shape):
         msg = f'robot {rid!r}: {stamps.size} stamps but positions {xy.shape} and headings of another length.'
         raise AnalysisError(msg)
-    order = np.argsort(stamps, kind='stable')
-    stamps, xy = stamps[order], xy[order]
-    heading = None if heading is None else heading[order]
-    finite = np.all(np.abs(xy) <= PLAUSIBLE_M, axis=1)  # False for NaN too
-    stamps, xy = stamps[finite], xy[finite]
-    heading = None if heading is None else heading[finite]
-    first = np.concatenate([[True], np.diff(stamps) > 0])[: stamps.size]  # (none left: empty)
-    return (
-        stamps[first],
-        xy[first],
-        None if heading is None else heading[first],
-        int((~first).sum()),
-        int((~finite).sum()),
-    )
+    check_time(rid, stamps)
+    non_finite = repeated = 0
+    for keep in (np.all(np.abs(xy) <= PLAUSIBLE_M, axis=1), None):  # False for NaN too; then repeated stamps
+        if keep is None:
+            keep = np.concatenate([[True], np.diff(stamps) > 0])[: stamps.size]  # (none left: empty)
+            repeated = int(stamps.size - np.count_nonzero(keep))
+        else:
+            non_finite = int(stamps.size - np.count_nonzero(keep))
+        if not keep.all():
+            stamps, xy = stamps[keep], xy[keep]
+            heading = None if heading is None else heading[keep]
+    return stamps, xy, heading, repeated, non_finite
+
+
+def frame_stamps(stamps: list[IntArray]) -> tuple[IntArray, int]:
+    """The frames of robots sampled at ``stamps`` (each sorted, without repeats) and the window that joins stamps.
+
+    The window is half the shortest median sampling period of a robot. Going through the stamps in time, a frame
+    starts at the first stamp not yet in one and takes every stamp less than the window after it; the frame's time
+    is that first stamp. Robots sampled together keep one frame per stamp; a robot appears at most once in a frame
+    (its samples are further apart than the window, but for rare jitter).
+    """
+    every = np.concatenate(stamps)
+    every.sort()
+    every = every[np.concatenate([[True], every[1:] != every[:-1]])]  # (not np.unique: its hash table is larger)
+    periods = [int(np.median(np.diff(s))) for s in stamps if s.size > 1]
+    window = min(periods) // 2 if periods else 0
+    if every.size < 2 or int(np.diff(every).min()) >= window:
+        return every, window  # (the common case: robots sampled together) every stamp its own frame
+    following = np.searchsorted(every, every + window, side='left')  # the first stamp outside each one's window
+    starts, k = [], 0
+    while k < every.size:  # one step per frame
+        starts.append(k)
+        k = int(following[k])
+    return every[np.asarray(starts, dtype=np.int64)], window
+
+
+def _taken_as_is(frames_ns: IntArray, stamps: IntArray, ok: NDArray[np.bool_]) -> tuple[IntArray, IntArray]:
+    """The frames without a position at their time in which a robot has a sample, and that sample (its first in
+    the frame), which is taken as it is: its first and last samples, the ends of its gaps."""
+    frame_of = np.searchsorted(frames_ns, stamps, side='right') - 1  # the frame each sample falls in
+    first_in = np.flatnonzero(np.concatenate([[True], np.diff(frame_of) > 0]))
+    taken = first_in[~ok[frame_of[first_in]]]
+    return frame_of[taken], taken
 
 
 def assemble(
     samples: dict[str, RobotSamples], *, source: dict[str, Any], max_gap: MaxGap = DEFAULT_MAX_GAP
 ) -> Trajectory:
-    """Robots sampled at their own stamps -> one :class:`Trajectory` on the union of their stamps (module doc)."""
+    """Robots sampled at their own stamps -> one :class:`Trajectory` on the frames of their stamps (module doc)."""
     if not samples:
         msg = f'no robot data found in {source.get("path", "?")}; check the topic or frame pattern.'
         raise AnalysisError(msg)
@@ -260,7 +293,7 @@ def assemble(
     if not used:
         msg = f'no robot in {source.get("path", "?")} has a finite position.'
         raise AnalysisError(msg)
-    frames_ns = np.unique(np.concatenate(used))
+    frames_ns, window = frame_stamps(used)
     origin = int(frames_ns[0])
     seconds = np.asarray((frames_ns - origin) * 1e-9, dtype=np.float64)  # the one conversion to seconds
     positions = np.full((frames_ns.size, 2, len(ids)), np.nan)
@@ -285,24 +318,25 @@ def assemble(
         ok = exact | bridged
         weight = np.where(bridged, (frames_ns - stamps[at]) / np.where(span > 0, span, 1), 0.0)
         positions[ok, :, k] = (xy[at] + weight[:, None] * (xy[nxt] - xy[at]))[ok]
+        frames, taken = _taken_as_is(frames_ns, stamps, ok)
+        positions[frames, :, k] = xy[taken]
         if headings is not None and heading is not None:
             turn = np.angle(np.exp(1j * (heading[nxt] - heading[at])))
             headings[ok, k] = np.angle(np.exp(1j * (heading[at] + weight * turn)))[ok]
+            headings[frames, k] = heading[taken]
         for j in np.flatnonzero(steps > limit):
             gaps.append(Gap(rid, (int(stamps[j]) - origin) * 1e-9, (int(stamps[j + 1]) - origin) * 1e-9))
+        snapped = np.zeros(frames_ns.size, dtype=bool)
+        snapped[frames] = True
+        missed = (before & ~snapped, ~before & ~exact & ~between & ~snapped, between & ~bridged & ~snapped)
+        first_s, last_s = ((int(stamps[j]) - origin) * 1e-9 for j in (0, -1))
+        frames_with = int((ok | snapped).sum())
+        early, late, in_gaps = (int(m.sum()) for m in missed)
+        used_n = int(stamps.size)
         coverage.append(
             Coverage(
-                robot=rid,
-                samples=int(stamps.size),
-                first_s=(int(stamps[0]) - origin) * 1e-9,
-                last_s=(int(stamps[-1]) - origin) * 1e-9,
-                frames=int(ok.sum()),
-                before_first=int(before.sum()),
-                after_last=int((~before & ~exact & ~between).sum()),
-                in_gaps=int((between & ~bridged).sum()),
-                repeated_stamps=repeated,
-                non_finite=non_finite,
-                max_gap_s=limit * 1e-9,
+                rid, used_n, first_s, last_s, frames_with, early, late, in_gaps, repeated, non_finite, limit * 1e-9
             )
         )
+    source = {**source, 'frame_window_s': window * 1e-9}
     return Trajectory(seconds, positions, headings, ids, source, tuple(gaps), tuple(coverage))

@@ -6,7 +6,7 @@ import numpy as np
 
 from robotarium_exp.analysis.plots import SOURCES, analysis_figures
 from robotarium_exp.analysis.report import analyse
-from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+from robotarium_exp.analysis.trajectory import MaxGap, RobotSamples, assemble
 
 
 def analysed(scene=None, shift: float = 0.0):
@@ -39,3 +39,25 @@ def test_figures_with_a_scene_a_plan_and_a_comparison(trapezoid) -> None:
 def test_without_a_scene_no_tracking_figure() -> None:
     figures = analysis_figures({'run': analysed()}, None, None)
     assert list(figures) == ['paths', 'distance'] and figures['paths'].axes[0].get_title().startswith('run: paths')
+
+
+def test_long_recordings_are_thinned_without_hiding_a_close_approach_or_a_gap(monkeypatch) -> None:
+    """Drawn at most DRAWN_FRAMES frames a line: the minimum distance keeps each block's smallest value (one close
+    frame of 300 is still drawn), and the paths keep the frames where a robot is missing (the line breaks)."""
+    from robotarium_exp.analysis import plots
+
+    monkeypatch.setattr(plots, 'DRAWN_FRAMES', 40)
+    t = np.arange(300) * 0.1
+    stamps = np.arange(300, dtype=np.int64) * 100_000_000
+    near = np.where(np.arange(300) == 151, 0.05, 1.0)  # one frame, not on the stride, where the two come close
+    kept = (np.arange(300) < 77) | (np.arange(300) > 78)  # robot b misses two frames, a gap at 0.15 s
+    samples = {
+        'a': RobotSamples(stamps, np.stack([t, 0 * t], axis=1)),
+        'b': RobotSamples(stamps[kept], np.stack([t, near], axis=1)[kept]),
+    }
+    result = analyse(assemble(samples, source={'path': 's'}, max_gap=MaxGap.parse('0.15s')), None)
+    figures = analysis_figures({'run': result}, None, None)
+    (line, *_) = figures['distance'].axes[0].lines
+    assert len(line.get_ydata()) <= 40 and np.nanmin(line.get_ydata()) == 0.05
+    path_b = figures['paths'].axes[0].lines[1].get_ydata()
+    assert len(path_b) < 60 and np.isnan(path_b).sum() == 2  # thinned, and broken where b is missing

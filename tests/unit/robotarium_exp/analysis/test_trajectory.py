@@ -55,3 +55,52 @@ def test_stamps_that_are_no_recordings_time_are_refused_not_resorted() -> None:
     for bad, match in cases:
         with pytest.raises(AnalysisError, match=match):
             assemble({'a': RobotSamples(bad, moving), 'b': RobotSamples(stamps, aside)}, source={})
+
+
+def test_robots_stamped_apart_share_one_frame_per_capture() -> None:
+    """Ten bodies stamped 0.4 ms apart at 120 Hz, moving on lines: one frame per capture (not ten), every body at
+    every frame, at its true position at the frame's time (interpolated), in the first frame at its first sample."""
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+    period, steps = 8_333_333, 600
+    samples, velocity = {}, np.array([0.3, -0.1])
+    for k in range(10):
+        stamps = np.arange(steps, dtype=np.int64) * period + k * 400_000
+        samples[f'b{k}'] = RobotSamples(stamps, k + stamps[:, None] * 1e-9 * velocity)
+    traj = assemble(samples, source={})
+    assert traj.positions_m.shape == (steps, 2, 10) and traj.complete_frames().all()
+    np.testing.assert_array_equal(np.round(traj.t_s * 1e9), np.arange(steps) * period)  # the first body's stamps
+    after = traj.t_s[1:, None, None] * velocity[None, :, None] + np.arange(10)
+    np.testing.assert_allclose(traj.positions_m[1:], after, atol=1e-9)  # interpolated at the frame's time
+    np.testing.assert_allclose(traj.positions_m[0, :, 9], samples['b9'].xy_m[0])  # its first sample, as it is
+    assert all(c.frames == steps and c.samples == steps for c in traj.coverage)
+    assert traj.source['frame_window_s'] == pytest.approx(period // 2 * 1e-9)
+
+
+def test_frames_cover_every_stamp_once_within_the_window() -> None:
+    """Random rates, offsets and jitter: every stamp falls in exactly one frame, that begins at a stamp, holds only
+    stamps less than the window after its beginning and follows the last one's window; robots sampled together
+    on a clock keep every stamp as a frame."""
+    from robotarium_exp.analysis.trajectory import frame_stamps
+
+    rng = np.random.default_rng(7)
+    for _ in range(40):
+        robots = int(rng.integers(1, 12))
+        period = int(rng.integers(1_000_000, 100_000_000))
+        stamps = [
+            np.unique(
+                np.cumsum(rng.integers(period // 2, 3 * period // 2, size=int(rng.integers(2, 200))))
+                + int(rng.integers(0, 5 * period))
+            )
+            for _ in range(robots)
+        ]
+        frames, window = frame_stamps(stamps)
+        assert window == min(int(np.median(np.diff(s))) for s in stamps if s.size > 1) // 2
+        every = np.unique(np.concatenate(stamps))
+        assert np.isin(frames, every).all() and frames[0] == every[0]
+        owner = np.searchsorted(frames, every, side='right') - 1
+        assert np.all(every - frames[owner] < window)  # inside its frame's window
+        assert np.all(np.diff(frames) >= window)  # a frame begins only past the previous one's window
+        clock = np.cumsum(rng.integers(3 * period // 4, 5 * period // 4, size=100))  # no interval under half another
+        together, _ = frame_stamps([clock, clock.copy()])
+        np.testing.assert_array_equal(together, clock)
