@@ -68,6 +68,21 @@ def _holder(lock: Path) -> dict[str, Any]:
     return holder if isinstance(holder, dict) else {}
 
 
+def _recorded(path: Path) -> dict[str, Any]:
+    """The campaign (or sweep) a folder records, as the JSON object written there."""
+    try:
+        recorded = json.loads(path.read_text(encoding='utf-8'))
+    except (UnicodeDecodeError, ValueError) as err:
+        msg = (
+            f'{path} is not the JSON vtube wrote there ({err}); delete the folder to start again, or restore the file.'
+        )
+        raise CampaignError(msg) from err
+    if not isinstance(recorded, dict):
+        msg = f'{path} holds a JSON {type(recorded).__name__}, not the object vtube wrote there; restore the file.'
+        raise CampaignError(msg)
+    return recorded
+
+
 def _alive(pid: object) -> bool:
     """Whether a process of this machine with this id exists (True when it cannot be told)."""
     if not isinstance(pid, int) or pid <= 0:
@@ -109,7 +124,7 @@ def prepare_table(
     try:
         out.mkdir(parents=True, exist_ok=True)
         if recorded.is_file():
-            previous = json.loads(recorded.read_text(encoding='utf-8'))
+            previous = _recorded(recorded)
             if previous != record:
                 msg = (
                     f'{out} holds the results of another {what} ({recorded} differs from this one); '
@@ -162,7 +177,7 @@ def read_results(out: Path) -> tuple[Campaign, list[dict[str, Any]], int]:
     if not recorded.is_file() or not table.is_file():
         msg = f'{out} holds no campaign ({CAMPAIGN_FILE} and {RUNS_FILE}); run `vtube campaign run FILE --out {out}`.'
         raise CampaignError(msg)
-    campaign = Campaign.from_dict(json.loads(recorded.read_text(encoding='utf-8')))
+    campaign = Campaign.from_dict(_recorded(recorded))
     with table.open(newline='', encoding='utf-8') as handle:
         found = {
             row['key']: row

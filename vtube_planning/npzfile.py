@@ -52,6 +52,9 @@ def read_npz(path: str | Path, error: type[Exception], what: str) -> tuple[dict[
     except ValueError as err:
         msg = f'cannot read {what} {str(path)!r}: its metadata is damaged ({err}); {hint}.'
         raise error(msg) from err
+    if not isinstance(meta, dict):
+        msg = f'cannot read {what} {str(path)!r}: its metadata is a JSON {type(meta).__name__}, not an object; {hint}.'
+        raise error(msg)
     return arrays, meta
 
 

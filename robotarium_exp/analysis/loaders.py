@@ -196,6 +196,9 @@ def _submission_log(
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:
         msg = f'{str(meta_path)!r} is not readable JSON ({err}); the log it describes cannot be read without it.'
         raise AnalysisError(msg) from err
+    if not isinstance(meta, dict):
+        msg = f'{str(meta_path)!r} holds a JSON {type(meta).__name__}, not the object a submission writes there.'
+        raise AnalysisError(msg)
     missing = [key for key in LOG_REQUIRED if key not in arrays]
     if missing:
         msg = f'{str(folder)!r}: cannot read {[SUBMISSION_PREFIX + k + ".npy" for k in missing]}; truncated or corrupt: {broken}.'

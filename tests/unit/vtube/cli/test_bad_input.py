@@ -21,7 +21,7 @@ from robotarium_exp import rps_alias
 from robotarium_exp.scene import load_scene
 from vtube.cli.app import main
 from vtube_planning.campaign import Campaign, run_key
-from vtube_planning.npzfile import read_npz, write_npz
+from vtube_planning.npzfile import META_KEY, read_npz, write_npz
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.swarm.simulate import SimConfig, simulate
 
@@ -67,6 +67,11 @@ BAD = [
     ('clock jumps back', 'analyze {tmp}/clock_back --out {out}', 2, 'time stamps go back by up to 0.967 s'),
     ('stamps in milliseconds', 'analyze {tmp}/milliseconds --out {out}', 2, 'in another unit than seconds'),
     ('edited campaign table', 'campaign report {tmp}/edited', 2, "seed = 'abc' is not a whole number"),
+    ('campaign record a list', 'campaign report {tmp}/listed', 2, 'holds a JSON list, not the object vtube wrote'),
+    ('campaign record cut', 'campaign report {tmp}/cut_record', 2, 'is not the JSON vtube wrote there'),
+    ('plan metadata a list', 'simulate A --out {out} --plan {tmp}/listed_plan.npz', 2, 'metadata is a JSON list'),
+    ('log metadata a list', 'analyze {tmp}/listed_log.npz --out {out}', 2, 'its metadata is a JSON list, not an'),
+    ('returned meta a list', 'analyze {tmp}/listed_meta --out {out}', 2, 'holds a JSON list, not the object a sub'),
     ('log of another scene', 'analyze {tmp}/log_A.npz --scene B --out {out}', 2, "recorded in scene 'A', whose tube"),
     ('poses of a wrong shape', 'analyze {tmp}/shapes --out {out}', 2, 'vtube_poses.npy the poses (T, 3, N)'),
     ('log of wrong shapes', 'analyze {tmp}/bad_log.npz --out {out}', 2, 'positions_m (T, 2, N); got (3,) and (4, 3)'),
@@ -154,6 +159,18 @@ def bad_files(tmp_path_factory) -> Path:
         writer = csv.DictWriter(handle, fieldnames=edited.columns)
         writer.writeheader()
         writer.writerow(row | {'scene': 'C', 'mode': 'planning', 'seed': 'abc'})  # a seed typed over by hand
+    (tmp / 'listed').mkdir()
+    (tmp / 'listed' / 'campaign.json').write_text(f'[{campaign}]')
+    (tmp / 'listed' / 'runs.csv').write_text('key\n')
+    (tmp / 'cut_record').mkdir()
+    (tmp / 'cut_record' / 'campaign.json').write_text(campaign[:20])
+    (tmp / 'cut_record' / 'runs.csv').write_text('key\n')
+    for name, source in (('listed_plan.npz', tmp / 'plan_A.npz'), ('listed_log.npz', log)):
+        stored, recorded = read_npz(source, ValueError, 'file')
+        np.savez(tmp / name, **stored, **{META_KEY: np.array(json.dumps([recorded]))})
+    (tmp / 'listed_meta').mkdir()
+    np.save(tmp / 'listed_meta' / 'vtube_t_s.npy', np.arange(3.0))
+    (tmp / 'listed_meta' / 'vtube_meta.json').write_text('[]')
     (tmp / 'shapes').mkdir()
     np.save(tmp / 'shapes' / 'vtube_t.npy', np.zeros(5))
     np.save(tmp / 'shapes' / 'vtube_poses.npy', np.zeros((5, 7)))
