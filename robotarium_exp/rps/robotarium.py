@@ -38,7 +38,12 @@ from robotarium_exp.rps.testbed_model import Testbed, TestbedModel
 from robotarium_exp.rps.testbed_model import testbed_model as named_model
 from robotarium_exp.rps.utilities.barrier_certificates import create_uni_barrier_certificate
 from robotarium_exp.rps.utilities.controllers import create_pose_controller_hybrid
-from robotarium_exp.rps.utilities.misc import create_at_pose, generate_initial_poses, generate_random_poses
+from robotarium_exp.rps.utilities.misc import (
+    CHARGER_SLOTS,
+    create_at_pose,
+    generate_initial_poses,
+    generate_random_poses,
+)
 from robotarium_exp.rps.utilities.sensors import simulate_distance_sensors
 
 FloatArray = NDArray[np.float64]
@@ -81,6 +86,12 @@ class Robotarium(ARobotarium):
             )
         _check_arguments(number_of_robots, show_figure, sim_in_real_time, use_distance_sensors, initial_conditions)
         model = named_model(testbed_model)
+        if number_of_robots > CHARGER_SLOTS:
+            msg = (
+                f'V2 places every robot on one of its {CHARGER_SLOTS} charger slots (skip_initialization or not), so '
+                f'it runs at most {CHARGER_SLOTS} robots; {number_of_robots} were asked.'
+            )
+            raise RobotariumError(msg)
         charger_poses = generate_initial_poses(
             number_of_robots,
             width=float(self.BOUNDARIES[1] - self.BOUNDARIES[0] - self.ROBOT_DIAMETER),
