@@ -86,12 +86,6 @@ class Robotarium(ARobotarium):
             )
         _check_arguments(number_of_robots, show_figure, sim_in_real_time, use_distance_sensors, initial_conditions)
         model = named_model(testbed_model)
-        if number_of_robots > CHARGER_SLOTS:
-            msg = (
-                f'V2 places every robot on one of its {CHARGER_SLOTS} charger slots (skip_initialization or not), so '
-                f'it runs at most {CHARGER_SLOTS} robots; {number_of_robots} were asked.'
-            )
-            raise RobotariumError(msg)
         charger_poses = generate_initial_poses(
             number_of_robots,
             width=float(self.BOUNDARIES[1] - self.BOUNDARIES[0] - self.ROBOT_DIAMETER),
@@ -335,7 +329,7 @@ def _check_arguments(
     use_distance_sensors: bool,
     initial_conditions: FloatArray,
 ) -> None:
-    """V2's checks of the constructor's arguments, with its messages."""
+    """V2's checks of the constructor's arguments, with its messages; and one of ours, the number of charger slots."""
     for name, value, kind in (
         ('NumberOfRobots', number_of_robots, 'an integer'),
         ('ShowFigure', show_figure, 'a boolean'),
@@ -351,6 +345,12 @@ def _check_arguments(
         raise RobotariumError(msg)
     if not 0 <= number_of_robots <= 50:
         raise RobotariumError('Number of robots must be >= 0 and <= 50')
+    if number_of_robots > CHARGER_SLOTS:  # V2's draw of the slots would fail with a bare ValueError
+        msg = (
+            f'V2 places every robot on one of its {CHARGER_SLOTS} charger slots (skip_initialization or not), so it '
+            f'runs at most {CHARGER_SLOTS} robots; {number_of_robots} were asked.'
+        )
+        raise RobotariumError(msg)
     if initial_conditions.size > 0 and (
         initial_conditions.shape != (3, number_of_robots) or not np.all(np.isfinite(initial_conditions))
     ):
