@@ -553,7 +553,7 @@ EXAMPLES = Path(__file__).resolve().parents[3] / 'examples'
 @pytest.mark.usefixtures('clean_rps')
 @pytest.mark.parametrize(
     ('flags', 'script', 'steps'),
-    [([], ['go_to_pose.py', '--iterations', '20'], 20), (['--classic'], ['wander.py', 'poses.npy'], 300)],
+    [([], ['go_to_pose.py', '--iterations', '5'], 5), (['--classic'], ['wander.py', 'poses.npy'], 300)],
 )
 def test_log_records_the_shipped_examples_on_either_generation(
     flags: list[str], script: list[str], steps: int, tmp_path, monkeypatch
