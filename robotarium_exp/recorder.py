@@ -49,6 +49,8 @@ def recording(cls: type, log_path: str) -> type:
 
         def get_poses(self) -> Any:
             poses = super().get_poses()
+            if '_log' not in self.__dict__:  # V2's constructor drives the robots to their start: not the script's
+                return poses
             steps = self._counts()[1] - getattr(self, 'initialization_steps', 0)
             self._log.append(t_s=steps * time_step_s(self), positions_m=poses[:2], headings_rad=poses[2])
             return poses

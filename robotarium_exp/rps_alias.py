@@ -15,16 +15,21 @@ the simulator record every pose it hands out (:mod:`robotarium_exp.recorder`);
 simulator act like the real robots (``ideal``, the default, ``fitted``, ``fitted:K``:
 :mod:`robotarium_exp.rps.testbed_model`).
 
-A script that dies on ``np.mat`` (removed in numpy 2, used by several classic examples) gets a message naming the
-fix instead of a bare ``AttributeError``, and exit code 1.
+The script runs as ``python my_script.py`` would run it (its folder first on ``sys.path``, so modules beside it
+import; ``__file__``; ``sys.argv``). A script that dies on ``np.mat`` (removed in numpy 2, used by several classic
+examples) gets a message naming the fix instead of a bare ``AttributeError``, and one that imports a name only the
+other generation has (``cycle_GL`` without ``--classic``, ``create_si_barrier_certificate`` with it) gets one line
+saying so and naming ``--classic``; both exit with code 1.
 """
 
 from __future__ import annotations
 
 import argparse
+import builtins
 import importlib
+import os
 import random
-import runpy
+import re
 import sys
 import traceback
 import types
@@ -36,38 +41,7 @@ import numpy as np
 from robotarium_exp.recorder import recording
 from robotarium_exp.rps.testbed_model import NAMES, TestbedModel, TestbedModelError, testbed_model
 from robotarium_exp.rps.utilities.barrier_certificates import use_qp_solver
-
-MODULES = (
-    '',
-    '.robotarium',
-    '.robotarium_abc',
-    '.utilities',
-    '.utilities.barrier_certificates',
-    '.utilities.controllers',
-    '.utilities.graph',
-    '.utilities.misc',
-    '.utilities.sensors',
-    '.utilities.transformations',
-    '.examples',
-    '.examples.state_estimation',
-    '.examples.state_estimation.extended_kalman_filter',
-    '.examples.state_estimation.extended_kalman_filter.uni_ekf',
-)
-"""The V2 package's modules (suffixes of ``rps``)."""
-
-CLASSIC_MODULES = (
-    '',
-    '.robotarium',
-    '.robotarium_abc',
-    '.utilities',
-    '.utilities.barrier_certificates',
-    '.utilities.barrier_certificates2',
-    '.utilities.controllers',
-    '.utilities.graph',
-    '.utilities.misc',
-    '.utilities.transformations',
-)
-"""The classic package's modules (no examples package; one more certificate module)."""
+from robotarium_exp.rps_import import CLASSIC, V2, Generation, suffix_of, use_generation
 
 
 def install(
@@ -77,26 +51,25 @@ def install(
     log_path: str | None = None,
     testbed_model: str | TestbedModel | None = None,
 ) -> None:
-    """Register the bundled simulator's modules under the names ``rps``, ``rps.robotarium``, ``rps.utilities...``.
+    """Make ``rps``, ``rps.robotarium``, ``rps.utilities...`` resolve to the bundled simulator's modules, each when
+    the script first imports it (:mod:`robotarium_exp.rps_import`: so that cvxopt's options are set when the
+    official modules would set them). ``rps`` modules imported before are forgotten.
 
     ``testbed_model``: the model every ``Robotarium()`` of the script gets unless it names one (either generation).
     """
-    package, suffixes = ('robotarium_exp.rps_classic', CLASSIC_MODULES) if classic else ('robotarium_exp.rps', MODULES)
-    for suffix in suffixes:
-        sys.modules['rps' + suffix] = importlib.import_module(package + suffix)
-    original = sys.modules['rps.robotarium']
-    cls = original.Robotarium
+    generation = CLASSIC if classic else V2
     if seed is not None:
         seed_rps(seed)
+    original = importlib.import_module(generation.package + '.robotarium')
+    cls = original.Robotarium
     if testbed_model is not None:
         cls = with_testbed_model(cls, testbed_model)
     if log_path is not None:
         cls = recording(cls, log_path)
-    module = types.ModuleType('rps.robotarium', original.__doc__)
+    module = types.ModuleType('rps.robotarium', original.__doc__)  # a copy: what the script rebinds stays its own
     module.__dict__.update({k: v for k, v in vars(original).items() if not k.startswith('__')})
     module.__dict__['Robotarium'] = cls
-    sys.modules['rps.robotarium'] = module
-    vars(sys.modules['rps'])['robotarium'] = module
+    use_generation(generation, {'.robotarium': module})
 
 
 def with_testbed_model(cls: type, model: str | TestbedModel) -> type:
@@ -164,15 +137,65 @@ def main() -> None:
     if args.exact_qp:
         use_qp_solver('exact')
     install(classic=args.classic, seed=args.seed, log_path=args.log, testbed_model=args.testbed_model)
-    sys.argv = list(args.command)
     try:
-        runpy.run_path(sys.argv[0], run_name='__main__')
+        run_script(script, list(args.command))
     except AttributeError as error:
         if not uses_np_mat(error):
             raise
         traceback.print_exc()
-        print(NP_MAT_MESSAGE.format(script=sys.argv[0], numpy=np.__version__), file=sys.stderr)
+        print(NP_MAT_MESSAGE.format(script=script, numpy=np.__version__), file=sys.stderr)
         raise SystemExit(1) from None
+    except ImportError as error:
+        hint = other_generation_hint(error, script, CLASSIC if args.classic else V2)
+        if hint is None:
+            raise
+        print(hint, file=sys.stderr)
+        raise SystemExit(1) from None
+
+
+def run_script(script: Path, argv: list[str]) -> None:
+    """Run ``script`` as ``python script`` would: as ``__main__``, its folder (symbolic links resolved) first on
+    ``sys.path`` in place of the folder ``python -m`` put there, ``__file__`` its absolute path, ``sys.argv``
+    the script and its arguments."""
+    folder = str(script.resolve().parent)
+    if sys.path and sys.path[0] in ('', os.getcwd()):
+        sys.path[0] = folder
+    else:
+        sys.path.insert(0, folder)
+    sys.argv = argv
+    path = os.path.join(os.getcwd(), script)  # as python sets __file__: absolute, not normalised
+    main_module = types.ModuleType('__main__')
+    main_module.__dict__.update({'__file__': path, '__builtins__': builtins, '__cached__': None})
+    sys.modules['__main__'] = main_module
+    exec(compile(script.read_bytes(), path, 'exec'), main_module.__dict__)  # noqa: S102 - running the script is the point
+
+
+def other_generation_hint(error: ImportError, script: Path, generation: Generation) -> str | None:
+    """One line naming ``--classic`` if ``error`` is the script importing an ``rps`` name that only the other
+    generation has; None otherwise (a name neither has, or not an ``rps`` import)."""
+    module = error.name or ''
+    if module.startswith(generation.package):  # a name missing from one of our modules, named by its own name
+        module = 'rps' + module[len(generation.package) :]
+    suffix = suffix_of(module)
+    if suffix is None:
+        return None
+    other = V2 if generation is CLASSIC else CLASSIC
+    imported = re.match(r"cannot import name '(\w+)'", str(error))
+    if imported is None:
+        what, there = f'the module {module}', suffix in other.modules
+    else:
+        name = imported.group(1)
+        what = f'{name} from {module}'
+        there = f'{suffix}.{name}' in other.modules or (
+            suffix in other.modules and hasattr(importlib.import_module(other.package + suffix), name)
+        )
+    if not there:
+        return None
+    flag = '--classic ' if other is CLASSIC else ''
+    return (
+        f'rps_alias: {script} imports {what}, which only the {other.name} generation of rps has; run it '
+        f'{"with" if flag else "without"} --classic: python -m robotarium_exp.rps_alias {flag}{script}'
+    )
 
 
 NP_MAT_MESSAGE = (

@@ -38,7 +38,12 @@ from robotarium_exp.rps.testbed_model import Testbed, TestbedModel
 from robotarium_exp.rps.testbed_model import testbed_model as named_model
 from robotarium_exp.rps.utilities.barrier_certificates import create_uni_barrier_certificate
 from robotarium_exp.rps.utilities.controllers import create_pose_controller_hybrid
-from robotarium_exp.rps.utilities.misc import create_at_pose, generate_initial_poses, generate_random_poses
+from robotarium_exp.rps.utilities.misc import (
+    CHARGER_SLOTS,
+    create_at_pose,
+    generate_initial_poses,
+    generate_random_poses,
+)
 from robotarium_exp.rps.utilities.sensors import simulate_distance_sensors
 
 FloatArray = NDArray[np.float64]
@@ -324,7 +329,7 @@ def _check_arguments(
     use_distance_sensors: bool,
     initial_conditions: FloatArray,
 ) -> None:
-    """V2's checks of the constructor's arguments, with its messages."""
+    """V2's checks of the constructor's arguments, with its messages; and one of ours, the number of charger slots."""
     for name, value, kind in (
         ('NumberOfRobots', number_of_robots, 'an integer'),
         ('ShowFigure', show_figure, 'a boolean'),
@@ -340,6 +345,12 @@ def _check_arguments(
         raise RobotariumError(msg)
     if not 0 <= number_of_robots <= 50:
         raise RobotariumError('Number of robots must be >= 0 and <= 50')
+    if number_of_robots > CHARGER_SLOTS:  # V2's draw of the slots would fail with a bare ValueError
+        msg = (
+            f'V2 places every robot on one of its {CHARGER_SLOTS} charger slots (skip_initialization or not), so it '
+            f'runs at most {CHARGER_SLOTS} robots; {number_of_robots} were asked.'
+        )
+        raise RobotariumError(msg)
     if initial_conditions.size > 0 and (
         initial_conditions.shape != (3, number_of_robots) or not np.all(np.isfinite(initial_conditions))
     ):

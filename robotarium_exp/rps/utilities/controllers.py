@@ -106,8 +106,15 @@ def create_pose_controller_hybrid(
     return controller
 
 
-def _check_shapes(states: FloatArray, poses: FloatArray, pose_rows: int, state_rows: int = 3) -> None:
-    """V2's checks of a controller's arguments (its messages): states ``state_rows`` x N, goals ``pose_rows`` x N."""
+def _check_shapes(
+    states: FloatArray, poses: FloatArray, pose_rows: int, state_rows: int = 3, *, count_first: bool = False
+) -> None:
+    """V2's checks of a controller's arguments (its messages): states ``state_rows`` x N, goals ``pose_rows`` x N.
+
+    ``count_first``: read N from ``states`` before checking, as V2's CLF controller does (a 1-D ``states`` then
+    fails on its missing second dimension, not on its rows)."""
+    if count_first:
+        states.shape[1]
     if states.shape[0] != state_rows:
         raise RobotariumError(f'states must be {state_rows}xN.')
     if poses.shape[0] != pose_rows:
@@ -146,7 +153,7 @@ def create_pose_controller_clf(
     gamma, k, h = approach_angle_gain, desired_angle_gain, rotation_error_gain
 
     def controller(states: FloatArray, poses: FloatArray) -> FloatArray:
-        _check_shapes(states, poses, 3)
+        _check_shapes(states, poses, 3, count_first=True)
         goal = poses[2]
         dx, dy = poses[0] - states[0], poses[1] - states[1]
         ex = np.cos(goal) * dx + np.sin(goal) * dy  # the position error in the goal's frame

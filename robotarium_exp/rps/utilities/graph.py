@@ -22,10 +22,6 @@ def _require(condition: bool, message: str) -> None:
         raise RobotariumError(message)
 
 
-def _is_int(value: object) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool)
-
-
 def _laplacian(n: int, edges: IntArray) -> FloatArray:
     """The Laplacian of the graph on n nodes with the given (k, 2) undirected edges."""
     lap = np.zeros((n, n))
@@ -37,20 +33,20 @@ def _laplacian(n: int, edges: IntArray) -> FloatArray:
 
 def completeGL(n: int) -> FloatArray:
     """Every node joined to every other: degree n - 1."""
-    _require(_is_int(n) and n > 0, 'n must be a positive integer.')
+    _require(isinstance(n, int) and n > 0, 'n must be a positive integer.')
     return n * np.eye(n) - np.ones((n, n))
 
 
 def cycleGL(n: int) -> FloatArray:
     """A ring 0 - 1 - ... - (n-1) - 0: degree 2."""
-    _require(_is_int(n) and n >= 3, 'n must be an integer >= 3.')
+    _require(isinstance(n, int) and n >= 3, 'n must be an integer >= 3.')
     k = np.arange(n)
     return _laplacian(n, np.column_stack([k, (k + 1) % n]))
 
 
 def lineGL(n: int) -> FloatArray:
     """A path 0 - 1 - ... - (n-1): degree 2 inside, 1 at both ends."""
-    _require(_is_int(n) and n >= 2, 'n must be an integer >= 2.')
+    _require(isinstance(n, int) and n >= 2, 'n must be an integer >= 2.')
     k = np.arange(n - 1)
     return _laplacian(n, np.column_stack([k, k + 1]))
 
@@ -69,8 +65,8 @@ def _add_random_edges(lap: FloatArray, candidates: IntArray, count: int) -> Floa
 
 def random_connectedGL(v: int, e: int) -> FloatArray:
     """A random spanning tree on v nodes (node i joins a random earlier node) plus up to e random extra edges."""
-    _require(_is_int(v) and v > 0, 'v must be a positive integer.')
-    _require(_is_int(e) and e >= 0, 'e must be a non-negative integer.')
+    _require(isinstance(v, int) and v > 0, 'v must be a positive integer.')
+    _require(isinstance(e, int) and e >= 0, 'e must be a non-negative integer.')
     lap = np.zeros((v, v))
     for i in range(1, v):
         j = np.random.randint(0, i)
@@ -82,8 +78,8 @@ def random_connectedGL(v: int, e: int) -> FloatArray:
 
 def randomGL(v: int, e: int) -> FloatArray:
     """Up to e edges drawn at random among all pairs of v nodes (possibly disconnected)."""
-    _require(_is_int(v) and v > 0, 'v must be a positive integer.')
-    _require(_is_int(e) and e >= 0, 'e must be a non-negative integer.')
+    _require(isinstance(v, int) and v > 0, 'v must be a positive integer.')
+    _require(isinstance(e, int) and e >= 0, 'e must be a non-negative integer.')
     return _add_random_edges(np.zeros((v, v)), np.argwhere(np.triu(np.ones((v, v)), 1)), e)
 
 
@@ -91,10 +87,10 @@ def delta_disk_neighbors(poses: FloatArray, agent: int, delta: float) -> IntArra
     """The agents other than ``agent`` whose positions (first two rows of ``poses``) lie within ``delta``."""
     n = poses.shape[1]
     _require(0 <= agent < n, f'agent ({agent}) must be between 0 and {n - 1}.')
-    others = np.delete(np.arange(n), agent)
+    others = np.concatenate((np.arange(agent), np.arange(agent + 1, n)))
     if others.size == 0:
         return np.array([], dtype=int)
-    distance = np.hypot(*(poses[:2, others] - poses[:2, [agent]]))
+    distance = np.linalg.norm(poses[:2, others] - poses[:2, agent : agent + 1], axis=0)
     near: IntArray = others[distance <= delta]
     return near
 
@@ -103,6 +99,6 @@ def topological_neighbors(L: FloatArray, agent: int) -> IntArray:
     """The agent's neighbours in the graph of Laplacian L (nonzero off-diagonal entries of its row)."""
     n = L.shape[0]
     _require(0 <= agent < n, f'agent ({agent}) must be between 0 and {n - 1}.')
-    row = np.array(L[agent], dtype=float, copy=True)
+    row = np.array(L[agent, :], dtype=float, copy=True)
     row[agent] = 0.0
     return np.flatnonzero(row != 0)

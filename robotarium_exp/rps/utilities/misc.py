@@ -32,29 +32,23 @@ def determine_font_size(robotarium_instance: Any, font_height_meters: float) -> 
 
 
 def generate_initial_poses(N: int, width: float = 3.0, height: float = 1.0) -> FloatArray:
-    """N distinct charger slots as start poses (3xN), drawn with ``random.sample`` as V2 does.
+    """N distinct charger slots as start poses (3xN), drawn with ``random.sample`` as V2 does (and, as V2, a
+    ``ValueError`` from it for more robots than the 22 slots).
 
     The slots: x at 11 points evenly over ``width``, y = -/+ ``height`` / 2, heading into the arena.
     """
-    if N > CHARGER_SLOTS:
-        msg = (
-            f'the V2 initialization starts robots on {CHARGER_SLOTS} charger slots, but {N} robots were asked; '
-            'use skip_initialization=True for larger simulated swarms.'
-        )
-        raise RobotariumError(msg)
     x = np.repeat(np.linspace(-width / 2, width / 2, 11), 2)  # slot order: x-major, bottom then top (V2's)
     y = np.tile([-height / 2, height / 2], 11)
     theta = np.where(y < 0, np.pi / 2, -np.pi / 2)
     picked = random.sample(range(CHARGER_SLOTS), N)
-    return np.vstack([x[picked], y[picked], theta[picked]]).reshape(3, N)
+    return np.vstack([x[picked], y[picked], theta[picked]]).reshape(3, -1)
 
 
-def generate_random_positions(N: int, spacing: float = 0.5, width: float = 3.0, height: float = 1.8) -> FloatArray:
-    """N random positions (2xN) at least ``spacing`` apart in a width x height box centred at the origin.
-
-    Rejection sampling from ``np.random``, up to 10,000 candidates, as V2.
-    """
-    if not (isinstance(N, int) and not isinstance(N, bool) and N > 0):
+def _random_points(N: int, spacing: float, width: float, height: float, noun: str, fewer: str) -> FloatArray:
+    """N random points (2xN) at least ``spacing`` apart in a width x height box centred at the origin, with V2's
+    checks and messages (which name the ``noun`` asked for); rejection sampling from ``np.random``, up to 10,000
+    candidates, as V2."""
+    if not (isinstance(N, int) and N > 0):
         raise RobotariumError('N must be a positive integer.')
     if not spacing > 0:
         raise RobotariumError('spacing must be positive.')
@@ -63,7 +57,7 @@ def generate_random_positions(N: int, spacing: float = 0.5, width: float = 3.0, 
     most = int(np.floor(width * height / spacing**2))
     if N > most:
         msg = (
-            f'Cannot fit {N} positions with spacing {spacing:.2f} m into a {width:.2f} x {height:.2f} m area. '
+            f'Cannot fit {N} {noun} with spacing {spacing:.2f} m into a {width:.2f} x {height:.2f} m area. '
             f'Approximate maximum: {most}.'
         )
         raise RobotariumError(msg)
@@ -75,17 +69,22 @@ def generate_random_positions(N: int, spacing: float = 0.5, width: float = 3.0, 
         if points.shape[1] == 0 or np.hypot(*(points - candidate[:, None])).min() >= spacing:
             points = np.hstack([points, candidate[:, None]])
     if points.shape[1] < N:
-        msg = (
-            f'Could not place {N} positions with spacing {spacing:.2f} m after 10000 attempts. '
-            'Try reducing N or spacing.'
-        )
+        msg = f'Could not place {N} {noun} with spacing {spacing:.2f} m after 10000 attempts. Try reducing {fewer}.'
         raise RobotariumError(msg)
-    return points
+    placed = np.zeros((2, N))  # V2 copies the points into a 2xN array (so an N of True fails here, as in V2)
+    placed[:] = points
+    return placed
+
+
+def generate_random_positions(N: int, spacing: float = 0.5, width: float = 3.0, height: float = 1.8) -> FloatArray:
+    """N random positions (2xN) at least ``spacing`` apart in a width x height box centred at the origin."""
+    return _random_points(N, spacing, width, height, 'positions', 'N or spacing')
 
 
 def generate_random_poses(N: int, spacing: float = 0.5, width: float = 3.0, height: float = 1.8) -> FloatArray:
-    """N random poses (3xN): :func:`generate_random_positions` and headings uniform in [-pi, pi)."""
-    points = generate_random_positions(N, spacing, width, height)
+    """N random poses (3xN): random positions as :func:`generate_random_positions` and headings uniform in
+    [-pi, pi)."""
+    points = _random_points(N, spacing, width, height, 'poses', 'N or Spacing')
     return np.vstack([points, np.random.rand(N) * 2 * np.pi - np.pi])
 
 

@@ -111,13 +111,13 @@ def create_uni_to_si_mapping(projection_distance: float = 0.05) -> tuple[Map, Ma
 
     def si_to_uni_states(uni_states: FloatArray, si_states: FloatArray) -> FloatArray:
         m, n = uni_states.shape
+        m_si, n_si = si_states.shape
         if m != 3:
             raise RobotariumError(f'uni_states must be 3xN. Got {m}x{n}.')
-        if si_states.shape[0] != 2:
-            raise RobotariumError(f'si_states must be 2xN. Got {si_states.shape[0]}x{si_states.shape[1]}.')
-        if si_states.shape[1] != n:
-            msg = f'uni_states and si_states must have the same number of columns ({n} vs {si_states.shape[1]}).'
-            raise RobotariumError(msg)
+        if m_si != 2:
+            raise RobotariumError(f'si_states must be 2xN. Got {m_si}x{n_si}.')
+        if n_si != n:
+            raise RobotariumError(f'uni_states and si_states must have the same number of columns ({n} vs {n_si}).')
         heading = np.vstack([np.cos(uni_states[2]), np.sin(uni_states[2])])
         return si_states[:2] - projection_distance * heading
 

@@ -21,6 +21,7 @@ failures do what V2's certificates do here: a warning, zero velocities, a count 
 
 from __future__ import annotations
 
+import operator
 import warnings
 from collections.abc import Callable
 
@@ -36,6 +37,19 @@ from robotarium_exp.rps.utilities.barrier_certificates import (
 )
 from robotarium_exp.rps.utilities.barrier_rows import barrier_rows
 from robotarium_exp.rps_classic.utilities.barrier_certificates2 import RobustCertificate
+from robotarium_exp.rps_classic.utilities.checks import (
+    ARRAY,
+    POSITIVE,
+    Check,
+    Checked,
+    Rule,
+    bound,
+    columns,
+    enforce,
+    pair,
+    rows,
+    typed,
+)
 from robotarium_exp.rps_classic.utilities.transformations import create_si_to_uni_mapping, create_uni_to_si_dynamics
 
 __all__ = [
@@ -53,6 +67,81 @@ CLASSIC_BOUNDARY = np.array([-1.6, 1.6, -1.0, 1.0])
 """Classic's default ``boundary_points``: [x_min, x_max, y_min, y_max]."""
 
 SiCertificate = Callable[[FloatArray, FloatArray], FloatArray]
+
+WORDS = {
+    'barrier_gain': 'the barrier gain (barrier_gain)',
+    'safety_radius': 'the safe distance between robots (safety_radius)',
+    'projection_distance': 'the projected point distance for the diffeomorphism between sinlge integrator and unicycle '
+    '(projection_distance)',
+    'magnitude_limit': 'the maximum linear velocity of the robot (magnitude_limit)',
+}
+"""How classic's certificate factories name their arguments (the ``2`` variants name the gains as below)."""
+
+GAINS_2 = {'barrier_gain': 'the barrier gain inside the safe set (barrier_gain)'}
+DIAMETER = 'be greater than or equal to the diameter of the robot (0.12m)'
+SI_DIAMETER = f'{DIAMETER} plus the distance to the look ahead point used in the diffeomorphism if that is being used'
+
+
+def _factory_checks(names: tuple[str, ...], words: dict[str, str], diameter: str) -> tuple[Check, ...]:
+    """A certificate factory's checks, as classic orders them: every argument's type, then every range."""
+    words = {**WORDS, **words}
+    ranges: dict[str, list[Rule]] = {
+        'barrier_gain': [POSITIVE],
+        'unsafe_barrier_gain': [POSITIVE],
+        'safety_radius': [(operator.ge, 0.12, diameter)],
+        'projection_distance': [POSITIVE],
+        'magnitude_limit': [POSITIVE, (operator.le, 0.2, 'be less than the max speed of the robot (0.2m/s)')],
+    }
+    return tuple(typed(name, words[name]) for name in names) + tuple(
+        bound(name, words[name], rule) for name in names for rule in ranges[name]
+    )
+
+
+SI_ARGUMENTS = ('barrier_gain', 'safety_radius', 'magnitude_limit')
+UNI_ARGUMENTS = ('barrier_gain', 'safety_radius', 'projection_distance', 'magnitude_limit')
+SI_FACTORY = _factory_checks(SI_ARGUMENTS, {}, SI_DIAMETER)
+SI_FACTORY_2 = _factory_checks(
+    ('barrier_gain', 'unsafe_barrier_gain', 'safety_radius', 'magnitude_limit'),
+    {**GAINS_2, 'unsafe_barrier_gain': 'the barrier gain if outside the safe set (unsafe_barrier_gain)'},
+    SI_DIAMETER,
+)
+UNI_FACTORY = _factory_checks(UNI_ARGUMENTS, {}, DIAMETER)
+UNI_FACTORY_2 = _factory_checks(
+    ('barrier_gain', 'unsafe_barrier_gain', 'safety_radius', 'projection_distance', 'magnitude_limit'),
+    {**GAINS_2, 'unsafe_barrier_gain': 'the barrier gain outside the safe set (unsafe_barrier_gain)'},
+    DIAMETER,
+)
+
+
+def _certificate_checks(
+    command: str, typed_as: str, named: str, layout: str, x_rows: int, x_layout: str
+) -> tuple[Check, ...]:
+    """The checks of a created certificate ``f(command, x)``, in classic's order; ``typed_as`` and ``named`` are
+    classic's two spellings of the command's kind, ``layout`` and ``x_layout`` its rows and the states'."""
+    x_kind = named if command == 'dxi' else typed_as
+    return (
+        typed(command, f'the {typed_as} robot velocity command ({command})', ARRAY),
+        typed('x', 'the robot states (x)', ARRAY),
+        rows('x', x_rows, f'the dimension of the {x_kind} robot states (x) must be {x_rows} ({x_layout})'),
+        rows(command, 2, f'the dimension of the robot {named} velocity command ({command}) must be 2 ({layout})'),
+        columns(
+            'x',
+            command,
+            f'the number of robot states (x) must be equal to the number of robot {named} velocity commands '
+            f'({command}). Recieved a current robot pose input array (x) of size %r x %r and single integrator '
+            'velocity array (dxi) of size %r x %r.',
+        ),
+    )
+
+
+SI_CERTIFICATE = _certificate_checks('dxi', 'single-integrator', 'single integrator', '[x_dot;y_dot]', 2, '[x;y]')
+UNI_CERTIFICATE = _certificate_checks('dxu', 'unicycle', 'unicycle', '[v;w]', 3, '[x;y;theta]')
+
+
+def _checked(certificate: Callable[..., FloatArray], created_by: str) -> Checked:
+    """``certificate`` behind the checks classic makes of the certificates that ``created_by`` creates."""
+    checks, command = (UNI_CERTIFICATE, 'dxu') if 'unicycle' in created_by else (SI_CERTIFICATE, 'dxi')
+    return Checked(certificate, pair(f'In the function created by the {created_by} function', checks, command, 'x'))
 
 
 class UnsafeGainCertificate:
@@ -90,14 +179,15 @@ class ClassicUnicycleCertificate:
     """``certificate(dxu, poses) -> dxu``: a single-integrator certificate at the projection points, mapped back
     with classic's near-identity map (omega clipped to +/- pi); ``stats`` are the inner certificate's."""
 
-    def __init__(self, inner: Certificate | UnsafeGainCertificate, projection_distance: float) -> None:
+    def __init__(self, inner: Checked, projection_distance: float) -> None:
         self.inner = inner
         self.si_to_uni_dyn, self.uni_to_si_states = create_si_to_uni_mapping(projection_distance=projection_distance)
         self.uni_to_si_dyn = create_uni_to_si_dynamics(projection_distance=projection_distance)
 
     @property
     def stats(self) -> BarrierStats:
-        return self.inner.stats
+        stats: BarrierStats = self.inner.stats
+        return stats
 
     def __call__(self, dxu: FloatArray, x: FloatArray) -> FloatArray:
         dxu, x = _check_pair(dxu, x, 'dxu', 'x', state_rows=3)
@@ -107,9 +197,13 @@ class ClassicUnicycleCertificate:
 
 def create_single_integrator_barrier_certificate(
     barrier_gain: float = 100, safety_radius: float = 0.17, magnitude_limit: float = 0.2
-) -> Certificate:
+) -> Checked:
     """Pairwise barriers, no speed polygon (the input is first scaled to the limit)."""
-    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, None, False))
+    enforce('In the function create_single_integrator_barrier_certificate', SI_FACTORY, locals())
+    return _checked(
+        Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, None, False)),
+        'create_single_integrator_barrier_certificate',
+    )
 
 
 def create_single_integrator_barrier_certificate_with_boundary(
@@ -117,9 +211,11 @@ def create_single_integrator_barrier_certificate_with_boundary(
     safety_radius: float = 0.17,
     magnitude_limit: float = 0.2,
     boundary_points: FloatArray = CLASSIC_BOUNDARY,
-) -> Certificate:
+) -> Checked:
     """Pairwise and boundary barriers (a lone robot still meets the walls)."""
-    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, boundary_points, False))
+    enforce('In the function create_single_integrator_barrier_certificate', SI_FACTORY, locals())
+    certificate = Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, boundary_points, False))
+    return _checked(certificate, 'create_single_integrator_barrier_certificate')
 
 
 def create_single_integrator_barrier_certificate2(
@@ -127,9 +223,11 @@ def create_single_integrator_barrier_certificate2(
     unsafe_barrier_gain: float = 1e6,
     safety_radius: float = 0.17,
     magnitude_limit: float = 0.2,
-) -> UnsafeGainCertificate:
+) -> Checked:
     """Classic: pairwise barriers, ``unsafe_barrier_gain`` on pairs already inside the safety radius."""
-    return UnsafeGainCertificate(barrier_gain, unsafe_barrier_gain, safety_radius, magnitude_limit)
+    enforce('In the function create_single_integrator_barrier_certificate2', SI_FACTORY_2, locals())
+    certificate = UnsafeGainCertificate(barrier_gain, unsafe_barrier_gain, safety_radius, magnitude_limit)
+    return _checked(certificate, 'create_single_integrator_barrier_certificate2')
 
 
 def create_unicycle_barrier_certificate(
@@ -137,12 +235,13 @@ def create_unicycle_barrier_certificate(
     safety_radius: float = 0.12,
     projection_distance: float = 0.05,
     magnitude_limit: float = 0.2,
-) -> ClassicUnicycleCertificate:
+) -> Checked:
     """Classic: the SI certificate (radius safety_radius + d) at the projection points."""
+    enforce('In the function create_unicycle_barrier_certificate', UNI_FACTORY, locals())
     inner = create_single_integrator_barrier_certificate(
         barrier_gain=barrier_gain, safety_radius=safety_radius + projection_distance
     )
-    return ClassicUnicycleCertificate(inner, projection_distance)
+    return _checked(ClassicUnicycleCertificate(inner, projection_distance), 'create_unicycle_barrier_certificate')
 
 
 def create_unicycle_barrier_certificate_with_boundary(
@@ -151,12 +250,13 @@ def create_unicycle_barrier_certificate_with_boundary(
     projection_distance: float = 0.05,
     magnitude_limit: float = 0.2,
     boundary_points: FloatArray = CLASSIC_BOUNDARY,
-) -> ClassicUnicycleCertificate:
+) -> Checked:
     """Classic: as above, with the walls of ``boundary_points``."""
+    enforce('In the function create_unicycle_barrier_certificate', UNI_FACTORY, locals())
     inner = create_single_integrator_barrier_certificate_with_boundary(
         barrier_gain=barrier_gain, safety_radius=safety_radius + projection_distance, boundary_points=boundary_points
     )
-    return ClassicUnicycleCertificate(inner, projection_distance)
+    return _checked(ClassicUnicycleCertificate(inner, projection_distance), 'create_unicycle_barrier_certificate')
 
 
 def create_unicycle_barrier_certificate2(
@@ -165,14 +265,15 @@ def create_unicycle_barrier_certificate2(
     safety_radius: float = 0.12,
     projection_distance: float = 0.05,
     magnitude_limit: float = 0.2,
-) -> ClassicUnicycleCertificate:
+) -> Checked:
     """Classic: :func:`create_single_integrator_barrier_certificate2` at the projection points."""
+    enforce('In the function create_unicycle_barrier_certificate2', UNI_FACTORY_2, locals())
     inner = create_single_integrator_barrier_certificate2(
         barrier_gain=barrier_gain,
         unsafe_barrier_gain=unsafe_barrier_gain,
         safety_radius=safety_radius + projection_distance,
     )
-    return ClassicUnicycleCertificate(inner, projection_distance)
+    return _checked(ClassicUnicycleCertificate(inner, projection_distance), 'create_unicycle_barrier_certificate')
 
 
 def create_unicycle_differential_drive_barrier_certificate(

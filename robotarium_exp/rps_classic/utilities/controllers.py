@@ -19,23 +19,87 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.rps.utilities import controllers as v2
+from robotarium_exp.rps_classic.utilities.checks import (
+    ARRAY,
+    AT_LEAST_ZERO,
+    NOT_NEGATIVE,
+    POSITIVE,
+    Checked,
+    bound,
+    columns,
+    enforce,
+    pair,
+    rows,
+    typed,
+)
 from robotarium_exp.rps_classic.utilities.transformations import create_si_to_uni_dynamics
 
 FloatArray = NDArray[np.float64]
 Controller = Callable[[FloatArray, FloatArray], FloatArray]
 
 
+XG, YG = 'the x linear velocity gain (x_velocity_gain)', 'the y linear velocity gain (y_velocity_gain)'
+SI_GAINS = (
+    typed('x_velocity_gain', XG),
+    typed('y_velocity_gain', YG),
+    typed('velocity_magnitude_limit', 'the velocity magnitude limit (y_velocity_gain)', shown='y_velocity_gain'),
+    bound('x_velocity_gain', XG, POSITIVE),
+    bound('y_velocity_gain', YG, POSITIVE),
+    bound('velocity_magnitude_limit', 'the velocity magnitude limit (velocity_magnitude_limit)', NOT_NEGATIVE),
+)
+GOALS = 'the robot goal points (positions)'
+SI_CONTROLLER = (
+    typed('xi', 'the single-integrator robot states (xi)', ARRAY),
+    typed('positions', GOALS, ARRAY),
+    rows('xi', 2, 'the dimension of the single-integrator robot states (xi) must be 2 ([x;y])'),
+    rows('positions', 2, f'the dimension of {GOALS} must be 2 ([x_goal;y_goal])'),
+    columns(
+        'xi',
+        'positions',
+        f'the number of single-integrator robot states (xi) must be equal to the number of {GOALS[4:]}. Recieved a '
+        'single integrator current position input array of size %r x %r and desired position array of size %r x %r.',
+    ),
+)
+
+LG, AG = 'the linear velocity gain (linear_velocity_gain)', 'the angular velocity gain (angular_velocity_gain)'
+CLF_GAINS = (
+    typed('linear_velocity_gain', LG),
+    typed('angular_velocity_gain', AG),
+    bound('linear_velocity_gain', LG, AT_LEAST_ZERO),
+    bound('angular_velocity_gain', AG, AT_LEAST_ZERO),
+)
+CLF_CONTROLLER = (
+    typed('states', 'the single-integrator robot states (xi)', ARRAY),
+    typed('positions', GOALS, ARRAY),
+    rows('states', 3, 'the dimension of the unicycle robot states (states) must be 3 ([x;y;theta])'),
+    rows('positions', 2, 'the dimension of the robot goal positions (positions) must be 2 ([x_goal;y_goal])'),
+    columns(
+        'states',
+        'positions',
+        'the number of unicycle robot states (states) must be equal to the number of robot goal positions '
+        '(positions). Recieved a current robot pose input array (states) of size %r states %r and desired position '
+        'array (positions) of size %r states %r.',
+    ),
+)
+
+
 def create_si_position_controller(
     x_velocity_gain: float = 1, y_velocity_gain: float = 1, velocity_magnitude_limit: float = 0.15
 ) -> Controller:
     """``f(xi, positions) -> dxi``: gains times the position error, scaled down to ``velocity_magnitude_limit``."""
-    return v2.create_si_position_controller(x_velocity_gain, y_velocity_gain, velocity_magnitude_limit)
+    factory = 'create_si_position_controller'
+    enforce(f'In the function {factory}', SI_GAINS, locals())
+    controller = v2.create_si_position_controller(x_velocity_gain, y_velocity_gain, velocity_magnitude_limit)
+    place = f'In the si_position_controller function created by the {factory} function'
+    return Checked(controller, pair(place, SI_CONTROLLER, 'xi', 'positions'))
 
 
 def create_clf_unicycle_position_controller(
     linear_velocity_gain: float = 0.8, angular_velocity_gain: float = 3
 ) -> Controller:
     """``f(states, positions) -> dxu``: the CLF position law, unclamped (the simulator clips v and omega)."""
+    factory = 'create_clf_unicycle_position_controller'
+    enforce(f'In the function {factory}', CLF_GAINS, locals())
 
     def position_uni_clf_controller(states: FloatArray, positions: FloatArray) -> FloatArray:
         error = positions[:2] - states[:2]
@@ -48,7 +112,8 @@ def create_clf_unicycle_position_controller(
             ]
         )
 
-    return position_uni_clf_controller
+    place = f'In the function created by the {factory} function'
+    return Checked(position_uni_clf_controller, pair(place, CLF_CONTROLLER, 'states', 'positions'))
 
 
 def create_clf_unicycle_pose_controller(

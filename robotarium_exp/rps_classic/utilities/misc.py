@@ -13,8 +13,18 @@ import matplotlib.pyplot as plt
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.utilities.misc import create_at_pose, create_at_position
+from robotarium_exp.rps_classic.utilities.checks import (
+    INTEGER,
+    NDARRAY,
+    POSITIVE,
+    Check,
+    bound,
+    columns,
+    enforce,
+    rows,
+    typed,
+)
 
 __all__ = [
     'at_pose',
@@ -29,9 +39,67 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 
 
-def _require(condition: bool, message: str) -> None:
-    if not condition:
-        raise RobotariumError(message)
+AREA = 'the function generate_initial_conditions'
+INITIAL_CONDITIONS = (
+    typed('N', 'the number of robots (N) to generate intial conditions for', INTEGER),
+    typed('spacing', 'the minimum spacing between robots (spacing)'),
+    typed('width', 'the width of the area to place robots randomly (width)'),
+    typed('height', 'the height of the area to place robots randomly (width)'),
+    bound('N', 'the number of robots to generate initial conditions for (N)', POSITIVE),
+    bound('spacing', 'the spacing between robots (spacing)', POSITIVE),
+    bound('width', 'the width of the area to initialize robots randomly (width)', POSITIVE),
+    bound('height', 'the height of the area to initialize robots randomly (height)', POSITIVE),
+)
+GRID = (
+    Check(
+        lambda v: v['columns'] != 0,
+        'the space between robots (space) is too large compared to the width of the area robots are randomly '
+        'initialized in (width).',
+        lambda v: (),
+    ),
+    Check(
+        lambda v: v['rows'] != 0,
+        'the space between robots (space) is too large compared to the height of the area robots are randomly '
+        'initialized in (height).',
+        lambda v: (),
+    ),
+    Check(
+        lambda v: v['columns'] * v['rows'] > v['N'],
+        'it is impossible to place %r robots within a %r x %r meter area with a spacing of %r meters.',
+        lambda v: (v['N'], v['width'], v['height'], v['spacing']),
+    ),
+)
+"""The checks of ``generate_initial_conditions``: its arguments, then the grid they make."""
+
+STATES = typed('states', 'the robot current state argument (states)', NDARRAY)
+POSITION_ERROR = typed('position_error', 'the allowable position error argument (position_error)')
+AT_POSE = (
+    STATES,
+    typed('poses', 'the checked pose argument (poses)', NDARRAY),
+    POSITION_ERROR,
+    typed('rotation_error', 'the allowable angular error argument (rotation_error)'),
+    rows('states', 3, 'the dimension of the state of each robot must be 3 ([x;y;theta])', 'Recieved %r.'),
+    rows('poses', 3, 'the dimension of the checked pose of each robot must be 3 ([x;y;theta])', 'Recieved %r.'),
+    Check(
+        lambda v: v['states'].shape == v['poses'].shape,
+        'the robot current state and checked pose inputs must be the same size (3xN, where N is the number of robots '
+        'being checked). Recieved a state array of size %r x %r and checked pose array of size %r x %r.',
+        lambda v: (v['states'].shape[0], v['states'].shape[1], v['poses'].shape[0], v['poses'].shape[1]),
+    ),
+)
+AT_POSITION = (
+    STATES,
+    typed('points', 'the desired pose argument (poses)', NDARRAY),
+    POSITION_ERROR,
+    rows('states', 3, 'the dimension of the state of each robot (states) must be 3', 'Recieved %r.'),
+    rows('points', 2, 'the dimension of the checked position for each robot (points) must be 2', 'Recieved %r.'),
+    columns(
+        'states',
+        'points',
+        'the number of checked points (points) must match the number of robot states provided (states). Recieved a '
+        'state array of size %r x %r and desired pose array of size %r x %r.',
+    ),
+)
 
 
 def generate_initial_conditions(N: int, spacing: float = 0.3, width: float = 3, height: float = 1.8) -> FloatArray:
@@ -41,32 +109,10 @@ def generate_initial_conditions(N: int, spacing: float = 0.3, width: float = 3, 
     the ``floor(width / spacing) * floor(height / spacing)`` (cell c at column c // rows, row c % rows, counted from
     1, so cell 0 is never used), then one heading per robot, uniform in [-pi, pi).
     """
-    _require(
-        isinstance(N, int),
-        f'In the function generate_initial_conditions, the number of robots (N) to generate intial conditions for '
-        f'must be an integer. Recieved type {type(N).__name__!r}.',
-    )
-    _require(
-        N > 0,
-        f'In the function generate_initial_conditions, the number of robots to generate initial '
-        f'conditions for (N) must be positive. Recieved {N!r}.',
-    )
-    _require(
-        spacing > 0,
-        f'In the function generate_initial_conditions, the spacing between robots (spacing) must '
-        f'be positive. Recieved {spacing!r}.',
-    )
-    _require(
-        width > 0 and height > 0,
-        'In the function generate_initial_conditions, the width and height of the '
-        f'area must be positive. Recieved {width!r} and {height!r}.',
-    )
+    values = {'N': N, 'spacing': spacing, 'width': width, 'height': height}
+    enforce(f'In {AREA}', INITIAL_CONDITIONS, values)
     columns, rows = int(np.floor(width / spacing)), int(np.floor(height / spacing))
-    _require(
-        columns * rows > N,
-        f'In the function generate_initial_conditions, it is impossible to place {N!r} robots within a {width!r} x '
-        f'{height!r} meter area with a spacing of {spacing!r} meters.',
-    )
+    enforce(f'In {AREA}', GRID, {**values, 'columns': columns, 'rows': rows})
     cells = np.random.choice(columns * rows, N, replace=False) + 1
     column, row = np.divmod(cells, rows)
     headings = np.random.rand(N) * 2 * np.pi - np.pi
@@ -77,13 +123,18 @@ def at_pose(
     states: FloatArray, poses: FloatArray, position_error: float = 0.05, rotation_error: float = 0.2
 ) -> tuple[NDArray[np.intp], ...]:
     """Indices of the robots within ``position_error`` of their positions and ``rotation_error`` of their headings
-    (wrapped), as ``np.nonzero`` gives them (V2's check)."""
+    (wrapped), as ``np.nonzero`` gives them."""
+    values = {'states': states, 'poses': poses, 'position_error': position_error, 'rotation_error': rotation_error}
+    enforce('In the at_pose function', AT_POSE, values)
     return np.nonzero(create_at_pose(position_error, rotation_error)(states, poses)[1])
 
 
 def at_position(states: FloatArray, points: FloatArray, position_error: float = 0.02) -> tuple[NDArray[np.intp], ...]:
     """Indices of the robots (states 3xN) within ``position_error`` of their points (2xN). Classic's own version
-    cannot run (it checks the shape of an undefined name); this one does."""
+    cannot run (its last check reads an undefined name, a ``NameError`` for every call that gets there); this one
+    makes that check as meant, with classic's message, and runs."""
+    values = {'states': states, 'points': points, 'position_error': position_error}
+    enforce('In the at_position function', AT_POSITION, values)
     return np.nonzero(create_at_position(position_error)(states[:2], points)[1])
 
 

@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Iterator
 
+import cvxopt
 import numpy as np
 import pytest
 
 from robotarium_exp.rps.utilities import barrier_certificates
+from robotarium_exp.rps.utilities.barrier_certificates import qp_solver, use_qp_solver
 from robotarium_exp.scene import load_scene
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
@@ -62,3 +65,23 @@ def marching(trapezoid) -> dict[str, np.ndarray]:
         'band_held': np.ones(MARCH_STEPS, dtype=bool),
         'barrier_correction_mps': correction,
     }
+
+
+@pytest.fixture
+def clean_rps(monkeypatch):
+    """Whatever the test registers as ``rps...`` (and the QP solver it picks) is undone after it, and so are the
+    finder ``install`` puts on ``sys.meta_path`` and what running a script changes (``sys.path``, ``__main__``,
+    cvxopt's options)."""
+    monkeypatch.setattr(sys, 'meta_path', list(sys.meta_path))
+    monkeypatch.setattr(sys, 'path', list(sys.path))
+    monkeypatch.setitem(sys.modules, '__main__', sys.modules['__main__'])
+    for name in [n for n in sys.modules if n == 'rps' or n.startswith('rps.')]:
+        monkeypatch.delitem(sys.modules, name)
+    before, solver, options = set(sys.modules), qp_solver(), dict(cvxopt.solvers.options)
+    yield
+    cvxopt.solvers.options.clear()  # the dict cvxopt's solvers read: its contents restored, not another dict
+    cvxopt.solvers.options.update(options)
+    for name in set(sys.modules) - before:
+        if name == 'rps' or name.startswith('rps.'):
+            del sys.modules[name]
+    use_qp_solver(solver)

@@ -17,12 +17,15 @@ from __future__ import annotations
 import importlib
 import inspect
 import sys
+from pathlib import Path
 from typing import Any
 
+import cvxopt
 import numpy as np
 import pytest
 
-from robotarium_exp import rps_alias
+from robotarium_exp import rps_alias, rps_import
+from vtube_planning.log import read_log
 
 V2_SIGNATURES: dict[str, list[tuple[str, str, str | None]]] = {
     'rps.examples.state_estimation.extended_kalman_filter.uni_ekf:UnicycleEKF.__init__': [
@@ -357,41 +360,26 @@ def test_constants_are_v2s(name: str) -> None:
 
 def test_the_alias_maps_every_v2_module() -> None:
     """``rps_alias`` registers each module of the table under its ``rps`` name."""
-    mapped = {'rps' + suffix for suffix in rps_alias.MODULES}
+    mapped = {'rps' + suffix for suffix in rps_import.V2.modules}
     assert {key.split(':')[0] for key in V2_SIGNATURES} <= mapped
 
 
 # ---------------------------------------------------------------------- the alias itself, in-process
 
 
-@pytest.fixture
-def clean_rps(monkeypatch):
-    """Whatever the test registers as ``rps...`` (and the QP solver it picks) is undone after it, and so is the
-    ``robotarium`` attribute that ``install`` rebinds on the package it registers as ``rps``."""
-    from robotarium_exp.rps.utilities.barrier_certificates import qp_solver, use_qp_solver
-
-    for package in ('robotarium_exp.rps', 'robotarium_exp.rps_classic'):
-        simulator = importlib.import_module(package + '.robotarium')
-        monkeypatch.setattr(importlib.import_module(package), 'robotarium', simulator)
-    for name in [n for n in sys.modules if n == 'rps' or n.startswith('rps.')]:
-        monkeypatch.delitem(sys.modules, name)
-    before, solver = set(sys.modules), qp_solver()
-    yield
-    for name in set(sys.modules) - before:
-        if name == 'rps' or name.startswith('rps.'):
-            del sys.modules[name]
-    use_qp_solver(solver)
-
-
 @pytest.mark.usefixtures('clean_rps')
 @pytest.mark.parametrize('classic', [False, True])
-def test_install_registers_each_module_under_its_rps_name(classic: bool, tmp_path) -> None:
+def test_install_resolves_each_rps_name_to_the_generations_module(classic: bool, tmp_path) -> None:
     rps_alias.install(classic=classic, log_path=str(tmp_path / 'log.npz'))
-    package = 'robotarium_exp.rps_classic' if classic else 'robotarium_exp.rps'
-    for suffix in rps_alias.CLASSIC_MODULES if classic else rps_alias.MODULES:
-        if suffix != '.robotarium':
-            assert sys.modules['rps' + suffix] is importlib.import_module(package + suffix)
-    simulator = importlib.import_module(package + '.robotarium')
+    generation = rps_import.CLASSIC if classic else rps_import.V2
+    for suffix in generation.modules:
+        module = importlib.import_module('rps' + suffix)
+        ours = importlib.import_module(generation.package + suffix)
+        if hasattr(ours, '__path__'):  # a package: an empty one of its own, as the official packages are
+            assert module is not ours and module.__doc__ == ours.__doc__
+        elif suffix != '.robotarium':
+            assert module is ours
+    simulator = importlib.import_module(generation.package + '.robotarium')
     recorded = sys.modules['rps.robotarium'].Robotarium
     assert issubclass(recorded, simulator.Robotarium) and recorded is not simulator.Robotarium  # it records
     assert sys.modules['rps'].robotarium is sys.modules['rps.robotarium']
@@ -440,7 +428,7 @@ def test_main_passes_the_testbed_model_to_every_robotarium(tmp_path, monkeypatch
 @pytest.mark.usefixtures('clean_rps')
 def test_install_gives_the_classic_generation_its_testbed_model_too() -> None:
     rps_alias.install(classic=True, testbed_model='fitted')
-    r = sys.modules['rps.robotarium'].Robotarium(1, False, False, np.zeros((3, 1)))
+    r = importlib.import_module('rps.robotarium').Robotarium(1, False, False, np.zeros((3, 1)))
     assert r._testbed.model is rps_alias.testbed_model('fitted') and hasattr(r, 'call_at_scripts_end')
 
 
@@ -478,3 +466,104 @@ def test_np_mat_is_named_with_its_fix(tmp_path, monkeypatch, capsys) -> None:
         rps_alias.main()
     assert exit_.value.code == 1
     assert 'np.asmatrix' in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------------- scripts run as python runs them
+
+QP_SCRIPT = """\
+import sys
+from cvxopt import matrix, solvers
+import rps.robotarium
+from helper import VALUE
+print(VALUE, __file__ == sys.argv[1], sys.argv[2:])
+for _ in range(3):
+    solvers.qp(matrix([[2.0, 0.0], [0.0, 2.0]]), matrix([-2.0, -1.0]), matrix([[1.0], [1.0]]), matrix([0.5]))
+print(sorted(solvers.options.items()))
+"""
+"""A script beside its own module, solving its own QPs with cvxopt after importing ``rps.robotarium``."""
+
+QP_OUTPUT_LINES = {False: 2, True: 23}
+"""Its output's lines on the official simulators (recorded): V2's rps.robotarium sets cvxopt's options, so only the
+script's two lines; classic's does not, so cvxopt also prints its progress (7 lines a solve)."""
+
+
+@pytest.mark.usefixtures('clean_rps')
+@pytest.mark.parametrize('classic', [False, True])
+def test_a_script_runs_as_python_runs_it(classic: bool, tmp_path, monkeypatch, capsys) -> None:
+    folder = tmp_path / 'mine'
+    folder.mkdir()
+    (folder / 'helper.py').write_text('VALUE = 7\n', encoding='utf-8')
+    (folder / 'qp.py').write_text(QP_SCRIPT, encoding='utf-8')
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(sys, 'path', [str(tmp_path), *sys.path[1:]])  # as python -m leaves it: the cwd first
+    argv = ['rps_alias', *(['--classic'] if classic else []), 'mine/qp.py', str(folder / 'qp.py'), 'x']
+    monkeypatch.setattr(sys, 'argv', argv)
+    cvxopt.solvers.options.clear()  # a fresh interpreter's (an official rps imported in this process sets them)
+    rps_alias.main()
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == QP_OUTPUT_LINES[classic] and lines[0] == "7 True ['x']"
+    assert sys.path[0] == str(folder)
+    if not classic:
+        assert lines[-1] == str(sorted(rps_import.OFFICIAL_QP_OPTIONS.items()))
+
+
+@pytest.mark.usefixtures('clean_rps')
+@pytest.mark.parametrize(
+    ('classic', 'source', 'hint'),
+    [
+        (False, 'from rps.utilities.graph import cycle_GL\n', 'cycle_GL from rps.utilities.graph'),
+        (False, 'from rps.utilities import barrier_certificates2\n', 'barrier_certificates2 from rps.utilities'),
+        (False, 'import rps.utilities.barrier_certificates2\n', 'the module rps.utilities.barrier_certificates2'),
+        (True, 'from rps.utilities.graph import cycleGL\n', 'cycleGL from rps.utilities.graph'),
+    ],
+)
+def test_a_name_of_the_other_generation_is_one_line_naming_classic(
+    classic: bool, source: str, hint: str, tmp_path, monkeypatch, capsys
+) -> None:
+    script = tmp_path / 'names.py'
+    script.write_text(source, encoding='utf-8')
+    monkeypatch.setattr(sys, 'argv', ['rps_alias', *(['--classic'] if classic else []), str(script)])
+    with pytest.raises(SystemExit) as exit_:
+        rps_alias.main()
+    err = capsys.readouterr().err
+    generation, fix = (
+        ('V2', f'without --classic: python -m robotarium_exp.rps_alias {script}')
+        if classic
+        else (
+            'classic',
+            f'with --classic: python -m robotarium_exp.rps_alias --classic {script}',
+        )
+    )
+    assert exit_.value.code == 1 and err.count('\n') == 1 and 'Traceback' not in err
+    assert f'imports {hint}, which only the {generation} generation of rps has; run it {fix}' in err
+
+
+@pytest.mark.usefixtures('clean_rps')
+def test_a_name_neither_generation_has_keeps_pythons_error(tmp_path, monkeypatch) -> None:
+    script = tmp_path / 'typo.py'
+    script.write_text('from rps.utilities.graph import cycle_gl\n', encoding='utf-8')
+    monkeypatch.setattr(sys, 'argv', ['rps_alias', str(script)])
+    with pytest.raises(ImportError, match="cannot import name 'cycle_gl'"):
+        rps_alias.main()
+
+
+EXAMPLES = Path(__file__).resolve().parents[3] / 'examples'
+
+
+@pytest.mark.usefixtures('clean_rps')
+@pytest.mark.parametrize(
+    ('flags', 'script', 'steps'),
+    [([], ['go_to_pose.py', '--iterations', '5'], 5), (['--classic'], ['wander.py', 'poses.npy'], 300)],
+)
+def test_log_records_the_shipped_examples_on_either_generation(
+    flags: list[str], script: list[str], steps: int, tmp_path, monkeypatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    log = tmp_path / 'run.npz'
+    monkeypatch.setattr(
+        sys, 'argv', ['rps_alias', '--seed', '0', *flags, '--log', str(log), str(EXAMPLES / script[0]), *script[1:]]
+    )
+    rps_alias.main()
+    arrays, meta = read_log(log)
+    assert meta['finished'] and meta['n_robots'] > 0
+    assert len(arrays['t_s']) >= steps and arrays['t_s'][0] == 0.0

@@ -104,13 +104,13 @@ def test_the_runner_records_a_script_on_the_bundled_simulator(tmp_path, monkeypa
     for name in [name for name in sys.modules if name == 'rps' or name.startswith('rps.')]:
         monkeypatch.delitem(sys.modules, name)
     monkeypatch.setattr(sys, 'argv', list(sys.argv))
-    monkeypatch.setattr(rps_package, 'robotarium', v2)  # the runner rebinds it; restored after the test
+    monkeypatch.setattr(sys, 'meta_path', list(sys.meta_path))  # the runner's rps finder: for this test only
     with monkeypatch.context() as patch:
         patch.setenv('VTUBE_HEADLESS', '1')
         recording.main(['--simulator', 'bundled', '--seed', '0', '--record', str(tmp_path / 'r.npz'), str(script)])
     for name in [name for name in sys.modules if name == 'rps' or name.startswith('rps.')]:
         del sys.modules[name]  # what the runner installed: only for its own process
-    assert rps_package.robotarium is not v2  # (restored at teardown)
+    assert rps_package.robotarium is v2  # the runner's rps.robotarium is a copy: our package is left as it was
     read = read_record(tmp_path / 'r.npz')
     assert read.robotariums == 1 and read.end_of_script and read.experiment_steps == 3
     assert read.poses.shape[2] == 2 and read.commands[0, 0].tolist() == [0.05, 0.05]

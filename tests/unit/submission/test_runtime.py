@@ -27,10 +27,10 @@ def test_saved_arrays_load_without_pickle(tmp_path, monkeypatch) -> None:
     import importlib
     import sys
 
-    from robotarium_exp.rps_alias import CLASSIC_MODULES
     from robotarium_exp.rps_classic import robotarium as classic
+    from robotarium_exp.rps_import import CLASSIC
 
-    for suffix in CLASSIC_MODULES:  # `import rps...` in the runtime resolves to the classic tree, for this test only
+    for suffix in CLASSIC.modules:  # `import rps...` in the runtime resolves to the classic tree, for this test only
         monkeypatch.setitem(sys.modules, 'rps' + suffix, importlib.import_module('robotarium_exp.rps_classic' + suffix))
 
     class Module:  # robots placed at the initial conditions
