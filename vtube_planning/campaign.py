@@ -19,6 +19,9 @@ saturation and the faults), the metrics to keep and what every run shares (:clas
     [settings]
     failure_at = 0.5                # where a failing robot fails, times the tube's length
 
+A top-level ``confirm_seeds = [100, 101, ...]`` runs those fresh seeds too, in every grid, and the report calls a
+claim only where it holds on the grid's seeds and again on these (a replication).
+
 Several grids (``[[grids]]`` tables of axes instead of one ``[axes]``, as ``vtube study`` builds for baselines
 flown on some scenes only) make one campaign whose runs are their products, in turn. Each run has a stable key (a
 hash of everything that decides the run). Runs are made by :mod:`vtube_planning.campaign_runner` and stored in the
@@ -99,6 +102,9 @@ class Campaign:
     name: str = 'campaign'
     out: Path | None = None
     """Where it runs unless told otherwise (``out`` in the file, relative to it); not part of what it is."""
+    confirm_seeds: tuple[int, ...] = ()
+    """Fresh seeds, run in every grid besides its own, on which the report confirms what the others found
+    (:func:`~vtube_planning.study_report.paired_table`)."""
 
     def __post_init__(self) -> None:
         if not self.grids:
@@ -119,6 +125,15 @@ class Campaign:
             msg = f'unknown metric {wrong[0]!r}' if wrong else 'the campaign keeps no metric'
             raise CampaignError(f'{msg}; choose from {", ".join(METRICS)}.')
         _check_settings(self.settings)
+        if self.confirm_seeds:
+            _check_values('seed', self.confirm_seeds)
+            reused = sorted({s for g in self.grids for s in g.get('seed', (0,))} & set(self.confirm_seeds))
+            if reused:
+                msg = (
+                    f'confirm_seeds must be fresh seeds, not among the seeds the grids run (axes.seed): {reused} '
+                    'are in both; give seeds the grids do not run, e.g. confirm_seeds = "100-109".'
+                )
+                raise CampaignError(msg)
 
     @classmethod
     def from_toml(cls, path: Path) -> Campaign:
@@ -139,9 +154,12 @@ class Campaign:
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], base: Path | None = None) -> Campaign:
         """A campaign from its parsed TOML (or :meth:`to_json`); relative scene paths are taken from ``base``."""
-        unknown = [k for k in data if k not in ('name', 'out', 'axes', 'grids', 'metrics', 'settings')]
+        unknown = [k for k in data if k not in ('name', 'out', 'axes', 'grids', 'metrics', 'settings', 'confirm_seeds')]
         if unknown:
-            msg = f'unknown key {unknown[0]!r}; a campaign has name, out, axes (or grids), metrics and settings.'
+            msg = (
+                f'unknown key {unknown[0]!r}; a campaign has name, out, axes (or grids), metrics, settings and '
+                'confirm_seeds.'
+            )
             raise CampaignError(msg)
         if ('axes' in data) == ('grids' in data):
             msg = 'give the axes once: one [axes] table, or several [[grids]] tables.'
@@ -164,7 +182,8 @@ class Campaign:
             raise CampaignError(msg)
         name = str(data.get('name', 'campaign'))
         out = None if data.get('out') is None else (base or Path()) / str(data['out'])
-        return cls(values, tuple(metrics), RunSettings(**settings), name, out)
+        confirm = _axis_values('seed', data['confirm_seeds'], base) if 'confirm_seeds' in data else ()
+        return cls(values, tuple(metrics), RunSettings(**settings), name, out, confirm)
 
     @property
     def columns(self) -> list[str]:
@@ -181,6 +200,7 @@ class Campaign:
                 scene = load_scene(scene_name)
                 own = {'n_robots': (scene.swarm.n_robots,), 'saturation': (scene.control.saturation,)}
                 axes = [grid.get(a) or own.get(a) or (getattr(Point, a),) for a in AXES if a != 'scene']
+                axes[list(AXES).index('seed') - 1] += self.confirm_seeds
                 for combination in itertools.product(*axes):
                     point = Point(scene_name, **dict(zip(list(AXES)[1:], combination, strict=True)))
                     if point.failure != 'none' and self.settings.failure_robot >= (point.n_robots or 0):
@@ -199,7 +219,7 @@ class Campaign:
             'grids': [{axis: list(values) for axis, values in grid.items()} for grid in self.grids],
             'metrics': list(self.metrics),
             'settings': asdict(self.settings),
-        }
+        } | ({'confirm_seeds': list(self.confirm_seeds)} if self.confirm_seeds else {})
 
 
 LATER_AXES: dict[str, Any] = {'lag_s': 0.0, 'compensation': 'none'}

@@ -1,13 +1,19 @@
-"""Uncertainty of the study's numbers: bootstrap intervals of a mean, of a quantile, and of paired differences.
+"""Uncertainty of the study's numbers: bootstrap intervals, paired tests corrected for many cells, replication.
 
 A study cell (scene, mode, swarm size, robot model) has one value per seed. Its mean gets a 95 % bootstrap interval
-(scipy's BCa, percentile for quantiles). Two modes flown from the same seeds are compared *paired*: the interval of
-the mean of the per-seed differences, which removes what the seed does to both (the initial formation's jitter). A
-claim "mode A beats mode B on a metric" holds only where that interval excludes zero on A's side.
+(scipy's BCa, percentile for quantiles). Two modes flown from the same seeds are compared *paired*: the mean of the
+per-seed differences, which removes what the seed does to both (the initial formation's jitter), with its interval,
+and the two-sided Wilcoxon signed-rank test of those differences (exact for small samples, no assumption of
+normality). A report compares the same two modes in many cells, so the p-values of one comparison and metric over
+the cells are adjusted by Holm's step-down method (which holds the chance of any false claim among them at ALPHA
+whatever their dependence). A claim "mode A beats mode B on a metric" holds in a cell only where the adjusted
+p-value is below ALPHA and the interval excludes zero on A's side, from at least MIN_SEEDS seeds; and, when fresh
+seeds were run to confirm it, only where it holds on them too (:func:`replicated`).
 """
 
 from __future__ import annotations
 
+import math
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -21,6 +27,13 @@ from vtube_planning.errors import ParamsError
 
 CONFIDENCE = 0.95
 RESAMPLES = 4999
+ALPHA = 0.05
+"""The chance of any false claim among one comparison's cells (family-wise, after Holm's adjustment)."""
+MIN_SEEDS = 6
+"""Paired seeds below which no verdict is called: the exact two-sided signed-rank test cannot go below 2 / 2**n, which
+is 0.0625 for five seeds, so with fewer than six no difference, however large, is significant at ALPHA."""
+NO_VERDICT = 'no verdict'
+NOT_REPLICATED = 'not replicated'
 
 
 @dataclass(frozen=True)
@@ -61,18 +74,57 @@ def paired_difference(a: ArrayLike, b: ArrayLike, *, seed: int = 0) -> Estimate:
     return mean_interval(a - b, seed=seed)
 
 
-def verdict(difference: Estimate, better: str) -> str:
-    """'holds', 'does not hold' (interval includes zero) or 'reversed' for a claim that a - b is ``better``.
+def signed_rank_p(differences: ArrayLike) -> float:
+    """Two-sided p-value of the Wilcoxon signed-rank test that the paired differences are centred on zero (zeros
+    left out, as Wilcoxon's; 1.0 when every difference is zero). Exact without ties up to 50 differences."""
+    d = np.asarray(differences, dtype=float).ravel()
+    d = d[d != 0.0]
+    if d.size == 0:
+        return 1.0
+    return float(stats.wilcoxon(d, zero_method='wilcox', alternative='two-sided').pvalue)
 
-    ``better`` is ``'higher'`` (say, minimum distance) or ``'lower'`` (passing time, collisions).
-    """
+
+def holm(p_values: Sequence[float]) -> NDArray[np.float64]:
+    """Holm's step-down adjustment of a family of p-values: the k-th smallest times (m - k + 1), made non-decreasing
+    in that order and at most 1; a claim holds where its adjusted p-value is below ALPHA."""
+    p = np.asarray(p_values, dtype=float)
+    order = np.argsort(p, kind='stable')
+    scaled = np.minimum(1.0, np.maximum.accumulate(p[order] * (p.size - np.arange(p.size))))
+    adjusted = np.empty_like(p)
+    adjusted[order] = scaled
+    return adjusted
+
+
+def verdict(difference: Estimate, better: str, p_adjusted: float) -> str:
+    """'holds', 'does not hold' or 'reversed' for a claim that a - b is ``better`` (``'higher'``, say minimum
+    distance, or ``'lower'``: passing time, collisions): significant where the adjusted p-value is below ALPHA and
+    the interval excludes zero; NO_VERDICT from fewer than MIN_SEEDS differences."""
     if better not in ('higher', 'lower'):
         msg = f"better must be 'higher' or 'lower'; got {better!r}."
         raise ParamsError(msg)
-    if not difference.excludes_zero():
+    if difference.n < MIN_SEEDS:
+        return NO_VERDICT
+    if not (difference.excludes_zero() and p_adjusted < ALPHA):
         return 'does not hold'
     sign = 1.0 if better == 'higher' else -1.0
     return 'holds' if sign * difference.value > 0 else 'reversed'
+
+
+def replicated(discovery: str, confirmation: str) -> str:
+    """A claim's verdict from the seeds it was found on and fresh seeds run to confirm it: a claim (or its
+    reversal) stands only where both say so; NOT_REPLICATED where the fresh seeds do not."""
+    if NO_VERDICT in (discovery, confirmation):
+        return NO_VERDICT
+    if discovery in ('holds', 'reversed'):
+        return discovery if confirmation == discovery else NOT_REPLICATED
+    return discovery
+
+
+def relative(difference: float, reference: ArrayLike) -> float:
+    """A difference as a share of the reference's mean magnitude (the effect size printed beside the interval);
+    NaN when that mean is zero."""
+    scale = abs(float(np.mean(np.asarray(reference, dtype=float))))
+    return difference / scale if scale > 0.0 else math.nan
 
 
 def _values(values: ArrayLike) -> NDArray[np.float64]:

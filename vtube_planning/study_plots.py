@@ -3,12 +3,23 @@ when a figure is drawn."""
 
 from __future__ import annotations
 
+from collections.abc import Collection
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+
+VERDICT_COLORS = {
+    'holds': 'tab:blue',
+    'reversed': 'tab:red',
+    'does not hold': 'tab:gray',
+    'not replicated': 'tab:orange',
+    'no verdict': 'lightgray',
+}
+"""A claim's colour in the difference figures, by verdict (:mod:`vtube_planning.stats`)."""
 
 
 def study_figure(summary: list[dict[str, Any]], collision_distance_m: float) -> Figure:
@@ -54,14 +65,15 @@ def study_figure(summary: list[dict[str, Any]], collision_distance_m: float) -> 
     return fig
 
 
-def paired_differences_figure(rows: list[dict[str, Any]]) -> Figure:
-    """A study's paired differences (a - b on the same seeds) with their 95 % intervals: one panel per metric, one
-    line per comparison and cell (scene, N, setting); filled where the claim holds."""
+def paired_differences_figure(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = ()) -> Figure:
+    """A study's paired differences (a - b on the same seeds; with ``confirm_seeds``, on the others) with their 95 %
+    intervals: one panel per metric, one line per comparison and cell (scene, N, setting); coloured by verdict
+    (:func:`~vtube_planning.study_report.paired_table`), filled where the claim holds."""
     from matplotlib.figure import Figure
 
     from vtube_planning.study_report import CLAIMS, COMPARISONS, paired_table, place_text, setting_text
 
-    table = paired_table(rows)
+    table = paired_table(rows, confirm_seeds)
 
     def label(p: dict[str, Any]) -> str:
         return f'{p["a"]} - {p["b"]}  |  {place_text(p)}, N={p["n_robots"]}, {setting_text(p)}'
@@ -70,7 +82,7 @@ def paired_differences_figure(rows: list[dict[str, Any]]) -> Figure:
     labels = [text for a, b, _ in COMPARISONS for text in present if text.startswith(f'{a} - {b}  |')]
     fig = Figure(figsize=(12.0, 1.2 + 0.22 * len(labels)), layout='constrained')
     axes = fig.subplots(1, len(CLAIMS), sharey=True)
-    colors = {'holds': 'tab:blue', 'reversed': 'tab:red', 'does not hold': 'tab:gray'}
+    colors = VERDICT_COLORS
     for ax, (metric, _, title) in zip(axes, CLAIMS, strict=True):
         for p in (p for p in table if p['metric'] == metric):
             k = labels.index(label(p))
@@ -150,7 +162,7 @@ def map_differences_figure(rows: list[dict[str, Any]]) -> Figure:
     labels = list(dict.fromkeys(_map_label(f, setting_text(f)) for f in found))
     fig = Figure(figsize=(12.0, 1.4 + 0.5 * len(labels)), layout='constrained')
     axes = fig.subplots(1, len(CLAIMS), sharey=True)
-    colors = {'holds': 'tab:blue', 'reversed': 'tab:red', 'does not hold': 'tab:gray'}
+    colors = VERDICT_COLORS
     spread = np.random.default_rng(0)
     for ax, (metric, _, title) in zip(axes, CLAIMS, strict=True):
         for f in (f for f in found if f['metric'] == metric):

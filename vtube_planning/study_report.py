@@ -8,13 +8,27 @@ the paper's comparison per scene is in :mod:`vtube_planning.paper_report`.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import math
+from collections.abc import Callable, Collection
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from vtube_planning.stats import Estimate, cell_values, mean_interval, paired_difference, verdict
+from vtube_planning.stats import (
+    MIN_SEEDS,
+    NO_VERDICT,
+    NOT_REPLICATED,
+    Estimate,
+    cell_values,
+    holm,
+    mean_interval,
+    paired_difference,
+    relative,
+    replicated,
+    signed_rank_p,
+    verdict,
+)
 
 COMPARISONS = (
     ('planning', 'no planning', "the paper's comparison"),
@@ -82,17 +96,19 @@ def setting_text(row: dict[str, Any]) -> str:
     return ', '.join(words)
 
 
-def verdict_summary(rows: list[dict[str, Any]]) -> str:
+def verdict_summary(table: list[dict[str, Any]]) -> str:
     """Where each comparison's claim holds: per setting (:func:`setting_text`), in how many cells (scene, N) the
-    paired interval says a beats b (+), cannot tell (=) or b beats a (-), for each metric of CLAIMS."""
-    table = paired_table(rows)
+    paired test of :func:`paired_table` says a beats b (+), cannot tell (=) or b beats a (-), where the fresh seeds
+    did not confirm it (~) and where there were too few seeds for a verdict (?), for each metric of CLAIMS."""
     settings = list(dict.fromkeys(setting_text(p) for p in table))
     compared = [c for c in COMPARISONS if any((p['a'], p['b']) == c[:2] for p in table)]
-    cells = '(scene, map, N)' if any(r.get('map') not in (None, 'none') for r in rows) else '(scene, N)'
+    cells = '(scene, map, N)' if any(r.get('map') not in (None, 'none') for r in table) else '(scene, N)'
     lines = [
         (
-            f'Cells {cells} where a beats b (+), the interval includes zero (=), or b beats a (-); '
-            'T: passing time (shorter is better), D: minimum distance (larger is better).'
+            f'Cells {cells} where a beats b (+), cannot be told apart (=), or b beats a (-): the paired signed-rank '
+            f'test, Holm-adjusted over the cells of each comparison and metric, below {_ALPHA_TEXT} and the 95 % '
+            f'interval on that side; ~: not confirmed on the fresh seeds; ?: fewer than {MIN_SEEDS} seeds, no '
+            'verdict. T: passing time (shorter is better), D: minimum distance (larger is better).'
         ),
         '',
         '| setting | ' + ' | '.join(f'{a} - {b} ({meaning})' for a, b, meaning in compared) + ' |',
@@ -108,18 +124,23 @@ def verdict_summary(rows: list[dict[str, Any]]) -> str:
                     for p in table
                     if (p['a'], p['b'], p['metric']) == (a, b, metric) and setting_text(p) == setting
                 ]
-                plus, same, minus = (found.count(v) for v in ('holds', 'does not hold', 'reversed'))
-                counts.append(f'{letter} +{plus} ={same} -{minus}')
+                text = ' '.join(f'{sign}{found.count(v)}' for sign, v in _SIGNS if found.count(v) or sign in '+=-')
+                counts.append(f'{letter} {text}')
             cols.append(', '.join(counts))
         lines.append(f'| {setting} | ' + ' | '.join(cols) + ' |')
     return '\n'.join(lines) + '\n'
 
 
+_SIGNS = (('+', 'holds'), ('=', 'does not hold'), ('-', 'reversed'), ('~', NOT_REPLICATED), ('?', NO_VERDICT))
+_ALPHA_TEXT = '0.05'
+
+
 def map_differences(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """Over the random maps of each population (scene, N, setting, map family and difficulty), the comparisons of
     COMPARISONS on each metric of CLAIMS: the mean over maps of each map's mean paired difference (a - b over its
-    seeds) with its 95 % bootstrap interval over maps (the maps are the sample: the claim is about the family, not
-    one map) and verdict, ``per_map``: each map's mean difference, and ``counts``: the verdicts of the maps' own paired intervals. A map whose runs did not
+    seeds) with its 95 % bootstrap interval and signed-rank test over maps (the maps are the sample: the claim is
+    about the family, not one map), Holm-adjusted over the populations, and verdict; ``per_map``: each map's mean
+    difference, and ``counts``: where the maps' own paired intervals lie. A map whose runs did not
     all complete is left out of that comparison."""
     out = []
     mapped = [r for r in rows if r.get('map') not in (None, 'none')]
@@ -133,15 +154,31 @@ def map_differences(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
                 if len(pairs) < 2:
                     continue
                 per_map = [float(np.mean(x - y)) for x, y in pairs]
-                estimate = mean_interval(per_map)
-                own = [verdict(d, better) for d in (_paired(x, y) for x, y in pairs) if d is not None]
-                counts = ' '.join(f'{s}{own.count(v)}' for s, v in zip('+=-', _VERDICTS, strict=True))
-                first = sel[0] | {'a': a, 'b': b, 'metric': metric, 'per_map': per_map, 'counts': counts}
-                out.append(first | {'estimate': estimate, 'verdict': verdict(estimate, better)})
-    return out
+                own = [_direction(d, better) for d in (_paired(x, y) for x, y in pairs) if d is not None]
+                counts = ' '.join(f'{s}{own.count(s)}' for s in '+=-')
+                first = sel[0] | {'a': a, 'b': b, 'metric': metric, 'better': better, 'per_map': per_map}
+                out.append(first | {'counts': counts, 'estimate': mean_interval(per_map), 'p': signed_rank_p(per_map)})
+    return _adjusted(out)
 
 
-_VERDICTS = ('holds', 'does not hold', 'reversed')
+def _direction(difference: Estimate, better: str) -> str:
+    """Which side of zero a map's own interval lies on: a beats b (+), cannot tell (=), b beats a (-)."""
+    if not difference.excludes_zero():
+        return '='
+    return '+' if (difference.value > 0) == (better == 'higher') else '-'
+
+
+def _adjusted(tests: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """``tests`` (each with a, b, metric, better, estimate and p) with ``p_holm``, adjusted over the tests of the
+    same comparison and metric that have MIN_SEEDS values or more, and ``verdict``."""
+    for family in dict.fromkeys((t['a'], t['b'], t['metric']) for t in tests):
+        members = [t for t in tests if (t['a'], t['b'], t['metric']) == family and t['estimate'].n >= MIN_SEEDS]
+        for t, adjusted in zip(members, holm([t['p'] for t in members]), strict=True):
+            t['p_holm'] = float(adjusted)
+    for t in tests:
+        t.setdefault('p_holm', math.nan)
+        t['verdict'] = verdict(t['estimate'], t['better'], t['p_holm'])
+    return tests
 
 
 def _population(row: dict[str, Any]) -> tuple[Any, ...]:
@@ -155,8 +192,8 @@ def map_summary(rows: list[dict[str, Any]]) -> str:
         return ''
     lines = [
         (
-            "Over the random maps (each map the mean of its seeds; 95 % interval over maps), and how many maps' own "
-            'intervals say a beats b (+), cannot tell (=) or b beats a (-):'
+            'Over the random maps (each map the mean of its seeds; 95 % interval and signed-rank test over maps, '
+            "Holm-adjusted p), and how many maps' own intervals lie on a's side (+), across zero (=) or on b's (-):"
         ),
         '',
         '| maps | setting | comparison (a - b) | ' + ' | '.join(t for _, _, t in CLAIMS) + ' |',
@@ -165,7 +202,7 @@ def map_summary(rows: list[dict[str, Any]]) -> str:
     for head in dict.fromkeys((*_population(f), f['a'], f['b']) for f in found):
         match = {f['metric']: f for f in found if (*_population(f), f['a'], f['b']) == head}
         f = next(iter(match.values()))
-        cols = [f'{g["estimate"].text(3)}: {g["verdict"]} ({g["counts"]})' for g in match.values()]
+        cols = [f'{_test_text(g)} ({g["counts"]})' for g in match.values()]
         maps = f'{len(f["per_map"])} {_population_text(f)} maps, scene {f["scene"]}, N = {f["n_robots"]}'
         lines.append(f'| {maps} | {setting_text(f)} | {f["a"]} - {f["b"]} | ' + ' | '.join(cols) + ' |')
     return '\n'.join(lines) + '\n'
@@ -220,12 +257,13 @@ _CELL_COLUMNS: tuple[tuple[str, str, Callable[[NDArray[np.float64]], str]], ...]
 """The columns of the reports: metric, header, and how a selection's values are written."""
 
 
-def grid_markdown(rows: list[dict[str, Any]]) -> str:
+def grid_markdown(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = ()) -> str:
     """A study's report: where each comparison holds (:func:`verdict_summary`), collisions per mode
     (:func:`mode_summary`), then per cell (scene, N, setting) each mode's means with 95 % bootstrap intervals and
-    the paired differences of COMPARISONS with their intervals and verdicts (a claim holds only where the interval
-    excludes zero)."""
-    lines: list[str] = [verdict_summary(rows), map_summary(rows), mode_summary(rows)]
+    the paired differences of COMPARISONS with their intervals, effect sizes, adjusted p-values and verdicts
+    (:func:`paired_table`; with ``confirm_seeds``, on the other seeds and on those)."""
+    table = paired_table(rows, confirm_seeds)
+    lines: list[str] = [verdict_summary(table), map_summary(rows), mode_summary(rows)]
     for cell in dict.fromkeys(_cell(r) for r in rows):
         sel = [r for r in rows if _cell(r) == cell]
         modes = list(dict.fromkeys(r['mode'] for r in sel))
@@ -241,29 +279,68 @@ def grid_markdown(rows: list[dict[str, Any]]) -> str:
         for mode in modes:
             cols = [text(cell_values(sel, metric, mode=mode)) for metric, _, text in columns]
             lines.append(f'| {mode} | ' + ' | '.join(cols) + ' |')
-        differences = paired_table(sel)
+        differences = [p for p in table if _cell(p) == cell]
         compared = [c for c in COMPARISONS if any((p['a'], p['b']) == c[:2] for p in differences)]
         if compared:
+            seeds_note = ' (seeds found on; fresh seeds)' if confirm_seeds else ''
             lines += [
                 '',
-                '| comparison (a - b, same seeds) | ' + ' | '.join(t for _, _, t in CLAIMS) + ' |',
+                f'| comparison (a - b, same seeds{seeds_note}) | ' + ' | '.join(t for _, _, t in CLAIMS) + ' |',
                 '|---|---|---|',
             ]
         for a, b, meaning in compared:
             found = {p['metric']: p for p in differences if (p['a'], p['b']) == (a, b)}
-            cols = [
-                f'{found[m]["estimate"].text(3)}: {found[m]["verdict"]}' if m in found else 'n/a' for m, _, _ in CLAIMS
-            ]
+            cols = [_claim_text(found[m]) if m in found else 'n/a' for m, _, _ in CLAIMS]
             lines.append(f'| {a} - {b} ({meaning}) | ' + ' | '.join(cols) + ' |')
         lines.append('')
     return '\n'.join(lines)
 
 
-def paired_table(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+def _test_text(test: dict[str, Any]) -> str:
+    """A paired difference, its interval, its effect size, its adjusted p-value and its verdict."""
+    effect = '' if math.isnan(test.get('relative', math.nan)) else f' ({test["relative"]:+.0%})'
+    p = 'p n/a' if math.isnan(test['p_holm']) else f'p {test["p_holm"]:.2g}'
+    return f'{test["estimate"].text(3)}{effect}, {p}: {test.get("discovery_verdict", test["verdict"])}'
+
+
+def _claim_text(test: dict[str, Any]) -> str:
+    """:func:`_test_text`, and with fresh seeds theirs and the verdict of both."""
+    again = test.get('confirmation')
+    if 'discovery_verdict' not in test:
+        return _test_text(test)
+    fresh = 'none of the fresh seeds' if again is None else _test_text(again)
+    return f'{_test_text(test)}; {fresh} => **{test["verdict"]}**'
+
+
+def paired_table(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = ()) -> list[dict[str, Any]]:
     """Per cell (CELL_AXES), the paired differences of COMPARISONS on each metric of CLAIMS: dicts with the cell's
-    fields, a, b, metric, estimate (an :class:`~vtube_planning.stats.Estimate`) and verdict. Comparisons whose
+    fields, a, b, metric, estimate (an :class:`~vtube_planning.stats.Estimate`), p (signed-rank), p_holm (adjusted
+    over the cells of the comparison and metric), relative (the effect as a share of b's mean) and verdict.
+
+    With ``confirm_seeds`` (fresh seeds run to confirm), all that is computed on the other seeds, ``confirmation``
+    holds the same on the fresh ones (adjusted over their own cells) and ``verdict`` is both's
+    (:func:`~vtube_planning.stats.replicated`; the first seeds' own is ``discovery_verdict``). Comparisons whose
     modes are missing, or whose runs did not all complete, are left out."""
+    confirm = set(confirm_seeds)
+    found = _judged([r for r in rows if r['seed'] not in confirm])
+    if not confirm:
+        return found
+    again = {_test_key(t): t for t in _judged([r for r in rows if r['seed'] in confirm])}
     out = []
+    for t in found:
+        fresh = again.get(_test_key(t))
+        final = replicated(t['verdict'], fresh['verdict']) if fresh else NO_VERDICT
+        out.append(t | {'discovery_verdict': t['verdict'], 'confirmation': fresh, 'verdict': final})
+    return out
+
+
+def _test_key(test: dict[str, Any]) -> tuple[Any, ...]:
+    return (*_cell(test), test['a'], test['b'], test['metric'])
+
+
+def _judged(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The paired tests of :func:`paired_table` on ``rows``, judged together (:func:`_adjusted`)."""
+    tests = []
     for cell in dict.fromkeys(_cell(r) for r in rows):
         sel = [r for r in rows if _cell(r) == cell]
         fields = dict(zip(CELL_AXES, cell, strict=True))
@@ -271,12 +348,12 @@ def paired_table(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
             for metric, better, _ in CLAIMS:
                 if metric not in sel[0]:
                     continue
-                diff = _paired(cell_values(sel, metric, mode=a), cell_values(sel, metric, mode=b))
+                x, y = cell_values(sel, metric, mode=a), cell_values(sel, metric, mode=b)
+                diff = _paired(x, y)
                 if diff is not None:
-                    out.append(
-                        fields | {'a': a, 'b': b, 'metric': metric, 'estimate': diff, 'verdict': verdict(diff, better)}
-                    )
-    return out
+                    found = {'estimate': diff, 'p': signed_rank_p(x - y), 'relative': relative(diff.value, y)}
+                    tests.append(fields | {'a': a, 'b': b, 'metric': metric, 'better': better} | found)
+    return _adjusted(tests)
 
 
 def _interval(values: NDArray[np.float64], digits: int) -> str:

@@ -29,6 +29,7 @@ import argparse
 import contextlib
 import dataclasses
 import hashlib
+import importlib
 import importlib.metadata
 import io
 import json
@@ -47,6 +48,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+import cvxopt
 import numpy as np
 
 # The library, through as few and as stable names as possible: where a module moves, fix these lines only.
@@ -256,17 +258,21 @@ def _submission(filename: str) -> tuple[Arrays, Scalars]:
     """A committed submission file run as ``rps_alias --seed 0 FILE`` runs it: every pose the simulator handed out,
     and every numeric array the file saved (compared by content: names may change)."""
     rps_modules = {name: module for name, module in sys.modules.items() if name.split('.')[0] == 'rps'}
+    finders, qp_options = list(sys.meta_path), dict(cvxopt.solvers.options)
     with tempfile.TemporaryDirectory() as folder, _inside(Path(folder)), _headless():
         try:
             install_rps(seed=0)
-            module = sys.modules['rps.robotarium']
+            module = importlib.import_module('rps.robotarium')
             recorder = _Recorder(module.Robotarium)
             module.Robotarium = recorder.cls  # type: ignore[attr-defined]
             runpy.run_path(str(ROOT / 'submissions' / filename), run_name='__main__')
-        finally:
+        finally:  # undo what install and the official imports did: rps names, the finder, cvxopt's options
             for name in [name for name in sys.modules if name.split('.')[0] == 'rps']:
                 del sys.modules[name]
             sys.modules.update(rps_modules)
+            sys.meta_path[:] = finders
+            cvxopt.solvers.options.clear()
+            cvxopt.solvers.options.update(qp_options)
         saved = _saved_arrays(Path(folder))
     arrays = {'get_poses': recorder.array()} | {f'saved.{name}': a for name, a in saved.items()}
     return arrays, _scalars(recorder.verdict(), 'simulator')

@@ -236,11 +236,14 @@ def write_report(out: Path) -> CampaignReport | None:
     head = f'Campaign {campaign.name!r}: {len(rows)} runs'
     if missing:
         head += f' ({missing} of the grid missing or failed: the tables are partial; rerun the campaign to finish)'
-    text = f'{head}.\n\n' + grid_markdown(rows)
+    text = f'{head}.\n\n' + grid_markdown(rows, campaign.confirm_seeds)
     write_atomically(out / 'report.md', text)
-    differences = study_plots.map_differences_figure if map_differences(rows) else study_plots.paired_differences_figure
+    if map_differences(rows):
+        differences = study_plots.map_differences_figure(rows)
+    else:
+        differences = study_plots.paired_differences_figure(rows, campaign.confirm_seeds)
     figures = (
-        plots.save_figure(differences(rows), out / 'differences.png'),
+        plots.save_figure(differences, out / 'differences.png'),
         plots.save_figure(study_plots.cell_means_figure(rows), out / 'means.png'),
     )
     return CampaignReport(text, (out / 'report.md', *figures))

@@ -56,6 +56,19 @@ def test_a_campaign_file_expands_into_runs_with_stable_keys(tmp_path) -> None:
     assert len(maps) == 2 * len(points) and {(p.map, p.map_seed) for p in maps} == {('forest', 0), ('forest', 1)}
 
 
+def test_fresh_seeds_to_confirm_are_run_in_every_grid_and_recorded() -> None:
+    """confirm_seeds adds runs at those seeds (keys as any run's), is recorded only when given (older folders keep
+    their campaign.json) and must not reuse a seed the grids run."""
+    data = {'axes': {'scene': ['C'], 'mode': ['planning'], 'seed': 2}, 'confirm_seeds': [100, 101]}
+    campaign = Campaign.from_dict(data)
+    assert [p.seed for p in campaign.points()] == [0, 1, 100, 101] and campaign.confirm_seeds == (100, 101)
+    assert Campaign.from_dict(campaign.to_json()) == campaign
+    plain = Campaign.from_dict({k: v for k, v in data.items() if k != 'confirm_seeds'})
+    assert 'confirm_seeds' not in plain.to_json() and plain.points() == campaign.points()[:2]
+    with pytest.raises(ValueError, match=r'must be fresh seeds.*\[1\] are in both'):
+        Campaign.from_dict(data | {'confirm_seeds': [1, 5]})
+
+
 BAD_CAMPAIGNS = {
     'unknown axis': (FAULTS + 'speed = [1.0]\n', "unknown axis 'speed'; the axes are scene, map, map_seed"),
     'unknown metric': ('metrics = ["fun"]\n' + FAULTS, "unknown metric 'fun'; choose from passing_time_s"),

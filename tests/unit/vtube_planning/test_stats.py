@@ -7,11 +7,18 @@ import pytest
 
 from vtube_planning.errors import ParamsError
 from vtube_planning.stats import (
+    MIN_SEEDS,
+    NO_VERDICT,
+    NOT_REPLICATED,
     Estimate,
     cell_values,
+    holm,
     mean_interval,
     paired_difference,
     quantile_interval,
+    relative,
+    replicated,
+    signed_rank_p,
     verdict,
 )
 
@@ -38,7 +45,10 @@ def test_pairing_removes_what_the_seed_does_to_both_modes() -> None:
     b = seed_effect
     paired = paired_difference(a, b)
     assert paired.low > 0.0 and paired.low <= 0.05 <= paired.high
-    assert verdict(paired, 'higher') == 'holds' and verdict(paired, 'lower') == 'reversed'
+    p = signed_rank_p(a - b)
+    assert p == pytest.approx(2 / 2**10)  # every seed agrees: the exact test's smallest two-sided p-value
+    assert verdict(paired, 'higher', p) == 'holds' and verdict(paired, 'lower', p) == 'reversed'
+    assert verdict(paired, 'higher', 0.06) == 'does not hold'  # significant only after the adjustment allows
     unpaired_a, unpaired_b = mean_interval(a), mean_interval(b)
     assert unpaired_a.low < unpaired_b.high  # the unpaired intervals overlap: they could not tell
 
@@ -46,7 +56,7 @@ def test_pairing_removes_what_the_seed_does_to_both_modes() -> None:
 def test_no_difference_does_not_hold() -> None:
     rng = np.random.default_rng(4)
     same = paired_difference(rng.normal(0.0, 1.0, 12), rng.normal(0.0, 1.0, 12))
-    assert same.low < 0.0 < same.high and verdict(same, 'higher') == 'does not hold'
+    assert same.low < 0.0 < same.high and verdict(same, 'higher', 0.001) == 'does not hold'  # the interval decides too
 
 
 def test_quantile_interval_of_a_known_distribution() -> None:
@@ -77,3 +87,49 @@ def test_cell_values_are_ordered_by_seed_and_filtered() -> None:
         {'mode': 'a', 'seed': 1, 'x': 10.0},
     ]
     np.testing.assert_array_equal(cell_values(rows, 'x', mode='a'), [0.0, 10.0, 20.0])
+
+
+def test_signed_rank_p_against_the_exact_distribution_enumerated() -> None:
+    """Small samples without ties: the two-sided p-value is the share of the 2**n sign assignments whose signed-rank
+    sum is at least as far from its centre as the observed one's (counted here by brute force)."""
+    import itertools
+
+    rng = np.random.default_rng(6)
+    for n in (6, 7, 9):
+        d = rng.normal(0.3, 1.0, n)
+        ranks = np.argsort(np.argsort(np.abs(d))) + 1
+        observed = ranks[d > 0].sum()
+        centre = n * (n + 1) / 4
+        sums = [ranks[np.array(signs, dtype=bool)].sum() for signs in itertools.product([0, 1], repeat=n)]
+        exact = np.mean([abs(t - centre) >= abs(observed - centre) - 1e-9 for t in sums])
+        assert signed_rank_p(d) == pytest.approx(exact)
+    assert signed_rank_p(np.zeros(8)) == 1.0 and signed_rank_p([0.0, 0.0, 0.5, 0.7, 0.9, 1.1, 1.3, 1.7]) < 0.05
+
+
+def test_holm_against_its_definition_on_random_families() -> None:
+    """Adjusted p-values: the running maximum of (m - k + 1) p_(k) in ascending order, capped at 1; rejecting where
+    it is below alpha is the step-down rule (reject the smallest while p_(k) < alpha / (m - k + 1))."""
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        p = rng.uniform(0.0, 0.2, int(rng.integers(1, 30))) ** 2
+        adjusted = holm(p)
+        order = np.argsort(p)
+        m = p.size
+        expected = np.minimum(1.0, np.maximum.accumulate([(m - k) * p[i] for k, i in enumerate(order)]))
+        np.testing.assert_allclose(adjusted[order], expected)
+        stop = next((k for k, i in enumerate(order) if p[i] >= 0.05 / (m - k)), m)
+        assert set(np.flatnonzero(adjusted < 0.05)) == set(order[:stop].tolist())
+        assert np.all(adjusted >= p)
+
+
+def test_too_few_seeds_get_no_verdict_and_replication_needs_both() -> None:
+    """Five seeds that all agree cannot reach 5 % two-sided (2/32): no verdict below MIN_SEEDS, whatever the effect;
+    a claim stands only where the fresh seeds say it again."""
+    big = paired_difference([10.0, 11.0, 12.0, 13.0, 14.0], [0.0] * 5)
+    assert MIN_SEEDS == 6 and signed_rank_p(np.arange(1.0, 6.0)) == pytest.approx(2 / 32)
+    assert verdict(big, 'higher', 0.0) == NO_VERDICT
+    assert replicated('holds', 'holds') == 'holds' and replicated('reversed', 'reversed') == 'reversed'
+    assert replicated('holds', 'does not hold') == NOT_REPLICATED == replicated('holds', 'reversed')
+    assert replicated('does not hold', 'holds') == 'does not hold'  # a claim not found is not found by replicating
+    assert replicated('holds', NO_VERDICT) == NO_VERDICT
+    assert relative(-0.5, [2.0, 2.0]) == -0.25 and np.isnan(relative(1.0, [1.0, -1.0]))

@@ -31,7 +31,7 @@ def test_the_verdict_summary_counts_cells_on_synthetic_rows() -> None:
         (40, 'passing_time_s'): 'does not hold',
         (40, 'min_distance_m'): 'does not hold',
     }
-    text = verdict_summary(rows)
+    text = verdict_summary(paired_table(rows))
     assert "| setting | planning - no planning (the paper's comparison) |" in text  # the only comparison flown
     assert '| paper model, radial sat | T +1 =1 -0, D +1 =1 -0 |' in text
 
@@ -61,3 +61,52 @@ def test_over_random_maps_the_maps_are_the_sample() -> None:
     assert '| 10 bottleneck (clutter 30, opening 4 m) maps, scene C, N = 20 | paper model, radial sat |' in text
     assert '### Scene C on bottleneck (clutter 30, opening 4 m) map 9, N = 20' in grid_markdown(rows)
     assert map_summary([r | {'map': 'none'} for r in rows]) == ''  # no maps: no such table
+
+
+def cells(gains: list[float], seeds: range, rng: np.random.Generator) -> list[dict]:
+    """One cell per gain (N = 1, 2, ...): planning faster by the gain on each seed, give or take 10 %."""
+    rows = []
+    for n, gain in enumerate(gains, start=1):
+        for seed in seeds:
+            base = {'scene': 'C', 'n_robots': n, 'seed': seed, 'model': 'paper', 'saturation': 'radial'}
+            rows.append(base | {'mode': 'no planning', 'passing_time_s': 20.0, 'min_distance_m': 0.8})
+            noisy = 20.0 - gain * (1.0 + rng.normal(0.0, 0.1))
+            rows.append(base | {'mode': 'planning', 'passing_time_s': noisy, 'min_distance_m': 0.8})
+    return rows
+
+
+def test_a_verdict_is_adjusted_for_the_cells_compared() -> None:
+    """Seven seeds that all agree give p = 2/128 = 0.016: a claim alone, but not one of twenty cells that all show
+    it as weakly (Holm: 20 x 0.016 > 0.05); ten such seeds (p = 0.002) survive among twenty."""
+    from vtube_planning.study_report import paired_table
+
+    rng = np.random.default_rng(2)
+    alone = paired_table(cells([1.0], range(7), rng))
+    timed = [p for p in alone if p['metric'] == 'passing_time_s']
+    assert [p['verdict'] for p in timed] == ['holds'] and timed[0]['p_holm'] == timed[0]['p'] == 2 / 128
+    among = [p for p in paired_table(cells([1.0] * 20, range(7), rng)) if p['metric'] == 'passing_time_s']
+    assert {p['verdict'] for p in among} == {'does not hold'} and {p['p_holm'] for p in among} == {20 * 2 / 128}
+    ten = [p for p in paired_table(cells([1.0] * 20, range(10), rng)) if p['metric'] == 'passing_time_s']
+    assert {p['verdict'] for p in ten} == {'holds'}
+    assert ten[0]['relative'] == ten[0]['estimate'].value / 20.0  # the effect as a share of b's mean
+
+
+def test_fresh_seeds_confirm_or_not_and_too_few_seeds_get_no_verdict() -> None:
+    """Cell 1 is faster on seeds 0-9 and on the fresh seeds 100-109; cell 2 only on 0-9 (the fresh seeds show
+    nothing): it is reported as not replicated, both sets side by side. Four seeds: no verdict."""
+    from vtube_planning.study_report import grid_markdown, paired_table, verdict_summary
+
+    rng = np.random.default_rng(3)
+    rows = cells([1.0, 1.0], range(10), rng) + cells([1.0, 0.0], range(100, 110), rng)
+    table = [p for p in paired_table(rows, confirm_seeds=range(100, 110)) if p['metric'] == 'passing_time_s']
+    assert [(p['n_robots'], p['discovery_verdict'], p['verdict']) for p in table] == [
+        (1, 'holds', 'holds'),
+        (2, 'holds', 'not replicated'),
+    ]
+    assert table[1]['confirmation']['verdict'] == 'does not hold' and table[1]['confirmation']['estimate'].n == 10
+    text = grid_markdown(rows, confirm_seeds=range(100, 110))
+    assert '=> **not replicated**' in text and '(seeds found on; fresh seeds)' in text
+    assert 'T +1 =0 -0 ~1' in verdict_summary(paired_table(rows, range(100, 110)))
+    few = [p for p in paired_table(cells([5.0], range(4), rng)) if p['metric'] == 'passing_time_s']
+    assert few[0]['verdict'] == 'no verdict' and np.isnan(few[0]['p_holm'])
+    assert 'T +0 =0 -0 ?1' in verdict_summary(paired_table(cells([5.0], range(4), rng)))
