@@ -58,7 +58,7 @@ BAD = [
         'length_m in [tube.center.pieces[0]] must be at most',
     ),
     ('binary submission', 'submission check {tmp}/binary.py', 2, 'is not a Python source file'),
-    ('check without runs', 'submission check {tmp}/binary.py --seeds 0', 2, "'0' is not a whole number >= 1"),
+    ('check without runs', 'submission check {tmp}/binary.py --seeds 0', 2, "'0' runs no seed: a bare number is a"),
     ('npz not a plan', 'simulate A --out {out} --plan {tmp}/notaplan.npz', 2, 'without vtube metadata, not a plan'),
     ('damaged plan', 'simulate A --out {out} --plan {tmp}/damaged.npz', 2, 'is not an .npz archive, or it is damaged'),
     ('npy as plan', 'simulate A --out {out} --plan {tmp}/bare.npy', 2, 'holds one bare array (.npy), not a plan'),
