@@ -18,7 +18,7 @@ import pprint
 import sys
 import tempfile
 import textwrap
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from types import FunctionType, ModuleType
@@ -143,7 +143,7 @@ def build_declared(
     plan: Plan | None,
     path: str | Path,
     *,
-    seeds: int = 3,
+    seeds: int | Sequence[int] = 3,
     initializer_seeds: int = FULL_BUILD_INITIALIZER_SEEDS,
     run_timeout_s: float = RUN_TIMEOUT_S,
     progress: Callable[[str], None] | None = None,

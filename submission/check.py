@@ -26,7 +26,7 @@ import os
 import subprocess
 import sys
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
@@ -256,18 +256,20 @@ def _completed(record: SimulatorRecord | None, data: FlightData) -> bool:
 def check(
     path: str | Path,
     *,
-    seeds: int = 3,
+    seeds: int | Sequence[int] = 3,
     initializer_seeds: int = 200,
     run_timeout_s: float = RUN_TIMEOUT_S,
     progress: Callable[[str], None] | None = None,
     seed_done: Callable[[], None] | None = None,
     testbed_models: tuple[str, ...] = CHECKED_MODELS,
 ) -> CheckReport:
-    """Run the whole preflight on a submission file: ``seeds`` runs under each of ``testbed_models``; the
+    """Run the whole preflight on a submission file: a run per seed of ``seeds`` (a count n: seeds 0..n-1) under
+    each of ``testbed_models``; the
     initializer alone over ``initializer_seeds`` seeds; each run of the file stopped after ``run_timeout_s``;
     ``progress`` is told what starts, ``seed_done`` each initializer seed that ends."""
     path = Path(path).resolve()
-    source = _read_source(path, seeds)
+    run_seeds = tuple(range(seeds)) if isinstance(seeds, int) else tuple(seeds)
+    source = _read_source(path, len(run_seeds))
     try:
         compile(source, str(path), 'exec')
         disallowed = tuple(static_check(source))
@@ -287,7 +289,7 @@ def check(
         if model != 'ideal' and not all(run.ok for run in by_model.get('ideal', [])):
             break  # no margins for a file that fails in the ideal simulator already
         by_model[model] = []
-        for seed in range(seeds):
+        for seed in run_seeds:
             under = f', {model}' if model != 'ideal' else ''
             tell(f'running the file on the bundled simulator, seed {seed}{under} (at most {run_timeout_s:g} s)')
             by_model[model].append(run_file(path, 'bundled', seed, data, run_timeout_s, model))

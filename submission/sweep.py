@@ -4,7 +4,7 @@ For each scene and robot count N (a *case*), the scene is loaded with N robots a
 Robotarium (:func:`robotarium_exp.fit.robotarium_fit`): a scene that does not is a *refused* row with the
 verdict's one-line reason. Otherwise it is planned (an uncertified plan is a FAIL row), built without the declaration
 step (:func:`submission.builder.build`), and the file is run on the bundled simulator with V2's initialization for
-seeds 0..seeds-1 exactly as the preflight runs it (:func:`submission.check.run_file`). Each run is measured from
+the seeds asked (0..seeds-1 for a count) exactly as the preflight runs it (:func:`submission.check.run_file`). Each run is measured from
 the poses and commands the simulator itself validated (:func:`measure_run`) and the case is judged against the bar
 of issue 31 (:func:`judge`): the preflight's verdict on every run (no verifier count, simulator's or recounted, the
 run ended normally, every robot past the exit), every robot parked in its slot, no robot-step with the body on the
@@ -48,6 +48,7 @@ from vtube_planning.onboard import swarm_area
 from vtube_planning.onboard.parking import PARKED_WITHIN_M
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
+from vtube_planning.seeds import seeds_text
 
 DIP_ERROR_BAR = 0.25
 """The largest mean relative density error |rho - rho*| / rho* over the plan's dip that passes (issue 31)."""
@@ -68,12 +69,12 @@ COLUMNS = ['key', 'scene', 'n_robots', 'status', 'reason', *MEASURES, 'error', '
 
 @dataclass(frozen=True)
 class Case:
-    """One row of the sweep: a scene (shipped name or .toml path) with ``n_robots``, flown for seeds 0..seeds-1;
-    the built file goes to ``folder``."""
+    """One row of the sweep: a scene (shipped name or .toml path) with ``n_robots``, flown for ``seeds``; the built
+    file goes to ``folder``."""
 
     scene: str
     n_robots: int
-    seeds: int
+    seeds: tuple[int, ...]
     folder: Path
     run_timeout_s: float = RUN_TIMEOUT_S
 
@@ -175,8 +176,7 @@ def case_row(case: Case) -> dict[str, Any]:
     path = write(submission, case.folder / f'{scene.name}_n{case.n_robots}.py')
     data = file_flight_data(submission.source)
     runs = [
-        measure_run(run_file(path, 'bundled', seed, data, case.run_timeout_s), data, scene, plan)
-        for seed in range(case.seeds)
+        measure_run(run_file(path, 'bundled', seed, data, case.run_timeout_s), data, scene, plan) for seed in case.seeds
     ]
     status, reason = judge(runs)
     return {'status': status, 'reason': reason, **summarise(runs)}
@@ -238,7 +238,13 @@ def case_key(case: Case) -> str:
     """A stable key of a case: its scene's content (a file's text, or a shipped name), N and the seeds."""
     path = Path(case.scene)
     scene = path.read_text(encoding='utf-8') if path.suffix == '.toml' and path.is_file() else case.scene
-    return hashlib.sha256(f'{scene}\n{case.n_robots}\n{case.seeds}'.encode()).hexdigest()[:16]
+    return hashlib.sha256(f'{scene}\n{case.n_robots}\n{_seeds_key(case.seeds)}'.encode()).hexdigest()[:16]
+
+
+def _seeds_key(seeds: tuple[int, ...]) -> int | str:
+    """The seeds as keys and the record hold them: seeds 0..n-1 as the count n (as before ranges were taken, so
+    that earlier sweeps resume), others as their text (:func:`vtube_planning.seeds.seeds_text`)."""
+    return len(seeds) if seeds == tuple(range(len(seeds))) else seeds_text(seeds)
 
 
 def sweep(
@@ -246,17 +252,19 @@ def sweep(
     sizes: Sequence[int],
     out: Path,
     *,
-    seeds: int = 3,
+    seeds: int | Sequence[int] = 3,
     jobs: int = 1,
     run_timeout_s: float = RUN_TIMEOUT_S,
     on_row: Callable[[dict[str, Any]], None] | None = None,
 ) -> SweepOutcome:
     """Run every case of ``scenes`` x ``sizes`` not yet in ``out/runs.csv`` on ``jobs`` local processes, appending
-    each row as it comes (``on_row`` sees it), and write ``out/sweep.md``; built files go to ``out/files``."""
+    each row as it comes (``on_row`` sees it), and write ``out/sweep.md``; built files go to ``out/files``.
+    ``seeds``: the seeds each case flies, or a count n for 0..n-1."""
     started = time.perf_counter()
-    cases = [Case(s, n, seeds, out / FILES_FOLDER, run_timeout_s) for s in scenes for n in sizes]
+    flown = tuple(range(seeds)) if isinstance(seeds, int) else tuple(seeds)
+    cases = [Case(s, n, flown, out / FILES_FOLDER, run_timeout_s) for s in scenes for n in sizes]
     keys = [case_key(case) for case in cases]
-    record = {'kind': 'robotarium sweep', 'scenes': list(scenes), 'n_robots': list(sizes), 'seeds': seeds}
+    record = {'kind': 'robotarium sweep', 'scenes': list(scenes), 'n_robots': list(sizes), 'seeds': _seeds_key(flown)}
     with holding(out, 'sweep'):
         expected = {key: {'version': __version__} for key in keys}  # rows of another version: refused
         rows = prepare_table(out, SWEEP_FILE, record, COLUMNS, expected, what='sweep')
@@ -274,12 +282,12 @@ def sweep(
                     on_row(row)
     ordered = [rows[key] for key in keys]
     markdown = out / TABLE_FILE
-    write_atomically(markdown, sweep_markdown(ordered, seeds))
+    write_atomically(markdown, sweep_markdown(ordered, flown))
     seconds = time.perf_counter() - started
     return SweepOutcome(ordered, len(keys) - len(todo), len(todo), seconds, out / RUNS_FILE, markdown)
 
 
-def sweep_markdown(rows: Sequence[dict[str, Any]], seeds: int) -> str:
+def sweep_markdown(rows: Sequence[dict[str, Any]], seeds: Sequence[int]) -> str:
     """The table scene x N (PASS, FAIL [k], refused [k], error [k]: reason k listed below it), then every row."""
     scenes = list(dict.fromkeys(str(row['scene']) for row in rows))
     sizes = sorted({int(row['n_robots']) for row in rows})
@@ -297,7 +305,7 @@ def sweep_markdown(rows: Sequence[dict[str, Any]], seeds: int) -> str:
         '',
         (
             f"Each case: built without declaration, run on the bundled simulator with V2's initialization, seeds "
-            f'0..{seeds - 1}. PASS: no verifier count, every robot through and parked, no body on the wall, density '
+            f'{seeds_text(seeds)}. PASS: no verifier count, every robot through and parked, no body on the wall, density '
             f'error in the dip <= {100 * DIP_ERROR_BAR:.0f} %, in every run.'
         ),
         '',

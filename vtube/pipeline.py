@@ -221,7 +221,7 @@ def build_submission(
     planning: bool = True,
     plan_file: Path | None = None,
     declare: bool = True,
-    seeds: int = 3,
+    seeds: int | Sequence[int] = 3,
     initializer_seeds: int = 200,
     testbed_models: tuple[str, ...] | None = None,
 ) -> WrittenSubmission:

@@ -11,7 +11,7 @@ saturation and the faults), the metrics to keep and what every run shares (:clas
     [axes]
     scene = ["C", "D"]
     mode = ["planning", "no planning"]
-    seed = 10                       # seeds 0..9 (or a list)
+    seed = 10                       # seeds 0..9; or a list [0, 1, 2], or a range "100-109" (also "0-4,10")
     pose_noise_m = [0.0, 0.02, 0.05]
     # map = ["bottleneck"]          # fly the scene's swarm through tubes generated on random maps instead
     # map_seed = [0, 2, 3]          # (vtube_planning.geometry.maps; also map_clutter, map_width_m)
@@ -44,6 +44,7 @@ from vtube_planning.errors import VtubeError
 from vtube_planning.geometry.maps import CLUTTER, FAMILIES, WIDTH_M, WIDTH_RANGE_M
 from vtube_planning.geometry.scene import load_scene
 from vtube_planning.onboard import SATURATIONS
+from vtube_planning.seeds import SeedsError, parse_seeds
 from vtube_planning.study import ABLATIONS, BASELINE_MODES, COMPENSATIONS, MODELS, REPLANNING_MODES, Point, RunSettings
 from vtube_planning.swarm.faults import FAILURE_MODES
 
@@ -238,11 +239,16 @@ def run_key(point: Point, settings: RunSettings) -> str:
 
 
 def _axis_values(axis: str, value: Any, base: Path | None) -> tuple[Any, ...]:
-    """An axis's values from TOML: a list (a seed count n stands for 0..n-1, for the runs' and the maps' seeds);
-    scene files relative to ``base``."""
+    """An axis's values from TOML: a list (for the runs' and the maps' seeds also a count n, for 0..n-1, or a text
+    of :func:`~vtube_planning.seeds.parse_seeds`, like "100-109"); scene files relative to ``base``."""
+    if axis in ('seed', 'map_seed') and isinstance(value, str):
+        try:
+            return parse_seeds(value)
+        except SeedsError as err:
+            raise CampaignError(f'axes.{axis} = {value!r}: {err}') from err
     if axis in ('seed', 'map_seed') and isinstance(value, int) and not isinstance(value, bool):
         if value < 1:
-            msg = f'axes.{axis} = {value} runs no seed; give a count >= 1 (seeds 0..n-1) or a list of seeds.'
+            msg = f'axes.{axis} = {value} runs no seed; give a count >= 1 (seeds 0..n-1), a list or a range "10-19".'
             raise CampaignError(msg)
         return tuple(range(value))
     if not isinstance(value, list):

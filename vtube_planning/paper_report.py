@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from vtube_planning.seeds import seeds_text
 from vtube_planning.study import BASELINE_MODES, RunSettings
 
 
@@ -77,7 +78,7 @@ def study_markdown(
     lines = [
         (
             f'Scenes with and without planning, Table 1 swarm (N = 20), {model}, dt = {settings.dt_s} s, '
-            f'seeds {seeds[0]}..{seeds[-1]} (initial jitter {settings.jitter_m} m). Means over seeds, [min, max].'
+            f'seeds {seeds_text(seeds)} (initial jitter {settings.jitter_m} m). Means over seeds, [min, max].'
         ),
         '',
         (

@@ -9,6 +9,7 @@ import re
 from pathlib import Path
 
 from vtube.cli.command import BadInput
+from vtube_planning.seeds import SEED_MAX, SeedsError, parse_seeds
 
 
 def whole(text: str) -> int:
@@ -19,10 +20,6 @@ def whole(text: str) -> int:
     return int(text)
 
 
-SEED_MAX = 2**32 - 1
-"""The largest seed: ``np.random.seed`` (what Robotarium scripts seed) takes 32 bits."""
-
-
 def seed(text: str) -> int:
     """An argparse type: a seed, a whole number from 0 to 2**32 - 1."""
     value = whole(text)
@@ -30,6 +27,19 @@ def seed(text: str) -> int:
         msg = f'{text!r} is not a seed from 0 to {SEED_MAX} (2**32 - 1)'
         raise argparse.ArgumentTypeError(msg)
     return value
+
+
+SEEDS_HELP = 'seeds: a count n (0..n-1), a range 10-19 or a list 3,7,11'
+"""The help of every ``--seeds`` that names which seeds to run (type :func:`seeds`)."""
+
+
+def seeds(text: str) -> tuple[int, ...]:
+    """An argparse type: which seeds to run, in the order given (:func:`vtube_planning.seeds.parse_seeds`): a
+    count n (seeds 0..n-1), a range ``10-19``, a list ``3,7,11`` or a mix ``0-4,10``."""
+    try:
+        return parse_seeds(text)
+    except SeedsError as err:
+        raise argparse.ArgumentTypeError(str(err).rstrip('.')) from err
 
 
 def count(text: str) -> int:

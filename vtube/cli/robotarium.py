@@ -7,10 +7,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from vtube.cli.arguments import count, seed, testbed_model_name, writable_folder
+from vtube.cli.arguments import SEEDS_HELP, seed, seeds, testbed_model_name, writable_folder
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
 from vtube.cli.render import progress_bar
 from vtube_planning.files import write_atomically
+from vtube_planning.seeds import seeds_text
 
 if TYPE_CHECKING:
     from robotarium_exp.experiment import ExperimentConfig, ExperimentResult
@@ -34,11 +35,11 @@ class RobotariumRun:
 
 @dataclass(frozen=True)
 class Comparison:
-    """Planned against unplanned over initialization seeds 0..seeds-1: the table, the files written and the runs
-    that failed (:func:`robotarium_exp.compare.failed_runs`)."""
+    """Planned against unplanned over initialization seeds (in the order run): the table, the files written and the
+    runs that failed (:func:`robotarium_exp.compare.failed_runs`)."""
 
     scene: str
-    seeds: int
+    seeds: tuple[int, ...]
     table: str
     written: tuple[Path, Path]
     failed: tuple[str, ...] = ()
@@ -170,7 +171,7 @@ def _seconds(value: float | None) -> str:
 def comparison_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('scene', help='a Robotarium scene or a .toml file')
     parser.add_argument('--out', type=Path, required=True, help='folder for the table (.md) and the rows (.json)')
-    parser.add_argument('--seeds', type=count, default=5, help='initialization seeds 0..n-1, n >= 1')
+    parser.add_argument('--seeds', type=seeds, default='5', help=f'initialization {SEEDS_HELP} (default 5: 0-4)')
     parser.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan)')
     testbed_model_argument(parser)
 
@@ -190,19 +191,24 @@ def comparison(args: argparse.Namespace) -> Comparison:
     require_fit(scene)
     plan = plan_for(scene, plan_file=args.plan)
     with progress_bar('experiments', 'run') as bar:
-        bar.reset(total=2 * args.seeds)
-        rows = compare(scene, plan, list(range(args.seeds)), run_done=bar.update, testbed_model=args.testbed_model)
+        bar.reset(total=2 * len(args.seeds))
+        rows = compare(scene, plan, list(args.seeds), run_done=bar.update, testbed_model=args.testbed_model)
     table = comparison_table(rows)
     out.mkdir(parents=True, exist_ok=True)
     written = (out / f'compare_{scene.name}.md', out / f'compare_{scene.name}.json')
-    write_atomically(written[0], table)
+    write_atomically(written[0], f'{comparison_head(scene.name, args.seeds)}\n\n{table}')
     write_atomically(written[1], json.dumps([row.to_json() for row in rows], indent=1, allow_nan=False))
     return Comparison(scene.name, args.seeds, table, written, failed_runs(rows))
 
 
+def comparison_head(scene: str, seeds: tuple[int, ...]) -> str:
+    """What a comparison's table shows: the scene and the seeds run."""
+    return f'scene {scene}, V2 initialization seeds {seeds_text(seeds)}, mean [min, max]:'
+
+
 def comparison_view(result: Comparison) -> View:
     lines = (
-        f'scene {result.scene}, V2 initialization seeds 0..{result.seeds - 1}, mean [min, max]:',
+        comparison_head(result.scene, result.seeds),
         result.table,
         f'written {result.written[0]}, {result.written[1]}',
     )

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from vtube.cli.arguments import count, parse_sizes, positive, whole, words, writable_folder
+from vtube.cli.arguments import SEEDS_HELP, parse_sizes, positive, seeds, whole, words, writable_folder
 from vtube.cli.command import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_OK, BadInput, Command, Interrupted, View
 from vtube_planning.files import write_atomically
 
@@ -111,7 +111,7 @@ def campaign_run_lines(run: CampaignRun) -> tuple[str, ...]:
 
 def study_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--out', type=Path, required=True, help='folder for runs.csv, study.md, study.json, study.png')
-    parser.add_argument('--seeds', type=count, default=5, help='number of seeds n >= 1 (seeds 0..n-1)')
+    parser.add_argument('--seeds', type=seeds, default='5', help=f'{SEEDS_HELP} (default 5: 0-4)')
     parser.add_argument('--scenes', type=words, default='A,B,C,D', help='comma-separated scene names')
     parser.add_argument('--acceleration-limits', action='store_true', help='apply (3), (4) to every robot')
     parser.add_argument(
@@ -136,7 +136,7 @@ def study(args: argparse.Namespace) -> StudyDone:
 
     out: Path = args.out
     model = 'acceleration limits' if args.acceleration_limits else 'paper'
-    common: dict[str, tuple[object, ...]] = {'seed': tuple(range(args.seeds)), 'model': (model,)}
+    common: dict[str, tuple[object, ...]] = {'seed': args.seeds, 'model': (model,)}
     grids = [common | {'scene': args.scenes, 'mode': MODES}]
     compared = tuple(s for s in args.scenes if s in BASELINE_SCENES)
     if args.baselines and compared:
@@ -144,7 +144,7 @@ def study(args: argparse.Namespace) -> StudyDone:
     run = execute(Campaign(tuple(grids), name='study'), out, args)
     rows = [row for row in run.outcome.rows if not row['error']]
     summary = summarise(rows)
-    text = study_markdown(summary, list(range(args.seeds)), args.acceleration_limits)
+    text = study_markdown(summary, list(args.seeds), args.acceleration_limits)
     write_atomically(out / 'study.md', text)
     write_atomically(
         out / 'study.json', json.dumps(strict_json({'rows': rows, 'summary': summary}), indent=1, allow_nan=False)
@@ -164,7 +164,7 @@ def ablation_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--out', type=Path, required=True, help='folder for runs.csv, report.md and the figures')
     parser.add_argument('--scenes', type=words, default='C,D', help='comma-separated scene names')
     parser.add_argument('--sizes', default='20,40,80', help='comma-separated swarm sizes N')
-    parser.add_argument('--seeds', type=count, default=10, help='number of seeds n >= 1 (seeds 0..n-1)')
+    parser.add_argument('--seeds', type=seeds, default='10', help=f'{SEEDS_HELP} (default 10: 0-9)')
     parser.add_argument(
         '--models',
         type=words,
@@ -185,7 +185,7 @@ def ablation(args: argparse.Namespace) -> CampaignDone:
     from vtube_planning.campaign import Campaign
     from vtube_planning.study import ABLATIONS
 
-    grid = {'scene': args.scenes, 'n_robots': parse_sizes(args.sizes), 'seed': tuple(range(args.seeds))}
+    grid = {'scene': args.scenes, 'n_robots': parse_sizes(args.sizes), 'seed': args.seeds}
     grid |= {'model': args.models, 'saturation': args.saturations, 'mode': tuple(ABLATIONS)}
     run = execute(Campaign((grid,), name='ablation'), args.out, args)
     return CampaignDone(run, args.out, write_report(args.out))

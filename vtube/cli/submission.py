@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from vtube.cli.arguments import count, positive, testbed_model_name
+from vtube.cli.arguments import SEEDS_HELP, count, positive, seeds, testbed_model_name
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
 from vtube.cli.render import progress_bar, tell
 
@@ -49,7 +49,9 @@ def build_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--no-planning', action='store_true', help='constant speed and r_a (the comparison)')
     parser.add_argument('--plan', type=Path, default=None, help='embed this plan file (vtube plan) instead of planning')
     parser.add_argument('--no-declare', action='store_true', help='skip the check that derives the duration to declare')
-    parser.add_argument('--seeds', type=count, default=3, help='checking runs on the bundled simulator, >= 1')
+    parser.add_argument(
+        '--seeds', type=seeds, default='3', help=f'checking runs on the bundled simulator, {SEEDS_HELP} (default 3)'
+    )
     initializer_seeds_argument(parser)
 
 
@@ -98,7 +100,9 @@ def _not_for_upload(declaration: Declaration, sub: Submission) -> list[str]:
 
 def preflight_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('file', type=Path, help='the submission .py file')
-    parser.add_argument('--seeds', type=count, default=3, help='runs on the bundled simulator (seeds 0..n-1), n >= 1')
+    parser.add_argument(
+        '--seeds', type=seeds, default='3', help=f'runs on the bundled simulator, {SEEDS_HELP} (default 3)'
+    )
     initializer_seeds_argument(parser)
     parser.add_argument(
         '--run-timeout',

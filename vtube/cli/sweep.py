@@ -7,7 +7,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from vtube.cli.arguments import count, parse_sizes, positive, writable_folder
+from vtube.cli.arguments import SEEDS_HELP, count, parse_sizes, positive, seeds, writable_folder
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, Interrupted, View
 from vtube.cli.render import tell
 
@@ -22,7 +22,7 @@ def sweep_arguments(parser: argparse.ArgumentParser) -> None:
 
     parser.add_argument('scenes', nargs='+', metavar='SCENE', help='Robotarium scenes: shipped names or .toml files')
     parser.add_argument('--n', default=SIZES, help='comma-separated robot counts N')
-    parser.add_argument('--seeds', type=count, default=3, help='initialization seeds per case (0..n-1)')
+    parser.add_argument('--seeds', type=seeds, default='3', help=f'initialization {SEEDS_HELP}, per case (default 3)')
     parser.add_argument('--out', type=Path, required=True, help='folder for runs.csv, sweep.md and the built files')
     parser.add_argument('--jobs', type=count, default=1, help='cases run at once, each in its own local process')
     parser.add_argument(

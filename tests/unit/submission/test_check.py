@@ -198,6 +198,9 @@ def test_check_runs_each_seed_then_the_pypi_simulator_then_the_initializer(tmp_p
     expected = declare(InitializerSample((20.0, 21.0, 22.0), ()), experiment_s=1000 * 0.033)
     assert report.declaration == replace(expected, margins=report.margins)
     assert report.declare_duration_s == expected.duration_s
+    fake_runs.clear()
+    check(path, seeds=(5, 3), initializer_seeds=1, run_timeout_s=7.0, testbed_models=('ideal',))
+    assert fake_runs[:2] == [('bundled', 5, 7.0), ('bundled', 3, 7.0)]  # the seeds given, in their order
 
 
 def test_the_header_records_the_declaration_and_the_check_reads_it_back(tmp_path, fake_runs) -> None:

@@ -4,6 +4,7 @@ run's measures against independent recomputations, each criterion of the bar, th
 from __future__ import annotations
 
 import csv
+import hashlib
 from dataclasses import replace
 from pathlib import Path
 
@@ -187,11 +188,14 @@ def test_summary_sums_counts_and_keeps_the_worst() -> None:
 def test_the_key_follows_the_scene_file_and_the_case(tmp_path: Path) -> None:
     scene = tmp_path / 'a.toml'
     scene.write_text('x = 1\n', encoding='utf-8')
-    key = case_key(Case(str(scene), 4, 3, tmp_path))
-    assert key == case_key(Case(str(scene), 4, 3, tmp_path / 'elsewhere'))
-    assert key not in {case_key(Case(str(scene), 5, 3, tmp_path)), case_key(Case(str(scene), 4, 2, tmp_path))}
+    key = case_key(Case(str(scene), 4, (0, 1, 2), tmp_path))
+    assert key == case_key(Case(str(scene), 4, (0, 1, 2), tmp_path / 'elsewhere'))
+    assert key not in {
+        case_key(Case(str(scene), 5, (0, 1, 2), tmp_path)),
+        case_key(Case(str(scene), 4, (0, 1), tmp_path)),
+    }
     scene.write_text('x = 2\n', encoding='utf-8')
-    assert key != case_key(Case(str(scene), 4, 3, tmp_path))
+    assert key != case_key(Case(str(scene), 4, (0, 1, 2), tmp_path))
 
 
 def test_rows_are_stored_as_they_come_and_a_rerun_skips_them(tmp_path: Path, monkeypatch) -> None:
@@ -226,6 +230,19 @@ def test_another_sweep_in_the_same_folder_is_refused(tmp_path: Path, monkeypatch
     sweep(['a'], [1], tmp_path, seeds=1)
     with pytest.raises(Exception, match='holds the results of another sweep'):
         sweep(['a'], [1], tmp_path, seeds=2)
+    sweep(['a'], [1], tmp_path, seeds=(0,))  # seed 0 is the count 1: the same sweep
+    with pytest.raises(Exception, match='holds the results of another sweep'):
+        sweep(['a'], [1], tmp_path, seeds=(1,))
+
+
+def test_a_sweep_flies_the_seeds_asked_and_keys_counts_as_before(tmp_path: Path, monkeypatch) -> None:
+    flown = []
+    monkeypatch.setattr(sweep_module, 'case_row', lambda case: flown.append(case.seeds) or {'status': 'PASS'})
+    sweep(['a'], [1], tmp_path / 'ranged', seeds=(10, 11))
+    sweep(['a'], [1], tmp_path / 'counted', seeds=2)
+    assert flown == [(10, 11), (0, 1)]
+    keyed = hashlib.sha256(b'a\n1\n2').hexdigest()[:16]  # the key a count of 2 had before ranges were taken
+    assert case_key(Case('a', 1, (0, 1), tmp_path)) == keyed != case_key(Case('a', 1, (10, 11), tmp_path))
 
 
 def test_the_table_puts_scenes_in_rows_and_n_in_columns() -> None:
@@ -234,17 +251,17 @@ def test_the_table_puts_scenes_in_rows_and_n_in_columns() -> None:
         | dict.fromkeys(sweep_module.MEASURES, '')
         for n in (1, 6)
     ]
-    text = sweep_markdown(rows, 3)
+    text = sweep_markdown(rows, (0, 1, 2))
     assert '| scene | N = 1 | N = 6 |' in text
     assert '| s | PASS | PASS |' in text
-    assert 'seeds 0..2' in text
+    assert 'seeds 0-2. PASS' in text and 'seeds 10-11,4. PASS' in sweep_markdown(rows, (10, 11, 4))
 
 
 def test_a_case_the_verdict_refuses_is_a_refusal_with_its_reason_and_nothing_is_planned(tmp_path, monkeypatch) -> None:
     misfit = Misfit('the formation leaves the box', 'use N <= 8')
     monkeypatch.setattr(sweep_module, 'robotarium_fit', lambda scene: Fit((misfit,)))
     monkeypatch.setattr(sweep_module, 'plan_convex', lambda *a, **k: pytest.fail('planned a refused case'))
-    row = case_row(Case('robotarium_trapezoid', 20, 1, tmp_path))
+    row = case_row(Case('robotarium_trapezoid', 20, (0,), tmp_path))
     assert row == {'status': 'refused', 'reason': Fit((misfit,)).reason}
 
 
@@ -253,7 +270,7 @@ def test_a_plan_that_fails_or_is_not_certified_fails_the_case_before_any_build(p
     monkeypatch.setattr(sweep_module, 'build', lambda *a, **k: pytest.fail('built without a certified plan'))
     uncertified = replace(plan, certificate=dict(plan.certificate) | {'p7': 0.02})
     monkeypatch.setattr(sweep_module, 'plan_convex', lambda *a, **k: uncertified)
-    assert case_row(Case('robotarium_trapezoid', 2, 1, tmp_path)) == {
+    assert case_row(Case('robotarium_trapezoid', 2, (0,), tmp_path)) == {
         'status': 'FAIL',
         'reason': 'plan not certified (worst violation 0.02)',
     }
@@ -262,7 +279,7 @@ def test_a_plan_that_fails_or_is_not_certified_fails_the_case_before_any_build(p
         raise SolverError('no feasible plan; widen the tube')
 
     monkeypatch.setattr(sweep_module, 'plan_convex', infeasible)
-    row = case_row(Case('robotarium_trapezoid', 2, 1, tmp_path))
+    row = case_row(Case('robotarium_trapezoid', 2, (0,), tmp_path))
     assert row == {'status': 'FAIL', 'reason': 'no plan: no feasible plan; widen the tube'}
 
 
@@ -274,7 +291,7 @@ def test_a_build_refusal_after_a_fit_is_a_failure_naming_both(planned, tmp_path,
 
     monkeypatch.setattr(sweep_module, 'plan_convex', lambda *a, **k: plan)
     monkeypatch.setattr(sweep_module, 'build', refuse)
-    row = case_row(Case('robotarium_trapezoid', 2, 1, tmp_path))
+    row = case_row(Case('robotarium_trapezoid', 2, (0,), tmp_path))
     assert row['status'] == 'FAIL'
     assert (
         row['reason'] == 'the verdict said it fits, but the build refused: parking slots leave the arena; move the exit'

@@ -96,7 +96,21 @@ BAD_CAMPAIGNS = {
         'axes.map_width_m holds 30.0; its values must be in [1, 20] m',
     ),
     'no map seed': (FAULTS + 'map = ["forest"]\nmap_seed = 0\n', 'axes.map_seed = 0 runs no seed'),
+    'seeds backwards': (
+        FAULTS.replace('seed = 3', 'seed = "19-10"'),
+        "axes.seed = '19-10': the range '19-10' runs backwards; write it first to last, like 10-19.",
+    ),
+    'seed twice': (FAULTS.replace('seed = 3', 'seed = "0-4,3"'), "axes.seed = '0-4,3': seed 3 is given twice"),
 }
+
+
+def test_the_seeds_of_a_campaign_may_be_a_range_or_a_list_in_a_text(tmp_path) -> None:
+    ranged = Campaign.from_toml(write(tmp_path, FAULTS.replace('seed = 3', 'seed = "5-6"'), 'ranged.toml'))
+    assert ranged.grids[0]['seed'] == (5, 6) and {p.seed for p in ranged.points()} == {5, 6}
+    mixed = FAULTS.replace('seed = 3', 'seed = "0,10-11"') + 'map = ["forest"]\nmap_seed = "7-8"\n'
+    grid = Campaign.from_toml(write(tmp_path, mixed, 'mixed.toml')).grids[0]
+    assert (grid['seed'], grid['map_seed']) == ((0, 10, 11), (7, 8))
+    assert Campaign.from_toml(write(tmp_path, FAULTS, 'counted.toml')).grids[0]['seed'] == (0, 1, 2)
 
 
 @pytest.mark.parametrize('case', list(BAD_CAMPAIGNS))

@@ -36,6 +36,7 @@ def test_the_claim_holds_on_the_means_and_fails_on_the_seed_where_it_fails() -> 
     assert entry['claim_per_seed'] == [{'seed': 0, 'holds': True}, {'seed': 1, 'holds': False}]
     assert entry['safer_than'] == {'flocking': True} and entry['flocking']['collision_pairs'] == 4
     text = study_markdown([entry], [0, 1], acceleration_limits=False)
+    assert 'seeds 0-1 (initial jitter' in text and 'seeds 10-12,20' in study_markdown([entry], [10, 11, 12, 20], False)
     assert '- scene C: holds on the means; per seed it holds for 1 of 2 (not for seed 1).' in text
 
 

@@ -120,11 +120,31 @@ def test_compare_draws_its_runs_and_writes_the_table_and_rows(tmp_path, monkeypa
     assert main(['robotarium', 'compare', 'robotarium_curve', '--seeds', '2', '--out', str(tmp_path / 'c')]) == 0
     assert calls == [('robotarium_curve', 'robotarium_curve', [0, 1], 'ideal')]
     out = capsys.readouterr().out
-    assert out.startswith('scene robotarium_curve, V2 initialization seeds 0..1, mean [min, max]:\n| measure |')
+    assert out.startswith('scene robotarium_curve, V2 initialization seeds 0-1, mean [min, max]:\n| measure |')
     rows = json.loads((tmp_path / 'c' / 'compare_robotarium_curve.json').read_text())
     assert [row['planned'] for row in rows] == [True, False, True, False]
     table = (tmp_path / 'c' / 'compare_robotarium_curve.md').read_text()
-    assert table.count('\n') == 12 and '| expansion starts [s] | 2.0 [2.0, 2.0] | never |' in table
+    assert table.startswith('scene robotarium_curve, V2 initialization seeds 0-1, mean [min, max]:\n\n| measure |')
+    assert table.count('\n') == 14 and '| expansion starts [s] | 2.0 [2.0, 2.0] | never |' in table
+
+
+def test_compare_runs_exactly_the_seeds_of_a_range(tmp_path, monkeypatch, capsys) -> None:
+    """``--seeds 3-4``: seeds 3 and 4, not 0..n-1; the table and the rows say which."""
+    given = []
+
+    def compare(scene, plan, seeds, run_done=None, testbed_model='ideal'):
+        given.append(list(seeds))
+        return stubbed_rows(seeds, run_done)
+
+    monkeypatch.setattr(compare_module, 'compare', compare)
+    assert main(['robotarium', 'compare', 'robotarium_curve', '--seeds', '3-4', '--out', str(tmp_path)]) == 0
+    assert given == [[3, 4]]
+    assert capsys.readouterr().out.startswith('scene robotarium_curve, V2 initialization seeds 3-4, mean')
+    rows = json.loads((tmp_path / 'compare_robotarium_curve.json').read_text())
+    assert [row['seed'] for row in rows] == [3, 3, 4, 4]
+    assert (tmp_path / 'compare_robotarium_curve.md').read_text().startswith('scene robotarium_curve, V2 initial')
+    assert main(['robotarium', 'compare', 'robotarium_curve', '--seeds', '10,3', '--out', str(tmp_path)]) == 0
+    assert given[-1] == [10, 3]  # in the order given
 
 
 def test_compare_with_a_failed_run_exits_1_naming_its_seed_and_mode(tmp_path, monkeypatch, capsys) -> None:
@@ -140,9 +160,9 @@ def test_compare_with_a_failed_run_exits_1_naming_its_seed_and_mode(tmp_path, mo
 
 
 def test_the_view_of_a_comparison() -> None:
-    view = comparison_view(Comparison('robotarium_curve', 3, '| t |', (Path('a.md'), Path('a.json'))))
+    view = comparison_view(Comparison('robotarium_curve', (0, 1, 2, 7), '| t |', (Path('a.md'), Path('a.json'))))
     assert view.lines == (
-        'scene robotarium_curve, V2 initialization seeds 0..2, mean [min, max]:',
+        'scene robotarium_curve, V2 initialization seeds 0-2,7, mean [min, max]:',
         '| t |',
         'written a.md, a.json',
     )
@@ -151,7 +171,7 @@ def test_the_view_of_a_comparison() -> None:
 
 def test_a_comparison_with_a_failed_run_fails_naming_it() -> None:
     failed = ('seed 2, unplanned: not every robot parked beyond the exit by the last step',)
-    view = comparison_view(Comparison('robotarium_curve', 3, '| t |', (Path('a.md'), Path('a.json')), failed))
+    view = comparison_view(Comparison('robotarium_curve', (0, 1, 2), '| t |', (Path('a.md'), Path('a.json')), failed))
     assert view.exit_code == 1 and view.lines[-1] == f'FAILED {failed[0]}'
 
 

@@ -9,6 +9,7 @@ import pytest
 
 import vtube.cli.study as study_module
 from vtube.cli.app import main
+from vtube.cli.command import BadInput
 from vtube.cli.study import (
     CampaignDone,
     CampaignReport,
@@ -76,6 +77,25 @@ def test_the_ablation_grid_from_its_options(tmp_path, executed, capsys) -> None:
     assert (grid['scene'], grid['n_robots'], grid['seed']) == (('C',), (20, 40), (0, 1))
     assert (grid['model'], grid['saturation']) == (('paper',), ('radial',)) and len(grid['mode']) > 1
     assert 'holds no finished run yet' in capsys.readouterr().err
+
+
+def test_the_ablation_runs_the_seeds_of_a_range_or_a_list(tmp_path, executed) -> None:
+    args = ['ablation', '--out', str(tmp_path), '--scenes', 'C', '--sizes', '20', '--workers', '1']
+    main([*args, '--seeds', '10-12,20'])
+    main([*args, '--seeds', '7,3'])
+    assert [campaign.grids[0]['seed'] for campaign, _, _ in executed] == [(10, 11, 12, 20), (7, 3)]
+
+
+def test_the_study_runs_the_seeds_of_a_range(tmp_path, monkeypatch) -> None:
+    given = []
+
+    def execute(campaign, out, args):
+        given.append(campaign)
+        raise BadInput('stubbed: no run')
+
+    monkeypatch.setattr(study_module, 'execute', execute)
+    assert main(['study', '--out', str(tmp_path), '--scenes', 'A', '--seeds', '10-12']) == 2
+    assert [grid['seed'] for grid in given[0].grids] == [(10, 11, 12)]
 
 
 def test_a_campaign_file_without_an_output_folder_is_refused(tmp_path, capsys) -> None:

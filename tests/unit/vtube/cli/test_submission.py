@@ -126,15 +126,16 @@ def test_the_build_options_reach_the_pipeline(tmp_path, monkeypatch, capsys) -> 
 
     monkeypatch.setattr(pipeline, 'build_submission', build_submission)
     out = tmp_path / 's.py'
-    argv = ['submission', 'build', 'robotarium_curve', '--out', str(out), '--seeds', '2']
+    argv = ['submission', 'build', 'robotarium_curve', '--out', str(out), '--seeds', '10-11']
     assert main([*argv, '--testbed-models', 'ideal, fitted']) == 0
     assert calls[-1] == (
         'robotarium_curve',
         out,
-        {'planning': True, 'plan_file': None, 'declare': True, 'seeds': 2, 'initializer_seeds': 200}
+        {'planning': True, 'plan_file': None, 'declare': True, 'seeds': (10, 11), 'initializer_seeds': 200}
         | {'testbed_models': ('ideal', 'fitted')},
     )
     assert main(['submission', 'build', 'x', '--out', str(out), '--no-planning', '--no-declare', '--plan', 'p']) == 0
+    assert calls[-1][2]['seeds'] == (0, 1, 2)
     assert calls[-1][2] | {'seeds': 0} == {
         'planning': False,
         'plan_file': Path('p'),

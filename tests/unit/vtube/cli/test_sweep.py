@@ -41,7 +41,9 @@ def test_the_command_hands_its_arguments_to_the_sweep(tmp_path: Path, monkeypatc
     code = main(['robotarium', 'sweep', 'a.toml', 'b', '--n', '1,6', '--seeds', '2', '--out', str(tmp_path / 'o')])
     assert code == 0
     assert (given['scenes'], given['sizes'], given['out']) == (['a.toml', 'b'], (1, 6), tmp_path / 'o')
-    assert (given['seeds'], given['jobs']) == (2, 1)
+    assert (given['seeds'], given['jobs']) == ((0, 1), 1)
+    main(['robotarium', 'sweep', 'a.toml', '--seeds', '5-6', '--out', str(tmp_path / 'o')])
+    assert given['seeds'] == (5, 6)
     assert '# Robotarium sweep' in capsys.readouterr().out
 
 
