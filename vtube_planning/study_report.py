@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from vtube_planning.seeds import seeds_text
 from vtube_planning.stats import (
     MIN_SEEDS,
     NO_VERDICT,
@@ -271,7 +272,7 @@ def grid_markdown(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = (
         first = sel[0]
         columns = [c for c in _CELL_COLUMNS if c[0] in first]
         lines += [
-            f'### {place_text(first)}, N = {first["n_robots"]}, {setting_text(first)} ({len(seeds)} seeds)',
+            f'### {place_text(first)}, N = {first["n_robots"]}, {setting_text(first)} (seeds {seeds_text(seeds)})',
             '',
             '| mode | ' + ' | '.join(header for _, header, _ in columns) + ' |',
             '|---|' + '---|' * len(columns),

@@ -86,6 +86,19 @@ def test_the_ablation_runs_the_seeds_of_a_range_or_a_list(tmp_path, executed) ->
     assert [campaign.grids[0]['seed'] for campaign, _, _ in executed] == [(10, 11, 12, 20), (7, 3)]
 
 
+def test_fresh_seeds_to_confirm_reach_the_campaign(tmp_path, executed, capsys) -> None:
+    """--confirm-seeds on the ablation and on a campaign file; seeds the grid already runs are refused, named."""
+    args = ['ablation', '--out', str(tmp_path), '--scenes', 'C', '--sizes', '20', '--seeds', '0-5', '--workers', '1']
+    main([*args, '--confirm-seeds', '100-105'])
+    path = tmp_path / 'c.toml'
+    path.write_text('[axes]\nscene = ["C"]\nmode = ["planning"]\nseed = 3\n', encoding='utf-8')
+    main(['campaign', 'run', str(path), '--out', str(tmp_path / 'c'), '--confirm-seeds', '7,9'])
+    assert [campaign.confirm_seeds for campaign, _, _ in executed] == [tuple(range(100, 106)), (7, 9)]
+    assert [p.seed for p in executed[1][0].points()] == [0, 1, 2, 7, 9]
+    assert main(['campaign', 'run', str(path), '--out', str(tmp_path / 'c'), '--confirm-seeds', '2-4']) == 2
+    assert 'confirm_seeds must be fresh seeds' in capsys.readouterr().err
+
+
 def test_the_study_runs_the_seeds_of_a_range(tmp_path, monkeypatch) -> None:
     given = []
 
