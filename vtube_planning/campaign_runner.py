@@ -18,10 +18,10 @@ from tqdm import tqdm
 
 from vtube_planning import __version__
 from vtube_planning.campaign import Campaign, CampaignError, run_key
-from vtube_planning.campaign_store import RUNS_FILE, holding, prepare_folder, typed_row
+from vtube_planning.campaign_store import RUNS_FILE, holding, prepare_folder, record_made, typed_row
 from vtube_planning.executors import map_unordered
 from vtube_planning.geometry.scene import load_scene
-from vtube_planning.provenance import sha256_of
+from vtube_planning.provenance import provenance, sha256_of, source_commit
 from vtube_planning.study import Point, RunSettings, run_point
 
 
@@ -64,12 +64,14 @@ def run_campaign(
     with holding(out, 'campaign'):
         done = prepare_folder(campaign, out, expected)
         todo = [(p, campaign.settings, campaign.metrics) for p, k in zip(points, keys, strict=True) if k not in done]
+        if todo:
+            record_made(out, provenance() | {'commit': source_commit(), 'done_before': len(done), 'to_run': len(todo)})
         rows, failed = dict(done), 0
         show = sys.stderr.isatty() if progress is None else progress
         bar = tqdm(total=len(points), initial=len(points) - len(todo), unit='run', disable=not show, file=sys.stderr)
         with (out / RUNS_FILE).open('a', newline='', encoding='utf-8') as handle, bar, _noting_interrupts() as noted:
             writer = csv.DictWriter(handle, fieldnames=campaign.columns)
-            for i, row in map_unordered(_execute, todo, workers=workers, client=client):
+            for i, row in map_unordered(run_row, todo, workers=workers, client=client):
                 point = todo[i][0]
                 if row['version'] != __version__:
                     msg = (
@@ -112,8 +114,8 @@ def _noting_interrupts() -> Iterator[threading.Event]:
         signal.signal(signal.SIGINT, previous)
 
 
-def _execute(job: tuple[Point, RunSettings, tuple[str, ...]]) -> dict[str, Any]:
-    """One run in a worker: its metrics, wall time and version; a run that raises gives its error instead."""
+def run_row(job: tuple[Point, RunSettings, tuple[str, ...]]) -> dict[str, Any]:
+    """One run (in a worker): its metrics, wall time and version; a run that raises gives its error instead."""
     point, settings, metrics = job
     started = time.perf_counter()
     try:

@@ -1,4 +1,5 @@
-"""A campaign's folder: ``campaign.json`` (the campaign) and ``runs.csv`` (one row per run, appended as it comes).
+"""A campaign's folder: ``campaign.json`` (the campaign), ``runs.csv`` (one row per run, appended as it comes) and
+``provenance.json`` (what made the runs: each sitting's command, version, git commit and time).
 
 A row holds the run's key, its point, the metrics kept, its wall time, the package version and, for a run that
 raised, its error. Reading keeps only whole rows of finished runs, each column typed back.
@@ -21,7 +22,7 @@ from typing import Any
 from vtube_planning.campaign import AXES, LATER_COLUMNS, METRICS, Campaign, CampaignError, run_key
 from vtube_planning.files import write_atomically
 
-RUNS_FILE, CAMPAIGN_FILE, LOCK_FILE = 'runs.csv', 'campaign.json', '.lock'
+RUNS_FILE, CAMPAIGN_FILE, LOCK_FILE, MADE_FILE = 'runs.csv', 'campaign.json', '.lock', 'provenance.json'
 
 
 @contextmanager
@@ -168,6 +169,28 @@ def _csv_text(columns: list[str], rows: Iterable[dict[str, Any]]) -> str:
     writer.writeheader()
     writer.writerows(rows)
     return text.getvalue()
+
+
+def record_made(out: Path, entry: Mapping[str, Any]) -> None:
+    """Add ``entry`` (what made the runs of one sitting: command, version, commit, time, how many) to the folder's
+    MADE_FILE, a JSON list, one entry per sitting that ran something."""
+    write_atomically(out / MADE_FILE, json.dumps([*made_by(out), dict(entry)], indent=1) + '\n')
+
+
+def made_by(out: Path) -> list[dict[str, Any]]:
+    """The entries of :func:`record_made` (none for a folder from before it)."""
+    path = out / MADE_FILE
+    if not path.is_file():
+        return []
+    try:
+        entries = json.loads(path.read_text(encoding='utf-8'))
+    except (UnicodeDecodeError, ValueError) as err:
+        msg = f'{path} is not the JSON vtube wrote there ({err}); restore it, or delete it to start the record again.'
+        raise CampaignError(msg) from err
+    if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
+        msg = f'{path} must hold a list of JSON objects, as vtube writes it; restore it, or delete it.'
+        raise CampaignError(msg)
+    return entries
 
 
 def read_results(out: Path) -> tuple[Campaign, list[dict[str, Any]], int]:

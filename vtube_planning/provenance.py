@@ -2,13 +2,15 @@
 
 :func:`provenance` gives the package version, the command line, the time (UTC), and when given the scene (its
 name, file and a hash of its content), the plan (a hash of its file) and the seeds. :func:`copy_scene` writes the
-scene's file beside the results, so that a folder of results says exactly what was flown.
+scene's file beside the results, so that a folder of results says exactly what was flown. :func:`source_commit` names
+the git commit of the code, for results committed beside it.
 """
 
 from __future__ import annotations
 
 import hashlib
 import shlex
+import subprocess
 import sys
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
@@ -59,6 +61,28 @@ def provenance(
     if seeds is not None:
         record['seeds'] = list(seeds)
     return record
+
+
+def source_commit() -> str | None:
+    """The git commit the package's code is at (``-dirty`` added when its code, not its results, differs from it);
+    None when the code is not a git checkout of its own (an installed copy)."""
+    root = Path(__file__).resolve().parents[1]
+
+    def git(*words: str) -> str | None:
+        try:
+            done = subprocess.run(
+                ['git', '-C', str(root), *words], capture_output=True, text=True, timeout=20, check=False
+            )
+        except (OSError, subprocess.TimeoutExpired):
+            return None
+        return done.stdout.strip() if done.returncode == 0 else None
+
+    top = git('rev-parse', '--show-toplevel')
+    if top is None or Path(top).resolve() != root:  # not a checkout, or a copy inside another repository
+        return None
+    code = ('vtube', 'vtube_planning', 'robotarium_exp', 'unicycle_mapping', 'submission', 'pyproject.toml')
+    head, changed = git('rev-parse', 'HEAD'), git('status', '--porcelain', '--untracked-files=no', '--', *code)
+    return None if head is None else head + ('-dirty' if changed else '')
 
 
 def copy_scene(scene: Scene, folder: Path) -> Path:

@@ -297,6 +297,26 @@ def grid_markdown(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = (
     return '\n'.join(lines)
 
 
+def report_text(
+    name: str, rows: list[dict[str, Any]], missing: int, confirm_seeds: Collection[int], made: list[dict[str, Any]]
+) -> str:
+    """A campaign's ``report.md``: what it holds and what made its runs (``made``: the entries of its
+    ``provenance.json``), then :func:`grid_markdown`."""
+    head = f'Campaign {name!r}: {len(rows)} runs'
+    if missing:
+        head += f' ({missing} of the grid missing or failed: the tables are partial; rerun the campaign to finish)'
+    lines = [f'{head}.', '']
+    for entry in made:
+        commit = (entry.get('commit') or 'not a git checkout')[:12]
+        lines.append(
+            f'- {entry.get("to_run", "?")} runs made by `{entry.get("command", "?")}` (vtube '
+            f'{entry.get("vtube_version", "?")}, commit {commit}, {entry.get("utc", "?")})'
+        )
+    if made:
+        lines.append('')
+    return '\n'.join([*lines, grid_markdown(rows, confirm_seeds)])
+
+
 def _test_text(test: dict[str, Any]) -> str:
     """A paired difference, its interval, its effect size, its adjusted p-value and its verdict."""
     effect = '' if math.isnan(test.get('relative', math.nan)) else f' ({test["relative"]:+.0%})'

@@ -8,13 +8,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from vtube.cli.arguments import SEEDS_HELP, parse_sizes, positive, seeds, whole, words, writable_folder
+from vtube.cli.arguments import SEEDS_HELP, count, parse_sizes, positive, seeds, whole, words, writable_folder
 from vtube.cli.command import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_OK, BadInput, Command, Interrupted, View
 from vtube_planning.files import write_atomically
 
 if TYPE_CHECKING:
     from vtube_planning.campaign import Campaign
     from vtube_planning.campaign_runner import Outcome
+    from vtube_planning.campaign_verify import Verification
 
 
 @dataclass(frozen=True)
@@ -244,16 +245,13 @@ def write_report(out: Path) -> CampaignReport | None:
     """A campaign folder's tables and figures (report.md, differences.png, means.png), from its table alone (None:
     it holds no finished run)."""
     from vtube_planning import plots, study_plots
-    from vtube_planning.campaign_store import read_results
-    from vtube_planning.study_report import grid_markdown, map_differences
+    from vtube_planning.campaign_store import made_by, read_results
+    from vtube_planning.study_report import map_differences, report_text
 
     campaign, rows, missing = read_results(out)
     if not rows:
         return None
-    head = f'Campaign {campaign.name!r}: {len(rows)} runs'
-    if missing:
-        head += f' ({missing} of the grid missing or failed: the tables are partial; rerun the campaign to finish)'
-    text = f'{head}.\n\n' + grid_markdown(rows, campaign.confirm_seeds)
+    text = report_text(campaign.name, rows, missing, campaign.confirm_seeds, made_by(out))
     write_atomically(out / 'report.md', text)
     if map_differences(rows):
         differences = study_plots.map_differences_figure(rows)
@@ -280,6 +278,43 @@ def campaign_report(args: argparse.Namespace) -> CampaignReport:
 def campaign_report_view(report: CampaignReport) -> View:
     report_file, *figures = report.written
     return View(('', report.text, f'written {report_file}, {", ".join(map(str, figures))}'))
+
+
+def campaign_verify_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('folder', type=Path, help='the folder a campaign ran into (e.g. docs/ablation)')
+    parser.add_argument(
+        '--runs', type=count, default=None, help='make this many runs again, spread over the table (default: all)'
+    )
+    parser.add_argument(
+        '--workers', type=whole, default=0, help='local processes (default 0: one per core; 1: this process)'
+    )
+
+
+def campaign_verify(args: argparse.Namespace) -> Verification:
+    import os
+
+    from vtube_planning.campaign_verify import verify
+
+    return verify(args.folder, runs=args.runs, workers=args.workers or os.cpu_count() or 1)
+
+
+def campaign_verify_view(found: Verification) -> View:
+    """The runs made again and what differs; exit 1 when anything does (the folder is stale: rerun it)."""
+    made = ', '.join(f'commit {(m.get("commit") or "?")[:12]}' for m in found.made) or 'no provenance.json'
+    lines = [f'made {found.checked} of {found.finished} finished runs again with this code (the runs: {made})']
+    lines += [f'  run {d.key}: {d.column} was {d.recorded!r}, is now {d.now!r}' for d in found.differences[:20]]
+    if len(found.differences) > 20:
+        lines.append(f'  ... and {len(found.differences) - 20} more')
+    report = {
+        None: 'no report.md',
+        True: 'report.md is what the table gives now',
+        False: 'report.md differs from what the table gives now',
+    }
+    lines.append(report[found.report_matches])
+    if found.ok:
+        return View((*lines, 'the folder holds what this code produces'), exit_code=EXIT_OK)
+    error = 'the folder does not hold what this code produces: run the campaign again into a new folder, and its report'
+    return View(tuple(lines), exit_code=EXIT_FAILED, error=error)
 
 
 def _nothing_finished(out: Path) -> str:
@@ -314,5 +349,12 @@ COMMANDS = (
         campaign_report_arguments,
         campaign_report,
         campaign_report_view,
+    ),
+    Command(
+        'campaign verify',
+        'whether a campaign folder holds what this code produces: runs made again, report rewritten, compared',
+        campaign_verify_arguments,
+        campaign_verify,
+        campaign_verify_view,
     ),
 )

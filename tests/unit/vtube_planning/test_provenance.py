@@ -54,3 +54,29 @@ def test_the_scene_copy_has_the_bytes_it_was_read_from(tmp_path) -> None:
     assert path == tmp_path / 'new' / 'folder' / 'scene_A.toml'
     assert path.read_text(encoding='utf-8') == scene.text
     assert load_scene(path).tube.fingerprint() == scene.tube.fingerprint()
+
+
+def test_the_source_commit_of_a_checkout_and_of_a_copy(tmp_path, monkeypatch) -> None:
+    """A git checkout gives its HEAD, '-dirty' when its code (not its results) differs; a copy gives None."""
+    import subprocess
+
+    from vtube_planning import provenance as module
+
+    def git(*words: str) -> str:
+        return subprocess.run(['git', '-C', str(tmp_path), *words], capture_output=True, text=True, check=True).stdout
+
+    (tmp_path / 'vtube_planning').mkdir()
+    (tmp_path / 'docs').mkdir()
+    for name in ('vtube_planning/provenance.py', 'docs/report.md'):
+        (tmp_path / name).write_text('x\n', encoding='utf-8')
+    monkeypatch.setattr(module, '__file__', str(tmp_path / 'vtube_planning' / 'provenance.py'))
+    assert module.source_commit() is None  # not a checkout
+    git('init', '-q')
+    git('add', '.')
+    git('-c', 'user.name=t', '-c', 'user.email=t@t', 'commit', '-qm', 'c')
+    head = git('rev-parse', 'HEAD').strip()
+    assert module.source_commit() == head
+    (tmp_path / 'docs' / 'report.md').write_text('new results\n', encoding='utf-8')
+    assert module.source_commit() == head  # results rewritten: the code is still that commit's
+    (tmp_path / 'vtube_planning' / 'provenance.py').write_text('y\n', encoding='utf-8')
+    assert module.source_commit() == head + '-dirty'
