@@ -9,7 +9,8 @@ initialization (charger slots, deadlock escapes), so the runs differ in where th
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import math
+from collections.abc import Callable, Collection
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -22,6 +23,16 @@ from robotarium_exp.tracking import plan_tracking
 from robotarium_exp.verdict import flight_failures
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
+from vtube_planning.stats import (
+    MIN_SEEDS,
+    NO_VERDICT,
+    holm,
+    paired_difference,
+    relative,
+    replicated,
+    signed_rank_p,
+    verdict,
+)
 from vtube_planning.swarm.metrics import strict_json
 
 COLUMNS = (
@@ -36,6 +47,17 @@ COLUMNS = (
     ('front at the narrowing [s]', 'front_at_narrowing_s', '.1f'),
     ('testbed errors', 'testbed_errors', '.0f'),
 )
+BETTER = {
+    'passing_time_s': 'lower',
+    'min_distance_m': 'higher',
+    'tube_violation_steps': 'lower',
+    'intervention_m': 'lower',
+    'band_percent': 'higher',
+    'approach_percent': 'lower',
+    'dip_percent': 'lower',
+    'testbed_errors': 'lower',
+}
+"""The measures compared as claims ("planned is better"), and which way is better; the others are timings."""
 
 
 @dataclass(frozen=True)
@@ -114,6 +136,57 @@ def comparison_table(rows: list[ComparisonRow]) -> str:
             cells.append(f'{np.mean(values):{fmt}} [{min(values):{fmt}}, {max(values):{fmt}}]')
         lines.append(f'| {title} | ' + ' | '.join(cells) + ' |')
     return '\n'.join(lines) + '\n'
+
+
+def paired_table(rows: list[ComparisonRow], confirm_seeds: Collection[int] = ()) -> str:
+    """Markdown: per measure of BETTER, planned - unplanned paired by seed (the same initialization draws), its
+    interval, effect and signed-rank p-value, Holm-adjusted over the measures, and the verdict
+    (:mod:`vtube_planning.stats`); with ``confirm_seeds``, on the other seeds and on those, and both's verdict."""
+    confirm = set(confirm_seeds)
+    found = _judged([r for r in rows if r.seed not in confirm])
+    again = _judged([r for r in rows if r.seed in confirm]) if confirm else {}
+    head = '| planned - unplanned, same seeds | ' + (
+        'seeds found on | fresh seeds | verdict |' if confirm else 'verdict |'
+    )
+    lines = [head, '|---|' + '---|' * (3 if confirm else 1)]
+    for title, key, _ in COLUMNS:
+        if key not in found:
+            continue
+        text, verdict = found[key]
+        if confirm:
+            fresh, confirmed = again.get(key, ('none', NO_VERDICT))
+            lines.append(
+                f'| {title} | {text}: {verdict} | {fresh}: {confirmed} | **{replicated(verdict, confirmed)}** |'
+            )
+        else:
+            lines.append(f'| {title} | {text}: **{verdict}** |')
+    return '\n'.join(lines) + '\n'
+
+
+def _judged(rows: list[ComparisonRow]) -> dict[str, tuple[str, str]]:
+    """Per measure of BETTER with two or more complete pairs: its text and verdict, Holm-adjusted over them."""
+    tests = {}
+    for key, better in BETTER.items():
+        pairs: dict[int, dict[bool, float]] = {}
+        for r in rows:
+            value = getattr(r, key)
+            if value is not None and np.isfinite(value):
+                pairs.setdefault(r.seed, {})[r.planned] = float(value)
+        both = [(v[True], v[False]) for v in pairs.values() if len(v) == 2]
+        if len(both) >= 2:
+            planned, unplanned = np.array(both).T
+            tests[key] = (better, paired_difference(planned, unplanned), signed_rank_p(planned - unplanned), unplanned)
+    adjusted = holm([t[2] for t in tests.values() if t[1].n >= MIN_SEEDS])
+    out, k = {}, 0
+    for key, (better, estimate, _, unplanned) in tests.items():
+        p = math.nan
+        if estimate.n >= MIN_SEEDS:
+            p, k = float(adjusted[k]), k + 1
+        effect = relative(estimate.value, unplanned)
+        shown = '' if math.isnan(effect) else f' ({effect:+.0%})'
+        p_text = 'p n/a' if math.isnan(p) else f'p {p:.2g}'
+        out[key] = (f'{estimate.text(3)}{shown}, {p_text}, {estimate.n} seeds', verdict(estimate, better, p))
+    return out
 
 
 def failed_runs(rows: list[ComparisonRow]) -> tuple[str, ...]:

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from vtube.cli.arguments import SEEDS_HELP, seed, seeds, testbed_model_name, writable_folder
-from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
+from vtube.cli.command import EXIT_FAILED, EXIT_OK, BadInput, Command, View
 from vtube.cli.render import progress_bar
 from vtube_planning.files import write_atomically
 from vtube_planning.seeds import seeds_text
@@ -172,6 +172,12 @@ def comparison_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('scene', help='a Robotarium scene or a .toml file')
     parser.add_argument('--out', type=Path, required=True, help='folder for the table (.md) and the rows (.json)')
     parser.add_argument('--seeds', type=seeds, default='5', help=f'initialization {SEEDS_HELP} (default 5: 0-4)')
+    parser.add_argument(
+        '--confirm-seeds',
+        type=seeds,
+        default=(),
+        help='fresh initialization seeds also run, on which each paired claim must hold again, e.g. 10-19',
+    )
     parser.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan)')
     testbed_model_argument(parser)
 
@@ -180,7 +186,7 @@ def comparison(args: argparse.Namespace) -> Comparison:
     """Planned against unplanned over several initialization seeds; writes the table and the rows."""
     import json
 
-    from robotarium_exp.compare import compare, comparison_table, failed_runs
+    from robotarium_exp.compare import compare, comparison_table, failed_runs, paired_table
     from robotarium_exp.fit import require_fit
     from robotarium_exp.scene import load_scene
     from vtube.pipeline import plan_for
@@ -190,15 +196,19 @@ def comparison(args: argparse.Namespace) -> Comparison:
     scene = load_scene(args.scene)
     require_fit(scene)
     plan = plan_for(scene, plan_file=args.plan)
+    reused = sorted(set(args.seeds) & set(args.confirm_seeds))
+    if reused:
+        raise BadInput(f'--confirm-seeds must be fresh seeds: {reused} are in --seeds too; give others, e.g. 10-19.')
+    everything = (*args.seeds, *args.confirm_seeds)
     with progress_bar('experiments', 'run') as bar:
-        bar.reset(total=2 * len(args.seeds))
-        rows = compare(scene, plan, list(args.seeds), run_done=bar.update, testbed_model=args.testbed_model)
-    table = comparison_table(rows)
+        bar.reset(total=2 * len(everything))
+        rows = compare(scene, plan, list(everything), run_done=bar.update, testbed_model=args.testbed_model)
+    table = comparison_table(rows) + '\n' + paired_table(rows, args.confirm_seeds)
     out.mkdir(parents=True, exist_ok=True)
     written = (out / f'compare_{scene.name}.md', out / f'compare_{scene.name}.json')
-    write_atomically(written[0], f'{comparison_head(scene.name, args.seeds)}\n\n{table}')
+    write_atomically(written[0], f'{comparison_head(scene.name, everything)}\n\n{table}')
     write_atomically(written[1], json.dumps([row.to_json() for row in rows], indent=1, allow_nan=False))
-    return Comparison(scene.name, args.seeds, table, written, failed_runs(rows))
+    return Comparison(scene.name, everything, table, written, failed_runs(rows))
 
 
 def comparison_head(scene: str, seeds: tuple[int, ...]) -> str:

@@ -92,3 +92,27 @@ def test_compare_runs_both_modes_per_seed_on_the_same_draws(monkeypatch) -> None
     )
     assert rows[0].failures[0].startswith('the testbed would not run it (1 pair-steps of robots too close, 2 ')
     assert rows[0].failures[1].startswith('robot bodies were on the tube walls in 1 robot-steps')
+
+
+def test_paired_claims_are_tested_adjusted_and_confirmed_on_fresh_seeds() -> None:
+    """Planned passes 2 s sooner on seeds 0-9 and on the fresh seeds 20-29; its filter intervenes less only on
+    0-9 (on 20-29 by as much): passing time holds, the intervention is not replicated; measures equal in both
+    modes do not hold; with four seeds, no verdict. Eight measures are claimed: ten seeds that all agree give
+    p = 2/1024, times 8 after Holm, 0.016."""
+    from robotarium_exp.compare import paired_table
+
+    rows = []
+    for seed in [*range(10), *range(20, 30)]:
+        jitter = 0.1 * np.sin(seed)
+        less = 0.5 if seed < 20 else 0.0
+        rows += [row(seed, True, passing_time_s=28.0 + seed + jitter, intervention_m=1.0 - less + jitter)]
+        rows += [row(seed, False)]
+    lines = paired_table(rows, confirm_seeds=range(20, 30)).splitlines()
+    assert lines[0] == '| planned - unplanned, same seeds | seeds found on | fresh seeds | verdict |'
+    by = {line.split(' | ')[0][2:]: line for line in lines[2:]}
+    assert by['passing time [s]'].endswith('| **holds** |') and 'p 0.016, 10 seeds: holds' in by['passing time [s]']
+    assert by['filter intervention [m]'].endswith('| **not replicated** |')
+    assert by['min distance [m]'].endswith('| **does not hold** |')  # the same in both modes
+    assert 'expansion starts [s]' not in by  # a timing, not a claim
+    few = paired_table([r for r in rows if r.seed < 4])
+    assert '4 seeds: **no verdict**' in few and 'p n/a' in few

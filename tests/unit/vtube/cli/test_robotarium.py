@@ -125,7 +125,8 @@ def test_compare_draws_its_runs_and_writes_the_table_and_rows(tmp_path, monkeypa
     assert [row['planned'] for row in rows] == [True, False, True, False]
     table = (tmp_path / 'c' / 'compare_robotarium_curve.md').read_text()
     assert table.startswith('scene robotarium_curve, V2 initialization seeds 0-1, mean [min, max]:\n\n| measure |')
-    assert table.count('\n') == 14 and '| expansion starts [s] | 2.0 [2.0, 2.0] | never |' in table
+    assert '| expansion starts [s] | 2.0 [2.0, 2.0] | never |' in table
+    assert '\n\n| planned - unplanned, same seeds | verdict |\n' in table  # then the paired claims
 
 
 def test_compare_runs_exactly_the_seeds_of_a_range(tmp_path, monkeypatch, capsys) -> None:
@@ -145,6 +146,24 @@ def test_compare_runs_exactly_the_seeds_of_a_range(tmp_path, monkeypatch, capsys
     assert (tmp_path / 'compare_robotarium_curve.md').read_text().startswith('scene robotarium_curve, V2 initial')
     assert main(['robotarium', 'compare', 'robotarium_curve', '--seeds', '10,3', '--out', str(tmp_path)]) == 0
     assert given[-1] == [10, 3]  # in the order given
+
+
+def test_compare_confirms_on_fresh_seeds_and_refuses_reused_ones(tmp_path, monkeypatch, capsys) -> None:
+    given = []
+
+    def compare(scene, plan, seeds, run_done=None, testbed_model='ideal'):
+        given.append(list(seeds))
+        return stubbed_rows(seeds, run_done)
+
+    monkeypatch.setattr(compare_module, 'compare', compare)
+    args = ['robotarium', 'compare', 'robotarium_curve', '--seeds', '0-1', '--out', str(tmp_path)]
+    assert main([*args, '--confirm-seeds', '7-8']) == 0
+    assert given == [[0, 1, 7, 8]]
+    table = (tmp_path / 'compare_robotarium_curve.md').read_text()
+    assert '| planned - unplanned, same seeds | seeds found on | fresh seeds | verdict |' in table
+    assert '2 seeds: no verdict' in table  # two seeds of each set: numbers, and no verdict
+    assert main([*args, '--confirm-seeds', '1-2']) == 2 and len(given) == 1
+    assert '--confirm-seeds must be fresh seeds: [1] are in --seeds too' in capsys.readouterr().err
 
 
 def test_compare_with_a_failed_run_exits_1_naming_its_seed_and_mode(tmp_path, monkeypatch, capsys) -> None:
