@@ -85,6 +85,16 @@ def source_commit() -> str | None:
     return None if head is None else head + ('-dirty' if changed else '')
 
 
+def made_text(record: dict[str, Any]) -> str:
+    """What made a result, in one line: the command, the version, the commit and the time of a
+    :func:`provenance` record with ``commit`` (:func:`source_commit`)."""
+    commit = (record.get('commit') or 'not a git checkout')[:12]
+    return (
+        f'made by `{record.get("command", "?")}` (vtube {record.get("vtube_version", "?")}, commit {commit}, '
+        f'{record.get("utc", "?")})'
+    )
+
+
 def copy_scene(scene: Scene, folder: Path) -> Path:
     """Write the scene's file into ``folder`` as ``scene_<name>.toml`` (the same bytes it was read from)."""
     path = folder / f'scene_{scene.name}.toml'

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from vtube_planning.provenance import made_text
 from vtube_planning.seeds import seeds_text
 from vtube_planning.stats import (
     MIN_SEEDS,
@@ -306,12 +307,7 @@ def report_text(
     if missing:
         head += f' ({missing} of the grid missing or failed: the tables are partial; rerun the campaign to finish)'
     lines = [f'{head}.', '']
-    for entry in made:
-        commit = (entry.get('commit') or 'not a git checkout')[:12]
-        lines.append(
-            f'- {entry.get("to_run", "?")} runs made by `{entry.get("command", "?")}` (vtube '
-            f'{entry.get("vtube_version", "?")}, commit {commit}, {entry.get("utc", "?")})'
-        )
+    lines += [f'- {entry.get("to_run", "?")} runs {made_text(entry)}' for entry in made]
     if made:
         lines.append('')
     return '\n'.join([*lines, grid_markdown(rows, confirm_seeds)])

@@ -190,6 +190,7 @@ def comparison(args: argparse.Namespace) -> Comparison:
     from robotarium_exp.fit import require_fit
     from robotarium_exp.scene import load_scene
     from vtube.pipeline import plan_for
+    from vtube_planning.provenance import made_text, provenance, source_commit
 
     out: Path = args.out
     writable_folder(out)
@@ -206,7 +207,8 @@ def comparison(args: argparse.Namespace) -> Comparison:
     table = comparison_table(rows) + '\n' + paired_table(rows, args.confirm_seeds)
     out.mkdir(parents=True, exist_ok=True)
     written = (out / f'compare_{scene.name}.md', out / f'compare_{scene.name}.json')
-    write_atomically(written[0], f'{comparison_head(scene.name, everything)}\n\n{table}')
+    made = made_text(provenance() | {'commit': source_commit()})
+    write_atomically(written[0], f'{comparison_head(scene.name, everything)}\n\n{table}\nThe runs were {made}.\n')
     write_atomically(written[1], json.dumps([row.to_json() for row in rows], indent=1, allow_nan=False))
     return Comparison(scene.name, everything, table, written, failed_runs(rows))
 
