@@ -29,8 +29,9 @@ def test_a_reduced_grid_end_to_end(tmp_path, capsys) -> None:
     text = (out / 'report.md').read_text()
     assert text.startswith("Campaign 'ablation': 24 runs.")
     assert '| paper model, radial sat | T +' in text  # 1 cell per setting: T +k =m -n with k+m+n = 1
-    assert '### Scene C, N = 20, paper model, radial sat (2 seeds)' in text
-    assert '### Scene C, N = 20, paper model, forward sat (2 seeds)' in text
+    assert '### Scene C, N = 20, paper model, radial sat (seeds 0-1)' in text
+    assert '### Scene C, N = 20, paper model, forward sat (seeds 0-1)' in text
+    assert '- 24 runs made by `vtube ablation --out' in text and 'T +0 =0 -0 ?1' in text  # two seeds: no verdict
     assert "| planning - no planning (the paper's comparison) |" in text
     for figure in ('differences.png', 'means.png'):
         assert (out / figure).read_bytes()[:4] == b'\x89PNG'
@@ -40,3 +41,5 @@ def test_a_reduced_grid_end_to_end(tmp_path, capsys) -> None:
     assert (out / 'report.md').read_text() == text
     assert main([*argv, '--workers', '1']) == 0  # the same command again: nothing left to run
     assert '24 already done, 0 run now' in capsys.readouterr().out
+    assert main(['campaign', 'verify', str(out), '--runs', '2', '--workers', '1']) == 0  # this code made it
+    assert 'the folder holds what this code produces' in capsys.readouterr().out
