@@ -24,9 +24,8 @@ from robotarium_exp.verdict import flight_failures
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.stats import (
-    MIN_SEEDS,
     NO_VERDICT,
-    holm,
+    family_adjusted,
     paired_difference,
     relative,
     replicated,
@@ -176,12 +175,9 @@ def _judged(rows: list[ComparisonRow]) -> dict[str, tuple[str, str]]:
         if len(both) >= 2:
             planned, unplanned = np.array(both).T
             tests[key] = (better, paired_difference(planned, unplanned), signed_rank_p(planned - unplanned), unplanned)
-    adjusted = holm([t[2] for t in tests.values() if t[1].n >= MIN_SEEDS])
-    out, k = {}, 0
-    for key, (better, estimate, _, unplanned) in tests.items():
-        p = math.nan
-        if estimate.n >= MIN_SEEDS:
-            p, k = float(adjusted[k]), k + 1
+    adjusted = family_adjusted([t[1] for t in tests.values()], [t[2] for t in tests.values()])
+    out = {}
+    for (key, (better, estimate, _, unplanned)), p in zip(tests.items(), adjusted, strict=True):
         effect = relative(estimate.value, unplanned)
         shown = '' if math.isnan(effect) else f' ({effect:+.0%})'
         p_text = 'p n/a' if math.isnan(p) else f'p {p:.2g}'

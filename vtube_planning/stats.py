@@ -95,6 +95,16 @@ def holm(p_values: Sequence[float]) -> NDArray[np.float64]:
     return adjusted
 
 
+def family_adjusted(estimates: Sequence[Estimate], p_values: Sequence[float]) -> list[float]:
+    """:func:`holm` over the members of a family (one comparison's claims) that have MIN_SEEDS differences or
+    more; NaN for the others, which get no verdict."""
+    enough = [k for k, e in enumerate(estimates) if e.n >= MIN_SEEDS]
+    adjusted = [math.nan] * len(estimates)
+    for k, p in zip(enough, holm([p_values[k] for k in enough]), strict=True):
+        adjusted[k] = float(p)
+    return adjusted
+
+
 def verdict(difference: Estimate, better: str, p_adjusted: float) -> str:
     """'holds', 'does not hold' or 'reversed' for a claim that a - b is ``better`` (``'higher'``, say minimum
     distance, or ``'lower'``: passing time, collisions): significant where the adjusted p-value is below ALPHA and

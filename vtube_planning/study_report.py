@@ -18,12 +18,13 @@ from numpy.typing import NDArray
 from vtube_planning.provenance import made_text
 from vtube_planning.seeds import seeds_text
 from vtube_planning.stats import (
+    ALPHA,
     MIN_SEEDS,
     NO_VERDICT,
     NOT_REPLICATED,
     Estimate,
     cell_values,
-    holm,
+    family_adjusted,
     mean_interval,
     paired_difference,
     relative,
@@ -108,7 +109,7 @@ def verdict_summary(table: list[dict[str, Any]]) -> str:
     lines = [
         (
             f'Cells {cells} where a beats b (+), cannot be told apart (=), or b beats a (-): the paired signed-rank '
-            f'test, Holm-adjusted over the cells of each comparison and metric, below {_ALPHA_TEXT} and the 95 % '
+            f'test, Holm-adjusted over the cells of each comparison and metric, below {ALPHA:g} and the 95 % '
             f'interval on that side; ~: not confirmed on the fresh seeds; ?: fewer than {MIN_SEEDS} seeds, no '
             'verdict. T: passing time (shorter is better), D: minimum distance (larger is better).'
         ),
@@ -134,7 +135,6 @@ def verdict_summary(table: list[dict[str, Any]]) -> str:
 
 
 _SIGNS = (('+', 'holds'), ('=', 'does not hold'), ('-', 'reversed'), ('~', NOT_REPLICATED), ('?', NO_VERDICT))
-_ALPHA_TEXT = '0.05'
 
 
 def map_differences(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -172,14 +172,14 @@ def _direction(difference: Estimate, better: str) -> str:
 
 def _adjusted(tests: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """``tests`` (each with a, b, metric, better, estimate and p) with ``p_holm``, adjusted over the tests of the
-    same comparison and metric that have MIN_SEEDS values or more, and ``verdict``."""
+    same comparison and metric (:func:`~vtube_planning.stats.family_adjusted`), and ``verdict``."""
     for family in dict.fromkeys((t['a'], t['b'], t['metric']) for t in tests):
-        members = [t for t in tests if (t['a'], t['b'], t['metric']) == family and t['estimate'].n >= MIN_SEEDS]
-        for t, adjusted in zip(members, holm([t['p'] for t in members]), strict=True):
-            t['p_holm'] = float(adjusted)
-    for t in tests:
-        t.setdefault('p_holm', math.nan)
-        t['verdict'] = verdict(t['estimate'], t['better'], t['p_holm'])
+        members = [t for t in tests if (t['a'], t['b'], t['metric']) == family]
+        for t, p in zip(
+            members, family_adjusted([t['estimate'] for t in members], [t['p'] for t in members]), strict=True
+        ):
+            t['p_holm'] = p
+            t['verdict'] = verdict(t['estimate'], t['better'], p)
     return tests
 
 

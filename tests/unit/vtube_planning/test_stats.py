@@ -133,3 +133,12 @@ def test_too_few_seeds_get_no_verdict_and_replication_needs_both() -> None:
     assert replicated('does not hold', 'holds') == 'does not hold'  # a claim not found is not found by replicating
     assert replicated('holds', NO_VERDICT) == NO_VERDICT
     assert relative(-0.5, [2.0, 2.0]) == -0.25 and np.isnan(relative(1.0, [1.0, -1.0]))
+
+
+def test_a_family_is_adjusted_over_its_members_with_enough_seeds() -> None:
+    """A cell with too few seeds gets no p-value and does not count among the m of Holm's adjustment."""
+    from vtube_planning.stats import family_adjusted
+
+    enough, few = Estimate(1.0, 0.5, 1.5, 10), Estimate(1.0, 0.5, 1.5, 4)
+    adjusted = family_adjusted([enough, few, enough], [0.01, 0.001, 0.04])
+    assert adjusted[0] == pytest.approx(0.02) and np.isnan(adjusted[1]) and adjusted[2] == pytest.approx(0.04)
