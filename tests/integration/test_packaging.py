@@ -55,8 +55,11 @@ def test_the_wheel_ships_the_five_packages_and_not_the_generated_files(tmp_path:
     )
     (wheel,) = tmp_path.glob('vtube-*.whl')
     with zipfile.ZipFile(wheel) as archive:
-        top_level = {name.split('/')[0] for name in archive.namelist()}
+        names = set(archive.namelist())
+    top_level = {name.split('/')[0] for name in names}
     assert top_level == {*SHIPPED, f'{wheel.name.split("-py")[0]}.dist-info'}
+    # `vtube campaign example` reads these: an installed package has no docs/
+    assert {f'vtube/examples/{n}.toml' for n in ('faults', 'delay', 'replanning')} <= names
 
     target = tmp_path / 'installed'
     subprocess.run([*pip, 'install', '--no-deps', '--target', str(target), str(wheel)], check=True, timeout=600)
@@ -68,6 +71,12 @@ def test_the_wheel_ships_the_five_packages_and_not_the_generated_files(tmp_path:
         )
 
     assert run('import submission, vtube_planning; print(vtube_planning.__version__)').returncode == 0
+    listed = (
+        'from importlib import resources; '
+        'print(sorted(p.name for p in (resources.files("vtube") / "examples").iterdir()))'
+    )
+    examples = run(listed)  # what vtube.cli.example.campaign_examples reads, in the installed package
+    assert examples.stdout.strip() == "['delay.toml', 'faults.toml', 'replanning.toml']", examples.stderr
     missing = run('import submissions')
     assert missing.returncode != 0 and 'ModuleNotFoundError' in missing.stderr
 

@@ -11,7 +11,20 @@ from typing import Any
 from robotarium_exp.errors import RobotariumExpError
 from robotarium_exp.rps.errors import RobotariumError
 from unicycle_mapping.errors import MappingError
-from vtube.cli import analyze, demo, export, plan, robotarium, scene, simulate, study, submission, sweep, tube
+from vtube.cli import (
+    analyze,
+    demo,
+    example,
+    export,
+    plan,
+    robotarium,
+    scene,
+    simulate,
+    study,
+    submission,
+    sweep,
+    tube,
+)
 from vtube.cli.command import EXIT_BAD_INPUT, EXIT_INTERRUPTED, BadInput, Command
 from vtube.cli.render import error, interrupted, render
 from vtube_planning.errors import VtubeError
@@ -24,6 +37,7 @@ COMMANDS: dict[str, Command[Any]] = {
         plan.COMMAND,
         simulate.COMMAND,
         *study.COMMANDS,
+        example.COMMAND,
         *robotarium.COMMANDS,
         sweep.COMMAND,
         *submission.COMMANDS,

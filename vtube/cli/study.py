@@ -207,7 +207,11 @@ def ablation(args: argparse.Namespace) -> CampaignDone:
 
 
 def campaign_run_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument('file', type=Path, help='the campaign .toml file (see docs/faults/campaign.toml)')
+    parser.add_argument(
+        'file',
+        type=Path,
+        help='the campaign .toml file (`vtube campaign example faults FILE.toml` writes one to start from)',
+    )
     parser.add_argument(
         '--out',
         type=Path,
@@ -281,7 +285,7 @@ def campaign_report_view(report: CampaignReport) -> View:
 
 
 def campaign_verify_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument('folder', type=Path, help='the folder a campaign ran into (e.g. docs/ablation)')
+    parser.add_argument('folder', type=Path, help='the folder a campaign ran into (the --out of campaign run)')
     parser.add_argument(
         '--runs', type=count, default=None, help='make this many runs again, spread over the table (default: all)'
     )
