@@ -13,7 +13,7 @@ from vtube_planning.npzfile import write_npz
 
 def test_a_log_exported_as_a_bag_and_as_csv(tmp_path, capsys) -> None:
     t = 0.02 * np.arange(50)
-    positions = np.stack([np.stack([t, t + k], axis=0) for k in range(3)], axis=2)  # (50, 2, 3)
+    positions = np.stack([np.stack([t, t + k], axis=1) for k in range(3)], axis=2)  # (50, 2, 3)
     log = tmp_path / 'log.npz'
     write_npz(log, {'t_s': t, 'positions_m': positions}, {'format': LOG_FORMAT, 'version': LOG_VERSION, 'kind': 't'})
     assert main(['export', str(log), '--format', 'mcap', '--out', str(tmp_path / 'bag'), '--scene', 'A']) == 0
