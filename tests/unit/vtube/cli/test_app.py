@@ -53,6 +53,7 @@ def test_every_command_is_reachable_by_its_words(capsys) -> None:
         'robotarium',
         'submission',
         'analyze',
+        'export',
         'demo',
     }
 
