@@ -1,7 +1,7 @@
 """Pose messages of one layout decoded in bulk with numpy: the fast path of a bag's PoseStamped and Odometry topics.
 
-A motion-capture bag holds millions of messages, and decoding each into objects (rosbags' deserializers) costs
-about twenty times reading them. Yet a topic's messages almost always share one layout: the same frame names, so
+A motion-capture bag holds millions of messages, and decoding each into objects (rosbags' deserializers) took
+twice as long as reading them (profiled on a 0.1 GB MCAP bag: 24 s against 10 s). Yet a topic's messages almost always share one layout: the same frame names, so
 the same length and the same offsets. A batch whose messages have the first one's length and the same bytes from
 the start of the header's frame name to the pose is read as a (messages, bytes) array, and the stamps and poses are
 taken from their offsets. The offsets follow the serialisations (ROS 1: packed, little-endian; CDR: each field
