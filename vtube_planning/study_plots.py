@@ -22,6 +22,27 @@ VERDICT_COLORS = {
 """A claim's colour in the difference figures, by verdict (:mod:`vtube_planning.stats`)."""
 
 
+def _verdict_legend(fig: Figure, verdicts: Collection[str], *, squares: bool = False) -> None:
+    """A legend of the verdicts drawn under the figure: their colours, as dots (filled where the claim holds) or as
+    the squares of :func:`verdict_matrix_figure`."""
+    shown = [v for v in VERDICT_COLORS if v in verdicts]
+    handles = [
+        fig.axes[0].plot(
+            [],
+            [],
+            's' if squares else 'o',
+            color=VERDICT_COLORS[v],
+            mfc=VERDICT_COLORS[v] if squares or v == 'holds' else 'white',
+        )[0]
+        for v in shown
+    ]
+    words = [_VERDICT_WORDS.get(v, v) for v in shown]
+    fig.legend(handles, words, loc='outside lower center', ncols=len(shown), fontsize=8)
+
+
+_VERDICT_WORDS = {'holds': 'a beats b (holds)', 'reversed': 'b beats a (reversed)'}
+
+
 def study_figure(summary: list[dict[str, Any]], collision_distance_m: float) -> Figure:
     """Bars of passing time and minimum distance per scene, with and without planning (range over seeds)."""
     from matplotlib.figure import Figure
@@ -93,7 +114,52 @@ def paired_differences_figure(rows: list[dict[str, Any]], confirm_seeds: Collect
         ax.set_xlabel(f'difference in {title}')
     axes[0].set_yticks(range(len(labels)), labels, fontsize=7)
     axes[0].invert_yaxis()
+    fig.suptitle('a - b on the same seeds: mean and 95 % interval, coloured by verdict', fontsize=9)
+    _verdict_legend(fig, {p['verdict'] for p in table})
     return fig
+
+
+def verdict_matrix_figure(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = ()) -> Figure:
+    """The paired comparisons at a glance, at page width: a row per cell (scene, N, setting), a column per
+    comparison and metric; each square coloured by its verdict (:func:`~vtube_planning.study_report.paired_table`)
+    and marked with the effect (a - b as a share of b's mean)."""
+    from matplotlib.figure import Figure
+
+    from vtube_planning.study_report import CLAIMS, COMPARISONS, paired_table, place_text, setting_text
+
+    table = paired_table(rows, confirm_seeds)
+    cells = list(dict.fromkeys(f'{place_text(p)}, N={p["n_robots"]}, {setting_text(p)}' for p in table))
+    columns = [
+        (a, b, m)
+        for a, b, _ in COMPARISONS
+        for m, _, _ in CLAIMS
+        if any((p['a'], p['b'], p['metric']) == (a, b, m) for p in table)
+    ]
+    fig = Figure(figsize=(8.0, 2.6 + 0.24 * len(cells)), layout='constrained')
+    ax = fig.add_subplot()
+    for p in table:
+        i = cells.index(f'{place_text(p)}, N={p["n_robots"]}, {setting_text(p)}')
+        j = columns.index((p['a'], p['b'], p['metric']))
+        ax.add_patch(_square(j, i, VERDICT_COLORS[p['verdict']]))
+        if not np.isnan(p['relative']):
+            dark = p['verdict'] in ('holds', 'reversed')
+            ax.text(j, i, f'{p["relative"]:+.0%}', ha='center', va='center', fontsize=6, color='w' if dark else 'k')
+    letters = {m: t.split(' [')[0] for m, _, t in CLAIMS}
+    ax.set_xticks(
+        range(len(columns)), [f'{a} - {b}: {letters[m]}' for a, b, m in columns], rotation=60, ha='right', fontsize=6
+    )
+    ax.set_yticks(range(len(cells)), cells, fontsize=6)
+    ax.set_xlim(-0.5, len(columns) - 0.5)
+    ax.set_ylim(len(cells) - 0.5, -0.5)
+    ax.set_title('a - b on the same seeds: the verdict (colour) and the effect (share of b)', fontsize=9)
+    _verdict_legend(fig, {p['verdict'] for p in table}, squares=True)
+    return fig
+
+
+def _square(x: float, y: float, color: str) -> Any:
+    from matplotlib.patches import Rectangle
+
+    return Rectangle((x - 0.45, y - 0.45), 0.9, 0.9, color=color)
 
 
 def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
@@ -143,10 +209,18 @@ def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
             ax.set_yticks(range(len(cells[scene])), cells[scene] if ax is panels[0] else [], fontsize=7)
             ax.set_ylim(len(cells[scene]) - 0.5, -0.5)
             ax.set_title(f'scene {scene}: {title}', fontsize=9)
+            ax.set_xlabel(title, fontsize=8)
             ax.grid(axis='x', color='0.9')
         panels[2].set_xlim(0.0, 1.0)
+        panels[2].set_xlabel('share of runs with a collision', fontsize=8)
+        if not any(r.get('collision_pairs', 0) for r in rows if r['scene'] == scene):
+            panels[2].text(
+                0.5, 0.5, 'no collision\nin any run', ha='center', va='center', transform=panels[2].transAxes
+            )
     handles = [fig.axes[0].plot([], [], 'o', color=colors[m], label=m)[0] for m in modes]
-    fig.legend(handles=handles, loc='outside lower center', ncols=min(len(modes), 6), fontsize=8)
+    hollow = fig.axes[0].plot([], [], 'o', color='0.4', mfc='white', label='some runs did not complete')[0]
+    fig.legend(handles=[*handles, hollow], loc='outside lower center', ncols=min(len(modes) + 1, 7), fontsize=8)
+    fig.suptitle('each cell: the mean over seeds with its 95 % interval, one colour per mode', fontsize=9)
     return fig
 
 
@@ -175,6 +249,7 @@ def map_differences_figure(rows: list[dict[str, Any]]) -> Figure:
     axes[0].set_yticks(range(len(labels)), labels, fontsize=7)
     axes[0].set_ylim(len(labels) - 0.5, -0.5)
     fig.suptitle("a - b: a dot per map (its seeds' mean), the mean over maps with its 95 % interval", fontsize=9)
+    _verdict_legend(fig, {f['verdict'] for f in found})
     return fig
 
 

@@ -33,7 +33,7 @@ def test_a_reduced_grid_end_to_end(tmp_path, capsys) -> None:
     assert '### Scene C, N = 20, paper model, forward sat (seeds 0-1)' in text
     assert '- 24 runs made by `vtube ablation --out' in text and 'T +0 =0 -0 ?1' in text  # two seeds: no verdict
     assert "| planning - no planning (the paper's comparison) |" in text
-    for figure in ('differences.png', 'means.png'):
+    for figure in ('differences.png', 'verdicts.png', 'means.png'):
         assert (out / figure).read_bytes()[:4] == b'\x89PNG'
     assert 'ablation: 24 runs, 0 already done, 24 run now on 2 local processes in' in capsys.readouterr().out
     (out / 'report.md').unlink()

@@ -246,8 +246,8 @@ def campaign_done_view(done: CampaignDone) -> View:
 
 
 def write_report(out: Path) -> CampaignReport | None:
-    """A campaign folder's tables and figures (report.md, differences.png, means.png), from its table alone (None:
-    it holds no finished run)."""
+    """A campaign folder's tables and figures (report.md, differences.png, verdicts.png, means.png), from its table
+    alone (None: it holds no finished run)."""
     from vtube_planning import plots, study_plots
     from vtube_planning.campaign_store import made_by, read_results
     from vtube_planning.study_report import map_differences, report_text
@@ -263,6 +263,7 @@ def write_report(out: Path) -> CampaignReport | None:
         differences = study_plots.paired_differences_figure(rows, campaign.confirm_seeds)
     figures = (
         plots.save_figure(differences, out / 'differences.png'),
+        plots.save_figure(study_plots.verdict_matrix_figure(rows, campaign.confirm_seeds), out / 'verdicts.png'),
         plots.save_figure(study_plots.cell_means_figure(rows), out / 'means.png'),
     )
     return CampaignReport(text, (out / 'report.md', *figures))

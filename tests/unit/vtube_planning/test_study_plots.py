@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from matplotlib.colors import to_rgba
 
 from vtube_planning.stats import mean_interval
 from vtube_planning.study_plots import cell_means_figure, paired_differences_figure, study_figure
@@ -105,3 +106,36 @@ def test_the_map_figure_draws_a_dot_per_map_and_the_interval_over_maps() -> None
     ]
     (interval,) = ax.collections
     assert np.allclose(interval.get_segments()[0][:, 0], [time['estimate'].low, time['estimate'].high])
+
+
+def test_the_verdict_matrix_shows_each_comparison_of_each_cell_at_a_glance() -> None:
+    """A square per cell and comparison-metric, coloured by its verdict and marked with its effect; a legend of the
+    verdicts shown; a second setting is a second row."""
+    from vtube_planning.study_plots import VERDICT_COLORS, verdict_matrix_figure
+
+    rows = rows_of() + [r | {'saturation': 'forward', 'collision_pairs': 0} for r in rows_of()]
+    table = paired_table(rows)
+    fig = verdict_matrix_figure(rows)
+    ax = fig.axes[0]
+    assert [t.get_text() for t in ax.get_yticklabels()] == [
+        'Scene C, N=20, paper model, radial sat',
+        'Scene C, N=20, paper model, forward sat',
+    ]
+    assert [t.get_text() for t in ax.get_xticklabels()] == [
+        'planning - no planning: passing time',
+        'planning - no planning: min distance',
+    ]
+    assert len(ax.patches) == len(table) == 4
+    colours = sorted(tuple(p.get_facecolor()) for p in ax.patches)
+    assert colours == sorted(to_rgba(VERDICT_COLORS[p['verdict']]) for p in table)
+    effects = sorted(t.get_text() for t in ax.texts)
+    assert effects == sorted(f'{p["relative"]:+.0%}' for p in table)
+    assert {p['verdict'] for p in table} == {'does not hold'}  # six seeds in two cells: not after Holm (2 x 2/64)
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == ['does not hold']
+
+
+def test_a_scene_without_collisions_says_so_and_the_share_axis_is_named() -> None:
+    rows = [r | {'collision_pairs': 0} for r in rows_of()]
+    share_ax = cell_means_figure(rows).axes[2]
+    assert share_ax.get_xlabel() == 'share of runs with a collision'
+    assert [t.get_text() for t in share_ax.texts] == ['no collision\nin any run']
