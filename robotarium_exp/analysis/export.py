@@ -74,13 +74,19 @@ def _write_bag(trajectory: Trajectory, out: Path, storage: str, scene: Scene | N
             tube = writer.add_connection(TUBE_TOPIC, MARKERS, typestore=store)
             writer.write(tube, int(stamps[0]), bytes(store.serialize_cdr(_markers(store, scene), MARKERS)))
         present = trajectory.present()
-        for k, robot in enumerate(trajectory.robot_ids):
-            topic = writer.add_connection(f'/{_topic_name(robot)}/pose', POSE, typestore=store)
+        for k, name in enumerate(_topic_names(trajectory.robot_ids)):
+            topic = writer.add_connection(f'/{name}/pose', POSE, typestore=store)
             for t in np.flatnonzero(present[:, k]):
                 heading = 0.0 if trajectory.headings_rad is None else float(trajectory.headings_rad[t, k])
                 x, y = trajectory.positions_m[t, :, k]
                 pose = _pose_stamped(store, int(stamps[t]), float(x), float(y), heading)
                 writer.write(topic, int(stamps[t]), bytes(store.serialize_cdr(pose, POSE)))
+
+
+def _topic_names(robots: tuple[str, ...]) -> list[str]:
+    """Each robot's topic name (:func:`_topic_name`), made unique by its index where two ids give the same."""
+    names = [_topic_name(robot) for robot in robots]
+    return [f'{n}_{k}' if names.count(n) > 1 else n for k, n in enumerate(names)]
 
 
 def _topic_name(robot: str) -> str:

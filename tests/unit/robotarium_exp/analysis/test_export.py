@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from rosbags.highlevel import AnyReader
 
-from robotarium_exp.analysis.export import TUBE_TOPIC, _topic_name, export
+from robotarium_exp.analysis.export import TUBE_TOPIC, _topic_name, _topic_names, export
 from robotarium_exp.analysis.loaders import load_trajectory
 from robotarium_exp.analysis.report import analyse
 from robotarium_exp.errors import AnalysisError
@@ -87,3 +87,4 @@ def test_what_cannot_be_written_is_refused(flown, tmp_path) -> None:
     with pytest.raises(AnalysisError, match="unknown format 'json'; choose from mcap, ros2, csv"):
         export(trajectory, tmp_path / 'x', 'json')
     assert _topic_name('robot_1') == 'robot_1' and _topic_name('3 bots/é') == 'robot_3_bots__'
+    assert _topic_names(('a b', 'a_b', 'c')) == ['a_b_0', 'a_b_1', 'c']  # two ids, one name: told apart
