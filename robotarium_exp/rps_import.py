@@ -21,7 +21,8 @@ import importlib
 import importlib.abc
 import importlib.machinery
 import sys
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from types import ModuleType
 
@@ -145,3 +146,21 @@ def use_generation(generation: Generation, replaced: Mapping[str, ModuleType]) -
         del sys.modules[name]
     sys.meta_path[:] = [f for f in sys.meta_path if not isinstance(f, RpsFinder)]
     sys.meta_path.insert(0, RpsFinder(generation, replaced))
+
+
+@contextmanager
+def kept_apart() -> Iterator[None]:
+    """Inside, a script may be given ``rps`` (:func:`use_generation`) and the official imports may set cvxopt's
+    options; after, the finders, the ``rps`` modules and cvxopt's options are what they were (a process that runs a
+    script of its own, as the demo and the regression test do, goes on as before)."""
+    finders, options = list(sys.meta_path), dict(cvxopt.solvers.options)
+    modules = {name: module for name, module in sys.modules.items() if suffix_of(name) is not None}
+    try:
+        yield
+    finally:
+        sys.meta_path[:] = finders
+        for name in [name for name in sys.modules if suffix_of(name) is not None]:
+            del sys.modules[name]
+        sys.modules.update(modules)
+        cvxopt.solvers.options.clear()  # the dict cvxopt's solvers read: its contents restored, not another dict
+        cvxopt.solvers.options.update(options)

@@ -10,13 +10,11 @@ from __future__ import annotations
 import io
 import os
 import runpy
-import sys
 import traceback
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import AbstractContextManager, contextmanager, redirect_stderr, redirect_stdout
 from dataclasses import dataclass, replace
 from pathlib import Path
-from types import ModuleType
 from typing import Literal
 
 from robotarium_exp.analysis.loaders import load_trajectory
@@ -27,6 +25,7 @@ from robotarium_exp.errors import AnalysisError
 from robotarium_exp.experiment import initial_conditions
 from robotarium_exp.fit import Fit, robotarium_fit
 from robotarium_exp.rps_alias import install
+from robotarium_exp.rps_import import kept_apart
 from robotarium_exp.scene import load_scene
 from submission.builder import Submission, build, build_declared, write
 from submission.check import CheckReport
@@ -277,28 +276,21 @@ def run_on_bundled(script: Path, folder: Path, *, seed: int = 0) -> Returned:
 @contextmanager
 def _as_on_the_testbed(folder: Path, seed: int) -> Iterator[None]:
     """Inside: ``import rps`` is the bundled V2 simulator (:func:`robotarium_exp.rps_alias.install`), the working
-    folder is ``folder`` and the submission runs headless; all three are restored after."""
-    import robotarium_exp.rps as package
-
-    def ours() -> dict[str, ModuleType]:
-        return {name: module for name, module in sys.modules.items() if name == 'rps' or name.startswith('rps.')}
-
-    saved, cwd, headless = ours(), Path.cwd(), os.environ.get('VTUBE_HEADLESS')
-    install(seed=seed)
-    os.environ['VTUBE_HEADLESS'] = '1'
-    os.chdir(folder)
-    try:
-        yield
-    finally:
-        os.chdir(cwd)
-        if headless is None:
-            del os.environ['VTUBE_HEADLESS']
-        else:
-            os.environ['VTUBE_HEADLESS'] = headless
-        for name in ours():
-            del sys.modules[name]
-        sys.modules.update(saved)
-        package.robotarium = sys.modules['robotarium_exp.rps.robotarium']
+    folder is ``folder`` and the submission runs headless; all three are restored after, and so are cvxopt's options
+    (:func:`robotarium_exp.rps_import.kept_apart`)."""
+    cwd, headless = Path.cwd(), os.environ.get('VTUBE_HEADLESS')
+    with kept_apart():
+        install(seed=seed)
+        os.environ['VTUBE_HEADLESS'] = '1'
+        os.chdir(folder)
+        try:
+            yield
+        finally:
+            os.chdir(cwd)
+            if headless is None:
+                del os.environ['VTUBE_HEADLESS']
+            else:
+                os.environ['VTUBE_HEADLESS'] = headless
 
 
 @dataclass(frozen=True)

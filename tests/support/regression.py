@@ -48,7 +48,6 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-import cvxopt
 import numpy as np
 
 # The library, through as few and as stable names as possible: where a module moves, fix these lines only.
@@ -56,6 +55,7 @@ from robotarium_exp.experiment import ExperimentConfig, run_experiment
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.rps_alias import install as install_rps
 from robotarium_exp.rps_alias import seed_rps
+from robotarium_exp.rps_import import kept_apart
 from robotarium_exp.scene import load_scene
 from vtube_planning import study as run_point_module  # the module whose ``simulate`` run_point calls
 from vtube_planning.params import ControlParams
@@ -257,22 +257,12 @@ def _experiment(scene_name: str, planning: bool, **options: Any) -> tuple[Arrays
 def _submission(filename: str) -> tuple[Arrays, Scalars]:
     """A committed submission file run as ``rps_alias --seed 0 FILE`` runs it: every pose the simulator handed out,
     and every numeric array the file saved (compared by content: names may change)."""
-    rps_modules = {name: module for name, module in sys.modules.items() if name.split('.')[0] == 'rps'}
-    finders, qp_options = list(sys.meta_path), dict(cvxopt.solvers.options)
-    with tempfile.TemporaryDirectory() as folder, _inside(Path(folder)), _headless():
-        try:
-            install_rps(seed=0)
-            module = importlib.import_module('rps.robotarium')
-            recorder = _Recorder(module.Robotarium)
-            module.Robotarium = recorder.cls  # type: ignore[attr-defined]
-            runpy.run_path(str(ROOT / 'submissions' / filename), run_name='__main__')
-        finally:  # undo what install and the official imports did: rps names, the finder, cvxopt's options
-            for name in [name for name in sys.modules if name.split('.')[0] == 'rps']:
-                del sys.modules[name]
-            sys.modules.update(rps_modules)
-            sys.meta_path[:] = finders
-            cvxopt.solvers.options.clear()
-            cvxopt.solvers.options.update(qp_options)
+    with tempfile.TemporaryDirectory() as folder, _inside(Path(folder)), _headless(), kept_apart():
+        install_rps(seed=0)
+        module = importlib.import_module('rps.robotarium')
+        recorder = _Recorder(module.Robotarium)
+        module.Robotarium = recorder.cls  # type: ignore[attr-defined]
+        runpy.run_path(str(ROOT / 'submissions' / filename), run_name='__main__')
         saved = _saved_arrays(Path(folder))
     arrays = {'get_poses': recorder.array()} | {f'saved.{name}': a for name, a in saved.items()}
     return arrays, _scalars(recorder.verdict(), 'simulator')

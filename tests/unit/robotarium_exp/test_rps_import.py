@@ -53,3 +53,20 @@ def test_a_name_the_generation_lacks_is_not_found_and_packages_are_empty() -> No
     graph = importlib.import_module('rps.utilities.graph')
     assert package.graph is graph and graph is importlib.import_module('robotarium_exp.rps.utilities.graph')
     assert graph.__spec__.name == 'robotarium_exp.rps.utilities.graph'
+
+
+def test_kept_apart_leaves_the_process_as_it_was() -> None:
+    """After a script was given rps inside: no finder of ours, no rps module, cvxopt's options as before."""
+    import sys
+
+    from robotarium_exp.rps_import import RpsFinder, kept_apart
+
+    before = dict(cvxopt.solvers.options)
+    rps_before = {n for n in sys.modules if n == 'rps' or n.startswith('rps.')}
+    with kept_apart():
+        use_generation(V2, {})
+        importlib.import_module('rps.robotarium')  # V2's imports set the official options
+        assert cvxopt.solvers.options['maxiters'] == OFFICIAL_QP_OPTIONS['maxiters']
+    assert not any(isinstance(f, RpsFinder) for f in sys.meta_path)
+    assert {n for n in sys.modules if n == 'rps' or n.startswith('rps.')} == rps_before
+    assert dict(cvxopt.solvers.options) == before
