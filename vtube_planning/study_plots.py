@@ -137,6 +137,10 @@ def verdict_matrix_figure(rows: list[dict[str, Any]], confirm_seeds: Collection[
     ]
     fig = Figure(figsize=(8.0, 2.6 + 0.24 * len(cells)), layout='constrained')
     ax = fig.add_subplot()
+    if not table:
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, 'no paired comparison: two seeds of both modes are needed', ha='center', va='center')
+        return fig
     for p in table:
         i = cells.index(f'{place_text(p)}, N={p["n_robots"]}, {setting_text(p)}')
         j = columns.index((p['a'], p['b'], p['metric']))

@@ -139,3 +139,11 @@ def test_a_scene_without_collisions_says_so_and_the_share_axis_is_named() -> Non
     share_ax = cell_means_figure(rows).axes[2]
     assert share_ax.get_xlabel() == 'share of runs with a collision'
     assert [t.get_text() for t in share_ax.texts] == ['no collision\nin any run']
+
+
+def test_the_verdict_matrix_without_a_comparison_says_so() -> None:
+    from vtube_planning.study_plots import verdict_matrix_figure
+
+    one_seed = [r for r in rows_of() if r['seed'] == 0]
+    (ax,) = verdict_matrix_figure(one_seed).axes
+    assert [t.get_text() for t in ax.texts] == ['no paired comparison: two seeds of both modes are needed']
