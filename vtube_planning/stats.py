@@ -32,6 +32,8 @@ ALPHA = 0.05
 MIN_SEEDS = 6
 """Paired seeds below which no verdict is called: the exact two-sided signed-rank test cannot go below 2 / 2**n, which
 is 0.0625 for five seeds, so with fewer than six no difference, however large, is significant at ALPHA."""
+EXACT_UP_TO = 50
+"""Differences up to which the signed-rank p-value is exact (counts below 2**50 stay exact in int64)."""
 NO_VERDICT = 'no verdict'
 NOT_REPLICATED = 'not replicated'
 
@@ -76,12 +78,25 @@ def paired_difference(a: ArrayLike, b: ArrayLike, *, seed: int = 0) -> Estimate:
 
 def signed_rank_p(differences: ArrayLike) -> float:
     """Two-sided p-value of the Wilcoxon signed-rank test that the paired differences are centred on zero (zeros
-    left out, as Wilcoxon's; 1.0 when every difference is zero). Exact without ties up to 50 differences."""
+    left out, as Wilcoxon's; 1.0 when every difference is zero): the share of the 2**n sign assignments whose
+    signed-rank sum lies at least as far from its centre as the observed one, exact up to EXACT_UP_TO differences,
+    ties (mid-ranks) included; the normal approximation above. scipy's own exact test covers samples without ties
+    only, and with ties falls back to a permutation test that is slow and, above 13 differences, random."""
     d = np.asarray(differences, dtype=float).ravel()
     d = d[d != 0.0]
     if d.size == 0:
         return 1.0
-    return float(stats.wilcoxon(d, zero_method='wilcox', alternative='two-sided').pvalue)
+    if d.size > EXACT_UP_TO:
+        return float(stats.wilcoxon(d, zero_method='wilcox', method='asymptotic').pvalue)
+    doubled = np.rint(2.0 * stats.rankdata(np.abs(d))).astype(np.int64)  # mid-ranks are halves: twice is whole
+    total = int(doubled.sum())
+    counts = np.zeros(total + 1, dtype=np.int64)  # counts[s]: sign assignments whose positive ranks sum to s / 2
+    counts[0] = 1
+    for w in doubled:
+        counts[w:] = counts[w:] + counts[:-w].copy()
+    observed = int(doubled[d > 0].sum())
+    far = np.abs(2 * np.arange(total + 1) - total) >= abs(2 * observed - total)
+    return float(counts[far].sum() / 2.0**d.size)
 
 
 def holm(p_values: Sequence[float]) -> NDArray[np.float64]:

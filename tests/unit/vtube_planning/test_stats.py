@@ -106,6 +106,28 @@ def test_signed_rank_p_against_the_exact_distribution_enumerated() -> None:
     assert signed_rank_p(np.zeros(8)) == 1.0 and signed_rank_p([0.0, 0.0, 0.5, 0.7, 0.9, 1.1, 1.3, 1.7]) < 0.05
 
 
+def test_signed_rank_p_with_ties_against_the_enumeration_and_scipy() -> None:
+    """Tied magnitudes get mid-ranks and the p-value stays the enumerated share (not a random permutation test);
+    without ties it is scipy's exact p-value up to 50 differences, and the normal approximation above."""
+    import itertools
+
+    from scipy import stats as scipy_stats
+
+    rng = np.random.default_rng(8)
+    for n in (6, 9, 12, 14):
+        d = np.round(rng.normal(0.4, 1.0, n), 1)  # rounding makes ties and zeros
+        d[:2] = [0.3, -0.3]
+        nonzero = d[d != 0.0]
+        ranks = scipy_stats.rankdata(np.abs(nonzero))
+        observed, centre = ranks[nonzero > 0].sum(), ranks.sum() / 2
+        sums = (ranks[np.array(s, dtype=bool)].sum() for s in itertools.product([0, 1], repeat=nonzero.size))
+        exact = np.mean([abs(t - centre) >= abs(observed - centre) - 1e-9 for t in sums])
+        assert signed_rank_p(d) == pytest.approx(exact, rel=1e-12)
+    for n in (20, 50, 51, 80):
+        d = rng.normal(0.3, 1.0, n)
+        assert signed_rank_p(d) == pytest.approx(scipy_stats.wilcoxon(d).pvalue, rel=1e-9)
+
+
 def test_holm_against_its_definition_on_random_families() -> None:
     """Adjusted p-values: the running maximum of (m - k + 1) p_(k) in ascending order, capped at 1; rejecting where
     it is below alpha is the step-down rule (reject the smallest while p_(k) < alpha / (m - k + 1))."""
