@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from vtube.cli.arguments import bag_arguments
-from vtube.cli.command import EXIT_OK, Command, View
+from vtube.cli.command import EXIT_OK, BadInput, Command, View
 
 if TYPE_CHECKING:
     from robotarium_exp.analysis.replay import Replay
@@ -33,11 +33,20 @@ def replay(args: argparse.Namespace) -> Replay:
     from robotarium_exp.analysis.replay import check_page, flew_a_plan, plan_label, replayed_scene, write_replay
     from robotarium_exp.scene import load_scene
     from vtube.pipeline import plan_for
+    from vtube_planning.errors import SceneError
 
     check_page(args.out)
     bags = {'topic_pattern': args.topic_pattern, 'frame_pattern': args.frame_pattern, 'topics': args.topics}
     trajectory = load_trajectory(list(args.inputs), world_frame=args.world_frame, **bags)
-    scene = load_scene(replayed_scene(trajectory, args.scene))
+    name = replayed_scene(trajectory, args.scene)
+    try:
+        scene = load_scene(name)
+    except SceneError as err:
+        if args.scene is not None:
+            raise
+        why = str(err).rstrip('.')
+        msg = f'the run records scene {name!r}, which is not shipped ({why}); give its file: --scene PATH.toml.'
+        raise BadInput(msg) from err
     check_recorded_tube(trajectory, scene)
     shown = args.plan is not None or flew_a_plan(trajectory)
     plan = plan_for(scene, plan_file=args.plan) if shown else None

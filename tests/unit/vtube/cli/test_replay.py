@@ -25,3 +25,6 @@ def test_a_log_replayed_as_a_page(tmp_path, capsys) -> None:
     assert '"planned":null' in text and 'no plan is shown: the run flew none' in text
     assert main(['replay', str(log), '--out', str(page), '--scene', 'A', '--plan', str(tmp_path / 'none.npz')]) == 2
     assert COMMAND.words == 'replay'
+    write_npz(log, {'t_s': t, 'positions_m': positions}, meta | {'scene': 'my_tube'})
+    assert main(['replay', str(log), '--out', str(page)]) == 2
+    assert "records scene 'my_tube', which is not shipped" in capsys.readouterr().err
