@@ -2,7 +2,7 @@
 the planned and measured density and speed over time with a cursor at the drawn frame.
 
 The technology: a hand-written page (``replay.html``, package data) that draws on a canvas from the run's numbers,
-embedded as JSON. No dependency, and the file grows with the numbers only (some 10 bytes per robot and frame).
+embedded as JSON. No dependency, and the file grows with the numbers only (some 17 bytes per robot and frame: position and r_a).
 The alternatives lost: matplotlib's ``to_jshtml`` embeds one PNG per frame (tens of kilobytes each: megabytes for a
 minute of playback) and cannot link a cursor in other panels to its slider; plotly is not a dependency and would
 add some 3.5 MB of JavaScript to every file (or a network fetch, and the page is meant to work offline).
@@ -14,8 +14,9 @@ frame when a vtube log holds it, :func:`recorded_avoidance_radii`, else the scen
 (:func:`panels`). Text from the loaded files (paths, robot ids, the scene's title) enters the page only inside
 that JSON (``json.dumps`` with ``<``, ``>`` and ``&`` escaped, :func:`embed`: no string can close the script
 element) or HTML-escaped in the ``<title>``; the page reads the JSON with ``JSON.parse`` and shows text with
-``textContent``. The page sets its slider from a fragment (``run.html#t=30``: the last frame at or before 30 s)
-through the slider's own input handler, and writes the drawn frame into ``<pre id="state">``.
+``textContent``. The page sets its slider from a fragment (``run.html#t=30``: the last frame at or before 30 s;
+``&play`` starts playing) through the slider's own input handler, and writes the drawn frame (its index, time,
+whether it plays and the robots' centres) into ``<pre id="state">``.
 """
 
 from __future__ import annotations

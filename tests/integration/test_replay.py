@@ -79,6 +79,17 @@ def test_the_slider_set_from_the_fragment_draws_the_robots_of_that_frame(page, t
         assert state['xy'] == expected
     assert at_two['xy'] != at_seven['xy']
     assert drawn(path, 0.0, tmp_path / 'c')['frame'] == 0
+    assert at_two['playing'] is False
+
+
+def test_the_fragment_can_start_the_playback(page, tmp_path) -> None:
+    path, _ = page
+    dom = chromium('--virtual-time-budget=2000', '--dump-dom', f'{path.as_uri()}#t=2&play', profile=tmp_path / 'p')
+    state = re.search(r'<pre id="state">(.*?)</pre>', dom, re.DOTALL)
+    assert state is not None
+    played = json.loads(html.unescape(state.group(1)))
+    assert played['playing'] is True and played['frame'] >= 60  # how far it got depends on the machine's clock
+    assert 'pause' in dom
 
 
 def test_the_page_renders_offline(page, tmp_path) -> None:
