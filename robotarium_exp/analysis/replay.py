@@ -2,10 +2,11 @@
 the planned and measured density and speed over time with a cursor at the drawn frame.
 
 The technology: a hand-written page (``replay.html``, package data) that draws on a canvas from the run's numbers,
-embedded as JSON. No dependency, and the file grows with the numbers only (some 17 bytes per robot and frame: position and r_a).
-The alternatives lost: matplotlib's ``to_jshtml`` embeds one PNG per frame (tens of kilobytes each: megabytes for a
-minute of playback) and cannot link a cursor in other panels to its slider; plotly is not a dependency and would
-add some 3.5 MB of JavaScript to every file (or a network fetch, and the page is meant to work offline).
+embedded as JSON. No dependency, and the file grows with the numbers only (some 17 bytes per robot and frame: its
+position and r_a). The alternatives lost: matplotlib's ``to_jshtml`` embeds one PNG per frame (tens of kilobytes
+each: tens of megabytes for a minute at 30 frames a second) and cannot move a cursor in other panels with its
+slider; plotly is not a dependency and would add several megabytes of JavaScript (plotly.min.js) to every file, or
+a network fetch where the page is meant to work offline.
 
 What is embedded: the frames a browser plays smoothly (:func:`playback_frames`: at most :data:`MAX_FPS` per second
 of the run), coordinates in whole millimetres (:func:`millimetres`; NaN, a robot without a position, is null),
