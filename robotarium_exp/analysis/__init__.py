@@ -3,7 +3,8 @@
 :mod:`.trajectory` is the one type every source becomes, :mod:`.loaders`, :mod:`.bags` and :mod:`.matfiles` read
 the sources, :mod:`.distances` measures pairs over their common coverage, :mod:`.passage` sees the trajectory from
 a tube, :mod:`.report` measures a trajectory (in a scene or without one) into :mod:`.metrics` and writes
-``metrics.json``, ``report.md`` and the figures (:mod:`.plots`).
+``metrics.json``, ``report.md`` and the figures (:mod:`.plots`); :mod:`.export` writes a trajectory as a bag or
+CSV, and :mod:`.replay` as one offline HTML page that plays it.
 """
 
 from __future__ import annotations

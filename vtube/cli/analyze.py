@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from vtube.cli.arguments import positive, regex, writable_folder
+from vtube.cli.arguments import bag_arguments, positive, writable_folder
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, BadInput, Command, View
 
 if TYPE_CHECKING:
@@ -24,16 +24,7 @@ def analyze_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--out', type=Path, required=True, help='folder for metrics.json, report.md and figures')
     parser.add_argument('--plan', type=Path, default=None, help='a plan file (vtube plan) to track against')
     parser.add_argument('--compare', type=Path, default=None, help='a simulation log to show side by side')
-    parser.add_argument('--topic', action='append', default=None, dest='topics', help='bag topic(s) to read')
-    parser.add_argument(
-        '--topic-pattern', type=regex, default=None, help='regex with a (?P<robot>...) group for bag topics'
-    )
-    parser.add_argument(
-        '--frame-pattern', type=regex, default=None, help='regex with a (?P<robot>...) group for /tf child frames'
-    )
-    parser.add_argument(
-        '--world-frame', default=None, help='reference frame of the robots (/tf parent, header.frame_id)'
-    )
+    bag_arguments(parser)
     parser.add_argument(
         '--max-gap',
         default=None,

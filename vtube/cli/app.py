@@ -17,6 +17,7 @@ from vtube.cli import (
     example,
     export,
     plan,
+    replay,
     robotarium,
     scene,
     simulate,
@@ -43,6 +44,7 @@ COMMANDS: dict[str, Command[Any]] = {
         *submission.COMMANDS,
         analyze.COMMAND,
         export.COMMAND,
+        replay.COMMAND,
         demo.COMMAND,
     )
 }

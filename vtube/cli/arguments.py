@@ -84,6 +84,20 @@ def regex(text: str) -> str:
     return text
 
 
+def bag_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options that say which of a bag's topics and frames are robots (``vtube analyze``, ``vtube replay``)."""
+    parser.add_argument('--topic', action='append', default=None, dest='topics', help='bag topic(s) to read')
+    parser.add_argument(
+        '--topic-pattern', type=regex, default=None, help='regex with a (?P<robot>...) group for bag topics'
+    )
+    parser.add_argument(
+        '--frame-pattern', type=regex, default=None, help='regex with a (?P<robot>...) group for /tf child frames'
+    )
+    parser.add_argument(
+        '--world-frame', default=None, help='reference frame of the robots (/tf parent, header.frame_id)'
+    )
+
+
 def words(text: str) -> tuple[str, ...]:
     """A comma-separated list of names."""
     return tuple(text.split(','))

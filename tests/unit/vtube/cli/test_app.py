@@ -54,6 +54,7 @@ def test_every_command_is_reachable_by_its_words(capsys) -> None:
         'submission',
         'analyze',
         'export',
+        'replay',
         'demo',
     }
 

@@ -115,6 +115,9 @@ BAD = [
     ),
     ('alias, seed over 32 bits', 'rps_alias --seed 4294967296 {tmp}/binary.py', 2, "'4294967296' is not a seed from 0"),
     ('alias, binary script', 'rps_alias {tmp}/binary.py', 2, 'binary.py is not a Python script'),
+    ('replay, no scene', 'replay {tmp}/no_scene --out {out}/run.html', 2, 'records no scene, and the replay draws'),
+    ('replay, another scene', 'replay {tmp}/log_A.npz --scene B --out {out}/r.html', 2, "recorded in scene 'A', whose"),
+    ('replay, not a page', 'replay {tmp}/log_A.npz --out {out}/run.png', 2, 'run.png is not an .html file; give --out'),
 ]
 
 
@@ -153,6 +156,7 @@ def bad_files(tmp_path_factory) -> Path:
     returned = {'pickled': (0.033 * np.arange(50), np.array([{'x': 1}], dtype=object))}
     returned['clock_back'] = (np.r_[0.033 * np.arange(25), 0.033 * np.arange(25) - 0.175], np.zeros((50, 3, 2)))
     returned['milliseconds'] = (33.0 * np.arange(50), np.zeros((50, 3, 2)))
+    returned['no_scene'] = (0.033 * np.arange(50), np.zeros((50, 3, 2)))
     for name, (t_s, poses) in returned.items():
         (tmp / name).mkdir()
         np.save(tmp / name / 'vtube_t.npy', t_s)
