@@ -1,7 +1,7 @@
 """Planned against unplanned on a Robotarium scene over several seeds of the V2 initialization.
 
 ``vtube robotarium compare SCENE --seeds N`` (seeds 0..N-1, or a range like 10-19) prints (and writes) the table
-the README quotes: per mode, the
+the Robotarium comparison pages show (docs/robotarium_compare/): per mode, the
 mean and the range over seeds of the passing time, the minimum distance, the tube violations (bodies), the
 safety filter's total intervention, the speed band, and the plan tracking per phase. The seed drives the
 initialization (charger slots, deadlock escapes), so the runs differ in where the robots really start.

@@ -73,7 +73,7 @@ ROBOTARIUM_VALUES: Values = {
         'compensate_lag_s': (FITTED.lag_s, "the real robots' first-order lag, compensated with the delay"),
     },
 }
-"""The Robotarium's values of every Robotarium scene, with their reasons (README, On the Robotarium)."""
+"""The Robotarium's values of every Robotarium scene, with their reasons (docs/howto/robotarium_run.md)."""
 
 
 def list_scenes() -> list[str]:

@@ -13,7 +13,7 @@ from vtube_planning.swarm.metrics import passage_failures
 BODY_ON_WALL_STEPS_TOLERATED = 0
 """Robot-steps a flight may have with a robot's body on or over a tube wall (its centre closer to the wall than
 the body radius, while 0 <= l <= L): none. A body on the wall is a robot touching the tube the experiment shows it
-keeps to; both shipped scenes fly with none, planned and unplanned, over five V2 initialization seeds (README)."""
+keeps to; both shipped scenes fly with none, planned and unplanned, over the V2 initialization seeds of docs/robotarium_compare/."""
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,5 @@
 """The Robotarium obstacle layouts in ``docs/maps``: each generates a tube that misses its obstacles and fits the
-testbed (their flights, built and checked: README, "Tubes from obstacle maps")."""
+testbed (their flights, built and checked: docs/howto/tubes.md, "Tubes from obstacle maps")."""
 
 from __future__ import annotations
 
