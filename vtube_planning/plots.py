@@ -308,11 +308,18 @@ def animation_figure(result: SimResult, tube: VirtualTube) -> tuple[Figure, Call
     low, high = points.min(axis=0) - r_p, points.max(axis=0) + r_p
     pad = np.maximum(0.03 * (high - low), 2 * r_p)  # per axis: a long tube keeps a thin margin beside it
     low, high = low - pad, high + pad
-    width_in = GIF_WIDTH_PX / 100  # drawn at 100 dpi
-    plot_w = width_in - 0.9  # the y axis' labels
-    height_in = float(np.clip(plot_w * (high[1] - low[1]) / (high[0] - low[0]), 1.5, 9.0)) + 0.9  # title, x labels
-    fig = Figure(figsize=(width_in, height_in), dpi=100, layout='constrained')
-    ax = fig.add_subplot()
+    width_in, (left_in, right_in, bottom_in, top_in) = GIF_WIDTH_PX / 100, (0.75, 0.2, 0.5, 0.4)  # at 100 dpi
+    plot_w = width_in - left_in - right_in
+    plot_h = plot_w * (high[1] - low[1]) / (high[0] - low[0])
+    if plot_h < 1.2:  # a long, thin scene: more room above and below, not a squashed axis
+        middle, half = 0.5 * (low[1] + high[1]), 0.5 * 1.2 * (high[0] - low[0]) / plot_w
+        low[1], high[1], plot_h = middle - half, middle + half, 1.2
+    elif plot_h > 7.0:  # a tall scene: narrower, centred
+        plot_w, plot_h = plot_w * 7.0 / plot_h, 7.0
+        left_in = 0.5 * (width_in - plot_w)
+    height_in = plot_h + bottom_in + top_in
+    fig = Figure(figsize=(width_in, height_in), dpi=100)
+    ax = fig.add_axes((left_in / width_in, bottom_in / height_in, plot_w / width_in, plot_h / height_in))
     draw_tube(ax, tube)
     ax.set_xlim(low[0], high[0])
     ax.set_ylim(low[1], high[1])
