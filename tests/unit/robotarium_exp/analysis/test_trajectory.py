@@ -122,3 +122,14 @@ def test_positions_at_an_instant_interpolate_within_a_robot_s_frames_and_not_acr
     at = trajectory.positions_at(0.55)  # inside b's gap: a only
     assert at[0, 0] == pytest.approx(0.55) and np.isnan(at[:, 1]).all()
     assert np.isnan(trajectory.positions_at(0.0)[:, 0]).all()  # before a's first sample, further than the frame window
+
+
+def test_without_a_common_time_the_span_is_the_whole_recording() -> None:
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+    stamps = np.arange(10, dtype=np.int64) * 100_000_000
+    xy = np.zeros((10, 2))
+    samples = {'a': RobotSamples(stamps, xy), 'b': RobotSamples(stamps + 2_000_000_000, xy)}  # b starts after a ends
+    trajectory = assemble(samples, source={'path': 's'})
+    assert trajectory.common_span() == (0.0, pytest.approx(2.9))
+    assert np.isnan(trajectory.positions_at(2.5)[:, 0]).all() and np.isfinite(trajectory.positions_at(2.5)[:, 1]).all()
