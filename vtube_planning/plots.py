@@ -290,6 +290,68 @@ def distance_figure(results: dict[str, SimResult]) -> Figure:
     return fig
 
 
+GIF_WIDTH_PX = 1280
+"""The GIF's width in pixels (a talk's slide); its height follows the framed scene's aspect."""
+
+
+def animation_figure(result: SimResult, tube: VirtualTube) -> tuple[Figure, Callable[[int], tuple[Any, ...]]]:
+    """The GIF's figure at the run's first step and a function that moves it to step ``k``: the tube and every
+    robot's whole path framed with equal aspect and small margins, the robots as discs of radius r_p in data units
+    (an ``EllipseCollection``), the time and the passage's measures in the title."""
+    from matplotlib.collections import EllipseCollection
+    from matplotlib.figure import Figure
+
+    r_p = float(result.meta['swarm']['r_p_m'])
+    left, right = tube.boundaries(np.linspace(0.0, tube.length_m, 400))
+    paths = result.positions_m.transpose(0, 2, 1).reshape(-1, 2)
+    points = np.vstack([left, right, paths[np.all(np.isfinite(paths), axis=1)]])
+    low, high = points.min(axis=0) - r_p, points.max(axis=0) + r_p
+    pad = np.maximum(0.03 * (high - low), 2 * r_p)  # per axis: a long tube keeps a thin margin beside it
+    low, high = low - pad, high + pad
+    width_in, (left_in, right_in, bottom_in, top_in) = GIF_WIDTH_PX / 100, (0.75, 0.2, 0.5, 0.4)  # at 100 dpi
+    plot_w = width_in - left_in - right_in
+    plot_h = plot_w * (high[1] - low[1]) / (high[0] - low[0])
+    if plot_h < 1.2:  # a long, thin scene: more room above and below, not a squashed axis
+        middle, half = 0.5 * (low[1] + high[1]), 0.5 * 1.2 * (high[0] - low[0]) / plot_w
+        low[1], high[1], plot_h = middle - half, middle + half, 1.2
+    elif plot_h > 7.0:  # a tall scene: narrower, centred
+        plot_w, plot_h = plot_w * 7.0 / plot_h, 7.0
+        left_in = 0.5 * (width_in - plot_w)
+    height_in = plot_h + bottom_in + top_in
+    fig = Figure(figsize=(width_in, height_in), dpi=100)
+    ax = fig.add_axes((left_in / width_in, bottom_in / height_in, plot_w / width_in, plot_h / height_in))
+    draw_tube(ax, tube)
+    ax.set_xlim(low[0], high[0])
+    ax.set_ylim(low[1], high[1])
+    ax.set_aspect('equal', adjustable='box')
+    n = result.positions_m.shape[2]
+    discs = EllipseCollection(
+        np.full(n, 2 * r_p),
+        np.full(n, 2 * r_p),
+        np.zeros(n),
+        units='xy',
+        offsets=result.positions_m[0].T,
+        offset_transform=ax.transData,
+        facecolors='tab:red',
+        edgecolors='k',
+        linewidths=0.4,
+        zorder=3,
+    )
+    ax.add_collection(discs, autolim=False)
+    mode = 'with planning' if result.planned else 'without planning'
+    m = result.metrics
+    said = f'{n} robots {mode} (discs of radius r_p = {r_p:g} m); passing time {m.passing_time_s:.1f} s'
+    label = ax.set_title('')
+
+    def update(k: int) -> tuple[Any, ...]:
+        discs.set_offsets(result.positions_m[k].T)
+        label.set_text(f'{said}; t = {result.t_s[k]:.1f} s')
+        return discs, label
+
+    update(0)
+    return fig, update
+
+
 def animate(
     result: SimResult,
     tube: VirtualTube,
@@ -299,28 +361,16 @@ def animate(
     fps: int = 15,
     progress: Callable[[int, int], None] | None = None,
 ) -> Path:
-    """Write an animated GIF of the run (matplotlib's Pillow writer, no external encoder); ``progress(i, n)`` is
-    told each frame written."""
+    """Write an animated GIF of the run (:func:`animation_figure`, ``frames`` steps evenly spread over the run, at
+    ``fps``; matplotlib's Pillow writer, no external encoder); ``progress(i, n)`` is told each frame written."""
     from matplotlib.animation import FuncAnimation, PillowWriter
-    from matplotlib.figure import Figure
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig = Figure(figsize=(8.0, 3.6), layout='constrained')
-    ax = fig.add_subplot()
-    draw_tube(ax, tube)
+    fig, update = animation_figure(result, tube)
     steps = np.unique(np.linspace(0, result.t_s.size - 1, frames).astype(int))
-    x0, y0 = result.positions_m[0]
-    dots = ax.scatter(x0, y0, s=12, color='tab:red', zorder=3)
-    label = ax.set_title('')
-
-    def update(k: int) -> tuple[Any, ...]:
-        dots.set_offsets(result.positions_m[k].T)
-        label.set_text(f't = {result.t_s[k]:.1f} s')
-        return dots, label
-
     animation = FuncAnimation(fig, update, frames=steps, blit=False)
-    animation.save(path, writer=PillowWriter(fps=fps), progress_callback=progress)
+    animation.save(path, writer=PillowWriter(fps=fps), dpi=100, progress_callback=progress)
     return path
 
 

@@ -3,10 +3,12 @@ when a figure is drawn."""
 
 from __future__ import annotations
 
-from collections.abc import Collection
+from collections.abc import Collection, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+from vtube_planning.seeds import seeds_text
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -43,8 +45,11 @@ def _verdict_legend(fig: Figure, verdicts: Collection[str], *, squares: bool = F
 _VERDICT_WORDS = {'holds': 'a beats b (holds)', 'reversed': 'b beats a (reversed)'}
 
 
-def study_figure(summary: list[dict[str, Any]], collision_distance_m: float) -> Figure:
-    """Bars of passing time and minimum distance per scene, with and without planning (range over seeds)."""
+def study_figure(
+    summary: list[dict[str, Any]], collision_distance_m: float, seeds: Sequence[int] | None = None
+) -> Figure:
+    """Bars of passing time and minimum distance per scene and mode at their mean over the seeds, with a black line
+    from the smallest to the largest value over the seeds; the title says so (and names ``seeds``)."""
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(9.0, 3.8), layout='constrained')
@@ -77,6 +82,9 @@ def study_figure(summary: list[dict[str, Any]], collision_distance_m: float) -> 
                 lw=1.2,
             )  # the range over seeds
     ax_d.axhline(collision_distance_m, color='tab:red', ls='--', label='2 r_p (collision)')
+    ax_d.plot([], [], color='k', lw=1.2, label='min-max over the seeds')  # the legend's entry for the ranges
+    which = f'seeds {seeds_text(list(seeds))}' if seeds else 'the seeds'
+    fig.suptitle(f'bars: mean over {which}; black lines: from the smallest to the largest value', fontsize=9)
     for ax, label in ((ax_t, 'passing time [s]'), (ax_d, 'minimum distance [m]')):
         ax.set_xticks(x, scenes)
         ax.set_xlabel('scene')

@@ -44,7 +44,9 @@ def analysis_figures(results: dict[str, Analysis], scene: Scene | None, plan: Pl
 
 
 def _paths_figure(results: dict[str, Analysis], scene: Scene | None) -> Figure:
-    """One panel per source, on the same axes, robots at seven instants coloured by time (a colour bar)."""
+    """One panel per source, on the same axes, robots at seven instants coloured by time (a colour bar): instants
+    spread over the time every robot is recorded (:meth:`Trajectory.common_span`), each robot at its position at
+    that instant (:meth:`Trajectory.positions_at`); a robot without one is named in the title."""
     from matplotlib import colormaps
     from matplotlib.cm import ScalarMappable
     from matplotlib.colors import Normalize
@@ -69,13 +71,18 @@ def _paths_figure(results: dict[str, Analysis], scene: Scene | None) -> Figure:
             draw_tube(ax, scene.tube, n_sections=8, obstacles=scene.obstacles)
         for k in range(a.trajectory.n_robots):
             ax.plot(thinned[label][:, 0, k], thinned[label][:, 1, k], color='0.6', lw=0.6)
-        p, t = a.trajectory.positions_m, a.trajectory.t_s
-        for step in np.unique(np.linspace(0, t.size - 1, 7).astype(int)):
-            ax.scatter(*p[step], s=25, color=cmap(t[step] / t_end), edgecolors='k', linewidths=0.3, zorder=3)
+        missing = []
+        for when in np.linspace(*a.trajectory.common_span(), 7):
+            at = a.trajectory.positions_at(float(when))
+            ax.scatter(*at, s=25, color=cmap(when / t_end), edgecolors='k', linewidths=0.3, zorder=3)
+            absent = [rid for rid, seen in zip(a.trajectory.robot_ids, np.isfinite(at[0]), strict=True) if not seen]
+            if absent:
+                missing.append(f'{when:.1f} s: {", ".join(absent[:4])}{" ..." if len(absent) > 4 else ""}')
         ax.set_xlim(low[0], high[0])
         ax.set_ylim(low[1], high[1])
         ax.set_aspect('equal')
-        ax.set_title(f'{_named(label)}: paths, robots at seven instants', fontsize=10)
+        note = f'\nno position (gap or outside its recording) at {"; ".join(missing)}' if missing else ''
+        ax.set_title(f'{_named(label)}: paths, robots at seven instants{note}', fontsize=10)
     paths.colorbar(ScalarMappable(Normalize(0.0, t_end), cmap), ax=list(axes), label='time [s]', shrink=0.8)
     return paths
 

@@ -191,6 +191,41 @@ class Trajectory:
         complete: NDArray[np.bool_] = np.all(self.present(), axis=1)
         return complete
 
+    def common_span(self) -> tuple[float, float]:
+        """From the latest first position to the earliest last one over the robots that have any (s): the time
+        every such robot is recorded; the whole recording when there is no such time (one robot stops before
+        another starts)."""
+        present = self.present()
+        seen = present.any(axis=0)
+        if not seen.any():
+            return float(self.t_s[0]), float(self.t_s[-1])
+        first = self.t_s[np.argmax(present[:, seen], axis=0)]
+        last = self.t_s[self.t_s.size - 1 - np.argmax(present[::-1, seen], axis=0)]
+        start, end = float(first.max()), float(last.min())
+        return (start, end) if start <= end else (float(self.t_s[0]), float(self.t_s[-1]))
+
+    def positions_at(self, t_s: float) -> FloatArray:
+        """Every robot's position at time ``t_s``, (2, N): its position at a frame at that time, else interpolated
+        between its positions at the two frames around it when those are consecutive frames (no gap between), else
+        its position at a frame within the source's frame window (``frame_window_s``) of it; NaN otherwise."""
+        window = float(self.source.get('frame_window_s', 0.0))
+        out = np.full((2, self.n_robots), np.nan)
+        for k, frames in enumerate(self.present().T):
+            index = np.flatnonzero(frames)
+            if not index.size:
+                continue
+            times = self.t_s[index]
+            j = int(np.searchsorted(times, t_s, side='right')) - 1
+            if j >= 0 and (times[j] == t_s or (j + 1 < index.size and index[j + 1] == index[j] + 1)):
+                step = 0.0 if times[j] == t_s else (t_s - times[j]) / (times[j + 1] - times[j])
+                after = self.positions_m[index[min(j + 1, index.size - 1)], :, k]
+                out[:, k] = self.positions_m[index[j], :, k] + step * (after - self.positions_m[index[j], :, k])
+                continue
+            near = int(np.argmin(np.abs(times - t_s)))
+            if abs(float(times[near]) - t_s) <= window:
+                out[:, k] = self.positions_m[index[near], :, k]
+        return out
+
 
 def check_time(rid: str, stamps: IntArray) -> None:
     """Refuse a robot's stamps that are not a recording's time, rather than re-sort or merge them into wrong

@@ -151,7 +151,9 @@ def study(args: argparse.Namespace) -> StudyDone:
     write_atomically(
         out / 'study.json', json.dumps(strict_json({'rows': rows, 'summary': summary}), indent=1, allow_nan=False)
     )
-    figure = plots.save_figure(study_plots.study_figure(summary, 2 * SwarmParams().r_p_m), out / 'study.png')
+    figure = plots.save_figure(
+        study_plots.study_figure(summary, 2 * SwarmParams().r_p_m, args.seeds), out / 'study.png'
+    )
     claims = all(e['claim_on_means'] for e in summary)
     return StudyDone(run, text, (out / 'study.md', out / 'study.json', figure), claims)
 

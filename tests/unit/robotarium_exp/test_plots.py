@@ -18,36 +18,116 @@ from robotarium_exp.tracking import expansion_times
 from robotarium_exp.verifier import VerifierCounts
 
 
+def _result(arrays, planned: bool = True, completed: bool = True, min_distance_m: float = 0.1834):
+    return SimpleNamespace(
+        arrays=arrays,
+        errors=VerifierCounts(1, 0, 2),
+        metrics=SimpleNamespace(min_distance_m=min_distance_m),
+        planned=planned,
+        completed=completed,
+    )
+
+
 def test_the_figure_draws_snapshots_radii_and_the_moments(trapezoid, marching) -> None:
     scene, plan = trapezoid
-    result = SimpleNamespace(
-        arrays=marching, errors=VerifierCounts(1, 0, 2), metrics=SimpleNamespace(min_distance_m=0.1834), planned=True
-    )
     marching['flying'][-1, 0] = False  # one robot parked in the last snapshot: no radius drawn for it
-    fig = experiment_figure(result, scene, plan)  # type: ignore[arg-type]
-    arena, rho, speed, ra = fig.axes
-    assert arena.get_title().startswith(f'{scene.name}, with planning: 1 too close, 0 outside, 2 actuator;')
-    assert 'min distance 0.183 m' in arena.get_title()
+    fig = experiment_figure(_result(marching), scene, plan)  # type: ignore[arg-type]
+    arena, rho, speed, bar, ra = fig.axes
     n = marching['l_m'].shape[1]
+    assert arena.get_title().startswith(f'{scene.name} ({n} robots), with planning: 1 too close, 0 outside, 2 ')
+    assert 'min distance 0.183 m' in arena.get_title()
     circles = [p for p in arena.patches if isinstance(p, Circle)]
     bodies = [c for c in circles if np.isclose(c.get_radius(), 0.055)]
     assert len(bodies) == 7 * n and len(circles) - len(bodies) == 7 * n - 1
-    assert [text.get_text() for text in arena.texts] == [
-        f'{t:.0f} s' for t in marching['t_s'][[0, 49, 99, 149, 199, 249, 299]]
-    ]
+    assert not arena.texts  # the snapshots' times are on the colour bar, not piled up above the arena
+    assert bar.get_ylabel() == 'snapshot time [s]'
+    snapshots = marching['t_s'][[0, 49, 99, 149, 199, 249, 299]]
+    np.testing.assert_allclose(bar.get_yticks(), snapshots)
+    assert [label.get_text() for label in bar.get_yticklabels()] == [f'{t:.0f}' for t in snapshots]
     expansion, front = expansion_times(marching, scene)
     for axis in (rho, speed):
         marks = sorted(line.get_xdata()[0] for line in axis.lines if line.get_linestyle() == ':')
         assert marks == sorted([expansion, front])
     labels = [line.get_label() for line in rho.lines]
     assert 'planned density' in labels and 'measured density' in labels and ra.get_ylabel() == 'r_a [m]'
+    cut = [text.get_text().strip() for text in rho.texts]
+    assert cut == [f"robot 0 parks at {marching['t_s'][-1]:.1f} s:\nthe swarm's density, r_a and plan end"]
+
+
+def _drawn_points(axis) -> int:
+    """Finite points drawn in lines and collections (a band's polygon counts its vertices)."""
+    points = sum(
+        int(np.isfinite(np.asarray(line.get_xydata())).all(axis=1).sum())
+        for line in axis.lines
+        if len(line.get_xdata()) > 2
+    )  # fmt: skip  (a mark's line has two points)
+    return points + sum(len(path.vertices) for c in axis.collections for path in c.get_paths())
+
+
+def n_robots_run(trapezoid, n: int, parks: list[int]) -> dict[str, np.ndarray]:
+    """A synthetic run of ``n`` robots on the trapezoid: robot k walks at its own speed and parks at step
+    ``parks[k]`` (past the run's end: never)."""
+    scene, plan = trapezoid
+    steps = 300
+    center = np.linspace(-0.1, scene.tube.length_m + 0.1, steps)
+    l_m = center[:, None] + 0.05 * (np.arange(n) - (n - 1) / 2)[None, :]
+    flying = np.arange(steps)[:, None] < np.asarray(parks)[None, :]
+    dxu = np.zeros((steps, 2, n))
+    dxu[:, 0, :] = plan.speed(center)[:, None] * (1.0 + 0.02 * np.arange(n))[None, :]
+    xy = scene.tube.center_at(np.clip(l_m, 0.0, scene.tube.length_m).ravel())
+    return {
+        't_s': np.arange(steps) * 0.1,
+        'l_m': l_m,
+        'positions_m': np.asarray(xy).reshape(steps, n, 2).transpose(0, 2, 1),
+        'dxu': dxu,
+        'r_a_m': np.full((steps, n), 0.1),
+        'density_per_m2': plan.density(center),
+        'flying': flying,
+    }
+
+
+@pytest.mark.parametrize('n', [1, 6, 20])
+def test_the_lower_panels_hold_data_and_say_where_the_swarm_curves_end(trapezoid, n: int) -> None:
+    """Robots park one after another from step 120 on: the swarm's curves end there and the panel says so; the
+    speed goes on for the robots still flying (median and band) up to the last one's parking, which sets the time
+    axis; the snapshots' times are readable (seven distinct labels) whatever the number of robots."""
+    scene, plan = trapezoid
+    parks = [120 + 5 * k for k in range(n)]
+    arrays = n_robots_run(trapezoid, n, parks)
+    fig = experiment_figure(_result(arrays, min_distance_m=np.inf if n == 1 else 0.2), scene, plan)  # type: ignore[arg-type]
+    arena, rho, speed, bar, ra = fig.axes
+    assert _drawn_points(rho) >= 2 * 120 and _drawn_points(ra) >= 120 and _drawn_points(speed) >= parks[-1]
+    assert len(speed.collections) == (n > 1)  # a band for more than one robot
+    (median,) = [line for line in speed.lines if line.get_linestyle() == '-']
+    assert median.get_xdata()[-1] == arrays['t_s'][parks[-1] - 1]
+    assert speed.get_xlim()[1] == pytest.approx(1.02 * arrays['t_s'][parks[-1] - 1])
+    (said,) = rho.texts
+    assert said.get_text().strip().startswith("robot 0 parks at 12.0 s:\nthe swarm's density")
+    assert max(len(line.get_xdata()) for line in rho.lines) == 120  # and no further
+    said = [text.get_text().strip() for text in speed.texts]
+    assert said == ([] if n == 1 else ['from 12.0 s: the robots still flying'])
+    assert len({label.get_text() for label in bar.get_yticklabels()}) == 7
+    assert ('no two robots' in arena.get_title()) is (n == 1)
+
+
+def test_a_panel_with_nothing_to_draw_says_so(trapezoid) -> None:
+    scene, plan = trapezoid
+    arrays = n_robots_run(trapezoid, 20, [0] + [150] * 19)  # robot 0 parked from the start
+    rho, speed = experiment_figure(_result(arrays, completed=False), scene, plan).axes[1:3]  # type: ignore[arg-type]
+    texts = [text.get_text() for text in rho.texts]
+    assert 'robot 0 is parked from the start: no step with every robot flying' in texts
+    assert _drawn_points(speed) >= 150
+    arrays['flying'][:] = False
+    rho, speed = experiment_figure(_result(arrays, completed=False), scene, plan).axes[1:3]  # type: ignore[arg-type]
+    assert all(axis.texts[0].get_text() == 'no robot flies the tube in this run' for axis in (rho, speed))
+    arrays['flying'][:] = True
+    speed = experiment_figure(_result(arrays, completed=False), scene, plan).axes[2]  # type: ignore[arg-type]
+    assert speed.texts[-1].get_text() == 'run stopped, 20 robot(s) flying '
 
 
 def test_without_a_plan_no_planned_curves(trapezoid, marching) -> None:
     scene, _ = trapezoid
-    result = SimpleNamespace(arrays=marching, errors=VerifierCounts(), metrics=SimpleNamespace(min_distance_m=0.3),
-                             planned=False)  # fmt: skip
-    fig = experiment_figure(result, scene)  # type: ignore[arg-type]
+    fig = experiment_figure(_result(marching, planned=False), scene)  # type: ignore[arg-type]
     assert 'without planning' in fig.axes[0].get_title()
     assert all('planned' not in line.get_label() for axis in fig.axes[1:3] for line in axis.lines)
 

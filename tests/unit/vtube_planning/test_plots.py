@@ -91,3 +91,45 @@ def test_an_occupancy_image_is_drawn_pixel_for_pixel_over_its_extent() -> None:
     alpha = np.asarray(drawn.get_array())[:, :, 3]
     assert alpha[0, 0] > 0 and alpha.sum() == alpha[0, 0]  # only the occupied pixel is painted
     assert ax.get_legend_handles_labels()[1].count('obstacles') == 1  # a legend entry, once
+
+
+def test_the_animation_frames_the_whole_paths_with_robots_as_r_p_discs(scene, tmp_path) -> None:
+    """Robots walk from before the entrance to well past the exit (where they used to leave the frame): every
+    frame's robots lie inside the axes, drawn as discs of diameter 2 r_p in data units, on equal axes; the GIF is
+    1280 px wide."""
+    from matplotlib.collections import EllipseCollection
+    from PIL import Image
+
+    from vtube_planning.plots import GIF_WIDTH_PX, animate, animation_figure
+
+    tube, n, steps, r_p = scene.tube, 5, 40, 0.04
+    l_m = np.linspace(-0.3, tube.length_m + 0.6, steps)[:, None] + 0.1 * np.arange(n)[None, :]
+    inside = tube.center_at(np.clip(l_m, 0.0, tube.length_m).ravel()).reshape(steps, n, 2)
+    beyond = np.clip(l_m - tube.length_m, 0.0, None)[..., None] * np.array([1.0, 0.3])  # past the exit, drifting up
+    before = np.clip(l_m, None, 0.0)[..., None] * np.array([1.0, 0.0])
+    positions = (inside + beyond + before).transpose(0, 2, 1)
+    result = SimpleNamespace(
+        t_s=np.arange(steps) * 0.5,
+        positions_m=positions,
+        meta={'swarm': {'r_p_m': r_p}},
+        planned=True,
+        metrics=SimpleNamespace(passing_time_s=12.0),
+    )
+    fig, update = animation_figure(result, tube)  # type: ignore[arg-type]
+    ax = fig.axes[0]
+    (discs,) = [c for c in ax.collections if isinstance(c, EllipseCollection)]
+    np.testing.assert_allclose(discs.get_widths(), 2 * r_p) and np.testing.assert_allclose(discs.get_heights(), 2 * r_p)
+    assert ax.get_aspect() == 1.0
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    assert positions[:, 0].max() > tube.boundaries(np.array([tube.length_m]))[0][0, 0] + 0.5  # well past the exit
+    for k in range(steps):
+        update(k)
+        xy = discs.get_offsets()
+        np.testing.assert_allclose(xy, positions[k].T)
+        assert (xy[:, 0] - r_p >= x0).all() and (xy[:, 0] + r_p <= x1).all()
+        assert (xy[:, 1] - r_p >= y0).all() and (xy[:, 1] + r_p <= y1).all()
+    assert ax.get_title().startswith('5 robots with planning (discs of radius r_p = 0.04 m)')
+    assert ax.get_title().endswith(f't = {result.t_s[-1]:.1f} s')
+    path = animate(result, tube, tmp_path / 'run.gif', frames=3)  # type: ignore[arg-type]
+    with Image.open(path) as gif:
+        assert gif.size[0] == GIF_WIDTH_PX and gif.n_frames == 3

@@ -52,6 +52,11 @@ def test_the_study_figure_has_a_bar_per_scene_and_mode_at_its_mean() -> None:
     assert collision.get_ydata()[0] == 0.2
     segments = [s for c in ax_t.collections for s in c.get_segments()]
     assert sorted(float(s[0, 1]) for s in segments) == [9.0, 10.0, 11.0, 12.0, 13.0]  # the ranges' lower ends
+    assert fig.get_suptitle() == 'bars: mean over the seeds; black lines: from the smallest to the largest value'
+    (legend,) = fig.legends
+    assert 'min-max over the seeds' in [text.get_text() for text in legend.get_texts()]
+    named = study_figure(summary, collision_distance_m=0.2, seeds=(0, 1, 2, 3, 4))
+    assert named.get_suptitle().startswith('bars: mean over seeds 0-4;')
 
 
 def test_the_paired_figure_draws_each_difference_with_its_interval() -> None:

@@ -61,3 +61,37 @@ def test_long_recordings_are_thinned_without_hiding_a_close_approach_or_a_gap(mo
     assert len(line.get_ydata()) <= 40 and np.nanmin(line.get_ydata()) == 0.05
     path_b = figures['paths'].axes[0].lines[1].get_ydata()
     assert len(path_b) < 60 and np.isnan(path_b).sum() == 2  # thinned, and broken where b is missing
+
+
+def test_every_robot_is_in_every_snapshot_when_stamped_a_few_ms_apart() -> None:
+    """Motion capture stamps each body a few milliseconds after the last: frames then hold only some robots, and
+    the snapshots still show all four, at their positions interpolated to each snapshot's instant."""
+    period, n = 10_000_000, 4
+    samples = {}
+    for k in range(n):
+        stamps = np.arange(200, dtype=np.int64) * period + k * 3_000_000
+        t = stamps * 1e-9
+        samples[f'r{k}'] = RobotSamples(stamps, np.stack([0.5 * t, 0.3 * k + 0 * t], axis=1))
+    trajectory = assemble(samples, source={'path': 'mocap'})
+    assert not trajectory.complete_frames()[[0, -1]].any()  # the first and last frames miss robots
+    ax = analysis_figures({'run': analyse(trajectory, None)}, None, None)['paths'].axes[0]
+    snapshots = [np.ma.filled(c.get_offsets(), np.nan) for c in ax.collections]
+    assert len(snapshots) == 7 and all(np.isfinite(s).all() and len(s) == n for s in snapshots)
+    for offsets in snapshots:  # all four at one instant (to within the frame window, 5 ms), in their own rows
+        np.testing.assert_allclose(offsets[:, 0], offsets[0, 0], atol=0.5 * 0.005 + 1e-12)
+        np.testing.assert_allclose(offsets[:, 1], 0.3 * np.arange(n))
+    assert '\n' not in ax.get_title()
+
+
+def test_a_robot_missing_at_a_snapshot_is_named() -> None:
+    stamps = np.arange(300, dtype=np.int64) * 100_000_000
+    t = stamps * 1e-9
+    kept = (t < 14.0) | (t > 16.5)  # b is not seen around the middle snapshot (15 s)
+    samples = {
+        'a': RobotSamples(stamps, np.stack([t, 0 * t], axis=1)),
+        'b': RobotSamples(stamps[kept], np.stack([t, 1 + 0 * t], axis=1)[kept]),
+    }
+    ax = analysis_figures({'run': analyse(assemble(samples, source={'path': 's'}), None)}, None, None)['paths'].axes[0]
+    counts = [int(np.isfinite(np.ma.filled(c.get_offsets(), np.nan)).all(axis=1).sum()) for c in ax.collections]
+    assert counts == [2, 2, 2, 1, 2, 2, 2]
+    assert ax.get_title().endswith('no position (gap or outside its recording) at 14.9 s: b')

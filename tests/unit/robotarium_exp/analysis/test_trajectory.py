@@ -104,3 +104,32 @@ def test_frames_cover_every_stamp_once_within_the_window() -> None:
         clock = np.cumsum(rng.integers(3 * period // 4, 5 * period // 4, size=100))  # no interval under half another
         together, _ = frame_stamps([clock, clock.copy()])
         np.testing.assert_array_equal(together, clock)
+
+
+def test_positions_at_an_instant_interpolate_within_a_robot_s_frames_and_not_across_a_gap() -> None:
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+    stamps = np.arange(10, dtype=np.int64) * 100_000_000
+    t = stamps * 1e-9
+    kept = (t < 0.35) | (t > 0.75)  # b has a gap from 0.3 to 0.8 s, longer than three periods
+    samples = {
+        'a': RobotSamples(stamps + 60_000_000, np.stack([t + 0.06, 0 * t], axis=1)),
+        'b': RobotSamples(stamps[kept], np.stack([t, 1 + 0 * t], axis=1)[kept]),
+    }
+    trajectory = assemble(samples, source={'path': 's'})
+    np.testing.assert_allclose(trajectory.common_span(), (0.06, 0.9 - 0.04))  # b's last sample, in the frame at 0.86 s
+    np.testing.assert_allclose(trajectory.positions_at(0.125), [[0.125, 0.125], [0.0, 1.0]])
+    at = trajectory.positions_at(0.55)  # inside b's gap: a only
+    assert at[0, 0] == pytest.approx(0.55) and np.isnan(at[:, 1]).all()
+    assert np.isnan(trajectory.positions_at(0.0)[:, 0]).all()  # before a's first sample, further than the frame window
+
+
+def test_without_a_common_time_the_span_is_the_whole_recording() -> None:
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+    stamps = np.arange(10, dtype=np.int64) * 100_000_000
+    xy = np.zeros((10, 2))
+    samples = {'a': RobotSamples(stamps, xy), 'b': RobotSamples(stamps + 2_000_000_000, xy)}  # b starts after a ends
+    trajectory = assemble(samples, source={'path': 's'})
+    assert trajectory.common_span() == (0.0, pytest.approx(2.9))
+    assert np.isnan(trajectory.positions_at(2.5)[:, 0]).all() and np.isfinite(trajectory.positions_at(2.5)[:, 1]).all()
