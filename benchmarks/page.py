@@ -4,8 +4,9 @@
 
 Each NAME runs as ``python -m benchmarks.NAME [ARGS]`` in a child process from the repository root. Its page,
 ``OUT/NAME.md``, holds the module's docstring (what it measures and how), the command, the vtube version, the git
-commit of the code (``-dirty`` when it differs from that commit), the date and the machine's cores, then what the
-benchmark printed, verbatim. ``OUT/index.md`` lists every page in OUT with its first line and when it was made.
+commit of the code (``-dirty`` when it differs from that commit), the date, the machine's cores and its load average
+when the benchmark ended (above the cores, other work shared them: ratios measured in one process hold, absolute
+times do not), then what the benchmark printed, verbatim. ``OUT/index.md`` lists every page in OUT with its first line and when it was made.
 The pages are never edited by hand: run the command again. A benchmark that fails writes no page, its output is
 printed, and the command exits 1.
 """
@@ -59,13 +60,16 @@ def index_text(out: Path) -> str:
         '',
         'Each page was written by `python -m benchmarks.page NAME`: what the benchmark measures,',
     ]
-    lines += ['what made the page, and what the benchmark printed. Run the command again to make it anew.', '']
+    lines += ['what made the page, and what the benchmark printed. Run the command again to make it anew.']
+    lines += ['Measurements written down by hand before these pages: [measured earlier](../benchmarks.md).', '']
     for page in sorted(out.glob('*.md')):
         if page.name == 'index.md':
             continue
         first, title = page.read_text(encoding='utf-8').split('\n', 2)[:2]
         made = first.removeprefix(MADE).removesuffix(' -->').split(' | ', 1)[-1]
         lines.append(f'- [{title.removeprefix("# ")}]({page.name}) ({made})')
+    if not lines[-1].startswith('- '):
+        lines.append('No benchmark has a page yet.')
     return '\n'.join(lines) + '\n'
 
 
@@ -73,7 +77,10 @@ def made_now() -> str:
     from vtube import __version__
 
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime('%Y-%m-%d %H:%M UTC')
-    return f'vtube {__version__}, commit {source_commit() or "unknown"}, {stamp}, {os.cpu_count()} cores'
+    load = os.getloadavg()[0]
+    return (
+        f'vtube {__version__}, commit {source_commit() or "unknown"}, {stamp}, {os.cpu_count()} cores, load {load:.1f}'
+    )
 
 
 def run(name: str, args: list[str]) -> subprocess.CompletedProcess[str]:
@@ -83,7 +90,9 @@ def run(name: str, args: list[str]) -> subprocess.CompletedProcess[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.partition('\n')[0])
-    parser.add_argument('names', nargs='+', help='benchmarks to run (module names under benchmarks/)')
+    parser.add_argument(
+        'names', nargs='*', help='benchmarks to run (module names under benchmarks/; none: the index only)'
+    )
     parser.add_argument('--args', action='append', default=[], help='NAME=ARGS: arguments for one benchmark')
     parser.add_argument('--out', type=Path, default=OUT, help='the folder of the pages (default: docs/benchmarks)')
     options = parser.parse_args(argv)
