@@ -1,15 +1,16 @@
-"""Robotarium scenes: a tube and a number of robots, every other value derived (:mod:`robotarium_exp.design`).
+"""Robotarium scenes: a tube and a number of robots, every other value derived (`robotarium_exp.design`).
 
 A Robotarium scene is an ordinary scene file (``vtube_planning.geometry.scene``) whose ``[robotarium]`` table
-declares the experiment::
+declares the experiment:
 
     [robotarium]
     n_robots = 10          # 1 to 20
 
 The swarm's speeds, accelerations and radii, the planner's options and the controller's gains are the
-Robotarium's (:data:`ROBOTARIUM_VALUES`) or derived from the tube and N (:func:`derived_values`); a value written
+Robotarium's (`ROBOTARIUM_VALUES`) or derived from the tube and N (`derived_values`); a value written
 in the file's ``[swarm]``, ``[planning]`` or ``[control]`` table overrides either, and ``vtube scene show`` says
-so. :func:`load_scene` loads every scene the command line takes: the paper's, the Robotarium's, or a file.
+so. [`load_scene`][robotarium_exp.scene.load_scene] loads every scene the command line takes: the paper's, the
+Robotarium's, or a file.
 """
 
 from __future__ import annotations
@@ -157,7 +158,7 @@ def _declared_robots(table: object, source: str) -> int:
 
 
 def derived_values(tube: VirtualTube, n_robots: int) -> Values:
-    """The values derived from the tube and N, with their reasons (module doc of :mod:`robotarium_exp.design`)."""
+    """The values derived from the tube and N, with their reasons (module doc of `robotarium_exp.design`)."""
     spacing = ROBOTARIUM.ic_spacing_m
     r_a = round(spacing - R_S_M, 6)
     formation = start_formation(tube, n_robots)

@@ -1,4 +1,4 @@
-"""``main``: the parser built from the commands, the dispatch through :data:`COMMANDS`, errors as exit codes."""
+"""``main``: the parser built from the commands, the dispatch through `COMMANDS`, errors as exit codes."""
 
 from __future__ import annotations
 
@@ -85,7 +85,7 @@ class Parser(argparse.ArgumentParser):
 
 
 def parser() -> argparse.ArgumentParser:
-    """The parser of every command in :data:`COMMANDS`; a parsed command's words are its ``command``."""
+    """The parser of every command in `COMMANDS`; a parsed command's words are its ``command``."""
     from vtube_planning import __version__
 
     top = Parser(

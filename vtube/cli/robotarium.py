@@ -36,7 +36,7 @@ class RobotariumRun:
 @dataclass(frozen=True)
 class Comparison:
     """Planned against unplanned over initialization seeds (in the order run): the table, the files written and the
-    runs that failed (:func:`robotarium_exp.compare.failed_runs`)."""
+    runs that failed (`robotarium_exp.compare.failed_runs`)."""
 
     scene: str
     seeds: tuple[int, ...]

@@ -57,7 +57,7 @@ def build_arguments(parser: argparse.ArgumentParser) -> None:
 
 def build(args: argparse.Namespace) -> WrittenSubmission:
     """Write the submission for a Robotarium scene; unless ``--no-declare``, checked and rewritten with the
-    duration to declare (:func:`vtube.pipeline.build_submission`)."""
+    duration to declare (`vtube.pipeline.build_submission`)."""
     from vtube.pipeline import build_submission
 
     return build_submission(
