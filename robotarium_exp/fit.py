@@ -155,7 +155,7 @@ def _initializer_order(ic: FloatArray) -> list[Misfit]:
         Misfit(
             f"robots 0 and 1 start {gaps[0, 1]:.2f} m apart: V2's initializer never rescues robots 0 and 1 from "
             f'a deadlock, and within {INITIALIZER_APART_M} m of each other they can block each other for good '
-            '(docs/robotarium.md §2.6)',
+            '(documentation: On the Robotarium, §2.6)',
             'reorder the robots with robotarium_exp.design.order_for_v2_initializer',
         )
     ]

@@ -55,7 +55,7 @@ ROBOTARIUM_VALUES: Values = {
     },
     'planning': {
         'grid_step_m': (0.0125, 'about 200 intervals over a tube of the arena'),
-        'predictive_model': ('local_width', '(p7) read with the local width (docs/theory.md)'),
+        'predictive_model': ('local_width', '(p7) read with the local width (documentation: Theory)'),
     },
     'control': {
         'avoidance_gain': (5e-4, "the paper's gains scaled by v_max times the interaction band squared"),
@@ -63,12 +63,12 @@ ROBOTARIUM_VALUES: Values = {
         'k_ra_m3ps': (0.02, 'r_a moves 0.02 m/s per robot/m^2 of density above the plan'),
         'r_a_max_m': (0.5, "the band can reach the narrowing's density in the wide part"),
         'feedforward': (True, "the plan's dip raises r_a ahead of the density error"),
-        'plan_at': ('center', "the plan is made for the swarm's centre (docs/theory.md A16)"),
+        'plan_at': ('center', "the plan is made for the swarm's centre (documentation: Theory, A16)"),
         'compensate_delay_steps': (
             0.5 * (FITTED.delay_v_steps + FITTED.delay_omega_steps),
             (
-                "the real robots' command delay (testbed model 'fitted', docs/robotarium.md §2.8): the step acts on "
-                'where the robots will be when its command arrives (docs/theory.md §9)'
+                "the real robots' command delay (testbed model 'fitted', robotarium_exp.rps.testbed_model): the step acts on "
+                'where the robots will be when its command arrives (documentation: Theory, §9)'
             ),
         ),
         'compensate_lag_s': (FITTED.lag_s, "the real robots' first-order lag, compensated with the delay"),

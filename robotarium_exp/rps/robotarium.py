@@ -379,6 +379,6 @@ def _stuck() -> RobotariumError:
     msg = (
         f'the initialization did not bring the robots to their initial conditions within '
         f'{INITIALIZATION_STEP_LIMIT} steps (V2 would hang here); space the initial conditions at least '
-        '0.4 m apart inside |x| <= 1.375, |y| <= 0.875 (docs/robotarium.md §2.6).'
+        '0.4 m apart inside |x| <= 1.375, |y| <= 0.875 (documentation: On the Robotarium, §2.6).'
     )
     return RobotariumError(msg)

@@ -33,7 +33,7 @@ COMMANDS: dict[str, Command[Any]] = {
     command.words: command
     for command in (
         *scene.COMMANDS,
-        tube.COMMAND,
+        *tube.COMMANDS,
         plan.COMMAND,
         simulate.COMMAND,
         *study.COMMANDS,
@@ -50,7 +50,7 @@ COMMANDS: dict[str, Command[Any]] = {
 
 GROUPS = {
     'scene': 'list and draw scenes',
-    'tube': 'generate a tube from an obstacle map',
+    'tube': 'generate a tube from an obstacle map, or write a shipped map',
     'campaign': 'run a study declared in a TOML file, anywhere, resumably',
     'robotarium': 'the tube experiment on the bundled Robotarium simulator',
     'submission': 'build and check the single file for the remote Robotarium',

@@ -77,7 +77,7 @@ def map_spec(data: dict[str, Any], source: str) -> TubeSpec:
     if 'robotarium' in data and 'turn_radius_min_m' not in table:
         msg = (
             f"{source}: a Robotarium map file needs turn_radius_min_m in [tube.generate] (the robots' v_min^2 / a_n; "
-            "the layouts in docs/maps use 0.6): the default, from [swarm], is the paper's scale."
+            "the shipped maps, `vtube tube example`, use 0.6): the default, from [swarm], is the paper's scale."
         )
         raise SceneError(msg)
     if 'workspace' not in data:
