@@ -223,11 +223,14 @@ def build_submission(
     seeds: int | Sequence[int] = 3,
     initializer_seeds: int = 200,
     testbed_models: tuple[str, ...] | None = None,
+    progress: Callable[[str], None] | None = None,
+    seed_done: Callable[[], None] | None = None,
 ) -> WrittenSubmission:
     """Write the single-file submission for a Robotarium scene (its plan from ``plan_file``, or planned here) to
     ``out``; with ``declare``, preflighted under ``testbed_models`` (None: every model of
     `submission.robustness.CHECKED_MODELS`) and rewritten with the duration to declare
-    (`submission.builder.build_declared`: one build, one preflight)."""
+    (`submission.builder.build_declared`: one build, one preflight, which reports to ``progress`` and
+    ``seed_done``)."""
     scene = load_scene(name_or_path)
     plan = plan_for(scene, plan_file=plan_file) if planning else None
     if not declare:
@@ -237,7 +240,14 @@ def build_submission(
 
     models = CHECKED_MODELS if testbed_models is None else testbed_models
     submission, report, written = build_declared(
-        scene, plan, out, seeds=seeds, initializer_seeds=initializer_seeds, testbed_models=models
+        scene,
+        plan,
+        out,
+        seeds=seeds,
+        initializer_seeds=initializer_seeds,
+        testbed_models=models,
+        progress=progress,
+        seed_done=seed_done,
     )
     return WrittenSubmission(submission, written, report)
 
