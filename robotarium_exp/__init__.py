@@ -1,7 +1,7 @@
 """The tube experiment on the Robotarium: a compatible simulator, the experiment loop, trajectory analysis.
 
-:func:`run_experiment` flies a scene's plan on any Robotarium class (:mod:`.rps`, :mod:`.rps_classic`, the PyPI
-simulator); :mod:`.analysis` measures what comes back.
+[`run_experiment`][robotarium_exp.experiment.run_experiment] flies a scene's plan on any Robotarium class (`rps`,
+`rps_classic`, the PyPI simulator); [`analysis`][robotarium_exp.analysis] measures what comes back.
 """
 
 from __future__ import annotations

@@ -62,7 +62,7 @@ BETTER = {
 @dataclass(frozen=True)
 class ComparisonRow:
     """One run of the comparison: its seed and mode, the measures of ``COLUMNS`` (None: did not happen) and why
-    the flight failed (:func:`~robotarium_exp.verdict.flight_failures`; empty: it succeeded)."""
+    the flight failed (`flight_failures`; empty: it succeeded)."""
 
     seed: int
     planned: bool
@@ -92,7 +92,7 @@ def compare(
     testbed_model: str = 'ideal',
 ) -> list[ComparisonRow]:
     """One row per seed and mode (planned, unplanned); ``run_done`` is called after each run (a progress bar);
-    the simulator flies ``testbed_model`` (:func:`robotarium_exp.rps.testbed_model.testbed_model`)."""
+    the simulator flies ``testbed_model`` (`robotarium_exp.rps.testbed_model.testbed_model`)."""
     rows = []
     for seed in seeds:
         for planned in (True, False):
@@ -140,7 +140,7 @@ def comparison_table(rows: list[ComparisonRow]) -> str:
 def paired_table(rows: list[ComparisonRow], confirm_seeds: Collection[int] = ()) -> str:
     """Markdown: per measure of BETTER, planned - unplanned paired by seed (the same initialization draws), its
     interval, effect and signed-rank p-value, Holm-adjusted over the measures, and the verdict
-    (:mod:`vtube_planning.stats`); with ``confirm_seeds``, on the other seeds and on those, and both's verdict."""
+    (`vtube_planning.stats`); with ``confirm_seeds``, on the other seeds and on those, and both's verdict."""
     confirm = set(confirm_seeds)
     found = _judged([r for r in rows if r.seed not in confirm])
     again = _judged([r for r in rows if r.seed in confirm]) if confirm else {}

@@ -1,23 +1,23 @@
 """A Robotarium experiment derived from its intent: the start formation, the parking slots and the swarm's values.
 
 A Robotarium scene declares a tube and a number of robots (``[robotarium] n_robots``); everything the paper's
-Robotarium scenes set by hand is derived here from the tube, N and :data:`~robotarium_exp.spec.ROBOTARIUM`, each
+Robotarium scenes set by hand is derived here from the tube, N and `ROBOTARIUM`, each
 value with its reason (``vtube scene show`` prints them):
 
 - the start formation: rows across the tube ``ic_spacing_m`` (0.4 m) apart, as many columns as fit the entrance
-  with :data:`WALL_CLEARANCE_M` to each wall, the back row at the first cross-section inside the box the testbed
+  with `WALL_CLEARANCE_M` to each wall, the back row at the first cross-section inside the box the testbed
   initializes robots in, robots 0 and 1 where V2's initializer cannot leave them stuck;
 - r_s (the law's barrier keeps 2 r_s, the safety filter's distance) and r_a = spacing - r_s, so that the formation
   rests at the edge of the interaction band, r_s + r_a = the spacing: not compressed, not loose;
 - rho0 = rho_d: the formation's density under the package's measure, so the swarm starts on its plan and cruises
   in the formation it starts in; rho_max = 1 / (2 pi r_s^2) (the formula that reproduces Table 1's value);
-- the look-ahead (:func:`look_ahead`): the first narrowing's length plus the formation's length plus two
+- the look-ahead (`look_ahead`): the first narrowing's length plus the formation's length plus two
   interaction bands, so that the density change (p7) asks for before the narrowing is one the rows can make (the
   fit verdict checks that the formation starts before the narrowing);
-- the parking slots beyond the exit: lanes :data:`PARKING_SPACING_M` apart, as many lanes and as deep as the arena
-  allows (which robot takes which slot is :mod:`vtube_planning.onboard.parking`'s).
+- the parking slots beyond the exit: lanes `PARKING_SPACING_M` apart, as many lanes and as deep as the arena
+  allows (which robot takes which slot is `vtube_planning.onboard.parking`'s).
 
-Whether the result fits the testbed is :mod:`robotarium_exp.fit`'s one verdict; nothing here refuses.
+Whether the result fits the testbed is `robotarium_exp.fit`'s one verdict; nothing here refuses.
 """
 
 from __future__ import annotations
@@ -102,15 +102,15 @@ def first_narrowing(tube: VirtualTube) -> Narrowing | None:
 
 
 LOOK_AHEAD_BANDS = 2
-"""Interaction bands (the spacing) in the look-ahead beyond the narrowing and the formation (:func:`look_ahead`)."""
+"""Interaction bands (the spacing) in the look-ahead beyond the narrowing and the formation (`look_ahead`)."""
 LOOK_AHEAD_STEP_M = 0.05
 """The look-ahead is rounded to this: a bend that spreads the formation by a centimetre does not move it."""
 
 
 def look_ahead(narrowing_m: float, formation_m: float) -> float:
     """The plan's look-ahead for a narrowing ``narrowing_m`` long (0: none) and a formation ``formation_m`` long
-    (back row to front row): the narrowing plus the formation plus :data:`LOOK_AHEAD_BANDS` interaction bands (the
-    spacing), to :data:`LOOK_AHEAD_STEP_M`. The longer the look-ahead, the gentler the density change (p7) asks
+    (back row to front row): the narrowing plus the formation plus `LOOK_AHEAD_BANDS` interaction bands (the
+    spacing), to `LOOK_AHEAD_STEP_M`. The longer the look-ahead, the gentler the density change (p7) asks
     for before the narrowing, and a swarm in rows of the tube's width can only lengthen to thin out. *Measured*
     with ``vtube robotarium run --no-initialization`` (the dip's mean density error), without the two bands against
     with them: the trapezoid at N = 6, 7 % (0.9 m) against 4 % (1.7 m; 38.1 s to pass instead of 41.6 s); the wide
@@ -174,7 +174,7 @@ def first_inside_box(tube: VirtualTube) -> float | None:
 
 def order_for_v2_initializer(ic: FloatArray) -> list[int]:
     """Robot order for V2's initializer: robot 0 the slot with the fewest neighbours (front first), robot 1 the
-    first slot in that order more than :data:`INITIALIZER_APART_M` from it (else the slot farthest from it).
+    first slot in that order more than `INITIALIZER_APART_M` from it (else the slot farthest from it).
 
     V2 chooses the robots it rescues from deadlocks with ``np.isin`` of their indices against the boolean "arrived"
     mask, so robot 0 is never rescued while any robot is on its way and robot 1 never once any has arrived
@@ -205,9 +205,9 @@ def neighbour_counts(ic: FloatArray) -> NDArray[np.int_]:
 
 
 def parking(tube: VirtualTube, n_robots: int) -> FloatArray:
-    """Slots (2, N) beyond the exit, filled farthest first: the most lanes (at most :data:`PARKING_LANES_MAX`)
-    whose slots all keep :data:`PARKING_WALL_M` from the arena's edge with the nearest row at least
-    :data:`PARKING_NEAREST_M` beyond the exit, the farthest row at most :data:`PARKING_DEPTH_M` beyond it or where
+    """Slots (2, N) beyond the exit, filled farthest first: the most lanes (at most `PARKING_LANES_MAX`)
+    whose slots all keep `PARKING_WALL_M` from the arena's edge with the nearest row at least
+    `PARKING_NEAREST_M` beyond the exit, the farthest row at most `PARKING_DEPTH_M` beyond it or where
     the arena ends sooner; when no layout does, the one that comes closest (the fit verdict then refuses it)."""
     end, tangent = tube.center_at(tube.length_m), tube.tangent(tube.length_m)
     layouts = []
@@ -223,7 +223,7 @@ def parking(tube: VirtualTube, n_robots: int) -> FloatArray:
 
 
 def _deepest(slots: FloatArray, tangent: FloatArray) -> float:
-    """How far slots (2, N) can move along the tangent with every one keeping :data:`PARKING_WALL_M` from the
+    """How far slots (2, N) can move along the tangent with every one keeping `PARKING_WALL_M` from the
     arena's edge (negative: they must move back; -inf: no move keeps them all inside)."""
     x0, x1, y0, y1 = ROBOTARIUM.arena_m
     w = PARKING_WALL_M
@@ -242,7 +242,7 @@ def _deepest(slots: FloatArray, tangent: FloatArray) -> float:
 
 
 def slots_in_lanes(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int, depth_m: float) -> FloatArray:
-    """Slots (2, N) in ``lanes`` lanes and rows :data:`PARKING_SPACING_M` apart, from ``depth_m`` beyond the exit
+    """Slots (2, N) in ``lanes`` lanes and rows `PARKING_SPACING_M` apart, from ``depth_m`` beyond the exit
     backwards."""
     normal = np.array([-tangent[1], tangent[0]])
     depth, lane = np.divmod(np.arange(n_robots), lanes)

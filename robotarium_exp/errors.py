@@ -1,19 +1,20 @@
-"""Exceptions of :mod:`robotarium_exp`: one base, :class:`RobotariumExpError`.
+"""Exceptions of `robotarium_exp`: one base, [`RobotariumExpError`][robotarium_exp.errors.RobotariumExpError].
 
-The package stands below :mod:`vtube_planning` in nothing, so its base is its own. Its ``rps`` part stands for a
-third-party contract and raises its own :class:`~robotarium_exp.rps.errors.RobotariumError` (an ``AssertionError``,
-as ``rps``).
+The package stands below `vtube_planning` in nothing, so its base is its own. Its ``rps`` part stands for a
+third-party contract and raises its own [`RobotariumError`][robotarium_exp.rps.errors.RobotariumError] (an
+``AssertionError``, as ``rps``).
 """
 
 from __future__ import annotations
 
 
 class RobotariumExpError(Exception):
-    """Base of every error :mod:`robotarium_exp` raises on purpose."""
+    """Base of every error `robotarium_exp` raises on purpose."""
 
 
 class SpecError(RobotariumExpError, ValueError):
-    """A :class:`~robotarium_exp.spec.RobotariumSpec` with impossible numbers (an empty arena, a time step <= 0)."""
+    """A [`RobotariumSpec`][robotarium_exp.spec.RobotariumSpec] with impossible numbers (an empty arena, a time step <=
+    0)."""
 
 
 class ExperimentError(RobotariumExpError, ValueError):

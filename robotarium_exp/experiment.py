@@ -3,12 +3,12 @@
 Any ``Robotarium`` class can be passed in (ours, the PyPI simulator, the testbed's): it is constructed with the
 keywords both generations accept and used only through ``get_poses``, ``set_velocities`` and ``step``.
 
-The experiment is the submission without the file: :func:`flight_data` turns a scene, a plan and the options into
-the :class:`~robotarium_exp.flight_data.FlightData` a submission embeds (the tube sampled every centimetre, the
+The experiment is the submission without the file: `flight_data` turns a scene, a plan and the options into
+the `FlightData` a submission embeds (the tube sampled every centimetre, the
 plan's slowness and density, the step's parameters, initial conditions, parking slots, barrier and wheel limits),
-and both this module and the submitted file fly it with :func:`robotarium_exp.flight.build_flight` and :func:`robotarium_exp.flight.fly`. Every period
-is logged (:mod:`vtube_planning.log`: rewritten atomically, so an interrupted run leaves a readable file).
-The run ends when every robot has parked past the exit, or at the step limit.
+and both this module and the submitted file fly it with `robotarium_exp.flight.build_flight` and
+`robotarium_exp.flight.fly`. Every period is logged (`vtube_planning.log`: rewritten atomically, so an interrupted run
+leaves a readable file). The run ends when every robot has parked past the exit, or at the step limit.
 """
 
 from __future__ import annotations
@@ -105,7 +105,7 @@ class ExperimentResult:
 
 
 def initial_conditions(scene: Scene) -> FloatArray:
-    """The start formation (3xN) of :func:`robotarium_exp.design.start_formation`; refused when it cannot be built."""
+    """The start formation (3xN) of `robotarium_exp.design.start_formation`; refused when it cannot be built."""
     formation = start_formation(scene.tube, scene.swarm.n_robots)
     if formation.problem is not None:
         msg = f'scene {scene.name!r}: {formation.problem}; move the tube entrance inwards or widen it.'

@@ -1,8 +1,8 @@
 """Does an experiment fit the Robotarium? One verdict, with each reason and its fix.
 
-:func:`fit_of_flight` judges the data a flight carries (what a submission embeds: the robots, the tube, the start
+`fit_of_flight` judges the data a flight carries (what a submission embeds: the robots, the tube, the start
 formation, the parking slots), so that the file's check judges exactly what the scene's commands judged;
-:func:`robotarium_fit` is the verdict on a scene. ``vtube scene show``, ``plan``, ``robotarium run``, ``robotarium
+`robotarium_fit` is the verdict on a scene. ``vtube scene show``, ``plan``, ``robotarium run``, ``robotarium
 compare``, ``submission build`` and ``submission check`` all ask here.
 """
 
@@ -146,8 +146,8 @@ def _formation_spacing(ic: FloatArray) -> list[Misfit]:
 
 
 def _initializer_order(ic: FloatArray) -> list[Misfit]:
-    """Robots 0 and 1 more than :data:`~robotarium_exp.design.INITIALIZER_APART_M` apart wherever two slots are
-    (:func:`robotarium_exp.design.order_for_v2_initializer`)."""
+    """Robots 0 and 1 more than `INITIALIZER_APART_M` apart wherever two slots are
+    (`robotarium_exp.design.order_for_v2_initializer`)."""
     gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))
     if ic.shape[1] < 3 or gaps[0, 1] > INITIALIZER_APART_M or gaps.max() <= INITIALIZER_APART_M:
         return []
@@ -155,7 +155,7 @@ def _initializer_order(ic: FloatArray) -> list[Misfit]:
         Misfit(
             f"robots 0 and 1 start {gaps[0, 1]:.2f} m apart: V2's initializer never rescues robots 0 and 1 from "
             f'a deadlock, and within {INITIALIZER_APART_M} m of each other they can block each other for good '
-            '(docs/robotarium.md §2.6)',
+            '(documentation: On the Robotarium, §2.6)',
             'reorder the robots with robotarium_exp.design.order_for_v2_initializer',
         )
     ]
@@ -165,7 +165,7 @@ def _formation_before_narrowing(data: FlightData) -> list[Misfit]:
     """The start formation's front row lies before the tube first narrows: a swarm that starts inside the narrowing
     is squeezed before it has started (a narrowing inside a bend, eight robots: 219 robot-steps with bodies up to
     0.2 m over the walls). *Measured*: the stricter rule this replaced, the formation's centre a look-ahead
-    (:func:`robotarium_exp.design.look_ahead`) before the narrowing, refused 27 of the sweep's cases with N <= 12
+    (`robotarium_exp.design.look_ahead`) before the narrowing, refused 27 of the sweep's cases with N <= 12
     (``docs/sweep/``); this one refuses 15 of them, and the other 12 pass the sweep's bar with V2's initialization
     (every robot through and parked, no body on a wall, the dip's density error at most 25 %)."""
     samples = data.tube
@@ -210,7 +210,7 @@ def _sampled_narrowing(l_m: FloatArray, half_width_m: FloatArray) -> tuple[float
 
 def _parking_inside(data: FlightData) -> list[Misfit]:
     """The parking slots keep the design's wall (less the data's rounding) from the arena's edge, and lie beyond the
-    exit (:func:`robotarium_exp.design.parking`)."""
+    exit (`robotarium_exp.design.parking`)."""
     slots, end = data.parking_slots, data.tube.xy_m[:, -1]
     tangent = data.tube.xy_m[:, -1] - data.tube.xy_m[:, -2]
     beyond = (tangent / np.hypot(*tangent)) @ (slots - end[:, None])
@@ -235,7 +235,8 @@ def _parking_inside(data: FlightData) -> list[Misfit]:
 
 
 def require_fit(scene: Scene) -> None:
-    """Refuse a scene that does not fit the Robotarium, before anything flies (:class:`ExperimentError`)."""
+    """Refuse a scene that does not fit the Robotarium, before anything flies
+    ([`ExperimentError`][robotarium_exp.errors.ExperimentError])."""
     fit = robotarium_fit(scene)
     if not fit.fits:
         raise ExperimentError(f'scene {scene.name!r} {fit.reason}')

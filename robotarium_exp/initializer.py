@@ -1,6 +1,6 @@
 """How long V2's initializer takes to bring robots to given initial conditions: its distribution over seeds.
 
-The bundled simulator runs V2's initializer with V2's draws (:func:`robotarium_exp.rps_alias.seed_rps`) and, by
+The bundled simulator runs V2's initializer with V2's draws (`robotarium_exp.rps_alias.seed_rps`) and, by
 default, the testbed's barrier QP solver, so each seed's run is V2's, step for step (``docs/robotarium.md`` §2.6). Used by
 ``vtube submission check`` to derive the duration to declare, and by ``benchmarks/initializer_durations.py``.
 """

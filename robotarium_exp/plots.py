@@ -185,7 +185,7 @@ def _centred(ax: Axes, text: str) -> None:
 
 
 def scene_figure(scene: Scene, fit: Fit) -> Figure:
-    """The scene's figure (:func:`vtube_planning.plots.scene_figure`) with what the Robotarium adds: the start
+    """The scene's figure (`vtube_planning.plots.scene_figure`) with what the Robotarium adds: the start
     formation (bodies, and the interaction band r_s + r_a dashed), the parking slots, the box the testbed
     initializes robots in, and the fit verdict in the title."""
     from matplotlib.patches import Circle, Rectangle

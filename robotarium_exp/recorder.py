@@ -1,7 +1,7 @@
 """The recorder of a run on a Robotarium class: every pose it hands out, written to a vtube trajectory log.
 
-:func:`recording` subclasses either generation of ``rps.robotarium.Robotarium`` (V2 or classic, chosen at run
-time); the log (:mod:`vtube_planning.log`) is completed with the validation counts by the end-of-script call, and
+`recording` subclasses either generation of ``rps.robotarium.Robotarium`` (V2 or classic, chosen at run
+time); the log (`vtube_planning.log`) is completed with the validation counts by the end-of-script call, and
 until then, or for a script that never makes it, the poses are in ``FILE.partial.npz``.
 """
 

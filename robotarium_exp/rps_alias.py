@@ -4,16 +4,16 @@
                                        [--testbed-model NAME] my_script.py [args...]
 
 or, inside Python, ``install()`` before the script imports ``rps``. By default ``rps`` is V2
-(:mod:`robotarium_exp.rps`: robots are driven from the chargers to the initial conditions, ``debug()``);
-``--classic`` makes it the classic generation, :mod:`robotarium_exp.rps_classic`, names and semantics (the PyPI
+(`robotarium_exp.rps`: robots are driven from the chargers to the initial conditions, ``debug()``);
+``--classic`` makes it the classic generation, `robotarium_exp.rps_classic`, names and semantics (the PyPI
 ``robotarium_python_simulator`` 0.0.0: ``call_at_scripts_end()``, ``rps.robotarium_abc``,
 ``rps.utilities.barrier_certificates2``...). ``--seed`` seeds ``random`` and ``np.random``, what the scripts and
 both generations draw from (V2's charger slots and deadlock escapes, classic's random start poses); ``--log`` makes
-the simulator record every pose it hands out (:mod:`robotarium_exp.recorder`);
+the simulator record every pose it hands out (`robotarium_exp.recorder`);
 ``--exact-qp`` makes the barrier certificates solve their QPs exactly and faster, instead of as the testbed does
-(:func:`robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`); ``--testbed-model`` makes the
+(`robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`); ``--testbed-model`` makes the
 simulator act like the real robots (``ideal``, the default, ``fitted``, ``fitted:K``:
-:mod:`robotarium_exp.rps.testbed_model`).
+`robotarium_exp.rps.testbed_model`).
 
 The script runs as ``python my_script.py`` would run it (its folder first on ``sys.path``, so modules beside it
 import; ``__file__``; ``sys.argv``). A script that dies on ``np.mat`` (removed in numpy 2, used by several classic
@@ -52,7 +52,7 @@ def install(
     testbed_model: str | TestbedModel | None = None,
 ) -> None:
     """Make ``rps``, ``rps.robotarium``, ``rps.utilities...`` resolve to the bundled simulator's modules, each when
-    the script first imports it (:mod:`robotarium_exp.rps_import`: so that cvxopt's options are set when the
+    the script first imports it (`robotarium_exp.rps_import`: so that cvxopt's options are set when the
     official modules would set them). ``rps`` modules imported before are forgotten.
 
     ``testbed_model``: the model every ``Robotarium()`` of the script gets unless it names one (either generation).

@@ -1,7 +1,7 @@
 """How ``import rps...`` resolves to a generation of the bundled simulator: name by name, when the script imports it.
 
-:class:`RpsFinder` (first on ``sys.meta_path``) answers every ``rps`` and ``rps.*`` name: a module of the chosen
-:class:`Generation` is imported then, and registered under its ``rps`` name (the same module object, so state shared
+`RpsFinder` (first on ``sys.meta_path``) answers every ``rps`` and ``rps.*`` name: a module of the chosen
+`Generation` is imported then, and registered under its ``rps`` name (the same module object, so state shared
 between modules stays shared; a package is a new empty module, as the official packages are empty, so that
 ``from rps import robotarium`` imports ``rps.robotarium`` through the finder); a name the generation does not have is a ``ModuleNotFoundError``, as it would be on
 the official simulator (and never a second copy of one of our own modules found on ``rps``'s path).
@@ -11,7 +11,7 @@ cvxopt's global solver options when their certificate modules are imported (``sh
 ``feastol`` 1e-2, ``maxiters`` 50), which silences and loosens every QP a script solves with cvxopt itself. V2 sets
 them in ``rps.utilities.barrier_certificates``, which ``rps.robotarium`` imports; classic in
 ``rps.utilities.barrier_certificates`` and ``rps.utilities.barrier_certificates2``, and its ``rps.robotarium``
-imports neither. :attr:`Generation.sets_qp_options` and :attr:`Generation.imports` record those facts; the finder
+imports neither. `Generation.sets_qp_options` and `Generation.imports` record those facts; the finder
 sets the options when such a name is first imported, so a script sees the options it would see there.
 """
 
@@ -150,7 +150,7 @@ def use_generation(generation: Generation, replaced: Mapping[str, ModuleType]) -
 
 @contextmanager
 def kept_apart() -> Iterator[None]:
-    """Inside, a script may be given ``rps`` (:func:`use_generation`) and the official imports may set cvxopt's
+    """Inside, a script may be given ``rps`` (`use_generation`) and the official imports may set cvxopt's
     options; after, the finders, the ``rps`` modules and cvxopt's options are what they were (a process that runs a
     script of its own, as the demo and the regression test do, goes on as before)."""
     finders, options = list(sys.meta_path), dict(cvxopt.solvers.options)

@@ -1,15 +1,16 @@
-"""Robotarium scenes: a tube and a number of robots, every other value derived (:mod:`robotarium_exp.design`).
+"""Robotarium scenes: a tube and a number of robots, every other value derived (`robotarium_exp.design`).
 
 A Robotarium scene is an ordinary scene file (``vtube_planning.geometry.scene``) whose ``[robotarium]`` table
-declares the experiment::
+declares the experiment:
 
     [robotarium]
     n_robots = 10          # 1 to 20
 
 The swarm's speeds, accelerations and radii, the planner's options and the controller's gains are the
-Robotarium's (:data:`ROBOTARIUM_VALUES`) or derived from the tube and N (:func:`derived_values`); a value written
+Robotarium's (`ROBOTARIUM_VALUES`) or derived from the tube and N (`derived_values`); a value written
 in the file's ``[swarm]``, ``[planning]`` or ``[control]`` table overrides either, and ``vtube scene show`` says
-so. :func:`load_scene` loads every scene the command line takes: the paper's, the Robotarium's, or a file.
+so. [`load_scene`][robotarium_exp.scene.load_scene] loads every scene the command line takes: the paper's, the
+Robotarium's, or a file.
 """
 
 from __future__ import annotations
@@ -54,7 +55,7 @@ ROBOTARIUM_VALUES: Values = {
     },
     'planning': {
         'grid_step_m': (0.0125, 'about 200 intervals over a tube of the arena'),
-        'predictive_model': ('local_width', '(p7) read with the local width (docs/theory.md)'),
+        'predictive_model': ('local_width', '(p7) read with the local width (documentation: Theory)'),
     },
     'control': {
         'avoidance_gain': (5e-4, "the paper's gains scaled by v_max times the interaction band squared"),
@@ -62,12 +63,12 @@ ROBOTARIUM_VALUES: Values = {
         'k_ra_m3ps': (0.02, 'r_a moves 0.02 m/s per robot/m^2 of density above the plan'),
         'r_a_max_m': (0.5, "the band can reach the narrowing's density in the wide part"),
         'feedforward': (True, "the plan's dip raises r_a ahead of the density error"),
-        'plan_at': ('center', "the plan is made for the swarm's centre (docs/theory.md A16)"),
+        'plan_at': ('center', "the plan is made for the swarm's centre (documentation: Theory, A16)"),
         'compensate_delay_steps': (
             0.5 * (FITTED.delay_v_steps + FITTED.delay_omega_steps),
             (
-                "the real robots' command delay (testbed model 'fitted', docs/robotarium.md §2.8): the step acts on "
-                'where the robots will be when its command arrives (docs/theory.md §9)'
+                "the real robots' command delay (testbed model 'fitted', robotarium_exp.rps.testbed_model): the step acts on "
+                'where the robots will be when its command arrives (documentation: Theory, §9)'
             ),
         ),
         'compensate_lag_s': (FITTED.lag_s, "the real robots' first-order lag, compensated with the delay"),
@@ -157,7 +158,7 @@ def _declared_robots(table: object, source: str) -> int:
 
 
 def derived_values(tube: VirtualTube, n_robots: int) -> Values:
-    """The values derived from the tube and N, with their reasons (module doc of :mod:`robotarium_exp.design`)."""
+    """The values derived from the tube and N, with their reasons (module doc of `robotarium_exp.design`)."""
     spacing = ROBOTARIUM.ic_spacing_m
     r_a = round(spacing - R_S_M, 6)
     formation = start_formation(tube, n_robots)

@@ -1,8 +1,9 @@
-"""The Robotarium as numbers: one frozen :class:`RobotariumSpec`, the single source of every testbed constant.
+"""The Robotarium as numbers: one frozen [`RobotariumSpec`][robotarium_exp.spec.RobotariumSpec], the single source of
+every testbed constant.
 
 The experiment, the submission builder and its check, the command line and the arena checks all read
-:data:`ROBOTARIUM`; the submitted file carries the values it needs as data. The numbers the bundled simulator
-(:mod:`robotarium_exp.rps`) has too (time step, arena, robot model, collision rule) are read from it; values from
+`ROBOTARIUM`; the submitted file carries the values it needs as data. The numbers the bundled simulator
+(`robotarium_exp.rps`) has too (time step, arena, robot model, collision rule) are read from it; values from
 ``docs/robotarium.md`` (V2 simulator and the testbed's verifier).
 """
 

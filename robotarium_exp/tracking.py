@@ -1,9 +1,9 @@
 """How a Robotarium run went, from its logged arrays: what the safety filter did, and how the swarm followed its plan.
 
-The arrays are the experiment's trajectory log (:func:`robotarium_exp.experiment.run_experiment`): ``t_s``,
-``l_m`` (the robots' centres on the exact tube), ``dxu``, ``r_a_m``, ``density_per_m2``, ``flying``,
-``band_held``, ``barrier_correction_mps``; :func:`plan_tracking` also reads a recording of the poses alone (no
-``r_a_m``).
+The arrays are the experiment's trajectory log
+([`robotarium_exp.experiment.run_experiment`][robotarium_exp.experiment.run_experiment]): ``t_s``, ``l_m`` (the robots'
+centres on the exact tube), ``dxu``, ``r_a_m``, ``density_per_m2``, ``flying``, ``band_held``,
+``barrier_correction_mps``; `plan_tracking` also reads a recording of the poses alone (no ``r_a_m``).
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ class FilterSummary:
 def filter_summary(
     arrays: Arrays, v_min: float, v_max: float, length_m: float, dt_s: float, failures: int
 ) -> FilterSummary:
-    """The :class:`FilterSummary` of an experiment's logged arrays; ``failures`` as the filter counted them."""
+    """The `FilterSummary` of an experiment's logged arrays; ``failures`` as the filter counted them."""
     correction = arrays['barrier_correction_mps']
     v = arrays['dxu'][:, 0, :]
     in_tube = np.asarray(arrays['flying'], dtype=bool) & (arrays['l_m'] >= 0.0) & (arrays['l_m'] <= length_m)
@@ -105,7 +105,7 @@ class PhaseTracking:
 
 @dataclass(frozen=True)
 class PlanTracking:
-    """How a run followed its plan, phase by phase, and when the swarm expanded (:func:`plan_tracking`)."""
+    """How a run followed its plan, phase by phase, and when the swarm expanded (`plan_tracking`)."""
 
     p7_active_m: tuple[float, float] | None
     approach: PhaseTracking
@@ -131,7 +131,7 @@ def plan_tracking(arrays: Arrays, plan: Plan, scene: Scene) -> PlanTracking:
     before the plan's (p7) binds, ``dip`` while it binds, ``narrow`` after. Per phase, the mean and largest
     relative density error |rho_r - rho*(l_c)| / rho*(l_c) and speed error |v - v*(l_c)| / v*(l_c) (v: the
     flying robots' mean forward speed). ``expansion_start_s`` and ``front_at_narrowing_s``: see
-    :func:`expansion_times`.
+    `expansion_times`.
     """
     swarm = arrays['flying'].all(axis=1)
     center = arrays['l_m'].mean(axis=1)

@@ -41,8 +41,8 @@ def testbed_verdict(result: ExperimentResult) -> VerifierVerdict:
 
 def flight_failures(result: ExperimentResult) -> tuple[str, ...]:
     """Why a flight on a Robotarium failed, one reason each: the testbed would not run it, a robot never passed
-    the exit, robots collided (:func:`~vtube_planning.swarm.metrics.passage_failures`), bodies were on the walls
-    (more than :data:`BODY_ON_WALL_STEPS_TOLERATED`), a robot did not park. Empty: the flight succeeded."""
+    the exit, robots collided ([`passage_failures`][vtube_planning.swarm.metrics.passage_failures]), bodies were on the
+    walls (more than `BODY_ON_WALL_STEPS_TOLERATED`), a robot did not park. Empty: the flight succeeded."""
     counts, metrics = result.errors, result.metrics
     failures = []
     if not testbed_verdict(result).would_run:

@@ -1,7 +1,7 @@
 """Builder and preflight check of the single self-contained file submitted to the remote Robotarium.
 
-:func:`build` writes the file; ``submission.check.check`` runs it on the bundled simulator (the function is not
-exported here, where ``check`` names its module).
+[`build`][submission.builder.build] writes the file; ``submission.check.check`` runs it on the bundled simulator (the
+function is not exported here, where ``check`` names its module).
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 The testbed runs one uploaded file with numpy, scipy, matplotlib, cvxopt and its own ``rps`` (no cvxpy, no package
 of ours), so the file carries everything: the flight data (the caller's plan as arrays, or none; the tube as
 samples, the initial conditions and parking slots), the sources of the package code the flight runs, and the
-runtime itself (:mod:`submission.runtime`). The builder never plans. Apart from its build stamp line the output is
+runtime itself (`submission.runtime`). The builder never plans. Apart from its build stamp line the output is
 deterministic (no paths, numbers rounded to six significant digits), so a committed submission can be checked
 against a fresh build.
 """
@@ -41,7 +41,8 @@ from vtube_planning.provenance import provenance, sha256_of
 RUNTIME_MARKER = '# ---- runtime ----'
 OUR_PACKAGES = ('vtube_planning', 'unicycle_mapping', 'robotarium_exp', 'submission')
 UNDECLARED = 'Declare on the web form: the robot count above, and the duration `vtube submission check` derives.'
-"""The header's declaration line until :meth:`Submission.declared` stamps the derived one in its place."""
+"""The header's declaration line until [`Submission.declared`][submission.builder.Submission.declared] stamps the
+derived one in its place."""
 PLAN_METHODS = {'convex': 'convex slowness method', 'polynomial': "the paper's segmented cubics"}
 
 
@@ -66,7 +67,7 @@ class Submission:
 def build(name_or_path: str | Path | Scene, plan: Plan | None, *, declaration: Declaration | None = None) -> Submission:
     """The submission's source for a Robotarium scene (shipped name, .toml file or Scene) flying ``plan``, or
     unplanned (constant speed, constant r_a) when ``plan`` is None; ``declaration``: the duration to declare, as
-    :func:`submission.check.check` derived it for this file, recorded in the header."""
+    [`submission.check.check`][submission.check.check] derived it for this file, recorded in the header."""
     scene = name_or_path if isinstance(name_or_path, Scene) else load_scene(name_or_path)
     fit = robotarium_fit(scene)
     if not fit.fits:
@@ -150,11 +151,11 @@ def build_declared(
     seed_done: Callable[[], None] | None = None,
     testbed_models: tuple[str, ...] = CHECKED_MODELS,
 ) -> tuple[Submission, CheckReport, Path]:
-    """Build the submission and check it (:func:`submission.check.check`, options as there) in a private folder;
-    when it passes, stamp the declaration the check derived into the header of the file checked and write that to
-    ``path``. A file that fails keeps no declaration and is written beside, as ``NAME.failed.py``: whatever was
-    at ``path`` (an earlier declared build) stays until a build passes. Returns the submission, the report (naming
-    the file written) and the file written."""
+    """Build the submission and check it ([`submission.check.check`][submission.check.check], options as there) in a
+    private folder; when it passes, stamp the declaration the check derived into the header of the file checked and
+    write that to ``path``. A file that fails keeps no declaration and is written beside, as ``NAME.failed.py``:
+    whatever was at ``path`` (an earlier declared build) stays until a build passes. Returns the submission, the report
+    (naming the file written) and the file written."""
     path = Path(path)
     submission = build(scene, plan)
     with tempfile.TemporaryDirectory(prefix='vtube-build-') as folder:

@@ -4,16 +4,16 @@
    (``server_libraries.txt``, parsed from its AST); it carries vtube flight data (``DATA``, read without running
    the file).
 2. It runs on the bundled simulator with V2's initialization phase for several seeds under each testbed model of
-   :data:`submission.robustness.CHECKED_MODELS` (the real robots' delay, lag and noise), and on the PyPI
+   `submission.robustness.CHECKED_MODELS` (the real robots' delay, lag and noise), and on the PyPI
    ``robotarium-python-simulator`` when that is installed, each in a fresh process and folder, through
-   :mod:`submission.recording`: what the simulator itself held (the poses and commands it validated each step,
+   `submission.recording`: what the simulator itself held (the poses and commands it validated each step,
    its error counters and step count) is recorded. Nothing the file prints or saves is read.
 3. The verdict of a run: it ends normally after the end-of-script call; the simulator counted no robots too
    close, none outside the arena and no actuator-limit steps, and neither do the verifier's rules
-   (:func:`robotarium_exp.verifier.recount`) applied to its recorded poses and commands; every robot ends past
+   (`robotarium_exp.verifier.recount`) applied to its recorded poses and commands; every robot ends past
    the tube's exit (completion). The robot count to declare is the simulator's. Runs under the stress models
-   (``fitted:2``) are reported with their margins (:mod:`submission.robustness`) but do not decide the verdict.
-4. The duration to declare (:mod:`submission.declaration`): V2's initializer alone for the file's initial
+   (``fitted:2``) are reported with their margins (`submission.robustness`) but do not decide the verdict.
+4. The duration to declare (`submission.declaration`): V2's initializer alone for the file's initial
    conditions over many seeds, plus the longest experiment of the verdict's runs. Every run must fit
    the verifier's ``duration_factor`` times the declaration (the header's, when it records one).
 """
@@ -220,7 +220,7 @@ def run_file(
     testbed_model: str = 'ideal',
 ) -> RunReport:
     """Run the submission in a fresh process and folder on 'bundled' (V2 initialization; under ``testbed_model``)
-    or 'pypi', recording the simulator (:mod:`submission.recording`); a run that does not finish within
+    or 'pypi', recording the simulator (`submission.recording`); a run that does not finish within
     ``timeout_s`` is stopped."""
     with tempfile.TemporaryDirectory() as folder:
         env = dict(os.environ, VTUBE_HEADLESS='1', MPLBACKEND='Agg')

@@ -1,7 +1,7 @@
 """The duration to declare on the testbed's web form, and how a submission's header records it.
 
 The testbed's initializer runs first and counts, and it varies a lot from run to run, so V2's initializer is run
-alone for the file's initial conditions over many seeds (:mod:`robotarium_exp.initializer`). The declaration is its
+alone for the file's initial conditions over many seeds (`robotarium_exp.initializer`). The declaration is its
 ``DECLARE_QUANTILE`` quantile plus the longest experiment, rounded up to 10 s; the verifier stops a run only beyond
 ``RobotariumSpec.duration_factor`` times that. A declaration from fewer initializer seeds than a full build runs is a
 preview: the header marks the file not for upload and gives the command that builds the one to upload.
@@ -39,7 +39,7 @@ class Declaration:
     overrun_share: float
     stuck_share: float
     margins: tuple[robustness.Margins, ...] = ()
-    """The runs' margins under each testbed model (:mod:`submission.robustness`), recorded in the header."""
+    """The runs' margins under each testbed model (`submission.robustness`), recorded in the header."""
 
     def basis(self) -> str:
         """What the duration rests on, in one line."""
@@ -64,8 +64,9 @@ class Declaration:
         ]
 
     def header_lines(self, robots: int) -> list[str]:
-        """The declaration as the submission's header records it (:meth:`from_header` reads it back), after the
-        preview's mark (:meth:`not_for_upload`)."""
+        """The declaration as the submission's header records it
+        ([`from_header`][submission.declaration.Declaration.from_header] reads it back), after the preview's mark
+        ([`not_for_upload`][submission.declaration.Declaration.not_for_upload])."""
         return [
             *self.not_for_upload(),
             f'Declare on the web form: {robots} robots and {self.duration_s} s, derived by `vtube submission check`',

@@ -1,4 +1,4 @@
-"""Exceptions of :mod:`submission`: one base, :class:`SubmissionError`."""
+"""Exceptions of `submission`: one base, [`SubmissionError`][submission.errors.SubmissionError]."""
 
 from __future__ import annotations
 

@@ -2,13 +2,13 @@
 
     python -m submission.recording --simulator bundled|pypi [--seed N] [--testbed-model NAME] --record FILE.npz SCRIPT
 
-``bundled`` resolves ``import rps`` to the bundled V2 simulator (:mod:`robotarium_exp.rps_alias`, seeded like it,
-under the testbed model ``NAME``: :mod:`robotarium_exp.rps.testbed_model`),
+``bundled`` resolves ``import rps`` to the bundled V2 simulator (`robotarium_exp.rps_alias`, seeded like it,
+under the testbed model ``NAME``: `robotarium_exp.rps.testbed_model`),
 ``pypi`` to the installed PyPI simulator. Either way the script's ``Robotarium`` class is replaced by a subclass
 that, at every ``step()`` after the initialization, copies the poses and the commands the simulator is about to
 validate, and, when the script ends however it ends, writes them with the simulator's own counters (its error
 dictionary, its iteration count) and whether the script called the end-of-script function, as a vtube trajectory
-log (:mod:`vtube_planning.log`: ``t_s``, ``positions_m``, ``headings_rad``, ``commands`` [v; omega]).
+log (`vtube_planning.log`: ``t_s``, ``positions_m``, ``headings_rad``, ``commands`` [v; omega]).
 Nothing the script prints or saves is read.
 """
 

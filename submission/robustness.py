@@ -1,7 +1,7 @@
 """How a submission's flight holds up under the real robots: its margins per testbed model.
 
-The preflight flies the file on the bundled simulator under the testbed models of :data:`CHECKED_MODELS`
-(:mod:`robotarium_exp.rps.testbed_model`): ``ideal`` (V2's simulator) and ``fitted`` (the delay, lag, gains and
+The preflight flies the file on the bundled simulator under the testbed models of `CHECKED_MODELS`
+(`robotarium_exp.rps.testbed_model`): ``ideal`` (V2's simulator) and ``fitted`` (the delay, lag, gains and
 noise fitted to real runs) decide the verdict, and the declared duration covers both; ``fitted:2`` (twice the delay
 and lag) is a stress test whose margins are reported and recorded in the header, not a condition of the verdict.
 A model's margins: how many of its runs were clean and completed, the smallest distance between two robots' centres,
@@ -46,7 +46,7 @@ class Margins:
     duration_s: float
 
     def line(self) -> str:
-        """The margins in one line (the header records it; :func:`from_header` reads it back)."""
+        """The margins in one line (the header records it; `from_header` reads it back)."""
         return (
             f'{HEADER_PREFIX} {self.model}: {self.clean} of {self.runs} runs clean, min distance '
             f'{self.min_distance_m:.3f} m, body on a wall {self.wall_steps} robot-steps, passing at most '

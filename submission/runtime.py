@@ -1,17 +1,17 @@
-"""The body of a Robotarium submission: the flight of :mod:`robotarium_exp.flight`, saving what the testbed returns.
+"""The body of a Robotarium submission: the flight of `robotarium_exp.flight`, saving what the testbed returns.
 
-:mod:`submission.builder` writes a single file: a header, the flight's data (``DATA``: the plain form of
-:class:`~robotarium_exp.flight_data.FlightData`), the sources of the modules in ``INLINED_MODULES`` (the
-onboard modules of :mod:`vtube_planning.onboard`, the barrier rows, the safety filter, the flight data and the flight: the code the bundled experiment
-runs), the functions in ``INLINED_FUNCTIONS`` (the unicycle map) and the constants in ``INLINED_CONSTANTS`` (the
-log schema's format and version), then this module's code below the marker line. Imported as a module (tests,
-benchmarks) it takes them from the package instead.
+`submission.builder` writes a single file: a header, the flight's data (``DATA``: the plain form of
+`FlightData`), the sources of the modules in ``INLINED_MODULES`` (the
+onboard modules of [`vtube_planning.onboard`][vtube_planning.onboard], the barrier rows, the safety filter, the flight
+data and the flight: the code the bundled experiment runs), the functions in ``INLINED_FUNCTIONS`` (the unicycle map)
+and the constants in ``INLINED_CONSTANTS`` (the log schema's format and version), then this module's code below the
+marker line. Imported as a module (tests, benchmarks) it takes them from the package instead.
 
-On the testbed it constructs the Robotarium with the flight's initial conditions and flies it (:func:`fly`). It
-writes the trajectory log of :mod:`vtube_planning.log` as files the testbed returns: one ``vtube_NAME.npy``
+On the testbed it constructs the Robotarium with the flight's initial conditions and flies it (`fly`). It
+writes the trajectory log of `vtube_planning.log` as files the testbed returns: one ``vtube_NAME.npy``
 per logged array (``t_s``, ``positions_m``, ``headings_rad``, ...) every 100 steps and at the end, and the
 description in ``vtube_meta.json`` (format, version, scene, tube fingerprint, the flight's start after the
-initialization: :func:`~robotarium_exp.flight.flight_start`; at the end ``finished`` with the simulator's counts).
+initialization: `flight_start`; at the end ``finished`` with the simulator's counts).
 The first row of the arrays is the flight's first period, so ``vtube analyze`` of the returned files times the
 passage as ``vtube robotarium run`` does. It prints a one-line JSON summary (it lands in ``log.txt``) and calls the generation's
 end-of-script function.

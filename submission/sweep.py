@@ -1,17 +1,17 @@
 """The acceptance sweep of one's own Robotarium experiments (``vtube robotarium sweep``): scenes x robot counts.
 
 For each scene and robot count N (a *case*), the scene is loaded with N robots and asked whether it fits the
-Robotarium (:func:`robotarium_exp.fit.robotarium_fit`): a scene that does not is a *refused* row with the
+Robotarium (`robotarium_exp.fit.robotarium_fit`): a scene that does not is a *refused* row with the
 verdict's one-line reason. Otherwise it is planned (an uncertified plan is a FAIL row), built without the declaration
-step (:func:`submission.builder.build`), and the file is run on the bundled simulator with V2's initialization for
-the seeds asked (0..seeds-1 for a count) exactly as the preflight runs it (:func:`submission.check.run_file`). Each run is measured from
-the poses and commands the simulator itself validated (:func:`measure_run`) and the case is judged against the bar
-of issue 31 (:func:`judge`): the preflight's verdict on every run (no verifier count, simulator's or recounted, the
-run ended normally, every robot past the exit), every robot parked in its slot, no robot-step with the body on the
-wall, and a mean density error in the plan's dip at most :data:`DIP_ERROR_BAR`.
+step ([`submission.builder.build`][submission.builder.build]), and the file is run on the bundled simulator with V2's
+initialization for the seeds asked (0..seeds-1 for a count) exactly as the preflight runs it
+(`submission.check.run_file`). Each run is measured from the poses and commands the simulator itself validated
+(`measure_run`) and the case is judged against the bar of issue 31 (`judge`): the preflight's verdict on every run (no
+verifier count, simulator's or recounted, the run ended normally, every robot past the exit), every robot parked in its
+slot, no robot-step with the body on the wall, and a mean density error in the plan's dip at most `DIP_ERROR_BAR`.
 
-The cases run in parallel (:func:`vtube_planning.executors.map_unordered`), each row appended to ``runs.csv`` as
-it comes (:func:`vtube_planning.campaign_store.prepare_table`: a rerun does only the missing rows; a case that
+The cases run in parallel (`vtube_planning.executors.map_unordered`), each row appended to ``runs.csv`` as
+it comes (`vtube_planning.campaign_store.prepare_table`: a rerun does only the missing rows; a case that
 raised is a row with its error, done again next time); ``sweep.md`` holds the table, scene x N.
 """
 
@@ -81,12 +81,13 @@ class Case:
 
 @dataclass(frozen=True)
 class RunMeasures:
-    """One run of a built file, measured from what the simulator validated (:func:`measure_run`).
+    """One run of a built file, measured from what the simulator validated (`measure_run`).
 
-    ``problems`` are the preflight's (:attr:`submission.check.RunReport.problems`: crash, verifier counts, a robot
-    not past the exit); ``through``: every robot past the exit; ``parked``: every robot's control point in its own
-    slot at the end; ``body_on_wall``: robot-steps with 0 <= l <= L and the body (not only the centre) touching or
-    crossing the wall; ``dip_error``: the mean |rho - rho*| / rho* over the plan's dip (None: no dip flown).
+    ``problems`` are the preflight's ([`submission.check.RunReport.problems`][submission.check.RunReport.problems]:
+    crash, verifier counts, a robot not past the exit); ``through``: every robot past the exit; ``parked``: every
+    robot's control point in its own slot at the end; ``body_on_wall``: robot-steps with 0 <= l <= L and the body (not
+    only the centre) touching or crossing the wall; ``dip_error``: the mean |rho - rho*| / rho* over the plan's dip
+    (None: no dip flown).
     """
 
     label: str
@@ -243,7 +244,7 @@ def case_key(case: Case) -> str:
 
 def _seeds_key(seeds: tuple[int, ...]) -> int | str:
     """The seeds as keys and the record hold them: seeds 0..n-1 as the count n (as before ranges were taken, so
-    that earlier sweeps resume), others as their text (:func:`vtube_planning.seeds.seeds_text`)."""
+    that earlier sweeps resume), others as their text (`vtube_planning.seeds.seeds_text`)."""
     return len(seeds) if seeds == tuple(range(len(seeds))) else seeds_text(seeds)
 
 

@@ -1,4 +1,4 @@
-"""Exceptions of :mod:`unicycle_mapping` and the shape checks that raise them."""
+"""Exceptions of `unicycle_mapping` and the shape checks that raise them."""
 
 from __future__ import annotations
 

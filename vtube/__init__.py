@@ -1,4 +1,4 @@
-"""The ``vtube`` command line: it only wires the packages together (see :mod:`vtube.cli`)."""
+"""The ``vtube`` command line: it only wires the packages together (see `vtube.cli`)."""
 
 from vtube_planning import __version__
 

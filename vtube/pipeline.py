@@ -1,7 +1,7 @@
 """From a scene to a report, one stage at a time: plan, simulate, build, run, analyse.
 
 Each stage writes its files and returns a typed record of what it did. The commands ``vtube plan``, ``simulate``,
-``submission build`` and ``analyze`` are these stages; :func:`demo` runs them in turn on the default Robotarium
+``submission build`` and ``analyze`` are these stages; `demo` runs them in turn on the default Robotarium
 scene, with the submission run in this process on the bundled simulator as the testbed would run it.
 """
 
@@ -148,7 +148,7 @@ def simulate_scene(
     """Fly the scene's swarm (of ``n_robots``, default the scene's) through its tube, with its plan (from
     ``plan_file``, or planned here) or without; write the log, figures, a GIF when asked for and the scene's copy
     to ``out``. Unless ``config`` says where the robots start, a Robotarium scene's start where its flight's do
-    (:func:`robotarium_start`)."""
+    (`robotarium_start`)."""
     scene = load_scene(name_or_path)
     swarm = scene.swarm if n_robots is None else replace(scene.swarm, n_robots=n_robots)
     plan = plan_for(scene, swarm, plan_file) if planning else None
@@ -223,11 +223,14 @@ def build_submission(
     seeds: int | Sequence[int] = 3,
     initializer_seeds: int = 200,
     testbed_models: tuple[str, ...] | None = None,
+    progress: Callable[[str], None] | None = None,
+    seed_done: Callable[[], None] | None = None,
 ) -> WrittenSubmission:
     """Write the single-file submission for a Robotarium scene (its plan from ``plan_file``, or planned here) to
     ``out``; with ``declare``, preflighted under ``testbed_models`` (None: every model of
-    :data:`submission.robustness.CHECKED_MODELS`) and rewritten with the duration to declare
-    (:func:`submission.builder.build_declared`: one build, one preflight)."""
+    `submission.robustness.CHECKED_MODELS`) and rewritten with the duration to declare
+    (`submission.builder.build_declared`: one build, one preflight, which reports to ``progress`` and
+    ``seed_done``)."""
     scene = load_scene(name_or_path)
     plan = plan_for(scene, plan_file=plan_file) if planning else None
     if not declare:
@@ -237,7 +240,14 @@ def build_submission(
 
     models = CHECKED_MODELS if testbed_models is None else testbed_models
     submission, report, written = build_declared(
-        scene, plan, out, seeds=seeds, initializer_seeds=initializer_seeds, testbed_models=models
+        scene,
+        plan,
+        out,
+        seeds=seeds,
+        initializer_seeds=initializer_seeds,
+        testbed_models=models,
+        progress=progress,
+        seed_done=seed_done,
     )
     return WrittenSubmission(submission, written, report)
 
@@ -275,9 +285,9 @@ def run_on_bundled(script: Path, folder: Path, *, seed: int = 0) -> Returned:
 
 @contextmanager
 def _as_on_the_testbed(folder: Path, seed: int) -> Iterator[None]:
-    """Inside: ``import rps`` is the bundled V2 simulator (:func:`robotarium_exp.rps_alias.install`), the working
+    """Inside: ``import rps`` is the bundled V2 simulator (`robotarium_exp.rps_alias.install`), the working
     folder is ``folder`` and the submission runs headless; all three are restored after, and so are cvxopt's options
-    (:func:`robotarium_exp.rps_import.kept_apart`)."""
+    (`robotarium_exp.rps_import.kept_apart`)."""
     cwd, headless = Path.cwd(), os.environ.get('VTUBE_HEADLESS')
     with kept_apart():
         install(seed=seed)
@@ -358,7 +368,7 @@ DemoStage = Planned | Simulated | WrittenSubmission | Returned | Analysed
 
 
 def demo(out: Path, *, progress: Progress = no_progress) -> Iterator[DemoStage]:
-    """The whole way on :data:`DEMO_SCENE` with the bundled simulator, into ``out``: plan; simulate with the plan
+    """The whole way on `DEMO_SCENE` with the bundled simulator, into ``out``: plan; simulate with the plan
     and without; build and check the submission; run it as the testbed would; analyse what it returns beside the
     planned simulation. Yields each stage's result as it ends and stops after a submission that records no
     declaration or a run that failed."""

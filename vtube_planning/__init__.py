@@ -1,9 +1,11 @@
 """Speed and density planning for a speed-constrained robot swarm through a virtual tube.
 
 Implements Song, Gao, Quan, *Speed and Density Planning for a Speed-Constrained Robot Swarm Through a Virtual
-Tube* (arXiv:2310.00623). This package knows nothing of the Robotarium: scene -> :func:`load_scene`, plan ->
-:func:`plan_convex` (a :class:`Plan`), fly -> :func:`simulate` (a :class:`SimResult`). Every name below is
-imported from its module on first use.
+Tube* (arXiv:2310.00623). This package knows nothing of the Robotarium: scene ->
+[`load_scene`][vtube_planning.geometry.scene.load_scene], plan ->
+[`plan_convex`][vtube_planning.planning.planner.plan_convex] (a [`Plan`][vtube_planning.planning.plan.Plan]), fly ->
+[`simulate`][vtube_planning.swarm.simulate.simulate] (a [`SimResult`][vtube_planning.swarm.simulate.SimResult]). Every
+name below is imported from its module on first use.
 """
 
 from __future__ import annotations

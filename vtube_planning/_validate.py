@@ -22,7 +22,8 @@ def is_positive(value: object) -> bool:
 def as_points(
     value: object, *, name: str = 'points', item: str = 'columns', min_count: int = 0, allow_single: bool = False
 ) -> np.ndarray:
-    """``value`` as finite float points of shape (2, N), one per column, or :class:`ShapeError` naming the problem.
+    """``value`` as finite float points of shape (2, N), one per column, or
+    [`ShapeError`][vtube_planning.errors.ShapeError] naming the problem.
 
     ``allow_single`` accepts a single point of shape (2,) as (2, 1).
     """

@@ -1,8 +1,8 @@
 """Campaigns: a study declared as axes, run anywhere, streamed to disk, resumable.
 
 A campaign (a TOML file for ``vtube campaign run``, or built by ``vtube study`` and ``vtube ablation``) names the
-values of each axis of :class:`~vtube_planning.study.Point` (scene, random map, mode, swarm size, seed, robot model,
-saturation and the faults), the metrics to keep and what every run shares (:class:`~vtube_planning.study.RunSettings`)::
+values of each axis of `Point` (scene, random map, mode, swarm size, seed, robot model,
+saturation and the faults), the metrics to keep and what every run shares (`RunSettings`):
 
     name = "faults"
     out = "results/faults"          # the output folder, relative to this file (--out overrides it)
@@ -24,8 +24,8 @@ claim only where it holds on the grid's seeds and again on these (a replication)
 
 Several grids (``[[grids]]`` tables of axes instead of one ``[axes]``, as ``vtube study`` builds for baselines
 flown on some scenes only) make one campaign whose runs are their products, in turn. Each run has a stable key (a
-hash of everything that decides the run). Runs are made by :mod:`vtube_planning.campaign_runner` and stored in the
-campaign's folder (:mod:`vtube_planning.campaign_store`).
+hash of everything that decides the run). Runs are made by `vtube_planning.campaign_runner` and stored in the
+campaign's folder (`vtube_planning.campaign_store`).
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ AXES: dict[str, type] = {'scene': str, 'map': str, 'map_seed': int, 'map_clutter
 AXES |= {'n_robots': int, 'model': str, 'saturation': str, 'pose_noise_m': float}
 AXES |= {'latency_steps': int, 'lag_s': float, 'compensation': str, 'failure': str, 'dropout': float}
 AXES |= {'seed': int, 'mode': str}
-"""The axes (the fields of :class:`Point`) in the order runs are expanded: a cell's modes and seeds are adjacent."""
+"""The axes (the fields of `Point`) in the order runs are expanded: a cell's modes and seeds are adjacent."""
 METRICS: dict[str, type] = {
     'passing_time_s': float,
     'min_distance_m': float,
@@ -76,7 +76,7 @@ METRICS: dict[str, type] = {
     'reversing_share': float,
     'nmpc_converged_share': float,
 }
-"""What a run measures (:func:`~vtube_planning.study.run_point`), and its type in the table."""
+"""What a run measures (`run_point`), and its type in the table."""
 _CHOICES = {
     'mode': (*ABLATIONS, *REPLANNING_MODES, *BASELINE_MODES),
     'model': tuple(MODELS),
@@ -88,7 +88,7 @@ _CHOICES = {
 
 
 Grid = Mapping[str, tuple[Any, ...]]
-"""The values of each axis of one grid (missing: :class:`Point`'s default; ``n_robots`` and ``saturation`` missing:
+"""The values of each axis of one grid (missing: `Point`'s default; ``n_robots`` and ``saturation`` missing:
 each scene's own)."""
 
 
@@ -105,7 +105,7 @@ class Campaign:
     """Where it runs unless told otherwise (``out`` in the file, relative to it); not part of what it is."""
     confirm_seeds: tuple[int, ...] = ()
     """Fresh seeds, run in every grid besides its own, on which the report confirms what the others found
-    (:func:`~vtube_planning.study_report.paired_table`)."""
+    (`paired_table`)."""
 
     def __post_init__(self) -> None:
         if not self.grids:
@@ -154,7 +154,7 @@ class Campaign:
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], base: Path | None = None) -> Campaign:
-        """A campaign from its parsed TOML (or :meth:`to_json`); relative scene paths are taken from ``base``."""
+        """A campaign from its parsed TOML (or `to_json`); relative scene paths are taken from ``base``."""
         unknown = [k for k in data if k not in ('name', 'out', 'axes', 'grids', 'metrics', 'settings', 'confirm_seeds')]
         if unknown:
             msg = (
@@ -240,7 +240,7 @@ def run_key(point: Point, settings: RunSettings) -> str:
 
 def _axis_values(axis: str, value: Any, base: Path | None) -> tuple[Any, ...]:
     """An axis's values from TOML: a list (for the runs' and the maps' seeds also a count n, for 0..n-1, or a text
-    of :func:`~vtube_planning.seeds.parse_seeds`, like "100-109"); scene files relative to ``base``."""
+    of `parse_seeds`, like "100-109"); scene files relative to ``base``."""
     if axis in ('seed', 'map_seed') and isinstance(value, str):
         try:
             return parse_seeds(value)

@@ -45,10 +45,10 @@ def run_campaign(
     client: Any = None,
     progress: bool | None = None,
 ) -> Outcome:
-    """Run every run of ``campaign`` not yet in ``out/runs.csv`` (:func:`~vtube_planning.executors.map_unordered`:
+    """Run every run of ``campaign`` not yet in ``out/runs.csv`` (`map_unordered`:
     ``workers`` local processes, or the Dask ``client``), appending each row as it comes.
 
-    The folder is held while the campaign runs (:func:`~vtube_planning.campaign_store.holding`: a second run on it
+    The folder is held while the campaign runs (`holding`: a second run on it
     is refused) and checked before any run starts: writable, holding no other campaign, and no finished run made
     with another version of the package or another text of its scene file. ``progress`` draws a bar
     on stderr (runs done / total, failures, elapsed and remaining time); None: when stderr is a terminal. An

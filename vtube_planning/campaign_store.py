@@ -28,7 +28,7 @@ RUNS_FILE, CAMPAIGN_FILE, LOCK_FILE, MADE_FILE = 'runs.csv', 'campaign.json', '.
 @contextmanager
 def holding(out: Path, what: str) -> Iterator[None]:
     """Hold ``out`` for one run of a table while inside: ``out/.lock``, created exclusively, names this process; a
-    second run on the folder is refused (:class:`CampaignError`, naming who holds it) instead of writing the same
+    second run on the folder is refused (`CampaignError`, naming who holds it) instead of writing the same
     table, so no finished row can be lost or written twice. A lock left by a process of this machine that is gone
     (killed) is taken over; the lock is removed on leaving."""
     out.mkdir(parents=True, exist_ok=True)
@@ -102,7 +102,7 @@ def prepare_folder(
 ) -> dict[str, dict[str, Any]]:
     """Check ``out`` before any run (writable, no other campaign in it), record the campaign there, and keep the
     rows of runs already done (each rewritten whole: a line cut by an interruption, or a failed run, is dropped
-    and its run done again). ``expected``: per run's key, what its row must record (:func:`prepare_table`).
+    and its run done again). ``expected``: per run's key, what its row must record (`prepare_table`).
     Returns the done rows by key."""
     return prepare_table(out, CAMPAIGN_FILE, campaign.to_json(), campaign.columns, expected, what='campaign')
 
@@ -116,7 +116,7 @@ def prepare_table(
     *,
     what: str,
 ) -> dict[str, dict[str, Any]]:
-    """:func:`prepare_folder` for any table of runs (``runs.csv`` with ``columns``, among them ``key``, ``error``
+    """`prepare_folder` for any table of runs (``runs.csv`` with ``columns``, among them ``key``, ``error``
     and ``version``) recorded with its settings ``record`` in ``out/record_file``; ``what`` names it in errors.
     ``expected`` holds the keys of the runs and, per key, the columns a finished row must hold as they are now
     (the package's version, the scene file's hash): a finished row that records another value is refused, not
@@ -178,7 +178,7 @@ def record_made(out: Path, entry: Mapping[str, Any]) -> None:
 
 
 def made_by(out: Path) -> list[dict[str, Any]]:
-    """The entries of :func:`record_made` (none for a folder from before it)."""
+    """The entries of `record_made` (none for a folder from before it)."""
     path = out / MADE_FILE
     if not path.is_file():
         return []
@@ -223,7 +223,7 @@ def read_results(out: Path) -> tuple[Campaign, list[dict[str, Any]], int]:
 
 def typed_row(row: Mapping[str, Any], columns: list[str]) -> dict[str, Any]:
     """A table row with each column of its known type again (numbers, booleans; an empty metric is NaN); a value
-    that is not of its column's type (a table edited by hand) raises :class:`CampaignError` naming it."""
+    that is not of its column's type (a table edited by hand) raises `CampaignError` naming it."""
     kinds: dict[str, type] = AXES | METRICS | {'wall_s': float}
     return {
         c: _typed(row[c] if c in row or c not in LATER_COLUMNS else LATER_COLUMNS[c], kinds.get(c, str), c)

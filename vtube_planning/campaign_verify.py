@@ -1,10 +1,10 @@
 """Whether a campaign folder holds what the code as it is produces: runs made again and compared, the report too.
 
 Results committed beside the code (``docs/*/runs.csv`` and their ``report.md``) go stale when the code changes.
-:func:`verify` takes the folder's finished runs (all, or ``runs`` of them spread evenly over the table), makes each
-again with this code (the same point and settings, through the runner's own :func:`run_row`) and compares every
+`verify` takes the folder's finished runs (all, or ``runs`` of them spread evenly over the table), makes each
+again with this code (the same point and settings, through the runner's own `run_row`) and compares every
 metric the table keeps: counts and flags exactly, numbers to a relative 1e-9 (the table holds them as Python
-writes floats, exactly); and it writes the report again from the table (:func:`report_text`) and compares it with
+writes floats, exactly); and it writes the report again from the table (`report_text`) and compares it with
 the folder's ``report.md``, word for word. Figures are not compared (they are drawn from the same rows). The
 folder's ``provenance.json`` says which commit and command made the runs.
 """
@@ -41,7 +41,7 @@ class Difference:
 
 @dataclass(frozen=True)
 class Verification:
-    """What :func:`verify` found: runs made again of the finished ones, their differences, and whether the report
+    """What `verify` found: runs made again of the finished ones, their differences, and whether the report
     is the one the table gives now (None: the folder has no report)."""
 
     checked: int

@@ -1,14 +1,15 @@
-"""Exceptions of :mod:`vtube_planning`.
+"""Exceptions of `vtube_planning`.
 
-Every exception derives from :class:`VtubeError` and from the builtin that describes it best, so callers can catch
-either ``VtubeError`` (everything from this package) or ``ValueError`` (bad input of any origin).
+Every exception derives from [`VtubeError`][vtube_planning.errors.VtubeError] and from the builtin that describes it
+best, so callers can catch either ``VtubeError`` (everything from this package) or ``ValueError`` (bad input of any
+origin).
 """
 
 from __future__ import annotations
 
 
 class VtubeError(Exception):
-    """Base class of every error raised by :mod:`vtube_planning`."""
+    """Base class of every error raised by `vtube_planning`."""
 
 
 class ParamsError(VtubeError, ValueError):
@@ -40,5 +41,5 @@ class LogError(VtubeError, ValueError):
 
 
 class TubeGenerationError(VtubeError, ValueError):
-    """No certified tube for an obstacle map (:mod:`vtube_planning.geometry.generate`): the message names the place
+    """No certified tube for an obstacle map (`vtube_planning.geometry.generate`): the message names the place
     and the reason."""

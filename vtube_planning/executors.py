@@ -1,12 +1,12 @@
 """Where a study's independent runs execute: in this process, in local processes, or on a Dask cluster.
 
-:func:`map_unordered` hands each item to ``fn`` and yields ``(index, result)`` as the results come, in whatever
+`map_unordered` hands each item to ``fn`` and yields ``(index, result)`` as the results come, in whatever
 order they finish; the caller stores each at once. One worker runs in this process (what tests patch and
 debuggers step into); more start fresh processes (``spawn``: nothing of the parent's state leaks into a run); a
 ``dask.distributed.Client`` sends the items to its cluster, whose workers must have vtube installed. Stopping the
 iteration (an interrupt, an error in the caller) cancels what has not started.
 
-Dask is an optional extra (``pip install 'vtube[cluster]'``); :func:`connect` names it when it is missing.
+Dask is an optional extra (``pip install 'vtube[cluster]'``); `connect` names it when it is missing.
 """
 
 from __future__ import annotations

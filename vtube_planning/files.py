@@ -1,6 +1,6 @@
 """Writing a result file: complete or not at all, and never through a link planted at its name.
 
-:func:`write_atomically` writes into a temporary file created exclusively (``O_EXCL``, a random name, mode 0600
+`write_atomically` writes into a temporary file created exclusively (``O_EXCL``, a random name, mode 0600
 until renamed) in the destination's folder, then renames it over the destination (``os.replace``): a reader sees
 the old file or the new one, never a part; a kill, a full disk or an error while writing leaves the old file as it
 was and removes the temporary one; and a symbolic link at the destination is replaced by the file, not followed

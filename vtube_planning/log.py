@@ -1,22 +1,22 @@
-"""The one trajectory log of vtube, written so that a crash loses little (format: :mod:`vtube_planning.npzfile`).
+"""The one trajectory log of vtube, written so that a crash loses little (format: `vtube_planning.npzfile`).
 
-Simulations (:mod:`vtube_planning.swarm.simulate`), Robotarium experiments (:mod:`robotarium_exp.experiment`),
-the recorder of a run on a Robotarium class (:mod:`robotarium_exp.recorder`, ``rps_alias --log``) and the submitted file
-(:mod:`submission.runtime`: one ``.npy`` per array and the metadata as JSON, read with :func:`checked_log`) all
+Simulations (`vtube_planning.swarm.simulate`), Robotarium experiments (`robotarium_exp.experiment`),
+the recorder of a run on a Robotarium class (`robotarium_exp.recorder`, ``rps_alias --log``) and the submitted file
+(`submission.runtime`: one ``.npy`` per array and the metadata as JSON, read with `checked_log`) all
 write this schema, and the
 analysis reads it; it sits below every room of the house so that each may use it:
 
 * arrays, one row per step: ``t_s`` (T,) and ``positions_m`` (T, 2, N), the robots' centres, always;
   ``headings_rad`` (T, N) for unicycles; whatever else the writer measured (commands, ``r_a_m``, ``l_m``, ...);
-* metadata: ``format`` (``'vtube-trajectory'``), ``version`` (:data:`LOG_VERSION`), ``kind`` (who wrote it),
+* metadata: ``format`` (``'vtube-trajectory'``), ``version`` (`LOG_VERSION`), ``kind`` (who wrote it),
   ``n_robots``, ``dt_s``, and at the end ``finished`` with the run's results.
 
-A :class:`LogWriter` keeps the rows it has been given and rewrites the whole file every ``flush_every`` rows,
-atomically, under a partial name (``run.partial.npz`` for ``run.npz``) until the run is finished: the file on disk
-is always a complete, readable ``.npz``, an interrupted run leaves every row up to its last flush in the partial
-file, and a finished log of an earlier run at the same path is replaced only by a finished one. :func:`read_log`
-reads this version and the earlier ones (version 1 logs held ``poses`` (T, 3, N) instead of positions and headings),
-and names any other version it is given.
+A [`LogWriter`][vtube_planning.log.LogWriter] keeps the rows it has been given and rewrites the whole file every
+``flush_every`` rows, atomically, under a partial name (``run.partial.npz`` for ``run.npz``) until the run is finished:
+the file on disk is always a complete, readable ``.npz``, an interrupted run leaves every row up to its last flush in
+the partial file, and a finished log of an earlier run at the same path is replaced only by a finished one.
+[`read_log`][vtube_planning.log.read_log] reads this version and the earlier ones (version 1 logs held ``poses`` (T, 3,
+N) instead of positions and headings), and names any other version it is given.
 """
 
 from __future__ import annotations
@@ -42,7 +42,8 @@ class LogWriter:
     Parameters
     ----------
     path
-        The log file (``.npz``); its folder is created. None keeps the rows in memory only (:meth:`arrays`).
+        The log file (``.npz``); its folder is created. None keeps the rows in memory only
+        ([`arrays`][vtube_planning.log.LogWriter.arrays]).
     meta
         JSON-serialisable description of the run (``kind`` at least), stored with every flush.
     flush_every
@@ -79,8 +80,9 @@ class LogWriter:
         return None if self.path is None else self.path.with_name(f'{self.path.stem}.partial{self.path.suffix}')
 
     def flush(self, **extra_meta: Any) -> Path | None:
-        """Rewrite the log with every row so far (and extra metadata, e.g. final metrics): to :attr:`partial_path`,
-        or with ``finished=True`` to the log's path, removing the partial file. Returns the file written."""
+        """Rewrite the log with every row so far (and extra metadata, e.g. final metrics): to
+        [`partial_path`][vtube_planning.log.LogWriter.partial_path], or with ``finished=True`` to the log's path,
+        removing the partial file. Returns the file written."""
         self.meta.update(extra_meta)
         self._pending = 0
         if self.path is None or self.partial_path is None:

@@ -20,7 +20,7 @@ META_KEY = 'meta'
 
 
 def write_npz(path: str | Path, arrays: dict[str, NDArray[Any]], meta: dict[str, Any]) -> Path:
-    """Write arrays and JSON metadata to ``path`` atomically (:func:`~vtube_planning.files.write_atomically`)."""
+    """Write arrays and JSON metadata to ``path`` atomically (`write_atomically`)."""
     # the ** dicts are typed loosely because mypy also matches them against savez's allow_pickle: bool
     meta_member: dict[str, Any] = {META_KEY: np.array(json.dumps(meta))}
     array_members: dict[str, Any] = arrays
@@ -28,7 +28,7 @@ def write_npz(path: str | Path, arrays: dict[str, NDArray[Any]], meta: dict[str,
 
 
 def read_npz(path: str | Path, error: type[Exception], what: str) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
-    """Arrays and metadata of a file written by :func:`write_npz`; ``error`` (naming ``what``) if unreadable."""
+    """Arrays and metadata of a file written by `write_npz`; ``error`` (naming ``what``) if unreadable."""
     path = Path(path)
     hint = f'give a {what} as vtube writes it (.npz)'
     try:

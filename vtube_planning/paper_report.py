@@ -1,9 +1,9 @@
 """The paper's comparison per scene (``vtube study``): means and ranges per mode, and whether its claims hold.
 
 With planning the passing time is shorter, the minimum distance larger, and no two robots collide; against the
-baselines, planning passes more safely. :func:`summarise` checks this per scene on the means over seeds and per
-seed; :func:`study_markdown` writes it. Rows are those of :func:`~vtube_planning.study.run_point` with their
-:class:`~vtube_planning.study.Point`'s fields; the grid's reports are in :mod:`vtube_planning.study_report`.
+baselines, planning passes more safely. `summarise` checks this per scene on the means over seeds and per
+seed; `study_markdown` writes it. Rows are those of `run_point` with their
+`Point`'s fields; the grid's reports are in `vtube_planning.study_report`.
 """
 
 from __future__ import annotations

@@ -1,15 +1,17 @@
 """The configuration of a run: the swarm's parameters (paper Table 1), the planner's options, the controller's gains.
 
-The defaults of :class:`SwarmParams` are Table 1 exactly as printed (``docs/design.md``). Two printed values disagree
-with the paper's own formulas (``docs/theory.md`` §7.1):
+The defaults of [`SwarmParams`][vtube_planning.params.SwarmParams] are Table 1 exactly as printed (``docs/design.md``).
+Two printed values disagree with the paper's own formulas (``docs/theory.md`` §7.1):
 
 * ``rho_max``: the table says 0.9974 robots/m^2 while the printed formula ``1/r_p^2`` gives 11.11. The table value
-  is kept; :meth:`SwarmParams.rho_max_variants` lists the candidate formulas for ablations.
+  is kept; [`SwarmParams.rho_max_variants`][vtube_planning.params.SwarmParams.rho_max_variants] lists the candidate
+  formulas for ablations.
 * ``a_rho``: formula (p8) is negative, which makes (p6)/(p7) infeasible as printed. Its magnitude is used
   (resolution A2), 0.5524 robots/m^2/s for Table 1.
 
-:class:`ControlParams` defaults to the barrier law: the practical law's wall push is bounded by k_t while the
-neighbours' pushes add up, so it lets the expanding swarm out of the tube (``docs/theory.md`` §2).
+[`ControlParams`][vtube_planning.params.ControlParams] defaults to the barrier law: the practical law's wall push is
+bounded by k_t while the neighbours' pushes add up, so it lets the expanding swarm out of the tube (``docs/theory.md``
+§2).
 """
 
 from __future__ import annotations
@@ -214,11 +216,12 @@ class ControlParams:
         swarm just where the plan lowers its density.
     kdtree_above
         Use a k-d tree for neighbours above this many robots, all pairs below (default: the measured crossover
-        :data:`~vtube_planning.onboard.params.KDTREE_ABOVE`; both give the same law).
+        `KDTREE_ABOVE`; both give the same law).
     compensate_delay_steps, compensate_lag_s
         The command delay (control periods, >= 0) and first-order lag (s, >= 0) to compensate: the controller acts
         on where each robot will be when its command arrives, predicted from the commands already sent
-        (:class:`~vtube_planning.onboard.delay.CommandPredictor`). Both 0 (the default): it acts on where they are.
+        ([`CommandPredictor`][vtube_planning.onboard.delay.CommandPredictor]). Both 0 (the default): it acts on where
+        they are.
     """
 
     avoidance_gain: float = 1.0

@@ -1,5 +1,5 @@
-"""Figures of :mod:`vtube_planning` objects. matplotlib is imported here only, when a figure is drawn (and by
-:mod:`vtube_planning.geometry.occupancy` to read an obstacle image)."""
+"""Figures of `vtube_planning` objects. matplotlib is imported here only, when a figure is drawn (and by
+`vtube_planning.geometry.occupancy` to read an obstacle image)."""
 
 from __future__ import annotations
 
@@ -375,6 +375,6 @@ def animate(
 
 
 def save_figure(fig: Figure, path: str | Path, *, dpi: int = 120) -> Path:
-    """Write a figure (atomically, :func:`~vtube_planning.files.write_atomically`); returns the path written."""
+    """Write a figure (atomically, `write_atomically`); returns the path written."""
     path = Path(path)
     return write_atomically(path, lambda handle: fig.savefig(handle, dpi=dpi, format=path.suffix[1:] or 'png'))

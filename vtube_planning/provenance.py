@@ -1,8 +1,8 @@
 """Where a result comes from: recorded in every file vtube writes (plans, logs, reports, submissions).
 
-:func:`provenance` gives the package version, the command line, the time (UTC), and when given the scene (its
-name, file and a hash of its content), the plan (a hash of its file) and the seeds. :func:`copy_scene` writes the
-scene's file beside the results, so that a folder of results says exactly what was flown. :func:`source_commit` names
+`provenance` gives the package version, the command line, the time (UTC), and when given the scene (its
+name, file and a hash of its content), the plan (a hash of its file) and the seeds. `copy_scene` writes the
+scene's file beside the results, so that a folder of results says exactly what was flown. `source_commit` names
 the git commit of the code, for results committed beside it.
 """
 
@@ -87,7 +87,7 @@ def source_commit() -> str | None:
 
 def made_text(record: dict[str, Any]) -> str:
     """What made a result, in one line: the command, the version, the commit and the time of a
-    :func:`provenance` record with ``commit`` (:func:`source_commit`)."""
+    `provenance` record with ``commit`` (`source_commit`)."""
     commit = (record.get('commit') or 'not a git checkout')[:12]
     return (
         f'made by `{record.get("command", "?")}` (vtube {record.get("vtube_version", "?")}, commit {commit}, '

@@ -1,7 +1,7 @@
 """Which seeds to run, as people type them: a count, a range, a list, or a mix.
 
-:func:`parse_seeds` reads the syntax every ``--seeds`` option and a campaign file's ``seed = "..."`` share;
-:func:`seeds_text` writes seeds back in it, compactly, for reports and headers::
+`parse_seeds` reads the syntax every ``--seeds`` option and a campaign file's ``seed = "..."`` share;
+`seeds_text` writes seeds back in it, compactly, for reports and headers:
 
     "10"            seeds 0..9 (a bare count n >= 1: seeds 0..n-1, what ``--seeds 10`` always meant)
     "10-19"         seeds 10 to 19, both included
@@ -32,7 +32,7 @@ class SeedsError(VtubeError, ValueError):
 def parse_seeds(text: str) -> tuple[int, ...]:
     """The seeds ``text`` names (the module's syntax), in the order given: ``"20-22,3"`` is (20, 21, 22, 3).
 
-    Raises :class:`SeedsError` naming what is wrong and how to write it instead."""
+    Raises `SeedsError` naming what is wrong and how to write it instead."""
     items = [item.strip() for item in text.split(',')]
     if not text.strip():
         msg = f'no seeds given; give {SYNTAX}.'
@@ -58,7 +58,7 @@ def parse_seeds(text: str) -> tuple[int, ...]:
 def seeds_text(seeds: Sequence[int]) -> str:
     """``seeds`` written back compactly in the module's syntax, in their order: runs of two or more consecutive
     seeds as ranges (``0-9``), the others listed (``3,7,11``); a single seed alone as ``7-7``, since a bare ``7``
-    is a count. :func:`parse_seeds` reads it back as ``seeds``; no seeds give ``''``."""
+    is a count. `parse_seeds` reads it back as ``seeds``; no seeds give ``''``."""
     if len(seeds) == 1:
         return f'{seeds[0]}-{seeds[0]}'
     parts: list[str] = []

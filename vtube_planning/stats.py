@@ -8,7 +8,7 @@ normality). A report compares the same two modes in many cells, so the p-values 
 the cells are adjusted by Holm's step-down method (which holds the chance of any false claim among them at ALPHA
 whatever their dependence). A claim "mode A beats mode B on a metric" holds in a cell only where the adjusted
 p-value is below ALPHA and the interval excludes zero on A's side, from at least MIN_SEEDS seeds; and, when fresh
-seeds were run to confirm it, only where it holds on them too (:func:`replicated`).
+seeds were run to confirm it, only where it holds on them too (`replicated`).
 """
 
 from __future__ import annotations
@@ -111,7 +111,7 @@ def holm(p_values: Sequence[float]) -> NDArray[np.float64]:
 
 
 def family_adjusted(estimates: Sequence[Estimate], p_values: Sequence[float]) -> list[float]:
-    """:func:`holm` over the members of a family (one comparison's claims) that have MIN_SEEDS differences or
+    """`holm` over the members of a family (one comparison's claims) that have MIN_SEEDS differences or
     more; NaN for the others, which get no verdict."""
     enough = [k for k, e in enumerate(estimates) if e.n >= MIN_SEEDS]
     adjusted = [math.nan] * len(estimates)

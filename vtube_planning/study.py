@@ -1,10 +1,11 @@
-"""One run of a study (:class:`Point`, :func:`run_point`) and the modes a study compares.
+"""One run of a study (`Point`, `run_point`) and the modes a study compares.
 
 The paper's comparison flies every scene and seed once with the plan (planned speed, r_a following (a3)) and once
 without (constant mid-range speed, constant r_a), from the same jittered initial formation; on scenes C and D the
 paper's baselines (optimized flocking with v_min = 0 as the paper ran it and a speed-constrained variant;
 distributed NMPC) too. The ablation modes (ABLATIONS) each switch one part of the method off on the same code path.
-Reports are in :mod:`vtube_planning.paper_report` and :mod:`vtube_planning.study_report`; every study runs as a campaign (:mod:`vtube_planning.campaign`).
+Reports are in `vtube_planning.paper_report` and `vtube_planning.study_report`; every study runs as a campaign
+(`vtube_planning.campaign`).
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ from vtube_planning.swarm.simulate import SimConfig, SimResult, default_constant
 MODES = ('planning', 'no planning')
 BASELINE_MODES = ('flocking', 'flocking (v_min)', 'nmpc')
 COMPENSATIONS = ('none', 'known', 'known-1', 'known+1')
-"""What delay the controller compensates (:meth:`Point.compensated`)."""
+"""What delay the controller compensates (`Point.compensated`)."""
 BASELINE_SCENES = ('C', 'D')
 
 
@@ -60,7 +61,7 @@ class Ablation:
     (constant speed, constant r_a); ``a3``: whether r_a follows (a3) (off: its gain and feed-forward are zero);
     ``speed``: the constant forward speed of ``'flat'`` and ``'none'``, ``'mid'`` = (v_min + v_max) / 2 or
     ``'v_max'``; ``replan_every_s``: replan the rest of the tube from the measured state this often while flying
-    (0: never; :class:`~vtube_planning.swarm.simulate.SimConfig`).
+    (0: never; [`SimConfig`][vtube_planning.swarm.simulate.SimConfig]).
     """
 
     plan: Literal['full', 'without (p7)', 'flat', 'none']
@@ -134,10 +135,10 @@ def _cached_plan(scene: Scene, swarm: SwarmParams, model: str) -> Plan:
 @dataclass(frozen=True)
 class Point:
     """One run of a study: where (scene, swarm size N, and a random map whose generated tube replaces the scene's:
-    ``map`` a family of :mod:`vtube_planning.geometry.maps` or 'none', with its seed and difficulty), how (mode of
+    ``map`` a family of `vtube_planning.geometry.maps` or 'none', with its seed and difficulty), how (mode of
     ABLATIONS or BASELINE_MODES, robot model of MODELS, saturation of SATURATIONS), which seed, and which faults
-    (:class:`~vtube_planning.swarm.simulate.SimConfig`; ``failure``: 'none', or the failing robot's mode, 'stop' or
-    'coast', placed by :class:`RunSettings`). ``n_robots`` and ``saturation`` None: the scene's own."""
+    ([`SimConfig`][vtube_planning.swarm.simulate.SimConfig]; ``failure``: 'none', or the failing robot's mode, 'stop' or
+    'coast', placed by `RunSettings`). ``n_robots`` and ``saturation`` None: the scene's own."""
 
     scene: str
     map: str = 'none'

@@ -1,4 +1,4 @@
-"""Figures of a study's rows and reports (:mod:`vtube_planning.study_report`). matplotlib is imported here only,
+"""Figures of a study's rows and reports (`vtube_planning.study_report`). matplotlib is imported here only,
 when a figure is drawn."""
 
 from __future__ import annotations
@@ -21,12 +21,12 @@ VERDICT_COLORS = {
     'not replicated': 'tab:orange',
     'no verdict': 'lightgray',
 }
-"""A claim's colour in the difference figures, by verdict (:mod:`vtube_planning.stats`)."""
+"""A claim's colour in the difference figures, by verdict (`vtube_planning.stats`)."""
 
 
 def _verdict_legend(fig: Figure, verdicts: Collection[str], *, squares: bool = False) -> None:
     """A legend of the verdicts drawn under the figure: their colours, as dots (filled where the claim holds) or as
-    the squares of :func:`verdict_matrix_figure`."""
+    the squares of `verdict_matrix_figure`."""
     shown = [v for v in VERDICT_COLORS if v in verdicts]
     handles = [
         fig.axes[0].plot(
@@ -97,7 +97,7 @@ def study_figure(
 def paired_differences_figure(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = ()) -> Figure:
     """A study's paired differences (a - b on the same seeds; with ``confirm_seeds``, on the others) with their 95 %
     intervals: one panel per metric, one line per comparison and cell (scene, N, setting); coloured by verdict
-    (:func:`~vtube_planning.study_report.paired_table`), filled where the claim holds."""
+    (`paired_table`), filled where the claim holds."""
     from matplotlib.figure import Figure
 
     from vtube_planning.study_report import CLAIMS, COMPARISONS, paired_table, place_text, setting_text
@@ -129,7 +129,7 @@ def paired_differences_figure(rows: list[dict[str, Any]], confirm_seeds: Collect
 
 def verdict_matrix_figure(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = ()) -> Figure:
     """The paired comparisons at a glance, at page width: a row per cell (scene, N, setting), a column per
-    comparison and metric; each square coloured by its verdict (:func:`~vtube_planning.study_report.paired_table`)
+    comparison and metric; each square coloured by its verdict (`paired_table`)
     and marked with the effect (a - b as a share of b's mean)."""
     from matplotlib.figure import Figure
 
@@ -237,7 +237,7 @@ def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
 
 
 def map_differences_figure(rows: list[dict[str, Any]]) -> Figure:
-    """A study over random maps (:func:`~vtube_planning.study_report.map_differences`): one panel per metric, one
+    """A study over random maps (`map_differences`): one panel per metric, one
     line per comparison and population of maps; a dot per map (its mean paired difference over its seeds) and the
     mean over maps with its 95 % interval, filled where the claim holds."""
     from matplotlib.figure import Figure

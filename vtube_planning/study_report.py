@@ -1,9 +1,9 @@
 """Reports of a study's grid: its cells, paired comparisons and verdicts, and the comparisons over random maps.
 
-:func:`grid_markdown` reports each cell of a grid with bootstrap intervals and the paired differences of
-COMPARISONS (:mod:`vtube_planning.stats`); over random maps, :func:`map_differences` takes the maps as the sample.
-Rows are those of :func:`~vtube_planning.study.run_point` with their :class:`~vtube_planning.study.Point`'s fields;
-the paper's comparison per scene is in :mod:`vtube_planning.paper_report`.
+`grid_markdown` reports each cell of a grid with bootstrap intervals and the paired differences of
+COMPARISONS (`vtube_planning.stats`); over random maps, `map_differences` takes the maps as the sample.
+Rows are those of `run_point` with their `Point`'s fields;
+the paper's comparison per scene is in `vtube_planning.paper_report`.
 """
 
 from __future__ import annotations
@@ -61,7 +61,7 @@ CELL_AXES = (
     'failure',
     'dropout',
 )
-"""What a row's mode is compared within (a cell): every field of :class:`Point` but the mode and the seed."""
+"""What a row's mode is compared within (a cell): every field of `Point` but the mode and the seed."""
 
 
 def _cell(row: dict[str, Any]) -> tuple[Any, ...]:
@@ -100,8 +100,8 @@ def setting_text(row: dict[str, Any]) -> str:
 
 
 def verdict_summary(table: list[dict[str, Any]]) -> str:
-    """Where each comparison's claim holds: per setting (:func:`setting_text`), in how many cells (scene, N) the
-    paired test of :func:`paired_table` says a beats b (+), cannot tell (=) or b beats a (-), where the fresh seeds
+    """Where each comparison's claim holds: per setting (`setting_text`), in how many cells (scene, N) the
+    paired test of `paired_table` says a beats b (+), cannot tell (=) or b beats a (-), where the fresh seeds
     did not confirm it (~) and where there were too few seeds for a verdict (?), for each metric of CLAIMS."""
     settings = list(dict.fromkeys(setting_text(p) for p in table))
     compared = [c for c in COMPARISONS if any((p['a'], p['b']) == c[:2] for p in table)]
@@ -172,7 +172,7 @@ def _direction(difference: Estimate, better: str) -> str:
 
 def _adjusted(tests: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """``tests`` (each with a, b, metric, better, estimate and p) with ``p_holm``, adjusted over the tests of the
-    same comparison and metric (:func:`~vtube_planning.stats.family_adjusted`), and ``verdict``."""
+    same comparison and metric (`family_adjusted`), and ``verdict``."""
     for family in dict.fromkeys((t['a'], t['b'], t['metric']) for t in tests):
         members = [t for t in tests if (t['a'], t['b'], t['metric']) == family]
         for t, p in zip(
@@ -188,7 +188,7 @@ def _population(row: dict[str, Any]) -> tuple[Any, ...]:
 
 
 def map_summary(rows: list[dict[str, Any]]) -> str:
-    """The table of :func:`map_differences` (empty for rows without random maps)."""
+    """The table of `map_differences` (empty for rows without random maps)."""
     found = map_differences(rows)
     if not found:
         return ''
@@ -260,10 +260,10 @@ _CELL_COLUMNS: tuple[tuple[str, str, Callable[[NDArray[np.float64]], str]], ...]
 
 
 def grid_markdown(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = ()) -> str:
-    """A study's report: where each comparison holds (:func:`verdict_summary`), collisions per mode
-    (:func:`mode_summary`), then per cell (scene, N, setting) each mode's means with 95 % bootstrap intervals and
+    """A study's report: where each comparison holds (`verdict_summary`), collisions per mode
+    (`mode_summary`), then per cell (scene, N, setting) each mode's means with 95 % bootstrap intervals and
     the paired differences of COMPARISONS with their intervals, effect sizes, adjusted p-values and verdicts
-    (:func:`paired_table`; with ``confirm_seeds``, on the other seeds and on those)."""
+    (`paired_table`; with ``confirm_seeds``, on the other seeds and on those)."""
     table = paired_table(rows, confirm_seeds)
     lines: list[str] = [verdict_summary(table), map_summary(rows), mode_summary(rows)]
     for cell in dict.fromkeys(_cell(r) for r in rows):
@@ -302,7 +302,7 @@ def report_text(
     name: str, rows: list[dict[str, Any]], missing: int, confirm_seeds: Collection[int], made: list[dict[str, Any]]
 ) -> str:
     """A campaign's ``report.md``: what it holds and what made its runs (``made``: the entries of its
-    ``provenance.json``), then :func:`grid_markdown`."""
+    ``provenance.json``), then `grid_markdown`."""
     head = f'Campaign {name!r}: {len(rows)} runs'
     if missing:
         head += f' ({missing} of the grid missing or failed: the tables are partial; rerun the campaign to finish)'
@@ -321,7 +321,7 @@ def _test_text(test: dict[str, Any]) -> str:
 
 
 def _claim_text(test: dict[str, Any]) -> str:
-    """:func:`_test_text`, and with fresh seeds theirs and the verdict of both."""
+    """`_test_text`, and with fresh seeds theirs and the verdict of both."""
     again = test.get('confirmation')
     if 'discovery_verdict' not in test:
         return _test_text(test)
@@ -331,12 +331,12 @@ def _claim_text(test: dict[str, Any]) -> str:
 
 def paired_table(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = ()) -> list[dict[str, Any]]:
     """Per cell (CELL_AXES), the paired differences of COMPARISONS on each metric of CLAIMS: dicts with the cell's
-    fields, a, b, metric, estimate (an :class:`~vtube_planning.stats.Estimate`), p (signed-rank), p_holm (adjusted
+    fields, a, b, metric, estimate (an `Estimate`), p (signed-rank), p_holm (adjusted
     over the cells of the comparison and metric), relative (the effect as a share of b's mean) and verdict.
 
     With ``confirm_seeds`` (fresh seeds run to confirm), all that is computed on the other seeds, ``confirmation``
     holds the same on the fresh ones (adjusted over their own cells) and ``verdict`` is both's
-    (:func:`~vtube_planning.stats.replicated`; the first seeds' own is ``discovery_verdict``). Comparisons whose
+    (`replicated`; the first seeds' own is ``discovery_verdict``). Comparisons whose
     modes are missing, or whose runs did not all complete, are left out."""
     confirm = set(confirm_seeds)
     found = _judged([r for r in rows if r['seed'] not in confirm])
@@ -356,7 +356,7 @@ def _test_key(test: dict[str, Any]) -> tuple[Any, ...]:
 
 
 def _judged(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """The paired tests of :func:`paired_table` on ``rows``, judged together (:func:`_adjusted`)."""
+    """The paired tests of `paired_table` on ``rows``, judged together (`_adjusted`)."""
     tests = []
     for cell in dict.fromkeys(_cell(r) for r in rows):
         sel = [r for r in rows if _cell(r) == cell]

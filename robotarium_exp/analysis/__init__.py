@@ -1,10 +1,10 @@
 """Analysis of recorded trajectories: the testbed's returned files, our logs, ROS1/ROS2 motion-capture bags.
 
-:mod:`.trajectory` is the one type every source becomes, :mod:`.loaders`, :mod:`.bags` and :mod:`.matfiles` read
-the sources, :mod:`.distances` measures pairs over their common coverage, :mod:`.passage` sees the trajectory from
-a tube, :mod:`.report` measures a trajectory (in a scene or without one) into :mod:`.metrics` and writes
-``metrics.json``, ``report.md`` and the figures (:mod:`.plots`); :mod:`.export` writes a trajectory as a bag or
-CSV, and :mod:`.replay` as one offline HTML page that plays it.
+`trajectory` is the one type every source becomes, `loaders`, `bags` and `matfiles` read the sources,
+`distances` measures pairs over their common coverage, `passage` sees the trajectory from a tube, `report`
+measures a trajectory (in a scene or without one) into `metrics` and writes ``metrics.json``, ``report.md`` and the
+figures (`plots`); `export` writes a trajectory as a bag or CSV, and `replay` as one offline HTML page that plays
+it.
 """
 
 from __future__ import annotations

@@ -39,7 +39,7 @@ Handler = Callable[[list[Message]], tuple[int, Exception | None]]
 """Takes a batch of a connection's messages; gives how many did not decode and the first error."""
 BATCH = 1024
 """Messages of one connection decoded together: enough for the bulk reading of one layout
-(:mod:`~robotarium_exp.analysis.bag_layouts`), few enough that decoded objects die young."""
+(`bag_layouts`), few enough that decoded objects die young."""
 
 
 @dataclass
@@ -208,7 +208,7 @@ def _on_poses(
     decode: Decoder, stream_of: Callable[[str, str], PoseStream], name: str, odometry: bool, ros1: bool
 ) -> Handler:
     """Handler of a PoseStamped or Odometry topic: one stream per reference frame (``header.frame_id``); a batch of
-    one layout read in bulk (:func:`~robotarium_exp.analysis.bag_layouts.bulk_poses`), any other decoded."""
+    one layout read in bulk (`bulk_poses`), any other decoded."""
 
     def on_poses(batch: list[Message]) -> tuple[int, Exception | None]:
         if batch:

@@ -115,7 +115,7 @@ def read_bag(
 
 
 def _read_one(path: Path, selection: Selection, seen: _Seen) -> None:
-    """Read one bag's connections into ``selection`` (see :func:`read_bag`)."""
+    """Read one bag's connections into ``selection`` (see [`read_bag`][robotarium_exp.analysis.bags.read_bag])."""
     from rosbags.rosbag1 import ReaderError as ReaderError1
     from rosbags.rosbag2 import ReaderError as ReaderError2
     from rosbags.typesys import Stores, get_typestore
@@ -149,7 +149,7 @@ def _open(path: Path) -> tuple[Any, bool]:
 
 
 def _feed(reader: Any, handlers: dict[int, Handler], ignored: list[dict[str, str]]) -> None:
-    """The messages of the connections with a handler, in batches of :data:`BATCH` per connection; what did not
+    """The messages of the connections with a handler, in batches of `BATCH` per connection; what did not
     decode is listed with its topic."""
     chosen = [c for c in reader.connections if c.id in handlers]
     batches: dict[int, list[Message]] = {c.id: [] for c in chosen}
@@ -215,7 +215,7 @@ def _robots(
 
 
 def _samples(robot: str, streams: list[PoseStream]) -> RobotSamples:
-    """One robot's samples from its streams: each must be in time (:func:`check_time`); several (a robot on two
+    """One robot's samples from its streams: each must be in time (`check_time`); several (a robot on two
     topics) are merged by stamp."""
     for stream in streams:
         check_time(robot, stream.arrays()[0])

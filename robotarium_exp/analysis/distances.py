@@ -1,6 +1,6 @@
 """Distances between robots over each pair's own common coverage, from a trajectory with holes.
 
-A pair is measured at the frames where both robots have a position (:meth:`Trajectory.present`): a robot whose log
+A pair is measured at the frames where both robots have a position (`Trajectory.present`): a robot whose log
 ends early, or that drops out, leaves the other pairs measured over their whole time, and no distance is ever taken
 from an interpolation across a gap. The global minimum is the smallest over all pairs and frames. Computed with
 numpy over pairs and frames in blocks, so that memory stays bounded for large swarms.

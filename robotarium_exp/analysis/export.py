@@ -1,7 +1,7 @@
 """A trajectory written in the field's formats: a ROS 2 bag (MCAP or sqlite3) that Foxglove and RViz open, or CSV.
 
 Each robot's poses become ``geometry_msgs/PoseStamped`` on ``/<robot>/pose`` in frame ``world`` (the layout
-:mod:`robotarium_exp.analysis.bags` reads by default, so ``vtube analyze`` reads the bag back to the same frames),
+`robotarium_exp.analysis.bags` reads by default, so ``vtube analyze`` reads the bag back to the same frames),
 stamped at the frame's time since the trajectory's first frame (a trajectory without headings gets the identity
 orientation, heading 0); a frame where a robot has no position gives no message for it. With a scene the tube (its centre line and both walls) and the obstacles' outlines are one
 ``visualization_msgs/MarkerArray`` on ``/vtube/tube`` at the first frame, as line strips in the same frame. CSV:
@@ -84,7 +84,7 @@ def _write_bag(trajectory: Trajectory, out: Path, storage: str, scene: Scene | N
 
 
 def _topic_names(robots: tuple[str, ...]) -> list[str]:
-    """Each robot's topic name (:func:`_topic_name`), made unique by its index where two ids give the same."""
+    """Each robot's topic name (`_topic_name`), made unique by its index where two ids give the same."""
     names = [_topic_name(robot) for robot in robots]
     return [f'{n}_{k}' if names.count(n) > 1 else n for k, n in enumerate(names)]
 

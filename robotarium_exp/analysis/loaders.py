@@ -1,15 +1,15 @@
-"""Load a :class:`~robotarium_exp.analysis.trajectory.Trajectory` from whatever an experiment returned.
+"""Load a [`Trajectory`][robotarium_exp.analysis.trajectory.Trajectory] from whatever an experiment returned.
 
 * a folder as downloaded from the Robotarium: the submission's trajectory log (``vtube_meta.json`` and
   ``vtube_t_s.npy``, ``vtube_positions_m.npy``, ...), or the bare ``vtube_t.npy`` and ``vtube_poses.npy`` of
   earlier files;
-* a ``.mat`` file a MATLAB script saved on the Robotarium (:mod:`robotarium_exp.analysis.matfiles`);
+* a ``.mat`` file a MATLAB script saved on the Robotarium (`robotarium_exp.analysis.matfiles`);
 * our own ``.npz`` logs (``vtube simulate``, ``vtube robotarium run``, the bundled simulator's pose log);
 * ROS1 ``.bag`` files, ROS2 bag folders, bare ``.mcap`` / ``.db3`` files and folders of them without
-  ``metadata.yaml`` (:mod:`robotarium_exp.analysis.bags`).
+  ``metadata.yaml`` (`robotarium_exp.analysis.bags`).
 
 Arrays load without pickle. A truncated or corrupt file is reported by name, with what else could be read. Every
-loader records the files it read (:func:`input_record` gives their sizes and hashes).
+loader records the files it read (`input_record` gives their sizes and hashes).
 """
 
 from __future__ import annotations
@@ -48,7 +48,8 @@ ACCEPTED = (
 
 
 def load_trajectory(inputs: list[str | Path], *, max_gap: MaxGap = DEFAULT_MAX_GAP, **bag_options: Any) -> Trajectory:
-    """Dispatch on what ``inputs`` are (see the module docstring); ``bag_options`` go to :func:`read_bag`."""
+    """Dispatch on what ``inputs`` are (see the module docstring); ``bag_options`` go to
+    [`read_bag`][robotarium_exp.analysis.bags.read_bag]."""
     paths = [Path(p) for p in inputs]
     if not paths:
         msg = f'no input given; pass {ACCEPTED}.'
@@ -213,7 +214,7 @@ def _submission_log(
 
 
 def load_npz_log(path: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
-    """Our logs (:mod:`vtube_planning.log`): simulations, Robotarium experiments, the bundled simulator's."""
+    """Our logs (`vtube_planning.log`): simulations, Robotarium experiments, the bundled simulator's."""
     try:
         arrays, meta = read_log(path)
     except LogError as err:
@@ -224,7 +225,7 @@ def load_npz_log(path: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
 
 def _log_source(arrays: dict[str, np.ndarray], meta: dict[str, Any], where: str) -> dict[str, Any]:
     """What a vtube log's description says of its run: scene, tube, plan, and where the flight began when it
-    recorded that (:class:`~robotarium_exp.analysis.passage.FlightStart`, on the trajectory's clock; None for logs
+    recorded that (`FlightStart`, on the trajectory's clock; None for logs
     that do not record it: simulations, earlier submissions)."""
     t_s = arrays['t_s']
     first = float(t_s[0]) if t_s.size else 0.0

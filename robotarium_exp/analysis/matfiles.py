@@ -1,9 +1,9 @@
 """Robot poses from the ``.mat`` files MATLAB users get back from the Robotarium (plain arrays, via scipy.io).
 
 A MATLAB script on the testbed saves whatever it collected, typically ``get_poses`` stacked over steps: an array
-(3, N, T) of x, y and heading. The pose array is found by name (:data:`POSE_NAMES`) or, failing that, as the
+(3, N, T) of x, y and heading. The pose array is found by name (`POSE_NAMES`) or, failing that, as the
 only three-dimensional array with x, y, heading along its first axis; an array (T, 3, N) is read as our own
-submission's layout. Time is the array named in :data:`TIME_NAMES` when it increases and has one entry per
+submission's layout. Time is the array named in `TIME_NAMES` when it increases and has one entry per
 step; otherwise (absent, or not usable) the steps are the testbed's period, and the report says which.
 
 MATLAB class objects (a ``classdef`` data saver) cannot be read outside MATLAB: the error says how to save plain

@@ -1,8 +1,10 @@
-"""What :func:`robotarium_exp.analysis.report.analyse` measures of a recording, as frozen types.
+"""What [`robotarium_exp.analysis.report.analyse`][robotarium_exp.analysis.report.analyse] measures of a recording, as
+frozen types.
 
-:class:`RecordingMetrics` holds the tube-free measures (coverage, gaps, pair distances, collisions), the tube's
-(:class:`TubeMetrics`, None without a scene) and what was read; ``to_json()`` gives the strict JSON of
-``metrics.json`` (None for what is missing or not finite).
+[`RecordingMetrics`][robotarium_exp.analysis.metrics.RecordingMetrics] holds the tube-free measures (coverage, gaps,
+pair distances, collisions), the tube's ([`TubeMetrics`][robotarium_exp.analysis.metrics.TubeMetrics], None without a
+scene) and what was read; ``to_json()`` gives the strict JSON of ``metrics.json`` (None for what is missing or not
+finite).
 """
 
 from __future__ import annotations
@@ -130,7 +132,7 @@ class RecordingMetrics:
     scene, planned
         The scene's name (None without one); whether a plan was given.
     vtube_version, provenance
-        The package version and the record of the run (:func:`vtube_planning.provenance.provenance`).
+        The package version and the record of the run (`vtube_planning.provenance.provenance`).
     """
 
     robot_ids: tuple[str, ...]

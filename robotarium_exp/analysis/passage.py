@@ -1,16 +1,17 @@
 """A recorded trajectory seen from the tube: where each robot is along it, and whether the passage was observed.
 
-:func:`along_tube` projects every position once, vectorised over frames and robots (NaN where a robot has no
-position), and measures the swarm's density (:func:`vtube_planning.onboard.density.swarm_area`, the one definition) on
-the frames where every robot has a position.
+`along_tube` projects every position once, vectorised over frames and robots (NaN where a robot has no
+position), and measures the swarm's density
+([`vtube_planning.onboard.density.swarm_area`][vtube_planning.onboard.density.swarm_area], the one definition) on the
+frames where every robot has a position.
 
 A flight of ours on a Robotarium (the submission's files, ``vtube robotarium run``'s log) records where it began
-(:class:`FlightStart`, :func:`robotarium_exp.flight.flight_start`): after the initialization, with every robot
-already inside the tube. :func:`recorded_passage` times it as the experiment does, with the one definition of
-:func:`vtube_planning.swarm.metrics.passage_times` (first robot at l >= 0 to the last at l >= L), from that start.
+(`FlightStart`, `robotarium_exp.flight.flight_start`): after the initialization, with every robot
+already inside the tube. `recorded_passage` times it as the experiment does, with the one definition of
+`vtube_planning.swarm.metrics.passage_times` (first robot at l >= 0 to the last at l >= L), from that start.
 
 Any other recording may start after the swarm entered, end before it left, or show bodies that never came near the
-tube. :func:`observed_passage` therefore infers the start, and gives a passing time only for a passage it saw
+tube. `observed_passage` therefore infers the start, and gives a passing time only for a passage it saw
 whole: some robot before the entrance (before any robot reached it), each robot inside the tube at some time, and
 each robot past the exit after that. Otherwise the passing time is None, and the result says which part was not
 observed. Either result says how its start was known (``Passage.start``).
@@ -35,12 +36,12 @@ from vtube_planning.swarm.metrics import crossing_times, passage_times
 FloatArray = NDArray[np.float64]
 
 INFERRED_START = 'start inferred from the first robot to reach the entrance, one robot having been seen before it'
-"""How :func:`observed_passage` knows where the passage starts."""
+"""How `observed_passage` knows where the passage starts."""
 
 
 @dataclass(frozen=True)
 class FlightStart:
-    """Where a recorded flight began (:func:`robotarium_exp.flight.flight_start`).
+    """Where a recorded flight began (`robotarium_exp.flight.flight_start`).
 
     Attributes
     ----------
@@ -121,7 +122,7 @@ class Passage:
     unobserved
         What was not observed, in words (empty when the passage was).
     start
-        How the passage's start was known: recorded by the flight, or inferred (:data:`INFERRED_START`).
+        How the passage's start was known: recorded by the flight, or inferred (`INFERRED_START`).
     """
 
     passing_time_s: float | None

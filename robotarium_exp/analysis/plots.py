@@ -1,7 +1,8 @@
 """Figures of analysed trajectories (paths, tracking, distances). matplotlib is imported when a figure is drawn.
 
-They draw what :func:`robotarium_exp.analysis.report.analyse` computed (nothing is measured twice); lines break
-where a robot has no position. Without a scene there is no tube to draw and no tracking figure.
+They draw what [`robotarium_exp.analysis.report.analyse`][robotarium_exp.analysis.report.analyse] computed (nothing is
+measured twice); lines break where a robot has no position. Without a scene there is no tube to draw and no tracking
+figure.
 """
 
 from __future__ import annotations
@@ -88,7 +89,7 @@ def _paths_figure(results: dict[str, Analysis], scene: Scene | None) -> Figure:
 
 
 def _drawn(trajectory: Trajectory) -> NDArray[np.bool_]:
-    """The frames of ``trajectory`` drawn in its paths (:data:`DRAWN_FRAMES`)."""
+    """The frames of ``trajectory`` drawn in its paths (`DRAWN_FRAMES`)."""
     drawn = np.zeros(trajectory.t_s.size, dtype=bool)
     drawn[:: -(-trajectory.t_s.size // DRAWN_FRAMES)] = True
     drawn[-1] = True

@@ -1,14 +1,14 @@
 """Metrics and reports of a trajectory, with or without a tube: distances, coverage, the passage, tracking.
 
-Works on any :class:`~robotarium_exp.analysis.trajectory.Trajectory` (testbed files, our logs, motion-capture bags).
-Without a scene the result holds the measures that need no tube: robots, frames, each robot's coverage, gaps,
-pairwise distances and collisions. With a scene it adds the passage (:mod:`.passage`: timed from the start a flight
+Works on any [`Trajectory`][robotarium_exp.analysis.trajectory.Trajectory] (testbed files, our logs, motion-capture
+bags). Without a scene the result holds the measures that need no tube: robots, frames, each robot's coverage, gaps,
+pairwise distances and collisions. With a scene it adds the passage (`passage`: timed from the start a flight
 of ours recorded, as ``vtube robotarium run`` times it, with the tube violations of the Robotarium robot's body;
 otherwise a passing time only for a passage observed whole, and violations of the centres), tube violations over
 each robot's own coverage, the expansion before the narrowing and,
 with a plan, the tracking errors (on the frames where every robot has a position). The result
-(:class:`~robotarium_exp.analysis.metrics.RecordingMetrics`) records what was read (paths, sizes, hashes), the
-options and the package version.
+([`RecordingMetrics`][robotarium_exp.analysis.metrics.RecordingMetrics]) records what was read (paths, sizes, hashes),
+the options and the package version.
 """
 
 from __future__ import annotations
@@ -176,7 +176,7 @@ ROW_TITLES = (
     'speed tracking, mean [m/s]',
     'density tracking, mean [1/m^2]',
 )
-"""The rows of the report's table, one column per analysed trajectory (:func:`_cells`)."""
+"""The rows of the report's table, one column per analysed trajectory (`_cells`)."""
 
 
 def write_report(out: Path, results: dict[str, Analysis], scene: Scene | None, plan: Plan | None) -> Path:
@@ -227,7 +227,7 @@ def _header(results: dict[str, Analysis], scene: Scene | None, plan: Plan | None
 
 
 def _cells(m: RecordingMetrics) -> list[str]:
-    """One column of the report's table (:data:`ROW_TITLES`)."""
+    """One column of the report's table (`ROW_TITLES`)."""
     tube = m.tube
     tracking = tube.tracking if tube is not None else None
     closest = m.closest

@@ -1,17 +1,17 @@
 """One trajectory type for every source: frames, positions (T, 2, N), headings, robot ids, coverage, provenance.
 
 Sources differ in rate and completeness: robots start and stop at different times, drop out for seconds, and are
-stamped at their own instants. Loaders therefore hand over each robot's own samples (:class:`RobotSamples`, stamps
-in integer nanoseconds), and :func:`assemble` puts them on one clock without resampling the robots' rate: the frames
-are the robots' stamps, where stamps that fall within half the shortest sampling period of a frame's first stamp
-are one frame (:func:`frame_stamps`: a motion-capture system that stamps each body a few milliseconds apart gives
-one frame per capture, not one per body, and the frames stay as many as one robot's samples, or at most twice as
-many, whatever the number of robots). A robot has a position at a frame when it has a sample there, or when the
-frame lies between two of its samples that are at most the largest bridged hole (:class:`MaxGap`) apart (linear
-interpolation), or else when one of its samples falls within the frame's window (its first and last samples, and
-the ends of gaps); elsewhere its position is NaN. Nothing is dropped silently: every sample left out (a repeated
-stamp, a non-finite position) and every frame a robot misses (before its first sample, after its last, inside a
-gap) is counted in its :class:`Coverage`.
+stamped at their own instants. Loaders therefore hand over each robot's own samples
+([`RobotSamples`][robotarium_exp.analysis.trajectory.RobotSamples], stamps in integer nanoseconds), and `assemble` puts
+them on one clock without resampling the robots' rate: the frames are the robots' stamps, where stamps that fall within
+half the shortest sampling period of a frame's first stamp are one frame (`frame_stamps`: a motion-capture system that
+stamps each body a few milliseconds apart gives one frame per capture, not one per body, and the frames stay as many as
+one robot's samples, or at most twice as many, whatever the number of robots). A robot has a position at a frame when
+it has a sample there, or when the frame lies between two of its samples that are at most the largest bridged hole
+([`MaxGap`][robotarium_exp.analysis.trajectory.MaxGap]) apart (linear interpolation), or else when one of its samples
+falls within the frame's window (its first and last samples, and the ends of gaps); elsewhere its position is NaN.
+Nothing is dropped silently: every sample left out (a repeated stamp, a non-finite position) and every frame a robot
+misses (before its first sample, after its last, inside a gap) is counted in its `Coverage`.
 """
 
 from __future__ import annotations
@@ -261,7 +261,7 @@ def seconds_to_ns(t_s: ArrayLike) -> IntArray:
 
 
 def _clean(rid: str, samples: RobotSamples) -> tuple[IntArray, FloatArray, FloatArray | None, int, int]:
-    """The samples, in time (:func:`check_time`), with non-finite or implausible positions and repeated stamps left
+    """The samples, in time (`check_time`), with non-finite or implausible positions and repeated stamps left
     out (and counted); copied only when something is left out."""
     stamps = np.asarray(samples.stamps_ns, dtype=np.int64)
     xy = np.asarray(samples.xy_m, dtype=float).reshape(-1, 2)
@@ -318,7 +318,7 @@ def _taken_as_is(frames_ns: IntArray, stamps: IntArray, ok: NDArray[np.bool_]) -
 def assemble(
     samples: dict[str, RobotSamples], *, source: dict[str, Any], max_gap: MaxGap = DEFAULT_MAX_GAP
 ) -> Trajectory:
-    """Robots sampled at their own stamps -> one :class:`Trajectory` on the frames of their stamps (module doc)."""
+    """Robots sampled at their own stamps -> one `Trajectory` on the frames of their stamps (module doc)."""
     if not samples:
         msg = f'no robot data found in {source.get("path", "?")}; check the topic or frame pattern.'
         raise AnalysisError(msg)

@@ -1,4 +1,4 @@
-"""What ``rps`` raises on misuse: :class:`RobotariumError`."""
+"""What ``rps`` raises on misuse: [`RobotariumError`][robotarium_exp.rps.errors.RobotariumError]."""
 
 from __future__ import annotations
 

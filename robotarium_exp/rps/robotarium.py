@@ -2,22 +2,23 @@
 
 * Construction with V2's keywords and defaults (``number_of_robots``, ``show_figure``, ``initial_conditions``,
   ``use_distance_sensors``, ``obstacles``, ``sim_in_real_time``, ``skip_initialization``, the ``show_*`` options),
-  checked with V2's messages (:class:`RobotariumError` is an ``AssertionError``, as V2's ``assert`` raises).
+  checked with V2's messages ([`RobotariumError`][robotarium_exp.rps.errors.RobotariumError] is an ``AssertionError``,
+  as V2's ``assert`` raises).
 * Call order ``get_poses() -> set_velocities(ids, dxu) -> step()`` enforced with the messages rps users know.
-* ``step()``: the verifier's counts (:meth:`ARobotarium._validate`), then per-wheel clipping, forward Euler at
+* ``step()``: the verifier's counts (`ARobotarium._validate`), then per-wheel clipping, forward Euler at
   0.033 s, then the on-board sensors (and the distance sensors with ``use_distance_sensors=True``, which see the
-  other robots and the ``obstacles``, M x 2 x 2 line segments; :mod:`robotarium_exp.rps.utilities.sensors`).
+  other robots and the ``obstacles``, M x 2 x 2 line segments; `robotarium_exp.rps.utilities.sensors`).
   ``debug()`` prints V2's summary and verdict.
 * The initialization is V2's algorithm, step for step: robots start on charger slots drawn with Python's
   ``random`` and are driven to the initial conditions by V2's hybrid pose controller under a unicycle barrier
   certificate, with V2's deadlock escapes (random waypoints from ``np.random``). Those steps count towards the
   duration but are not validated. With the same ``random.seed`` and ``np.random.seed`` the draws are V2's draws.
-* ``testbed_model`` (a name or a :class:`~robotarium_exp.rps.testbed_model.TestbedModel`): what the real robots
+* ``testbed_model`` (a name or a `TestbedModel`): what the real robots
   do to the commands and the poses. ``'ideal'`` (the default) is the simulator above, bit for bit and without an
   extra draw; with another model (``'fitted'``, ``'fitted:2'``) the clipped command drives the robots through the
   model's delay, lag, gains and bias, ``get_poses`` returns the poses with its noise, heading steps, stale repeats
   and jumps, and the verifier still counts the true poses. The initialization stays ideal; the model's per-robot
-  draws are made when it ends (:mod:`robotarium_exp.rps.testbed_model`).
+  draws are made when it ends (`robotarium_exp.rps.testbed_model`).
 
 Randomness comes from ``random`` and ``np.random``, as in V2, so that a script's seeds (or ``rps_alias --seed``)
 make a run reproducible.
@@ -378,6 +379,6 @@ def _stuck() -> RobotariumError:
     msg = (
         f'the initialization did not bring the robots to their initial conditions within '
         f'{INITIALIZATION_STEP_LIMIT} steps (V2 would hang here); space the initial conditions at least '
-        '0.4 m apart inside |x| <= 1.375, |y| <= 0.875 (docs/robotarium.md §2.6).'
+        '0.4 m apart inside |x| <= 1.375, |y| <= 0.875 (documentation: On the Robotarium, §2.6).'
     )
     return RobotariumError(msg)

@@ -1,9 +1,9 @@
 """``rps.robotarium_abc``: what every V2 Robotarium shares (``docs/robotarium.md`` §2-4).
 
-:class:`ARobotarium` holds the GTernal robot's constants, the state the testbed hands back (poses and the on-board
+`ARobotarium` holds the GTernal robot's constants, the state the testbed hands back (poses and the on-board
 sensors' readings), ``set_velocities``, the per-wheel clipping of the actuators, the verifier's three counts and the
-drawing. :class:`robotarium_exp.rps.robotarium.Robotarium` adds the loop (``get_poses``, ``step``, ``debug``) and
-the initialization. The constants are V2's (:mod:`robotarium_exp.spec` reads the testbed's numbers from here).
+drawing. `robotarium_exp.rps.robotarium.Robotarium` adds the loop (``get_poses``, ``step``, ``debug``) and
+the initialization. The constants are V2's (`robotarium_exp.spec` reads the testbed's numbers from here).
 """
 
 from __future__ import annotations

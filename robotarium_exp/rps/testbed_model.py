@@ -1,4 +1,4 @@
-"""What the real Robotarium does to the commands and the poses: :class:`TestbedModel` and :class:`Testbed`.
+"""What the real Robotarium does to the commands and the poses: `TestbedModel` and `Testbed`.
 
 The bundled simulator moves a robot in the same iteration as its command and hands back its exact pose. The real
 GRITSbot-X robots respond after a pure delay (per channel, in iterations) and a first-order lag, with per-robot
@@ -7,11 +7,11 @@ heading, headings come in steps, some poses are repeated (stale: most of them wh
 jump. A robot standing still (no command acting on it) does not turn at its bias rate. ``benchmarks/testbed_identification.py``
 measures these numbers on real runs; ``docs/robotarium.md`` ("the testbed model") gives them with their sources.
 
-* :func:`testbed_model` turns a name into a model: ``ideal`` (today's simulator, bit for bit), ``fitted`` (the
+* `testbed_model` turns a name into a model: ``ideal`` (today's simulator, bit for bit), ``fitted`` (the
   identified numbers) or ``fitted:K`` (delay and lag scaled by K > 0).
-* :class:`Testbed` is one run's state (per-robot gains drawn from ``np.random`` once, the command history, the lag's
-  state, the last pose handed out): :meth:`Testbed.actuate` turns the clipped command into the velocities that
-  move the robots, :meth:`Testbed.observe` turns the true poses into what ``get_poses`` returns.
+* `Testbed` is one run's state (per-robot gains drawn from ``np.random`` once, the command history, the lag's
+  state, the last pose handed out): `Testbed.actuate` turns the clipped command into the velocities that
+  move the robots, `Testbed.observe` turns the true poses into what ``get_poses`` returns.
 
 A fractional delay d uses the linear interpolation of the commands floor(d) and ceil(d) iterations back (the
 response of a delay between two samples, to first order). The lag is the exact discretisation of a first-order
@@ -120,7 +120,7 @@ class TestbedModelError(RobotariumError, ValueError):
 
 
 def testbed_model(name: str | TestbedModel) -> TestbedModel:
-    """The model called ``name`` (a model is returned as it is); :class:`TestbedModelError` names the forms."""
+    """The model called ``name`` (a model is returned as it is); `TestbedModelError` names the forms."""
     if isinstance(name, TestbedModel):
         return name
     base, colon, factor = str(name).strip().partition(':')

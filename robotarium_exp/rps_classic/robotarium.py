@@ -4,10 +4,10 @@
   robots start exactly at the initial conditions (random grid poses from ``np.random`` when none are given).
 * Call order ``get_poses() -> set_velocities(ids, dxu) -> step()``, enforced with classic's messages.
 * ``get_poses()`` returns the internal pose array itself; ``step()`` updates it in place: validation of the
-  commands (:meth:`RobotariumABC._validate`), then forward Euler with the commands as ``set_velocities`` clipped
+  commands (`RobotariumABC._validate`), then forward Euler with the commands as ``set_velocities`` clipped
   them, headings rewrapped; with a figure, the drawing and (real time) a wait for the rest of the 0.033 s.
 * ``call_at_scripts_end()`` prints classic's report: the duration rounded up to whole seconds, then the counts.
-* ``testbed_model`` (keyword only, beyond classic; :mod:`robotarium_exp.rps.testbed_model`): ``'ideal'`` (the
+* ``testbed_model`` (keyword only, beyond classic; `robotarium_exp.rps.testbed_model`): ``'ideal'`` (the
   default) is the above, bit for bit; with another model the command, clipped per wheel as the testbed does, moves
   the robots through the model's delay, lag, gains and bias, and ``get_poses()`` returns a noisy copy of the poses
   (no longer the array itself); the validation counts the true poses.

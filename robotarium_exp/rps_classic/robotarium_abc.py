@@ -12,8 +12,8 @@ because scripts written for it can depend on them (``docs/robotarium.md`` §3):
   that every instance in the process shares (classic's mutable default argument), so counts carry over from one
   simulation to the next in the same process.
 
-Misuse raises :class:`~robotarium_exp.rps.errors.RobotariumError`, an ``AssertionError`` like classic's ``assert``,
-with classic's message text (typos included, so that scripts and logs read the same).
+Misuse raises [`RobotariumError`][robotarium_exp.rps.errors.RobotariumError], an ``AssertionError`` like classic's
+``assert``, with classic's message text (typos included, so that scripts and logs read the same).
 """
 
 from __future__ import annotations
@@ -87,7 +87,7 @@ def _check_arguments(
 
 
 class RobotariumABC(ABC):
-    """The classic simulator's common part; :class:`~robotarium_exp.rps_classic.robotarium.Robotarium` adds
+    """The classic simulator's common part; `Robotarium` adds
     ``get_poses``, ``step`` and the report."""
 
     def __init__(
@@ -208,7 +208,7 @@ class RobotariumABC(ABC):
         plt.subplots_adjust(left=-0.03, right=1.03, bottom=-0.03, top=1.03, wspace=0, hspace=0)
 
     def _robot_patches(self) -> dict[str, Any]:
-        """One robot's patches, by the name of the list that holds them (placed by :meth:`_place_robots`)."""
+        """One robot's patches, by the name of the list that holds them (placed by `_place_robots`)."""
         radius = self.robot_radius
         return {
             'right_wheel_patches': patches.Circle((0, 0), 0.02, facecolor='k'),

@@ -48,6 +48,24 @@ def test_the_site_builds_strictly_with_its_tutorials_run(tmp_path: Path) -> None
     assert "robots: ('r1', 'r2', 'r3')" in page_text(site, 'tutorials/bag_analysis')
     reference = page_text(site, 'api/vtube_planning')
     assert 'plan_convex' in reference and 'convex-concave procedure' in reference  # the docstring, rendered
+    campaign = page_text(site, 'tutorials/campaign')  # the campaign ran, and its report is on the page
+    assert '$ vtube campaign run small.toml' in campaign and '4 runs, 0 already done, 4 run now' in campaign
+    assert '4 runs, 4 already done, 0 run now' in campaign and 'Scene C, N = 6' in campaign
+    assert 'vtube robotarium compare' in page_text(site, 'howto/cli')
+    assert_no_sphinx_roles(site)
+
+
+def assert_no_sphinx_roles(site: Path) -> None:
+    """The API pages show no Sphinx role: the docstrings are markdown, and the roles of the modules the builder
+    inlines verbatim are rewritten by docs/hooks/griffe_roles.py."""
+    pages = sorted(path.stem for path in (ROOT / 'docs' / 'api').glob('*.md'))
+    assert 'vtube_planning' in pages and 'submission' in pages
+    for page in pages:
+        text = page_text(site, f'api/{page}')
+        roles = re.findall(r'.{0,40}:(?:func|class|meth|mod|attr|data|exc|obj|const):`.{0,40}', text)
+        assert not roles, (page, roles[:5])
+    reference = page_text(site, 'api/vtube_planning')  # SwarmStep's docstring, from a verbatim module
+    assert 'StepTube' in reference and 'With params.compensates the step acts' in reference
 
 
 def test_a_tutorial_block_that_raises_fails_the_build(tmp_path: Path) -> None:

@@ -60,6 +60,8 @@ def test_the_wheel_ships_the_five_packages_and_not_the_generated_files(tmp_path:
     assert top_level == {*SHIPPED, f'{wheel.name.split("-py")[0]}.dist-info'}
     # `vtube campaign example` reads these: an installed package has no docs/
     assert {f'vtube/examples/{n}.toml' for n in ('faults', 'delay', 'replanning')} <= names
+    # and these `vtube tube example`
+    assert {f'vtube/maps/robotarium_{n}.toml' for n in ('discs', 'gate', 'staggered')} <= names
 
     target = tmp_path / 'installed'
     subprocess.run([*pip, 'install', '--no-deps', '--target', str(target), str(wheel)], check=True, timeout=600)

@@ -1,5 +1,5 @@
-"""The ``vtube`` command line: one module per command group, each declaring its commands (:class:`Command`), and
-:func:`main`, which parses, dispatches and renders."""
+"""The ``vtube`` command line: one module per command group, each declaring its commands (`Command`), and
+`main`, which parses, dispatches and renders."""
 
 from vtube.cli.app import main
 from vtube.cli.command import Command, View

@@ -1,4 +1,4 @@
-"""``vtube analyze``: metrics, figures and a report of returned or recorded data (:func:`vtube.pipeline.analyse_data`)."""
+"""``vtube analyze``: metrics, figures and a report of returned or recorded data (`vtube.pipeline.analyse_data`)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""``main``: the parser built from the commands, the dispatch through :data:`COMMANDS`, errors as exit codes."""
+"""``main``: the parser built from the commands, the dispatch through `COMMANDS`, errors as exit codes."""
 
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ COMMANDS: dict[str, Command[Any]] = {
     command.words: command
     for command in (
         *scene.COMMANDS,
-        tube.COMMAND,
+        *tube.COMMANDS,
         plan.COMMAND,
         simulate.COMMAND,
         *study.COMMANDS,
@@ -52,7 +52,7 @@ COMMANDS: dict[str, Command[Any]] = {
 
 GROUPS = {
     'scene': 'list and draw scenes',
-    'tube': 'generate a tube from an obstacle map',
+    'tube': 'generate a tube from an obstacle map, or write a shipped map',
     'campaign': 'run a study declared in a TOML file, anywhere, resumably',
     'robotarium': 'the tube experiment on the bundled Robotarium simulator',
     'submission': 'build and check the single file for the remote Robotarium',
@@ -87,7 +87,7 @@ class Parser(argparse.ArgumentParser):
 
 
 def parser() -> argparse.ArgumentParser:
-    """The parser of every command in :data:`COMMANDS`; a parsed command's words are its ``command``."""
+    """The parser of every command in `COMMANDS`; a parsed command's words are its ``command``."""
     from vtube_planning import __version__
 
     top = Parser(

@@ -30,11 +30,11 @@ def seed(text: str) -> int:
 
 
 SEEDS_HELP = 'seeds: a count n (0..n-1), a range 10-19 or a list 3,7,11'
-"""The help of every ``--seeds`` that names which seeds to run (type :func:`seeds`)."""
+"""The help of every ``--seeds`` that names which seeds to run (type `seeds`)."""
 
 
 def seeds(text: str) -> tuple[int, ...]:
-    """An argparse type: which seeds to run, in the order given (:func:`vtube_planning.seeds.parse_seeds`): a
+    """An argparse type: which seeds to run, in the order given (`vtube_planning.seeds.parse_seeds`): a
     count n (seeds 0..n-1), a range ``10-19``, a list ``3,7,11`` or a mix ``0-4,10``."""
     try:
         return parse_seeds(text)

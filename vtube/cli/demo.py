@@ -1,4 +1,4 @@
-"""``vtube demo``: the whole pipeline on the bundled simulator, into one report (:func:`vtube.pipeline.demo`)."""
+"""``vtube demo``: the whole pipeline on the bundled simulator, into one report (`vtube.pipeline.demo`)."""
 
 from __future__ import annotations
 

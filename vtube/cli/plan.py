@@ -1,4 +1,4 @@
-"""``vtube plan``: speed and density along a scene's tube (:func:`vtube.pipeline.plan_scene`)."""
+"""``vtube plan``: speed and density along a scene's tube (`vtube.pipeline.plan_scene`)."""
 
 from __future__ import annotations
 

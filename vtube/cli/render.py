@@ -63,7 +63,7 @@ def progress_bar(what: str, unit: str, *, quiet: bool = False) -> tqdm:
 
 
 def progress_bars(*, quiet: bool = False) -> Progress:
-    """The pipeline's progress (:data:`vtube.pipeline.Progress`) as bars on stderr."""
+    """The pipeline's progress (`vtube.pipeline.Progress`) as bars on stderr."""
 
     @contextmanager
     def bars(what: str, unit: str) -> Iterator[Tick]:

@@ -36,7 +36,7 @@ class RobotariumRun:
 @dataclass(frozen=True)
 class Comparison:
     """Planned against unplanned over initialization seeds (in the order run): the table, the files written and the
-    runs that failed (:func:`robotarium_exp.compare.failed_runs`)."""
+    runs that failed (`robotarium_exp.compare.failed_runs`)."""
 
     scene: str
     seeds: tuple[int, ...]
@@ -64,7 +64,7 @@ def testbed_model_argument(parser: argparse.ArgumentParser) -> None:
         type=testbed_model_name,
         default='ideal',
         help="what the real robots do to commands and poses: ideal (V2's simulator), fitted (delay, lag, gains, "
-        'noise fitted to real runs, docs/robotarium.md), fitted:K (delay and lag times K)',
+        'noise fitted to real runs: robotarium_exp.rps.testbed_model), fitted:K (delay and lag times K)',
     )
 
 

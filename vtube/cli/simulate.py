@@ -1,4 +1,4 @@
-"""``vtube simulate``: the swarm flown through a scene (:func:`vtube.pipeline.simulate_scene`)."""
+"""``vtube simulate``: the swarm flown through a scene (`vtube.pipeline.simulate_scene`)."""
 
 from __future__ import annotations
 

@@ -71,7 +71,7 @@ def execution_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def execute(campaign: Campaign, out: Path, args: argparse.Namespace) -> CampaignRun:
-    """Run what is missing of the campaign on the places of :func:`execution_arguments`: checks the folder and
+    """Run what is missing of the campaign on the places of `execution_arguments`: checks the folder and
     connects to the scheduler before any run."""
     import os
 

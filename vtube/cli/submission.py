@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -57,19 +59,22 @@ def build_arguments(parser: argparse.ArgumentParser) -> None:
 
 def build(args: argparse.Namespace) -> WrittenSubmission:
     """Write the submission for a Robotarium scene; unless ``--no-declare``, checked and rewritten with the
-    duration to declare (:func:`vtube.pipeline.build_submission`)."""
+    duration to declare (`vtube.pipeline.build_submission`), each stage of the check told on stderr as it starts."""
     from vtube.pipeline import build_submission
 
-    return build_submission(
-        args.scene,
-        args.out,
-        planning=not args.no_planning,
-        plan_file=args.plan,
-        declare=not args.no_declare,
-        seeds=args.seeds,
-        initializer_seeds=args.initializer_seeds,
-        testbed_models=args.testbed_models,
-    )
+    with initializer_bar(args.initializer_seeds) as seed_done:
+        return build_submission(
+            args.scene,
+            args.out,
+            planning=not args.no_planning,
+            plan_file=args.plan,
+            declare=not args.no_declare,
+            seeds=args.seeds,
+            initializer_seeds=args.initializer_seeds,
+            testbed_models=args.testbed_models,
+            progress=tell,
+            seed_done=seed_done,
+        )
 
 
 def build_view(written: WrittenSubmission) -> View:
@@ -113,19 +118,29 @@ def preflight_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def preflight(args: argparse.Namespace) -> CheckReport:
-    """Preflight a submission file; the initializer's bar is drawn from its first seed on (on a terminal)."""
-    from submission.check import RUN_TIMEOUT_S, check
-
+@contextmanager
+def initializer_bar(total: int) -> Iterator[Callable[[], None]]:
+    """The ``seed_done`` of a check: the initializer's bar, drawn from its first seed on (on a terminal)."""
     bars: list[tqdm] = []
 
     def seed_done() -> None:
         if not bars:
             bars.append(progress_bar("V2's initializer", 'seed'))
-            bars[0].reset(total=args.initializer_seeds)
+            bars[0].reset(total=total)
         bars[0].update()
 
     try:
+        yield seed_done
+    finally:
+        for bar in bars:
+            bar.close()
+
+
+def preflight(args: argparse.Namespace) -> CheckReport:
+    """Preflight a submission file, each stage told on stderr as it starts."""
+    from submission.check import RUN_TIMEOUT_S, check
+
+    with initializer_bar(args.initializer_seeds) as seed_done:
         return check(
             args.file,
             seeds=args.seeds,
@@ -135,9 +150,6 @@ def preflight(args: argparse.Namespace) -> CheckReport:
             seed_done=seed_done,
             **({} if args.testbed_models is None else {'testbed_models': args.testbed_models}),
         )
-    finally:
-        for bar in bars:
-            bar.close()
 
 
 def preflight_view(report: CheckReport) -> View:

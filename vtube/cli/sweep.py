@@ -1,5 +1,5 @@
 """``vtube robotarium sweep``: scenes x robot counts, each refused with its reason or built and flown on the bundled
-simulator with V2's initialization, judged against the bar of issue 31 (:mod:`submission.sweep`)."""
+simulator with V2's initialization, judged against the bar of issue 31 (`submission.sweep`)."""
 
 from __future__ import annotations
 

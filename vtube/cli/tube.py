@@ -1,9 +1,11 @@
-"""``vtube tube generate``: a regular tube generated from an obstacle map, written as an ordinary scene file."""
+"""``vtube tube generate``: a regular tube generated from an obstacle map, written as an ordinary scene file;
+``vtube tube example``: a shipped Robotarium map file (package data, ``vtube/maps/*.toml``), to start from."""
 
 from __future__ import annotations
 
 import argparse
 from dataclasses import dataclass
+from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -62,6 +64,48 @@ def generate_view(result: TubeGenerated) -> View:
     )
 
 
-COMMAND = Command(
-    'tube generate', 'generate a regular tube from an obstacle map', generate_arguments, generate, generate_view
+def map_examples() -> dict[str, str]:
+    """The shipped Robotarium map files, name -> text (the layouts of docs/maps, each checked to fit the testbed)."""
+    folder = resources.files('vtube') / 'maps'
+    return {
+        entry.name.removesuffix('.toml'): entry.read_text(encoding='utf-8')
+        for entry in sorted(folder.iterdir(), key=lambda entry: entry.name)
+        if entry.name.endswith('.toml')
+    }
+
+
+@dataclass(frozen=True)
+class MapWritten:
+    """A shipped map ``name`` written to ``path``."""
+
+    name: str
+    path: Path
+
+
+def example_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('name', choices=sorted(map_examples()), help='the shipped map')
+    parser.add_argument('file', type=Path, help='the .toml file to write (must not exist)')
+
+
+def example(args: argparse.Namespace) -> MapWritten:
+    path: Path = args.file
+    if path.exists():
+        msg = f'{path} exists; give another file name (nothing was written).'
+        raise BadInput(msg)
+    write_atomically(path, map_examples()[args.name])
+    return MapWritten(args.name, path)
+
+
+def example_view(written: MapWritten) -> View:
+    generate_line = f'vtube tube generate {written.path} --out SCENE.toml'
+    return View((f'map {written.name} written to {written.path}; generate its tube with: {generate_line}',))
+
+
+COMMANDS = (
+    Command(
+        'tube generate', 'generate a regular tube from an obstacle map', generate_arguments, generate, generate_view
+    ),
+    Command(
+        'tube example', 'write a shipped Robotarium obstacle map, to edit', example_arguments, example, example_view
+    ),
 )

@@ -1,7 +1,7 @@
 """The paper's baselines: optimized flocking and distributed NMPC.
 
-Each flies through :func:`vtube_planning.simulate` as its ``baseline``; every name below is imported from its
-module on first use (the NMPC's CasADi only when a problem is built).
+Each flies through [`vtube_planning.simulate`][vtube_planning.swarm.simulate.simulate] as its ``baseline``; every name
+below is imported from its module on first use (the NMPC's CasADi only when a problem is built).
 """
 
 from __future__ import annotations

@@ -51,7 +51,8 @@ ROBOTSIM = {
 
 @dataclass(frozen=True)
 class FlockingParams:
-    """Optimized-flocking parameters (SI units); :meth:`scaled` builds the set used in the comparison."""
+    """Optimized-flocking parameters (SI units); [`scaled`][vtube_planning.baselines.flocking.FlockingParams.scaled]
+    builds the set used in the comparison."""
 
     v_flock: float
     v_max: float

@@ -14,10 +14,10 @@ tube walls linearised about the agent's previous prediction, |(p(k) - gamma(l_k)
 both softened by slacks with an exact L1 penalty ``w_slack`` (a swarm can start inside a constraint: hard, the
 problem would have no solution at all; soft, the slacks are zero whenever it has one). Each agent's problem is a small NLP, built once with CasADi (exact derivatives) and solved to convergence by IPOPT,
 warm-started from its previous solution and multipliers, every ``update_s`` seconds; the agent keeps its first
-acceleration in between (:class:`NmpcSwarm`). A solve that does not converge is never applied: the agent follows
-the rest of its last converged plan instead, and the swarm counts it (``converged``, ``fallbacks``). As the paper
-ran it: v_ref = v_max, d_ref = 2 r_a, d_safe = 2 r_s, v_min = 0. CasADi is an optional dependency
-(``pip install 'vtube[nmpc]'``).
+acceleration in between ([`NmpcSwarm`][vtube_planning.baselines.nmpc.NmpcSwarm]). A solve that does not converge is
+never applied: the agent follows the rest of its last converged plan instead, and the swarm counts it (``converged``,
+``fallbacks``). As the paper ran it: v_ref = v_max, d_ref = 2 r_a, d_safe = 2 r_s, v_min = 0. CasADi is an optional
+dependency (``pip install 'vtube[nmpc]'``).
 """
 
 from __future__ import annotations
@@ -42,7 +42,8 @@ SLACK_TOLERANCE = 1e-4
 
 @dataclass(frozen=True)
 class NmpcParams:
-    """Horizon, weights and limits (SI units); :meth:`for_swarm` sets them as the paper's comparison did."""
+    """Horizon, weights and limits (SI units); [`for_swarm`][vtube_planning.baselines.nmpc.NmpcParams.for_swarm] sets
+    them as the paper's comparison did."""
 
     horizon: int = 10
     dt_s: float = 0.15

@@ -1,8 +1,8 @@
 """The obstacles as arrays, their exact clearance, and the obstacles that may be nearest to a block of points.
 
-:class:`Shapes` holds discs (centres, radii) and polygons (their edges, one array for all, and bounding boxes).
-:meth:`Shapes.clearance` is the exact distance to the nearest of them, 0 inside one (even-odd rule).
-:meth:`Shapes.near` keeps only what may be nearest to a block of points and drops the rest exactly, not by an
+`Shapes` holds discs (centres, radii) and polygons (their edges, one array for all, and bounding boxes).
+`Shapes.clearance` is the exact distance to the nearest of them, 0 inside one (even-odd rule).
+`Shapes.near` keeps only what may be nearest to a block of points and drops the rest exactly, not by an
 estimate: every point of the block's bounding box is at most ``reach`` from some obstacle (a disc's or a vertex's
 distance from the box's farthest corner), so an obstacle whose bounding box lies farther than ``reach`` from the
 block's box is nearer to none of its points, and the clearance over what is kept is the clearance over all,
@@ -21,7 +21,7 @@ FloatArray = NDArray[np.float64]
 CHUNK = 4096
 """Points per chunk in the clearance (bounds the (points x edges) arrays)."""
 SLACK = 1e-9
-"""Relative slack of :meth:`Shapes.near` (far above the rounding of the distances it compares)."""
+"""Relative slack of `Shapes.near` (far above the rounding of the distances it compares)."""
 
 
 @dataclass(frozen=True, eq=False)

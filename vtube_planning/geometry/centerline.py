@@ -1,9 +1,11 @@
 """Centre curves gamma(l) of virtual tubes, parameterised by true arc length l in [0, L].
 
-Two constructions share one interface (:class:`CenterCurve`):
+Two constructions share one interface ([`CenterCurve`][vtube_planning.geometry.centerline.CenterCurve]):
 
-* :class:`ArcPath`: straight segments and circular arcs, evaluated in closed form (exact);
-* :class:`SplineCurve`: a natural cubic spline through waypoints, re-parameterised by its true arc length
+* [`ArcPath`][vtube_planning.geometry.centerline.ArcPath]: straight segments and circular arcs, evaluated in closed
+form (exact);
+* [`SplineCurve`][vtube_planning.geometry.centerline.SplineCurve]: a natural cubic spline through waypoints,
+re-parameterised by its true arc length
   (Gauss-Legendre quadrature of |gamma'(u)| and a Hermite inverse with exact slopes), not by chord length.
 
 Outside [0, L] every curve continues along its end tangents as straight rays with zero curvature: robots waiting
@@ -50,7 +52,8 @@ class CenterCurve(ABC):
 
 @dataclass(frozen=True)
 class ArcPiece:
-    """A straight segment (``radius_m`` None) or a circular arc of a :class:`ArcPath`.
+    """A straight segment (``radius_m`` None) or a circular arc of a
+    [`ArcPath`][vtube_planning.geometry.centerline.ArcPath].
 
     Parameters
     ----------

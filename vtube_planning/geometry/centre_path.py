@@ -1,5 +1,5 @@
 """From an obstacle map to a centre curve: the clearance grid, the cheapest path through it, and the lines and arcs
-that follow the path (steps 1-3 of :mod:`vtube_planning.geometry.generate`)."""
+that follow the path (steps 1-3 of `vtube_planning.geometry.generate`)."""
 
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ Box = tuple[float, float, float, float]
 End = tuple[float, float] | Box
 """An end of the tube: a point, or a rectangle to choose it in."""
 _BATCH = 16
-"""Segments that :func:`_pulled_straight` tries at once."""
+"""Segments that `_pulled_straight` tries at once."""
 
 
 class SearchGrid:
@@ -94,7 +94,7 @@ class SearchGrid:
         return points
 
     def cheapest_ends(self, start: End, goal: End) -> tuple[tuple[float, float], tuple[float, float]]:
-        """The start and goal the cheapest free path joins (:meth:`path`'s cost; one search from every start node):
+        """The start and goal the cheapest free path joins (`path`'s cost; one search from every start node):
         each end a point, kept, or a rectangle (x_min, x_max, y_min, y_max), in which the grid node with room for the
         narrowest tube that the cheapest path leaves from or arrives at is chosen."""
         index = np.arange(self.free.size).reshape(self.free.shape)
@@ -201,7 +201,7 @@ class SearchGrid:
 
 
 def _segment_room(a: FloatArray, b: FloatArray, grid: SearchGrid) -> float:
-    """A lower bound of the clearance along the segment a-b (:func:`_segment_rooms`)."""
+    """A lower bound of the clearance along the segment a-b (`_segment_rooms`)."""
     return float(_segment_rooms(a, b[None, :], grid)[0])
 
 

@@ -8,24 +8,24 @@ The paper plans on a tube generated beforehand from the obstacles ([b12]); this 
    whose cell meets an occupancy image's occupied pixel: pixels smaller than a cell are not missed), less half a
    cell's diagonal (``scipy.ndimage.distance_transform_edt``), or to the map's edge: a lower bound that
    guides the search (what is certified uses the exact clearance,
-   :meth:`~vtube_planning.geometry.obstacles.Obstacles.clearance`).
+   `clearance`).
 2. *Path*: the cheapest 8-connected grid path from start to goal through the nodes that leave room for the
    narrowest tube (``half_width_min_m`` + ``margin_m``), each step costing its length times 1 + lambda_max /
    clearance, so the path keeps to the middle of passages (Dijkstra, ``scipy.sparse.csgraph``). No path: refused
    with the widest passage there is (the largest room for which start and goal stay connected).
 3. *Centre curve*: the path pulled straight (``_pulled_straight``) or, if that one cannot be rounded,
-   simplified (:func:`_simplified`), then each corner rounded by the largest circular arc that fits in its share of the
+   simplified (`_simplified`), then each corner rounded by the largest circular arc that fits in its share of the
    neighbouring segments and keeps the room; an arc below ``turn_radius_min_m`` is refused with the corner. Lines and arcs: an exact
-   :class:`~vtube_planning.geometry.centerline.ArcPath`, written as ``pieces`` in a scene file.
+   [`ArcPath`][vtube_planning.geometry.centerline.ArcPath], written as ``pieces`` in a scene file.
 4. *Width*: under the bound min(clearance - margin - the certificate's share, ``curvature_share`` / |kappa|,
    ``half_width_max_m``), as ramps and constant parts between knots about 8 grid cells apart, with |lambda'| at
-   most ``slope_max`` (:func:`~vtube_planning.geometry.width.width_under`).
-5. *Certificate*: :class:`~vtube_planning.geometry.tube.VirtualTube` checks regularity (lambda |kappa| < 1, no
-   crossing cross-sections), :func:`~vtube_planning.geometry.obstacles.obstacle_certificate` proves that no
+   most ``slope_max`` (`width_under`).
+5. *Certificate*: [`VirtualTube`][vtube_planning.geometry.tube.VirtualTube] checks regularity (lambda |kappa| < 1, no
+   crossing cross-sections), `obstacle_certificate` proves that no
    cross-section meets an obstacle between its samples, and every boundary keeps ``margin_m`` inside the map.
 
-Steps 1-3 are :mod:`vtube_planning.geometry.centre_path`'s. Every refusal is a
-:class:`~vtube_planning.errors.TubeGenerationError` naming the place and the reason.
+Steps 1-3 are `vtube_planning.geometry.centre_path`'s. Every refusal is a
+[`TubeGenerationError`][vtube_planning.errors.TubeGenerationError] naming the place and the reason.
 """
 
 from __future__ import annotations
@@ -177,7 +177,8 @@ class GeneratedTube:
 
 
 def generate_tube(spec: TubeSpec, name: str = 'generated') -> GeneratedTube:
-    """The tube of ``spec`` (module doc), certified; :class:`TubeGenerationError` when there is none."""
+    """The tube of ``spec`` (module doc), certified; [`TubeGenerationError`][vtube_planning.errors.TubeGenerationError]
+    when there is none."""
     grid = SearchGrid(spec)
     path = grid.path()
     corners, center = centre_curve(path, grid)
@@ -205,7 +206,7 @@ def generate_tube(spec: TubeSpec, name: str = 'generated') -> GeneratedTube:
 
 def _width_parts(center: ArcPath, l_m: FloatArray, spec: TubeSpec) -> WidthProfile:
     """A width under the bound (module doc, step 4) at the samples ``l_m``, with knots about 8 grid cells apart
-    (:func:`~vtube_planning.geometry.width.width_under`)."""
+    (`width_under`)."""
     positions, tangents, kappa = center.frame(l_m)
     normals = np.column_stack([-tangents[:, 1], tangents[:, 0]])
     with np.errstate(divide='ignore'):

@@ -1,7 +1,7 @@
 """Map files: a scene file whose tube is to be generated, and the scene file the generator writes from it.
 
-A map file is a scene file (:mod:`vtube_planning.geometry.scene`) with ``[tube.generate]`` in place of
-``[tube.center]`` and ``[tube.width]``, a ``[workspace]`` (the map's rectangle) and ``[obstacles]``::
+A map file is a scene file (`vtube_planning.geometry.scene`) with ``[tube.generate]`` in place of
+``[tube.center]`` and ``[tube.width]``, a ``[workspace]`` (the map's rectangle) and ``[obstacles]``:
 
     [tube.generate]
     start_m = [2.0, 20.0]        # or start_region_m = [x_min, x_max, y_min, y_max]: the generator chooses the
@@ -12,13 +12,13 @@ A map file is a scene file (:mod:`vtube_planning.geometry.scene`) with ``[tube.g
                                  # defaults to v_min^2 / a_n of the file's [swarm]: what the planner needs;
                                  # a Robotarium map file, with [robotarium], must give it)
 
-:func:`generated_scene` generates the tube (:func:`~vtube_planning.geometry.generate.generate_tube`) and returns
+`generated_scene` generates the tube (`generate_tube`) and returns
 the file's text with ``[tube.generate]`` replaced by the tube's ``[tube.center]`` (lines and arcs) and
 ``[tube.width]`` (constant and linear parts), every number written exactly (``repr``): an ordinary scene file that
 loads to the very tube generated, its obstacles certified again on loading.
 
 ``[obstacles]`` may hold occupancy images (``images = [{ file = "room.png", resolution_m = 0.05, origin_m = [x0,
-y0] }]``, :mod:`vtube_planning.geometry.occupancy`; ``file`` relative to the map file's folder). The scene file
+y0] }]``, `vtube_planning.geometry.occupancy`; ``file`` relative to the map file's folder). The scene file
 written keeps the map file's text but for those two tables; with images, its ``[obstacles]`` is written anew, each
 ``file`` relative to the folder the scene file is written to (absolute when it cannot be, on another drive), so
 that it still finds the image.
@@ -54,7 +54,8 @@ _OBSTACLES = re.compile(r'^\s*\[\[?\s*obstacles\s*[.\]]')
 
 
 def map_spec(data: dict[str, Any], source: str) -> TubeSpec:
-    """The generation spec of a map file's tables; :class:`SceneError` names what is missing or wrong."""
+    """The generation spec of a map file's tables; [`SceneError`][vtube_planning.errors.SceneError] names what is
+    missing or wrong."""
     tube = data.get('tube')
     if not isinstance(tube, dict) or set(tube) != {'generate'} or not isinstance(tube['generate'], dict):
         msg = f'{source}: a map file has [tube.generate] and no other [tube] table (see vtube_planning.geometry.map_file).'
@@ -76,7 +77,7 @@ def map_spec(data: dict[str, Any], source: str) -> TubeSpec:
     if 'robotarium' in data and 'turn_radius_min_m' not in table:
         msg = (
             f"{source}: a Robotarium map file needs turn_radius_min_m in [tube.generate] (the robots' v_min^2 / a_n; "
-            "the layouts in docs/maps use 0.6): the default, from [swarm], is the paper's scale."
+            "the shipped maps, `vtube tube example`, use 0.6): the default, from [swarm], is the paper's scale."
         )
         raise SceneError(msg)
     if 'workspace' not in data:
@@ -106,7 +107,7 @@ def map_spec(data: dict[str, Any], source: str) -> TubeSpec:
 
 _SWARM_FIELDS = {f.name for f in fields(SwarmParams)}
 _REGIONS = {'start_m': 'start_region_m', 'goal_m': 'goal_region_m'}
-"""Each end is a point, or a region (a rectangle) in which the generator chooses it (:func:`map_spec`)."""
+"""Each end is a point, or a region (a rectangle) in which the generator chooses it (`map_spec`)."""
 
 
 def _box(value: object, key: str) -> Box:

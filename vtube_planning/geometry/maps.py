@@ -9,8 +9,8 @@ scenes (half-width 1.2 to 4.5 m, 0.3 m kept from the obstacles, turns no tighter
 - ``bottleneck``: a wall across the map at a random x in [30, 50] m with one opening of full width ``width_m`` at
   a random height, and ``clutter`` discs on either side.
 
-:func:`random_map` draws one map of a family from its seed (numpy's ``default_rng``): the same family, seed and
-difficulty give the same map on every machine. :func:`scene_on_map` flies a scene's swarm through the tube
+`random_map` draws one map of a family from its seed (numpy's ``default_rng``): the same family, seed and
+difficulty give the same map on every machine. `scene_on_map` flies a scene's swarm through the tube
 generated on such a map (the campaign axes ``map``, ``map_seed``, ``map_clutter`` and ``map_width_m``).
 """
 
@@ -73,8 +73,9 @@ def random_map(family: str, seed: int, *, clutter: int = CLUTTER, width_m: float
 
 def scene_on_map(scene: Scene, family: str, seed: int, *, clutter: int = CLUTTER, width_m: float = WIDTH_M) -> Scene:
     """``scene`` (its swarm, planning options and gains) with its tube replaced by the one generated on the map of
-    :func:`random_map`, the map's obstacles kept; :class:`~vtube_planning.errors.TubeGenerationError` when the map
-    is refused. The maps are at the paper's scale, so the scene must be one of the paper's size (not a testbed's)."""
+    `random_map`, the map's obstacles kept; [`TubeGenerationError`][vtube_planning.errors.TubeGenerationError] when the
+    map is refused. The maps are at the paper's scale, so the scene must be one of the paper's size (not a
+    testbed's)."""
     if scene.testbed is not None:
         msg = (
             f'scene {scene.name!r} is declared for the {scene.testbed}; the random maps are 80 m x 40 m, at the '

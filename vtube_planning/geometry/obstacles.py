@@ -4,8 +4,8 @@ tube misses them.
 The clearance of a point is its distance to the nearest obstacle, 0 on or inside one: a disc's is
 max(0, |p - c| - r), a polygon's 0 inside it (even-odd rule) and otherwise the distance to its nearest edge, an
 occupancy image's the distance to the nearest of its occupied pixels, each a closed square
-(:mod:`vtube_planning.geometry.occupancy`: a SLAM or ROS ``map_server`` map, read with ROS's conventions). All
-are exact and 1-Lipschitz in the point. That is what :func:`obstacle_certificate` rests on: along the centre curve
+(`vtube_planning.geometry.occupancy`: a SLAM or ROS ``map_server`` map, read with ROS's conventions). All
+are exact and 1-Lipschitz in the point. That is what `obstacle_certificate` rests on: along the centre curve
 (unit speed) the clearance minus the half-width changes by at most 1 + max|lambda'| per metre, so samples ``h``
 apart that each keep more than (1 + max|lambda'|) h / 2 prove that no cross-section anywhere meets an obstacle (a
 cross-section of half-length lambda lies in the free disc of radius clearance around its centre point).
@@ -32,7 +32,7 @@ from vtube_planning.geometry.tube import VirtualTube
 FloatArray = NDArray[np.float64]
 
 _NEAR = 256
-"""Consecutive points that share one choice of the obstacles that may be nearest (:meth:`Obstacles.clearance`)."""
+"""Consecutive points that share one choice of the obstacles that may be nearest (`Obstacles.clearance`)."""
 
 
 @dataclass(frozen=True)
@@ -86,7 +86,7 @@ class Obstacles:
     def clearance(self, points_m: FloatArray) -> FloatArray:
         """Distance (k,) of (k, 2) points to the nearest obstacle, 0 on or inside one; inf without obstacles. Each
         block of consecutive points measures only the obstacles that may be nearest to some of them
-        (:meth:`Shapes.near <vtube_planning.geometry._shapes.Shapes.near>`, exact)."""
+        (`Shapes.near <vtube_planning.geometry._shapes.Shapes.near>`, exact)."""
         points = np.asarray(points_m, dtype=float).reshape(-1, 2)
         out = np.full(points.shape[0], np.inf)
         shapes = self._shapes
@@ -140,7 +140,7 @@ class Obstacles:
         return (*circles, *shapes)
 
     def table(self, folder: Path | None = None) -> dict[str, list[dict[str, Any]]]:
-        """The ``[obstacles]`` table of a scene file in ``folder`` (:func:`obstacles_from_table` reads it back):
+        """The ``[obstacles]`` table of a scene file in ``folder`` (`obstacles_from_table` reads it back):
         an image's ``file`` relative to ``folder`` when it can be, else absolute (absolute without ``folder``)."""
         table: dict[str, list[dict[str, Any]]] = {}
         if self.discs:
@@ -159,7 +159,8 @@ NO_OBSTACLES = Obstacles()
 def obstacles_from_table(table: object, folder: Path | None = None) -> Obstacles:
     """The obstacles of a scene file's ``[obstacles]`` table (``discs = [{center_m, radius_m}]``, ``polygons =
     [{vertices_m}]``, ``images = [{file, resolution_m, origin_m, occupied_thresh}]``, an image's ``file`` relative
-    to ``folder``, the scene file's); a wrong key or value raises :class:`SceneError` naming it."""
+    to ``folder``, the scene file's); a wrong key or value raises [`SceneError`][vtube_planning.errors.SceneError]
+    naming it."""
     if not isinstance(table, Mapping):
         msg = '[obstacles] must be a table with discs = [...], polygons = [...] and/or images = [...].'
         raise SceneError(msg)
@@ -182,7 +183,7 @@ def obstacles_from_table(table: object, folder: Path | None = None) -> Obstacles
 
 def certified_obstacles(tube: VirtualTube, table: object, folder: Path | None = None) -> Obstacles:
     """The obstacles of an ``[obstacles]`` table (images read relative to ``folder``), refused
-    (:class:`SceneError`) unless ``tube`` misses them all."""
+    ([`SceneError`][vtube_planning.errors.SceneError]) unless ``tube`` misses them all."""
     obstacles = obstacles_from_table(table, folder)
     certificate = obstacle_certificate(tube, obstacles)
     if not certificate.clear:
@@ -201,7 +202,7 @@ def _entry(entry: object, keys: set[str], kind: str) -> Mapping[str, Any]:
 @dataclass(frozen=True)
 class ObstacleCertificate:
     """Whether a tube misses the obstacles, proved on samples ``step_m`` apart: the smallest margin (clearance of
-    the centre point minus the half-width) found, where, and the margin the proof needs (:func:`obstacle_certificate`)."""
+    the centre point minus the half-width) found, where, and the margin the proof needs (`obstacle_certificate`)."""
 
     clear: bool
     margin_m: float

@@ -1,7 +1,7 @@
 """Occupancy images as obstacles: a map from SLAM or ROS ``map_server`` (a PNG or PGM image, or a ``.npy`` array,
 with its resolution and origin), every occupied pixel a closed square; their exact clearance and inside test.
 
-In a scene or map file's ``[obstacles]``::
+In a scene or map file's ``[obstacles]``:
 
     images = [{ file = "room.png", resolution_m = 0.05, origin_m = [-10.0, -5.0], occupied_thresh = 0.65 }]
 
@@ -15,9 +15,9 @@ refused) holds a 2-D array of occupancy probabilities in [0, 1], occupied where 
 booleans (True: occupied), in the same orientation (row 0 the top).
 
 Occupied pixel (row i, column j) of an image of H rows is the closed square [x0 + j r, x0 + (j + 1) r] x
-[y0 + (H - 1 - i) r, y0 + (H - i) r]. :meth:`OccupancyImage.clearance` is the exact Euclidean distance to the
+[y0 + (H - 1 - i) r, y0 + (H - i) r]. `OccupancyImage.clearance` is the exact Euclidean distance to the
 union of those squares (0 on or inside one), hence 1-Lipschitz like a disc's or polygon's clearance
-(:mod:`vtube_planning.geometry.obstacles`); it searches only the squares of *boundary* pixels (occupied with a
+(`vtube_planning.geometry.obstacles`); it searches only the squares of *boundary* pixels (occupied with a
 free 4-neighbour, or on the image's border) near a point, through a k-d tree of their centres.
 """
 
@@ -119,7 +119,7 @@ class OccupancyImage:
 
     def inside(self, points_m: FloatArray) -> BoolArray:
         """Whether each of (k, 2) points lies in a closed occupied square, (k,): the 3 x 3 pixels around it tested
-        with the square's edges as :meth:`clearance` computes them (so inside exactly where the clearance is 0)."""
+        with the square's edges as `clearance` computes them (so inside exactly where the clearance is 0)."""
         p = np.asarray(points_m, dtype=float).reshape(-1, 2)
         r, (x0, y0) = self.resolution_m, self.origin_m
         rows, cols = self._grid.shape
@@ -199,7 +199,7 @@ class OccupancyImage:
 
     def entry(self, folder: Path | None = None) -> dict[str, Any]:
         """This image's entry in ``[obstacles] images``: ``file`` relative to ``folder`` when it can be (else
-        absolute); :class:`SceneError` for an image made in code (it has no file)."""
+        absolute); [`SceneError`][vtube_planning.errors.SceneError] for an image made in code (it has no file)."""
         if not self.source:
             msg = 'an occupancy image made in code has no file to write; save it (np.save) and read it from there.'
             raise SceneError(msg)
@@ -219,7 +219,8 @@ class OccupancyImage:
 
 def image_from_entry(entry: object, folder: Path | None = None) -> OccupancyImage:
     """The occupancy image of one entry of ``[obstacles] images`` (module doc), its ``file`` read relative to
-    ``folder`` (the scene file's; the current folder without one); :class:`SceneError` names what is wrong."""
+    ``folder`` (the scene file's; the current folder without one); [`SceneError`][vtube_planning.errors.SceneError]
+    names what is wrong."""
     if not isinstance(entry, Mapping) or not _KEYS <= set(entry) <= _KEYS | _OPTIONAL:
         msg = (
             f'each of [obstacles] images needs the keys {sorted(_KEYS)} (and optionally occupied_thresh); got '

@@ -1,8 +1,8 @@
 """The regularity conditions of a virtual tube (``docs/theory.md`` §3.2), checked on a dense grid of arc lengths.
 
 lambda |kappa| < 1 (R2), no two distant cross-sections intersect (R3), lambda is C^1 (R4); each failure is a
-:class:`TubeError` naming the arc length. lambda > 0 holds by construction: every width part is monotone between
-positive values, which :class:`~vtube_planning.geometry.width.WidthProfile` checks.
+[`TubeError`][vtube_planning.errors.TubeError] naming the arc length. lambda > 0 holds by construction: every width
+part is monotone between positive values, which [`WidthProfile`][vtube_planning.geometry.width.WidthProfile] checks.
 """
 
 from __future__ import annotations
@@ -36,8 +36,8 @@ def check_grid(center: CenterCurve, width: WidthProfile, samples: FloatArray) ->
 
 
 def check_regularity(center: CenterCurve, width: WidthProfile, samples: FloatArray, name: str) -> None:
-    """:class:`TubeError` unless the tube named ``name`` (empty: unnamed) is regular; ``samples`` are its
-    projection's sample arc lengths."""
+    """[`TubeError`][vtube_planning.errors.TubeError] unless the tube named ``name`` (empty: unnamed) is regular;
+    ``samples`` are its projection's sample arc lengths."""
     label = f'tube {name!r}' if name else 'tube'
     length = center.length_m
     for l_knot, jump_value, jump_slope in width.continuity_defects():

@@ -2,7 +2,7 @@
 
 The paper's scenes A-D and two Robotarium scenes ship inside the package (``vtube_planning/scenes/*.toml``);
 users write their own in the same format. Every table is checked strictly: an unknown key, a missing field or a
-value of the wrong type raises :class:`SceneError` naming the file, the table and the fix. The format::
+value of the wrong type raises `SceneError` naming the file, the table and the fix. The format:
 
     title = "..."                       # optional, one line
     description = "..."                 # optional
@@ -141,7 +141,7 @@ def load_scene(name_or_path: str | Path) -> Scene:
 
 
 def read_scene_file(path: Path) -> str:
-    """A scene file's text; a folder, a missing file or text that is not UTF-8 raises :class:`SceneError`."""
+    """A scene file's text; a folder, a missing file or text that is not UTF-8 raises `SceneError`."""
     if path.is_dir():
         msg = f'{str(path)!r} is a folder, not a scene file; give a path to a .toml file or a shipped scene name.'
         raise SceneError(msg)

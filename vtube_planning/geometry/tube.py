@@ -7,8 +7,8 @@ A point of the plane is written ``p = gamma(l) + y n(l)`` with arc length l, uni
 * functions of arc length follow the path convention: scalar l -> (2,) or float, array (k,) -> (k, 2) or (k,);
 * functions of robots follow the Robotarium convention: points (2, N), one robot per column.
 
-Construction checks the regularity conditions of ``docs/theory.md`` §3.2 (:mod:`.regularity`) and raises
-:class:`TubeError` naming the arc length of the first violation.
+Construction checks the regularity conditions of ``docs/theory.md`` §3.2 (`regularity`) and raises
+[`TubeError`][vtube_planning.errors.TubeError] naming the arc length of the first violation.
 """
 
 from __future__ import annotations
@@ -40,10 +40,11 @@ _PROJECTION_XTOL = 1e-12
 _LEFT = np.array([-1.0, 1.0])
 """(t_x, t_y) reversed times this is the left normal (-t_y, t_x)."""
 _LEFT_ROWS = _LEFT[:, None]
-""":data:`_LEFT` for tangents (2, N), one per column."""
+"""`_LEFT` for tangents (2, N), one per column."""
 _WARM_NEWTON_STEPS = 6
-"""Newton steps of :meth:`VirtualTube.project_near` before a point is projected globally (the first uses the frame
-the previous projection carries, each further one evaluates the centre line's frame once)."""
+"""Newton steps of [`VirtualTube.project_near`][vtube_planning.geometry.tube.VirtualTube.project_near] before a point
+is projected globally (the first uses the frame the previous projection carries, each further one evaluates the centre
+line's frame once)."""
 
 
 @dataclass(frozen=True)
@@ -139,7 +140,8 @@ class VirtualTube:
         return _shape(self.width.area(arr), scalar)
 
     def area_inverse(self, a_m2: ArrayLike) -> FloatArray | float:
-        """Arc length l with A(l) = a (the inverse of :meth:`area`): scalar -> float, (k,) -> (k,)."""
+        """Arc length l with A(l) = a (the inverse of [`area`][vtube_planning.geometry.tube.VirtualTube.area]): scalar
+        -> float, (k,) -> (k,)."""
         arr, scalar = _arc_lengths(a_m2, what='area')
         return _shape(self.width.area_inverse(arr), scalar)
 
@@ -170,18 +172,20 @@ class VirtualTube:
         return self._projection(xy, l_m, *self.center.frame(l_m))
 
     def project_near(self, points_m: ArrayLike, near: Projection) -> Projection:
-        """:meth:`project`, started from ``near``, a projection onto this tube of N points close to these (the
-        previous control period's): its arc lengths, and the centre line's frame there, which it carries.
+        """[`project`][vtube_planning.geometry.tube.VirtualTube.project], started from ``near``, a projection onto this
+        tube of N points close to these (the previous control period's): its arc lengths, and the centre line's frame
+        there, which it carries.
 
-        Same result as :meth:`project` (to about 1e-12 m), found without the global search for the points whose
-        local answer is certainly the closest point of the whole curve; the others are projected globally.
+        Same result as [`project`][vtube_planning.geometry.tube.VirtualTube.project] (to about 1e-12 m), found without
+        the global search for the points whose local answer is certainly the closest point of the whole curve; the
+        others are projected globally.
 
         Notes
         -----
         From l_0 = ``near.l_m``, plain Newton steps on ``g(l) = (gamma(l) - p) . t(l)`` (``g' = 1 - kappa y``), at
-        most :data:`_WARM_NEWTON_STEPS`, until a step is below 1e-12 m; the answer is the last iterate, where the
+        most `_WARM_NEWTON_STEPS`, until a step is below 1e-12 m; the answer is the last iterate, where the
         frame was evaluated. Its distance d = |p - gamma(l)| is then certified the global minimum by the table of
-        :class:`~vtube_planning.geometry.warm_table.WarmTable` (sample s_i nearest to l, window W, bounds T_i and K_i): with q = |p - gamma(s_i)|,
+        `WarmTable` (sample s_i nearest to l, window W, bounds T_i and K_i): with q = |p - gamma(s_i)|,
 
         * every curve point with |l' - s_i| >= W is at least T_i - q from p (triangle inequality), so farther than
           d when ``d < T_i - q``;
@@ -214,7 +218,8 @@ class VirtualTube:
         return self._projection(xy, l_m, pos, tan, kappa)
 
     def _nearest_arc_lengths(self, xy: FloatArray) -> FloatArray:
-        """The global search of :meth:`project`: nearest sample, then bracketed Newton between its neighbours."""
+        """The global search of [`project`][vtube_planning.geometry.tube.VirtualTube.project]: nearest sample, then
+        bracketed Newton between its neighbours."""
         samples = self._samples
         _, k = self._sample_tree.query(xy)
         reach = 1e6 * max(1.0, self.length_m)  # the straight extensions: Newton is exact there in one step
@@ -233,7 +238,7 @@ class VirtualTube:
         self, xy: FloatArray, near: Projection
     ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.bool_], FloatArray]:
         """Newton on g(l) from ``near`` for (2, N) points: arc lengths, positions and tangents (N, 2) and curvatures
-        there, which points converged (a step below 1e-12 m within :data:`_WARM_NEWTON_STEPS` with g' > 0), and the
+        there, which points converged (a step below 1e-12 m within `_WARM_NEWTON_STEPS` with g' > 0), and the
         points' distances to those positions.
 
         The first step uses the frame ``near`` carries (the frame at its arc lengths), the others evaluate it. Every
@@ -293,7 +298,8 @@ class VirtualTube:
         return hashlib.sha256((np.round(table, 9) + 0.0).tobytes()).hexdigest()[:16]  # + 0.0: no -0.0
 
     def sampled(self, spacing_m: float = 0.01) -> SampledTube:
-        """The tube as samples at most ``spacing_m`` apart (what a submission carries); see :class:`SampledTube`."""
+        """The tube as samples at most ``spacing_m`` apart (what a submission carries); see
+        [`SampledTube`][vtube_planning.onboard.sampled_tube.SampledTube]."""
         if not spacing_m > 0.0:
             msg = f'sample spacing must be > 0; got {spacing_m!r}.'
             raise TubeError(msg)

@@ -1,5 +1,6 @@
-"""The certificate of a warm-started projection (:meth:`~vtube_planning.geometry.tube.VirtualTube.project_near`):
-per sample of the tube, the bounds that prove a local Newton answer is the closest point of the whole curve."""
+"""The certificate of a warm-started projection
+([`project_near`][vtube_planning.geometry.tube.VirtualTube.project_near]): per sample of the tube, the bounds that
+prove a local Newton answer is the closest point of the whole curve."""
 
 from __future__ import annotations
 
@@ -20,7 +21,7 @@ FloatArray = NDArray[np.float64]
 
 @dataclass(frozen=True)
 class WarmTable:
-    """Per sample s_i of the tube's sample grid, what :meth:`VirtualTube.project_near` certifies a local answer with.
+    """Per sample s_i of the tube's sample grid, what `VirtualTube.project_near` certifies a local answer with.
 
     Attributes
     ----------
@@ -37,7 +38,7 @@ class WarmTable:
     kappa_max
         K_i (K,): the largest |kappa| on the regularity check grid (4x finer than the samples, every breakpoint
         included) within W + h of s_i (with whole sample intervals), zero beyond the ends. Exact for an
-        :class:`~vtube_planning.geometry.centerline.ArcPath` (curvature constant between breakpoints); for a
+        [`ArcPath`][vtube_planning.geometry.centerline.ArcPath] (curvature constant between breakpoints); for a
         spline as fine as the regularity checks themselves.
     """
 
@@ -82,7 +83,7 @@ class WarmTable:
     def nearest_sample(self, l_m: FloatArray) -> NDArray[np.intp]:
         """Index of a sample nearest to each arc length (the first or the last beyond the ends). Near a midpoint
         between two samples either may come out: the certificate holds with any sample whose window contains l,
-        which :meth:`VirtualTube.project_near` checks."""
+        which `VirtualTube.project_near` checks."""
         return self._midpoints.searchsorted(l_m, side='right')
 
     @cached_property

@@ -1,6 +1,6 @@
 """The planner's convex subproblem solved by a primal-dual interior-point method on banded normal equations.
 
-The QP of :class:`~vtube_planning.planning.cvxpy_qp.ConvexPlanner` for the linear predictive models
+The QP of `ConvexPlanner` for the linear predictive models
 (``'local_width'`` and ``'none'``), written out as arrays.
 
 Every constraint couples the unknowns of one grid interval at most, so with the unknowns interleaved as
@@ -88,7 +88,7 @@ class BandedPlanner:
                 row += 1
 
     def solve(self) -> tuple[FloatArray, FloatArray]:
-        """Solve the current subproblem (rows scaled to unit largest coefficient); (p1) is left in :attr:`value`."""
+        """Solve the current subproblem (rows scaled to unit largest coefficient); (p1) is left in `value`."""
         g, h = self.g[self.kept], self.h[self.kept]
         scale = np.abs(g).max(axis=1)
         x = self._solve(g / scale[:, None], h / scale)
@@ -191,7 +191,7 @@ class BandedPlanner:
 def _constraint_rows(problem: Problem, dl: FloatArray) -> tuple[FloatArray, FloatArray, NDArray[np.bool_]]:
     """Every kind of row of every interval, each inequality tightened by ``MARGIN``: coefficients (K, kinds, 4) of
     the interval's unknowns, right-hand sides (K, kinds), and which rows are imposed (K, kinds). (p3)'s four kinds
-    come first, zero until :meth:`BandedPlanner.set_tangent`."""
+    come first, zero until `BandedPlanner.set_tangent`."""
     swarm, options = problem.swarm, problem.options
     k = dl.size
     tight = 1.0 - MARGIN

@@ -1,6 +1,6 @@
 """The planning problem's bounds, and its objective (p1) and constraints (p2)-(p7) evaluated on a sampled plan.
 
-A plan is used with its slowness w = 1/v and its density linear between grid points; :func:`certify` evaluates
+A plan is used with its slowness w = 1/v and its density linear between grid points; `certify` evaluates
 every constraint on that interpolated plan on a grid ten times finer than the solve grid.
 """
 

@@ -12,7 +12,7 @@ re-solved (DPP) with new tangents:
 * (p3): |w_{k+1} - w_k| <= a_v dl min(w_k, w_{k+1})^3, with w^3 replaced by its tangent at the previous iterate.
 
 The objective is exact for the interpolated plan: integral of w plus mu times the integral of (rho - rho_d)^2.
-:mod:`.banded_qp` solves the same QP for the linear readings of (p7); this one is the readable reference and solves
+`banded_qp` solves the same QP for the linear readings of (p7); this one is the readable reference and solves
 the rigid shift.
 """
 
@@ -106,7 +106,7 @@ class ConvexPlanner:
             self.footprint_root.value = np.sqrt(np.abs(gap))
 
     def solve(self) -> tuple[FloatArray, FloatArray]:
-        """Solve the current subproblem: the slowness and the density; (p1) is left in :attr:`value`."""
+        """Solve the current subproblem: the slowness and the density; (p1) is left in `value`."""
         try:
             self.cvx.solve(solver=cp.CLARABEL, **SOLVER_OPTIONS)
         except cp.error.SolverError as err:

@@ -1,10 +1,10 @@
 """The swarm's density along a virtual tube, as the planner models it (``docs/theory.md`` §1.5, §7 A6-A8, §8.3).
 
-The density of a flying swarm is measured by :func:`vtube_planning.onboard.density.swarm_density`, the one definition
-that the controller, the logs and the analysis share: the swarm occupies the part of the tube between the
-projections of its last and its front robot, padded by one avoidance radius at both ends so that a line-abreast
-swarm still has a finite area (resolution A7), ``S = A(l_front + pad) - A(l_back - pad)`` with the tube's
-cumulative area A, and ``rho = N / S``.
+The density of a flying swarm is measured by
+[`vtube_planning.onboard.density.swarm_density`][vtube_planning.onboard.density.swarm_density], the one definition that
+the controller, the logs and the analysis share: the swarm occupies the part of the tube between the projections of its
+last and its front robot, padded by one avoidance radius at both ends so that a line-abreast swarm still has a finite
+area (resolution A7), ``S = A(l_front + pad) - A(l_back - pad)`` with the tube's cumulative area A, and ``rho = N / S``.
 
 For planning, a swarm of density rho centred at l occupies ``[l_e, l_s]`` with
 ``A(l_s) - A(l) = A(l) - A(l_e) = N / (2 rho)``. Advancing it rigidly by ``dl`` (Assumption 3) predicts the density

@@ -1,11 +1,12 @@
-"""The result of speed and density planning: the :class:`Plan`, how it was solved, and its ``.npz`` form.
+"""The result of speed and density planning: the [`Plan`][vtube_planning.planning.plan.Plan], how it was solved, and
+its ``.npz`` form.
 
-A :class:`Plan` holds the planned average forward speed v*(l) and density rho*(l) on an arc-length grid and
-says how it is to be used between grid points: the slowness w = 1/v and the density are interpolated linearly
-(so the traversal time, the integral of w, and the density term of (p1) are exact for the interpolated plan).
-Its certificate is the largest relative violation of each original constraint (p2)-(p7), evaluated on a grid
-ten times finer than the solve grid, on the plan interpolated exactly that way
-(:func:`~vtube_planning.planning.constraints.certify`).
+A [`Plan`][vtube_planning.planning.plan.Plan] holds the planned average forward speed v*(l) and density rho*(l) on an
+arc-length grid and says how it is to be used between grid points: the slowness w = 1/v and the density are
+interpolated linearly (so the traversal time, the integral of w, and the density term of (p1) are exact for the
+interpolated plan). Its certificate is the largest relative violation of each original constraint (p2)-(p7), evaluated
+on a grid ten times finer than the solve grid, on the plan interpolated exactly that way
+(`certify`).
 
 Plans are saved as ``.npz`` files of plain arrays plus one JSON string (loaded without pickle).
 """
@@ -133,16 +134,17 @@ class Plan:
         Terms of (p1): ``time_s``, ``density`` (integral of (rho - rho_d)^2 times mu), ``total``.
     certificate
         Largest relative violation of each constraint on the fine grid
-        (:data:`~vtube_planning.planning.constraints.CONSTRAINTS`), >= 0.
+        (`CONSTRAINTS`), >= 0.
     active
         Per constraint, where it binds at the grid points, (K+1,) bool arrays.
     solved
-        How the plan was found (:class:`SolveRecord`).
+        How the plan was found (`SolveRecord`).
     scene, swarm, options, tube_hash
         What it was planned for: the scene's name, the swarm, the planning options and the tube's
-        :meth:`~vtube_planning.geometry.tube.VirtualTube.fingerprint`. :meth:`check_matches` refuses other ones.
+        [`fingerprint`][vtube_planning.geometry.tube.VirtualTube.fingerprint].
+        [`check_matches`][vtube_planning.planning.plan.Plan.check_matches] refuses other ones.
     provenance
-        Where it was made (:func:`~vtube_planning.provenance.provenance`), when recorded.
+        Where it was made (`provenance`), when recorded.
 
     The arrays are read-only copies.
     """
@@ -211,7 +213,8 @@ class Plan:
     def check_matches(
         self, tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions | None = None, *, scene: str | None = None
     ) -> None:
-        """Raise :class:`PlanError` unless this plan was made for this tube, swarm (and options, when given).
+        """Raise [`PlanError`][vtube_planning.errors.PlanError] unless this plan was made for this tube, swarm (and
+        options, when given).
 
         The scene's name alone does not decide (a copied scene file plans the same); it is named in the message.
         """
@@ -253,10 +256,10 @@ class Plan:
 
     @classmethod
     def load(cls, path: str | Path, tube: VirtualTube) -> Plan:
-        """Read a plan written by :meth:`save` for ``tube``. Its numbers are checked (finite; a grid from 0 to the
-        tube's length; speeds and densities > 0), and everything derived from them (the certificate, the active
-        sets, the objective, the tube's half-widths and speed limits) is computed again, never read from the file:
-        an edited plan is judged by what it now holds."""
+        """Read a plan written by [`save`][vtube_planning.planning.plan.Plan.save] for ``tube``. Its numbers are
+        checked (finite; a grid from 0 to the tube's length; speeds and densities > 0), and everything derived from
+        them (the certificate, the active sets, the objective, the tube's half-widths and speed limits) is computed
+        again, never read from the file: an edited plan is judged by what it now holds."""
         where = f'plan file {str(path)!r}'
         arrays, meta = read_npz(path, PlanError, 'plan file')
         if meta.get('format_version') != FORMAT_VERSION:
@@ -329,7 +332,8 @@ def make_plan(
     solved: SolveRecord,
     scene: str,
 ) -> Plan:
-    """Wrap planned samples into a :class:`Plan` with its certificate, active sets and objective terms."""
+    """Wrap planned samples into a [`Plan`][vtube_planning.planning.plan.Plan] with its certificate, active sets and
+    objective terms."""
     certificate, active = certify(tube, swarm, options, l_m, speed, density)
     objective = objective_terms(l_m, speed, density, swarm, options)
     return Plan(

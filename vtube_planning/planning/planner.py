@@ -1,10 +1,10 @@
 """Speed and density planning (paper (p1)-(p8)) by the convex-concave procedure on the slowness form.
 
-The problem is discretised on an arc-length grid (:mod:`.problem`); (p3), the one non-convex constraint,
+The problem is discretised on an arc-length grid (`problem`); (p3), the one non-convex constraint,
 |w'| <= a_v w^3, is convexified by replacing w^3 with its tangent at the previous iterate (an under-estimate), so
 that every iterate is feasible for the true (p3) and the objective decreases monotonically (Lipp and Boyd 2016,
-``docs/theory.md`` §8.1). Each convex subproblem is solved by :mod:`.banded_qp`, or by the cvxpy reference
-(:mod:`.cvxpy_qp`). :func:`replan` plans the rest of a tube from a measured state.
+``docs/theory.md`` §8.1). Each convex subproblem is solved by `banded_qp`, or by the cvxpy reference
+(`cvxpy_qp`). [`replan`][vtube_planning.planning.planner.replan] plans the rest of a tube from a measured state.
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ FloatArray = NDArray[np.float64]
 STARTS: tuple[Start, ...] = ('fastest', 'slowest')
 """Where the convex-concave procedure may start (``plan_convex``'s ``start``)."""
 FORMULATIONS: tuple[Formulation, ...] = ('banded', 'cvxpy')
-"""How each convex subproblem is solved: the banded interior-point solver of :mod:`.banded_qp` (the linear
+"""How each convex subproblem is solved: the banded interior-point solver of `banded_qp` (the linear
 readings of (p7); the rigid shift, a cone, always goes to cvxpy), or the cvxpy reference formulation."""
 
 
@@ -76,7 +76,8 @@ def plan_convex(
         where it can be had, else the slowest; ``'slowest'``, always the slowest admissible profile.
         ``plan.solved`` records it.
     start_m
-        Plan the tube from this arc length on (replanning, :func:`replan`); 0 plans it all.
+        Plan the tube from this arc length on (replanning, [`replan`][vtube_planning.planning.planner.replan]); 0 plans
+        it all.
 
     Raises
     ------

@@ -10,8 +10,8 @@ width and curvature and are at most L/12 long; both polynomials are C^1 across s
   always follow the feasible start exactly; the slack vanishes in a few iterations.
 
 The segments are solved jointly. The objective (integral of w plus mu times the integral of (rho - rho_d)^2) is
-exact for the polynomials (Bernstein Gram matrices). The returned :class:`~vtube_planning.planning.plan.Plan` samples the
-polynomials at a quarter of the planning grid step; its certificate is evaluated like every plan's.
+exact for the polynomials (Bernstein Gram matrices). The returned [`Plan`][vtube_planning.planning.plan.Plan] samples
+the polynomials at a quarter of the planning grid step; its certificate is evaluated like every plan's.
 """
 
 from __future__ import annotations

@@ -50,7 +50,8 @@ class Problem:
 
 
 def uniform_grid(length_m: float, step_m: float) -> FloatArray:
-    """The planning grid: equal intervals of at most ``step_m`` from 0 to ``length_m`` (or :class:`PlanError`)."""
+    """The planning grid: equal intervals of at most ``step_m`` from 0 to ``length_m`` (or
+    [`PlanError`][vtube_planning.errors.PlanError])."""
     n_int = max(2, math.ceil(length_m / step_m - 1e-9))
     if n_int > MAX_INTERVALS:
         msg = (
@@ -74,7 +75,8 @@ def refined_grid(l_m: FloatArray, active: Mapping[str, NDArray[np.bool_]], facto
 def discretise(
     tube: VirtualTube, swarm: SwarmParams, options: PlanningOptions, l_m: FloatArray | None = None
 ) -> Problem:
-    """Build the grid and the interval-wise data, and prove feasibility (or raise :class:`PlanError`).
+    """Build the grid and the interval-wise data, and prove feasibility (or raise
+    [`PlanError`][vtube_planning.errors.PlanError]).
 
     The grid is ``options.grid_step_m`` uniform unless ``l_m`` (increasing, from 0 to the tube's length) is given.
 
@@ -130,8 +132,8 @@ def _speed_cap(tube: VirtualTube, swarm: SwarmParams, l_m: FloatArray, sub: Floa
 
 
 def _slowest_slowness(swarm: SwarmParams, v0: float, l_m: FloatArray, speed_cap: FloatArray) -> FloatArray:
-    """The slowest admissible profile: from v_0, brake as hard as (p3) allows down to v_min; :class:`PlanError`
-    where it is still faster than the speed cap."""
+    """The slowest admissible profile: from v_0, brake as hard as (p3) allows down to v_min;
+    [`PlanError`][vtube_planning.errors.PlanError] where it is still faster than the speed cap."""
     dl = np.diff(l_m)
     w_start = np.empty_like(l_m)
     w_start[0] = 1.0 / v0
@@ -150,7 +152,8 @@ def _slowest_slowness(swarm: SwarmParams, v0: float, l_m: FloatArray, speed_cap:
 
 
 def _check_boundary_values(swarm: SwarmParams, v0: float, rho0: float, cap0: float) -> None:
-    """:class:`PlanError` unless the initial speed and density satisfy (p2), (p4) and (p5) at the entrance."""
+    """[`PlanError`][vtube_planning.errors.PlanError] unless the initial speed and density satisfy (p2), (p4) and (p5)
+    at the entrance."""
     if not swarm.v_min_mps <= v0 <= swarm.v_max_mps:
         msg = f'(p2) fails at l = 0: v0_mps = {v0:g} lies outside [v_min, v_max] = [{swarm.v_min_mps:g}, {swarm.v_max_mps:g}].'
         raise PlanError(msg)
@@ -166,7 +169,7 @@ def _check_boundary_values(swarm: SwarmParams, v0: float, rho0: float, cap0: flo
 
 
 def _check_curvature_limit(swarm: SwarmParams, l_m: FloatArray, speed_cap: FloatArray) -> None:
-    """:class:`PlanError` where the curvature limit (p4) lies below v_min (p2)."""
+    """[`PlanError`][vtube_planning.errors.PlanError] where the curvature limit (p4) lies below v_min (p2)."""
     low = np.flatnonzero(speed_cap < swarm.v_min_mps * (1 - 1e-12))
     if low.size:
         k = int(low[0])
@@ -179,7 +182,8 @@ def _check_curvature_limit(swarm: SwarmParams, l_m: FloatArray, speed_cap: Float
 
 
 def _check_local_width(problem: Problem) -> None:
-    """:class:`PlanError` where the local-width (p7) fails even on the slowest start expanding as fast as it may."""
+    """[`PlanError`][vtube_planning.errors.PlanError] where the local-width (p7) fails even on the slowest start
+    expanding as fast as it may."""
     swarm, options = problem.swarm, problem.options
     budget = swarm.a_rho * options.lookahead_m * np.minimum(problem.w_start[:-1], problem.w_start[1:])
     need = problem.width_ratio * np.maximum(problem.rho_start[:-1], problem.rho_start[1:])

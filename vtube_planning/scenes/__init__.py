@@ -1,1 +1,1 @@
-"""Scene files shipped with the package (TOML, format in :mod:`vtube_planning.geometry.scene`)."""
+"""Scene files shipped with the package (TOML, format in `vtube_planning.geometry.scene`)."""

@@ -1,8 +1,10 @@
 """The swarm: one control step (numpy and scipy only), the simulator, its metrics.
 
-The simulator itself is :func:`vtube_planning.simulate` (also ``vtube_planning.swarm.simulate.simulate``): here
-``simulate`` names its module, which importing it binds on this package, so the function is not exported under
-that name. :func:`passage_failures` turns a passage's :class:`PassageMetrics` into the reasons it failed.
+The simulator itself is [`vtube_planning.simulate`][vtube_planning.swarm.simulate.simulate] (also
+``vtube_planning.swarm.simulate.simulate``): here ``simulate`` names its module, which importing it binds on this
+package, so the function is not exported under that name.
+[`passage_failures`][vtube_planning.swarm.metrics.passage_failures] turns a passage's
+[`PassageMetrics`][vtube_planning.swarm.metrics.PassageMetrics] into the reasons it failed.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """The simulator's fault models, each off by default and drawn from its own seeded stream.
 
 Pose noise on what the controller sees, command latency and lag, a robot failing at an arc length, and dropped messages
-(neighbours avoid a robot where they last heard it). :class:`Faults` applies them to one run, step by step.
+(neighbours avoid a robot where they last heard it). `Faults` applies them to one run, step by step.
 """
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ class Faults:
     seed
         The run's seed; the noise and the losses each draw from their own stream of it.
     pose_noise_m, dropout, latency_steps, lag_s, failure
-        As in :class:`~vtube_planning.swarm.simulate.SimConfig`.
+        As in [`SimConfig`][vtube_planning.swarm.simulate.SimConfig].
     dt_s
         The control period (the lag's time step).
     positions, velocity

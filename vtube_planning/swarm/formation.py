@@ -20,7 +20,7 @@ them."""
 
 
 def as_positions(value: object, name: str = 'initial_positions_m') -> Positions:
-    """``value`` (any (2, N) array-like, N >= 1, finite) as :data:`Positions`, or :class:`ShapeError` naming the
+    """``value`` (any (2, N) array-like, N >= 1, finite) as `Positions`, or `ShapeError` naming the
     problem."""
     points = as_points(value, name=name, item='robots', min_count=1)
     return tuple(points[0].tolist()), tuple(points[1].tolist())
@@ -30,7 +30,7 @@ def start_formation(
     tube: VirtualTube, swarm: SwarmParams, given: Positions | None, seed: int, jitter_m: float
 ) -> FloatArray:
     """The swarm's positions at t = 0, (2, N): ``given`` as it is (one column per robot of ``swarm``, not jittered),
-    else :func:`initial_formation` jittered by a generator seeded with ``seed``."""
+    else `initial_formation` jittered by a generator seeded with ``seed``."""
     if given is None:
         return initial_formation(tube, swarm, np.random.default_rng(seed), jitter_m)
     positions = np.array(given, dtype=np.float64)

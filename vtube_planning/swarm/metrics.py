@@ -1,9 +1,10 @@
 """Metrics of a swarm passing through a tube, from any trajectory (simulated, testbed or motion capture).
 
 Inputs are arrays over time steps and robots: time stamps (T,), positions (T, 2, N), and what the tube says of
-them (arc length and clearance, (T, N)). The result is a frozen :class:`PassageMetrics`; ``to_json()`` gives strict
-JSON (no NaN, no Infinity). The collision distance and the speed band are given explicitly, so that recorded data
-can be measured with the testbed's numbers rather than the swarm model's.
+them (arc length and clearance, (T, N)). The result is a frozen
+[`PassageMetrics`][vtube_planning.swarm.metrics.PassageMetrics]; ``to_json()`` gives strict JSON (no NaN, no Infinity).
+The collision distance and the speed band are given explicitly, so that recorded data can be measured with the
+testbed's numbers rather than the swarm model's.
 """
 
 from __future__ import annotations
@@ -202,7 +203,7 @@ def passage_metrics(
     plan: Plan | PlanProfile | None = None,
     counted: NDArray[np.bool_] | None = None,
 ) -> PassageMetrics:
-    """The measures of a passage (see :class:`PassageMetrics`).
+    """The measures of a passage (see [`PassageMetrics`][vtube_planning.swarm.metrics.PassageMetrics]).
 
     Parameters
     ----------

@@ -10,7 +10,7 @@ l = L, or at the time limit.
 
 *With planning* the forward term follows the plan and the avoidance radius follows (a3); *without planning* the
 forward speed is a constant, by default (v_min + v_max) / 2 (``docs/theory.md`` §2.7-2.8), and r_a keeps its
-initial value: the paper's comparison. The faults are in :mod:`.faults`, replanning in flight in :mod:`.replanner`.
+initial value: the paper's comparison. The faults are in `faults`, replanning in flight in `replanner`.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ class SimConfig:
     jitter_m
         Standard deviation of the initial positions around the grid, m (0 for a perfect grid).
     initial_positions_m
-        Where the robots start, (2, N) (any array-like; kept as :data:`Positions`), one column per robot of the
+        Where the robots start, (2, N) (any array-like; kept as `Positions`), one column per robot of the
         swarm, as given (not jittered); None: the grid before the entrance.
     log_every
         Steps between rewrites of the log file.
@@ -74,15 +74,16 @@ class SimConfig:
         Fault: the command that reaches the robots acts through a first-order lag of this time constant (s; each
         period's velocity is the lag's mean over the period, so positions follow it exactly). 0: off.
     failure
-        Fault: a robot that fails at an arc length (:class:`RobotFailure`); None: off. Once failed it no longer
-        counts for the passage (the run ends, and the passing time is taken, when the working robots have passed)
-        nor for tube violations, and it still counts for distances and collisions: the others must avoid it.
+        Fault: a robot that fails at an arc length ([`RobotFailure`][vtube_planning.swarm.faults.RobotFailure]); None:
+        off. Once failed it no longer counts for the passage (the run ends, and the passing time is taken, when the
+        working robots have passed) nor for tube violations, and it still counts for distances and collisions: the
+        others must avoid it.
     dropout
         Fault: each control period each robot's message is lost with this probability (seeded): its neighbours
         then avoid it where they last heard it. 0: off. The planned controller only (the baselines hear everyone).
     replan_every_s
         Replan the rest of the tube this often (rounded to whole control periods) from the swarm's measured state,
-        :func:`~vtube_planning.planning.planner.replan`: the working robots' mean arc length and forward speed,
+        [`replan`][vtube_planning.planning.planner.replan]: the working robots' mean arc length and forward speed,
         the measured density, and their number. Each call's wall time is kept (``SimResult.meta['replans']``).
         0: fly the first plan throughout. Planned flights only.
     """
@@ -138,7 +139,7 @@ class SimResult:
 
     Arrays have T rows (steps): ``t_s`` (T,), ``positions_m``, ``velocities_mps``, ``commands_mps`` (T, 2, N),
     ``r_a_m``, ``l_m``, ``clearance_m``, ``forward_speed_mps`` (T, N), ``density_per_m2`` (T,). ``flown`` is the
-    plan as flown (the plan's profile, or :meth:`Replanner.flown` when it was replanned; None without a plan).
+    plan as flown (the plan's profile, or `Replanner.flown` when it was replanned; None without a plan).
     """
 
     t_s: FloatArray
@@ -216,7 +217,7 @@ def simulate(
     meta
         Extra description stored in the log and the result (scene name, ...).
     baseline
-        Another swarm law (the paper's baselines, :mod:`vtube_planning.baselines.flocking`); with it, ``plan``
+        Another swarm law (the paper's baselines, `vtube_planning.baselines.flocking`); with it, ``plan``
         must be None and r_a stays constant.
     on_step
         Told the simulated time after every step (a progress bar).
@@ -283,8 +284,9 @@ def _initial_speed(swarm: SwarmParams, plan: Plan | None, initial_speed_mps: flo
 
 
 def _faults(config: SimConfig, baseline: Baseline | None, positions: FloatArray, velocity: FloatArray) -> Faults:
-    """The run's faults, from its settings, the initial positions and velocities; :class:`ParamsError` for faults
-    it cannot have (dropout with a baseline, a failing robot beyond N)."""
+    """The run's faults, from its settings, the initial positions and velocities;
+    [`ParamsError`][vtube_planning.errors.ParamsError] for faults it cannot have (dropout with a baseline, a failing
+    robot beyond N)."""
     n = positions.shape[1]
     if baseline is not None and config.dropout > 0:
         msg = 'dropped messages (dropout) act on the planned controller; fly the baseline with dropout = 0.'

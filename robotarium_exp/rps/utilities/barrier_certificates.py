@@ -3,18 +3,18 @@
 Every certificate solves ``min ||u - u_hat||^2`` subject to the pairwise barrier rows
 ``-2 (x_i - x_j)^T (u_i - u_j) <= gamma h_ij^3`` with ``h_ij = ||x_i - x_j||^2 - R^2``, optionally the boundary rows
 ``+/- u <= 0.4 gamma (distance to the wall - R/2)^3`` and (V2) the 8-sided speed polygon, built with numpy at once.
-Two ways to solve it (:func:`use_qp_solver`):
+Two ways to solve it (`use_qp_solver`):
 
 - ``'testbed'``, the default: cvxopt stopped at the testbed's tolerances (1e-2, at most 50 iterations) on every row,
   as the testbed's certificates do. Its answers are not the optimum, and the difference matters: with the exact
   optimum the initializer's 90 % duration quantile was 15-25 % lower than V2's (``docs/robotarium.md`` §2.6). With
   the testbed's solver a script (and the initializer) runs as on the official simulators, step for step.
-- ``'exact'``: DAQP, a dual active-set solver, on the same constraints folded (:func:`bounded_barrier_rows`: the
+- ``'exact'``: DAQP, a dual active-set solver, on the same constraints folded (`bounded_barrier_rows`: the
   walls and the polygon's sides along the axes bound u's components, opposite diagonal sides make one two-sided row)
   and without the pair rows that cannot bind (with the speed polygon, none can once gamma h^3 >= 4 d u_max /
   cos(pi/8), ``docs/ecosystem.md`` §2): the exact optimum, about twenty times faster than the PyPI simulator's
   certificate at N = 20, and infeasibility reported instead of an approximate point. A certificate starts each
-  solve from the rows active at its last answer (:func:`warm_least_distance`): an answer so found is kept only if
+  solve from the rows active at its last answer (`warm_least_distance`): an answer so found is kept only if
   it meets the KKT conditions, else DAQP solves from scratch.
 
 An infeasible or failed solve does what ``rps`` does (zero velocities, a warning) but is never silent: every
@@ -63,10 +63,10 @@ DAQP_ACTIVE = 1
 """DAQP's sense of a row in the starting working set (at its upper bound)."""
 
 DAQP_LOWER = 2
-"""DAQP's sense of a row at its lower bound (with :data:`DAQP_ACTIVE`: in the starting working set there)."""
+"""DAQP's sense of a row at its lower bound (with `DAQP_ACTIVE`: in the starting working set there)."""
 
 KKT_TOL = 1e-12
-"""Largest violation of a unit row in an exact answer: DAQP's primal tolerance, and that of :func:`kkt_point`."""
+"""Largest violation of a unit row in an exact answer: DAQP's primal tolerance, and that of `kkt_point`."""
 
 DAQP_OPTIONS = {'primal_tol': KKT_TOL}
 """DAQP's settings for the exact solves."""
@@ -98,7 +98,7 @@ def use_qp_solver(name: str) -> str:
 
 
 def qp_solver() -> str:
-    """The certificates' QP solver now: 'testbed' or 'exact' (:func:`use_qp_solver`)."""
+    """The certificates' QP solver now: 'testbed' or 'exact' (`use_qp_solver`)."""
     return _qp_solver[0]
 
 
@@ -115,13 +115,13 @@ def least_distance(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArra
 def warm_least_distance(
     u_hat: FloatArray, rows: BoundedRows, seed: NDArray[np.intp], sides: NDArray[np.intp]
 ) -> tuple[FloatArray, NDArray[np.intp], FloatArray] | None:
-    """argmin ||u - u_hat||^2 subject to ``rows.lower <= C u <= rows.upper`` (:class:`BoundedRows`), started from a
+    """argmin ||u - u_hat||^2 subject to ``rows.lower <= C u <= rows.upper`` (`BoundedRows`), started from a
     guess of its active rows ``seed`` (indices into C) at their ``sides`` (+1 upper, -1 lower): the answer, the
     rows active at it and their multipliers (positive at the upper bound, negative at the lower); None if the QP is
     infeasible or the solver fails.
 
     u_hat if it is feasible; else DAQP warm started from the seed, its answer kept only if it meets the KKT
-    conditions (:func:`kkt_point`); else DAQP from scratch. A seed whose rows u_hat mostly does not violate (the
+    conditions (`kkt_point`); else DAQP from scratch. A seed whose rows u_hat mostly does not violate (the
     active rows of unrelated states, not of the last step of a trajectory) is dropped: DAQP takes more iterations
     from it than from scratch.
     """
@@ -142,7 +142,7 @@ def kkt_point(u_hat: FloatArray, rows: BoundedRows, active: NDArray[np.intp], la
 
     u is stationary by construction; it is the optimum if it meets the other KKT conditions: every row holds, and
     each row with a multiplier sits at the bound its sign names (upper if positive, lower if negative), to
-    :data:`KKT_TOL` times the row's norm; a negative multiplier on a row without lower bound never does.
+    `KKT_TOL` times the row's norm; a negative multiplier on a row without lower bound never does.
     """
     general = active >= rows.bounded
     u = u_hat - rows.a[active[general] - rows.bounded].T @ lam[general]
@@ -185,7 +185,7 @@ def _identity(n: int) -> FloatArray:
 
 
 def testbed_least_distance(u_hat: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray | None:
-    """The testbed's answer to the same QP: cvxopt at :data:`TESTBED_QP_OPTIONS`, None unless it reports optimal.
+    """The testbed's answer to the same QP: cvxopt at `TESTBED_QP_OPTIONS`, None unless it reports optimal.
 
     Like the testbed, the solver always runs (a feasible command comes back moved by up to the tolerance).
     """
@@ -223,7 +223,7 @@ class Certificate:
         self.spec = spec
         self.stats = BarrierStats()
         self._active_keys = _NONE
-        """The keys (:class:`BoundedRows`, ascending) of the rows active at the last exact answer."""
+        """The keys (`BoundedRows`, ascending) of the rows active at the last exact answer."""
         self._active_sides = _NONE
         """Their sides: +1 at the upper bound, -1 at the lower."""
         self._active_n = 0

@@ -71,7 +71,7 @@ def create_pose_controller_hybrid(
     """``f(states, poses[, in_approach_state]) -> dxu`` (or ``(dxu, approach_state)``): V2's two-phase law.
 
     Per robot, while in the approach phase and farther than ``position_error - position_epsilon``: drive to the
-    position with the heading law (:func:`create_si_to_uni_dynamics` with ``linear_velocity_gain``) on the
+    position with the heading law (`create_si_to_uni_dynamics` with ``linear_velocity_gain``) on the
     position error clamped to ``velocity_magnitude_limit`` (so at most 0.8 x 0.15 = 0.12 m/s by default).
     Otherwise, while the heading is off by more than ``rotation_error``: turn in place at twice the heading error,
     and stay out of the approach phase unless farther than ``position_error``. Otherwise: stop.

@@ -2,8 +2,8 @@
 
 A Laplacian L of an undirected graph on n nodes has the degree of node i at L[i, i] and -1 at L[i, j] for every
 edge {i, j}. The random graphs draw from numpy's global generator (``np.random``), as the testbed's ``rps`` does,
-so a script's ``np.random.seed`` makes them reproducible. Misuse raises :class:`RobotariumError` (an
-``AssertionError``) with the message ``rps`` gives.
+so a script's ``np.random.seed`` makes them reproducible. Misuse raises
+[`RobotariumError`][robotarium_exp.rps.errors.RobotariumError] (an ``AssertionError``) with the message ``rps`` gives.
 """
 
 from __future__ import annotations

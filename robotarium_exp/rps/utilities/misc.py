@@ -82,7 +82,7 @@ def generate_random_positions(N: int, spacing: float = 0.5, width: float = 3.0, 
 
 
 def generate_random_poses(N: int, spacing: float = 0.5, width: float = 3.0, height: float = 1.8) -> FloatArray:
-    """N random poses (3xN): random positions as :func:`generate_random_positions` and headings uniform in
+    """N random poses (3xN): random positions as `generate_random_positions` and headings uniform in
     [-pi, pi)."""
     points = _random_points(N, spacing, width, height, 'poses', 'N or Spacing')
     return np.vstack([points, np.random.rand(N) * 2 * np.pi - np.pi])

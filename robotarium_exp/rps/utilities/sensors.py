@@ -2,7 +2,7 @@
 
 Each sensor sits at a point of the robot's body frame and looks along a body-frame angle
 (``ARobotarium.DISTANCE_SENSORS_ORIENTATION``: rows x, y, angle). A reading is the distance along its ray to the
-nearest line-segment obstacle or, with :func:`simulate_distance_sensors`, the nearest other robot (a disc of the
+nearest line-segment obstacle or, with `simulate_distance_sensors`, the nearest other robot (a disc of the
 robot's diameter, centred ``robot_center_offset`` ahead of the axle, where the sensors are mounted too). Nothing
 within ``distance_sensor_range`` reads -1. A detection then goes through V2's noise model, drawn from
 ``np.random`` robot by robot and sensor by sensor as V2 draws it: dropped (-1) with ``distance_sensor_dropout_prob``,

@@ -1,6 +1,6 @@
 """``rps.utilities.transformations`` (V2): single-integrator commands to unicycles and back.
 
-The near-identity map (a point ``projection_distance`` ahead of the axle) is :mod:`unicycle_mapping`'s; the heading
+The near-identity map (a point ``projection_distance`` ahead of the axle) is `unicycle_mapping`'s; the heading
 laws are V2's. Arguments are checked with V2's messages.
 """
 

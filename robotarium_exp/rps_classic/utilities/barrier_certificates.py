@@ -11,10 +11,10 @@ single-integrator certificate, with radius ``safety_radius + projection_distance
 back by classic's near-identity map, which clips omega to +/- pi.
 
 Differential drive (``create_unicycle_differential_drive_barrier_certificate``, ``..._with_boundary``): the robust
-certificate of :mod:`~robotarium_exp.rps_classic.utilities.barrier_certificates2`, with classic's defaults.
+certificate of `barrier_certificates2`, with classic's defaults.
 Classic's version without walls cannot run (it calls a solver it never imports); this one does.
 
-The QPs are solved as V2's are (:func:`~robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`): by
+The QPs are solved as V2's are (`use_qp_solver`): by
 default as classic solves them, with cvxopt at the testbed's tolerances, so they answer as classic's do. Solver
 failures do what V2's certificates do here: a warning, zero velocities, a count in ``stats``.
 """
@@ -266,7 +266,7 @@ def create_unicycle_barrier_certificate2(
     projection_distance: float = 0.05,
     magnitude_limit: float = 0.2,
 ) -> Checked:
-    """Classic: :func:`create_single_integrator_barrier_certificate2` at the projection points."""
+    """Classic: `create_single_integrator_barrier_certificate2` at the projection points."""
     enforce('In the function create_unicycle_barrier_certificate2', UNI_FACTORY_2, locals())
     inner = create_single_integrator_barrier_certificate2(
         barrier_gain=barrier_gain,

@@ -5,7 +5,7 @@
 Classic's own: the name ``cycle_GL`` (V2 ``cycleGL``); any positive number of nodes (``lineGL(1)`` is ``[[1.]]``,
 ``cycle_GL(1)`` classic's ``[[-1.]]``); ``randomGL`` unchecked, as classic (``e = -1`` keeps all pairs but one);
 ``topological_neighbors`` zeroes the agent's diagonal entry in the caller's Laplacian as it reads the row (classic
-edits the row in place); and classic's checks and messages (:mod:`.checks`).
+edits the row in place); and classic's checks and messages (`checks`).
 """
 
 from __future__ import annotations

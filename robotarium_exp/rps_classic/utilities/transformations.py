@@ -1,6 +1,6 @@
 """Classic ``rps.utilities.transformations``: single integrator <-> unicycle maps, classic names and defaults.
 
-Three differences from V2 (:mod:`robotarium_exp.rps.utilities.transformations`), all classic's:
+Three differences from V2 (`robotarium_exp.rps.utilities.transformations`), all classic's:
 
 * ``create_si_to_uni_dynamics``: the turn rate is the angle of the command seen with the *scaled* forward part,
   atan2(across, k along), so the linear gain k also changes omega (V2: atan2(across, along));
@@ -101,7 +101,7 @@ def create_si_to_uni_dynamics(linear_velocity_gain: float = 1, angular_velocity_
 def create_si_to_uni_dynamics_with_backwards_motion(
     linear_velocity_gain: float = 1, angular_velocity_limit: float = np.pi
 ) -> Map:
-    """Classic: the forward heading law of :func:`create_si_to_uni_dynamics`, unchanged (no backwards motion)."""
+    """Classic: the forward heading law of `create_si_to_uni_dynamics`, unchanged (no backwards motion)."""
     factory = 'create_si_to_uni_dynamics_with_backwards_motion'
     return _heading_law(linear_velocity_gain, angular_velocity_limit, factory)
 

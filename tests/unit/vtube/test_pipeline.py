@@ -169,12 +169,16 @@ def test_a_submission_is_written_undeclared_or_built_declared(tmp_path, monkeypa
     assert written.submission.scene == 'robotarium_trapezoid' and not written.submission.planned
     calls = []
 
-    def build_declared(scene, plan, out, *, seeds, initializer_seeds, testbed_models):
+    def build_declared(scene, plan, out, *, seeds, initializer_seeds, testbed_models, progress, seed_done):
         calls.append((scene.name, plan is None, out, seeds, initializer_seeds, testbed_models))
+        assert progress == told.append and seed_done is None  # the check's progress, passed through
         return written.submission, SimpleNamespace(passed=True, declaration='the declaration'), out
 
     monkeypatch.setattr(pipeline, 'build_declared', build_declared)
-    declared = build_submission('robotarium_trapezoid', tmp_path / 'b.py', planning=False, seeds=2, initializer_seeds=5)
+    told: list[str] = []
+    declared = build_submission(
+        'robotarium_trapezoid', tmp_path / 'b.py', planning=False, seeds=2, initializer_seeds=5, progress=told.append
+    )
     assert calls == [('robotarium_trapezoid', True, tmp_path / 'b.py', 2, 5, ('ideal', 'fitted', 'fitted:2'))]
     assert declared.declaration == 'the declaration' and declared.path == tmp_path / 'b.py'
     failed = WrittenSubmission(written.submission, tmp_path, SimpleNamespace(passed=False, declaration='x'))

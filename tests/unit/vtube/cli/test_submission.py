@@ -120,7 +120,9 @@ def test_the_preflight_draws_the_initializer_on_a_terminal_only(monkeypatch, cap
 def test_the_build_options_reach_the_pipeline(tmp_path, monkeypatch, capsys) -> None:
     calls = []
 
-    def build_submission(scene, out, **options):
+    def build_submission(scene, out, progress, seed_done, **options):
+        progress('running the file on the bundled simulator, seed 10')  # the check's stages are told on stderr
+        seed_done()
         calls.append((scene, out, options))
         return pipeline.WrittenSubmission(SUB, out, None)
 
@@ -128,6 +130,7 @@ def test_the_build_options_reach_the_pipeline(tmp_path, monkeypatch, capsys) -> 
     out = tmp_path / 's.py'
     argv = ['submission', 'build', 'robotarium_curve', '--out', str(out), '--seeds', '10-11']
     assert main([*argv, '--testbed-models', 'ideal, fitted']) == 0
+    assert '  ... running the file on the bundled simulator, seed 10' in capsys.readouterr().err
     assert calls[-1] == (
         'robotarium_curve',
         out,

@@ -1,4 +1,5 @@
-"""``vtube tube generate``: a map file in, a scene file out that every command takes; refusals exit 2."""
+"""``vtube tube generate``: a map file in, a scene file out that every command takes; refusals exit 2.
+``vtube tube example``: the shipped Robotarium maps, written where the user is."""
 
 from __future__ import annotations
 
@@ -6,7 +7,10 @@ from pathlib import Path
 
 from tests.unit.vtube_planning.geometry.test_generate import MAP_FILE
 from vtube.cli.app import main
-from vtube.cli.tube import COMMAND
+from vtube.cli.tube import COMMANDS, map_examples
+
+COMMAND = COMMANDS[0]
+ROOT = Path(__file__).resolve().parents[4]
 
 
 def test_generate_writes_a_scene_that_scene_show_takes(tmp_path: Path, capsys) -> None:
@@ -54,3 +58,22 @@ def test_an_image_map_generates_a_scene_elsewhere_that_still_finds_the_image(tmp
     assert closest_approach(scene.tube, Obstacles(polygons=WALL), step_m=0.02, across=41) >= 0.1 - 1e-9
     capsys.readouterr()
     assert main(['scene', 'show', str(out)]) == 0
+
+
+def test_the_shipped_maps_are_the_repository_layouts() -> None:
+    """The package's copies of docs/maps/robotarium_*.toml (checked to fit the testbed by test_obstacle_layouts)."""
+    shipped = map_examples()
+    assert set(shipped) == {'robotarium_discs', 'robotarium_gate', 'robotarium_staggered'}
+    for name, text in shipped.items():
+        assert text == (ROOT / 'docs' / 'maps' / f'{name}.toml').read_text(encoding='utf-8'), name
+
+
+def test_example_writes_a_map_that_generates_a_tube(tmp_path: Path, capsys) -> None:
+    map_path, scene_path = tmp_path / 'gate.toml', tmp_path / 'gate_scene.toml'
+    assert main(['tube', 'example', 'robotarium_gate', str(map_path)]) == 0
+    assert f'map robotarium_gate written to {map_path}' in capsys.readouterr().out
+    assert map_path.read_text(encoding='utf-8') == map_examples()['robotarium_gate']
+    assert main(['tube', 'example', 'robotarium_gate', str(map_path)]) == 2  # never overwrites
+    assert 'exists; give another file name' in capsys.readouterr().err
+    assert main(['tube', 'generate', str(map_path), '--out', str(scene_path)]) == 0
+    assert 'obstacles             clear' in capsys.readouterr().out
