@@ -3,7 +3,7 @@
     python -m benchmarks.initializer_durations robotarium_trapezoid [--seeds 100] [--first 0] [--limit 15000]
 
 Prints the median, 90 % quantile and maximum duration in simulated seconds, and the seeds that did not finish
-within ``--limit`` steps (V2 hangs on those); :mod:`robotarium_exp.initializer` runs them.
+within ``--limit`` steps (V2 hangs on those); `robotarium_exp.initializer` runs them.
 """
 
 from __future__ import annotations

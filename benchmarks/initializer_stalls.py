@@ -7,13 +7,13 @@ Prints one row per formation x variant: runs stuck (not at the initial condition
 runs, the median and 90 % duration (simulated s) of those that finished, the turn the flight needs at its start
 (the largest heading difference between a slot's pose and the tube's tangent there) and the formation's front
 row against the first narrowing (a variant that pushes the formation into the narrowing does not fit the sweep).
-The runs are :func:`robotarium_exp.initializer.initializer_durations`'s (V2's initializer, step for step).
+The runs are `robotarium_exp.initializer.initializer_durations`'s (V2's initializer, step for step).
 
 The variants (implemented here, not in ``robotarium_exp``; the current rule is
-:func:`robotarium_exp.design.start_formation`):
+`robotarium_exp.design.start_formation`):
 
 - ``current``: the start formation as built (rows 0.4 m apart, headings along the tube, robot 0 on a slot with
-  the fewest neighbours, front first, robot 1 more than 0.55 m from it: :func:`robotarium_exp.design.order_for_v2_initializer`);
+  the fewest neighbours, front first, robot 1 more than 0.55 m from it: `robotarium_exp.design.order_for_v2_initializer`);
 - ``least_crowded``: the rule it replaced, robots 0 and 1 on the two slots with the fewest neighbours, front first;
 - ``heading_up``: the same slots and order, every heading pointing away from the nearer charger row (+90 degrees
   below y = 0, -90 degrees above), the approach of a robot from the nearer chargers (the flight turns them);
@@ -65,7 +65,7 @@ FORMATIONS = {
 
 
 def current(tube: VirtualTube, n: int) -> FloatArray:
-    """The start formation as :func:`robotarium_exp.design.start_formation` builds it."""
+    """The start formation as `robotarium_exp.design.start_formation` builds it."""
     return design.start_formation(tube, n).poses
 
 
@@ -140,7 +140,7 @@ def chargers() -> FloatArray:
 
 
 def blocked_share(poses: FloatArray) -> FloatArray:
-    """Per slot, the share of chargers whose straight line to it passes within :data:`CLEARANCE_M` of another slot."""
+    """Per slot, the share of chargers whose straight line to it passes within `CLEARANCE_M` of another slot."""
     start = chargers()
     n = poses.shape[1]
     share = np.zeros(n)

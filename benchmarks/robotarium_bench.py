@@ -13,9 +13,9 @@
 3. A full 6-robot tube experiment (robotarium_curve, planning and barrier on, no initialization phase) run with
    our Robotarium class beside the same experiment code with the PyPI ``Robotarium``.
 
-The certificates take turns on each block of :data:`BLOCK` states (so a change of the machine's load hits all of
+The certificates take turns on each block of `BLOCK` states (so a change of the machine's load hits all of
 them alike, while each solves its block with its own code and data in cache, as in a control loop of its own; turns
-call by call timed mostly the cache misses of the fast certificate after the slow one), over :data:`ROUNDS` passes
+call by call timed mostly the cache misses of the fast certificate after the slow one), over `ROUNDS` passes
 through the states, and each column is the median of its calls. The process
 runs OpenBLAS and OpenMP on one thread (``OPENBLAS_NUM_THREADS`` and ``OMP_NUM_THREADS`` are set to 1 below, before
 numpy is imported, unless already set): both sides use BLAS (numpy's for ours, cvxopt's own for theirs), and on
@@ -84,7 +84,7 @@ ROUNDS = {6: 5, 20: 5, 50: 1}
 
 
 def interleaved_ms(certificates: dict[str, Callable], cases, rounds: int) -> tuple[dict[str, float], list[np.ndarray]]:
-    """Median ms per call of each certificate, the certificates in turn on each :data:`BLOCK` of states, ``rounds``
+    """Median ms per call of each certificate, the certificates in turn on each `BLOCK` of states, ``rounds``
     times through the states; and the answers of ``'exact'`` (the last round's: its warm start runs on)."""
     times: dict[str, list[float]] = {name: [] for name in certificates}
     answers: list[np.ndarray] = []

@@ -3,7 +3,7 @@
 always, cold projection: the step before the crossover and the warm start) and a dense all-pairs evaluation of the
 same avoidance law.
 
-A control step is one call of the swarm step (:class:`vtube_planning.onboard.stepper.SwarmStep`) as the simulator
+A control step is one call of the swarm step (`vtube_planning.onboard.stepper.SwarmStep`) as the simulator
 makes it: project every robot onto the tube, evaluate the command (forward term, avoidance, tube keeping,
 saturation), measure the density and advance r_a by (a3) against a constant planned density. Robots sit on a
 jittered grid at about one robot per m^2 in a straight tube sized to hold them, so each has a few neighbours, as in

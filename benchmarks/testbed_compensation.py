@@ -4,7 +4,7 @@
         [--models ideal,fitted,fitted:2] [--no-initialization] [--workers 2]
 
 Each scene is flown planned on the bundled simulator with V2's initialization (seeds 0..n-1; the same seed gives
-the same initialization in every column) under each testbed model (:mod:`robotarium_exp.rps.testbed_model`), with
+the same initialization in every column) under each testbed model (`robotarium_exp.rps.testbed_model`), with
 the swarm step acting on where the robots are (``none``), or compensating the fitted model's delay and lag
 (``fitted``: the Robotarium scenes' default, what a submission knows of the real robots), or the flown model's own (``own``: the same as
 ``fitted`` under ``fitted``; under ``ideal`` it is ``none``). Printed per scene, model and compensation, over the

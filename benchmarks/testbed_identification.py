@@ -1,16 +1,16 @@
-"""Fit the testbed model (:mod:`robotarium_exp.rps.testbed_model`) from real Robotarium runs and print the numbers.
+"""Fit the testbed model (`robotarium_exp.rps.testbed_model`) from real Robotarium runs and print the numbers.
 
     VTUBE_REALDATA=../shared/realdata python -m benchmarks.testbed_identification [--more DIR]
 
 The runs: ``robotarium-cbf4`` and ``robotarium-lines3`` beside the project (``$VTUBE_REALDATA`` or
 ``../shared/realdata``) and, with ``--more``, the ``.mat`` files of a folder, e.g. the runs of yemam3/robustCBFs-GP's
 history (commits 84641ed, 1144a4b, 151333e; ``saved_data/**/robotarium*_data.mat``) copied to /tmp with the
-``fetch`` tool and ``git show`` (never into the project). :mod:`benchmarks.testbed_runs` reads them.
+``fetch`` tool and ``git show`` (never into the project). `benchmarks.testbed_runs` reads them.
 
 What is measured, on the per-wheel clipped commands u and the velocities the poses show, iteration k to k+1
 (v along the heading, omega from the heading), where neither pose is stale nor part of a jump:
 * delay and lag, per channel: the candidate delays 0, 0.5, ..., 10 iterations and lags 0, 0.02, ..., 0.5 s, each
-  turned into the model's response to u (:func:`response`), the gain (and the turn-rate bias) by least squares; the
+  turned into the model's response to u (`response`), the gain (and the turn-rate bias) by least squares; the
   pair of least squared residual wins, pooled over the runs and per run (median, p10-p90). The centroid of the
   response is delay + lag / period;
 * gains and bias per robot and run at the pooled delay and lag (median, robust sd over robots and runs);

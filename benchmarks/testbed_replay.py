@@ -2,9 +2,9 @@
 
     VTUBE_REALDATA=../shared/realdata python -m benchmarks.testbed_replay [--more DIR] [--every 25]
 
-For every run (:mod:`benchmarks.testbed_runs`), every ``--every`` iterations k: start from the recorded pose k, feed
+For every run (`benchmarks.testbed_runs`), every ``--every`` iterations k: start from the recorded pose k, feed
 the recorded commands k, k+1, ... (clipped per wheel, as the testbed does) through the model's command path
-(:class:`robotarium_exp.rps.testbed_model.Testbed`: delay, lag, gains, bias; no pose noise, gains at their means),
+(`robotarium_exp.rps.testbed_model.Testbed`: delay, lag, gains, bias; no pose noise, gains at their means),
 integrate as the simulator does (forward Euler at 0.033 s), and compare the position after h iterations with the
 recorded pose k+h. The model's history is warmed up with the commands before k (from the start of the run, as on
 the testbed), so a delayed model starts with the commands already on their way. Windows whose recorded poses jump

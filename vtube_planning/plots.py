@@ -361,7 +361,7 @@ def animate(
     fps: int = 15,
     progress: Callable[[int, int], None] | None = None,
 ) -> Path:
-    """Write an animated GIF of the run (:func:`animation_figure`, ``frames`` steps evenly spread over the run, at
+    """Write an animated GIF of the run (`animation_figure`, ``frames`` steps evenly spread over the run, at
     ``fps``; matplotlib's Pillow writer, no external encoder); ``progress(i, n)`` is told each frame written."""
     from matplotlib.animation import FuncAnimation, PillowWriter
 

@@ -46,8 +46,8 @@ def analysis_figures(results: dict[str, Analysis], scene: Scene | None, plan: Pl
 
 def _paths_figure(results: dict[str, Analysis], scene: Scene | None) -> Figure:
     """One panel per source, on the same axes, robots at seven instants coloured by time (a colour bar): instants
-    spread over the time every robot is recorded (:meth:`Trajectory.common_span`), each robot at its position at
-    that instant (:meth:`Trajectory.positions_at`); a robot without one is named in the title."""
+    spread over the time every robot is recorded (`Trajectory.common_span`), each robot at its position at
+    that instant (`Trajectory.positions_at`); a robot without one is named in the title."""
     from matplotlib import colormaps
     from matplotlib.cm import ScalarMappable
     from matplotlib.colors import Normalize

@@ -8,12 +8,12 @@ each: tens of megabytes for a minute at 30 frames a second) and cannot move a cu
 slider; plotly is not a dependency and would add several megabytes of JavaScript (plotly.min.js) to every file, or
 a network fetch where the page is meant to work offline.
 
-What is embedded: the frames a browser plays smoothly (:func:`playback_frames`: at most :data:`MAX_FPS` per second
-of the run), coordinates in whole millimetres (:func:`millimetres`; NaN, a robot without a position, is null),
+What is embedded: the frames a browser plays smoothly (`playback_frames`: at most `MAX_FPS` per second
+of the run), coordinates in whole millimetres (`millimetres`; NaN, a robot without a position, is null),
 the tube's centre line and walls, the obstacles' outlines, the radii r_p and r_a (each robot's recorded r_a per
-frame when a vtube log holds it, :func:`recorded_avoidance_radii`, else the scene's), and the panels
-(:func:`panels`). Text from the loaded files (paths, robot ids, the scene's title) enters the page only inside
-that JSON (``json.dumps`` with ``<``, ``>`` and ``&`` escaped, :func:`embed`: no string can close the script
+frame when a vtube log holds it, `recorded_avoidance_radii`, else the scene's), and the panels
+(`panels`). Text from the loaded files (paths, robot ids, the scene's title) enters the page only inside
+that JSON (``json.dumps`` with ``<``, ``>`` and ``&`` escaped, `embed`: no string can close the script
 element) or HTML-escaped in the ``<title>``; the page reads the JSON with ``JSON.parse`` and shows text with
 ``textContent``. The page sets its slider from a fragment (``run.html#t=30``: the last frame at or before 30 s;
 ``&play`` starts playing) through the slider's own input handler, and writes the drawn frame (its index, time,
@@ -45,7 +45,7 @@ from vtube_planning.planning.plan import Plan
 FloatArray = NDArray[np.float64]
 
 MAX_FPS = 30
-"""Frames per second of the run embedded at most: one per 1/MAX_FPS s bin of time (:func:`playback_frames`)."""
+"""Frames per second of the run embedded at most: one per 1/MAX_FPS s bin of time (`playback_frames`)."""
 TRAIL_S = 2.0
 """The length of each robot's trail, in seconds of the run."""
 TUBE_POINTS = 400
@@ -53,7 +53,7 @@ TUBE_POINTS = 400
 TEMPLATE = 'replay.html'
 TITLE_MARK, DATA_MARK = '__REPLAY_TITLE__', '__REPLAY_DATA__'
 LOG_ROBOT = 'robot_'
-"""The prefix of a vtube log's robot ids (:mod:`robotarium_exp.analysis.loaders`): the log's column follows it."""
+"""The prefix of a vtube log's robot ids (`robotarium_exp.analysis.loaders`): the log's column follows it."""
 
 
 @dataclass(frozen=True)
@@ -141,8 +141,8 @@ def recorded_avoidance_radii(trajectory: Trajectory) -> FloatArray | None:
 
 def panels(trajectory: Trajectory, scene: Scene, plan: Plan | None, frames: NDArray[np.int64]) -> list[dict[str, Any]]:
     """Density and mean speed along the tube over time at ``frames``: measured on the frames where every robot has
-    a position (:func:`~robotarium_exp.analysis.passage.along_tube`), and the plan's at the swarm centre's arc
-    length while it is inside the tube (as :func:`vtube_planning.swarm.metrics.tracking_errors` compares them)."""
+    a position (`along_tube`), and the plan's at the swarm centre's arc
+    length while it is inside the tube (as `vtube_planning.swarm.metrics.tracking_errors` compares them)."""
     along = along_tube(trajectory, scene)
     complete = along.complete[frames]
     l_m = along.l_m[frames]
@@ -239,7 +239,7 @@ def embed(data: Any) -> str:
 
 
 def replay_html(data: dict[str, Any]) -> str:
-    """The page: the template with its title (HTML-escaped) and its data (:func:`embed`) put in; each mark is
+    """The page: the template with its title (HTML-escaped) and its data (`embed`) put in; each mark is
     replaced in its own part of the template, so nothing inserted is searched for a mark again."""
     template = resources.files('robotarium_exp.analysis').joinpath(TEMPLATE).read_text(encoding='utf-8')
     head, tail = template.split(DATA_MARK)

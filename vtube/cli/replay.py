@@ -1,4 +1,4 @@
-"""``vtube replay``: a run as one offline HTML page that plays it (:mod:`robotarium_exp.analysis.replay`)."""
+"""``vtube replay``: a run as one offline HTML page that plays it (`robotarium_exp.analysis.replay`)."""
 
 from __future__ import annotations
 
