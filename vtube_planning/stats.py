@@ -110,11 +110,22 @@ def holm(p_values: Sequence[float]) -> NDArray[np.float64]:
     return adjusted
 
 
+def smallest_p(n: int) -> float:
+    """The smallest two-sided p-value `signed_rank_p` can give from n paired differences: 2 / 2**n where the test
+    is exact (every difference of one sign), none (0) where the normal approximation takes over."""
+    return 2.0 / 2.0**n if n <= EXACT_UP_TO else 0.0
+
+
 def family_adjusted(estimates: Sequence[Estimate], p_values: Sequence[float]) -> list[float]:
     """`holm` over the members of a family (one comparison's claims) that have MIN_SEEDS differences or
-    more; NaN for the others, which get no verdict."""
+    more; NaN for the others, which get no verdict. NaN for every member too where none could be significant: Holm
+    multiplies the smallest p-value by the family's size m, so with n seeds per member and m * 2 / 2**n at or
+    above ALPHA no claim can hold, however large the effects; the family then gets no verdict (more seeds, or fewer
+    cells compared), not a "does not hold" that its seeds could never have escaped."""
     enough = [k for k, e in enumerate(estimates) if e.n >= MIN_SEEDS]
     adjusted = [math.nan] * len(estimates)
+    if not enough or len(enough) * min(smallest_p(estimates[k].n) for k in enough) >= ALPHA:
+        return adjusted
     for k, p in zip(enough, holm([p_values[k] for k in enough]), strict=True):
         adjusted[k] = float(p)
     return adjusted
@@ -123,11 +134,12 @@ def family_adjusted(estimates: Sequence[Estimate], p_values: Sequence[float]) ->
 def verdict(difference: Estimate, better: str, p_adjusted: float) -> str:
     """'holds', 'does not hold' or 'reversed' for a claim that a - b is ``better`` (``'higher'``, say minimum
     distance, or ``'lower'``: passing time, collisions): significant where the adjusted p-value is below ALPHA and
-    the interval excludes zero; NO_VERDICT from fewer than MIN_SEEDS differences."""
+    the interval excludes zero; NO_VERDICT from fewer than MIN_SEEDS differences, or without an adjusted p-value
+    (NaN: `family_adjusted` found that no member of its family could be significant)."""
     if better not in ('higher', 'lower'):
         msg = f"better must be 'higher' or 'lower'; got {better!r}."
         raise ParamsError(msg)
-    if difference.n < MIN_SEEDS:
+    if difference.n < MIN_SEEDS or math.isnan(p_adjusted):
         return NO_VERDICT
     if not (difference.excludes_zero() and p_adjusted < ALPHA):
         return 'does not hold'

@@ -110,8 +110,10 @@ def verdict_summary(table: list[dict[str, Any]]) -> str:
         (
             f'Cells {cells} where a beats b (+), cannot be told apart (=), or b beats a (-): the paired signed-rank '
             f'test, Holm-adjusted over the cells of each comparison and metric, below {ALPHA:g} and the 95 % '
-            f'interval on that side; ~: not confirmed on the fresh seeds; ?: fewer than {MIN_SEEDS} seeds, no '
-            'verdict. T: passing time (shorter is better), D: minimum distance (larger is better).'
+            f'interval on that side; ~: not confirmed on the fresh seeds; ?: no verdict, from fewer than '
+            f'{MIN_SEEDS} seeds or from too few for the cells compared (no claim of the comparison could reach '
+            f'{ALPHA:g} after the adjustment: more seeds, or fewer cells). T: passing time (shorter is better), '
+            'D: minimum distance (larger is better).'
         ),
         '',
         '| setting | ' + ' | '.join(f'{a} - {b} ({meaning})' for a, b, meaning in compared) + ' |',

@@ -164,3 +164,24 @@ def test_a_family_is_adjusted_over_its_members_with_enough_seeds() -> None:
     enough, few = Estimate(1.0, 0.5, 1.5, 10), Estimate(1.0, 0.5, 1.5, 4)
     adjusted = family_adjusted([enough, few, enough], [0.01, 0.001, 0.04])
     assert adjusted[0] == pytest.approx(0.02) and np.isnan(adjusted[1]) and adjusted[2] == pytest.approx(0.04)
+
+
+def test_a_family_its_seeds_could_never_make_significant_gets_no_verdict() -> None:
+    """Ten seeds that all agree give p = 2/1024 each: Holm over 20 cells keeps them below 5 % (0.039), over 36 cells
+    no member can get there (0.070) whatever the effects, so the family gets no verdict rather than 'does not hold'."""
+    from vtube_planning.stats import family_adjusted, smallest_p
+
+    rng = np.random.default_rng(9)
+    differences = [rng.uniform(1.0, 2.0, 10) for _ in range(36)]
+    estimates = [paired_difference(d, np.zeros(10)) for d in differences]
+    p = [signed_rank_p(d) for d in differences]
+    assert smallest_p(10) == pytest.approx(2 / 1024) == p[0] and smallest_p(51) == 0.0
+    twenty = family_adjusted(estimates[:20], p[:20])
+    assert all(a == pytest.approx(20 * 2 / 1024) for a in twenty)
+    assert {verdict(e, 'higher', a) for e, a in zip(estimates[:20], twenty, strict=True)} == {'holds'}
+    thirty_six = family_adjusted(estimates, p)
+    assert all(np.isnan(thirty_six)) and {
+        verdict(e, 'higher', a) for e, a in zip(estimates, thirty_six, strict=True)
+    } == {NO_VERDICT}
+    mixed = [*estimates[:35], paired_difference(rng.uniform(1.0, 2.0, 60), np.zeros(60))]  # one member could
+    assert not np.isnan(family_adjusted(mixed, [*p[:35], 1e-9])[35])
