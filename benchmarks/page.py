@@ -60,8 +60,7 @@ def index_text(out: Path) -> str:
         '',
         'Each page was written by `python -m benchmarks.page NAME`: what the benchmark measures,',
     ]
-    lines += ['what made the page, and what the benchmark printed. Run the command again to make it anew.']
-    lines += ['Measurements written down by hand before these pages: [measured earlier](../benchmarks.md).', '']
+    lines += ['what made the page, and what the benchmark printed. Run the command again to make it anew.', '']
     for page in sorted(out.glob('*.md')):
         if page.name == 'index.md':
             continue

@@ -25,7 +25,7 @@ import resource
 import subprocess
 import sys
 import time
-from dataclasses import asdict, replace
+from dataclasses import asdict, fields, replace
 from functools import partial
 from pathlib import Path
 from types import ModuleType
@@ -89,10 +89,18 @@ def stepper_before(
     before: tuple[ModuleType, ModuleType], tube: VirtualTube, params: StepParams, r_a: np.ndarray
 ) -> Any:
     """``stepper`` built from the old modules: the old tube on the same centre line and widths, the old step with
-    the same numbers except the neighbour search's crossover, which keeps the old default."""
+    the same numbers except the neighbour search's crossover, which keeps the old default. Parameters added since
+    (the delay compensation) are left out, and refused unless they are at their defaults, which switch them off."""
     old_tube, old_step = before
     tube = old_tube.VirtualTube(tube.center, tube.width, tube.name)
-    numbers = {key: value for key, value in asdict(params).items() if key != 'kdtree_above'}
+    known = {field.name for field in fields(old_step.StepParams)}
+    newer = {key: value for key, value in asdict(params).items() if key not in known and key != 'kdtree_above'}
+    defaults = {field.name: field.default for field in fields(StepParams)}
+    switched_on = {key: value for key, value in newer.items() if value != defaults[key]}
+    if switched_on:
+        msg = f'the step of 130bc3a has no {sorted(switched_on)}; run the benchmark with them at their defaults.'
+        raise SystemExit(msg)
+    numbers = {key: value for key, value in asdict(params).items() if key in known and key != 'kdtree_above'}
     ends = np.array([0.0, tube.length_m])
     plan = old_step.PlanProfile(ends, np.full(2, 1 / 3.0), np.full(2, 0.2))
     step = old_step.SwarmStep(tube, old_step.StepParams(**numbers), r_a.size, plan=plan)
