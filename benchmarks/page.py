@@ -6,7 +6,9 @@ Each NAME runs as ``python -m benchmarks.NAME [ARGS]`` in a child process from t
 ``OUT/NAME.md``, holds the module's docstring (what it measures and how), the command, the vtube version, the git
 commit of the code (``-dirty`` when it differs from that commit), the date, the machine's cores and its load average
 when the benchmark ended (above the cores, other work shared them: ratios measured in one process hold, absolute
-times do not), then what the benchmark printed, verbatim. ``OUT/index.md`` lists every page in OUT with its first line and when it was made.
+times do not), then what the benchmark printed, verbatim. ``OUT/index.md`` lists every page in OUT with its first
+line and when it was made; ``--rewrite`` writes every page again from the run it records (after a docstring
+changed), without running anything.
 The pages are never edited by hand: run the command again. A benchmark that fails writes no page, its output is
 printed, and the command exits 1.
 """
@@ -48,9 +50,23 @@ def page_text(name: str, args: list[str], printed: str, made: str) -> str:
     title, _, rest = doc.partition('\n')
     fence = '````' if '```' in printed else '```'
     return (
-        f'{MADE}{command} | {made} -->\n# {name}: {title.strip()}\n\n{rest.strip()}\n\n'
+        f'{MADE}{command} | {made} -->\n# {name}: {title.strip()}\n\n{rest.strip(chr(10)).rstrip()}\n\n'
         f'Made by `{command}` ({made}). What it printed:\n\n{fence}text\n{printed.rstrip()}\n{fence}\n'
     )
+
+
+def recorded(page: Path) -> tuple[list[str], str, str]:
+    """What a page records of its run: the benchmark's arguments, what it printed and what made it (`page_text`'s
+    layout read back), so that the page can be written again around a newer docstring without running again."""
+    text = page.read_text(encoding='utf-8')
+    first = text.split('\n', 1)[0]
+    if not first.startswith(MADE):
+        msg = f'{page} was not written by benchmarks.page (its first line is not {MADE!r}...); run the benchmark.'
+        raise SystemExit(msg)
+    command, made = first.removeprefix(MADE).removesuffix(' -->').split(' | ', 1)
+    fence = '````' if '\n````text\n' in text else '```'
+    printed = text.split(f'\n{fence}text\n', 1)[1].rsplit(f'\n{fence}\n', 1)[0]
+    return shlex.split(command)[3:], printed, made
 
 
 def index_text(out: Path) -> str:
@@ -94,7 +110,15 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument('--args', action='append', default=[], help='NAME=ARGS: arguments for one benchmark')
     parser.add_argument('--out', type=Path, default=OUT, help='the folder of the pages (default: docs/benchmarks)')
+    parser.add_argument(
+        '--rewrite', action='store_true', help='write every page in OUT again from what it records, without running'
+    )
     options = parser.parse_args(argv)
+    if options.rewrite:
+        for page in sorted(options.out.glob('*.md')):
+            if page.name != 'index.md':
+                args, printed, made = recorded(page)
+                write_atomically(page, page_text(page.stem, args, printed, made))
     extra = dict(item.split('=', 1) for item in options.args)
     for name in options.names:
         docstring(name)  # refuse an unknown name before anything runs

@@ -34,3 +34,19 @@ def test_an_unknown_benchmark_is_refused_with_the_known_ones() -> None:
         page.docstring('no_such_bench')
     with pytest.raises(SystemExit, match='no benchmark'):
         page.docstring('page')
+
+
+def test_a_page_is_written_again_from_what_it_records(tmp_path: Path) -> None:
+    """`--rewrite` reads the arguments, the output and the making line back, whatever fence the output needed."""
+    for printed in ('| N |\n|---|\n| 20 |', 'a\n```\nb\n```\nc'):
+        text = page.page_text('sim_bench', ['--sizes', '20', '200'], printed, 'vtube 0.1.0, commit abc')
+        (tmp_path / 'sim_bench.md').write_text(text)
+        assert page.recorded(tmp_path / 'sim_bench.md') == (
+            ['--sizes', '20', '200'],
+            printed,
+            'vtube 0.1.0, commit abc',
+        )
+    assert '\n    python -m benchmarks.sim_bench' in text  # the usage line stays indented: a code block, not links
+    (tmp_path / 'hand.md').write_text('# written by hand\n')
+    with pytest.raises(SystemExit, match='not written by benchmarks.page'):
+        page.recorded(tmp_path / 'hand.md')
