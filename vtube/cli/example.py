@@ -38,13 +38,17 @@ def example_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('file', type=Path, help='the .toml file to write (must not exist)')
 
 
-def example(args: argparse.Namespace) -> ExampleWritten:
-    path: Path = args.file
+def write_new(path: Path, text: str) -> None:
+    """Write a shipped example to ``path``, refusing a file that exists (nothing is overwritten)."""
     if path.exists():
         msg = f'{path} exists; give another file name (nothing was written).'
         raise BadInput(msg)
-    write_atomically(path, campaign_examples()[args.name])
-    return ExampleWritten(args.name, path)
+    write_atomically(path, text)
+
+
+def example(args: argparse.Namespace) -> ExampleWritten:
+    write_new(args.file, campaign_examples()[args.name])
+    return ExampleWritten(args.name, args.file)
 
 
 def example_view(written: ExampleWritten) -> View:

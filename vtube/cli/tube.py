@@ -88,12 +88,10 @@ def example_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def example(args: argparse.Namespace) -> MapWritten:
-    path: Path = args.file
-    if path.exists():
-        msg = f'{path} exists; give another file name (nothing was written).'
-        raise BadInput(msg)
-    write_atomically(path, map_examples()[args.name])
-    return MapWritten(args.name, path)
+    from vtube.cli.example import write_new
+
+    write_new(args.file, map_examples()[args.name])
+    return MapWritten(args.name, args.file)
 
 
 def example_view(written: MapWritten) -> View:
