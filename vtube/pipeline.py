@@ -39,6 +39,7 @@ from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.planning.polynomial import plan_polynomial
 from vtube_planning.provenance import copy_scene, provenance
+from vtube_planning.swarm.foresight import default_horizon
 from vtube_planning.swarm.formation import FloatArray, as_positions
 from vtube_planning.swarm.simulate import SimConfig, SimResult, simulate
 
@@ -124,6 +125,8 @@ class Simulated:
     written: tuple[Path, ...]
     start: str = GRID_START
     """Where the robots started, in words."""
+    controller: str = 'the law alone'
+    """What commanded the robots, in words."""
 
     @property
     def log(self) -> Path:
@@ -142,14 +145,19 @@ def simulate_scene(
     n_robots: int | None = None,
     plan_file: Path | None = None,
     config: SimConfig | None = None,
+    foresight: bool = False,
     animate: bool = False,
     progress: Progress = no_progress,
 ) -> Simulated:
     """Fly the scene's swarm (of ``n_robots``, default the scene's) through its tube, with its plan (from
     ``plan_file``, or planned here) or without; write the log, figures, a GIF when asked for and the scene's copy
     to ``out``. Unless ``config`` says where the robots start, a Robotarium scene's start where its flight's do
-    (`robotarium_start`)."""
+    (`robotarium_start`). ``foresight``: the law flies under the foresight (its horizon the scene's
+    ``foresight_s``, else `default_horizon`); else the scene's own control."""
     scene = load_scene(name_or_path)
+    if foresight:
+        horizon = scene.control.foresight_s or default_horizon(scene.swarm)
+        scene = replace(scene, control=replace(scene.control, foresight_s=horizon))
     swarm = scene.swarm if n_robots is None else replace(scene.swarm, n_robots=n_robots)
     plan = plan_for(scene, swarm, plan_file) if planning else None
     config, start = _started(scene, swarm, config or SimConfig())
@@ -183,7 +191,9 @@ def simulate_scene(
         with progress('GIF frames', 'frame') as tick:
             written.append(plots.animate(result, scene.tube, f'{stem}.gif', progress=lambda i, n: tick(i + 1)))
     written.append(copy_scene(scene, out))
-    return Simulated(scene, swarm, config, result, tuple(written), start)
+    horizon = scene.control.foresight_s
+    controller = f'the law under the foresight (horizon {horizon:g} s)' if horizon > 0 else 'the law alone'
+    return Simulated(scene, swarm, config, result, tuple(written), start, controller)
 
 
 def _started(scene: Scene, swarm: SwarmParams, config: SimConfig) -> tuple[SimConfig, str]:

@@ -222,6 +222,11 @@ class ControlParams:
         on where each robot will be when its command arrives, predicted from the commands already sent
         ([`CommandPredictor`][vtube_planning.onboard.delay.CommandPredictor]). Both 0 (the default): it acts on where
         they are.
+    foresight_s
+        Horizon T (s) of the foresight, the safety layer of robots that obey (2)-(4) (`vtube_planning.swarm.foresight`,
+        ``docs/theory.md`` §11): each robot predicts its path under the acceleration limits for T seconds and
+        replaces the law's command where that path meets a wall or a neighbour's. 0 (the default): the law alone,
+        as the paper flies it.
     """
 
     avoidance_gain: float = 1.0
@@ -236,8 +241,12 @@ class ControlParams:
     kdtree_above: int = KDTREE_ABOVE
     compensate_delay_steps: float = 0.0
     compensate_lag_s: float = 0.0
+    foresight_s: float = 0.0
 
     def __post_init__(self) -> None:
+        if not is_real(self.foresight_s) or self.foresight_s < 0:
+            msg = f'control foresight_s must be a finite number >= 0 (0: the law alone); got {self.foresight_s!r}.'
+            raise ParamsError(msg)
         for name in ('compensate_delay_steps', 'compensate_lag_s'):
             value = getattr(self, name)
             if not is_real(value) or value < 0:

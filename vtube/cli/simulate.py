@@ -27,6 +27,14 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
         action='store_true',
         help='make every robot obey the acceleration limits (3), (4), not only the plan',
     )
+    parser.add_argument(
+        '--controller',
+        choices=('law', 'foresight'),
+        default=None,
+        help="'law': the paper's law alone; 'foresight': the law under the foresight, the safety layer of robots "
+        "held to (2)-(4) (docs/theory.md section 11; its horizon: the scene's [control] foresight_s, else "
+        '(v_max - v_min) / a_v). Default: foresight with --acceleration-limits, else the law',
+    )
     parser.add_argument('--animate', action='store_true', help='also write an animated GIF')
     parser.add_argument('--quiet', action='store_true', help='no progress bar (none is drawn unless on a terminal)')
     parser.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan) instead of planning')
@@ -51,6 +59,7 @@ def simulate(args: argparse.Namespace) -> Simulated:
         planning=not args.no_planning,
         n_robots=args.n_robots,
         plan_file=args.plan,
+        foresight=(args.controller or ('foresight' if args.acceleration_limits else 'law')) == 'foresight',
         config=SimConfig(
             seed=args.seed, acceleration_limits=args.acceleration_limits, replan_every_s=args.replan_every_s
         ),
@@ -64,6 +73,8 @@ def simulate_view(simulated: Simulated) -> View:
 
     result, config, m = simulated.result, simulated.config, simulated.result.metrics
     failures = passage_failures(m)
+    if config.acceleration_limits and result.dynamics_violations:
+        failures += (f'{result.dynamics_violations} commands the robots could not fly under (2)-(4)',)
     rows = [
         ('passing time', f'{m.passing_time_s:.3f} s' + ('' if m.completed else ' (not every robot exited)')),
         ('minimum distance', f'{m.min_distance_m:.4f} m at t = {m.min_distance_time_s:.2f} s'),
@@ -73,6 +84,8 @@ def simulate_view(simulated: Simulated) -> View:
             f'{m.tube_violation_steps} robot-steps, {m.robots_outside} robots, up to {m.max_outside_m:.3f} m outside',
         ),
         ('speed violations', f'{m.speed_violations} commands outside [v_min, v_max]'),
+        ('model violations', f"{result.dynamics_violations} commands outside (2)-(4) from the robot's velocity"),
+        ('controller', simulated.controller),
     ]
     if m.speed_tracking_mean_mps is not None:
         rows += [
@@ -94,6 +107,8 @@ def simulate_view(simulated: Simulated) -> View:
         f'N = {simulated.swarm.n_robots}, seed {config.seed}, {result.t_s.size} steps of {config.dt_s} s'
     )
     data = {'log': str(simulated.log), 'metrics': m.to_json(), 'provenance': result.meta['provenance']}
+    data['dynamics_violations'] = result.dynamics_violations
+    data['controller'] = simulated.controller
     if replans is not None:
         data['replans'] = replans
     if failures:

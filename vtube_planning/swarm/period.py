@@ -12,7 +12,9 @@ from numpy.typing import NDArray
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.onboard import Projection, SwarmStep, swarm_density
 from vtube_planning.params import SwarmParams
+from vtube_planning.swarm.dynamics import limit_acceleration
 from vtube_planning.swarm.faults import Faults
+from vtube_planning.swarm.foresight import Foresight
 from vtube_planning.swarm.replanner import Replanner
 
 FloatArray = NDArray[np.float64]
@@ -23,7 +25,8 @@ Baseline = Callable[[FloatArray, FloatArray, Projection], FloatArray]
 @dataclass
 class SimulatedPeriod:
     """What one run flies each control period with: the tube, the swarm, the period and whether the acceleration
-    limits apply, the controller (the swarm step, or a baseline), the replanner and the faults."""
+    limits apply, the controller (the swarm step, or a baseline, and the foresight over either), the replanner and
+    the faults."""
 
     tube: VirtualTube
     swarm: SwarmParams
@@ -33,6 +36,7 @@ class SimulatedPeriod:
     baseline: Baseline | None
     replanner: Replanner | None
     faults: Faults
+    foresight: Foresight | None = None
 
     def command(
         self, step: int, positions: FloatArray, projection: Projection, velocity: FloatArray
@@ -42,13 +46,23 @@ class SimulatedPeriod:
         seen, view = self.faults.observe(self.tube, positions, projection)
         if self.baseline is not None:
             commanded = self.baseline(seen, velocity, view)
-            return commanded, swarm_density(self.tube, view.l_m, self.swarm.r_a_m), self.stepper.r_a
+            return (
+                self._foreseen(seen, velocity, commanded),
+                swarm_density(self.tube, view.l_m, self.swarm.r_a_m),
+                self.stepper.r_a,
+            )
         result = self.stepper(seen, self.dt_s, view, self.faults.heard(seen))
         if self.replanner is not None:
             profile = self.replanner(step, view, velocity, float(result.density_per_m2), self.faults.working)
             if profile is not None:
                 self.stepper.plan = profile
-        return result.velocity, result.density_per_m2, result.r_a_m
+        return self._foreseen(seen, velocity, result.velocity), result.density_per_m2, result.r_a_m
+
+    def _foreseen(self, seen: FloatArray, velocity: FloatArray, commanded: FloatArray) -> FloatArray:
+        """The command the foresight lets through (all of ``commanded`` without one)."""
+        if self.foresight is None:
+            return commanded
+        return self.foresight(seen, velocity, commanded, self.dt_s)
 
     def next_velocity(self, velocity: FloatArray, commanded: FloatArray, l_m: FloatArray) -> FloatArray:
         """The robots' velocities over the next period: the command that reaches them, held to the acceleration
@@ -60,16 +74,3 @@ class SimulatedPeriod:
         else:
             velocity = commanded
         return self.faults.failed(velocity, l_m)
-
-
-def limit_acceleration(velocity: FloatArray, command: FloatArray, a_v: float, a_n: float, dt_s: float) -> FloatArray:
-    """The velocity after one step of following ``command`` with |d|v|/dt| <= a_v and |v| |dtheta/dt| <= a_n."""
-    speed = np.hypot(velocity[0], velocity[1])
-    target = np.hypot(command[0], command[1])
-    new_speed = speed + np.clip(target - speed, -a_v * dt_s, a_v * dt_s)
-    heading = np.arctan2(velocity[1], velocity[0])
-    turn = np.angle(np.exp(1j * (np.arctan2(command[1], command[0]) - heading)))
-    max_turn = a_n * dt_s / np.maximum(new_speed, 1e-12)
-    heading = heading + np.clip(turn, -max_turn, max_turn)
-    velocity_after: FloatArray = new_speed * np.vstack([np.cos(heading), np.sin(heading)])
-    return velocity_after

@@ -32,7 +32,9 @@ from vtube_planning.log import LogWriter
 from vtube_planning.onboard import PlanProfile, Projection, SwarmStep
 from vtube_planning.params import ControlParams, SwarmParams
 from vtube_planning.planning.plan import Plan
+from vtube_planning.swarm.dynamics import dynamics_violations
 from vtube_planning.swarm.faults import Faults, RobotFailure
+from vtube_planning.swarm.foresight import Foresight
 from vtube_planning.swarm.formation import Positions, as_positions, start_formation
 from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics
 from vtube_planning.swarm.period import Baseline, SimulatedPeriod
@@ -140,6 +142,8 @@ class SimResult:
     Arrays have T rows (steps): ``t_s`` (T,), ``positions_m``, ``velocities_mps``, ``commands_mps`` (T, 2, N),
     ``r_a_m``, ``l_m``, ``clearance_m``, ``forward_speed_mps`` (T, N), ``density_per_m2`` (T,). ``flown`` is the
     plan as flown (the plan's profile, or `Replanner.flown` when it was replanned; None without a plan).
+    ``dynamics_violations`` counts the robot-periods whose command a robot of the model (2)-(4) could not fly from
+    its velocity (`vtube_planning.swarm.dynamics.dynamics_violations`).
     """
 
     t_s: FloatArray
@@ -155,6 +159,7 @@ class SimResult:
     planned: bool
     meta: dict[str, Any] = field(default_factory=dict)
     flown: PlanProfile | None = None
+    dynamics_violations: int = 0
 
 
 def default_constant_speed(swarm: SwarmParams) -> float:
@@ -235,7 +240,14 @@ def simulate(
     description = _description(tube, swarm, control, plan, config, n, meta)
     log = LogWriter(log_path, description, flush_every=config.log_every)
     faults = _faults(config, baseline, positions, velocity)
-    period = SimulatedPeriod(tube, swarm, config.dt_s, config.acceleration_limits, stepper, baseline, replanner, faults)
+    foresight = None
+    if control.foresight_s > 0:
+        foresight = Foresight(
+            tube, swarm, n, horizon_s=control.foresight_s, acceleration_limits=config.acceleration_limits
+        )
+    period = SimulatedPeriod(
+        tube, swarm, config.dt_s, config.acceleration_limits, stepper, baseline, replanner, faults, foresight
+    )
     for step in range(steps + 1):
         projection = tube.project(positions)  # the truth: logged and measured
         commanded, density, r_a = period.command(step, positions, projection, velocity)
@@ -247,7 +259,7 @@ def simulate(
             break
         velocity = period.next_velocity(velocity, commanded, projection.l_m)
         positions = positions + config.dt_s * velocity
-    return _result(log, description, tube, swarm, plan, replanner, faults.working)
+    return _result(log, description, tube, swarm, plan, replanner, faults.working, config.dt_s)
 
 
 def _replanner(
@@ -374,6 +386,7 @@ def _result(
     plan: Plan | None,
     replanner: Replanner | None,
     working: NDArray[np.bool_],
+    dt_s: float,
 ) -> SimResult:
     """The run's result from its log: the passage's metrics against the plan as flown, also written to the log."""
     arrays = log.arrays()
@@ -395,4 +408,10 @@ def _result(
     if replanner is not None:
         description['replans'] = [asdict(call) for call in replanner.calls]
     log.flush(metrics=metrics.to_json(), finished=True)
-    return SimResult(**arrays, metrics=metrics, planned=plan is not None, meta=description, flown=flown)
+    band = (swarm.v_min_mps, swarm.v_max_mps)
+    outside = dynamics_violations(
+        arrays['velocities_mps'], arrays['commands_mps'], band, swarm.a_v_mps2, swarm.a_n_mps2, dt_s
+    )
+    return SimResult(
+        **arrays, metrics=metrics, planned=plan is not None, meta=description, flown=flown, dynamics_violations=outside
+    )

@@ -18,14 +18,20 @@ from vtube_planning.swarm.metrics import PassageMetrics
 from vtube_planning.swarm.simulate import SimConfig
 
 
-def simulated(m: PassageMetrics, *, planned: bool = True, meta: dict | None = None) -> pipeline.Simulated:
+def simulated(
+    m: PassageMetrics, *, planned: bool = True, meta: dict | None = None, outside: int = 0, limits: bool = False
+) -> pipeline.Simulated:
     result = SimpleNamespace(
-        metrics=m, planned=planned, t_s=np.zeros(625), meta={'provenance': {'p': 1}} | (meta or {})
+        metrics=m,
+        planned=planned,
+        t_s=np.zeros(625),
+        meta={'provenance': {'p': 1}} | (meta or {}),
+        dynamics_violations=outside,
     )
     return pipeline.Simulated(
         scene=SimpleNamespace(name='C'),
         swarm=SimpleNamespace(n_robots=8),
-        config=SimConfig(seed=3, replan_every_s=1.0),
+        config=SimConfig(seed=3, replan_every_s=1.0, acceleration_limits=limits),
         result=result,
         written=(Path('o/sim_C_planned.npz'), Path('o/a.png')),
     )
@@ -43,7 +49,15 @@ def test_the_view_of_a_planned_passage() -> None:
         f'  start              {pipeline.GRID_START}',
         '  written            o/sim_C_planned.npz, o/a.png',
     )  # where the robots started: the grid of a paper scene (Robotarium scenes: tests/unit/vtube/test_pipeline.py)
-    assert view.data == {'log': 'o/sim_C_planned.npz', 'metrics': metrics().to_json(), 'provenance': {'p': 1}}
+    assert "  model violations   0 commands outside (2)-(4) from the robot's velocity" in view.lines
+    assert '  controller         the law alone' in view.lines
+    assert view.data == {
+        'log': 'o/sim_C_planned.npz',
+        'metrics': metrics().to_json(),
+        'provenance': {'p': 1},
+        'dynamics_violations': 0,
+        'controller': 'the law alone',
+    }
 
 
 def test_the_view_of_an_unfinished_unplanned_passage_with_replanning() -> None:
@@ -76,6 +90,13 @@ def test_a_passage_with_a_collision_or_a_robot_left_behind_fails() -> None:
     assert simulate_view(simulated(metrics())).exit_code == 0  # 3 robot-steps outside: measured, not judged
 
 
+def test_commands_the_robots_could_not_fly_fail_a_passage_under_the_acceleration_limits() -> None:
+    view = simulate_view(simulated(metrics(), outside=12, limits=True))
+    assert view.exit_code == 1
+    assert view.data['failures'] == ['12 commands the robots could not fly under (2)-(4)']
+    assert simulate_view(simulated(metrics(), outside=12)).exit_code == 0  # the paper's model: velocities jump
+
+
 def test_the_options_reach_the_pipeline(tmp_path, monkeypatch, capsys) -> None:
     calls = []
 
@@ -99,6 +120,11 @@ def test_the_options_reach_the_pipeline(tmp_path, monkeypatch, capsys) -> None:
     assert main(['simulate', 'C', '--out', str(tmp_path), '--plan', 'p.npz']) == 0
     assert calls[1][2]['plan_file'] == Path('p.npz') and calls[1][2]['config'] == SimConfig()
     assert calls[1][2]['planning'] and calls[1][2]['n_robots'] is None and not calls[1][2]['animate']
+    # the foresight flies with the acceleration limits unless the law alone is asked for, and only then
+    assert options['foresight'] and not calls[1][2]['foresight']
+    assert main(['simulate', 'C', '--out', str(tmp_path), '--acceleration-limits', '--controller', 'law']) == 0
+    assert main(['simulate', 'C', '--out', str(tmp_path), '--controller', 'foresight']) == 0
+    assert not calls[2][2]['foresight'] and calls[3][2]['foresight']
 
 
 def test_replanning_needs_a_plan(tmp_path, capsys) -> None:

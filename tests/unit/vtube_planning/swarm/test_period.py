@@ -1,9 +1,6 @@
-"""One simulated control period: the acceleration limits in closed form, the controller or a baseline, the faults
-acting on the command."""
+"""One simulated control period: the controller or a baseline, the faults acting on the command."""
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 import pytest
@@ -15,7 +12,7 @@ from vtube_planning.onboard.density import swarm_density
 from vtube_planning.onboard.stepper import SwarmStep
 from vtube_planning.params import ControlParams, SwarmParams
 from vtube_planning.swarm.faults import Faults, RobotFailure
-from vtube_planning.swarm.period import SimulatedPeriod, limit_acceleration
+from vtube_planning.swarm.period import SimulatedPeriod
 
 SWARM = SwarmParams(n_robots=3)
 TUBE = VirtualTube(ArcPath((ArcPiece(30.0),)), WidthProfile(5.0, (WidthPart('constant', 30.0),)))
@@ -30,30 +27,6 @@ def period(*, baseline=None, failure=None, latency: int = 0, limits: bool = Fals
         velocity=np.zeros((2, 3)),
     )  # fmt: skip
     return SimulatedPeriod(TUBE, SWARM, 0.1, limits, stepper, baseline, None, faults)
-
-
-def test_speed_changes_by_at_most_a_v_dt() -> None:
-    v = limit_acceleration(np.array([[1.0], [0.0]]), np.array([[3.0], [0.0]]), 1.0, 1.0, 0.5)
-    np.testing.assert_allclose(v, [[1.5], [0.0]])
-    v = limit_acceleration(np.array([[2.0], [0.0]]), np.array([[1.8], [0.0]]), 1.0, 1.0, 0.5)
-    np.testing.assert_allclose(v, [[1.8], [0.0]])  # within the limit: the command itself
-
-
-def test_the_heading_turns_by_at_most_a_n_dt_over_the_new_speed() -> None:
-    v = limit_acceleration(np.array([[1.0], [0.0]]), np.array([[0.0], [1.0]]), 1.0, 0.5, 0.2)
-    np.testing.assert_allclose(v, [[math.cos(0.1)], [math.sin(0.1)]])
-    v = limit_acceleration(np.array([[0.0], [-1.0]]), np.array([[-1.0], [0.0]]), 1.0, 0.5, 0.2)  # turns right
-    np.testing.assert_allclose(v, [[-math.sin(0.1)], [-math.cos(0.1)]], atol=1e-15)
-
-
-def test_random_commands_respect_both_limits() -> None:
-    rng = np.random.default_rng(4)
-    velocity, command = rng.normal(0, 2, (2, 500)), rng.normal(0, 2, (2, 500))
-    after = limit_acceleration(velocity, command, 0.8, 1.2, 0.05)
-    speed, new = np.hypot(*velocity), np.hypot(*after)
-    assert np.all(np.abs(new - speed) <= 0.8 * 0.05 + 1e-12)
-    turn = np.abs(np.angle(np.exp(1j * (np.arctan2(after[1], after[0]) - np.arctan2(velocity[1], velocity[0])))))
-    assert np.all(new * turn <= 1.2 * 0.05 + 1e-12)
 
 
 def test_the_controller_commands_what_the_swarm_step_does() -> None:
