@@ -65,13 +65,13 @@ def test_a_safe_command_is_followed_as_the_robot_can() -> None:
 
 def test_a_command_into_the_wall_is_replaced_by_one_inside_the_model() -> None:
     foresight = _foresight(STRAIGHT, 1)
-    positions = np.array([[5.0], [1.5]])  # 1.5 m from the wall
-    velocity = np.array([[3.0 * math.cos(0.3)], [3.0 * math.sin(0.3)]])  # heading for it
+    positions = np.array([[5.0], [2.2]])  # 0.8 m from the wall
+    velocity = np.array([[4.0 * math.cos(0.5)], [4.0 * math.sin(0.5)]])  # heading for it at 4 m/s (radius 16 m)
     command = velocity.copy()  # the law says: keep going
     commanded = foresight(positions, velocity, command, 0.02)
     assert foresight.overridden == 1
     heading = math.atan2(commanded[1, 0], commanded[0, 0])
-    assert heading < 0.3  # turns away from the wall
+    assert heading < 0.5  # turns away from the wall
     assert dynamics_violations(velocity[None], commanded[None], (2.0, 5.0), 1.0, 1.0, 0.02) == 0
 
 
