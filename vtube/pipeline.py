@@ -18,8 +18,9 @@ from pathlib import Path
 from typing import Literal
 
 from robotarium_exp.analysis.loaders import load_trajectory
+from robotarium_exp.analysis.metrics import Analysis
 from robotarium_exp.analysis.recorded_tube import check_recorded_tube
-from robotarium_exp.analysis.report import Analysis, analyse, write_report
+from robotarium_exp.analysis.report import analyse, write_report
 from robotarium_exp.analysis.trajectory import DEFAULT_MAX_GAP, MaxGap
 from robotarium_exp.errors import AnalysisError
 from robotarium_exp.experiment import initial_conditions
