@@ -46,6 +46,22 @@ def test_console_entry_point_prints_no_traceback(tmp_path) -> None:
     assert len(result.stderr.splitlines()) == 1
 
 
+@pytest.mark.parametrize('args', [['--version'], ['--help'], ['plan', 'A', '--out', 'x', '--grid-step', '-1']])
+def test_the_quick_answers_import_no_numerical_library(args: list[str]) -> None:
+    """``vtube --version``, ``--help`` and a refusal by the parser, in a process of their own: nothing of numpy,
+    scipy, cvxpy or matplotlib is imported (benchmarks/cli_startup.py times them)."""
+    probe = (
+        'import sys, runpy\n'
+        f'sys.argv = ["vtube", *{args!r}]\n'
+        'try:\n    runpy.run_module("vtube", run_name="__main__")\n'
+        'except SystemExit:\n    pass\n'
+        'heavy = sorted({m.split(".")[0] for m in sys.modules} & {"numpy", "scipy", "cvxpy", "matplotlib"})\n'
+        'print("heavy:", heavy, file=sys.stderr)\n'
+    )
+    done = subprocess.run([sys.executable, '-c', probe], cwd=ROOT, capture_output=True, text=True, check=False)
+    assert 'heavy: []' in done.stderr, done.stderr[-2000:]
+
+
 def test_simulate_prints_metrics_and_writes_log_and_figures(tmp_path, capsys, short_flights) -> None:
     assert main(['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--seed', '3']) == 1  # cut short
     captured = capsys.readouterr()

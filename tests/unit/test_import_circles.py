@@ -9,54 +9,12 @@ module (Tarjan's algorithm), or a module that imports itself.
 
 from __future__ import annotations
 
-import ast
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 
+from tests.support.imports import import_graph
+
 ROOT = Path(__file__).resolve().parents[2]
-PACKAGES = ('vtube', 'vtube_planning', 'unicycle_mapping', 'robotarium_exp', 'submission')
-
-
-def module_files(root: Path, packages: tuple[str, ...]) -> dict[str, tuple[Path, bool]]:
-    """Dotted name -> (file, is a package's ``__init__``) for every module of ``packages`` under ``root``."""
-    found = {}
-    for package in packages:
-        for path in sorted((root / package).rglob('*.py')):
-            parts = path.relative_to(root).with_suffix('').parts
-            is_package = parts[-1] == '__init__'
-            found['.'.join(parts[:-1] if is_package else parts)] = (path, is_package)
-    return found
-
-
-def imported_modules(source: str, name: str, is_package: bool, known: Mapping[str, object]) -> set[str]:
-    """The modules of ``known`` that the source of module ``name`` imports, anywhere in it, relative imports
-    resolved."""
-    package = name if is_package else name.rpartition('.')[0]
-    targets: set[str] = set()
-    for node in ast.walk(ast.parse(source)):
-        if isinstance(node, ast.Import):
-            targets.update(alias.name for alias in node.names if alias.name in known)
-        elif isinstance(node, ast.ImportFrom):
-            base = node.module or ''
-            if node.level:
-                parts = package.split('.')
-                base = '.'.join(parts[: len(parts) - node.level + 1] + ([node.module] if node.module else []))
-            for alias in node.names:
-                full = f'{base}.{alias.name}'
-                if full in known:
-                    targets.add(full)
-                elif base in known:
-                    targets.add(base)
-    return targets
-
-
-def import_graph(root: Path, packages: tuple[str, ...]) -> dict[str, set[str]]:
-    """Module -> the modules it imports, within ``packages``."""
-    known = module_files(root, packages)
-    return {
-        name: imported_modules(path.read_text(encoding='utf-8'), name, is_package, known)
-        for name, (path, is_package) in known.items()
-    }
 
 
 def strongly_connected(graph: Mapping[str, set[str]]) -> Iterator[list[str]]:
@@ -130,7 +88,7 @@ def test_every_form_of_import_is_an_arrow(tmp_path) -> None:
         'from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    import pkg.sub.leaf\nfrom pkg import sub\n',
         encoding='utf-8',
     )
-    graph = import_graph(tmp_path, ('pkg',))
+    graph = {name: ours for name, (ours, _) in import_graph(tmp_path, ('pkg',)).items()}
     assert graph == {
         'pkg': set(),
         'pkg.sub': {'pkg.sub.leaf'},
@@ -141,7 +99,7 @@ def test_every_form_of_import_is_an_arrow(tmp_path) -> None:
 
 
 def test_no_import_circles_among_the_packages() -> None:
-    graph = import_graph(ROOT, PACKAGES)
+    graph = {name: ours for name, (ours, _) in import_graph(ROOT).items()}
     assert {'vtube.cli', 'vtube_planning.onboard.law', 'submission.builder'} <= set(graph)
     found = circles(graph)
     assert not found, (
