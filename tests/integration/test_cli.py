@@ -62,6 +62,21 @@ def test_the_quick_answers_import_no_numerical_library(args: list[str]) -> None:
     assert 'heavy: []' in done.stderr, done.stderr[-2000:]
 
 
+@pytest.mark.parametrize(('streamed', 'code'), [(False, 1), (True, 141)])
+def test_a_reader_that_goes_away_ends_the_output_quietly(streamed: bool, code: int) -> None:
+    """``vtube ... | head -1``: no "Broken pipe" error; a single view's own exit code, or a stream's 141."""
+    views = 'iter([view])' if streamed else 'view'
+    script = (
+        'import sys; from vtube.cli.render import render; from vtube.cli.command import View; '
+        f'view = View(tuple(str(k) for k in range(400000)), None, 1); sys.exit(render({views}, as_json=False))'
+    )
+    child = subprocess.Popen([sys.executable, '-c', script], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert child.stdout is not None and child.stdout.readline() == b'0\n'
+    child.stdout.close()  # the reader goes away after one line
+    _, err = child.communicate(timeout=60)
+    assert child.returncode == code and err == b''
+
+
 def test_simulate_prints_metrics_and_writes_log_and_figures(tmp_path, capsys, short_flights) -> None:
     assert main(['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--seed', '3']) == 1  # cut short
     captured = capsys.readouterr()

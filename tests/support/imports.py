@@ -9,6 +9,7 @@ its ``__init__``; relative imports are resolved. "At import" leaves out the impo
 from __future__ import annotations
 
 import ast
+import functools
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 
@@ -47,15 +48,22 @@ def import_nodes(tree: ast.AST, *, at_import_only: bool = False) -> Iterator[ast
             yield from import_nodes(node, at_import_only=at_import_only)
 
 
+@functools.cache
+def parsed(path: Path) -> ast.Module:
+    """The syntax tree of the file at ``path``, read once per process (the suite's tests of imports share it)."""
+    return ast.parse(path.read_text(encoding='utf-8'))
+
+
 def imported_modules(
-    source: str, name: str, is_package: bool, known: Mapping[str, object], *, at_import_only: bool = False
+    source: str | ast.Module, name: str, is_package: bool, known: Mapping[str, object], *, at_import_only: bool = False
 ) -> tuple[set[str], set[str]]:
-    """What the source of module ``name`` imports: the modules of ``known`` (``from a.b import c``: ``a.b.c`` when
+    """What the source (or syntax tree) of module ``name`` imports: the modules of ``known`` (``from a.b import c``: ``a.b.c`` when
     that is one, else ``a.b``), and the top-level names of every other absolute import (``numpy``, ``os``)."""
     package = name if is_package else name.rpartition('.')[0]
     ours: set[str] = set()
     others: set[str] = set()
-    for node in import_nodes(ast.parse(source), at_import_only=at_import_only):
+    tree = ast.parse(source) if isinstance(source, str) else source
+    for node in import_nodes(tree, at_import_only=at_import_only):
         if isinstance(node, ast.Import):
             ours.update(alias.name for alias in node.names if alias.name in known)
             others.update(alias.name.split('.')[0] for alias in node.names if alias.name not in known)
@@ -82,6 +90,6 @@ def import_graph(
     """Module -> (the modules of ``packages`` it imports, the other top-level names it imports)."""
     known = module_files(root, packages)
     return {
-        name: imported_modules(path.read_text(encoding='utf-8'), name, is_package, known, at_import_only=at_import_only)
+        name: imported_modules(parsed(path), name, is_package, known, at_import_only=at_import_only)
         for name, (path, is_package) in known.items()
     }
