@@ -31,6 +31,7 @@ from vtube.cli import (
 )
 from vtube.cli.command import EXIT_BAD_INPUT, EXIT_INTERRUPTED, BadInput, Command
 from vtube.cli.render import error, interrupted, render
+from vtube_planning import __version__
 
 COMMANDS: dict[str, Command[Any]] = {
     command.words: command
@@ -113,8 +114,6 @@ def parser(words: str | None = None, *, every: bool = True) -> argparse.Argument
         prog='vtube',
         description='Speed and density planning for a speed-constrained robot swarm through a virtual tube.',
     )
-    from vtube_planning import __version__
-
     top.add_argument('--version', action='version', version=f'vtube {__version__}')
     first_words = top.add_subparsers(dest='group', required=True, metavar='COMMAND')
     groups: dict[str, argparse._SubParsersAction[Parser]] = {}
@@ -142,7 +141,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser(command_words(given), every=False).parse_args(given)
     command = COMMANDS[args.command]
     as_json = command.json and args.json
-    from vtube_planning.provenance import command_line
+    from vtube_planning.provenance import command_line  # what ran, recorded beside every result it writes
 
     try:
         with command_line(['vtube', *given]):
