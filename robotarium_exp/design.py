@@ -30,6 +30,8 @@ from numpy.typing import NDArray
 
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.geometry.width import Narrowing
+from vtube_planning.geometry.width import first_narrowing as narrowing_of
 from vtube_planning.onboard.density import swarm_density
 
 FloatArray = NDArray[np.float64]
@@ -76,29 +78,10 @@ class Formation:
         return self.l_front_m - self.l_back_m
 
 
-@dataclass(frozen=True)
-class Narrowing:
-    """The tube's first narrowing: where it starts and ends, and the half-widths before and after (m)."""
-
-    start_m: float
-    end_m: float
-    half_width_before_m: float
-    half_width_after_m: float
-
-    @property
-    def length_m(self) -> float:
-        """Its length along the tube."""
-        return self.end_m - self.start_m
-
-
 def first_narrowing(tube: VirtualTube) -> Narrowing | None:
-    """The tube's first width part that ends narrower than it starts, or None for a tube that never narrows."""
-    width, start = tube.width.start_m, 0.0
-    for part in tube.width.parts:
-        if part.to_m is not None and part.to_m < width:
-            return Narrowing(start, start + part.length_m, width, part.to_m)
-        width, start = part.to_m if part.to_m is not None else width, start + part.length_m
-    return None
+    """The tube's first narrowing, from its width's knots (`vtube_planning.geometry.width.first_narrowing`), or None
+    for a tube that never narrows."""
+    return narrowing_of(*tube.width.knots)
 
 
 LOOK_AHEAD_BANDS = 2

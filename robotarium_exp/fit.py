@@ -26,6 +26,7 @@ from robotarium_exp.experiment import TUBE_EDGE_POINTS, ExperimentConfig, flight
 from robotarium_exp.flight_data import FlightData
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.scene import Scene
+from vtube_planning.geometry.width import first_narrowing
 from vtube_planning.onboard import SampledTube
 
 FloatArray = NDArray[np.float64]
@@ -169,10 +170,10 @@ def _formation_before_narrowing(data: FlightData) -> list[Misfit]:
     (``docs/sweep/``); this one refuses 15 of them, and the other 12 pass the sweep's bar with V2's initialization
     (every robot through and parked, no body on a wall, the dip's density error at most 25 %)."""
     samples = data.tube
-    narrowing = _sampled_narrowing(samples.l_m, samples.half_width_m)
+    narrowing = first_narrowing(samples.l_m, samples.half_width_m)
     if narrowing is None:
         return []
-    start = narrowing[0]
+    start = narrowing.start_m
     l_m = (
         SampledTube(samples.l_m, samples.xy_m, samples.half_width_m, samples.area_m2)
         .project(data.initial_conditions[:2])
@@ -196,16 +197,6 @@ def _formation_before_narrowing(data: FlightData) -> list[Misfit]:
             f'lengthen the wide part before the narrowing by {front - start:.2f} m{fewer}',
         )
     ]
-
-
-def _sampled_narrowing(l_m: FloatArray, half_width_m: FloatArray) -> tuple[float, float] | None:
-    """Where the sampled half-width first falls (by more than a micrometre per sample) and over what length."""
-    falling = np.diff(half_width_m) < -1e-6
-    if not falling.any():
-        return None
-    first = int(np.argmax(falling))
-    stop = first + int(np.argmin(falling[first:])) if not falling[first:].all() else falling.size
-    return float(l_m[first]), float(l_m[stop] - l_m[first])
 
 
 def _parking_inside(data: FlightData) -> list[Misfit]:

@@ -9,7 +9,7 @@ or, inside Python, ``install()`` before the script imports ``rps``. By default `
 ``robotarium_python_simulator`` 0.0.0: ``call_at_scripts_end()``, ``rps.robotarium_abc``,
 ``rps.utilities.barrier_certificates2``...). ``--seed`` seeds ``random`` and ``np.random``, what the scripts and
 both generations draw from (V2's charger slots and deadlock escapes, classic's random start poses); ``--log`` makes
-the simulator record every pose it hands out (`robotarium_exp.recorder`);
+the simulator record the poses and commands of every step (`robotarium_exp.recorder`);
 ``--exact-qp`` makes the barrier certificates solve their QPs exactly and faster, instead of as the testbed does
 (`robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`); ``--testbed-model`` makes the
 simulator act like the real robots (``ideal``, the default, ``fitted``, ``fitted:K``:
@@ -99,7 +99,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     parser.add_argument('--classic', action='store_true', help='the classic generation (call_at_scripts_end)')
     parser.add_argument('--seed', type=_seed, default=None, help='seed random and np.random, >= 0 (default: none)')
-    parser.add_argument('--log', default=None, metavar='FILE.npz', help='record every pose handed out to this log')
+    parser.add_argument(
+        '--log', default=None, metavar='FILE.npz', help='record the poses and commands of every step to this log'
+    )
     parser.add_argument('--exact-qp', action='store_true', help='solve the certificates exactly (DAQP), not as V2')
     parser.add_argument(
         '--testbed-model', type=_model, default=None, metavar='NAME', help=f'what the real robots do: {NAMES}'

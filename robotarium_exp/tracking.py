@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning.geometry.scene import Scene
+from vtube_planning.geometry.width import first_narrowing
 from vtube_planning.planning.plan import Plan
 from vtube_planning.swarm.metrics import strict_json
 
@@ -75,10 +76,10 @@ def filter_summary(
 
 
 def narrowing_start(scene: Scene) -> float:
-    """Arc length where the tube first gets narrower than at its entrance."""
-    grid = np.linspace(0.0, scene.tube.length_m, 4001)
-    narrower = np.asarray(scene.tube.half_width(grid)) < float(scene.tube.half_width(0.0)) - 1e-9
-    return float(grid[np.argmax(narrower)]) if narrower.any() else scene.tube.length_m
+    """Arc length where the tube first starts to narrow (`vtube_planning.geometry.width.first_narrowing` on its
+    width's knots), its length if it never does."""
+    narrowing = first_narrowing(*scene.tube.width.knots)
+    return narrowing.start_m if narrowing is not None else scene.tube.length_m
 
 
 def expansion_times(arrays: Arrays, scene: Scene) -> tuple[float | None, float | None]:

@@ -18,8 +18,9 @@ from pathlib import Path
 from typing import Literal
 
 from robotarium_exp.analysis.loaders import load_trajectory
+from robotarium_exp.analysis.metrics import Analysis
 from robotarium_exp.analysis.recorded_tube import check_recorded_tube
-from robotarium_exp.analysis.report import Analysis, analyse, write_report
+from robotarium_exp.analysis.report import analyse, write_report
 from robotarium_exp.analysis.trajectory import DEFAULT_MAX_GAP, MaxGap
 from robotarium_exp.errors import AnalysisError
 from robotarium_exp.experiment import initial_conditions
@@ -37,7 +38,6 @@ from vtube_planning.log import LogWriter
 from vtube_planning.params import SwarmParams
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
-from vtube_planning.planning.polynomial import plan_polynomial
 from vtube_planning.provenance import copy_scene, provenance
 from vtube_planning.swarm.foresight import default_horizon
 from vtube_planning.swarm.formation import FloatArray, as_positions
@@ -89,8 +89,12 @@ def plan_scene(
     its figure and the scene's copy to ``out``."""
     scene = load_scene(name_or_path)
     options = scene.planning if grid_step_m is None else replace(scene.planning, grid_step_m=grid_step_m)
-    solve = {'convex': plan_convex, 'polynomial': plan_polynomial}[method]
-    plan = solve(scene.tube, scene.swarm, options, scene=scene.name)
+    if method == 'polynomial':  # the paper's cubics, posed in cvxpy (imported here: about half a second)
+        from vtube_planning.planning.polynomial import plan_polynomial
+
+        plan = plan_polynomial(scene.tube, scene.swarm, options, scene=scene.name)
+    else:
+        plan = plan_convex(scene.tube, scene.swarm, options, scene=scene.name)
     plan = replace(plan, provenance=provenance(scene=scene))
     plan_file = plan.save(out / f'plan_{scene.name}.npz')
     figure = plots.save_figure(plots.plan_figure(plan), out / f'plan_{scene.name}.png')

@@ -21,7 +21,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import stats
 
 from vtube_planning.errors import ParamsError
 
@@ -82,6 +81,8 @@ def signed_rank_p(differences: ArrayLike) -> float:
     signed-rank sum lies at least as far from its centre as the observed one, exact up to EXACT_UP_TO differences,
     ties (mid-ranks) included; the normal approximation above. scipy's own exact test covers samples without ties
     only, and with ties falls back to a permutation test that is slow and, above 13 differences, random."""
+    from scipy import stats  # here, not at import: scipy.stats takes about half a second to import
+
     d = np.asarray(differences, dtype=float).ravel()
     d = d[d != 0.0]
     if d.size == 0:
@@ -173,6 +174,8 @@ def _values(values: ArrayLike) -> NDArray[np.float64]:
 
 
 def _bootstrap(x: NDArray[np.float64], statistic: Callable[..., Any], method: str, seed: int) -> Estimate:
+    from scipy import stats  # here, not at import: scipy.stats takes about half a second to import
+
     value = float(np.asarray(statistic(x, axis=-1)))
     if np.ptp(x) == 0.0:  # every seed gave the same value: nothing to resample
         return Estimate(value, value, value, x.size)

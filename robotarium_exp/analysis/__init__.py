@@ -17,8 +17,8 @@ if TYPE_CHECKING:
     from robotarium_exp.analysis.bags import read_bag
     from robotarium_exp.analysis.loaders import load_npz_log, load_submission_folder, load_trajectory
     from robotarium_exp.analysis.matfiles import read_mat
-    from robotarium_exp.analysis.metrics import PairMeasure, RecordingMetrics, TrackingErrors, TubeMetrics
-    from robotarium_exp.analysis.report import Analysis, analyse, write_report
+    from robotarium_exp.analysis.metrics import Analysis, PairMeasure, RecordingMetrics, TrackingErrors, TubeMetrics
+    from robotarium_exp.analysis.report import analyse, write_report
     from robotarium_exp.analysis.trajectory import DEFAULT_MAX_GAP, MaxGap, RobotSamples, Trajectory
 
 __all__ = [
@@ -46,8 +46,14 @@ __getattr__, __dir__ = lazy_exports(
         'robotarium_exp.analysis.bags': ('read_bag',),
         'robotarium_exp.analysis.loaders': ('load_npz_log', 'load_submission_folder', 'load_trajectory'),
         'robotarium_exp.analysis.matfiles': ('read_mat',),
-        'robotarium_exp.analysis.metrics': ('PairMeasure', 'RecordingMetrics', 'TrackingErrors', 'TubeMetrics'),
-        'robotarium_exp.analysis.report': ('Analysis', 'analyse', 'write_report'),
+        'robotarium_exp.analysis.metrics': (
+            'Analysis',
+            'PairMeasure',
+            'RecordingMetrics',
+            'TrackingErrors',
+            'TubeMetrics',
+        ),
+        'robotarium_exp.analysis.report': ('analyse', 'write_report'),
         'robotarium_exp.analysis.trajectory': ('DEFAULT_MAX_GAP', 'MaxGap', 'RobotSamples', 'Trajectory'),
     },
 )

@@ -4,7 +4,8 @@ frozen types.
 [`RecordingMetrics`][robotarium_exp.analysis.metrics.RecordingMetrics] holds the tube-free measures (coverage, gaps,
 pair distances, collisions), the tube's ([`TubeMetrics`][robotarium_exp.analysis.metrics.TubeMetrics], None without a
 scene) and what was read; ``to_json()`` gives the strict JSON of ``metrics.json`` (None for what is missing or not
-finite).
+finite). [`Analysis`][robotarium_exp.analysis.metrics.Analysis] holds them with what they were measured from: the
+report and the figures (`robotarium_exp.analysis.plots`) read it.
 """
 
 from __future__ import annotations
@@ -13,9 +14,10 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass
 from typing import Any
 
+from robotarium_exp.analysis.distances import PairDistances
 from robotarium_exp.analysis.loaders import InputFile
-from robotarium_exp.analysis.passage import INFERRED_START, Passage
-from robotarium_exp.analysis.trajectory import Coverage, Gap
+from robotarium_exp.analysis.passage import INFERRED_START, AlongTube, Passage
+from robotarium_exp.analysis.trajectory import Coverage, Gap, Trajectory
 from vtube_planning.swarm.metrics import strict_json
 
 
@@ -223,3 +225,13 @@ class RecordingMetrics:
         )
         json: dict[str, Any] = strict_json(out)
         return json
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """A trajectory, its distances, what the tube says of it (None without a scene), and its metrics."""
+
+    trajectory: Trajectory
+    distances: PairDistances
+    along: AlongTube | None
+    metrics: RecordingMetrics

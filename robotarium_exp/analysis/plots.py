@@ -17,7 +17,7 @@ from vtube_planning.plots import draw_tube
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from robotarium_exp.analysis.report import Analysis
+    from robotarium_exp.analysis.metrics import Analysis
     from robotarium_exp.analysis.trajectory import Trajectory
     from vtube_planning.geometry.scene import Scene
     from vtube_planning.planning.plan import Plan

@@ -16,7 +16,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Mapping
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +24,7 @@ import numpy as np
 
 from robotarium_exp.analysis.distances import PairDistances, pair_distances
 from robotarium_exp.analysis.loaders import input_record
-from robotarium_exp.analysis.metrics import PairMeasure, RecordingMetrics, TrackingErrors, TubeMetrics
+from robotarium_exp.analysis.metrics import Analysis, PairMeasure, RecordingMetrics, TrackingErrors, TubeMetrics
 from robotarium_exp.analysis.passage import AlongTube, FlightStart, along_tube, observed_passage, recorded_passage
 from robotarium_exp.analysis.trajectory import PLAUSIBLE_M, Trajectory
 from robotarium_exp.spec import ROBOTARIUM
@@ -35,16 +35,6 @@ from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.provenance import provenance
 from vtube_planning.swarm.metrics import tracking_errors, tube_violations
-
-
-@dataclass(frozen=True)
-class Analysis:
-    """A trajectory, its distances, what the tube says of it (None without a scene), and its metrics."""
-
-    trajectory: Trajectory
-    distances: PairDistances
-    along: AlongTube | None
-    metrics: RecordingMetrics
 
 
 def analyse(

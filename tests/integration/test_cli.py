@@ -46,6 +46,37 @@ def test_console_entry_point_prints_no_traceback(tmp_path) -> None:
     assert len(result.stderr.splitlines()) == 1
 
 
+@pytest.mark.parametrize('args', [['--version'], ['--help'], ['plan', 'A', '--out', 'x', '--grid-step', '-1']])
+def test_the_quick_answers_import_no_numerical_library(args: list[str]) -> None:
+    """``vtube --version``, ``--help`` and a refusal by the parser, in a process of their own: nothing of numpy,
+    scipy, cvxpy or matplotlib is imported (benchmarks/cli_startup.py times them)."""
+    probe = (
+        'import sys, runpy\n'
+        f'sys.argv = ["vtube", *{args!r}]\n'
+        'try:\n    runpy.run_module("vtube", run_name="__main__")\n'
+        'except SystemExit:\n    pass\n'
+        'heavy = sorted({m.split(".")[0] for m in sys.modules} & {"numpy", "scipy", "cvxpy", "matplotlib"})\n'
+        'print("heavy:", heavy, file=sys.stderr)\n'
+    )
+    done = subprocess.run([sys.executable, '-c', probe], cwd=ROOT, capture_output=True, text=True, check=False)
+    assert 'heavy: []' in done.stderr, done.stderr[-2000:]
+
+
+@pytest.mark.parametrize(('streamed', 'code'), [(False, 1), (True, 141)])
+def test_a_reader_that_goes_away_ends_the_output_quietly(streamed: bool, code: int) -> None:
+    """``vtube ... | head -1``: no "Broken pipe" error; a single view's own exit code, or a stream's 141."""
+    views = 'iter([view])' if streamed else 'view'
+    script = (
+        'import sys; from vtube.cli.render import render; from vtube.cli.command import View; '
+        f'view = View(tuple(str(k) for k in range(400000)), None, 1); sys.exit(render({views}, as_json=False))'
+    )
+    child = subprocess.Popen([sys.executable, '-c', script], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert child.stdout is not None and child.stdout.readline() == b'0\n'
+    child.stdout.close()  # the reader goes away after one line
+    _, err = child.communicate(timeout=60)
+    assert child.returncode == code and err == b''
+
+
 def test_simulate_prints_metrics_and_writes_log_and_figures(tmp_path, capsys, short_flights) -> None:
     assert main(['simulate', 'C', '--out', str(tmp_path), '--n', '8', '--seed', '3']) == 1  # cut short
     captured = capsys.readouterr()

@@ -36,6 +36,14 @@ BREAKS = {
         'robotarium_exp/rps_classic/utilities/graph.py',
         'import vtube_planning.geometry.tube',
     ),
+    'The tube generator: generate > centre_path > tube_spec': (
+        'vtube_planning/geometry/tube_spec.py',
+        'import vtube_planning.geometry.centre_path',
+    ),
+    "The analysis's report: report > plots > metrics": (
+        'robotarium_exp/analysis/metrics.py',
+        'import robotarium_exp.analysis.plots',
+    ),
     'The analysis and the experiment are independent': (
         'robotarium_exp/analysis/distances.py',
         'import robotarium_exp.experiment',

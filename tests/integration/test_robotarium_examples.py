@@ -11,7 +11,10 @@ from pathlib import Path
 
 import pytest
 
-EXAMPLES = Path(__file__).resolve().parents[2] / 'examples'
+from vtube_planning.log import read_log
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / 'examples'
 
 
 def run(script: str, iterations: int) -> str:
@@ -79,3 +82,30 @@ def test_sensors_steer_round_the_wall() -> None:
 @pytest.mark.parametrize('script', sorted(p.name for p in EXAMPLES.glob('*.py')))
 def test_every_example_says_how_to_run_it(script: str) -> None:
     assert 'python -m robotarium_exp.rps_alias' in (EXAMPLES / script).read_text(encoding='utf-8')
+
+
+@pytest.mark.parametrize(
+    ('flags', 'script', 'steps'),
+    [([], ['go_to_pose.py', '--iterations', '5'], 5), (['--classic'], ['wander.py', 'poses.npy'], 300)],
+)
+def test_log_records_the_shipped_examples_on_either_generation(
+    flags: list[str], script: list[str], steps: int, tmp_path
+) -> None:
+    """``rps_alias --log`` (the one recorder, `robotarium_exp.recorder`) on a shipped example, in the example's
+    own process: every step's poses and commands, finished by the end-of-script call."""
+    log = tmp_path / 'run.npz'
+    done = subprocess.run(
+        [sys.executable, '-m', 'robotarium_exp.rps_alias', '--seed', '0', *flags, '--log', str(log),
+         str(EXAMPLES / script[0]), *script[1:]],
+        cwd=tmp_path,
+        env=dict(os.environ, MPLBACKEND='Agg', VTUBE_HEADLESS='1', PYTHONPATH=str(ROOT)),
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-2000:]
+    arrays, meta = read_log(log)
+    assert meta['finished'] and meta['n_robots'] > 0 and meta['end_of_script']
+    assert len(arrays['t_s']) >= steps and arrays['t_s'][0] == 0.0
+    assert arrays['commands'].shape == (len(arrays['t_s']), 2, meta['n_robots'])

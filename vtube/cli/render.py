@@ -20,8 +20,6 @@ if TYPE_CHECKING:
 def render(views: View | Iterator[View], *, as_json: bool) -> int:
     """Print views as they come and return the exit code: text on stdout (on stderr with ``--json``, whose object
     alone goes to stdout), a view's error on stderr as ``error: ...``; the first view that fails ends it."""
-    from vtube_planning.swarm.metrics import strict_json
-
     text = sys.stderr if as_json else sys.stdout
     try:
         for view in (views,) if isinstance(views, View) else views:
@@ -30,6 +28,8 @@ def render(views: View | Iterator[View], *, as_json: bool) -> int:
             if view.error is not None:
                 error(view.error)
             if as_json and view.data is not None:
+                from vtube_planning.swarm.metrics import strict_json  # numpy's types as JSON's
+
                 data = strict_json(dict(view.data) | {'exit_code': view.exit_code})
                 print(json.dumps(data, allow_nan=False))
             if view.exit_code != EXIT_OK:

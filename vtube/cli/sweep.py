@@ -18,20 +18,19 @@ SIZES = '1,2,4,6,8,10,12,15,20'
 
 
 def sweep_arguments(parser: argparse.ArgumentParser) -> None:
-    from submission.check import RUN_TIMEOUT_S
-
     parser.add_argument('scenes', nargs='+', metavar='SCENE', help='Robotarium scenes: shipped names or .toml files')
     parser.add_argument('--n', default=SIZES, help='comma-separated robot counts N')
     parser.add_argument('--seeds', type=seeds, default='3', help=f'initialization {SEEDS_HELP}, per case (default 3)')
     parser.add_argument('--out', type=Path, required=True, help='folder for runs.csv, sweep.md and the built files')
     parser.add_argument('--jobs', type=count, default=1, help='cases run at once, each in its own local process')
     parser.add_argument(
-        '--run-timeout', type=positive, default=RUN_TIMEOUT_S, help='seconds one run of a file may take'
+        '--run-timeout', type=positive, default=None, help='seconds one run of a file may take (default 900)'
     )
 
 
 def sweep(args: argparse.Namespace) -> SweepOutcome:
     """Run what is missing of the sweep into ``--out`` (a rerun resumes it) and write its table."""
+    from submission.check import RUN_TIMEOUT_S
     from submission.sweep import sweep as run_sweep
     from vtube_planning.campaign_store import RUNS_FILE
 
@@ -43,7 +42,13 @@ def sweep(args: argparse.Namespace) -> SweepOutcome:
 
     try:
         return run_sweep(
-            args.scenes, sizes, args.out, seeds=args.seeds, jobs=args.jobs, run_timeout_s=args.run_timeout, on_row=told
+            args.scenes,
+            sizes,
+            args.out,
+            seeds=args.seeds,
+            jobs=args.jobs,
+            run_timeout_s=args.run_timeout or RUN_TIMEOUT_S,
+            on_row=told,
         )
     except KeyboardInterrupt:
         msg = f'interrupted: every finished case is in {args.out / RUNS_FILE}; run the same command again for the rest.'

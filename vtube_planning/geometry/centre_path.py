@@ -15,7 +15,7 @@ from vtube_planning.errors import TubeGenerationError
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece
 
 if TYPE_CHECKING:
-    from vtube_planning.geometry.generate import TubeSpec
+    from vtube_planning.geometry.tube_spec import TubeSpec
 
 FloatArray = NDArray[np.float64]
 

@@ -11,6 +11,10 @@ A profile starts at a half-width and is a sequence of parts along the arc length
 
 Because every part is a polynomial, lambda'(l) and the cumulative area A(l) = integral of 2 lambda are exact.
 Outside [0, L] the profile continues with its end values (the tube's straight extensions).
+
+`first_narrowing` is the one detector of where a tube first narrows: on a profile's knots (the part ends,
+`WidthProfile.knots`: every part is monotone between them) or on any half-width sampled along a tube (the sampled
+tube a submission carries).
 """
 
 from __future__ import annotations
@@ -134,6 +138,16 @@ class WidthProfile:
         return self._length_m
 
     @property
+    def knots(self) -> tuple[FloatArray, FloatArray]:
+        """The arc lengths where the parts meet (0 and L included) and the half-width there: lambda is monotone
+        between consecutive knots."""
+        l_m, width = [0.0], [self.start_m]
+        for part in self.parts:
+            l_m.append(l_m[-1] + part.length_m)
+            width.append(part.to_m if part.to_m is not None else width[-1])
+        return np.array(l_m), np.array(width)
+
+    @property
     def breakpoints(self) -> FloatArray:
         """Arc lengths where the polynomial pieces meet (including 0 and L)."""
         return np.array(self._poly.x, dtype=float)
@@ -248,6 +262,35 @@ def _polynomial_pieces(start_m: float, parts: tuple[WidthPart, ...]) -> tuple[li
                 add(corner, [0.0, -slope / (2.0 * corner), slope, to - 0.5 * slope * corner])
         value = to
     return breaks, coefs
+
+
+@dataclass(frozen=True)
+class Narrowing:
+    """Where a tube first narrows: from where its half-width starts falling to where it stops, and the half-widths
+    there (m)."""
+
+    start_m: float
+    end_m: float
+    half_width_before_m: float
+    half_width_after_m: float
+
+    @property
+    def length_m(self) -> float:
+        """Its length along the tube."""
+        return self.end_m - self.start_m
+
+
+def first_narrowing(l_m: FloatArray, half_width_m: FloatArray, tolerance_m: float = 1e-6) -> Narrowing | None:
+    """The first run of steps over which ``half_width_m``, given at increasing arc lengths ``l_m`` and monotone
+    between them, falls by more than ``tolerance_m`` each: from the step's first sample to the run's last (falling
+    parts in a row are one narrowing). None where it never falls."""
+    l_m, half_width_m = np.asarray(l_m, dtype=float), np.asarray(half_width_m, dtype=float)
+    falling = np.diff(half_width_m) < -tolerance_m
+    if not falling.any():
+        return None
+    first = int(np.argmax(falling))
+    stop = first + int(np.argmin(falling[first:])) if not falling[first:].all() else falling.size
+    return Narrowing(float(l_m[first]), float(l_m[stop]), float(half_width_m[first]), float(half_width_m[stop]))
 
 
 def width_under(l_m: FloatArray, bound: FloatArray, slope_max: float, cells: int) -> WidthProfile:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -21,7 +22,6 @@ from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.planning.banded_qp import BandedPlanner
 from vtube_planning.planning.constraints import RHO_EPSILON, certify, curvature_speed_limit
-from vtube_planning.planning.cvxpy_qp import ConvexPlanner
 from vtube_planning.planning.fastest_start import fastest_admissible
 from vtube_planning.planning.plan import (
     Formulation,
@@ -34,6 +34,9 @@ from vtube_planning.planning.plan import (
     make_plan,
 )
 from vtube_planning.planning.problem import SUBSAMPLES, Problem, discretise, refined_grid, uniform_grid
+
+if TYPE_CHECKING:
+    from vtube_planning.planning.cvxpy_qp import ConvexPlanner
 
 FloatArray = NDArray[np.float64]
 
@@ -171,6 +174,14 @@ def _refined(
     return finer, replace(more, iterations=run.iterations + more.iterations)
 
 
+def _reference_planner(problem: Problem) -> ConvexPlanner:
+    """The cvxpy formulation of ``problem`` (cvxpy is imported here, when it is needed: it takes about half a
+    second)."""
+    from vtube_planning.planning.cvxpy_qp import ConvexPlanner
+
+    return ConvexPlanner(problem)
+
+
 def _convex_concave(
     problem: Problem,
     start: tuple[FloatArray, FloatArray] | None,
@@ -180,7 +191,7 @@ def _convex_concave(
 ) -> _Run:
     """Iterate the convex subproblem from ``start`` (feasible; default the slowest profile) to convergence."""
     banded = formulation == 'banded' and problem.options.predictive_model != 'rigid_shift'
-    planner: BandedPlanner | ConvexPlanner = BandedPlanner(problem) if banded else ConvexPlanner(problem)
+    planner = BandedPlanner(problem) if banded else _reference_planner(problem)
     w_bar, rho_bar = start if start is not None else (problem.w_start, problem.rho_start)
     previous = math.inf
     status: Status = 'iteration limit'

@@ -254,9 +254,11 @@ def scanned_layout(t: VirtualTube, n: int) -> tuple[int, float] | None:
     end, tangent = t.center_at(t.length_m), t.tangent(t.length_m)
     for lanes in range(min(n, PARKING_LANES_MAX), 0, -1):
         behind = PARKING_SPACING_M * ((n - 1) // lanes)
-        for depth in np.arange(PARKING_DEPTH_M, PARKING_NEAREST_M + behind - 1e-9, -5e-4):
-            if not ROBOTARIUM.outside_arena(slots_in_lanes(end, tangent, n, lanes, depth), PARKING_WALL_M).any():
-                return lanes, float(depth)
+        depths = np.arange(PARKING_DEPTH_M, PARKING_NEAREST_M + behind - 1e-9, -5e-4)
+        slots = slots_in_lanes(end, tangent, n, lanes, depths[:, None, None])  # (depths, 2, N): every depth at once
+        outside = ROBOTARIUM.outside_arena(np.moveaxis(slots, 1, 0), PARKING_WALL_M).any(axis=-1)
+        if not outside.all():
+            return lanes, float(depths[np.argmin(outside)])
     return None
 
 

@@ -17,7 +17,6 @@ from __future__ import annotations
 import importlib
 import inspect
 import sys
-from pathlib import Path
 from typing import Any
 
 import cvxopt
@@ -25,7 +24,6 @@ import numpy as np
 import pytest
 
 from robotarium_exp import rps_alias, rps_import
-from vtube_planning.log import read_log
 
 V2_SIGNATURES: dict[str, list[tuple[str, str, str | None]]] = {
     'rps.examples.state_estimation.extended_kalman_filter.uni_ekf:UnicycleEKF.__init__': [
@@ -545,25 +543,3 @@ def test_a_name_neither_generation_has_keeps_pythons_error(tmp_path, monkeypatch
     monkeypatch.setattr(sys, 'argv', ['rps_alias', str(script)])
     with pytest.raises(ImportError, match="cannot import name 'cycle_gl'"):
         rps_alias.main()
-
-
-EXAMPLES = Path(__file__).resolve().parents[3] / 'examples'
-
-
-@pytest.mark.usefixtures('clean_rps')
-@pytest.mark.parametrize(
-    ('flags', 'script', 'steps'),
-    [([], ['go_to_pose.py', '--iterations', '5'], 5), (['--classic'], ['wander.py', 'poses.npy'], 300)],
-)
-def test_log_records_the_shipped_examples_on_either_generation(
-    flags: list[str], script: list[str], steps: int, tmp_path, monkeypatch
-) -> None:
-    monkeypatch.chdir(tmp_path)
-    log = tmp_path / 'run.npz'
-    monkeypatch.setattr(
-        sys, 'argv', ['rps_alias', '--seed', '0', *flags, '--log', str(log), str(EXAMPLES / script[0]), *script[1:]]
-    )
-    rps_alias.main()
-    arrays, meta = read_log(log)
-    assert meta['finished'] and meta['n_robots'] > 0
-    assert len(arrays['t_s']) >= steps and arrays['t_s'][0] == 0.0

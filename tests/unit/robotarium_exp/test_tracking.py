@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -16,6 +17,7 @@ from robotarium_exp.tracking import (
     plan_tracking,
 )
 from tests.unit.robotarium_exp.conftest import EXPANDS_AT, MARCH_DT
+from vtube_planning.geometry.width import WidthPart, WidthProfile
 
 
 def test_filter_summary_by_hand(trapezoid, marching) -> None:
@@ -45,11 +47,12 @@ def test_filter_summary_by_hand(trapezoid, marching) -> None:
 def test_narrowing_start_is_where_the_half_width_first_drops(trapezoid) -> None:
     scene, _ = trapezoid
     start = narrowing_start(scene)
+    first = scene.tube.width.parts[0]
+    assert first.kind == 'constant' and start == pytest.approx(first.length_m)  # the trapezoid's entrance part ends
     h0 = float(scene.tube.half_width(0.0))
-    assert 0.0 < start < scene.tube.length_m
-    step = scene.tube.length_m / 4000
-    assert float(scene.tube.half_width(start - step)) == pytest.approx(h0, abs=1e-9)
-    assert float(scene.tube.half_width(start)) < h0
+    assert float(scene.tube.half_width(start)) == pytest.approx(h0) and float(scene.tube.half_width(start + 1e-3)) < h0
+    straight = WidthProfile(h0, (WidthPart('constant', scene.tube.length_m),))
+    assert narrowing_start(replace(scene, tube=replace(scene.tube, width=straight))) == scene.tube.length_m
 
 
 def test_expansion_and_front_at_the_narrowing(trapezoid, marching) -> None:

@@ -30,6 +30,8 @@ from submission.robustness import CHECKED_MODELS
 
 ROOT = Path(__file__).resolve().parents[3]
 SCENES = ('robotarium_trapezoid', 'robotarium_curve')
+FAKE_STEPS = 300
+"""Steps of a faked run's record: its measures cost time per step, and nothing asserted depends on how many."""
 
 
 def record(steps: int = 10, *, errors: dict | None = None, gap_m: float = 0.5, **change) -> SimulatorRecord:
@@ -144,12 +146,12 @@ def test_files_that_cannot_be_checked_are_refused(tmp_path) -> None:
 
 @pytest.fixture
 def fake_runs(monkeypatch):
-    """``run_file`` and the initializer stubbed: each run a clean record of 1000 steps; the calls in order."""
+    """``run_file`` and the initializer stubbed: each run a clean record of `FAKE_STEPS` steps; the calls in order."""
     calls: list[object] = []
 
     def run_file(path, backend, seed, data, timeout_s, model='ideal'):
         calls.append((backend, seed, timeout_s) + ((model,) if model != 'ideal' else ()))
-        return RunReport(backend, seed, 0, record=record(1000), completed=True, model=model)
+        return RunReport(backend, seed, 0, record=record(FAKE_STEPS), completed=True, model=model)
 
     def initializer(ic, seeds, seed_done=None):
         for _ in seeds:
@@ -195,7 +197,7 @@ def test_check_runs_each_seed_then_the_pypi_simulator_then_the_initializer(tmp_p
         "V2's initializer alone for the file's initial conditions, 3 seeds",
     ]
     assert report.robots == 2 and report.header_declaration is None  # the simulator's count, not the file's
-    expected = declare(InitializerSample((20.0, 21.0, 22.0), ()), experiment_s=1000 * 0.033)
+    expected = declare(InitializerSample((20.0, 21.0, 22.0), ()), experiment_s=FAKE_STEPS * 0.033)
     assert report.declaration == replace(expected, margins=report.margins)
     assert report.declare_duration_s == expected.duration_s
     fake_runs.clear()
@@ -276,7 +278,7 @@ def test_a_stress_model_reports_margins_and_a_verdict_model_decides(tmp_path, mo
             flown.append(model)
         bad = model in failing
         errors = {'robots_too_close': 4} if bad else None
-        return RunReport(backend, seed, 0, record=record(1000, errors=errors, gap_m=0.1 if bad else 0.5),
+        return RunReport(backend, seed, 0, record=record(FAKE_STEPS, errors=errors, gap_m=0.1 if bad else 0.5),
                          completed=True, model=model)  # fmt: skip
 
     monkeypatch.setattr(check_module, 'run_file', run_file)

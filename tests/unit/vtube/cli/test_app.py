@@ -2,18 +2,24 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import sys
 from importlib.metadata import version
+from pathlib import Path
 
 import pytest
 
 import vtube
 from robotarium_exp.errors import RobotariumExpError
 from robotarium_exp.rps.errors import RobotariumError
+from tests.support.imports import import_graph
 from unicycle_mapping.errors import MappingError
-from vtube.cli.app import COMMANDS, GROUPS, main, parser
+from vtube.cli.app import COMMANDS, GROUPS, command_words, main, parser
 from vtube.cli.command import BadInput, Command, Interrupted, View
 from vtube_planning.errors import VtubeError
+
+ROOT = Path(__file__).resolve().parents[4]
 
 
 def fake(run, *, json_: bool = True) -> Command:
@@ -145,3 +151,51 @@ def test_help_shows_defaults_and_exit_codes(capsys) -> None:
     assert 'seed of the initial formation jitter, >= 0 (default: 0)' in text
     assert 'exit codes: 0 done, every check held; 1 a check or claim failed; 2 bad input' in text
     assert '(default: None)' not in text and '(default: False)' not in text
+
+
+def test_the_command_line_imports_nothing_heavy_before_a_command_runs() -> None:
+    """What ``import vtube.cli`` runs (module bodies, parents included; not functions, not TYPE_CHECKING) imports
+    the standard library only: numpy, scipy, cvxpy and matplotlib wait until a command runs (`vtube --version`)."""
+    graph = import_graph(ROOT, at_import_only=True)
+    reached, todo = set(), ['vtube.cli']
+    while todo:
+        name = todo.pop()
+        if name in reached:
+            continue
+        reached.add(name)
+        parts = name.split('.')
+        todo += [*graph[name][0], *('.'.join(parts[:k]) for k in range(1, len(parts)))]
+    assert {'vtube', 'vtube.cli.app', 'vtube.cli.plan', 'vtube_planning'} <= reached
+    assert 'vtube.pipeline' not in reached and 'vtube_planning.planning.planner' not in reached
+    outside = {name: sorted(graph[name][1] - set(sys.stdlib_module_names)) for name in reached}
+    assert not {name: found for name, found in outside.items() if found}
+
+
+def test_the_words_on_the_command_line_name_one_command() -> None:
+    assert command_words(['plan', 'A', '--out', 'x']) == 'plan'
+    assert command_words(['scene', 'show', 'A']) == 'scene show'
+    assert command_words(['robotarium', 'sweep', 'robotarium_curve']) == 'robotarium sweep'
+    for nothing in ([], ['--version'], ['--help'], ['scene'], ['scene', '--help'], ['nope', 'x'], ['scene', 'nope']):
+        assert command_words(nothing) is None
+
+
+def test_only_the_named_commands_options_are_built(capsys, monkeypatch) -> None:
+    built = []
+
+    def counted(name: str, arguments):
+        def counting(p) -> None:
+            built.append(name)
+            arguments(p)
+
+        return counting
+
+    for name, command in list(COMMANDS.items()):
+        monkeypatch.setitem(COMMANDS, name, dataclasses.replace(command, arguments=counted(name, command.arguments)))
+    with pytest.raises(SystemExit):
+        main(['plan', 'A', '--grid-step', '-1', '--out', 'x'])
+    assert built == ['plan'] and "argument --grid-step: '-1' is not a number > 0" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(['--help'])
+    assert built == ['plan'] and 'plan speed and density' in capsys.readouterr().out
+    parser()
+    assert sorted(built) == sorted(['plan', *COMMANDS])  # the CLI reference builds them all

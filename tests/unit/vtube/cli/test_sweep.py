@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 import submission.sweep as sweep_module
+from submission.check import RUN_TIMEOUT_S
 from submission.sweep import SweepOutcome
 from vtube.cli.app import main
 from vtube.cli.sweep import sweep_view
@@ -41,10 +42,13 @@ def test_the_command_hands_its_arguments_to_the_sweep(tmp_path: Path, monkeypatc
     code = main(['robotarium', 'sweep', 'a.toml', 'b', '--n', '1,6', '--seeds', '2', '--out', str(tmp_path / 'o')])
     assert code == 0
     assert (given['scenes'], given['sizes'], given['out']) == (['a.toml', 'b'], (1, 6), tmp_path / 'o')
-    assert (given['seeds'], given['jobs']) == ((0, 1), 1)
-    main(['robotarium', 'sweep', 'a.toml', '--seeds', '5-6', '--out', str(tmp_path / 'o')])
-    assert given['seeds'] == (5, 6)
+    assert (given['seeds'], given['jobs'], given['run_timeout_s']) == ((0, 1), 1, RUN_TIMEOUT_S)
+    main(['robotarium', 'sweep', 'a.toml', '--seeds', '5-6', '--run-timeout', '30', '--out', str(tmp_path / 'o')])
+    assert (given['seeds'], given['run_timeout_s']) == ((5, 6), 30.0)
     assert '# Robotarium sweep' in capsys.readouterr().out
+    with pytest.raises(SystemExit):
+        main(['robotarium', 'sweep', '--help'])
+    assert f'(default {RUN_TIMEOUT_S:g})' in ' '.join(capsys.readouterr().out.split())  # the help tells the default
 
 
 @pytest.mark.parametrize('sizes', ['0', '1,x', ''])

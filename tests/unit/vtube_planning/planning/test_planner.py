@@ -169,7 +169,7 @@ def no_solver(monkeypatch):
     def forbidden(*args, **kwargs):
         pytest.fail('the solver ran although infeasibility was known beforehand')
 
-    monkeypatch.setattr(planner_module.ConvexPlanner, '__init__', forbidden)
+    monkeypatch.setattr(ConvexPlanner, '__init__', forbidden)
     monkeypatch.setattr(planner_module.BandedPlanner, '__init__', forbidden)
 
 
