@@ -26,7 +26,6 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib import patches
 
-from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.testbed_model import Testbed, TestbedModel
 from robotarium_exp.rps.testbed_model import testbed_model as named_model
 from robotarium_exp.rps_classic.robotarium_abc import FloatArray, RobotariumABC
@@ -59,7 +58,7 @@ class Robotarium(RobotariumABC):
     def get_poses(self) -> FloatArray:
         """The poses, 3xN [x; y; theta]: the simulator's own array (updated in place by ``step()``); once per step."""
         if self._checked_poses_already:
-            raise RobotariumError('Can only call get_poses() once per call of step().')
+            raise AssertionError('Can only call get_poses() once per call of step().')
         self._called_step_already = False
         self._checked_poses_already = True
         return self.poses if self._testbed is None else self._testbed.observe(self.poses.copy())
@@ -67,7 +66,7 @@ class Robotarium(RobotariumABC):
     def step(self) -> None:
         """Validate the commands, integrate one time step in place, redraw (and wait, in real time)."""
         if self._called_step_already:
-            raise RobotariumError('Make sure to call get_poses before calling step() again.')
+            raise AssertionError('Make sure to call get_poses before calling step() again.')
         self._called_step_already = True
         self._checked_poses_already = False
         self._errors = self._validate()

@@ -14,7 +14,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.utilities.transformations import (
     create_si_to_uni_dynamics,
     create_si_to_uni_dynamics_with_backwards_motion,
@@ -45,9 +44,9 @@ def create_si_position_controller(
     """``f(x, goals) -> dxi``: proportional single-integrator control, norm-clamped."""
     for name, gain in (('x_velocity_gain', x_velocity_gain), ('y_velocity_gain', y_velocity_gain)):
         if not (isinstance(gain, (int, float)) and gain > 0):
-            raise RobotariumError(f'{name} must be a positive number.')
+            raise AssertionError(f'{name} must be a positive number.')
     if not (isinstance(velocity_magnitude_limit, (int, float)) and velocity_magnitude_limit >= 0):
-        raise RobotariumError('velocity_magnitude_limit must be non-negative.')
+        raise AssertionError('velocity_magnitude_limit must be non-negative.')
 
     def controller(x: FloatArray, goals: FloatArray) -> FloatArray:
         _check_shapes(x, goals, 2, 2)
@@ -116,11 +115,11 @@ def _check_shapes(
     if count_first:
         states.shape[1]
     if states.shape[0] != state_rows:
-        raise RobotariumError(f'states must be {state_rows}xN.')
+        raise AssertionError(f'states must be {state_rows}xN.')
     if poses.shape[0] != pose_rows:
-        raise RobotariumError(f'poses must be {pose_rows}xN.')
+        raise AssertionError(f'poses must be {pose_rows}xN.')
     if poses.shape[1] != states.shape[1]:
-        raise RobotariumError('states and poses must have the same number of columns.')
+        raise AssertionError('states and poses must have the same number of columns.')
 
 
 def create_uni_position_controller(
