@@ -48,7 +48,7 @@ class Robotarium(RobotariumABC):
         model = named_model(testbed_model)
         super().__init__(number_of_robots, show_figure, sim_in_real_time, initial_conditions)
         self._testbed = None if model.is_ideal else Testbed(model, self.number_of_robots, self.time_step)
-        self.previous_render_time = time.time()
+        self.previous_render_time = time.perf_counter()
         self.sim_in_real_time = sim_in_real_time
         self._called_step_already = True
         self._checked_poses_already = False
@@ -81,10 +81,10 @@ class Robotarium(RobotariumABC):
         poses[2, :] = np.arctan2(np.sin(poses[2, :]), np.cos(poses[2, :]))
         if self.show_figure:
             if self.sim_in_real_time:
-                remaining = self.time_step - (time.time() - self.previous_render_time)
+                remaining = self.time_step - (time.perf_counter() - self.previous_render_time)
                 if remaining > 0:
                     time.sleep(remaining)
-                self.previous_render_time = time.time()
+                self.previous_render_time = time.perf_counter()
             self._place_robots()
             self.figure.canvas.draw_idle()
             self.figure.canvas.flush_events()
