@@ -84,15 +84,17 @@ def create_si_to_uni_dynamics_with_backwards_motion(
 def create_si_to_uni_mapping(projection_distance: float = 0.05) -> tuple[Map, Callable[[FloatArray], FloatArray]]:
     """``(si_to_uni_dyn(dxi, states), uni_to_si_states(states))``: the near-identity map and its points (2xN)."""
     _check_projection(projection_distance)
+    d = float(projection_distance)  # V2 takes True as 1
 
     def si_to_uni_dyn(dxi: FloatArray, states: FloatArray) -> FloatArray:
         _check_pair(dxi, 'dxi', states, 3, 'states')
-        return si_to_uni(dxi, states, projection_distance)
+        return si_to_uni(dxi, states, d)
 
     def uni_to_si_states_(states: FloatArray) -> FloatArray:
         if states.shape[0] != 3:
             raise AssertionError(f'states must be 3xN. Got {states.shape[0]}x{states.shape[1]}.')
-        return uni_to_si_states(states, projection_distance)
+        states[0:2, :]  # V2 reads the positions: a 1-D array fails here with numpy's IndexError
+        return uni_to_si_states(states, d)
 
     return si_to_uni_dyn, uni_to_si_states_
 
@@ -103,10 +105,11 @@ def create_uni_to_si_mapping(projection_distance: float = 0.05) -> tuple[Map, Ma
     ``si_to_uni_states`` gives the axle positions (2xN) under the points ``si_states``.
     """
     _check_projection(projection_distance)
+    d = float(projection_distance)  # V2 takes True as 1
 
     def uni_to_si_dyn(dxu: FloatArray, states: FloatArray) -> FloatArray:
         _check_pair(dxu, 'dxu', states, 3, 'states')
-        return uni_to_si(dxu, states, projection_distance)
+        return uni_to_si(dxu, states, d)
 
     def si_to_uni_states(uni_states: FloatArray, si_states: FloatArray) -> FloatArray:
         m, n = uni_states.shape
@@ -118,6 +121,6 @@ def create_uni_to_si_mapping(projection_distance: float = 0.05) -> tuple[Map, Ma
         if n_si != n:
             raise AssertionError(f'uni_states and si_states must have the same number of columns ({n} vs {n_si}).')
         heading = np.vstack([np.cos(uni_states[2]), np.sin(uni_states[2])])
-        return si_states[:2] - projection_distance * heading
+        return si_states[:2] - d * heading
 
     return uni_to_si_dyn, si_to_uni_states

@@ -75,6 +75,9 @@ class RobustCertificate:
         return 2 * np.column_stack([diff[0] * c + diff[1] * s, self.d * (diff[1] * c - diff[0] * s)])
 
     def __call__(self, dxu: FloatArray, x: FloatArray, obstacles: FloatArray = np.empty(0)) -> FloatArray:  # noqa: B008
+        np.size(dxu[0, :])  # classic's first reads, in its order: a list or 1-D array fails with classic's error
+        _ = obstacles.size
+        x[2, :], x[:2, :]
         dxu, x = np.asarray(dxu, dtype=float), np.asarray(x, dtype=float)
         n = dxu.shape[1]
         theta = x[2]
