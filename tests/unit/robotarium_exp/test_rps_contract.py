@@ -21,7 +21,9 @@ one we do not reproduce: classic's ``at_position`` reaching its last check (it n
 ``NameError``), classic's ``uni_to_si_dyn`` given a non-array (its message names an unbound variable), classic's
 CLF pose controller on its approach line (0/0, NaN; ours takes the limit), its hybrid controller with a negative
 ``position_epsilon`` (it rebinds its state to an int), V2's plain certificate given one-row positions (it broadcasts
-x into y; ours refuses), and classic's robust certificates (differential drive, ``create_robust_barriers``): without
+x into y; ours refuses), V2's certificates given two robots at one point (an infeasible QP, which cvxopt at the
+testbed's loose tolerance answers with a point that depends on the order of the rows, and ours lists them in
+another order), and classic's robust certificates (differential drive, ``create_robust_barriers``): without
 walls every solve is a ``NameError`` (``solver2``), quadprog raises where ours commands zeros with a warning, and
 wrong parameters or shapes fail inside their matrices preallocated for 30 robots with errors of that code, which
 ours does not reproduce. Also left out before: three classic certificate calls with two robots at one point, where
