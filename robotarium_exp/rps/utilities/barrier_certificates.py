@@ -322,6 +322,11 @@ class UnicycleCertificate:
         if n < 2:
             unchanged: FloatArray = np.copy(dxu)
             return unchanged
+        if isinstance(x, np.ndarray) and not (np.isfinite(dxu).all() and np.isfinite(x).all()):
+            self.uni_to_si_states(np.nan_to_num(x))  # V2's maps check the shapes; then V2's QP fails on NaN
+            self.uni_to_si_dyn(np.nan_to_num(dxu), np.nan_to_num(x))
+            self.inner.stats.solves += 1
+            return self.inner._failed(n)
         points, dxi = self.uni_to_si_states(x), self.uni_to_si_dyn(dxu, x)
         if obstacles is not None and obstacles.size > 0:
             points = np.hstack((points, obstacles))
