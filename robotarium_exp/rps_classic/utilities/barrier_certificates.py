@@ -310,7 +310,15 @@ def create_unicycle_differential_drive_barrier_certificate(
 ) -> RobustCertificate:
     """Classic: the robust certificate on wheel speeds (``f(dxu, x, obstacles=np.empty(0))``), without walls."""
     return RobustCertificate(
-        disturbance, wheel_vel_limit, base_length, wheel_radius, projection_distance, barrier_gain, safety_radius, None
+        disturbance,
+        wheel_vel_limit,
+        base_length,
+        wheel_radius,
+        projection_distance,
+        barrier_gain,
+        safety_radius,
+        None,
+        sizes=(max_num_obstacle_points, max_num_robots, 0),
     )
 
 
@@ -336,4 +344,5 @@ def create_unicycle_differential_drive_barrier_certificate_with_boundary(
         barrier_gain,
         safety_radius,
         np.asarray(boundary_points, dtype=float),
+        sizes=(max_num_obstacle_points, max_num_robots, 0),
     )

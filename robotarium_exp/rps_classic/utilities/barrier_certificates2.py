@@ -14,12 +14,15 @@ metric (v - v_hat)^2 + d^2 (omega - omega_hat)^2, exactly (classic solves these 
 by the exact least-distance QP of V2's certificates in the scaled variables (v, d omega).
 
 Classic's implementation prints its solve time at every call (not reproduced) and sizes buffers by
-``max_num_robots`` / ``max_num_obstacles`` (accepted here, not needed).
+``max_num_robots`` / ``max_num_obstacles`` (not needed here, but their sizes computed, so that a size classic
+cannot allocate fails as there). Where quadprog fails, ``create_robust_barriers`` raises its ``ValueError``, as
+classic does.
 """
 
 from __future__ import annotations
 
 import warnings
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,7 +33,12 @@ __all__ = ['RobustCertificate', 'create_robust_barriers']
 
 
 class RobustCertificate:
-    """``certificate(dxu, x, obstacles=np.empty(0)) -> dxu`` (2xN unicycle commands), with ``stats``."""
+    """``certificate(dxu, x, obstacles=np.empty(0)) -> dxu`` (2xN unicycle commands), with ``stats``.
+
+    ``quadprog_errors``: fail as classic's quadprog solve fails (``create_robust_barriers``): ``ValueError`` with
+    quadprog's text when the QP is infeasible, or when a projection distance of 0 makes its objective singular;
+    otherwise an infeasible QP commands zeros with a warning.
+    """
 
     def __init__(
         self,
@@ -42,17 +50,22 @@ class RobustCertificate:
         barrier_gain: float,
         safety_radius: float,
         boundary_points: FloatArray | None,
+        *,
+        sizes: tuple[Any, Any, int] = (100, 30, 0),
+        quadprog_errors: bool = False,
     ) -> None:
-        self.disturbance = float(disturbance)
-        self.wheel_vel_limit = float(wheel_vel_limit)
         self.wheels_to_uni = np.array(
             [[wheel_radius / 2, wheel_radius / 2], [-wheel_radius / base_length, wheel_radius / base_length]]
         )
-        self.d = float(projection_distance)
-        self.gain = float(barrier_gain)
-        self.radius = float(safety_radius)
+        _ = np.dot(np.array([[1, 0], [0, projection_distance]]), self.wheels_to_uni), -disturbance
+        obstacles, robots, per_robot = sizes  # classic sizes its matrices for these: their errors at creation
+        np.zeros([(robots**2 - robots) // 2 + robots * obstacles + per_robot * robots, 2 * robots], dtype=bool)
+        self.given = (disturbance, wheel_vel_limit, projection_distance, barrier_gain, safety_radius)
+        """The numbers as given, used (and converted) at each call, as classic uses them there."""
+        self.disturbance, self.wheel_vel_limit, self.d, self.gain, self.radius = 0.0, 0.0, 0.0, 0.0, 0.0
         self.boundary = boundary_points
         self.stats = BarrierStats()
+        self.quadprog_errors = quadprog_errors
 
     def _robust_rows(
         self, n: int, grads: list[FloatArray], robots: list[NDArray[np.intp]], h: FloatArray
@@ -80,6 +93,12 @@ class RobustCertificate:
         x[2, :], x[:2, :]
         dxu, x = np.asarray(dxu, dtype=float), np.asarray(x, dtype=float)
         n = dxu.shape[1]
+        disturbance, wheel_vel_limit, d, gain, radius = self.given
+        if n >= 2:  # classic's pair rows use the radius, then the gain; its wheel rows the limit
+            _ = radius**2, -gain
+        _ = -wheel_vel_limit
+        self.disturbance, self.wheel_vel_limit = float(disturbance), float(wheel_vel_limit)
+        self.d, self.gain, self.radius = float(d), float(gain), float(radius)
         theta = x[2]
         points = x[:2] + self.d * np.vstack([np.cos(theta), np.sin(theta)])
         i, j = np.triu_indices(n, k=1)
@@ -102,7 +121,11 @@ class RobustCertificate:
         scale = np.tile([1.0, self.d], n)  # unknowns z = (v, d omega): the objective becomes |z - z_hat|^2
         self.stats.solves += 1
         self.stats.rows_last = a.shape[0]
+        if self.quadprog_errors and self.d == 0:
+            raise ValueError('matrix G is not positive definite')
         z = least_distance((dxu * scale.reshape(n, 2).T).reshape(-1, order='F'), a / scale, b)
+        if z is None and self.quadprog_errors:
+            raise ValueError('constraints are inconsistent, no solution')
         if z is None:
             self.stats.failures += 1
             message = f'robust barrier QP infeasible at solve {self.stats.solves}; commanding zero velocities'
@@ -147,5 +170,14 @@ def create_robust_barriers(
 ) -> RobustCertificate:
     """Classic: the robust certificate without walls; ``d`` is the wheel disturbance, ``gamma`` the barrier gain."""
     return RobustCertificate(
-        d, wheel_vel_limit, base_length, wheel_radius, projection_distance, gamma, safety_radius, None
+        d,
+        wheel_vel_limit,
+        base_length,
+        wheel_radius,
+        projection_distance,
+        gamma,
+        safety_radius,
+        None,
+        sizes=(max_num_obstacles, max_num_robots, 4),
+        quadprog_errors=True,
     )
