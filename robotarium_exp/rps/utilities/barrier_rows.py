@@ -38,13 +38,8 @@ class BarrierSpec:
 
 
 def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArray]:
-    """Every constraint row A u <= b (u stacked robot by robot: [u_0x, u_0y, u_1x, ...]) for positions x (2, N): the
-    pairs i < j, then the four walls (+y, -y, +x, -x), then the polygon's sides, each wall and side for all robots.
-
-    V2 lists the walls and sides robot by robot instead: the same rows in another order, which cvxopt at the
-    testbed's tolerance answers the same to about 1e-11, except on an infeasible QP (two robots at one point), where
-    its answer depends on the order. (V2's order would make the answers V2's to the bit, and move the pinned runs
-    of the regression harness by that 1e-11.)
+    """Every constraint row A u <= b (u stacked robot by robot: [u_0x, u_0y, u_1x, ...]) for positions x (2, N), in
+    V2's order: the pairs i < j, then the four walls (+y, -y, +x, -x) and the polygon's sides, each robot by robot.
     """
     layout = _row_layout(x.shape[1], spec)
     diff, _, b_pair = _pair_terms(x, spec, layout)
