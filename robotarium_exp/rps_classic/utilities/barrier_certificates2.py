@@ -11,7 +11,9 @@ where each min is -disturbance (|g_k,1| + |g_k,2|); likewise between each robot 
 walls, p stays inside ``boundary_points`` (rows ``+/- pdot <= 0.4 gamma (room - R/2)^3``, no disturbance), every
 wheel within +/- ``wheel_vel_limit``. Among those wheel speeds it picks the ones closest to the request in the
 metric (v - v_hat)^2 + d^2 (omega - omega_hat)^2, exactly (classic solves these with quadprog, an exact solver),
-by the exact least-distance QP of V2's certificates in the scaled variables (v, d omega).
+by the exact least-distance QP of V2's certificates in the scaled variables (v, d omega). With walls, classic
+solves with cvxopt at its loose options instead, and so does ours with the ``'testbed'`` QP solver (the default:
+`robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`), on classic's rows in classic's order.
 
 Classic's implementation prints its solve time at every call (not reproduced) and sizes buffers by
 ``max_num_robots`` / ``max_num_obstacles`` (not needed here, but their sizes computed, so that a size classic
@@ -24,10 +26,17 @@ from __future__ import annotations
 import warnings
 from typing import Any
 
+import cvxopt
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.rps.utilities.barrier_certificates import BarrierStats, FloatArray, least_distance
+from robotarium_exp.rps.utilities.barrier_certificates import (
+    TESTBED_QP_OPTIONS,
+    BarrierStats,
+    FloatArray,
+    least_distance,
+    qp_solver,
+)
 
 __all__ = ['RobustCertificate', 'create_robust_barriers']
 
@@ -79,7 +88,7 @@ class RobustCertificate:
             a[rows, 2 * robot] -= g[:, 0]
             a[rows, 2 * robot + 1] -= g[:, 1]
             worst += np.abs(g @ self.wheels_to_uni).sum(axis=1)
-        return a, self.gain * h**3 - self.disturbance * worst
+        return a, self.gain * h**3 - abs(self.disturbance) * worst  # the square of corners +/- disturbance
 
     def _gradient(self, diff: FloatArray, heading: FloatArray) -> FloatArray:
         """d|diff|^2 / du of a point d ahead of a robot with ``heading`` (m,), diff = its point minus another, (2, m):
@@ -121,6 +130,8 @@ class RobustCertificate:
         scale = np.tile([1.0, self.d], n)  # unknowns z = (v, d omega): the objective becomes |z - z_hat|^2
         self.stats.solves += 1
         self.stats.rows_last = a.shape[0]
+        if self.boundary is not None and qp_solver() == 'testbed':
+            return self._classic_solve(dxu, a, b)
         if self.quadprog_errors and self.d == 0:
             raise ValueError('matrix G is not positive definite')
         z = least_distance((dxu * scale.reshape(n, 2).T).reshape(-1, order='F'), a / scale, b)
@@ -134,6 +145,29 @@ class RobustCertificate:
             return np.zeros_like(dxu)
         safe: FloatArray = z.reshape(2, n, order='F') / scale.reshape(n, 2).T
         return safe
+
+    def _classic_solve(self, dxu: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray:
+        """Classic's with-walls solve: cvxopt at its loose options on the wheel speeds w (u = D w), minimising
+        |L (w - w_hat)|^2 with L = diag(1, d) D, the rows in classic's order (pairs and obstacles, each robot's four
+        walls, the upper then the lower wheel bounds), and its answer taken whatever cvxopt's status, as classic."""
+        n = dxu.shape[1]
+        walls = a.shape[0] - 8 * n  # the walls' first row: after the pairs and obstacles, before the wheel bounds
+        order = np.r_[np.arange(walls), walls + np.arange(4 * n).reshape(4, n).T.ravel()]
+        to_wheels = np.kron(np.eye(n), self.wheels_to_uni)
+        g = np.vstack([a[order] @ to_wheels, np.eye(2 * n), -np.eye(2 * n)])
+        h = np.r_[b[order], np.full(4 * n, self.wheel_vel_limit)]
+        metric = np.kron(np.eye(n), np.diag([1.0, self.d]) @ self.wheels_to_uni)
+        w_hat = (np.linalg.inv(self.wheels_to_uni) @ dxu).reshape(-1, order='F')
+        quadratic = 2 * metric.T @ metric
+        solution = cvxopt.solvers.qp(
+            cvxopt.matrix(quadratic),
+            cvxopt.matrix(-(w_hat @ quadratic)),
+            cvxopt.matrix(g),
+            cvxopt.matrix(h),
+            options=TESTBED_QP_OPTIONS,
+        )
+        wheels: FloatArray = self.wheels_to_uni @ np.array(solution['x']).reshape(2, n, order='F')
+        return wheels
 
     def _wall_rows(self, points: FloatArray, theta: FloatArray, boundary: FloatArray) -> tuple[FloatArray, FloatArray]:
         """``+/- pdot_y, +/- pdot_x <= 0.4 gamma (room - R/2)^3`` per robot, pdot = [cos, -d sin; sin, d cos] u."""
