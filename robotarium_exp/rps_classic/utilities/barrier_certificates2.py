@@ -69,6 +69,7 @@ class RobustCertificate:
         _ = np.dot(np.array([[1, 0], [0, projection_distance]]), self.wheels_to_uni), -disturbance
         obstacles, robots, per_robot = sizes  # classic sizes its matrices for these: their errors at creation
         np.zeros([(robots**2 - robots) // 2 + robots * obstacles + per_robot * robots, 2 * robots], dtype=bool)
+        self.max_robots = robots
         self.given = (disturbance, wheel_vel_limit, projection_distance, barrier_gain, safety_radius)
         """The numbers as given, used (and converted) at each call, as classic uses them there."""
         self.disturbance, self.wheel_vel_limit, self.d, self.gain, self.radius = 0.0, 0.0, 0.0, 0.0, 0.0
@@ -96,18 +97,26 @@ class RobustCertificate:
         c, s = np.cos(heading), np.sin(heading)
         return 2 * np.column_stack([diff[0] * c + diff[1] * s, self.d * (diff[1] * c - diff[0] * s)])
 
-    def __call__(self, dxu: FloatArray, x: FloatArray, obstacles: FloatArray = np.empty(0)) -> FloatArray:  # noqa: B008
-        np.size(dxu[0, :])  # classic's first reads, in its order: a list or 1-D array fails with classic's error
+    def _read_as_classic(self, dxu: Any, x: Any, obstacles: Any) -> tuple[FloatArray, FloatArray]:
+        """The commands and poses, read in classic's order with classic's errors (a list, a 1-D array, poses of
+        another number of robots than commands), and the numbers given, used as classic uses them at a call."""
+        n = np.size(dxu[0, :])
         _ = obstacles.size
-        x[2, :], x[:2, :]
-        dxu, x = np.asarray(dxu, dtype=float), np.asarray(x, dtype=float)
-        n = dxu.shape[1]
+        headings = np.zeros(self.max_robots) if self.boundary is not None else np.zeros((1, self.max_robots))
+        if n > 0 or not self.quadprog_errors:  # classic's robust barriers return at once for no robots
+            headings[..., 0:n] = np.cos(x[2, :])  # classic's matrix for max_num_robots (an np.matrix without walls)
+        _ = x[:2, :]
         disturbance, wheel_vel_limit, d, gain, radius = self.given
         if n >= 2:  # classic's pair rows use the radius, then the gain; its wheel rows the limit
             _ = radius**2, -gain
         _ = -wheel_vel_limit
         self.disturbance, self.wheel_vel_limit = float(disturbance), float(wheel_vel_limit)
         self.d, self.gain, self.radius = float(d), float(gain), float(radius)
+        return np.asarray(dxu, dtype=float), np.asarray(x, dtype=float)
+
+    def __call__(self, dxu: FloatArray, x: FloatArray, obstacles: FloatArray = np.empty(0)) -> FloatArray:  # noqa: B008
+        dxu, x = self._read_as_classic(dxu, x, obstacles)
+        n = dxu.shape[1]
         theta = x[2]
         points = x[:2] + self.d * np.vstack([np.cos(theta), np.sin(theta)])
         i, j = np.triu_indices(n, k=1)
@@ -127,6 +136,7 @@ class RobustCertificate:
         blocks.append((wheel_rows, np.full(4 * n, self.wheel_vel_limit)))
         a = np.vstack([rows for rows, _ in blocks])
         b = np.concatenate([right for _, right in blocks])
+        _ = np.dot(np.linalg.inv(self.wheels_to_uni), dxu)  # classic maps the commands to wheel speeds: its error
         scale = np.tile([1.0, self.d], n)  # unknowns z = (v, d omega): the objective becomes |z - z_hat|^2
         self.stats.solves += 1
         self.stats.rows_last = a.shape[0]

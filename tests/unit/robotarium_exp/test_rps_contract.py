@@ -24,10 +24,10 @@ CLF pose controller on its approach line (0/0, NaN; ours takes the limit), its h
 x into y; ours refuses), V2's certificates given two robots at one point (an infeasible QP, which cvxopt at the
 testbed's loose tolerance answers with a point that depends on the order of the rows, and ours lists them in
 another order), and classic's robust certificates (differential drive, ``create_robust_barriers``): without
-walls every solve is a ``NameError`` (``solver2``); commands, poses or obstacles of a wrong shape fail inside their
-matrices preallocated for 30 robots with errors of that code, which ours does not reproduce; with walls, a few
-ill-posed QPs that cvxopt, stopped at its loose tolerance, answers with a point the slightest change of the data
-moves. Also left out, unlisted: three classic
+walls every solve is a ``NameError`` (``solver2``); obstacles of a wrong shape (broadcasting errors naming other
+shapes), any obstacles with walls (a crash), one pose broadcast to two robots, ``max_num_robots=True`` and no robots
+(an empty list) meet classic's preallocated matrices in ways ours does not reproduce; with walls, a few ill-posed
+QPs that cvxopt, stopped at its loose tolerance, answers with a point the slightest change of the data moves. Also left out, unlisted: three classic
 certificate calls with two robots at one point, where cvxopt itself fails ("domain error").
 """
 
