@@ -11,9 +11,10 @@ from __future__ import annotations
 
 
 class RobotariumError(AssertionError):
-    """A refusal of ours that the official simulators do not make (call order, shapes, robot counts, NaN).
+    """A refusal of ours that the official simulators do not make (NaN or misshapen commands, more robots than
+    charger slots, an initialization that never finishes, an unknown QP solver).
 
-    It subclasses ``AssertionError`` because that is what ``rps`` raises for its own checks, so a script's
+    It subclasses ``AssertionError``, what the official raises for its own checks, so a script's
     ``except AssertionError`` catches both; the messages say what to do instead.
     """
 
