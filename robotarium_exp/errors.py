@@ -1,8 +1,9 @@
 """Exceptions of `robotarium_exp`: one base, [`RobotariumExpError`][robotarium_exp.errors.RobotariumExpError].
 
 The package stands below `vtube_planning` in nothing, so its base is its own. Its ``rps`` part stands for a
-third-party contract and raises its own [`RobotariumError`][robotarium_exp.rps.errors.RobotariumError] (an
-``AssertionError``, as ``rps``).
+third-party contract: it raises the official's ``AssertionError`` where the official asserts, and its own
+[`RobotariumError`][robotarium_exp.rps.errors.RobotariumError] (an ``AssertionError`` too) for the refusals the
+official does not make.
 """
 
 from __future__ import annotations

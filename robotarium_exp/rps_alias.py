@@ -1,7 +1,8 @@
 """Run an unchanged ``rps`` script on the bundled simulator: make ``import rps...`` resolve to ours.
 
     python -m robotarium_exp.rps_alias [--classic] [--seed N] [--log FILE.npz] [--exact-qp]
-                                       [--testbed-model NAME] my_script.py [args...]
+                                       [--testbed-model NAME] [--numpy1-names] [--sim-clock]
+                                       my_script.py [args...]
 
 or, inside Python, ``install()`` before the script imports ``rps``. By default ``rps`` is V2
 (`robotarium_exp.rps`: robots are driven from the chargers to the initial conditions, ``debug()``);
@@ -13,11 +14,14 @@ the simulator record the poses and commands of every step (`robotarium_exp.recor
 ``--exact-qp`` makes the barrier certificates solve their QPs exactly and faster, instead of as the testbed does
 (`robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`); ``--testbed-model`` makes the
 simulator act like the real robots (``ideal``, the default, ``fitted``, ``fitted:K``:
-`robotarium_exp.rps.testbed_model`).
+`robotarium_exp.rps.testbed_model`); ``--numpy1-names`` gives back the numpy 1 names classic-era scripts use and
+numpy 2 removed (``np.mat``...: `robotarium_exp.numpy1_names`), saying so on stderr; ``--sim-clock`` makes
+``time.time()`` a simulated clock that advances by the time step at each ``step()`` (`robotarium_exp.sim_clock`),
+so scripts that feed wall-clock time into their control run the same on every run and machine.
 
 The script runs as ``python my_script.py`` would run it (its folder first on ``sys.path``, so modules beside it
 import; ``__file__``; ``sys.argv``). A script that dies on ``np.mat`` (removed in numpy 2, used by several classic
-examples) gets a message naming the fix instead of a bare ``AttributeError``, and one that imports a name only the
+examples) without ``--numpy1-names`` gets a message naming the fixes instead of a bare ``AttributeError``, and one that imports a name only the
 other generation has (``cycle_GL`` without ``--classic``, ``create_si_barrier_certificate`` with it) gets one line
 saying so and naming ``--classic``; both exit with code 1.
 """
@@ -38,10 +42,12 @@ from typing import Any
 
 import numpy as np
 
+from robotarium_exp.numpy1_names import notice, provide
 from robotarium_exp.recorder import recording
 from robotarium_exp.rps.testbed_model import NAMES, TestbedModel, TestbedModelError, testbed_model
 from robotarium_exp.rps.utilities.barrier_certificates import use_qp_solver
 from robotarium_exp.rps_import import CLASSIC, V2, Generation, suffix_of, use_generation
+from robotarium_exp.sim_clock import START_S, SimClock, ticking
 
 
 def install(
@@ -50,12 +56,15 @@ def install(
     seed: int | None = None,
     log_path: str | None = None,
     testbed_model: str | TestbedModel | None = None,
+    clock: SimClock | None = None,
 ) -> None:
     """Make ``rps``, ``rps.robotarium``, ``rps.utilities...`` resolve to the bundled simulator's modules, each when
     the script first imports it (`robotarium_exp.rps_import`: so that cvxopt's options are set when the
     official modules would set them). ``rps`` modules imported before are forgotten.
 
     ``testbed_model``: the model every ``Robotarium()`` of the script gets unless it names one (either generation).
+    ``clock``: advanced by the time step at every ``step()`` of every ``Robotarium()`` (`robotarium_exp.sim_clock`;
+    installing it as ``time.time`` is the caller's).
     """
     generation = CLASSIC if classic else V2
     if seed is not None:
@@ -64,6 +73,8 @@ def install(
     cls = original.Robotarium
     if testbed_model is not None:
         cls = with_testbed_model(cls, testbed_model)
+    if clock is not None:
+        cls = ticking(cls, clock)
     if log_path is not None:
         cls = recording(cls, log_path)
     module = types.ModuleType('rps.robotarium', original.__doc__)  # a copy: what the script rebinds stays its own
@@ -106,6 +117,12 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument(
         '--testbed-model', type=_model, default=None, metavar='NAME', help=f'what the real robots do: {NAMES}'
     )
+    parser.add_argument(
+        '--numpy1-names', action='store_true', help='give back np.mat and the other numpy 1 names numpy 2 removed'
+    )
+    parser.add_argument(
+        '--sim-clock', action='store_true', help='time.time() advances by the time step per step(), from 0'
+    )
     parser.add_argument('command', nargs=argparse.REMAINDER, metavar='SCRIPT [ARGS ...]', help='the script to run')
     return parser
 
@@ -138,14 +155,26 @@ def main() -> None:
         parser.error(f'{script} is not a Python script ({err}).')
     if args.exact_qp:
         use_qp_solver('exact')
-    install(classic=args.classic, seed=args.seed, log_path=args.log, testbed_model=args.testbed_model)
+    if args.numpy1_names:
+        print(notice(provide(np), np.__version__), file=sys.stderr)
+    clock = SimClock() if args.sim_clock else None
+    install(classic=args.classic, seed=args.seed, log_path=args.log, testbed_model=args.testbed_model, clock=clock)
+    if clock is not None:
+        print(
+            f'rps_alias: --sim-clock: time.time() starts at {START_S} s and advances one time step per step().',
+            file=sys.stderr,
+        )
+        clock.install()
     try:
         run_script(script, list(args.command))
     except AttributeError as error:
         if not uses_np_mat(error):
             raise
         traceback.print_exc()
-        print(NP_MAT_MESSAGE.format(script=script, numpy=np.__version__), file=sys.stderr)
+        print(
+            NP_MAT_MESSAGE.format(script=script, numpy=np.__version__, classic='--classic ' * args.classic),
+            file=sys.stderr,
+        )
         raise SystemExit(1) from None
     except ImportError as error:
         hint = other_generation_hint(error, script, CLASSIC if args.classic else V2)
@@ -153,6 +182,9 @@ def main() -> None:
             raise
         print(hint, file=sys.stderr)
         raise SystemExit(1) from None
+    finally:
+        if clock is not None:
+            clock.uninstall()
 
 
 def run_script(script: Path, argv: list[str]) -> None:
@@ -203,7 +235,8 @@ def other_generation_hint(error: ImportError, script: Path, generation: Generati
 NP_MAT_MESSAGE = (
     'rps_alias: {script} uses np.mat, which numpy 2 removed (numpy {numpy} is installed), so it fails on any '
     "simulator. Fix: replace np.mat('1 2; 3 4') by np.asmatrix('1 2; 3 4'), or better by a plain array, "
-    'np.array([[1, 2], [3, 4]]).'
+    'np.array([[1, 2], [3, 4]]); or run it unchanged with --numpy1-names: python -m robotarium_exp.rps_alias '
+    '{classic}--numpy1-names {script}'
 )
 
 

@@ -2,8 +2,8 @@
 
 * Construction with V2's keywords and defaults (``number_of_robots``, ``show_figure``, ``initial_conditions``,
   ``use_distance_sensors``, ``obstacles``, ``sim_in_real_time``, ``skip_initialization``, the ``show_*`` options),
-  checked with V2's messages ([`RobotariumError`][robotarium_exp.rps.errors.RobotariumError] is an ``AssertionError``,
-  as V2's ``assert`` raises).
+  checked with V2's messages and V2's ``AssertionError``; what V2 does not check (more robots than charger slots,
+  an initialization that never finishes) raises [`RobotariumError`][robotarium_exp.rps.errors.RobotariumError].
 * Call order ``get_poses() -> set_velocities(ids, dxu) -> step()`` enforced with the messages rps users know.
 * ``step()``: the verifier's counts (`ARobotarium._validate`), then per-wheel clipping, forward Euler at
   0.033 s, then the on-board sensors (and the distance sensors with ``use_distance_sensors=True``, which see the
@@ -199,7 +199,7 @@ class Robotarium(ARobotarium):
     def get_poses(self) -> FloatArray:
         """A copy of the poses, 3xN [x; y; theta]; once per ``step()``."""
         if self._checked_poses_already:
-            raise RobotariumError('Can only call get_poses() once per call of step()!')
+            raise AssertionError('Can only call get_poses() once per call of step()!')
         self._called_step_already = False
         self._checked_poses_already = True
         poses: FloatArray = self._poses.copy()
@@ -210,7 +210,7 @@ class Robotarium(ARobotarium):
     def step(self) -> None:
         """Count what the verifier counts, clip each wheel, integrate one time step, simulate the sensors."""
         if self._called_step_already:
-            raise RobotariumError('Make sure you call get_poses before calling step()!')
+            raise AssertionError('Make sure you call get_poses before calling step()!')
         self._called_step_already = True
         self._checked_poses_already = False
         self._errors = self._validate(self._errors)
@@ -340,12 +340,12 @@ def _check_arguments(
         expected = int if kind == 'an integer' else bool
         if not isinstance(value, expected) or (expected is int and isinstance(value, bool)):
             msg = f'{name} must be {kind}. Received type {type(value).__name__}.'
-            raise RobotariumError(msg)
+            raise AssertionError(msg)
     if not isinstance(initial_conditions, np.ndarray):
         msg = f'InitialConditions must be a numpy ndarray. Received type {type(initial_conditions).__name__}.'
-        raise RobotariumError(msg)
+        raise AssertionError(msg)  # noqa: TRY004 - what V2's assert raises
     if not 0 <= number_of_robots <= 50:
-        raise RobotariumError('Number of robots must be >= 0 and <= 50')
+        raise AssertionError('Number of robots must be >= 0 and <= 50')
     if number_of_robots > CHARGER_SLOTS:  # V2's draw of the slots would fail with a bare ValueError
         msg = (
             f'V2 places every robot on one of its {CHARGER_SLOTS} charger slots (skip_initialization or not), so it '

@@ -83,7 +83,7 @@ class ARobotarium(ABC):
         show_distance_rays: bool = False,
     ) -> None:
         if not 0 <= number_of_robots <= 50:
-            raise RobotariumError('Number of robots must be >= 0 and <= 50')
+            raise AssertionError('Number of robots must be >= 0 and <= 50')
         n = number_of_robots
         self.number_of_robots = n
         self.show_figure = show_figure
@@ -139,7 +139,7 @@ class ARobotarium(ABC):
                 f'Column count of velocities ({velocities.shape[1]}) must be <= number_of_robots '
                 f'({self.number_of_robots})'
             )
-            raise RobotariumError(msg)
+            raise AssertionError(msg)
         if not np.all(np.isfinite(velocities)):
             msg = 'velocities must be finite; a NaN or inf command would stop the real robots.'
             raise RobotariumError(msg)

@@ -26,7 +26,6 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib import patches
 
-from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.testbed_model import Testbed, TestbedModel
 from robotarium_exp.rps.testbed_model import testbed_model as named_model
 from robotarium_exp.rps_classic.robotarium_abc import FloatArray, RobotariumABC
@@ -49,7 +48,7 @@ class Robotarium(RobotariumABC):
         model = named_model(testbed_model)
         super().__init__(number_of_robots, show_figure, sim_in_real_time, initial_conditions)
         self._testbed = None if model.is_ideal else Testbed(model, self.number_of_robots, self.time_step)
-        self.previous_render_time = time.time()
+        self.previous_render_time = time.perf_counter()
         self.sim_in_real_time = sim_in_real_time
         self._called_step_already = True
         self._checked_poses_already = False
@@ -59,7 +58,7 @@ class Robotarium(RobotariumABC):
     def get_poses(self) -> FloatArray:
         """The poses, 3xN [x; y; theta]: the simulator's own array (updated in place by ``step()``); once per step."""
         if self._checked_poses_already:
-            raise RobotariumError('Can only call get_poses() once per call of step().')
+            raise AssertionError('Can only call get_poses() once per call of step().')
         self._called_step_already = False
         self._checked_poses_already = True
         return self.poses if self._testbed is None else self._testbed.observe(self.poses.copy())
@@ -67,7 +66,7 @@ class Robotarium(RobotariumABC):
     def step(self) -> None:
         """Validate the commands, integrate one time step in place, redraw (and wait, in real time)."""
         if self._called_step_already:
-            raise RobotariumError('Make sure to call get_poses before calling step() again.')
+            raise AssertionError('Make sure to call get_poses before calling step() again.')
         self._called_step_already = True
         self._checked_poses_already = False
         self._errors = self._validate()
@@ -82,10 +81,10 @@ class Robotarium(RobotariumABC):
         poses[2, :] = np.arctan2(np.sin(poses[2, :]), np.cos(poses[2, :]))
         if self.show_figure:
             if self.sim_in_real_time:
-                remaining = self.time_step - (time.time() - self.previous_render_time)
+                remaining = self.time_step - (time.perf_counter() - self.previous_render_time)
                 if remaining > 0:
                     time.sleep(remaining)
-                self.previous_render_time = time.time()
+                self.previous_render_time = time.perf_counter()
             self._place_robots()
             self.figure.canvas.draw_idle()
             self.figure.canvas.flush_events()

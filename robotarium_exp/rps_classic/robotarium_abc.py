@@ -12,8 +12,7 @@ because scripts written for it can depend on them (``docs/robotarium.md`` §3):
   that every instance in the process shares (classic's mutable default argument), so counts carry over from one
   simulation to the next in the same process.
 
-Misuse raises [`RobotariumError`][robotarium_exp.rps.errors.RobotariumError], an ``AssertionError`` like classic's
-``assert``, with classic's message text (typos included, so that scripts and logs read the same).
+Misuse raises ``AssertionError``, exactly as classic's ``assert`` does, with classic's message text (typos included, so that scripts and logs read the same).
 """
 
 from __future__ import annotations
@@ -27,7 +26,7 @@ import numpy as np
 from matplotlib import patches
 from numpy.typing import NDArray
 
-from robotarium_exp.rps.errors import RobotariumError
+from robotarium_exp.rps.errors import require
 from robotarium_exp.rps_classic.utilities import misc
 
 FloatArray = NDArray[np.float64]
@@ -43,42 +42,37 @@ ERROR_TEXTS = {
 """The text classic stores next to each count (``errors[kind + '_string']``) and prints in its report."""
 
 
-def _require(condition: bool, message: str) -> None:
-    if not condition:
-        raise RobotariumError(message)
-
-
 def _check_arguments(
     number_of_robots: int, show_figure: bool, sim_in_real_time: bool, initial_conditions: FloatArray
 ) -> None:
     """Classic's checks of the constructor's arguments, with its messages."""
-    _require(
+    require(
         isinstance(number_of_robots, int),
         'The number of robots used argument (number_of_robots) provided to create the Robotarium object must be '
         f'an integer type. Recieved type {type(number_of_robots).__name__!r}.',
     )
-    _require(
+    require(
         isinstance(initial_conditions, np.ndarray),
         'The initial conditions array argument (initial_conditions) provided to create the Robotarium object '
         f'must be a numpy ndarray. Recieved type {type(initial_conditions).__name__!r}.',
     )
-    _require(
+    require(
         isinstance(show_figure, bool),
         'The display figure window argument (show_figure) provided to create the Robotarium object must be '
         f'boolean type. Recieved type {type(show_figure).__name__!r}.',
     )
-    _require(  # classic names the type of show_figure in this message; so do we
+    require(  # classic names the type of show_figure in this message; so do we
         isinstance(sim_in_real_time, bool),
         'The simulation running at 0.033s per loop (sim_real_time) provided to create the Robotarium object must '
         f'be boolean type. Recieved type {type(show_figure).__name__!r}.',
     )
-    _require(
+    require(
         0 <= number_of_robots <= 50,
         f'Requested {number_of_robots!r} robots to be used when creating the Robotarium object. The deployed '
         'number of robots must be between 0 and 50.',
     )
     if initial_conditions.size > 0:
-        _require(
+        require(
             initial_conditions.shape == (3, number_of_robots),
             'Initial conditions provided when creating the Robotarium object must of size 3xN, where N is the '
             f'number of robots used. Expected a 3 x {number_of_robots!r} array but recieved a '

@@ -6,7 +6,9 @@ Every certificate solves ``min ||u - u_hat||^2`` subject to the pairwise barrier
 Two ways to solve it (`use_qp_solver`):
 
 - ``'testbed'``, the default: cvxopt stopped at the testbed's tolerances (1e-2, at most 50 iterations) on every row,
-  as the testbed's certificates do. Its answers are not the optimum, and the difference matters: with the exact
+  as the testbed's certificates do (the same rows; V2 lists the walls and the polygon's sides robot by robot,
+  `barrier_rows` side by side, which moves cvxopt's answers by about 1e-11, except on an infeasible QP, where they
+  depend on the order). Its answers are not the optimum, and the difference matters: with the exact
   optimum the initializer's 90 % duration quantile was 15-25 % lower than V2's (``docs/robotarium.md`` §2.6). With
   the testbed's solver a script (and the initializer) runs as on the official simulators, step for step.
 - ``'exact'``: DAQP, a dual active-set solver, on the same constraints folded (`bounded_barrier_rows`: the
@@ -32,6 +34,7 @@ from __future__ import annotations
 import warnings
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import cast
 
 import cvxopt
 import daqp
@@ -40,8 +43,9 @@ from numpy.typing import NDArray
 
 from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.robotarium_abc import ARENA
+from robotarium_exp.rps.utilities.barrier_inputs import V2_BOUNDARY, V2Arguments, checked_pair, v2_positions
 from robotarium_exp.rps.utilities.barrier_rows import BarrierSpec, BoundedRows, barrier_rows, bounded_barrier_rows
-from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
+from robotarium_exp.rps.utilities.transformations import create_si_to_uni_mapping, create_uni_to_si_mapping
 
 FloatArray = NDArray[np.float64]
 
@@ -217,10 +221,16 @@ def _solve_qp(N: int, vhat: FloatArray, A: FloatArray, b: FloatArray) -> FloatAr
 
 
 class Certificate:
-    """A barrier certificate: ``certificate(dxi, x) -> dxi`` for single integrators, with ``stats``."""
+    """A barrier certificate: ``certificate(dxi, x) -> dxi`` for single integrators, with ``stats``.
 
-    def __init__(self, spec: BarrierSpec) -> None:
-        self.spec = spec
+    Given `V2Arguments` (V2's certificates), it reads its arguments and inputs as V2 does (`barrier_inputs`): no
+    check up front, V2's error where V2 fails, V2's answer where V2 answers; given a `BarrierSpec` (classic's, whose
+    checks come first), it refuses what is not two arrays of N columns.
+    """
+
+    def __init__(self, spec: BarrierSpec | V2Arguments) -> None:
+        self._spec: BarrierSpec | None = spec if isinstance(spec, BarrierSpec) else None
+        self.arguments: V2Arguments | None = None if isinstance(spec, BarrierSpec) else spec
         self.stats = BarrierStats()
         self._active_keys = _NONE
         """The keys (`BoundedRows`, ascending) of the rows active at the last exact answer."""
@@ -242,44 +252,66 @@ class Certificate:
         self._active_sides = _NONE if solved is None else np.where(solved[2] > 0.0, 1, -1)
         return None if solved is None else solved[0].reshape(2, n)
 
+    @property
+    def spec(self) -> BarrierSpec:
+        """The QP's numbers (V2's arguments are reached as V2 reaches them, with V2's errors)."""
+        if self._spec is None:
+            self._spec = cast(V2Arguments, self.arguments).spec()
+        return self._spec
+
     def __call__(self, dxi: FloatArray, x: FloatArray) -> FloatArray:
-        dxi, x = _check_pair(dxi, x, 'dxi', 'x')
-        n = dxi.shape[1]
-        if self.spec.speed_polygon:  # V2: the polygon limits the speed; a lone robot's command passes unchanged
+        if self.arguments is not None:  # V2: a lone robot's command passes unchanged; the polygon limits the speed
+            n = dxi.shape[1]
             if n < 2:
-                unchanged: FloatArray = dxi.copy()
+                unchanged: FloatArray = np.copy(dxi)
                 return unchanged
+            x = v2_positions(x, n, self.arguments.boundary_points is not None)
+            spec = self.spec
+            self.stats.solves += 1
+            if dxi.shape[0] != 2 or not (np.isfinite(dxi).all() and np.isfinite(x).all()):
+                return self._failed(n)  # V2's QP fails on such a command (or on NaN) and V2 commands zeros
+            dxi = np.asarray(dxi, dtype=float)
         else:  # classic: no polygon, so the command is first scaled to the limit; a lone robot still meets walls
-            if n < 2 and self.spec.boundary is None:
+            dxi, x = checked_pair(dxi, x, 'dxi', 'x')
+            n, spec = dxi.shape[1], self.spec
+            if n < 2 and spec.boundary is None:
                 lone: FloatArray = dxi.copy()
                 return lone
             norms = np.hypot(dxi[0], dxi[1])
-            over = norms > self.spec.magnitude_limit
+            over = norms > spec.magnitude_limit
             dxi = dxi.copy()
-            dxi[:, over] *= self.spec.magnitude_limit / norms[over]
-        self.stats.solves += 1
+            dxi[:, over] *= spec.magnitude_limit / norms[over]
+            self.stats.solves += 1
         if qp_solver() == 'exact':
-            rows = bounded_barrier_rows(x[:2], self.spec)
+            rows = bounded_barrier_rows(x[:2], spec)
             u = self._warm_solve(dxi.ravel(), rows)
             self.stats.rows_last = rows.lower.size
         else:
-            a, b = barrier_rows(x[:2], self.spec)
+            a, b = barrier_rows(x[:2], spec)
             u = _solve_qp(n, dxi, a, b)
             self.stats.rows_last = a.shape[0]
-        if u is None:
-            self.stats.failures += 1
-            message = f'barrier QP infeasible at solve {self.stats.solves}; commanding zero velocities'
-            self.stats.messages.append(message)
-            warnings.warn(f'QP failed. Commanding zero velocities. ({message})', RuntimeWarning, stacklevel=2)
-            return np.zeros_like(dxi)
-        return u
+        return self._failed(n) if u is None else u
+
+    def _failed(self, n: int) -> FloatArray:
+        """What V2 commands when its QP fails (zero velocities), with a warning, counted in ``stats``."""
+        self.stats.failures += 1
+        message = f'barrier QP infeasible at solve {self.stats.solves}; commanding zero velocities'
+        self.stats.messages.append(message)
+        warnings.warn(f'QP failed. Commanding zero velocities. ({message})', RuntimeWarning, stacklevel=3)
+        return np.zeros((2, n))
 
 
 class UnicycleCertificate:
-    """The certificate applied at projection points: ``certificate(dxu, poses) -> dxu``, with ``stats``."""
+    """V2's certificate at projection points: ``certificate(dxu, poses) -> dxu``, with ``stats``.
 
-    def __init__(self, spec: BarrierSpec, projection_distance: float) -> None:
-        self.inner = Certificate(spec)
+    As V2: a lone robot's command passes unchanged; the poses and commands go through V2's maps (their checks and
+    messages: `robotarium_exp.rps.utilities.transformations`), then the single-integrator certificate, then back.
+    """
+
+    def __init__(self, inner: Certificate, projection_distance: float) -> None:
+        self.si_to_uni_dyn, self.uni_to_si_states = create_si_to_uni_mapping(projection_distance)
+        self.uni_to_si_dyn, _ = create_uni_to_si_mapping(projection_distance)
+        self.inner = inner
         self.d = projection_distance
 
     @property
@@ -288,59 +320,21 @@ class UnicycleCertificate:
 
     def __call__(self, dxu: FloatArray, x: FloatArray, obstacles: FloatArray | None = None) -> FloatArray:
         """Safe commands; ``obstacles`` (2 x M points) join the QP as V2 has them: agents with zero nominal speed."""
-        dxu, x = _check_pair(dxu, x, 'dxu', 'x', state_rows=3)
         n = dxu.shape[1]
-        if n < 2 and self.inner.spec.speed_polygon:
-            unchanged: FloatArray = dxu.copy()
+        if n < 2:
+            unchanged: FloatArray = np.copy(dxu)
             return unchanged
-        points, dxi = uni_to_si_states(x, self.d), uni_to_si(dxu, x, self.d)
-        if obstacles is not None and np.asarray(obstacles).size > 0:
-            others = np.asarray(obstacles, dtype=float)
-            points, dxi = np.hstack([points, others]), np.hstack([dxi, np.zeros_like(others)])
+        if isinstance(x, np.ndarray) and not (np.isfinite(dxu).all() and np.isfinite(x).all()):
+            self.uni_to_si_states(np.nan_to_num(x))  # V2's maps check the shapes; then V2's QP fails on NaN
+            self.uni_to_si_dyn(np.nan_to_num(dxu), np.nan_to_num(x))
+            self.inner.stats.solves += 1
+            return self.inner._failed(n)
+        points, dxi = self.uni_to_si_states(x), self.uni_to_si_dyn(dxu, x)
+        if obstacles is not None and obstacles.size > 0:
+            points = np.hstack((points, obstacles))
+            dxi = np.hstack((dxi, np.zeros((2, obstacles.shape[1]))))
         safe = self.inner(dxi, points)
-        return si_to_uni(safe[:, :n], x, self.d)
-
-
-def _check_pair(u: object, x: object, u_name: str, x_name: str, state_rows: int = 2) -> tuple[FloatArray, FloatArray]:
-    if not isinstance(u, np.ndarray) or not isinstance(x, np.ndarray):
-        msg = f'{u_name} and {x_name} must be numpy arrays; got {type(u).__name__} and {type(x).__name__}.'
-        raise RobotariumError(msg)
-    if u.ndim != 2 or u.shape[0] != 2 or x.ndim != 2 or x.shape[0] < state_rows or x.shape[1] != u.shape[1]:
-        msg = (
-            f'{u_name} must be 2xN and {x_name} {state_rows}xN with the same N; got {u_name} {u.shape} and '
-            f'{x_name} {x.shape}.'
-        )
-        raise RobotariumError(msg)
-    if not (np.isfinite(u).all() and np.isfinite(x).all()):
-        msg = f'{u_name} and {x_name} must be finite.'
-        raise RobotariumError(msg)
-    return np.asarray(u, dtype=float), np.asarray(x, dtype=float)
-
-
-def _spec(
-    safety_radius: float,
-    barrier_gain: float,
-    magnitude_limit: float,
-    boundary: object,
-    polygon: bool,
-    *,
-    full_first_side: bool = True,
-) -> BarrierSpec:
-    for name, value in (
-        ('safety_radius', safety_radius),
-        ('barrier_gain', barrier_gain),
-        ('magnitude_limit', magnitude_limit),
-    ):
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
-            msg = f'{name} must be a positive number; got {value!r}.'
-            raise RobotariumError(msg)
-    bounds = None if boundary is None else tuple(float(v) for v in np.asarray(boundary, dtype=float).ravel())
-    if bounds is not None and len(bounds) != 4:
-        msg = f'boundary_points must be [x_min, x_max, y_min, y_max]; got {boundary!r}.'
-        raise RobotariumError(msg)
-    return BarrierSpec(
-        float(safety_radius), float(barrier_gain), float(magnitude_limit), bounds, polygon, full_first_side
-    )
+        return self.si_to_uni_dyn(safe[:, :n], x)
 
 
 # ---------------------------------------------------------------------- V2 names and defaults
@@ -349,8 +343,8 @@ def _spec(
 def create_si_barrier_certificate(
     safety_radius: float = 0.15, barrier_gain: float = 100.0, magnitude_limit: float = 0.2
 ) -> Certificate:
-    """V2: pairwise barriers and the speed polygon."""
-    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, None, True))
+    """V2: pairwise barriers and the speed polygon (the arguments are used as V2 uses them: `V2Arguments`)."""
+    return Certificate(V2Arguments(safety_radius, barrier_gain, magnitude_limit))
 
 
 def create_si_barrier_certificate_with_boundary(
@@ -361,8 +355,8 @@ def create_si_barrier_certificate_with_boundary(
 ) -> Certificate:
     """V2: pairwise and boundary barriers (default boundary [-1.7, 1.7, -1.1, 1.1], as V2) and the speed polygon,
     all eight sides at limit cos(pi/8)."""
-    boundary = (-1.7, 1.7, -1.1, 1.1) if boundary_points is None else boundary_points
-    return Certificate(_spec(safety_radius, barrier_gain, magnitude_limit, boundary, True, full_first_side=False))
+    boundary = V2_BOUNDARY if boundary_points is None else boundary_points
+    return Certificate(V2Arguments(safety_radius, barrier_gain, magnitude_limit, boundary))
 
 
 def create_uni_barrier_certificate(
@@ -372,8 +366,9 @@ def create_uni_barrier_certificate(
     velocity_magnitude_limit: float = 0.2,
 ) -> UnicycleCertificate:
     """V2: the SI certificate at projection points, radius safety_radius + 2 d."""
-    spec = _spec(safety_radius + 2 * projection_distance, barrier_gain, velocity_magnitude_limit, None, True)
-    return UnicycleCertificate(spec, projection_distance)
+    create_si_to_uni_mapping(projection_distance)  # V2 creates its maps first: their check of the distance
+    inner = V2Arguments(safety_radius + 2 * projection_distance, barrier_gain, velocity_magnitude_limit)
+    return UnicycleCertificate(Certificate(inner), projection_distance)
 
 
 def create_uni_barrier_certificate_with_boundary(
@@ -387,7 +382,8 @@ def create_uni_barrier_certificate_with_boundary(
 
     The certificate takes V2's third argument, ``obstacles`` (2 x M points to keep clear of).
     """
+    create_si_to_uni_mapping(projection_distance)  # V2 creates its maps first: their check of the distance
     boundary = ARENA if boundary_points is None else boundary_points
     radius = safety_radius + 2 * projection_distance
-    spec = _spec(radius, barrier_gain, velocity_magnitude_limit, boundary, True, full_first_side=False)
-    return UnicycleCertificate(spec, projection_distance)
+    inner = V2Arguments(radius, barrier_gain, velocity_magnitude_limit, boundary)
+    return UnicycleCertificate(Certificate(inner), projection_distance)

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.rps.errors import RobotariumError
+from robotarium_exp.rps.utilities.columns import multiply_each, robot_columns, robot_values
 from robotarium_exp.rps.utilities.transformations import (
     create_si_to_uni_dynamics,
     create_si_to_uni_dynamics_with_backwards_motion,
@@ -45,9 +45,9 @@ def create_si_position_controller(
     """``f(x, goals) -> dxi``: proportional single-integrator control, norm-clamped."""
     for name, gain in (('x_velocity_gain', x_velocity_gain), ('y_velocity_gain', y_velocity_gain)):
         if not (isinstance(gain, (int, float)) and gain > 0):
-            raise RobotariumError(f'{name} must be a positive number.')
+            raise AssertionError(f'{name} must be a positive number.')
     if not (isinstance(velocity_magnitude_limit, (int, float)) and velocity_magnitude_limit >= 0):
-        raise RobotariumError('velocity_magnitude_limit must be non-negative.')
+        raise AssertionError('velocity_magnitude_limit must be non-negative.')
 
     def controller(x: FloatArray, goals: FloatArray) -> FloatArray:
         _check_shapes(x, goals, 2, 2)
@@ -91,15 +91,28 @@ def create_pose_controller_hybrid(
             if remembered['approach_state'].shape[0] != n:
                 remembered['approach_state'] = np.ones(n)
             approach_state = remembered['approach_state']
-        error = poses[:2] - states[:2]
+        goals, headings, flags = (
+            robot_columns(poses, n),
+            robot_columns(poses, n, row=2),
+            robot_values(approach_state, n),
+        )
+        error = goals - states[:2, :n]
         distance = np.hypot(*error)
-        turn = np.arctan2(np.sin(poses[2] - states[2]), np.cos(poses[2] - states[2]))
-        approach = (approach_state != 0) & (distance > position_error - position_epsilon)
-        rotate = ~approach & (np.abs(turn) > rotation_error)
-        approach_state[rotate] = (distance[rotate] > position_error).astype(approach_state.dtype)
-        clamp = velocity_magnitude_limit / np.maximum(distance, velocity_magnitude_limit)
+        turn = np.arctan2(np.sin(headings - states[2, :n]), np.cos(headings - states[2, :n]))
+        approach = flags != 0  # V2 tests each robot's distance only while it approaches
+        if approach.any():
+            approach &= distance > position_error - position_epsilon
+        rotate = np.zeros(n, dtype=bool)
+        if (~approach).any():  # V2 tests the heading only of robots not approaching
+            rotate[~approach] = np.abs(turn[~approach]) > rotation_error
+        for i in np.flatnonzero(rotate):  # V2 writes each phase as 1 or 0 into the caller's list or array
+            approach_state[i] = 1 if distance[i] > position_error else 0
         dxu = np.zeros((2, n))
-        dxu[:, approach] = heading_law(error * clamp, states)[:, approach]
+        if approach.any():
+            states[:, np.flatnonzero(approach)[0]].reshape(3, 1)  # V2 maps each robot's pose as a 3x1 array
+            over = distance[approach] > velocity_magnitude_limit
+            scale = np.where(over, velocity_magnitude_limit / np.where(over, distance[approach], 1.0), 1.0)
+            dxu[:, approach] = heading_law(error[:, approach] * scale, states[:, :n][:, approach])
         dxu[1, rotate] = 2 * turn[rotate]
         return (dxu, approach_state) if in_approach_state is not None else dxu
 
@@ -116,11 +129,11 @@ def _check_shapes(
     if count_first:
         states.shape[1]
     if states.shape[0] != state_rows:
-        raise RobotariumError(f'states must be {state_rows}xN.')
+        raise AssertionError(f'states must be {state_rows}xN.')
     if poses.shape[0] != pose_rows:
-        raise RobotariumError(f'poses must be {pose_rows}xN.')
+        raise AssertionError(f'poses must be {pose_rows}xN.')
     if poses.shape[1] != states.shape[1]:
-        raise RobotariumError('states and poses must have the same number of columns.')
+        raise AssertionError('states and poses must have the same number of columns.')
 
 
 def create_uni_position_controller(
@@ -151,31 +164,39 @@ def create_pose_controller_clf(
 ) -> Callable[[FloatArray, FloatArray], FloatArray]:
     """``f(states, poses) -> dxu``: the CLF pose controller, each robot's command scaled to the wheel limit."""
     gamma, k, h = approach_angle_gain, desired_angle_gain, rotation_error_gain
+    wheel_map = np.linalg.inv(  # V2 inverts the wheel map when it creates the controller: its errors then
+        np.array([[wheel_radius / 2, wheel_radius / 2], [-wheel_radius / base_length, wheel_radius / base_length]])
+    )
 
     def controller(states: FloatArray, poses: FloatArray) -> FloatArray:
         _check_shapes(states, poses, 3, count_first=True)
-        goal = poses[2]
-        dx, dy = poses[0] - states[0], poses[1] - states[1]
-        ex = np.cos(goal) * dx + np.sin(goal) * dy  # the position error in the goal's frame
-        ey = -np.sin(goal) * dx + np.cos(goal) * dy
-        e = np.hypot(ex, ey)
-        theta = np.arctan2(ey, ex)
-        alpha = np.angle(np.exp(1j * (theta - (states[2] - goal))))
-        sinc = np.where(np.abs(alpha) < 1e-6, 1.0, np.sin(alpha) / np.where(alpha == 0, 1.0, alpha))
-        v = gamma * e * np.cos(alpha)
-        omega = k * alpha + gamma * np.cos(alpha) * sinc * (alpha + h * theta)
-        wheels = np.abs(
-            np.vstack(
-                [
-                    v / wheel_radius - omega * base_length / (2 * wheel_radius),
-                    v / wheel_radius + omega * base_length / (2 * wheel_radius),
-                ]
-            )
-        ).max(axis=0)
-        scale = np.where(wheels > wheel_velocity_limit, wheel_velocity_limit / np.maximum(wheels, 1e-300), 1.0)
-        return np.vstack([v, omega]) * scale
+        return clf_commands(states, poses, (gamma, k, h), wheel_map, wheel_velocity_limit)
 
     return controller
+
+
+def clf_commands(
+    states: FloatArray, poses: FloatArray, gains: tuple[Any, Any, Any], wheel_map: FloatArray, wheel_limit: float
+) -> FloatArray:
+    """The CLF pose law's commands for poses ``states`` (3 x N) and goals ``poses``: ``gains`` = (approach angle,
+    desired angle, rotation error), each robot's command scaled to ``wheel_limit`` through ``wheel_map`` ([v; omega]
+    to wheel speeds)."""
+    gamma, k, h = gains
+    if states.shape[1] > 0:
+        multiply_each(gamma, k, h)  # V2's loop multiplies each gain with a float64: its errors then
+    goal = poses[2]
+    dx, dy = poses[0] - states[0], poses[1] - states[1]
+    ex = np.cos(goal) * dx + np.sin(goal) * dy  # the position error in the goal's frame
+    ey = -np.sin(goal) * dx + np.cos(goal) * dy
+    e = np.hypot(ex, ey)
+    theta = np.arctan2(ey, ex)
+    alpha = np.angle(np.exp(1j * (theta - (states[2] - goal))))
+    sinc = np.where(np.abs(alpha) < 1e-6, 1.0, np.sin(alpha) / np.where(alpha == 0, 1.0, alpha))
+    v = gamma * e * np.cos(alpha)
+    omega = k * alpha + gamma * np.cos(alpha) * sinc * (alpha + h * theta)
+    wheels = np.abs(wheel_map @ np.vstack([v, omega])).max(axis=0)
+    scale = np.where(wheels > wheel_limit, wheel_limit / np.maximum(wheels, 1e-300), 1.0)
+    return np.vstack([v, omega]) * scale
 
 
 def _parking(

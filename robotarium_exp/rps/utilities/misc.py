@@ -14,8 +14,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.rps.errors import RobotariumError
-
 FloatArray = NDArray[np.float64]
 
 CHARGER_SLOTS = 22
@@ -49,18 +47,18 @@ def _random_points(N: int, spacing: float, width: float, height: float, noun: st
     checks and messages (which name the ``noun`` asked for); rejection sampling from ``np.random``, up to 10,000
     candidates, as V2."""
     if not (isinstance(N, int) and N > 0):
-        raise RobotariumError('N must be a positive integer.')
+        raise AssertionError('N must be a positive integer.')
     if not spacing > 0:
-        raise RobotariumError('spacing must be positive.')
+        raise AssertionError('spacing must be positive.')
     if not (width > 0 and height > 0):
-        raise RobotariumError('width and height must be positive.')
+        raise AssertionError('width and height must be positive.')
     most = int(np.floor(width * height / spacing**2))
     if N > most:
         msg = (
             f'Cannot fit {N} {noun} with spacing {spacing:.2f} m into a {width:.2f} x {height:.2f} m area. '
             f'Approximate maximum: {most}.'
         )
-        raise RobotariumError(msg)
+        raise AssertionError(msg)
     points = np.zeros((2, 0))
     for _ in range(10_000):
         if points.shape[1] == N:
@@ -70,7 +68,7 @@ def _random_points(N: int, spacing: float, width: float, height: float, noun: st
             points = np.hstack([points, candidate[:, None]])
     if points.shape[1] < N:
         msg = f'Could not place {N} {noun} with spacing {spacing:.2f} m after 10000 attempts. Try reducing {fewer}.'
-        raise RobotariumError(msg)
+        raise AssertionError(msg)
     placed = np.zeros((2, N))  # V2 copies the points into a 2xN array (so an N of True fails here, as in V2)
     placed[:] = points
     return placed
@@ -119,13 +117,13 @@ def _check_columns(states: FloatArray, state_rows: int, goals: FloatArray, goal_
     """V2's argument checks of the arrival tests, with its messages."""
     n = states.shape[1]
     if state_rows == 3 and states.shape[0] != 3:
-        raise RobotariumError(f'states must be 3xN. Got {states.shape[0]}x{n}.')
+        raise AssertionError(f'states must be 3xN. Got {states.shape[0]}x{n}.')
     if states.shape[0] < state_rows:
-        raise RobotariumError(f'states must be at least 2xN. Got {states.shape[0]}x{n}.')
+        raise AssertionError(f'states must be at least 2xN. Got {states.shape[0]}x{n}.')
     if goals.shape[0] != goal_rows:
-        raise RobotariumError(f'{name} must be {goal_rows}xN. Got {goals.shape[0]}x{goals.shape[1]}.')
+        raise AssertionError(f'{name} must be {goal_rows}xN. Got {goals.shape[0]}x{goals.shape[1]}.')
     if goals.shape[1] != n:
-        raise RobotariumError(f'states and {name} must have the same number of columns ({n} vs {goals.shape[1]}).')
+        raise AssertionError(f'states and {name} must have the same number of columns ({n} vs {goals.shape[1]}).')
 
 
 def rotation_matrix(theta: Any) -> FloatArray:

@@ -11,7 +11,6 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.rps.errors import RobotariumError
 from unicycle_mapping import si_to_uni, uni_to_si, uni_to_si_states
 
 FloatArray = NDArray[np.float64]
@@ -20,14 +19,14 @@ Map = Callable[[FloatArray, FloatArray], FloatArray]
 
 def _check_gains(linear_velocity_gain: float, angular_velocity_limit: float) -> None:
     if not (isinstance(linear_velocity_gain, (int, float)) and linear_velocity_gain > 0):
-        raise RobotariumError('linear_velocity_gain must be a positive number.')
+        raise AssertionError('linear_velocity_gain must be a positive number.')
     if not (isinstance(angular_velocity_limit, (int, float)) and angular_velocity_limit >= 0):
-        raise RobotariumError('angular_velocity_limit must be non-negative.')
+        raise AssertionError('angular_velocity_limit must be non-negative.')
 
 
 def _check_projection(projection_distance: float) -> None:
     if not (isinstance(projection_distance, (int, float)) and projection_distance > 0):
-        raise RobotariumError('projection_distance must be a positive number.')
+        raise AssertionError('projection_distance must be a positive number.')
 
 
 def _check_pair(commands: FloatArray, command_name: str, states: FloatArray, state_rows: int, state_name: str) -> None:
@@ -35,11 +34,11 @@ def _check_pair(commands: FloatArray, command_name: str, states: FloatArray, sta
     m, n = commands.shape
     ms, ns = states.shape
     if m != 2:
-        raise RobotariumError(f'{command_name} must be 2xN. Got {m}x{n}.')
+        raise AssertionError(f'{command_name} must be 2xN. Got {m}x{n}.')
     if ms != state_rows:
-        raise RobotariumError(f'{state_name} must be {state_rows}xN. Got {ms}x{ns}.')
+        raise AssertionError(f'{state_name} must be {state_rows}xN. Got {ms}x{ns}.')
     if n != ns:
-        raise RobotariumError(f'{command_name} and {state_name} must have the same number of columns ({n} vs {ns}).')
+        raise AssertionError(f'{command_name} and {state_name} must have the same number of columns ({n} vs {ns}).')
 
 
 def create_si_to_uni_dynamics(linear_velocity_gain: float = 1, angular_velocity_limit: float = np.pi) -> Map:
@@ -85,15 +84,17 @@ def create_si_to_uni_dynamics_with_backwards_motion(
 def create_si_to_uni_mapping(projection_distance: float = 0.05) -> tuple[Map, Callable[[FloatArray], FloatArray]]:
     """``(si_to_uni_dyn(dxi, states), uni_to_si_states(states))``: the near-identity map and its points (2xN)."""
     _check_projection(projection_distance)
+    d = float(projection_distance)  # V2 takes True as 1
 
     def si_to_uni_dyn(dxi: FloatArray, states: FloatArray) -> FloatArray:
         _check_pair(dxi, 'dxi', states, 3, 'states')
-        return si_to_uni(dxi, states, projection_distance)
+        return si_to_uni(dxi, states, d)
 
     def uni_to_si_states_(states: FloatArray) -> FloatArray:
         if states.shape[0] != 3:
-            raise RobotariumError(f'states must be 3xN. Got {states.shape[0]}x{states.shape[1]}.')
-        return uni_to_si_states(states, projection_distance)
+            raise AssertionError(f'states must be 3xN. Got {states.shape[0]}x{states.shape[1]}.')
+        states[0:2, :]  # V2 reads the positions: a 1-D array fails here with numpy's IndexError
+        return uni_to_si_states(states, d)
 
     return si_to_uni_dyn, uni_to_si_states_
 
@@ -104,21 +105,22 @@ def create_uni_to_si_mapping(projection_distance: float = 0.05) -> tuple[Map, Ma
     ``si_to_uni_states`` gives the axle positions (2xN) under the points ``si_states``.
     """
     _check_projection(projection_distance)
+    d = float(projection_distance)  # V2 takes True as 1
 
     def uni_to_si_dyn(dxu: FloatArray, states: FloatArray) -> FloatArray:
         _check_pair(dxu, 'dxu', states, 3, 'states')
-        return uni_to_si(dxu, states, projection_distance)
+        return uni_to_si(dxu, states, d)
 
     def si_to_uni_states(uni_states: FloatArray, si_states: FloatArray) -> FloatArray:
         m, n = uni_states.shape
         m_si, n_si = si_states.shape
         if m != 3:
-            raise RobotariumError(f'uni_states must be 3xN. Got {m}x{n}.')
+            raise AssertionError(f'uni_states must be 3xN. Got {m}x{n}.')
         if m_si != 2:
-            raise RobotariumError(f'si_states must be 2xN. Got {m_si}x{n_si}.')
+            raise AssertionError(f'si_states must be 2xN. Got {m_si}x{n_si}.')
         if n_si != n:
-            raise RobotariumError(f'uni_states and si_states must have the same number of columns ({n} vs {n_si}).')
+            raise AssertionError(f'uni_states and si_states must have the same number of columns ({n} vs {n_si}).')
         heading = np.vstack([np.cos(uni_states[2]), np.sin(uni_states[2])])
-        return si_states[:2] - projection_distance * heading
+        return si_states[:2] - d * heading
 
     return uni_to_si_dyn, si_to_uni_states

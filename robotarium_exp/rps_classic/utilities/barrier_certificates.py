@@ -27,15 +27,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-from robotarium_exp.rps.utilities.barrier_certificates import (
-    BarrierStats,
-    Certificate,
-    FloatArray,
-    _check_pair,
-    _solve_qp,
-    _spec,
-)
-from robotarium_exp.rps.utilities.barrier_rows import barrier_rows
+from robotarium_exp.rps.errors import RobotariumError
+from robotarium_exp.rps.utilities.barrier_certificates import BarrierStats, Certificate, FloatArray, _solve_qp
+from robotarium_exp.rps.utilities.barrier_inputs import checked_pair
+from robotarium_exp.rps.utilities.barrier_rows import BarrierSpec, barrier_rows
 from robotarium_exp.rps_classic.utilities.barrier_certificates2 import RobustCertificate
 from robotarium_exp.rps_classic.utilities.checks import (
     ARRAY,
@@ -138,6 +133,32 @@ SI_CERTIFICATE = _certificate_checks('dxi', 'single-integrator', 'single integra
 UNI_CERTIFICATE = _certificate_checks('dxu', 'unicycle', 'unicycle', '[v;w]', 3, '[x;y;theta]')
 
 
+def _spec(
+    safety_radius: float,
+    barrier_gain: float,
+    magnitude_limit: float,
+    boundary: object,
+    polygon: bool,
+    *,
+    full_first_side: bool = True,
+) -> BarrierSpec:
+    for name, value in (
+        ('safety_radius', safety_radius),
+        ('barrier_gain', barrier_gain),
+        ('magnitude_limit', magnitude_limit),
+    ):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
+            msg = f'{name} must be a positive number; got {value!r}.'
+            raise RobotariumError(msg)
+    bounds = None if boundary is None else tuple(float(v) for v in np.asarray(boundary, dtype=float).ravel())
+    if bounds is not None and len(bounds) != 4:
+        msg = f'boundary_points must be [x_min, x_max, y_min, y_max]; got {boundary!r}.'
+        raise RobotariumError(msg)
+    return BarrierSpec(
+        float(safety_radius), float(barrier_gain), float(magnitude_limit), bounds, polygon, full_first_side
+    )
+
+
 def _checked(certificate: Callable[..., FloatArray], created_by: str) -> Checked:
     """``certificate`` behind the checks classic makes of the certificates that ``created_by`` creates."""
     checks, command = (UNI_CERTIFICATE, 'dxu') if 'unicycle' in created_by else (SI_CERTIFICATE, 'dxi')
@@ -156,7 +177,7 @@ class UnsafeGainCertificate:
         self.stats = BarrierStats()
 
     def __call__(self, dxi: FloatArray, x: FloatArray) -> FloatArray:
-        dxi, x = _check_pair(dxi, x, 'dxi', 'x')
+        dxi, x = checked_pair(dxi, x, 'dxi', 'x')
         n = dxi.shape[1]
         norms = np.hypot(dxi[0], dxi[1])
         over = norms > self.spec.magnitude_limit
@@ -190,7 +211,7 @@ class ClassicUnicycleCertificate:
         return stats
 
     def __call__(self, dxu: FloatArray, x: FloatArray) -> FloatArray:
-        dxu, x = _check_pair(dxu, x, 'dxu', 'x', state_rows=3)
+        dxu, x = checked_pair(dxu, x, 'dxu', 'x', state_rows=3)
         safe = self.inner(self.uni_to_si_dyn(dxu, x), self.uni_to_si_states(x))
         return self.si_to_uni_dyn(safe, x)
 
@@ -289,7 +310,15 @@ def create_unicycle_differential_drive_barrier_certificate(
 ) -> RobustCertificate:
     """Classic: the robust certificate on wheel speeds (``f(dxu, x, obstacles=np.empty(0))``), without walls."""
     return RobustCertificate(
-        disturbance, wheel_vel_limit, base_length, wheel_radius, projection_distance, barrier_gain, safety_radius, None
+        disturbance,
+        wheel_vel_limit,
+        base_length,
+        wheel_radius,
+        projection_distance,
+        barrier_gain,
+        safety_radius,
+        None,
+        sizes=(max_num_obstacle_points, max_num_robots, 0),
     )
 
 
@@ -315,4 +344,5 @@ def create_unicycle_differential_drive_barrier_certificate_with_boundary(
         barrier_gain,
         safety_radius,
         np.asarray(boundary_points, dtype=float),
+        sizes=(max_num_obstacle_points, max_num_robots, 0),
     )

@@ -11,26 +11,43 @@ where each min is -disturbance (|g_k,1| + |g_k,2|); likewise between each robot 
 walls, p stays inside ``boundary_points`` (rows ``+/- pdot <= 0.4 gamma (room - R/2)^3``, no disturbance), every
 wheel within +/- ``wheel_vel_limit``. Among those wheel speeds it picks the ones closest to the request in the
 metric (v - v_hat)^2 + d^2 (omega - omega_hat)^2, exactly (classic solves these with quadprog, an exact solver),
-by the exact least-distance QP of V2's certificates in the scaled variables (v, d omega).
+by the exact least-distance QP of V2's certificates in the scaled variables (v, d omega). With walls, classic
+solves with cvxopt at its loose options instead, and so does ours with the ``'testbed'`` QP solver (the default:
+`robotarium_exp.rps.utilities.barrier_certificates.use_qp_solver`), on classic's rows in classic's order.
 
 Classic's implementation prints its solve time at every call (not reproduced) and sizes buffers by
-``max_num_robots`` / ``max_num_obstacles`` (accepted here, not needed).
+``max_num_robots`` / ``max_num_obstacles`` (not needed here, but their sizes computed, so that a size classic
+cannot allocate fails as there). Where quadprog fails, ``create_robust_barriers`` raises its ``ValueError``, as
+classic does.
 """
 
 from __future__ import annotations
 
 import warnings
+from typing import Any
 
+import cvxopt
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.rps.utilities.barrier_certificates import BarrierStats, FloatArray, least_distance
+from robotarium_exp.rps.utilities.barrier_certificates import (
+    TESTBED_QP_OPTIONS,
+    BarrierStats,
+    FloatArray,
+    least_distance,
+    qp_solver,
+)
 
 __all__ = ['RobustCertificate', 'create_robust_barriers']
 
 
 class RobustCertificate:
-    """``certificate(dxu, x, obstacles=np.empty(0)) -> dxu`` (2xN unicycle commands), with ``stats``."""
+    """``certificate(dxu, x, obstacles=np.empty(0)) -> dxu`` (2xN unicycle commands), with ``stats``.
+
+    ``quadprog_errors``: fail as classic's quadprog solve fails (``create_robust_barriers``): ``ValueError`` with
+    quadprog's text when the QP is infeasible, or when a projection distance of 0 makes its objective singular;
+    otherwise an infeasible QP commands zeros with a warning.
+    """
 
     def __init__(
         self,
@@ -42,17 +59,23 @@ class RobustCertificate:
         barrier_gain: float,
         safety_radius: float,
         boundary_points: FloatArray | None,
+        *,
+        sizes: tuple[Any, Any, int] = (100, 30, 0),
+        quadprog_errors: bool = False,
     ) -> None:
-        self.disturbance = float(disturbance)
-        self.wheel_vel_limit = float(wheel_vel_limit)
         self.wheels_to_uni = np.array(
             [[wheel_radius / 2, wheel_radius / 2], [-wheel_radius / base_length, wheel_radius / base_length]]
         )
-        self.d = float(projection_distance)
-        self.gain = float(barrier_gain)
-        self.radius = float(safety_radius)
+        _ = np.dot(np.array([[1, 0], [0, projection_distance]]), self.wheels_to_uni), -disturbance
+        obstacles, robots, per_robot = sizes  # classic sizes its matrices for these: their errors at creation
+        np.zeros([(robots**2 - robots) // 2 + robots * obstacles + per_robot * robots, 2 * robots], dtype=bool)
+        self.max_robots = robots
+        self.given = (disturbance, wheel_vel_limit, projection_distance, barrier_gain, safety_radius)
+        """The numbers as given, used (and converted) at each call, as classic uses them there."""
+        self.disturbance, self.wheel_vel_limit, self.d, self.gain, self.radius = 0.0, 0.0, 0.0, 0.0, 0.0
         self.boundary = boundary_points
         self.stats = BarrierStats()
+        self.quadprog_errors = quadprog_errors
 
     def _robust_rows(
         self, n: int, grads: list[FloatArray], robots: list[NDArray[np.intp]], h: FloatArray
@@ -66,7 +89,7 @@ class RobustCertificate:
             a[rows, 2 * robot] -= g[:, 0]
             a[rows, 2 * robot + 1] -= g[:, 1]
             worst += np.abs(g @ self.wheels_to_uni).sum(axis=1)
-        return a, self.gain * h**3 - self.disturbance * worst
+        return a, self.gain * h**3 - abs(self.disturbance) * worst  # the square of corners +/- disturbance
 
     def _gradient(self, diff: FloatArray, heading: FloatArray) -> FloatArray:
         """d|diff|^2 / du of a point d ahead of a robot with ``heading`` (m,), diff = its point minus another, (2, m):
@@ -74,8 +97,25 @@ class RobustCertificate:
         c, s = np.cos(heading), np.sin(heading)
         return 2 * np.column_stack([diff[0] * c + diff[1] * s, self.d * (diff[1] * c - diff[0] * s)])
 
+    def _read_as_classic(self, dxu: Any, x: Any, obstacles: Any) -> tuple[FloatArray, FloatArray]:
+        """The commands and poses, read in classic's order with classic's errors (a list, a 1-D array, poses of
+        another number of robots than commands), and the numbers given, used as classic uses them at a call."""
+        n = np.size(dxu[0, :])
+        _ = obstacles.size
+        headings = np.zeros(self.max_robots) if self.boundary is not None else np.zeros((1, self.max_robots))
+        if n > 0 or not self.quadprog_errors:  # classic's robust barriers return at once for no robots
+            headings[..., 0:n] = np.cos(x[2, :])  # classic's matrix for max_num_robots (an np.matrix without walls)
+        _ = x[:2, :]
+        disturbance, wheel_vel_limit, d, gain, radius = self.given
+        if n >= 2:  # classic's pair rows use the radius, then the gain; its wheel rows the limit
+            _ = radius**2, -gain
+        _ = -wheel_vel_limit
+        self.disturbance, self.wheel_vel_limit = float(disturbance), float(wheel_vel_limit)
+        self.d, self.gain, self.radius = float(d), float(gain), float(radius)
+        return np.asarray(dxu, dtype=float), np.asarray(x, dtype=float)
+
     def __call__(self, dxu: FloatArray, x: FloatArray, obstacles: FloatArray = np.empty(0)) -> FloatArray:  # noqa: B008
-        dxu, x = np.asarray(dxu, dtype=float), np.asarray(x, dtype=float)
+        dxu, x = self._read_as_classic(dxu, x, obstacles)
         n = dxu.shape[1]
         theta = x[2]
         points = x[:2] + self.d * np.vstack([np.cos(theta), np.sin(theta)])
@@ -96,10 +136,17 @@ class RobustCertificate:
         blocks.append((wheel_rows, np.full(4 * n, self.wheel_vel_limit)))
         a = np.vstack([rows for rows, _ in blocks])
         b = np.concatenate([right for _, right in blocks])
+        _ = np.dot(np.linalg.inv(self.wheels_to_uni), dxu)  # classic maps the commands to wheel speeds: its error
         scale = np.tile([1.0, self.d], n)  # unknowns z = (v, d omega): the objective becomes |z - z_hat|^2
         self.stats.solves += 1
         self.stats.rows_last = a.shape[0]
+        if self.boundary is not None and qp_solver() == 'testbed':
+            return self._classic_solve(dxu, a, b)
+        if self.quadprog_errors and self.d == 0:
+            raise ValueError('matrix G is not positive definite')
         z = least_distance((dxu * scale.reshape(n, 2).T).reshape(-1, order='F'), a / scale, b)
+        if z is None and self.quadprog_errors:
+            raise ValueError('constraints are inconsistent, no solution')
         if z is None:
             self.stats.failures += 1
             message = f'robust barrier QP infeasible at solve {self.stats.solves}; commanding zero velocities'
@@ -108,6 +155,29 @@ class RobustCertificate:
             return np.zeros_like(dxu)
         safe: FloatArray = z.reshape(2, n, order='F') / scale.reshape(n, 2).T
         return safe
+
+    def _classic_solve(self, dxu: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray:
+        """Classic's with-walls solve: cvxopt at its loose options on the wheel speeds w (u = D w), minimising
+        |L (w - w_hat)|^2 with L = diag(1, d) D, the rows in classic's order (pairs and obstacles, each robot's four
+        walls, the upper then the lower wheel bounds), and its answer taken whatever cvxopt's status, as classic."""
+        n = dxu.shape[1]
+        walls = a.shape[0] - 8 * n  # the walls' first row: after the pairs and obstacles, before the wheel bounds
+        order = np.r_[np.arange(walls), walls + np.arange(4 * n).reshape(4, n).T.ravel()]
+        to_wheels = np.kron(np.eye(n), self.wheels_to_uni)
+        g = np.vstack([a[order] @ to_wheels, np.eye(2 * n), -np.eye(2 * n)])
+        h = np.r_[b[order], np.full(4 * n, self.wheel_vel_limit)]
+        metric = np.kron(np.eye(n), np.diag([1.0, self.d]) @ self.wheels_to_uni)
+        w_hat = (np.linalg.inv(self.wheels_to_uni) @ dxu).reshape(-1, order='F')
+        quadratic = 2 * metric.T @ metric
+        solution = cvxopt.solvers.qp(
+            cvxopt.matrix(quadratic),
+            cvxopt.matrix(-(w_hat @ quadratic)),
+            cvxopt.matrix(g),
+            cvxopt.matrix(h),
+            options=TESTBED_QP_OPTIONS,
+        )
+        wheels: FloatArray = self.wheels_to_uni @ np.array(solution['x']).reshape(2, n, order='F')
+        return wheels
 
     def _wall_rows(self, points: FloatArray, theta: FloatArray, boundary: FloatArray) -> tuple[FloatArray, FloatArray]:
         """``+/- pdot_y, +/- pdot_x <= 0.4 gamma (room - R/2)^3`` per robot, pdot = [cos, -d sin; sin, d cos] u."""
@@ -144,5 +214,14 @@ def create_robust_barriers(
 ) -> RobustCertificate:
     """Classic: the robust certificate without walls; ``d`` is the wheel disturbance, ``gamma`` the barrier gain."""
     return RobustCertificate(
-        d, wheel_vel_limit, base_length, wheel_radius, projection_distance, gamma, safety_radius, None
+        d,
+        wheel_vel_limit,
+        base_length,
+        wheel_radius,
+        projection_distance,
+        gamma,
+        safety_radius,
+        None,
+        sizes=(max_num_obstacles, max_num_robots, 4),
+        quadprog_errors=True,
     )

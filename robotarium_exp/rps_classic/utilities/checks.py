@@ -2,9 +2,9 @@
 
 Classic asserts every input of its utilities (types, then ranges, then array shapes) and a script that breaks one
 stops with an ``AssertionError`` whose text names the function and the argument. Scripts and users know those
-texts, so the checks here raise [`RobotariumError`][robotarium_exp.rps.errors.RobotariumError] (an ``AssertionError``)
-with the same texts, in the same order, typos included ("Recieved"). A utility lists its checks with the constructors
-below and calls `enforce`; `Checked` runs the checks of a created function (a certificate, a map) before each call.
+texts, so the checks here raise ``AssertionError`` itself with the same texts, in the same order, typos included
+("Recieved"). A utility lists its checks with the constructors below and calls `enforce`; `Checked` runs the checks
+of a created function (a certificate, a map) before each call.
 
 A check reads its argument as classic does (``x.shape[0]``, ``v > 0``), so what classic cannot even test (a string
 compared with 0, a list's ``shape``) fails here with the same Python error.
@@ -18,8 +18,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-
-from robotarium_exp.rps.errors import RobotariumError
 
 Values = Mapping[str, Any]
 
@@ -58,7 +56,7 @@ def enforce(place: str, checks: Sequence[Check], values: Values) -> None:
     """Run ``checks`` in order on the named ``values``; the first that fails raises ``place, message``."""
     for check in checks:
         if not check.test(values):
-            raise RobotariumError(f'{place}, {check.message % check.shown(values)}')
+            raise AssertionError(f'{place}, {check.message % check.shown(values)}')
 
 
 def typed(name: str, what: str, kind: Kind = NUMBER, shown: str | None = None) -> Check:

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.rps.utilities import controllers as v2
+from robotarium_exp.rps.utilities.columns import multiply_each, robot_columns
 from robotarium_exp.rps_classic.utilities.checks import (
     ARRAY,
     AT_LEAST_ZERO,
@@ -119,10 +120,22 @@ def create_clf_unicycle_position_controller(
 def create_clf_unicycle_pose_controller(
     approach_angle_gain: float = 1, desired_angle_gain: float = 2.7, rotation_error_gain: float = 1
 ) -> Controller:
-    """``f(states, poses) -> dxu``: the CLF pose law (Aicardi et al.), without a wheel limit."""
-    return v2.create_pose_controller_clf(
-        approach_angle_gain, desired_angle_gain, rotation_error_gain, wheel_velocity_limit=np.inf
-    )
+    """``f(states, poses) -> dxu``: the CLF pose law (Aicardi et al.), without a wheel limit; classic checks nothing
+    and reads each robot's pose and goal in its loop (`robotarium_exp.rps.utilities.columns`)."""
+    gains = (approach_angle_gain, desired_angle_gain, rotation_error_gain)
+
+    def pose_uni_clf_controller(states: FloatArray, poses: FloatArray) -> FloatArray:
+        goals, poses_now = _read_poses(states, poses)
+        return v2.clf_commands(poses_now, goals, gains, np.eye(2), np.inf)
+
+    return pose_uni_clf_controller
+
+
+def _read_poses(states: FloatArray, poses: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Goals and poses (3 x N, N the columns of ``states``) read as classic's pose controllers read them."""
+    n = states.shape[1]
+    headings, angles = robot_columns(poses, n, row=2), robot_columns(states, n, row=2)
+    return np.vstack([robot_columns(poses, n), headings]), np.vstack([robot_columns(states, n), angles])
 
 
 def create_hybrid_unicycle_pose_controller(
@@ -138,24 +151,35 @@ def create_hybrid_unicycle_pose_controller(
 
     Approaching: the position error, scaled down to ``velocity_magnitude_limit``, through the heading law with
     ``linear_velocity_gain`` and ``angular_velocity_limit``. Turning: omega = ``angular_velocity_gain`` times the
-    wrapped heading error.
+    wrapped heading error. As classic, a gain or limit is used only by the robots in its phase.
     """
     heading_law = create_si_to_uni_dynamics(linear_velocity_gain, angular_velocity_limit)
 
     def pose_uni_hybrid_controller(
         states: FloatArray,
         poses: FloatArray,
-        input_approach_state: NDArray[np.float64] | None = None,  # classic's, without effect
+        input_approach_state: NDArray[np.float64] = np.empty([0, 0]),  # noqa: B008 - classic's, without effect
     ) -> FloatArray:
-        error = poses[:2] - states[:2]
+        n = states.shape[1]
+        input_approach_state.shape[1]  # classic compares its width with N: a list or a 1-D array fails here
+        goals, poses_now = _read_poses(states, poses)
+        error = goals[:2] - poses_now[:2]
         distance = np.hypot(error[0], error[1])
-        scale = np.minimum(1.0, velocity_magnitude_limit / np.maximum(distance, 1e-300))
-        turn = np.arctan2(np.sin(poses[2] - states[2]), np.cos(poses[2] - states[2]))
+        turn = np.arctan2(np.sin(goals[2] - poses_now[2]), np.cos(goals[2] - poses_now[2]))
+        dxu = np.zeros((2, n))
+        if n == 0:
+            return dxu
         approaching = distance > position_error - position_epsilon
-        turning = ~approaching & (np.abs(turn) > rotation_error)
-        dxu = np.zeros((2, states.shape[1]))
-        dxu[:, approaching] = heading_law(error[:, approaching] * scale[approaching], states[:, approaching])
-        dxu[1, turning] = angular_velocity_gain * turn[turning]
+        turning = np.zeros(n, dtype=bool)
+        if (~approaching).any():
+            turning[~approaching] = np.abs(turn[~approaching]) > rotation_error
+        if approaching.any():
+            over = distance[approaching] > velocity_magnitude_limit
+            scale = np.where(over, velocity_magnitude_limit / np.where(over, distance[approaching], 1.0), 1.0)
+            dxu[:, approaching] = heading_law(error[:, approaching] * scale, states[:, :n][:, approaching])
+        if turning.any():
+            multiply_each(angular_velocity_gain)
+            dxu[1, turning] = angular_velocity_gain * turn[turning]
         return dxu
 
     return pose_uni_hybrid_controller

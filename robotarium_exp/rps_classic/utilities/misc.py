@@ -144,8 +144,9 @@ def determine_marker_size(robotarium_instance: Any, marker_size_meters: float) -
     As classic: the arena's width in display pixels (the data-to-display transform of the point (width, height)),
     times the marker's share of that width, squared because scatter sizes are areas.
     """
+    to_pixels = robotarium_instance.axes.transData
     width, height = robotarium_instance.boundaries[2], robotarium_instance.boundaries[3]
-    width_pixels = robotarium_instance.axes.transData.transform(np.array([[width, height]]))[0, 0]
+    width_pixels = to_pixels.transform(np.array([[width, height]]))[0, 0]
     return float((width_pixels * marker_size_meters / width) ** 2)
 
 

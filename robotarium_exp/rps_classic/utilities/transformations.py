@@ -131,7 +131,12 @@ def create_si_to_uni_mapping(
         return dxu
 
     checked = _created('si_to_uni_dyn', 'create_si_to_uni_mapping', SI_COMMANDS, 'dxi', si_to_uni_dyn)
-    return checked, lambda poses: uni_to_si_states(poses, projection_distance)
+
+    def uni_to_si_states_(poses: FloatArray) -> FloatArray:
+        _rows, _columns = np.shape(poses)  # classic unpacks the shape (1-D or None fails), then reads rows 0 to 2
+        return uni_to_si_states(np.vstack([poses[0, :], poses[1, :], poses[2, :]]), projection_distance)
+
+    return checked, uni_to_si_states_
 
 
 def create_uni_to_si_dynamics(projection_distance: float = 0.05) -> Map:

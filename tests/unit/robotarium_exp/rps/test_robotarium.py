@@ -139,15 +139,21 @@ def test_unknown_keywords_are_ignored_with_a_warning_as_v2_ignores_them() -> Non
 def test_call_order_is_enforced() -> None:
     r = ours()
     r.get_poses()
-    with pytest.raises(RobotariumError, match=r'Can only call get_poses\(\) once per call of step\(\)!'):
+    with pytest.raises(AssertionError, match=r'Can only call get_poses\(\) once per call of step\(\)!') as caught:
         r.get_poses()
+    assert caught.type is AssertionError  # V2's assert: the same last traceback line
     r.step()
-    with pytest.raises(RobotariumError, match=r'Make sure you call get_poses before calling step\(\)!'):
+    with pytest.raises(AssertionError, match=r'Make sure you call get_poses before calling step\(\)!') as caught:
         r.step()
+    assert caught.type is AssertionError
     with pytest.raises(RobotariumError, match=r'2xk array .* got shape \(3, 2\)'):
         r.set_velocities(np.arange(2), np.zeros((3, 2)))
-    with pytest.raises(RobotariumError, match=r'Column count of velocities \(3\) must be <= number_of_robots \(2\)'):
+    with pytest.raises(
+        AssertionError, match=r'Column count of velocities \(3\) must be <= number_of_robots \(2\)'
+    ) as caught:
         r.set_velocities(np.arange(2), np.zeros((2, 3)))
+    assert caught.type is AssertionError
+    # what V2 does not check is a refusal of ours: RobotariumError, still an AssertionError
     with pytest.raises(RobotariumError, match='must be finite'):
         r.set_velocities(np.arange(2), np.array([[0.1, np.nan], [0.0, 0.0]]))
     poses = r.get_poses()

@@ -113,12 +113,28 @@ def test_unicycle_certificate_keeps_projection_points_apart() -> None:
     assert np.hypot(*(points[:, 0] - points[:, 1])) >= 0.25 - 1e-3
 
 
-def test_bad_certificate_input() -> None:
+def test_certificates_fail_where_v2_fails_with_v2s_error() -> None:
     certificate = bc.create_si_barrier_certificate()
-    with pytest.raises(AssertionError, match=r'dxi must be 2xN and x 2xN .* got dxi \(2, 3\) and x \(2, 2\)'):
-        certificate(np.zeros((2, 3)), np.zeros((2, 2)))
-    with pytest.raises(AssertionError, match='safety_radius must be a positive number'):
-        bc.create_si_barrier_certificate(safety_radius=-1)
+    with pytest.raises(IndexError, match='index 2 is out of bounds for axis 1 with size 2'):
+        certificate(np.zeros((2, 3)), np.zeros((2, 2)))  # V2 reads x's columns for every command's column
+    with pytest.raises(AttributeError, match="'list' object has no attribute 'shape'"):
+        certificate([[0.1, 0.0], [0.0, 0.0]], np.zeros((2, 2)))
+    with pytest.raises(TypeError, match=r"unsupported operand type\(s\) for \*\* or pow\(\): 'str' and 'int'"):
+        bc.create_si_barrier_certificate(safety_radius='a')(np.zeros((2, 2)), np.eye(2))
+    with pytest.raises(AssertionError, match='states must be 3xN. Got 2x2.'):
+        bc.create_uni_barrier_certificate()(np.zeros((2, 2)), np.eye(2))  # V2's map checks the poses
+
+
+@pytest.mark.usefixtures('exact_qp')
+@pytest.mark.parametrize('gain', [-1, 1])
+def test_a_gain_v2_accepts_is_used_as_given(gain: int) -> None:
+    """V2 builds a certificate of any gain, a negative one too, and solves with it: the exact projection of two
+    robots 0.2 m apart, driving apart, on the pair row 0.4 (u_0x - u_1x) <= gamma h^3."""
+    x, dxi = np.array([[0.0, 0.2], [0.0, 0.0]]), np.array([[0.15, -0.15], [0.0, 0.02]])
+    bound = gain * (0.2**2 - 0.15**2) ** 3 / 0.4
+    gap = dxi[0, 0] - dxi[0, 1] - bound  # how far the nominal command violates u_0x - u_1x <= bound
+    expected = dxi - [[gap / 2, -gap / 2], [0.0, 0.0]]
+    np.testing.assert_allclose(bc.create_si_barrier_certificate(barrier_gain=gain)(dxi, x), expected, atol=1e-12)
 
 
 @pytest.mark.usefixtures('exact_qp')

@@ -40,3 +40,18 @@ def test_robust_certificate_keeps_its_constraints() -> None:
     calm = np.zeros((2, 6))
     far = np.vstack([np.linspace(-1.2, 1.2, 6), np.zeros(6), np.zeros(6)])
     np.testing.assert_array_equal(create_robust_barriers()(calm, far), calm)
+
+
+def test_robust_barriers_fail_where_classics_quadprog_and_sizes_fail() -> None:
+    """Infeasible (wheels limited to 1 rad/s cannot keep two robots 0.2 m apart from closing in): quadprog's error;
+    a projection distance of 0 makes the objective singular; a size classic cannot allocate fails at creation."""
+    dxu, x = np.array([[0.1, 0.1], [0.0, 0.5]]), np.array([[0.0, 0.2], [0.0, 0.0], [0.0, 3.1]])
+    with pytest.raises(ValueError, match='^constraints are inconsistent, no solution$'):
+        create_robust_barriers(wheel_vel_limit=1)(dxu, x, np.empty(0))
+    with pytest.raises(ValueError, match='^matrix G is not positive definite$'):
+        create_robust_barriers(projection_distance=0)(dxu, x, np.empty(0))
+    with pytest.raises(ValueError, match='negative dimensions are not allowed'):
+        create_robust_barriers(max_num_robots=-1)
+    with pytest.raises(TypeError, match="bad operand type for unary -: 'str'"):
+        create_robust_barriers(gamma='a')(dxu, x, np.empty(0))  # type: ignore[arg-type]
+    assert create_robust_barriers()(dxu, x, np.empty(0)).shape == (2, 2)

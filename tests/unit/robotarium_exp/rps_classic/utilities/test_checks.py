@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps_classic.utilities.checks import POSITIVE, Checked, bound, enforce, pair, rows, typed
 
 CHECKS = (typed('k', 'the gain (k)'), bound('k', 'the gain (k)', POSITIVE))
@@ -13,9 +12,10 @@ CHECKS = (typed('k', 'the gain (k)'), bound('k', 'the gain (k)', POSITIVE))
 
 def test_the_first_failing_check_raises_its_message_after_the_place() -> None:
     with pytest.raises(
-        RobotariumError, match=r"^In f, the gain \(k\) must be an integer or float. Recieved type 'str'.$"
-    ):
+        AssertionError, match=r"^In f, the gain \(k\) must be an integer or float. Recieved type 'str'.$"
+    ) as caught:
         enforce('In f', CHECKS, {'k': 'a'})
+    assert caught.type is AssertionError  # classic's assert: the same last traceback line
     with pytest.raises(AssertionError, match=r'^In f, the gain \(k\) must be positive. Recieved -1.$'):
         enforce('In f', CHECKS, {'k': -1})
     enforce('In f', CHECKS, {'k': 2})
@@ -34,5 +34,5 @@ def test_a_checked_function_checks_then_answers_and_forwards_its_attributes() ->
     checked = Checked(add, pair('In g', (rows('a', 2, 'the dimension of a must be 2'),), 'a', 'b'))
     assert checked(np.ones(2), np.ones(2)).tolist() == [2.0, 2.0]
     assert checked.stats == 'counted'
-    with pytest.raises(RobotariumError, match=r'^In g, the dimension of a must be 2. Recieved dimension 3.$'):
+    with pytest.raises(AssertionError, match=r'^In g, the dimension of a must be 2. Recieved dimension 3.$'):
         checked(np.ones(3), np.ones(3))
