@@ -48,9 +48,7 @@ def plan(args: argparse.Namespace) -> Planned:
     from vtube.pipeline import plan_scene
 
     writable_folder(args.out)
-    return plan_scene(
-        args.scene, args.out, method=args.method, grid_step_m=args.grid_step_m, objective=args.objective
-    )
+    return plan_scene(args.scene, args.out, method=args.method, grid_step_m=args.grid_step_m, objective=args.objective)
 
 
 def plan_view(planned: Planned) -> View:

@@ -46,7 +46,12 @@ BAD = [
     ('no robots', 'simulate A --out {out} --n 0', 2, "argument --n: '0' is not a whole number >= 1"),
     ('grid too fine', 'plan A --out {out} --grid-step 1e-6', 2, 'use a grid step of at least 0.003 m'),
     ('negative grid step', 'plan A --out {out} --grid-step -1', 2, "argument --grid-step: '-1' is not a number > 0"),
-    ('unknown objective', 'plan A --out {out} --objective fastest', 2, "argument --objective: invalid choice: 'fastest'"),
+    (
+        'unknown objective',
+        'plan A --out {out} --objective fastest',
+        2,
+        "argument --objective: invalid choice: 'fastest'",
+    ),
     (
         'scene objective unknown',
         'plan {tmp}/objective.toml --out {out}',
