@@ -2,11 +2,12 @@
 
     python -m benchmarks.objective_gap [--scenes C,D] [--sizes 20,80] [--seeds 5]
 
-Each scene is planned for each swarm size three ways: with the paper's objective (``objective = "centre"``, the
+Each scene is planned for each swarm size four ways: with the paper's objective (``objective = "centre"``, the
 centre's traversal time), with the last-robot-out objective (``objective = "last_out"``, ``docs/theory.md`` §8.7:
 the centre's time plus the swarm's half-extent N / (4 lambda rho) over the speed at the entrance and at the exit),
-and, as a control, with the centre's objective and (p7) off (``predictive_model = "none"``: no pre-expansion, the
-density stays near rho_d). Each plan is flown with `vtube_planning.simulate` (the paper's robot model, the scene's
+and, as controls of what the planned density does to the flown time, with the centre's objective and (p7) off
+(``predictive_model = "none"``: no pre-expansion, the density stays near rho_d) and with the density weighted
+(``density_weight = 100``: the plan slows before the narrowing to dip less). Each plan is flown with `vtube_planning.simulate` (the paper's robot model, the scene's
 controller, default ``SimConfig``) on seeds 0..n-1. Per plan the table gives the centre's planned traversal time
 ``T_c``, the passing time the last-out model gives for that plan ``T_out`` (T_c + entry + exit half-extents), the
 bottleneck model's ``T_neck`` (T_c + entry half-extent + the largest half-extent over the tube, N / (4 lambda rho v)
@@ -31,7 +32,12 @@ from vtube_planning.planning.last_out import last_out_terms
 from vtube_planning.planning.plan import Plan
 from vtube_planning.swarm.simulate import SimConfig
 
-PLANS = (('centre', {}), ('last_out', {'objective': 'last_out'}), ('centre, (p7) off', {'predictive_model': 'none'}))
+PLANS = (
+    ('centre', {}),
+    ('last_out', {'objective': 'last_out'}),
+    ('centre, (p7) off', {'predictive_model': 'none'}),
+    ('centre, mu = 100', {'density_weight': 100.0}),
+)
 """The plans compared: a label and the planning options changed from the scene's."""
 
 
