@@ -17,7 +17,8 @@ from vtube_planning.geometry.width import WidthPart, WidthProfile
 from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.planning.constraints import RHO_EPSILON, objective_terms
 from vtube_planning.planning.last_out import ExitTerm, half_extent_weight, last_out_terms
-from vtube_planning.planning.planner import plan_convex
+from vtube_planning.planning.plan import SwarmState
+from vtube_planning.planning.planner import plan_convex, replan
 from vtube_planning.planning.polynomial import plan_polynomial
 
 
@@ -156,3 +157,18 @@ def test_plan_is_the_optimum_of_brute_force_and_slsqp_on_a_two_interval_tube() -
     assert j_plan <= min(found) + 1e-7 * j_plan
     assert min(found) <= j_plan * (1 + 1e-6)  # SLSQP reaches the plan's optimum
     assert plan.density_per_m2[2] > plan.density_per_m2[1] > rho0  # the exit term raised the density
+
+
+def test_replanning_the_rest_keeps_the_objective_and_the_exit() -> None:
+    """The rest of a last-out plan, replanned from its own state at 20 m, ends as it does (Bellman): the same exit
+    density and exit term, and its entry term is the swarm's half-extent where it starts."""
+    scene = load_scene('C')
+    plan = plan_convex(scene.tube, scene.swarm, replace(scene.planning, objective='last_out'))
+    k = int(np.searchsorted(plan.l_m, 20.0))
+    state = SwarmState(float(plan.l_m[k]), float(plan.speed_mps[k]), float(plan.density_per_m2[k]))
+    rest = replan(plan, state, scene.tube)
+    assert rest.options.objective == 'last_out' and rest.max_violation <= 1e-8
+    assert rest.objective['exit_s'] == pytest.approx(plan.objective['exit_s'], rel=1e-6)
+    assert rest.density_per_m2[-1] == pytest.approx(plan.density_per_m2[-1], rel=1e-6)
+    c = half_extent_weight(scene.tube, scene.swarm, state.arc_length_m)
+    assert rest.objective['entry_s'] == pytest.approx(c / (state.speed_mps * state.density_per_m2), rel=1e-12)
