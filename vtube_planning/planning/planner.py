@@ -4,7 +4,8 @@ The problem is discretised on an arc-length grid (`problem`); (p3), the one non-
 |w'| <= a_v w^3, is convexified by replacing w^3 with its tangent at the previous iterate (an under-estimate), so
 that every iterate is feasible for the true (p3) and the objective decreases monotonically (Lipp and Boyd 2016,
 ``docs/theory.md`` §8.1). Each convex subproblem is solved by `banded_qp`, or by the cvxpy reference
-(`cvxpy_qp`). [`replan`][vtube_planning.planning.planner.replan] plans the rest of a tube from a measured state.
+(`cvxpy_qp`). Planned for the last robot out (``objective = 'last_out'``), the objective's non-convex exit term is
+replaced by a convex majorant at the previous iterate (`last_out`, §8.7), kept only where it lies above the term. [`replan`][vtube_planning.planning.planner.replan] plans the rest of a tube from a measured state.
 """
 
 from __future__ import annotations
