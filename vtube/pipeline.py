@@ -83,12 +83,18 @@ class Planned:
 
 
 def plan_scene(
-    name_or_path: str | Path, out: Path, *, method: PlanMethod = 'convex', grid_step_m: float | None = None
+    name_or_path: str | Path,
+    out: Path,
+    *,
+    method: PlanMethod = 'convex',
+    grid_step_m: float | None = None,
+    objective: str | None = None,
 ) -> Planned:
-    """Plan speed and density for a scene (on its grid, or one of ``grid_step_m``); write ``plan_<scene>.npz``,
-    its figure and the scene's copy to ``out``."""
+    """Plan speed and density for a scene (on its grid, or one of ``grid_step_m``; for its objective, or
+    ``objective``); write ``plan_<scene>.npz``, its figure and the scene's copy to ``out``."""
     scene = load_scene(name_or_path)
     options = scene.planning if grid_step_m is None else replace(scene.planning, grid_step_m=grid_step_m)
+    options = options if objective is None else replace(options, objective=objective)
     if method == 'polynomial':  # the paper's cubics, posed in cvxpy (imported here: about half a second)
         from vtube_planning.planning.polynomial import plan_polynomial
 

@@ -131,6 +131,10 @@ PREDICTIVE_MODELS = ('local_width', 'rigid_shift', 'none')
 """The two readings of the predictive density constraint (p7), ``docs/theory.md`` §7 A6 and §8.3, and ``'none'``,
 (p7) left out (the study's ablation: a plan without the pre-expansion it forces)."""
 
+OBJECTIVES = ('centre', 'last_out')
+"""What the planner's time term models: ``'centre'`` the swarm centre's traversal time, the paper's (p1);
+``'last_out'`` the measured passing time, first robot in to last robot out (``docs/theory.md`` §8.7)."""
+
 
 @dataclass(frozen=True)
 class PlanningOptions:
@@ -156,6 +160,10 @@ class PlanningOptions:
         an integer >= 1 (1: the uniform grid only). The plan's J converges to the continuous optimum in the grid
         step; refining where the constraints bind shrinks that error at a fraction of a uniformly finer grid's
         size (``python -m benchmarks.plan_bench`` prints both).
+    objective
+        One of ``OBJECTIVES``: ``'centre'`` minimises the centre's traversal time, the paper's (p1); ``'last_out'``
+        adds the swarm's half-extents N / (4 lambda rho) over the speed at the entrance and the exit, so that the
+        time term models the measured passing time, first robot in to last robot out (``docs/theory.md`` §8.7).
     """
 
     grid_step_m: float = 0.25
@@ -165,6 +173,7 @@ class PlanningOptions:
     v0_mps: float | None = None
     rho0_per_m2: float | None = None
     refinement: int = 1
+    objective: str = 'centre'
 
     def __post_init__(self) -> None:
         for name in ('grid_step_m', 'lookahead_m', 'v0_mps', 'rho0_per_m2'):
@@ -183,6 +192,9 @@ class PlanningOptions:
             raise ParamsError(msg)
         if self.predictive_model not in PREDICTIVE_MODELS:
             msg = f'planning option predictive_model must be one of {PREDICTIVE_MODELS}; got {self.predictive_model!r}.'
+            raise ParamsError(msg)
+        if self.objective not in OBJECTIVES:
+            msg = f'planning option objective must be one of {OBJECTIVES}; got {self.objective!r}.'
             raise ParamsError(msg)
 
 

@@ -3,14 +3,20 @@
 from __future__ import annotations
 
 import argparse
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from vtube.cli.arguments import positive, writable_folder
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
+from vtube_planning.params import OBJECTIVES
 
 if TYPE_CHECKING:
     from vtube.pipeline import Planned
+
+
+TERMS = {'entry_s': 'entry half-extent', 'exit_s': 'exit half-extent'}
+"""The last-robot-out terms of the objective, as the plan's summary names them."""
 
 
 def plan_arguments(parser: argparse.ArgumentParser) -> None:
@@ -29,13 +35,20 @@ def plan_arguments(parser: argparse.ArgumentParser) -> None:
         dest='grid_step_m',
         help="planning grid step in m, > 0 (default: the scene's)",
     )
+    parser.add_argument(
+        '--objective',
+        choices=OBJECTIVES,
+        default=None,
+        help="centre: the swarm centre's traversal time, the paper's (p1); last_out: first robot in to last robot "
+        "out, the passing time measured (default: the scene's [planning] objective, else centre)",
+    )
 
 
 def plan(args: argparse.Namespace) -> Planned:
     from vtube.pipeline import plan_scene
 
     writable_folder(args.out)
-    return plan_scene(args.scene, args.out, method=args.method, grid_step_m=args.grid_step_m)
+    return plan_scene(args.scene, args.out, method=args.method, grid_step_m=args.grid_step_m, objective=args.objective)
 
 
 def plan_view(planned: Planned) -> View:
@@ -49,9 +62,11 @@ def plan_view(planned: Planned) -> View:
             f'{plan.solved.iterations} iterations, {plan.solved.solve_time_s:.3f} s)'
         ),
         f'  traversal time        {plan.time_s:.4f} s',
+        *_last_out_line(plan.objective),
         (
             f'  objective J           {plan.objective["total"]:.6f}  (time {plan.objective["time_s"]:.6f} + '
-            f'density {plan.objective["density"]:.6f})'
+            + ''.join(f'{TERMS[name]} {plan.objective[name]:.6f} + ' for name in TERMS if name in plan.objective)
+            + f'density {plan.objective["density"]:.6f})'
         ),
         f'  speed                 {plan.speed_mps.min():.4g} .. {plan.speed_mps.max():.4g} m/s',
         (
@@ -71,6 +86,14 @@ def plan_view(planned: Planned) -> View:
     data |= {'certificate': plan.certificate, 'certified': plan.is_certified()}
     data |= {'failures': list(failures)} if failures else {}
     return View(lines, data | {'provenance': plan.provenance}, exit_code=EXIT_FAILED if failures else EXIT_OK)
+
+
+def _last_out_line(objective: Mapping[str, float]) -> tuple[str, ...]:
+    """The modelled passing time of a plan made for the last robot out (none for the centre's time)."""
+    if 'exit_s' not in objective:
+        return ()
+    passing = objective['time_s'] + objective['entry_s'] + objective['exit_s']
+    return (f'  passing time (model)  {passing:.4f} s  (first robot in to last robot out)',)
 
 
 COMMAND = Command('plan', "plan speed and density along a scene's tube", plan_arguments, plan, plan_view, json=True)

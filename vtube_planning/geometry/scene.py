@@ -22,7 +22,7 @@ value of the wrong type raises `SceneError` naming the file, the table and the f
              { kind = "constant" }]     # the last part may omit length_m: it fills the rest of the tube
 
     [swarm]                             # optional; any SwarmParams field, Table 1 defaults otherwise
-    [planning]                          # optional; any PlanningOptions field
+    [planning]                          # optional; any PlanningOptions field (objective = "centre" | "last_out")
     [control]                           # optional; any ControlParams field (controller gains and options)
     [obstacles]                         # optional; discs = [{ center_m = [x, y], radius_m = r }], polygons =
                                         # [{ vertices_m = [[x, y], ...] }], images (geometry.occupancy): no cross-

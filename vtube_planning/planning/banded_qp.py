@@ -27,6 +27,7 @@ from scipy.linalg.lapack import dpbtrs as _band_solve
 
 from vtube_planning.errors import SolverError
 from vtube_planning.planning.constraints import RHO_EPSILON
+from vtube_planning.planning.last_out import QuadraticModel
 from vtube_planning.planning.problem import Problem
 
 FloatArray = NDArray[np.float64]
@@ -66,6 +67,8 @@ class BandedPlanner:
         self.first_row = np.searchsorted(self.interval, np.arange(k))  # (K,) where each interval's rows start
         self.fixed = np.array([1.0 / problem.v0_mps, problem.rho0_per_m2])
         self.p_diag, self.p_off, self.q, self.constant = _objective(problem, dl)
+        self._base = (self.p_diag, self.q, self.constant)  # (p1) without the exit model
+        self._end_curvature: tuple[float, float] | None = None  # the exit model's, on w_K and rho_K
         self.value = float('nan')
         self.steps = 0  # interior-point iterations of the last solve
         self._change = 1.0  # relative change of the objective at the last solve
@@ -87,6 +90,18 @@ class BandedPlanner:
                 block[:, row, end] -= 3.0 / w_end
                 row += 1
 
+    def set_exit_model(self, model: QuadraticModel) -> None:
+        """Add the convex model of the last-robot-out exit term (`last_out.ExitTerm.model`) to (p1), in place of the
+        previous one."""
+        p_diag, q, constant = self._base
+        (lw, lr), (a, b) = model.linear, model.curvature
+        self.p_diag = p_diag.copy()
+        self.p_diag[-1] += b
+        self.q = q.copy()
+        self.q[-2:] += (lw, lr)
+        self.constant = constant + model.constant
+        self._end_curvature = (a, b)
+
     def solve(self) -> tuple[FloatArray, FloatArray]:
         """Solve the current subproblem (rows scaled to unit largest coefficient); (p1) is left in `value`."""
         g, h = self.g[self.kept], self.h[self.kept]
@@ -94,6 +109,8 @@ class BandedPlanner:
         x = self._solve(g / scale[:, None], h / scale)
         w, rho = x[0::2].copy(), x[1::2].copy()
         value = float(self.q @ x + 0.5 * x[1::2] @ self._p_times(x)[1::2]) + self.constant
+        if self._end_curvature is not None:
+            value += 0.5 * self._end_curvature[0] * x[-2] ** 2
         self._change = abs(self.value - value) / abs(value) if np.isfinite(self.value) else 1.0
         self.value = value
         return w, rho
@@ -104,6 +121,8 @@ class BandedPlanner:
         out[1::2] = self.p_diag * rho
         out[1:-2:2] += self.p_off * rho[1:]
         out[3::2] += self.p_off * rho[:-1]
+        if self._end_curvature is not None:
+            out[-2] += self._end_curvature[0] * x[-2]
         return out
 
     def _solve(self, g: FloatArray, h: FloatArray) -> FloatArray:
@@ -178,6 +197,8 @@ class BandedPlanner:
             band[i - j, j : j + 2 * k : 2] += block
         band[0, 1::2] += self.p_diag
         band[2, 1:-2:2] += self.p_off
+        if self._end_curvature is not None:
+            band[0, -2] += self._end_curvature[0]
         band[:, :2] = 0.0
         band[0, :2] = 1.0
         factor: FloatArray

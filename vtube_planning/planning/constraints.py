@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.planning.density import predicted_density
+from vtube_planning.planning.last_out import last_out_terms
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -49,15 +50,28 @@ def curvature_speed_limit(tube: VirtualTube, swarm: SwarmParams, l_m: FloatArray
 
 
 def objective_terms(
-    l_m: FloatArray, speed_mps: FloatArray, density: FloatArray, swarm: SwarmParams, options: PlanningOptions
+    l_m: FloatArray,
+    speed_mps: FloatArray,
+    density: FloatArray,
+    swarm: SwarmParams,
+    options: PlanningOptions,
+    tube: VirtualTube | None = None,
 ) -> dict[str, float]:
-    """(p1) for the plan interpolated as used: exact integrals of w and of mu (rho - rho_d)^2 (piecewise linear)."""
+    """(p1) for the plan interpolated as used: exact integrals of w and of mu (rho - rho_d)^2 (piecewise linear);
+    with ``options.objective = 'last_out'`` also the swarm's half-extents over the speed at the entrance and the exit,
+    ``entry_s`` and ``exit_s`` (`last_out.last_out_terms`, which needs the ``tube``)."""
     dl = np.diff(l_m)
     w = 1.0 / speed_mps
     e = density - swarm.rho_d_per_m2
     time_s = float(np.sum(0.5 * dl * (w[:-1] + w[1:])))
     dens = float(options.density_weight * np.sum(dl / 3.0 * (e[:-1] ** 2 + e[:-1] * e[1:] + e[1:] ** 2)))
-    return {'time_s': time_s, 'density': dens, 'total': time_s + dens}
+    if options.objective == 'centre':
+        return {'time_s': time_s, 'density': dens, 'total': time_s + dens}
+    if tube is None:
+        msg = "the last-robot-out objective needs the tube (its half-width at the plan's ends)"
+        raise ValueError(msg)
+    ends = last_out_terms(tube, swarm, l_m, speed_mps, density)
+    return {'time_s': time_s, **ends, 'density': dens, 'total': time_s + ends['entry_s'] + ends['exit_s'] + dens}
 
 
 def certify(

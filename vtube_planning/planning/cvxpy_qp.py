@@ -28,6 +28,7 @@ from vtube_planning.errors import SolverError
 from vtube_planning.onboard import swarm_area
 from vtube_planning.planning.constraints import RHO_EPSILON
 from vtube_planning.planning.density import footprint
+from vtube_planning.planning.last_out import QuadraticModel
 from vtube_planning.planning.problem import Problem
 
 FloatArray = NDArray[np.float64]
@@ -88,7 +89,15 @@ class ConvexPlanner:
             0.25 * cp.sum_squares(cp.multiply(root, e[:-1] + e[1:]))
             + cp.sum_squares(cp.multiply(root, e[1:] - e[:-1])) / 12.0
         )
-        self.cvx = cp.Problem(cp.Minimize(time_term + density_term), cons)
+        objective = time_term + density_term
+        # the last-robot-out exit term's convex model (last_out.ExitTerm.model), re-set at every iterate
+        self.end_linear = cp.Parameter(2, name='end_linear')
+        self.end_curvature = cp.Parameter(2, nonneg=True, name='end_curvature')
+        self.end_constant = cp.Parameter(name='end_constant')
+        if options.objective == 'last_out':
+            ends = cp.hstack([w[-1], rho[-1]])
+            objective += self.end_linear @ ends + 0.5 * self.end_curvature @ cp.square(ends) + self.end_constant
+        self.cvx = cp.Problem(cp.Minimize(objective), cons)
         self.value = math.nan
 
     def set_tangent(self, w_bar: FloatArray, rho_bar: FloatArray) -> None:
@@ -104,6 +113,12 @@ class ConvexPlanner:
             gap = shifted - swarm_area(self.problem.tube, back, front, 0.0)
             self.footprint_gap.value = gap
             self.footprint_root.value = np.sqrt(np.abs(gap))
+
+    def set_exit_model(self, model: QuadraticModel) -> None:
+        """Set the convex model of the last-robot-out exit term (planned with ``objective = 'last_out'`` only)."""
+        self.end_linear.value = np.array(model.linear)
+        self.end_curvature.value = np.array(model.curvature)
+        self.end_constant.value = model.constant
 
     def solve(self) -> tuple[FloatArray, FloatArray]:
         """Solve the current subproblem: the slowness and the density; (p1) is left in `value`."""

@@ -131,7 +131,8 @@ class Plan:
     time_s
         Traversal time of the interpolated plan, integral of dl / v*.
     objective
-        Terms of (p1): ``time_s``, ``density`` (integral of (rho - rho_d)^2 times mu), ``total``.
+        Terms of (p1): ``time_s``, ``density`` (integral of (rho - rho_d)^2 times mu), ``total``; planned for the
+        last robot out (``options.objective``) also ``entry_s`` and ``exit_s``, the half-extent terms.
     certificate
         Largest relative violation of each constraint on the fine grid
         (`CONSTRAINTS`), >= 0.
@@ -335,7 +336,7 @@ def make_plan(
     """Wrap planned samples into a [`Plan`][vtube_planning.planning.plan.Plan] with its certificate, active sets and
     objective terms."""
     certificate, active = certify(tube, swarm, options, l_m, speed, density)
-    objective = objective_terms(l_m, speed, density, swarm, options)
+    objective = objective_terms(l_m, speed, density, swarm, options, tube)
     return Plan(
         l_m=l_m,
         speed_mps=speed,

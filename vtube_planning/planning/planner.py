@@ -4,7 +4,8 @@ The problem is discretised on an arc-length grid (`problem`); (p3), the one non-
 |w'| <= a_v w^3, is convexified by replacing w^3 with its tangent at the previous iterate (an under-estimate), so
 that every iterate is feasible for the true (p3) and the objective decreases monotonically (Lipp and Boyd 2016,
 ``docs/theory.md`` §8.1). Each convex subproblem is solved by `banded_qp`, or by the cvxpy reference
-(`cvxpy_qp`). [`replan`][vtube_planning.planning.planner.replan] plans the rest of a tube from a measured state.
+(`cvxpy_qp`). Planned for the last robot out (``objective = 'last_out'``), the objective's non-convex exit term is
+replaced by a convex majorant at the previous iterate (`last_out`, §8.7), kept only where it lies above the term. [`replan`][vtube_planning.planning.planner.replan] plans the rest of a tube from a measured state.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.planning.banded_qp import BandedPlanner
 from vtube_planning.planning.constraints import RHO_EPSILON, certify, curvature_speed_limit
 from vtube_planning.planning.fastest_start import fastest_admissible
+from vtube_planning.planning.last_out import GROWTH, MAX_TRIES, ExitTerm, half_extent_weight
 from vtube_planning.planning.plan import (
     Formulation,
     Plan,
@@ -193,20 +195,51 @@ def _convex_concave(
     banded = formulation == 'banded' and problem.options.predictive_model != 'rigid_shift'
     planner = BandedPlanner(problem) if banded else _reference_planner(problem)
     w_bar, rho_bar = start if start is not None else (problem.w_start, problem.rho_start)
+    term = _exit_term(problem)
     previous = math.inf
     status: Status = 'iteration limit'
     iterations = 0
     for iterations in range(1, max_iterations + 1):  # the final count is reported below
         planner.set_tangent(w_bar, rho_bar)
         try:
-            w_bar, rho_bar = planner.solve()
+            if term is None:
+                w_bar, rho_bar = planner.solve()
+                value = planner.value
+            else:
+                step = _majorised_step(planner, term, w_bar, rho_bar)
+                if step is None:  # no step lowers the objective: the iterate is stationary
+                    status = 'converged'
+                    break
+                w_bar, rho_bar, value = step
         except SolverError:
             if not banded:
                 raise
             return _convex_concave(problem, start, 'cvxpy', max_iterations, rtol)
-        value = planner.value
         if previous - value <= rtol * max(1.0, abs(value)):
             status = 'converged'
             break
         previous = value
     return _Run(w_bar, rho_bar, status, iterations, 'banded' if banded else 'cvxpy')
+
+
+def _exit_term(problem: Problem) -> ExitTerm | None:
+    """The last-robot-out exit term of the problem's objective (None for the centre's time, the paper's (p1))."""
+    if problem.options.objective != 'last_out':
+        return None
+    return ExitTerm(half_extent_weight(problem.tube, problem.swarm, float(problem.l_m[-1])))
+
+
+def _majorised_step(
+    planner: BandedPlanner | ConvexPlanner, term: ExitTerm, w_bar: FloatArray, rho_bar: FloatArray
+) -> tuple[FloatArray, FloatArray, float] | None:
+    """One step of the procedure with the exit term majorised at (w_bar, rho_bar) (``last_out``): the step and the
+    true objective there (the subproblem's, the model replaced by the term). A step where the model does not lie
+    above the term is solved again with a larger curvature; None after ``MAX_TRIES`` (the iterate stays)."""
+    for tries in range(MAX_TRIES):
+        model = term.model(float(w_bar[-1]), float(rho_bar[-1]), GROWTH**tries)
+        planner.set_exit_model(model)
+        w, rho = planner.solve()
+        ends = float(w[-1]), float(rho[-1])
+        if term.lies_above(model, *ends):
+            return w, rho, planner.value - model.value(*ends) + term.value(*ends)
+    return None

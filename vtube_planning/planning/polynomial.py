@@ -76,10 +76,13 @@ def plan_polynomial(
     ------
     PlanError
         When the problem is infeasible (same checks as the convex method), or for the rigid-shift reading of
-        (p7), which this method does not implement.
+        (p7) or the last-robot-out objective, which this method does not implement.
     """
     if options.predictive_model != 'local_width':
         msg = "the polynomial method implements the local-width reading of (p7) only; use method 'convex'."
+        raise PlanError(msg)
+    if options.objective != 'centre':
+        msg = "the polynomial method plans for the centre's time only (objective 'centre'); use method 'convex'."
         raise PlanError(msg)
     started = time.perf_counter()
     problem = discretise(tube, swarm, options)

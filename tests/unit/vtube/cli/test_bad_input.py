@@ -46,6 +46,24 @@ BAD = [
     ('no robots', 'simulate A --out {out} --n 0', 2, "argument --n: '0' is not a whole number >= 1"),
     ('grid too fine', 'plan A --out {out} --grid-step 1e-6', 2, 'use a grid step of at least 0.003 m'),
     ('negative grid step', 'plan A --out {out} --grid-step -1', 2, "argument --grid-step: '-1' is not a number > 0"),
+    (
+        'unknown objective',
+        'plan A --out {out} --objective fastest',
+        2,
+        "argument --objective: invalid choice: 'fastest'",
+    ),
+    (
+        'scene objective unknown',
+        'plan {tmp}/objective.toml --out {out}',
+        2,
+        "planning option objective must be one of ('centre', 'last_out'); got 'fastest'",
+    ),
+    (
+        'polynomial, last out',
+        'plan A --out {out} --method polynomial --objective last_out',
+        2,
+        "the polynomial method plans for the centre's time only",
+    ),
     ('figure kind', 'scene show A --out {tmp}/scene.foo', 2, 'give a file ending in one of .avif'),
     ('unknown scene', 'simulate Z --out {out}', 2, "unknown scene 'Z'"),
     ('folder as scene', 'scene show {tmp}', 2, 'is a folder, not a scene file'),
@@ -128,6 +146,8 @@ def bad_files(tmp_path_factory) -> Path:
     width = '[tube.width]\nstart_m = 2.0\nparts = [{ kind = "constant" }]\n'
     (tmp / 'text_waypoint.toml').write_text('[tube.center]\nwaypoints = [[0.0, 0.0], [1.0, "a"], [2.0, 0.0]]\n' + width)
     (tmp / 'endless.toml').write_text('[tube.center]\npieces = [{ kind = "line", length_m = 1e300 }]\n' + width)
+    line = '[tube.center]\npieces = [{ kind = "line", length_m = 10.0 }]\n'
+    (tmp / 'objective.toml').write_text(line + width + '[planning]\nobjective = "fastest"\n')
     rng = np.random.default_rng(0)
     (tmp / 'random.bag').write_bytes(rng.bytes(2000))
     (tmp / 'binary.py').write_bytes(rng.bytes(500))

@@ -78,3 +78,25 @@ def test_infeasible_plan_gives_exit_2_naming_constraint_and_arc_length(tmp_path,
     assert not (tmp_path / 'plan_tight.npz').exists()
     assert main(['plan', 'Z', '--out', str(tmp_path / 'p'), '--json']) == 2  # an error: nothing on stdout
     assert capsys.readouterr().out == ''
+
+
+def test_plan_for_the_last_robot_out_from_the_command_line(tmp_path, capsys) -> None:
+    assert main(['plan', 'C', '--out', str(tmp_path), '--objective', 'last_out']) == 0
+    lines = capsys.readouterr().out.splitlines()
+    plan = Plan.load(tmp_path / 'plan_C.npz', load_scene('C').tube)
+    assert plan.options.objective == 'last_out'
+    terms = plan.objective
+    passing = terms['time_s'] + terms['entry_s'] + terms['exit_s']
+    assert f'  passing time (model)  {passing:.4f} s  (first robot in to last robot out)' in lines
+    assert terms['total'] == sum(terms[name] for name in ('time_s', 'entry_s', 'exit_s', 'density'))
+    assert f'exit half-extent {terms["exit_s"]:.6f} + density' in next(line for line in lines if 'objective J' in line)
+
+
+def test_a_scene_files_planning_table_chooses_the_objective(tmp_path, capsys) -> None:
+    path = tmp_path / 'line.toml'
+    path.write_text(LINE_SCENE + '[planning]\nobjective = "last_out"\n')
+    assert main(['plan', str(path), '--out', str(tmp_path)]) == 0
+    assert 'passing time (model)' in capsys.readouterr().out
+    assert Plan.load(tmp_path / 'plan_line.npz', load_scene(str(path)).tube).options.objective == 'last_out'
+    assert main(['plan', str(path), '--out', str(tmp_path), '--objective', 'centre']) == 0  # the option overrides
+    assert 'passing time (model)' not in capsys.readouterr().out
