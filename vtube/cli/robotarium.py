@@ -83,8 +83,6 @@ def experiment(args: argparse.Namespace) -> RobotariumRun:
     from vtube_planning.provenance import copy_scene, provenance
 
     out: Path = args.out
-    if args.held_out and not args.confirm_seeds:
-        raise BadInput('--held-out needs seeds to hold out: give --confirm-seeds too, e.g. --confirm-seeds 10-19.')
     writable_folder(out)
     scene = load_scene(args.scene)
     require_fit(scene)
