@@ -146,7 +146,8 @@ def paired_table(rows: list[ComparisonRow], confirm_seeds: Collection[int] = ())
         (
             'Each measure is its own family (one claim each, no family declared). Not shown: the seeds could not '
             'tell planned from unplanned (not evidence that they are alike); beside it, the shift of the mean '
-            'difference, in SDs of the differences and in units, that they find with 80 % power.'
+            'difference, in SDs of the differences and in units, that they find with 80 % power. No verdict: '
+            'fewer than 6 seeds, or too few non-zero differences for any claim to reach 0.05.'
         ),
         '',
         head,

@@ -118,15 +118,16 @@ def family_of(test: Mapping[str, Any], families: Sequence[Family]) -> str:
 
 def judge(tests: list[dict[str, Any]], families: Sequence[Family]) -> list[dict[str, Any]]:
     """``tests`` (dicts with a, b, metric, better, estimate (an `Estimate` of the differences), p, nonzero (the
-    non-zero differences), sd (their standard deviation) and the cell's axes), each given ``family``, ``size``
-    (its family's), ``p_holm`` (`family_adjusted` over its family), ``verdict`` and ``detectable``: the smallest
-    shift, in SDs of the differences, its seeds find at 80 % power at the family's level (`detectable_shift`)."""
+    non-zero differences), sd (their standard deviation) and the cell's axes), each given ``family`` (and whether
+    it was ``declared``), ``size`` (its family's), ``p_holm`` (`family_adjusted` over its family), ``verdict``
+    and ``detectable``: the smallest shift, in SDs of the differences, its seeds find at 80 % power at the
+    family's level (`detectable_shift`)."""
     for name in dict.fromkeys(family_of(t, families) for t in tests):
         members = [t for t in tests if family_of(t, families) == name]
         estimates, p_values = [t['estimate'] for t in members], [t['p'] for t in members]
         adjusted = family_adjusted(estimates, p_values, [t['nonzero'] for t in members])
         for t, p in zip(members, adjusted, strict=True):
-            t |= {'family': name, 'size': len(members), 'p_holm': p}
+            t |= {'family': name, 'declared': name != default_family(t), 'size': len(members), 'p_holm': p}
             t['verdict'] = verdict(t['estimate'], t['better'], p)
             t['detectable'] = detectable_shift(t['estimate'].n, family_level(len(members)))
     return tests
@@ -156,10 +157,11 @@ def confirmed(
 
 
 def families_text(tests: Sequence[Mapping[str, Any]]) -> str:
-    """The families of judged ``tests`` in words: each with its size, its seeds and the shift it finds at 80 %
-    power (a line per family, for a report's legend)."""
+    """The families of judged ``tests`` in words, those declared first: each with its size, its seeds and the shift
+    it finds at 80 % power (a line per family, for a report's legend)."""
     lines = []
-    for name in dict.fromkeys(t['family'] for t in tests):
+    declared = {t['family']: t['declared'] for t in tests}
+    for name in sorted(declared, key=lambda name: not declared[name]):
         members = [t for t in tests if t['family'] == name]
         seeds = sorted({t['estimate'].n for t in members})
         shifts = sorted({t['detectable'] for t in members})
