@@ -193,7 +193,7 @@ def _test_text(test: dict[str, Any], verdict: str, *, bold: bool = False) -> str
     shift its seeds find at 80 % power)."""
     effect = test['relative']
     shown = '' if math.isnan(effect) else f' ({effect:+.0%})'
-    p_text = 'p n/a' if math.isnan(test['p_holm']) else f'p {test["p_holm"]:.2g}'
+    p_text = 'p n/a' if math.isnan(test['p_holm']) else f'p {test["p_holm"]:.3g}'
     power = f' ({detectable_text(test)})' if verdict == NOT_SHOWN else ''
     said = f'**{verdict}**' if bold else verdict
     return f'{test["estimate"].text(3)}{shown}, {p_text}, {test["estimate"].n} seeds: {said}{power}'

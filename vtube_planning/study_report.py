@@ -327,7 +327,7 @@ def _test_text(test: dict[str, Any]) -> str:
     """A paired difference, its interval, its effect size, its adjusted p-value and its verdict (where not shown,
     with the shift its seeds would have found: `detectable_text`)."""
     effect = '' if math.isnan(test.get('relative', math.nan)) else f' ({test["relative"]:+.0%})'
-    p = 'p n/a' if math.isnan(test['p_holm']) else f'p {test["p_holm"]:.2g}'
+    p = 'p n/a' if math.isnan(test['p_holm']) else f'p {test["p_holm"]:.3g}'
     found = test.get('discovery_verdict', test['verdict'])
     power = f' ({detectable_text(test)})' if found == NOT_SHOWN else ''
     return f'{test["estimate"].text(3)}{effect}, {p}: {found}{power}'
