@@ -102,9 +102,10 @@ def paired_differences_figure(rows: list[dict[str, Any]], judging: Judging | Non
     (`paired_table`), filled where the claim holds."""
     from matplotlib.figure import Figure
 
+    from vtube_planning.judging import POOLED
     from vtube_planning.study_report import CLAIMS, COMPARISONS, paired_table, place_text, setting_text
 
-    table = paired_table(rows, *(judging,) if judging else ())
+    table = paired_table(rows, judging or POOLED)
 
     def label(p: dict[str, Any]) -> str:
         return f'{p["a"]} - {p["b"]}  |  {place_text(p)}, N={p["n_robots"]}, {setting_text(p)}'
@@ -135,9 +136,10 @@ def verdict_matrix_figure(rows: list[dict[str, Any]], judging: Judging | None = 
     and marked with the effect (a - b as a share of b's mean)."""
     from matplotlib.figure import Figure
 
+    from vtube_planning.judging import POOLED
     from vtube_planning.study_report import CLAIMS, COMPARISONS, paired_table, place_text, setting_text
 
-    table = paired_table(rows, *(judging,) if judging else ())
+    table = paired_table(rows, judging or POOLED)
     cells = list(dict.fromkeys(f'{place_text(p)}, N={p["n_robots"]}, {setting_text(p)}' for p in table))
     columns = [
         (a, b, m)

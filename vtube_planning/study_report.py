@@ -155,9 +155,9 @@ def map_differences(rows: list[dict[str, Any]], families: tuple[Family, ...] = (
     """Over the random maps of each population (scene, N, setting, map family and difficulty), the comparisons of
     COMPARISONS on each metric of CLAIMS: the mean over maps of each map's mean paired difference (a - b over its
     seeds) with its 95 % bootstrap interval and signed-rank test over maps (the maps are the sample: the claim is
-    about the family, not one map), Holm-adjusted within its family (`judge`), and verdict; ``per_map``: each map's mean
-    difference, and ``counts``: where the maps' own paired intervals lie. A map whose runs did not
-    all complete is left out of that comparison."""
+    about the family, not one map), Holm-adjusted within its family (`judge`), and verdict; ``per_map``: each map's
+    mean difference over all its seeds (none held out: the maps are the sample), and ``counts``: where the maps' own
+    paired intervals lie. A map whose runs did not all complete is left out of that comparison."""
     out = []
     mapped = [r for r in rows if r.get('map') not in (None, 'none')]
     for population in dict.fromkeys(_population(r) for r in mapped):
