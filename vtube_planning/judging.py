@@ -167,7 +167,8 @@ def families_text(tests: Sequence[Mapping[str, Any]]) -> str:
         shifts = sorted({t['detectable'] for t in members})
         n_text = str(seeds[0]) if len(seeds) == 1 else f'{seeds[0]}-{seeds[-1]}'
         shift = ' to '.join(dict.fromkeys(_sd_text(s) for s in (shifts[0], shifts[-1])))
-        lines.append(f'- {name}: {len(members)} claims, {n_text} pairs each, 80 % power at {shift}')
+        claims = f'{len(members)} claim' + ('s' if len(members) > 1 else '')
+        lines.append(f'- {name}: {claims}, {n_text} pairs each, 80 % power at {shift}')
     return '\n'.join(lines) + '\n'
 
 

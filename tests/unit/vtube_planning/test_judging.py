@@ -64,7 +64,7 @@ def test_judging_adjusts_within_each_family_by_holm() -> None:
         f'- planning - no planning, passing_time_s: 3 claims, 12 pairs each, 80 % power at {detectable_shift(12, 0.05 / 3):.2f} SD'
         in text
     )
-    assert '- cell 9: 1 claims, 12 pairs each' in text
+    assert '- cell 9: 1 claim, 12 pairs each' in text
 
 
 def test_held_out_seeds_test_only_the_claims_found_in_a_smaller_family() -> None:

@@ -139,7 +139,7 @@ def test_declared_families_are_adjusted_apart_and_stated() -> None:
     assert timed[0]['family'] == 'the first cell' and timed[0]['size'] == 1 and timed[0]['p_holm'] == 2 / 128
     assert timed[1]['family'] == 'planning - no planning, passing_time_s' and timed[1]['size'] == 19
     text = grid_markdown(rows, Judging((alone,)))
-    assert '- the first cell: 1 claims, 7 pairs each, 80 % power at' in text
+    assert '- the first cell: 1 claim, 7 pairs each, 80 % power at' in text
     assert '- planning - no planning, passing_time_s: 19 claims, 7 pairs each, 80 % power at no shift' in text
 
 
