@@ -122,3 +122,18 @@ def test_paired_claims_are_tested_in_their_own_families_and_confirmed_on_held_ou
     assert '20 seeds: **not shown** (80 % power at' in pooled['speed band [%]']
     few = paired_table([r for r in rows if r.seed < 4])
     assert '4 seeds: **no verdict**' in few and 'p n/a' in few
+
+
+@pytest.mark.parametrize('scene', ['robotarium_curve', 'robotarium_trapezoid'])
+def test_the_committed_comparison_tables_are_what_the_code_gives_from_their_rows(scene: str) -> None:
+    """docs/robotarium_compare/: the measures and the paired verdicts, written again from the rows beside them."""
+    import json
+    from pathlib import Path
+
+    from robotarium_exp.compare import paired_table
+
+    folder = Path(__file__).resolve().parents[3] / 'docs' / 'robotarium_compare'
+    recorded = json.loads((folder / f'compare_{scene}.json').read_text(encoding='utf-8'))
+    rows = [ComparisonRow(**(r | {'failures': tuple(r['failures'])})) for r in recorded]
+    text = (folder / f'compare_{scene}.md').read_text(encoding='utf-8')
+    assert f'\n\n{comparison_table(rows)}\n{paired_table(rows)}\n' in text
