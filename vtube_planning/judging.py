@@ -139,10 +139,11 @@ def confirmed(
     families: Sequence[Family],
     key: Callable[[Mapping[str, Any]], Hashable],
 ) -> list[dict[str, Any]]:
-    """``found`` (judged on the seeds found on) with the held-out seeds' tests ``again`` (not yet judged; a test of
-    each is the same claim where their ``key`` is the same): the claims found (holds, reversed) are judged again on the held-out seeds alone, each family made of
-    its claims found; each test gets ``discovery_verdict``, ``confirmation`` (its test on the held-out seeds; None
-    for a claim not found, which is not tested again) and ``verdict``, both's (`replicated`)."""
+    """``found`` (judged on the seeds found on) with the held-out seeds' tests ``again`` (not yet judged; two tests
+    are the same claim where their ``key`` is the same): the claims found (holds, reversed) are judged again on the
+    held-out seeds alone, each family made of its claims found; each test gets ``discovery_verdict``,
+    ``confirmation`` (its test on the held-out seeds; None for a claim not found, which is not tested again) and
+    ``verdict``, both's (`replicated`)."""
     claims = {key(t) for t in found if t['verdict'] in ('holds', 'reversed')}
     fresh = {key(t): t for t in judge([t for t in again if key(t) in claims], families)}
     out = []
