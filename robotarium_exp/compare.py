@@ -22,16 +22,9 @@ from robotarium_exp.rps_alias import seed_rps
 from robotarium_exp.tracking import plan_tracking
 from robotarium_exp.verdict import flight_failures
 from vtube_planning.geometry.scene import Scene
+from vtube_planning.judging import confirmed, detectable_text, judge
 from vtube_planning.planning.plan import Plan
-from vtube_planning.stats import (
-    NO_VERDICT,
-    family_adjusted,
-    paired_difference,
-    relative,
-    replicated,
-    signed_rank_p,
-    verdict,
-)
+from vtube_planning.stats import NOT_SHOWN, nonzero_count, paired_difference, relative, signed_rank_p
 from vtube_planning.swarm.metrics import strict_json
 
 COLUMNS = (
@@ -139,32 +132,44 @@ def comparison_table(rows: list[ComparisonRow]) -> str:
 
 def paired_table(rows: list[ComparisonRow], confirm_seeds: Collection[int] = ()) -> str:
     """Markdown: per measure of BETTER, planned - unplanned paired by seed (the same initialization draws), its
-    interval, effect and signed-rank p-value, Holm-adjusted over the measures, and the verdict
-    (`vtube_planning.stats`); with ``confirm_seeds``, on the other seeds and on those, and both's verdict."""
-    confirm = set(confirm_seeds)
-    found = _judged([r for r in rows if r.seed not in confirm])
-    again = _judged([r for r in rows if r.seed in confirm]) if confirm else {}
+    interval, effect and signed-rank p-value, Holm-adjusted within its family (`vtube_planning.judging`: no
+    family declared, each measure is its own), and the verdict (`vtube_planning.stats`), over every seed; with
+    ``confirm_seeds`` held out, on the other seeds, the claims found tested again on those, and both's verdict."""
+    held = set(confirm_seeds)
+    found = judge(_tests([r for r in rows if r.seed not in held]), ())
+    if held:
+        found = confirmed(found, _tests([r for r in rows if r.seed in held]), (), lambda t: t['metric'])
     head = '| planned - unplanned, same seeds | ' + (
-        'seeds found on | fresh seeds | verdict |' if confirm else 'verdict |'
+        'seeds found on | held-out seeds | verdict |' if held else 'verdict |'
     )
-    lines = [head, '|---|' + '---|' * (3 if confirm else 1)]
+    lines = [
+        (
+            'Each measure is its own family (one claim each, no family declared). Not shown: the seeds could not '
+            'tell planned from unplanned (not evidence that they are alike); beside it, the shift of the mean '
+            'difference, in SDs of the differences and in units, that they find with 80 % power. No verdict: '
+            'fewer than 6 seeds, or too few non-zero differences for any claim to reach 0.05.'
+        ),
+        '',
+        head,
+        '|---|' + '---|' * (3 if held else 1),
+    ]
+    by_metric = {t['metric']: t for t in found}
     for title, key, _ in COLUMNS:
-        if key not in found:
+        if key not in by_metric:
             continue
-        text, verdict = found[key]
-        if confirm:
-            fresh, confirmed = again.get(key, ('none', NO_VERDICT))
-            lines.append(
-                f'| {title} | {text}: {verdict} | {fresh}: {confirmed} | **{replicated(verdict, confirmed)}** |'
-            )
+        t = by_metric[key]
+        if held:
+            again = t['confirmation']
+            fresh = 'not tested again (no claim found)' if again is None else _test_text(again, again['verdict'])
+            lines.append(f'| {title} | {_test_text(t, t["discovery_verdict"])} | {fresh} | **{t["verdict"]}** |')
         else:
-            lines.append(f'| {title} | {text}: **{verdict}** |')
+            lines.append(f'| {title} | {_test_text(t, t["verdict"], bold=True)} |')
     return '\n'.join(lines) + '\n'
 
 
-def _judged(rows: list[ComparisonRow]) -> dict[str, tuple[str, str]]:
-    """Per measure of BETTER with two or more complete pairs: its text and verdict, Holm-adjusted over them."""
-    tests = {}
+def _tests(rows: list[ComparisonRow]) -> list[dict[str, Any]]:
+    """Per measure of BETTER with two or more complete pairs: its paired test, not yet judged (`judge`)."""
+    tests = []
     for key, better in BETTER.items():
         pairs: dict[int, dict[bool, float]] = {}
         for r in rows:
@@ -174,15 +179,24 @@ def _judged(rows: list[ComparisonRow]) -> dict[str, tuple[str, str]]:
         both = [(v[True], v[False]) for v in pairs.values() if len(v) == 2]
         if len(both) >= 2:
             planned, unplanned = np.array(both).T
-            tests[key] = (better, paired_difference(planned, unplanned), signed_rank_p(planned - unplanned), unplanned)
-    adjusted = family_adjusted([t[1] for t in tests.values()], [t[2] for t in tests.values()])
-    out = {}
-    for (key, (better, estimate, _, unplanned)), p in zip(tests.items(), adjusted, strict=True):
-        effect = relative(estimate.value, unplanned)
-        shown = '' if math.isnan(effect) else f' ({effect:+.0%})'
-        p_text = 'p n/a' if math.isnan(p) else f'p {p:.2g}'
-        out[key] = (f'{estimate.text(3)}{shown}, {p_text}, {estimate.n} seeds', verdict(estimate, better, p))
-    return out
+            estimate, d = paired_difference(planned, unplanned), planned - unplanned
+            tests.append(
+                {'a': 'planned', 'b': 'unplanned', 'metric': key, 'better': better, 'estimate': estimate}
+                | {'p': signed_rank_p(d), 'nonzero': nonzero_count(d), 'sd': float(np.std(d, ddof=1))}
+                | {'relative': relative(estimate.value, unplanned)}
+            )
+    return tests
+
+
+def _test_text(test: dict[str, Any], verdict: str, *, bold: bool = False) -> str:
+    """A measure's difference, interval, effect, adjusted p-value, seeds and verdict (where not shown, with the
+    shift its seeds find at 80 % power)."""
+    effect = test['relative']
+    shown = '' if math.isnan(effect) else f' ({effect:+.0%})'
+    p_text = 'p n/a' if math.isnan(test['p_holm']) else f'p {test["p_holm"]:.3g}'
+    power = f' ({detectable_text(test)})' if verdict == NOT_SHOWN else ''
+    said = f'**{verdict}**' if bold else verdict
+    return f'{test["estimate"].text(3)}{shown}, {p_text}, {test["estimate"].n} seeds: {said}{power}'
 
 
 def failed_runs(rows: list[ComparisonRow]) -> tuple[str, ...]:

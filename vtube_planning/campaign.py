@@ -19,8 +19,14 @@ saturation and the faults), the metrics to keep and what every run shares (`RunS
     [settings]
     failure_at = 0.5                # where a failing robot fails, times the tube's length
 
-A top-level ``confirm_seeds = [100, 101, ...]`` runs those fresh seeds too, in every grid, and the report calls a
-claim only where it holds on the grid's seeds and again on these (a replication).
+A top-level ``confirm_seeds = [100, 101, ...]`` runs those fresh seeds too, in every grid; the report pools them with
+the grid's seeds, unless ``held_out = true``: then it tests them only on the claims the grid's seeds found (a
+replication). A ``[families]`` table names the claims the report adjusts together (`vtube_planning.judging`):
+
+    [families.faster]
+    comparisons = ["planning - no planning"]
+    metrics = ["passing_time_s"]
+    pose_noise_m = [0.0]
 
 Several grids (``[[grids]]`` tables of axes instead of one ``[axes]``, as ``vtube study`` builds for baselines
 flown on some scenes only) make one campaign whose runs are their products, in turn. Each run has a stable key (a
@@ -43,6 +49,7 @@ from vtube_planning._validate import is_real
 from vtube_planning.errors import VtubeError
 from vtube_planning.geometry.maps import CLUTTER, FAMILIES, WIDTH_M, WIDTH_RANGE_M
 from vtube_planning.geometry.scene import load_scene
+from vtube_planning.judging import Family, FamilyError, Judging, families_from_toml
 from vtube_planning.onboard import SATURATIONS
 from vtube_planning.seeds import SeedsError, parse_seeds
 from vtube_planning.study import ABLATIONS, BASELINE_MODES, COMPENSATIONS, MODELS, REPLANNING_MODES, Point, RunSettings
@@ -104,8 +111,11 @@ class Campaign:
     out: Path | None = None
     """Where it runs unless told otherwise (``out`` in the file, relative to it); not part of what it is."""
     confirm_seeds: tuple[int, ...] = ()
-    """Fresh seeds, run in every grid besides its own, on which the report confirms what the others found
-    (`paired_table`)."""
+    """Fresh seeds, run in every grid besides its own: pooled with the others, or ``held_out``."""
+    families: tuple[Family, ...] = ()
+    """The families of claims the report adjusts together (`vtube_planning.judging`)."""
+    held_out: bool = False
+    """Whether the report tests the confirm_seeds apart, only on the claims the others found."""
 
     def __post_init__(self) -> None:
         if not self.grids:
@@ -126,6 +136,11 @@ class Campaign:
             msg = f'unknown metric {wrong[0]!r}' if wrong else 'the campaign keeps no metric'
             raise CampaignError(f'{msg}; choose from {", ".join(METRICS)}.')
         _check_settings(self.settings)
+        for family in self.families:
+            _check_family(family)
+        if self.held_out and not self.confirm_seeds:
+            msg = 'held_out = true needs seeds to hold out: give confirm_seeds, e.g. confirm_seeds = "100-109".'
+            raise CampaignError(msg)
         if self.confirm_seeds:
             _check_values('seed', self.confirm_seeds)
             reused = sorted({s for g in self.grids for s in g.get('seed', (0,))} & set(self.confirm_seeds))
@@ -155,11 +170,11 @@ class Campaign:
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], base: Path | None = None) -> Campaign:
         """A campaign from its parsed TOML (or `to_json`); relative scene paths are taken from ``base``."""
-        unknown = [k for k in data if k not in ('name', 'out', 'axes', 'grids', 'metrics', 'settings', 'confirm_seeds')]
+        unknown = [k for k in data if k not in KEYS]
         if unknown:
             msg = (
-                f'unknown key {unknown[0]!r}; a campaign has name, out, axes (or grids), metrics, settings and '
-                'confirm_seeds.'
+                f'unknown key {unknown[0]!r}; a campaign has name, out, axes (or grids), metrics, settings, '
+                'confirm_seeds, held_out and families.'
             )
             raise CampaignError(msg)
         if ('axes' in data) == ('grids' in data):
@@ -184,7 +199,19 @@ class Campaign:
         name = str(data.get('name', 'campaign'))
         out = None if data.get('out') is None else (base or Path()) / str(data['out'])
         confirm = _axis_values('seed', data['confirm_seeds'], base) if 'confirm_seeds' in data else ()
-        return cls(values, tuple(metrics), RunSettings(**settings), name, out, confirm)
+        held_out = data.get('held_out', False)
+        if not isinstance(held_out, bool):
+            raise CampaignError(f'held_out must be true or false; got {held_out!r}.')
+        try:
+            families = families_from_toml(data.get('families', {}))
+        except FamilyError as err:
+            raise CampaignError(str(err)) from err
+        return cls(values, tuple(metrics), RunSettings(**settings), name, out, confirm, families, held_out)
+
+    @property
+    def judging(self) -> Judging:
+        """How its report judges the claims: its families, and the confirm_seeds held out or pooled."""
+        return Judging(self.families, self.confirm_seeds if self.held_out else ())
 
     @property
     def columns(self) -> list[str]:
@@ -220,7 +247,38 @@ class Campaign:
             'grids': [{axis: list(values) for axis, values in grid.items()} for grid in self.grids],
             'metrics': list(self.metrics),
             'settings': asdict(self.settings),
-        } | ({'confirm_seeds': list(self.confirm_seeds)} if self.confirm_seeds else {})
+        } | {key: value for key, value in self.judged_by().items() if value}
+
+    def judged_by(self) -> dict[str, Any]:
+        """The keys of `to_json` that say how the report judges, not what runs (REPORT_KEYS): a folder's runs
+        stay its own when these change."""
+        families = {f.name: f.to_json() for f in self.families}
+        return {'confirm_seeds': list(self.confirm_seeds), 'held_out': self.held_out, 'families': families}
+
+
+KEYS = ('name', 'out', 'axes', 'grids', 'metrics', 'settings', 'confirm_seeds', 'held_out', 'families')
+"""The keys of a campaign file."""
+REPORT_KEYS = ('held_out', 'families')
+"""The keys that change the report, not the runs."""
+
+
+_PAPER = (('model', ('paper',)), ('saturation', ('radial',)))
+_VMAX = 'planning - no planning at v_max'
+ABLATION_FAMILIES = (
+    Family(
+        'faster than no planning (paper model, radial sat)', ('planning - no planning',), ('passing_time_s',), _PAPER
+    ),
+    Family('faster than no planning at v_max (paper model, radial sat)', (_VMAX,), ('passing_time_s',), _PAPER),
+    Family(
+        'a larger minimum distance than no planning, at 3.5 m/s or v_max (paper model, radial sat)',
+        ('planning - no planning', _VMAX),
+        ('min_distance_m',),
+        _PAPER,
+    ),
+    Family('what (p7) buys (paper model, radial sat)', ('planning - planning without (p7)',), (), _PAPER),
+)
+"""The families of ``vtube ablation``: one per claim the README quotes from it (the paper's model, radial
+saturation); its other cells make one family per comparison and metric."""
 
 
 LATER_AXES: dict[str, Any] = {'lag_s': 0.0, 'compensation': 'none'}
@@ -290,6 +348,30 @@ def _check_values(axis: str, values: Iterable[Any]) -> None:
             raise CampaignError(msg)
         if axis == 'scene':
             load_scene(value)  # a SceneError names the file and the fix
+
+
+def _check_family(family: Family) -> None:
+    """A family names comparisons of the campaign's modes ("a - b"), its metrics, and values of its axes."""
+    for comparison in family.comparisons:
+        modes = comparison.split(' - ')
+        if len(modes) != 2 or any(m not in _CHOICES['mode'] for m in modes):
+            msg = (
+                f'families.{family.name}: {comparison!r} is not a comparison "a - b" of two modes, like '
+                f'"planning - no planning"; the modes are {", ".join(map(repr, _CHOICES["mode"]))}.'
+            )
+            raise CampaignError(msg)
+    wrong = [m for m in family.metrics if m not in METRICS]
+    if wrong:
+        raise CampaignError(f'families.{family.name}: unknown metric {wrong[0]!r}; choose from {", ".join(METRICS)}.')
+    for axis, values in family.cells:
+        if axis not in AXES or axis in ('seed', 'mode'):
+            known = ', '.join(a for a in AXES if a not in ('seed', 'mode'))
+            msg = f'families.{family.name}: unknown key {axis!r}; a family has comparisons, metrics and {known}.'
+            raise CampaignError(msg)
+        try:
+            _check_values(axis, values)
+        except CampaignError as err:
+            raise CampaignError(f'families.{family.name}: {err}') from err
 
 
 def _check_settings(settings: RunSettings) -> None:

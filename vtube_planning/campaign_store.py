@@ -14,12 +14,12 @@ import math
 import os
 import socket
 import time
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Collection, Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-from vtube_planning.campaign import AXES, LATER_COLUMNS, METRICS, Campaign, CampaignError, run_key
+from vtube_planning.campaign import AXES, LATER_COLUMNS, METRICS, REPORT_KEYS, Campaign, CampaignError, run_key
 from vtube_planning.files import write_atomically
 
 RUNS_FILE, CAMPAIGN_FILE, LOCK_FILE, MADE_FILE = 'runs.csv', 'campaign.json', '.lock', 'provenance.json'
@@ -103,8 +103,10 @@ def prepare_folder(
     """Check ``out`` before any run (writable, no other campaign in it), record the campaign there, and keep the
     rows of runs already done (each rewritten whole: a line cut by an interruption, or a failed run, is dropped
     and its run done again). ``expected``: per run's key, what its row must record (`prepare_table`).
-    Returns the done rows by key."""
-    return prepare_table(out, CAMPAIGN_FILE, campaign.to_json(), campaign.columns, expected, what='campaign')
+    A recorded campaign that differs only in how its report judges (REPORT_KEYS) is the same; the new one is
+    recorded. Returns the done rows by key."""
+    record = campaign.to_json()
+    return prepare_table(out, CAMPAIGN_FILE, record, campaign.columns, expected, what='campaign', apart=REPORT_KEYS)
 
 
 def prepare_table(
@@ -115,18 +117,20 @@ def prepare_table(
     expected: Mapping[str, Mapping[str, str]],
     *,
     what: str,
+    apart: Collection[str] = (),
 ) -> dict[str, dict[str, Any]]:
     """`prepare_folder` for any table of runs (``runs.csv`` with ``columns``, among them ``key``, ``error``
     and ``version``) recorded with its settings ``record`` in ``out/record_file``; ``what`` names it in errors.
     ``expected`` holds the keys of the runs and, per key, the columns a finished row must hold as they are now
     (the package's version, the scene file's hash): a finished row that records another value is refused, not
-    resumed (an empty value, from a table written before the column existed, is accepted)."""
+    resumed (an empty value, from a table written before the column existed, is accepted). The keys ``apart``
+    of ``record`` are not compared."""
     recorded = out / record_file
     try:
         out.mkdir(parents=True, exist_ok=True)
         if recorded.is_file():
             previous = _recorded(recorded)
-            if previous != record:
+            if _without(previous, apart) != _without(record, apart):
                 msg = (
                     f'{out} holds the results of another {what} ({recorded} differs from this one); '
                     'give another --out, or delete the folder to start again.'
@@ -161,6 +165,10 @@ def prepare_table(
         msg = f'cannot write to {out} ({err.strerror or err}); choose another --out before any run starts.'
         raise OSError(msg) from err
     return done
+
+
+def _without(record: Mapping[str, Any], keys: Collection[str]) -> dict[str, Any]:
+    return {k: v for k, v in record.items() if k not in keys}
 
 
 def _csv_text(columns: list[str], rows: Iterable[dict[str, Any]]) -> str:

@@ -71,7 +71,7 @@ def verify(out: Path, *, runs: int | None = None, workers: int = 1, client: Any 
     report = out / REPORT_FILE
     matches = None
     if report.is_file():
-        text = report_text(campaign.name, rows, missing, campaign.confirm_seeds, made)
+        text = report_text(campaign.name, rows, missing, campaign.judging, made)
         matches = report.read_text(encoding='utf-8') == text
     return Verification(len(chosen), len(rows), tuple(differences), matches, tuple(made))
 

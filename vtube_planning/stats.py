@@ -6,13 +6,16 @@ per-seed differences, which removes what the seed does to both (the initial form
 and the two-sided Wilcoxon signed-rank test of those differences (exact for small samples, no assumption of
 normality). A report compares the same two modes in many cells, so the p-values of one comparison and metric over
 the cells are adjusted by Holm's step-down method (which holds the chance of any false claim among them at ALPHA
-whatever their dependence). A claim "mode A beats mode B on a metric" holds in a cell only where the adjusted
-p-value is below ALPHA and the interval excludes zero on A's side, from at least MIN_SEEDS seeds; and, when fresh
-seeds were run to confirm it, only where it holds on them too (`replicated`).
+whatever their dependence); which claims make one family is the report's (`vtube_planning.judging`). A claim
+"mode A beats mode B on a metric" holds in a cell only where the adjusted p-value is below ALPHA and the interval
+excludes zero on A's side, from at least MIN_SEEDS seeds; where it does not, the effect is NOT_SHOWN, and
+`detectable_shift` says how large an effect the seeds would have found (POWER), so that "not shown" is not read as
+"absent". Fresh seeds held out to confirm the claims found test only those (`replicated`).
 """
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from collections.abc import Callable, Sequence
@@ -35,6 +38,12 @@ EXACT_UP_TO = 50
 """Differences up to which the signed-rank p-value is exact (counts below 2**50 stay exact in int64)."""
 NO_VERDICT = 'no verdict'
 NOT_REPLICATED = 'not replicated'
+NOT_SHOWN = 'not shown'
+"""The verdict where a and b could not be told apart: no evidence either way, not evidence of no effect."""
+POWER = 0.8
+"""The chance at which `detectable_shift` finds an effect."""
+POWER_DRAWS = 20000
+"""Normal samples `detectable_shift` draws (seed 0): its shift is within about 0.01 SD of the exact one."""
 
 
 @dataclass(frozen=True)
@@ -112,28 +121,81 @@ def holm(p_values: Sequence[float]) -> NDArray[np.float64]:
 
 
 def smallest_p(n: int) -> float:
-    """The smallest two-sided p-value `signed_rank_p` can give from n paired differences: 2 / 2**n where the test
-    is exact (every difference of one sign), none (0) where the normal approximation takes over."""
+    """The smallest two-sided p-value `signed_rank_p` can give from n non-zero paired differences: 2 / 2**n where
+    the test is exact (every difference of one sign), none (0) where the normal approximation takes over."""
     return 2.0 / 2.0**n if n <= EXACT_UP_TO else 0.0
 
 
-def family_adjusted(estimates: Sequence[Estimate], p_values: Sequence[float]) -> list[float]:
-    """`holm` over the members of a family (one comparison's claims) that have MIN_SEEDS differences or
+def nonzero_count(differences: ArrayLike) -> int:
+    """How many paired differences `signed_rank_p` uses: the non-zero ones (Wilcoxon's rule drops the zeros)."""
+    return int(np.count_nonzero(np.asarray(differences, dtype=float)))
+
+
+def family_adjusted(estimates: Sequence[Estimate], p_values: Sequence[float], nonzero: Sequence[int]) -> list[float]:
+    """`holm` over the members of a family (one claim's cells or measures) that have MIN_SEEDS differences or
     more; NaN for the others, which get no verdict. NaN for every member too where none could be significant: Holm
-    multiplies the smallest p-value by the family's size m, so with n seeds per member and m * 2 / 2**n at or
-    above ALPHA no claim can hold, however large the effects; the family then gets no verdict (more seeds, or fewer
-    cells compared), not a "does not hold" that its seeds could never have escaped."""
+    multiplies the smallest p-value by the family's size m, so where m * 2 / 2**n is at or above ALPHA for every
+    member, n its ``nonzero`` differences (the test drops the zeros), no claim can hold, however large the effects;
+    the family then gets no verdict (more seeds, or a smaller family), not a "not shown" that its seeds could never
+    have escaped."""
     enough = [k for k, e in enumerate(estimates) if e.n >= MIN_SEEDS]
     adjusted = [math.nan] * len(estimates)
-    if not enough or len(enough) * min(smallest_p(estimates[k].n) for k in enough) >= ALPHA:
+    if not enough or len(enough) * min(smallest_p(nonzero[k]) for k in enough) >= ALPHA:
         return adjusted
     for k, p in zip(enough, holm([p_values[k] for k in enough]), strict=True):
         adjusted[k] = float(p)
     return adjusted
 
 
+def family_level(size: int) -> float:
+    """The level a family of ``size`` claims holds its strongest member to (Holm's first step, ALPHA / size): the
+    level at which one true effect among them must be found, whatever the others."""
+    return ALPHA / max(size, 1)
+
+
+def critical_sum(n: int, level: float) -> int | None:
+    """The smallest sum of positive ranks (1..n, no ties) at which the two-sided signed-rank test of n differences
+    gives p < ``level`` on the positive side (the test of `signed_rank_p`: exact up to EXACT_UP_TO, the normal
+    approximation above); None where no outcome reaches it."""
+    total = n * (n + 1) // 2
+    if n > EXACT_UP_TO:
+        mean, sd = total / 2.0, math.sqrt(n * (n + 1) * (2 * n + 1) / 24.0)
+        k = math.floor(mean + sd * float(stats.norm.isf(level / 2.0))) + 1
+        return k if k <= total else None
+    counts = np.zeros(total + 1)
+    counts[0] = 1.0
+    for rank in range(1, n + 1):
+        counts[rank:] = counts[rank:] + counts[:-rank].copy()
+    tail = np.cumsum(counts[::-1])[::-1] / 2.0**n  # tail[t]: the chance of a sum >= t
+    p = np.minimum(1.0, 2.0 * tail)
+    upper = [t for t in range(total + 1) if 2 * t > total and p[t] < level]
+    return upper[0] if upper else None
+
+
+@functools.lru_cache(maxsize=256)
+def detectable_shift(n: int, level: float) -> float:
+    """The smallest shift of the paired differences' mean, in units of their standard deviation, that the
+    signed-rank test of n differences at ``level`` finds (p < level, on the shift's side) with probability POWER,
+    the differences drawn normal; inf where no outcome of n differences reaches ``level``.
+
+    By Monte Carlo with a fixed seed: the sum of positive ranks is the number of positive Walsh averages
+    (z_i + z_j) / 2 + shift, i <= j, so it reaches `critical_sum` k exactly when the shift exceeds minus the k-th
+    largest Walsh average of z; the shift found with probability POWER is the POWER-quantile of that threshold
+    over POWER_DRAWS samples z (the same draws for every shift, so no search is needed)."""
+    k = critical_sum(n, level)
+    if k is None:
+        return math.inf
+    draws = np.random.default_rng(0).standard_normal((POWER_DRAWS, n))
+    i, j = np.triu_indices(n)
+    thresholds = []
+    for chunk in np.array_split(draws, max(1, POWER_DRAWS * i.size // 2_000_000)):
+        walsh = (chunk[:, i] + chunk[:, j]) / 2.0
+        thresholds.append(np.partition(walsh, walsh.shape[1] - k, axis=1)[:, walsh.shape[1] - k])
+    return float(np.quantile(-np.concatenate(thresholds), POWER))
+
+
 def verdict(difference: Estimate, better: str, p_adjusted: float) -> str:
-    """'holds', 'does not hold' or 'reversed' for a claim that a - b is ``better`` (``'higher'``, say minimum
+    """'holds', NOT_SHOWN or 'reversed' for a claim that a - b is ``better`` (``'higher'``, say minimum
     distance, or ``'lower'``: passing time, collisions): significant where the adjusted p-value is below ALPHA and
     the interval excludes zero; NO_VERDICT from fewer than MIN_SEEDS differences, or without an adjusted p-value
     (NaN: `family_adjusted` found that no member of its family could be significant)."""
@@ -143,13 +205,13 @@ def verdict(difference: Estimate, better: str, p_adjusted: float) -> str:
     if difference.n < MIN_SEEDS or math.isnan(p_adjusted):
         return NO_VERDICT
     if not (difference.excludes_zero() and p_adjusted < ALPHA):
-        return 'does not hold'
+        return NOT_SHOWN
     sign = 1.0 if better == 'higher' else -1.0
     return 'holds' if sign * difference.value > 0 else 'reversed'
 
 
 def replicated(discovery: str, confirmation: str) -> str:
-    """A claim's verdict from the seeds it was found on and fresh seeds run to confirm it: a claim (or its
+    """A claim's verdict from the seeds it was found on and fresh seeds held out to confirm it: a claim (or its
     reversal) stands only where both say so; NOT_REPLICATED where the fresh seeds do not."""
     if NO_VERDICT in (discovery, confirmation):
         return NO_VERDICT

@@ -13,11 +13,13 @@ from vtube_planning.seeds import seeds_text
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+    from vtube_planning.judging import Family, Judging
+
 
 VERDICT_COLORS = {
     'holds': 'tab:blue',
     'reversed': 'tab:red',
-    'does not hold': 'tab:gray',
+    'not shown': 'tab:gray',
     'not replicated': 'tab:orange',
     'no verdict': 'lightgray',
 }
@@ -94,15 +96,16 @@ def study_figure(
     return fig
 
 
-def paired_differences_figure(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = ()) -> Figure:
-    """A study's paired differences (a - b on the same seeds; with ``confirm_seeds``, on the others) with their 95 %
+def paired_differences_figure(rows: list[dict[str, Any]], judging: Judging | None = None) -> Figure:
+    """A study's paired differences (a - b on the same seeds; with seeds held out, on the others) with their 95 %
     intervals: one panel per metric, one line per comparison and cell (scene, N, setting); coloured by verdict
     (`paired_table`), filled where the claim holds."""
     from matplotlib.figure import Figure
 
+    from vtube_planning.judging import POOLED
     from vtube_planning.study_report import CLAIMS, COMPARISONS, paired_table, place_text, setting_text
 
-    table = paired_table(rows, confirm_seeds)
+    table = paired_table(rows, judging or POOLED)
 
     def label(p: dict[str, Any]) -> str:
         return f'{p["a"]} - {p["b"]}  |  {place_text(p)}, N={p["n_robots"]}, {setting_text(p)}'
@@ -127,15 +130,16 @@ def paired_differences_figure(rows: list[dict[str, Any]], confirm_seeds: Collect
     return fig
 
 
-def verdict_matrix_figure(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = ()) -> Figure:
+def verdict_matrix_figure(rows: list[dict[str, Any]], judging: Judging | None = None) -> Figure:
     """The paired comparisons at a glance, at page width: a row per cell (scene, N, setting), a column per
     comparison and metric; each square coloured by its verdict (`paired_table`)
     and marked with the effect (a - b as a share of b's mean)."""
     from matplotlib.figure import Figure
 
+    from vtube_planning.judging import POOLED
     from vtube_planning.study_report import CLAIMS, COMPARISONS, paired_table, place_text, setting_text
 
-    table = paired_table(rows, confirm_seeds)
+    table = paired_table(rows, judging or POOLED)
     cells = list(dict.fromkeys(f'{place_text(p)}, N={p["n_robots"]}, {setting_text(p)}' for p in table))
     columns = [
         (a, b, m)
@@ -236,7 +240,7 @@ def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
     return fig
 
 
-def map_differences_figure(rows: list[dict[str, Any]]) -> Figure:
+def map_differences_figure(rows: list[dict[str, Any]], families: tuple[Family, ...] = ()) -> Figure:
     """A study over random maps (`map_differences`): one panel per metric, one
     line per comparison and population of maps; a dot per map (its mean paired difference over its seeds) and the
     mean over maps with its 95 % interval, filled where the claim holds."""
@@ -244,7 +248,7 @@ def map_differences_figure(rows: list[dict[str, Any]]) -> Figure:
 
     from vtube_planning.study_report import CLAIMS, map_differences, setting_text
 
-    found = map_differences(rows)
+    found = map_differences(rows, families)
     labels = list(dict.fromkeys(_map_label(f, setting_text(f)) for f in found))
     fig = Figure(figsize=(12.0, 1.4 + 0.5 * len(labels)), layout='constrained')
     axes = fig.subplots(1, len(CLAIMS), sharey=True)

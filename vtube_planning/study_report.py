@@ -9,12 +9,13 @@ the paper's comparison per scene is in `vtube_planning.paper_report`.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Collection
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from vtube_planning.judging import POOLED, Family, Judging, confirmed, detectable_text, families_text, judge
 from vtube_planning.provenance import made_text
 from vtube_planning.seeds import seeds_text
 from vtube_planning.stats import (
@@ -22,15 +23,14 @@ from vtube_planning.stats import (
     MIN_SEEDS,
     NO_VERDICT,
     NOT_REPLICATED,
+    NOT_SHOWN,
     Estimate,
     cell_values,
-    family_adjusted,
     mean_interval,
+    nonzero_count,
     paired_difference,
     relative,
-    replicated,
     signed_rank_p,
-    verdict,
 )
 
 COMPARISONS = (
@@ -64,7 +64,7 @@ CELL_AXES = (
 """What a row's mode is compared within (a cell): every field of `Point` but the mode and the seed."""
 
 
-def _cell(row: dict[str, Any]) -> tuple[Any, ...]:
+def _cell(row: Mapping[str, Any]) -> tuple[Any, ...]:
     return tuple(row.get(axis) for axis in CELL_AXES)
 
 
@@ -99,21 +99,27 @@ def setting_text(row: dict[str, Any]) -> str:
     return ', '.join(words)
 
 
-def verdict_summary(table: list[dict[str, Any]]) -> str:
+def verdict_summary(table: list[dict[str, Any]], held_out: bool = False) -> str:
     """Where each comparison's claim holds: per setting (`setting_text`), in how many cells (scene, N) the
-    paired test of `paired_table` says a beats b (+), cannot tell (=) or b beats a (-), where the fresh seeds
-    did not confirm it (~) and where there were too few seeds for a verdict (?), for each metric of CLAIMS."""
+    paired test of `paired_table` says a beats b (+), cannot tell (=, not shown) or b beats a (-), where the
+    held-out seeds did not confirm it (~) and where there were too few seeds for a verdict (?), for each metric
+    of CLAIMS; then the families the tests were adjusted in (`families_text`)."""
     settings = list(dict.fromkeys(setting_text(p) for p in table))
     compared = [c for c in COMPARISONS if any((p['a'], p['b']) == c[:2] for p in table)]
     cells = '(scene, map, N)' if any(r.get('map') not in (None, 'none') for r in table) else '(scene, N)'
+    seeds = (
+        'on the seeds found on, the claims found then tested again on the held-out seeds (~: not confirmed there)'
+        if held_out
+        else 'over all the seeds of the campaign, pooled'
+    )
     lines = [
         (
-            f'Cells {cells} where a beats b (+), cannot be told apart (=), or b beats a (-): the paired signed-rank '
-            f'test, Holm-adjusted over the cells of each comparison and metric, below {ALPHA:g} and the 95 % '
-            f'interval on that side; ~: not confirmed on the fresh seeds; ?: no verdict, from fewer than '
-            f'{MIN_SEEDS} seeds or from too few for the cells compared (no claim of the comparison could reach '
-            f'{ALPHA:g} after the adjustment: more seeds, or fewer cells). T: passing time (shorter is better), '
-            'D: minimum distance (larger is better).'
+            f'Cells {cells} where a beats b (+), where that is not shown (=: a and b not told apart, which is not '
+            f'evidence that they are alike), or b beats a (-): the paired signed-rank test {seeds}, '
+            f'Holm-adjusted within each family of claims below, below {ALPHA:g} and the 95 % interval on that '
+            f'side; ?: no verdict, from fewer than {MIN_SEEDS} seeds or from too few non-zero differences for the '
+            f'family (no claim of it could reach {ALPHA:g} after the adjustment: more seeds, or a smaller family). '
+            'T: passing time (shorter is better), D: minimum distance (larger is better).'
         ),
         '',
         '| setting | ' + ' | '.join(f'{a} - {b} ({meaning})' for a, b, meaning in compared) + ' |',
@@ -133,19 +139,25 @@ def verdict_summary(table: list[dict[str, Any]]) -> str:
                 counts.append(f'{letter} {text}')
             cols.append(', '.join(counts))
         lines.append(f'| {setting} | ' + ' | '.join(cols) + ' |')
-    return '\n'.join(lines) + '\n'
+    families = (
+        'The families (declared in the campaign, one per claim; the claims no family takes: one family per '
+        "comparison and metric), with the shift of the paired differences' mean, in their standard deviations "
+        "(SD), that the signed-rank test finds with 80 % power at the family's level (0.05 over its size, normal "
+        "differences; in the cells, also in the metric's units):"
+    )
+    return '\n'.join([*lines, '', families, '', families_text(table)] if table else lines) + '\n'
 
 
-_SIGNS = (('+', 'holds'), ('=', 'does not hold'), ('-', 'reversed'), ('~', NOT_REPLICATED), ('?', NO_VERDICT))
+_SIGNS = (('+', 'holds'), ('=', NOT_SHOWN), ('-', 'reversed'), ('~', NOT_REPLICATED), ('?', NO_VERDICT))
 
 
-def map_differences(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+def map_differences(rows: list[dict[str, Any]], families: tuple[Family, ...] = ()) -> list[dict[str, Any]]:
     """Over the random maps of each population (scene, N, setting, map family and difficulty), the comparisons of
     COMPARISONS on each metric of CLAIMS: the mean over maps of each map's mean paired difference (a - b over its
     seeds) with its 95 % bootstrap interval and signed-rank test over maps (the maps are the sample: the claim is
-    about the family, not one map), Holm-adjusted over the populations, and verdict; ``per_map``: each map's mean
-    difference, and ``counts``: where the maps' own paired intervals lie. A map whose runs did not
-    all complete is left out of that comparison."""
+    about the family, not one map), Holm-adjusted within its family (`judge`), and verdict; ``per_map``: each map's
+    mean difference over all its seeds (none held out: the maps are the sample), and ``counts``: where the maps' own
+    paired intervals lie. A map whose runs did not all complete is left out of that comparison."""
     out = []
     mapped = [r for r in rows if r.get('map') not in (None, 'none')]
     for population in dict.fromkeys(_population(r) for r in mapped):
@@ -161,8 +173,13 @@ def map_differences(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
                 own = [_direction(d, better) for d in (_paired(x, y) for x, y in pairs) if d is not None]
                 counts = ' '.join(f'{s}{own.count(s)}' for s in '+=-')
                 first = sel[0] | {'a': a, 'b': b, 'metric': metric, 'better': better, 'per_map': per_map}
-                out.append(first | {'counts': counts, 'estimate': mean_interval(per_map), 'p': signed_rank_p(per_map)})
-    return _adjusted(out)
+                tested = {'estimate': mean_interval(per_map), 'p': signed_rank_p(per_map)}
+                out.append(
+                    first
+                    | {'counts': counts, 'nonzero': nonzero_count(per_map), 'sd': float(np.std(per_map, ddof=1))}
+                    | tested
+                )
+    return judge(out, families)
 
 
 def _direction(difference: Estimate, better: str) -> str:
@@ -172,34 +189,24 @@ def _direction(difference: Estimate, better: str) -> str:
     return '+' if (difference.value > 0) == (better == 'higher') else '-'
 
 
-def _adjusted(tests: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """``tests`` (each with a, b, metric, better, estimate and p) with ``p_holm``, adjusted over the tests of the
-    same comparison and metric (`family_adjusted`), and ``verdict``."""
-    for family in dict.fromkeys((t['a'], t['b'], t['metric']) for t in tests):
-        members = [t for t in tests if (t['a'], t['b'], t['metric']) == family]
-        for t, p in zip(
-            members, family_adjusted([t['estimate'] for t in members], [t['p'] for t in members]), strict=True
-        ):
-            t['p_holm'] = p
-            t['verdict'] = verdict(t['estimate'], t['better'], p)
-    return tests
-
-
 def _population(row: dict[str, Any]) -> tuple[Any, ...]:
     return row['scene'], row['n_robots'], row['map'], row['map_clutter'], row['map_width_m'], setting_text(row)
 
 
-def map_summary(rows: list[dict[str, Any]]) -> str:
-    """The table of `map_differences` (empty for rows without random maps)."""
-    found = map_differences(rows)
+def map_summary(rows: list[dict[str, Any]], families: tuple[Family, ...] = ()) -> str:
+    """The table of `map_differences` (empty for rows without random maps), and its families."""
+    found = map_differences(rows, families)
     if not found:
         return ''
     lines = [
         (
             'Over the random maps (each map the mean of its seeds; 95 % interval and signed-rank test over maps, '
-            "Holm-adjusted p), and how many maps' own intervals lie on a's side (+), across zero (=) or on b's (-):"
+            "Holm-adjusted p within each family), and how many maps' own intervals lie on a's side (+), across "
+            "zero (=) or on b's (-). The families, with the shift (in SDs of the maps' differences) found with "
+            "80 % power at the family's level:"
         ),
         '',
+        families_text(found),
         '| maps | setting | comparison (a - b) | ' + ' | '.join(t for _, _, t in CLAIMS) + ' |',
         '|---|---|---|' + '---|' * len(CLAIMS),
     ]
@@ -261,13 +268,14 @@ _CELL_COLUMNS: tuple[tuple[str, str, Callable[[NDArray[np.float64]], str]], ...]
 """The columns of the reports: metric, header, and how a selection's values are written."""
 
 
-def grid_markdown(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = ()) -> str:
+def grid_markdown(rows: list[dict[str, Any]], judging: Judging = POOLED) -> str:
     """A study's report: where each comparison holds (`verdict_summary`), collisions per mode
     (`mode_summary`), then per cell (scene, N, setting) each mode's means with 95 % bootstrap intervals and
     the paired differences of COMPARISONS with their intervals, effect sizes, adjusted p-values and verdicts
-    (`paired_table`; with ``confirm_seeds``, on the other seeds and on those)."""
-    table = paired_table(rows, confirm_seeds)
-    lines: list[str] = [verdict_summary(table), map_summary(rows), mode_summary(rows)]
+    (`paired_table`, as ``judging`` says: its families, and seeds held out or not)."""
+    table = paired_table(rows, judging)
+    held = bool(judging.held_out)
+    lines = [verdict_summary(table, held), map_summary(rows, judging.families), mode_summary(rows)]
     for cell in dict.fromkeys(_cell(r) for r in rows):
         sel = [r for r in rows if _cell(r) == cell]
         modes = list(dict.fromkeys(r['mode'] for r in sel))
@@ -286,7 +294,7 @@ def grid_markdown(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = (
         differences = [p for p in table if _cell(p) == cell]
         compared = [c for c in COMPARISONS if any((p['a'], p['b']) == c[:2] for p in differences)]
         if compared:
-            seeds_note = ' (seeds found on; fresh seeds)' if confirm_seeds else ''
+            seeds_note = ' (seeds found on; held-out seeds)' if held else ''
             lines += [
                 '',
                 f'| comparison (a - b, same seeds{seeds_note}) | ' + ' | '.join(t for _, _, t in CLAIMS) + ' |',
@@ -301,7 +309,7 @@ def grid_markdown(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = (
 
 
 def report_text(
-    name: str, rows: list[dict[str, Any]], missing: int, confirm_seeds: Collection[int], made: list[dict[str, Any]]
+    name: str, rows: list[dict[str, Any]], missing: int, judging: Judging, made: list[dict[str, Any]]
 ) -> str:
     """A campaign's ``report.md``: what it holds and what made its runs (``made``: the entries of its
     ``provenance.json``), then `grid_markdown`."""
@@ -312,53 +320,55 @@ def report_text(
     lines += [f'- {entry.get("to_run", "?")} runs {made_text(entry)}' for entry in made]
     if made:
         lines.append('')
-    return '\n'.join([*lines, grid_markdown(rows, confirm_seeds)])
+    return '\n'.join([*lines, grid_markdown(rows, judging)])
 
 
 def _test_text(test: dict[str, Any]) -> str:
-    """A paired difference, its interval, its effect size, its adjusted p-value and its verdict."""
+    """A paired difference, its interval, its effect size, its adjusted p-value and its verdict (where not shown,
+    with the shift its seeds would have found: `detectable_text`)."""
     effect = '' if math.isnan(test.get('relative', math.nan)) else f' ({test["relative"]:+.0%})'
-    p = 'p n/a' if math.isnan(test['p_holm']) else f'p {test["p_holm"]:.2g}'
-    return f'{test["estimate"].text(3)}{effect}, {p}: {test.get("discovery_verdict", test["verdict"])}'
+    p = 'p n/a' if math.isnan(test['p_holm']) else f'p {test["p_holm"]:.3g}'
+    found = test.get('discovery_verdict', test['verdict'])
+    power = f' ({detectable_text(test)})' if found == NOT_SHOWN else ''
+    return f'{test["estimate"].text(3)}{effect}, {p}: {found}{power}'
 
 
 def _claim_text(test: dict[str, Any]) -> str:
-    """`_test_text`, and with fresh seeds theirs and the verdict of both."""
-    again = test.get('confirmation')
+    """`_test_text`, and with held-out seeds theirs and the verdict of both."""
     if 'discovery_verdict' not in test:
         return _test_text(test)
-    fresh = 'none of the fresh seeds' if again is None else _test_text(again)
+    again = test.get('confirmation')
+    fresh = 'not tested again (no claim found)' if again is None else _test_text(again)
     return f'{_test_text(test)}; {fresh} => **{test["verdict"]}**'
 
 
-def paired_table(rows: list[dict[str, Any]], confirm_seeds: Collection[int] = ()) -> list[dict[str, Any]]:
+def paired_table(rows: list[dict[str, Any]], judging: Judging = POOLED) -> list[dict[str, Any]]:
     """Per cell (CELL_AXES), the paired differences of COMPARISONS on each metric of CLAIMS: dicts with the cell's
-    fields, a, b, metric, estimate (an `Estimate`), p (signed-rank), p_holm (adjusted
-    over the cells of the comparison and metric), relative (the effect as a share of b's mean) and verdict.
+    fields, a, b, metric, estimate (an `Estimate`), p (signed-rank), relative (the effect as a share of b's mean)
+    and what `judge` adds in ``judging``'s families: family, p_holm, verdict, detectable.
 
-    With ``confirm_seeds`` (fresh seeds run to confirm), all that is computed on the other seeds, ``confirmation``
-    holds the same on the fresh ones (adjusted over their own cells) and ``verdict`` is both's
-    (`replicated`; the first seeds' own is ``discovery_verdict``). Comparisons whose
-    modes are missing, or whose runs did not all complete, are left out."""
-    confirm = set(confirm_seeds)
-    found = _judged([r for r in rows if r['seed'] not in confirm])
-    if not confirm:
+    Every seed is pooled, unless ``judging`` holds seeds out: then all that is computed on the other seeds, and the
+    claims found are tested again on the held-out ones (`confirmed`: ``confirmation``, ``discovery_verdict`` and
+    both's ``verdict``). Comparisons whose modes are missing, or whose runs did not all complete, are left out."""
+    held = set(judging.held_out)
+    found = _judged([r for r in rows if r['seed'] not in held], judging.families)
+    if not held:
         return found
-    again = {_test_key(t): t for t in _judged([r for r in rows if r['seed'] in confirm])}
-    out = []
-    for t in found:
-        fresh = again.get(_test_key(t))
-        final = replicated(t['verdict'], fresh['verdict']) if fresh else NO_VERDICT
-        out.append(t | {'discovery_verdict': t['verdict'], 'confirmation': fresh, 'verdict': final})
-    return out
+    again = _tests([r for r in rows if r['seed'] in held])
+    return confirmed(found, again, judging.families, _test_key)
 
 
-def _test_key(test: dict[str, Any]) -> tuple[Any, ...]:
+def _test_key(test: Mapping[str, Any]) -> tuple[Any, ...]:
     return (*_cell(test), test['a'], test['b'], test['metric'])
 
 
-def _judged(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """The paired tests of `paired_table` on ``rows``, judged together (`_adjusted`)."""
+def _judged(rows: list[dict[str, Any]], families: tuple[Family, ...]) -> list[dict[str, Any]]:
+    """The paired tests of `paired_table` on ``rows``, judged in ``families``."""
+    return judge(_tests(rows), families)
+
+
+def _tests(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The paired tests of `paired_table` on ``rows``, not yet judged."""
     tests = []
     for cell in dict.fromkeys(_cell(r) for r in rows):
         sel = [r for r in rows if _cell(r) == cell]
@@ -371,8 +381,9 @@ def _judged(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
                 diff = _paired(x, y)
                 if diff is not None:
                     found = {'estimate': diff, 'p': signed_rank_p(x - y), 'relative': relative(diff.value, y)}
+                    found |= {'nonzero': nonzero_count(x - y), 'sd': float(np.std(x - y, ddof=1))}
                     tests.append(fields | {'a': a, 'b': b, 'metric': metric, 'better': better} | found)
-    return _adjusted(tests)
+    return tests
 
 
 def _interval(values: NDArray[np.float64], digits: int) -> str:

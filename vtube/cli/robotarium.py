@@ -176,7 +176,12 @@ def comparison_arguments(parser: argparse.ArgumentParser) -> None:
         '--confirm-seeds',
         type=seeds,
         default=(),
-        help='fresh initialization seeds also run, on which each paired claim must hold again, e.g. 10-19',
+        help='fresh initialization seeds also run, e.g. 10-19: pooled with --seeds in the verdicts, unless --held-out',
+    )
+    parser.add_argument(
+        '--held-out',
+        action='store_true',
+        help='test the --confirm-seeds apart, only on the claims the other seeds found (a replication)',
     )
     parser.add_argument('--plan', type=Path, default=None, help='fly this plan file (vtube plan)')
     testbed_model_argument(parser)
@@ -193,6 +198,8 @@ def comparison(args: argparse.Namespace) -> Comparison:
     from vtube_planning.provenance import made_text, provenance, source_commit
 
     out: Path = args.out
+    if args.held_out and not args.confirm_seeds:
+        raise BadInput('--held-out needs seeds to hold out: give --confirm-seeds too, e.g. --confirm-seeds 10-19.')
     writable_folder(out)
     scene = load_scene(args.scene)
     require_fit(scene)
@@ -204,7 +211,7 @@ def comparison(args: argparse.Namespace) -> Comparison:
     with progress_bar('experiments', 'run') as bar:
         bar.reset(total=2 * len(everything))
         rows = compare(scene, plan, list(everything), run_done=bar.update, testbed_model=args.testbed_model)
-    table = comparison_table(rows) + '\n' + paired_table(rows, args.confirm_seeds)
+    table = comparison_table(rows) + '\n' + paired_table(rows, args.confirm_seeds if args.held_out else ())
     out.mkdir(parents=True, exist_ok=True)
     written = (out / f'compare_{scene.name}.md', out / f'compare_{scene.name}.json')
     made = made_text(provenance() | {'commit': source_commit()})

@@ -190,21 +190,27 @@ def confirm_argument(parser: argparse.ArgumentParser) -> None:
         '--confirm-seeds',
         type=seeds,
         default=(),
-        help=(
-            'fresh seeds also run, on which the report confirms each claim (a claim holds only where it holds on '
-            'both), e.g. 100-109'
-        ),
+        help='fresh seeds also run, e.g. 100-109: pooled with the others in the verdicts, unless --held-out',
+    )
+    parser.add_argument(
+        '--held-out',
+        action='store_true',
+        help='test the --confirm-seeds apart, only on the claims the other seeds found (a replication)',
     )
 
 
 def ablation(args: argparse.Namespace) -> CampaignDone:
-    """The ablation grid as a campaign in ``--out`` (a rerun resumes it), and its report."""
-    from vtube_planning.campaign import Campaign
+    """The ablation grid as a campaign in ``--out`` (a rerun resumes it), and its report (its families:
+    `ABLATION_FAMILIES`)."""
+    from vtube_planning.campaign import ABLATION_FAMILIES, Campaign
     from vtube_planning.study import ABLATIONS
 
     grid = {'scene': args.scenes, 'n_robots': parse_sizes(args.sizes), 'seed': args.seeds}
     grid |= {'model': args.models, 'saturation': args.saturations, 'mode': tuple(ABLATIONS)}
-    run = execute(Campaign((grid,), name='ablation', confirm_seeds=args.confirm_seeds), args.out, args)
+    campaign = Campaign(
+        (grid,), name='ablation', confirm_seeds=args.confirm_seeds, families=ABLATION_FAMILIES, held_out=args.held_out
+    )
+    run = execute(campaign, args.out, args)
     return CampaignDone(run, args.out, write_report(args.out))
 
 
@@ -231,6 +237,8 @@ def campaign_run(args: argparse.Namespace) -> CampaignDone:
     campaign = Campaign.from_toml(args.file)
     if args.confirm_seeds:
         campaign = dataclasses.replace(campaign, confirm_seeds=args.confirm_seeds)
+    if args.held_out:
+        campaign = dataclasses.replace(campaign, held_out=True)
     out = args.out or campaign.out
     if out is None:
         raise BadInput('give the output folder: --out DIR, or out = "DIR" in the campaign file.')
@@ -257,15 +265,15 @@ def write_report(out: Path) -> CampaignReport | None:
     campaign, rows, missing = read_results(out)
     if not rows:
         return None
-    text = report_text(campaign.name, rows, missing, campaign.confirm_seeds, made_by(out))
+    text = report_text(campaign.name, rows, missing, campaign.judging, made_by(out))
     write_atomically(out / 'report.md', text)
-    if map_differences(rows):
-        differences = study_plots.map_differences_figure(rows)
+    if map_differences(rows, campaign.families):
+        differences = study_plots.map_differences_figure(rows, campaign.families)
     else:
-        differences = study_plots.paired_differences_figure(rows, campaign.confirm_seeds)
+        differences = study_plots.paired_differences_figure(rows, campaign.judging)
     figures = (
         plots.save_figure(differences, out / 'differences.png'),
-        plots.save_figure(study_plots.verdict_matrix_figure(rows, campaign.confirm_seeds), out / 'verdicts.png'),
+        plots.save_figure(study_plots.verdict_matrix_figure(rows, campaign.judging), out / 'verdicts.png'),
         plots.save_figure(study_plots.cell_means_figure(rows), out / 'means.png'),
     )
     return CampaignReport(text, (out / 'report.md', *figures))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
 from dataclasses import asdict, replace
 from importlib import resources
 
@@ -67,6 +68,33 @@ def test_fresh_seeds_to_confirm_are_run_in_every_grid_and_recorded() -> None:
     assert 'confirm_seeds' not in plain.to_json() and plain.points() == campaign.points()[:2]
     with pytest.raises(ValueError, match=r'must be fresh seeds.*\[1\] are in both'):
         Campaign.from_dict(data | {'confirm_seeds': [1, 5]})
+
+
+def test_families_and_held_out_are_read_checked_and_recorded() -> None:
+    """[families] and held_out are read, recorded only when given, and checked against the campaign's modes,
+    metrics and axes; held_out needs confirm seeds; the judging pools the seeds unless they are held out."""
+    data = {'axes': {'scene': ['C'], 'mode': ['planning', 'no planning'], 'seed': 6}, 'confirm_seeds': [100, 101]}
+    family = {'comparisons': ['planning - no planning'], 'metrics': ['passing_time_s'], 'pose_noise_m': [0.0]}
+    campaign = Campaign.from_dict(data | {'families': {'faster': family}})
+    assert campaign.to_json()['families'] == {'faster': family} and 'held_out' not in campaign.to_json()
+    assert Campaign.from_dict(campaign.to_json()) == campaign and campaign.judging.held_out == ()
+    held = Campaign.from_dict(data | {'held_out': True})
+    assert held.to_json()['held_out'] is True and held.judging.held_out == (100, 101)
+    assert 'families' not in held.to_json() and held.points() == campaign.points()
+    wrong = {
+        'planning - nothing': ({'comparisons': ['planning - nothing']}, 'is not a comparison "a - b" of two modes'),
+        'metric': ({'metrics': ['fun']}, "families.f: unknown metric 'fun'"),
+        'axis': ({'speed': [1.0]}, "families.f: unknown key 'speed'; a family has comparisons, metrics and scene"),
+        'seed': ({'seed': [1]}, "families.f: unknown key 'seed'"),
+        'value': ({'model': ['toy']}, "families.f: axes.model holds 'toy'"),
+    }
+    for spec, phrase in wrong.values():
+        with pytest.raises(ValueError, match=re.escape(phrase)):
+            Campaign.from_dict(data | {'families': {'f': spec}})
+    with pytest.raises(ValueError, match='held_out = true needs seeds to hold out'):
+        Campaign.from_dict({'axes': data['axes'], 'held_out': True})
+    with pytest.raises(ValueError, match='held_out must be true or false'):
+        Campaign.from_dict(data | {'held_out': 'yes'})
 
 
 BAD_CAMPAIGNS = {

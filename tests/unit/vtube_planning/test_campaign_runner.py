@@ -151,6 +151,24 @@ def test_a_folder_of_another_campaign_is_refused(tmp_path, capsys, fake_runs) ->
     assert (out / RUNS_FILE).read_text() == before  # nothing lost
 
 
+def test_families_and_held_out_seeds_change_the_report_not_the_runs(tmp_path, capsys, fake_runs) -> None:
+    """A campaign run again with a [families] table and held-out seeds is the same campaign (no run made again):
+    its record and its report take the new judging (the family named, the held-out columns)."""
+    calls, _ = fake_runs
+    out = tmp_path / 'out'
+    file = write(tmp_path, SMALL)
+    assert main(['campaign', 'run', str(file), '--out', str(out), '--confirm-seeds', '7-8', '--workers', '1']) == 0
+    assert len(calls) == 16 and 'held-out seeds' not in (out / 'report.md').read_text()
+    family = '[families.latency]\nlatency_steps = [2]\n'
+    judged = write(tmp_path, 'confirm_seeds = [7, 8]\nheld_out = true\n' + SMALL + family, 'judged.toml')
+    assert main(['campaign', 'run', str(judged), '--out', str(out), '--workers', '1']) == 0
+    assert len(calls) == 16  # nothing run again
+    report = (out / 'report.md').read_text()
+    assert '- latency: 2 claims, 2 pairs each' in report and '(seeds found on; held-out seeds)' in report
+    campaign, _, _ = read_results(out)
+    assert campaign.held_out and [f.name for f in campaign.families] == ['latency']
+
+
 def test_two_runs_on_one_folder_lose_no_finished_run_and_write_none_twice(tmp_path, fake_runs, monkeypatch) -> None:
     """Ten times, two runs of one campaign start together on one folder: one holds it, the other is refused (or,
     started after the first ended, finds everything done); the table has every run exactly once."""

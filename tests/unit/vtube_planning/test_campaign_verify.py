@@ -23,7 +23,9 @@ def folder(tmp_path, fake_runs):
     out = tmp_path / 'out'
     run_campaign(campaign, out, progress=False)
     _, rows, missing = read_results(out)
-    (out / 'report.md').write_text(report_text(campaign.name, rows, missing, (), made_by(out)), encoding='utf-8')
+    (out / 'report.md').write_text(
+        report_text(campaign.name, rows, missing, campaign.judging, made_by(out)), encoding='utf-8'
+    )
     return out
 
 

@@ -123,6 +123,20 @@ BAD = [
     ('compare, testbed model', 'robotarium compare robotarium_curve --out {out} --testbed-model real', 2, "'real'"),
     ('missing campaign', 'campaign run {tmp}/none.toml --out {out}', 2, 'does not exist; give the path to a .toml'),
     ('negative workers', 'campaign run {tmp}/none.toml --workers -1', 2, "'-1' is not a whole number >= 0"),
+    ('held out, no seeds', 'ablation --out {out} --held-out', 2, 'held_out = true needs seeds to hold out'),
+    ('compare, held out', 'robotarium compare robotarium_curve --out {out} --held-out', 2, '--held-out needs seeds'),
+    (
+        'family, unknown comparison',
+        'campaign run {tmp}/bad_family.toml --out {out}',
+        2,
+        "families.fast: 'planning - nothing' is not a comparison",
+    ),
+    (
+        'family, not a list',
+        'campaign run {tmp}/flat_family.toml --out {out}',
+        2,
+        'families.fast.metrics must be a list',
+    ),
     ('alias without a script', 'rps_alias --seed 1', 2, 'give the script to run'),
     ('alias, missing script', 'rps_alias {tmp}/none.py', 2, 'none.py: no such script'),
     (
@@ -193,6 +207,9 @@ def bad_files(tmp_path_factory) -> Path:
     (tmp / 'listed').mkdir()
     (tmp / 'listed' / 'campaign.json').write_text(f'[{campaign}]')
     (tmp / 'listed' / 'runs.csv').write_text('key\n')
+    axes = 'name = "f"\n[axes]\nscene = ["C"]\nmode = ["planning"]\nseed = 2\n'
+    (tmp / 'bad_family.toml').write_text(axes + '[families.fast]\ncomparisons = ["planning - nothing"]\n')
+    (tmp / 'flat_family.toml').write_text(axes + '[families.fast]\nmetrics = "passing_time_s"\n')
     (tmp / 'cut_record').mkdir()
     (tmp / 'cut_record' / 'campaign.json').write_text(campaign[:20])
     (tmp / 'cut_record' / 'runs.csv').write_text('key\n')

@@ -160,9 +160,15 @@ def test_compare_confirms_on_fresh_seeds_and_refuses_reused_ones(tmp_path, monke
     assert main([*args, '--confirm-seeds', '7-8']) == 0
     assert given == [[0, 1, 7, 8]]
     table = (tmp_path / 'compare_robotarium_curve.md').read_text()
-    assert '| planned - unplanned, same seeds | seeds found on | fresh seeds | verdict |' in table
+    assert '| planned - unplanned, same seeds | verdict |' in table and '4 seeds: **no verdict**' in table  # pooled
+    assert main([*args, '--confirm-seeds', '7-8', '--held-out']) == 0
+    table = (tmp_path / 'compare_robotarium_curve.md').read_text()
+    assert '| planned - unplanned, same seeds | seeds found on | held-out seeds | verdict |' in table
     assert '2 seeds: no verdict' in table  # two seeds of each set: numbers, and no verdict
-    assert main([*args, '--confirm-seeds', '1-2']) == 2 and len(given) == 1
+    given.clear()
+    assert main([*args, '--held-out']) == 2 and not given
+    assert '--held-out needs seeds to hold out' in capsys.readouterr().err
+    assert main([*args, '--confirm-seeds', '1-2']) == 2 and not given
     assert '--confirm-seeds must be fresh seeds: [1] are in --seeds too' in capsys.readouterr().err
 
 
