@@ -159,6 +159,8 @@ def critical_sum(n: int, level: float) -> int | None:
     approximation above); None where no outcome reaches it."""
     total = n * (n + 1) // 2
     if n > EXACT_UP_TO:
+        from scipy import stats  # here, not at import: scipy.stats takes about half a second to import
+
         mean, sd = total / 2.0, math.sqrt(n * (n + 1) * (2 * n + 1) / 24.0)
         k = math.floor(mean + sd * float(stats.norm.isf(level / 2.0))) + 1
         return k if k <= total else None
