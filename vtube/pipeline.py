@@ -39,7 +39,7 @@ from vtube_planning.params import SwarmParams
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.provenance import copy_scene, provenance
-from vtube_planning.swarm.foresight import default_horizon
+from vtube_planning.swarm.foresight import with_foresight
 from vtube_planning.swarm.formation import FloatArray, as_positions
 from vtube_planning.swarm.simulate import SimConfig, SimResult, simulate
 
@@ -90,17 +90,15 @@ def plan_scene(
     grid_step_m: float | None = None,
     objective: str | None = None,
 ) -> Planned:
-    """Plan speed and density for a scene (on its grid, or one of ``grid_step_m``; for its objective, or
-    ``objective``); write ``plan_<scene>.npz``, its figure and the scene's copy to ``out``."""
+    """Plan speed and density for a scene (its grid and objective, or ``grid_step_m``, ``objective``); write
+    ``plan_<scene>.npz``, its figure and the scene's copy to ``out``."""
     scene = load_scene(name_or_path)
     options = scene.planning if grid_step_m is None else replace(scene.planning, grid_step_m=grid_step_m)
     options = options if objective is None else replace(options, objective=objective)
+    solve: Callable[..., Plan] = plan_convex
     if method == 'polynomial':  # the paper's cubics, posed in cvxpy (imported here: about half a second)
-        from vtube_planning.planning.polynomial import plan_polynomial
-
-        plan = plan_polynomial(scene.tube, scene.swarm, options, scene=scene.name)
-    else:
-        plan = plan_convex(scene.tube, scene.swarm, options, scene=scene.name)
+        from vtube_planning.planning.polynomial import plan_polynomial as solve
+    plan = solve(scene.tube, scene.swarm, options, scene=scene.name)
     plan = replace(plan, provenance=provenance(scene=scene))
     plan_file = plan.save(out / f'plan_{scene.name}.npz')
     figure = plots.save_figure(plots.plan_figure(plan), out / f'plan_{scene.name}.png')
@@ -110,9 +108,8 @@ def plan_scene(
 
 def robotarium_start(scene: Scene, swarm: SwarmParams) -> FloatArray | None:
     """Where the robots of a Robotarium scene (one with a ``[robotarium]`` table) start on the testbed, (2, N): the
-    centres of its start formation for ``swarm``'s robots; None for another scene (the simulator's grid).
-
-    The hook through which a simulation of a Robotarium scene starts as its flight does."""
+    centres of its start formation for ``swarm``'s robots; None for another scene (the simulator's grid): the hook
+    through which a simulation of a Robotarium scene starts as its flight does."""
     if scene.testbed != 'robotarium':
         return None
     start: FloatArray = initial_conditions(replace(scene, swarm=swarm))[:2]
@@ -135,8 +132,6 @@ class Simulated:
     written: tuple[Path, ...]
     start: str = GRID_START
     """Where the robots started, in words."""
-    controller: str = 'the law alone'
-    """What commanded the robots, in words."""
 
     @property
     def log(self) -> Path:
@@ -162,12 +157,9 @@ def simulate_scene(
     """Fly the scene's swarm (of ``n_robots``, default the scene's) through its tube, with its plan (from
     ``plan_file``, or planned here) or without; write the log, figures, a GIF when asked for and the scene's copy
     to ``out``. Unless ``config`` says where the robots start, a Robotarium scene's start where its flight's do
-    (`robotarium_start`). ``foresight``: the law flies under the foresight (its horizon the scene's
-    ``foresight_s``, else `default_horizon`); else the scene's own control."""
+    (`robotarium_start`). ``foresight``: the law flies under the foresight (`with_foresight`)."""
     scene = load_scene(name_or_path)
-    if foresight:
-        horizon = scene.control.foresight_s or default_horizon(scene.swarm)
-        scene = replace(scene, control=replace(scene.control, foresight_s=horizon))
+    scene = replace(scene, control=with_foresight(scene.control, scene.swarm)) if foresight else scene
     swarm = scene.swarm if n_robots is None else replace(scene.swarm, n_robots=n_robots)
     plan = plan_for(scene, swarm, plan_file) if planning else None
     config, start = _started(scene, swarm, config or SimConfig())
@@ -201,9 +193,7 @@ def simulate_scene(
         with progress('GIF frames', 'frame') as tick:
             written.append(plots.animate(result, scene.tube, f'{stem}.gif', progress=lambda i, n: tick(i + 1)))
     written.append(copy_scene(scene, out))
-    horizon = scene.control.foresight_s
-    controller = f'the law under the foresight (horizon {horizon:g} s)' if horizon > 0 else 'the law alone'
-    return Simulated(scene, swarm, config, result, tuple(written), start, controller)
+    return Simulated(scene, swarm, config, result, tuple(written), start)
 
 
 def _started(scene: Scene, swarm: SwarmParams, config: SimConfig) -> tuple[SimConfig, str]:

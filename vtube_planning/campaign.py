@@ -45,6 +45,7 @@ from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
+from vtube_planning import study
 from vtube_planning._validate import is_real
 from vtube_planning.errors import VtubeError
 from vtube_planning.geometry.maps import CLUTTER, FAMILIES, WIDTH_M, WIDTH_RANGE_M
@@ -69,7 +70,7 @@ class CampaignError(VtubeError, ValueError):
 AXES: dict[str, type] = {'scene': str, 'map': str, 'map_seed': int, 'map_clutter': int, 'map_width_m': float}
 AXES |= {'n_robots': int, 'model': str, 'saturation': str, 'pose_noise_m': float}
 AXES |= {'latency_steps': int, 'lag_s': float, 'compensation': str, 'failure': str, 'dropout': float}
-AXES |= {'seed': int, 'mode': str}
+AXES |= {'controller': str, 'seed': int, 'mode': str}
 """The axes (the fields of `Point`) in the order runs are expanded: a cell's modes and seeds are adjacent."""
 METRICS: dict[str, type] = {
     'passing_time_s': float,
@@ -87,6 +88,7 @@ METRICS: dict[str, type] = {
 _CHOICES = {
     'mode': (*ABLATIONS, *REPLANNING_MODES, *BASELINE_MODES),
     'model': tuple(MODELS),
+    'controller': study.CONTROLLERS,
     'saturation': SATURATIONS,
     'failure': ('none', *FAILURE_MODES),
     'compensation': COMPENSATIONS,
@@ -282,7 +284,7 @@ saturation); its other cells make one family per comparison and metric."""
 
 
 LATER_AXES: dict[str, Any] = {'lag_s': 0.0, 'compensation': 'none'}
-LATER_AXES |= {'map': 'none', 'map_seed': 0, 'map_clutter': CLUTTER, 'map_width_m': WIDTH_M}
+LATER_AXES |= {'map': 'none', 'map_seed': 0, 'map_clutter': CLUTTER, 'map_width_m': WIDTH_M, 'controller': 'law'}
 """Axes added after campaigns were committed, with their defaults: a run at a default leaves them out of its key, so
 that the tables written before keep their keys (a rerun resumes them)."""
 LATER_COLUMNS = LATER_AXES | {'scene_sha256': ''}

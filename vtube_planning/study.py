@@ -26,6 +26,7 @@ from vtube_planning.params import ControlParams, PlanningOptions, SwarmParams
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.swarm.faults import FailureMode, RobotFailure
+from vtube_planning.swarm.foresight import with_foresight
 from vtube_planning.swarm.metrics import tracking_errors
 from vtube_planning.swarm.period import Baseline
 from vtube_planning.swarm.simulate import SimConfig, SimResult, default_constant_speed, simulate
@@ -82,6 +83,9 @@ REPLANNING_MODES = {'replanning every 0.5 s': Ablation('full', a3=True, replan_e
 """Modes that replan online (not part of ``vtube ablation``'s grid; campaigns name them)."""
 MODELS = {'paper': False, 'acceleration limits': True}
 """Robot models: the paper's p' = sat(v_c), or every robot also held to the acceleration limits (3), (4)."""
+CONTROLLERS = ('law', 'foresight')
+"""What commands every mode's robots: the law (or the baseline's) alone, or under the foresight
+(`vtube_planning.swarm.foresight`), the same for every mode of a cell."""
 GRID_SCENES = ('C', 'D')
 """The scenes whose plans pre-expand (p7 binds before the narrowing); on A and B the plan is the same without it."""
 
@@ -156,6 +160,7 @@ class Point:
     compensation: str = 'none'
     failure: FailureMode | Literal['none'] = 'none'
     dropout: float = 0.0
+    controller: str = 'law'
 
     def compensated(self) -> tuple[float, float]:
         """The delay (periods) and lag (s) the controller compensates: none, or the run's own (``'known'``), or
@@ -200,6 +205,7 @@ def run_point(point: Point, settings: RunSettings = RunSettings()) -> dict[str, 
         compensate_delay_steps=delay,
         compensate_lag_s=lag,
     )
+    control = with_foresight(control, scene.swarm) if point.controller == 'foresight' else control
     scene = replace(scene, control=control)
     swarm = replace(scene.swarm, n_robots=point.n_robots or scene.swarm.n_robots)
     reference = _cached_plan(scene, swarm, scene.planning.predictive_model)  # the full plan

@@ -53,6 +53,7 @@ CELL_AXES = (
     'map_width_m',
     'n_robots',
     'model',
+    'controller',
     'saturation',
     'pose_noise_m',
     'latency_steps',

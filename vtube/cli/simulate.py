@@ -85,7 +85,7 @@ def simulate_view(simulated: Simulated) -> View:
         ),
         ('speed violations', f'{m.speed_violations} commands outside [v_min, v_max]'),
         ('model violations', f"{result.dynamics_violations} commands outside (2)-(4) from the robot's velocity"),
-        ('controller', simulated.controller),
+        ('controller', _controller(simulated.scene.control.foresight_s)),
     ]
     if m.speed_tracking_mean_mps is not None:
         rows += [
@@ -108,13 +108,18 @@ def simulate_view(simulated: Simulated) -> View:
     )
     data = {'log': str(simulated.log), 'metrics': m.to_json(), 'provenance': result.meta['provenance']}
     data['dynamics_violations'] = result.dynamics_violations
-    data['controller'] = simulated.controller
+    data['controller'] = _controller(simulated.scene.control.foresight_s)
     if replans is not None:
         data['replans'] = replans
     if failures:
         data['failures'] = list(failures)
     lines = (head, *(f'  {name:<18} {value}' for name, value in rows))
     return View(lines, data, exit_code=EXIT_FAILED if failures else EXIT_OK)
+
+
+def _controller(horizon_s: float) -> str:
+    """What commanded the robots, in words."""
+    return f'the law under the foresight (horizon {horizon_s:g} s)' if horizon_s > 0 else 'the law alone'
 
 
 def _replanning(replans: list[dict[str, Any]], every_s: float) -> str:

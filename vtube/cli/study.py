@@ -176,6 +176,12 @@ def ablation_arguments(parser: argparse.ArgumentParser) -> None:
         help="robot models: 'paper' and/or 'acceleration limits'",
     )
     parser.add_argument(
+        '--controllers',
+        type=words,
+        default='law',
+        help="'law' (each mode's law alone) and/or 'foresight' (every mode under the foresight, docs/theory.md 11)",
+    )
+    parser.add_argument(
         '--saturations',
         type=words,
         default='radial,forward',
@@ -206,7 +212,8 @@ def ablation(args: argparse.Namespace) -> CampaignDone:
     from vtube_planning.study import ABLATIONS
 
     grid = {'scene': args.scenes, 'n_robots': parse_sizes(args.sizes), 'seed': args.seeds}
-    grid |= {'model': args.models, 'saturation': args.saturations, 'mode': tuple(ABLATIONS)}
+    grid |= {'model': args.models, 'controller': args.controllers, 'saturation': args.saturations}
+    grid |= {'mode': tuple(ABLATIONS)}
     campaign = Campaign(
         (grid,), name='ablation', confirm_seeds=args.confirm_seeds, families=ABLATION_FAMILIES, held_out=args.held_out
     )

@@ -14,6 +14,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from vtube_planning.params import SwarmParams
+
 FloatArray = NDArray[np.float64]
 
 DYNAMICS_TOLERANCE = 1e-9
@@ -53,23 +55,17 @@ def limit_acceleration(velocity: FloatArray, command: FloatArray, a_v: float, a_
     return velocity_after
 
 
-def dynamics_violations(
-    velocities_mps: FloatArray,
-    commands_mps: FloatArray,
-    speed_band_mps: tuple[float, float],
-    a_v: float,
-    a_n: float,
-    dt_s: float,
-) -> int:
-    """Robot-periods whose command (T, 2, N) leaves the model (2)-(4) from that period's velocity (T, 2, N): a speed
-    outside the band, a speed change above a_v dt, or a turn with |command| |dtheta| above a_n dt. NaN entries
-    (no robot) count as neither."""
+def dynamics_violations(velocities_mps: FloatArray, commands_mps: FloatArray, swarm: SwarmParams, dt_s: float) -> int:
+    """Robot-periods whose command (T, 2, N) leaves the model (2)-(4) of ``swarm`` from that period's velocity
+    (T, 2, N): a speed outside [v_min, v_max], a speed change above a_v dt, or a turn with |command| |dtheta| above
+    a_n dt. NaN entries (no robot) count as neither."""
+    a_v, a_n = swarm.a_v_mps2, swarm.a_n_mps2
     speed = np.hypot(velocities_mps[:, 0], velocities_mps[:, 1])
     target = np.hypot(commands_mps[:, 0], commands_mps[:, 1])
     cross = velocities_mps[:, 0] * commands_mps[:, 1] - velocities_mps[:, 1] * commands_mps[:, 0]
     dot = np.einsum('tin,tin->tn', velocities_mps, commands_mps)
     turn = np.abs(np.arctan2(cross, dot))
-    v_min, v_max = speed_band_mps
+    v_min, v_max = swarm.v_min_mps, swarm.v_max_mps
     tol = DYNAMICS_TOLERANCE
     with np.errstate(invalid='ignore'):
         broken = (target < v_min - tol) | (target > v_max + tol) | (np.abs(target - speed) > a_v * dt_s + tol)

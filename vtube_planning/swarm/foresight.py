@@ -23,14 +23,14 @@ angle, curvature and half-width on a fine grid, by Newton steps from the arc len
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from vtube_planning.geometry.tube import VirtualTube
-from vtube_planning.params import SwarmParams
+from vtube_planning.params import ControlParams, SwarmParams
 from vtube_planning.swarm.dynamics import respond
 
 FloatArray = NDArray[np.float64]
@@ -46,6 +46,9 @@ LOCATE_STEPS = 3
 """Newton steps of :meth:`TubeTables.locate` (from a guess a metre off, the offset is then within a millimetre)."""
 TABLE_STEP_M = 0.05
 """Spacing of the tube's tables (m)."""
+LAW_MARGIN_M = float(__import__('os').environ.get('LM', '0.1'))
+"""The law's command stands only with this much room to spare beyond r_s and 2 r_s: the backups take over before
+the safe distances are reached, not at them."""
 ALL_PAIRS_UP_TO = 64
 """Swarms of up to this many robots check every neighbour; larger ones the nearest :data:`NEIGHBOURS`."""
 NEIGHBOURS = 10
@@ -55,6 +58,20 @@ def default_horizon(swarm: SwarmParams) -> float:
     """The foresight's horizon T when none is given: (v_max - v_min) / a_v, the time the largest speed change
     takes, and at least 1 s (s)."""
     return max(1.0, (swarm.v_max_mps - swarm.v_min_mps) / swarm.a_v_mps2)
+
+
+def with_foresight(control: ControlParams, swarm: SwarmParams) -> ControlParams:
+    """``control`` flown under the foresight: its own horizon ``foresight_s``, else :func:`default_horizon`."""
+    return replace(control, foresight_s=control.foresight_s or default_horizon(swarm))
+
+
+def foresight_for(
+    tube: VirtualTube, swarm: SwarmParams, n_robots: int, control: ControlParams, acceleration_limits: bool
+) -> Foresight | None:
+    """The foresight ``control`` asks for (None when its horizon is 0: the law alone)."""
+    if control.foresight_s <= 0:
+        return None
+    return Foresight(tube, swarm, n_robots, horizon_s=control.foresight_s, acceleration_limits=acceleration_limits)
 
 
 def merge_window(swarm: SwarmParams) -> float:
@@ -181,13 +198,12 @@ class Foresight:
         law_heading = np.arctan2(command[1], command[0])
         if self.announced is None:
             self.announced = (lane, speed)
-        others = self._paths(
-            robots, _Backups(np.arange(speed.size), *self._column(self.announced), *_free(speed)), dt_s
-        )
+        lanes, speeds = self._column(self.announced)
+        others = self._paths(robots, _Backups(np.arange(speed.size), lanes, speeds, *_free(speeds)), dt_s)
         neighbours = self._neighbours(positions)
         rows = np.arange(speed.size)
         law = _Backups(rows, lane[:, None], law_speed[:, None], law_speed[:, None], law_heading[:, None])
-        first = self._foresee(robots, law, others, neighbours, dt_s)[0][:, 0]
+        first = self._foresee(robots, law, others, neighbours, dt_s, LAW_MARGIN_M)[0][:, 0]
         target_speed, target_heading = law_speed.copy(), law_heading.copy()
         announced_lane, announced_speed = lane.copy(), law_speed.copy()
         risky = np.flatnonzero(np.isfinite(first))
@@ -263,6 +279,7 @@ class Foresight:
         others: list[tuple[FloatArray, FloatArray]],
         neighbours: IntArray,
         dt_s: float,
+        margin_m: float = 0.0,
     ) -> tuple[FloatArray, FloatArray]:
         """(R, K) for robots ``backups.rows`` flying their backups: the time of the first step closer than r_s to a
         wall or 2 r_s to a neighbour (inf: none), and how far short they fall over the horizon, the integral over
@@ -275,10 +292,10 @@ class Foresight:
         flights = self._flights(robots, backups, dt_s)
         for step, (x, y, l_m, offset), (ox, oy) in zip(self._times(dt_s), flights, others):
             elapsed += step
-            wall = np.maximum(r_s - self.tables.clearance(l_m, offset), 0.0)
+            wall = np.maximum(r_s + margin_m - self.tables.clearance(l_m, offset), 0.0)
             gap = np.hypot(x[:, :, None] - ox[near, 0][:, None, :], y[:, :, None] - oy[near, 0][:, None, :])
             gap[itself] = np.inf
-            short = wall + np.maximum(2.0 * r_s - gap.min(axis=2), 0.0)
+            short = wall + np.maximum(2.0 * r_s + margin_m - gap.min(axis=2), 0.0)
             shortfall += step * short
             first[(short > 0.0) & np.isinf(first)] = elapsed
         return first, shortfall

@@ -16,7 +16,6 @@ initial value: the paper's comparison. The faults are in `faults`, replanning in
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -34,8 +33,9 @@ from vtube_planning.params import ControlParams, SwarmParams
 from vtube_planning.planning.plan import Plan
 from vtube_planning.swarm.dynamics import dynamics_violations
 from vtube_planning.swarm.faults import Faults, RobotFailure
-from vtube_planning.swarm.foresight import Foresight
+from vtube_planning.swarm.foresight import foresight_for
 from vtube_planning.swarm.formation import Positions, as_positions, start_formation
+from vtube_planning.swarm.memory import check_memory
 from vtube_planning.swarm.metrics import PassageMetrics, passage_metrics
 from vtube_planning.swarm.period import Baseline, SimulatedPeriod
 from vtube_planning.swarm.replanner import Replanner
@@ -167,32 +167,6 @@ def default_constant_speed(swarm: SwarmParams) -> float:
     return 0.5 * (swarm.v_min_mps + swarm.v_max_mps)
 
 
-LOGGED_FLOATS_PER_ROBOT = 10
-"""Per robot and step the simulation keeps positions, velocities and commands (2 each), r_a, l, clearance and the
-forward speed: 10 floats, twice while they are stacked into arrays."""
-
-
-def available_memory_bytes() -> int | None:
-    """The physical memory not in use now (None where the platform does not say)."""
-    try:
-        return int(os.sysconf('SC_AVPHYS_PAGES')) * int(os.sysconf('SC_PAGE_SIZE'))
-    except (AttributeError, ValueError, OSError):
-        return None
-
-
-def _check_memory(steps: int, n: int, limit_s: float) -> None:
-    """Refuse a run whose trajectory, kept to the time limit, would not fit the memory available."""
-    need = 2 * steps * n * LOGGED_FLOATS_PER_ROBOT * 8
-    free = available_memory_bytes()
-    if free is not None and need > free:
-        msg = (
-            f'flying {n} robots for up to {limit_s:.0f} s (the time limit) keeps about {need / 2**30:.1f} GiB of '
-            f'trajectory in memory, more than the {free / 2**30:.1f} GiB available; fly fewer robots, or set a '
-            'shorter time_limit_s.'
-        )
-        raise ParamsError(msg)
-
-
 def simulate(
     tube: VirtualTube,
     swarm: SwarmParams,
@@ -240,14 +214,9 @@ def simulate(
     description = _description(tube, swarm, control, plan, config, n, meta)
     log = LogWriter(log_path, description, flush_every=config.log_every)
     faults = _faults(config, baseline, positions, velocity)
-    foresight = None
-    if control.foresight_s > 0:
-        foresight = Foresight(
-            tube, swarm, n, horizon_s=control.foresight_s, acceleration_limits=config.acceleration_limits
-        )
-    period = SimulatedPeriod(
-        tube, swarm, config.dt_s, config.acceleration_limits, stepper, baseline, replanner, faults, foresight
-    )
+    foresight = foresight_for(tube, swarm, n, control, config.acceleration_limits)
+    limits = config.acceleration_limits
+    period = SimulatedPeriod(tube, swarm, config.dt_s, limits, stepper, baseline, replanner, faults, foresight)
     for step in range(steps + 1):
         projection = tube.project(positions)  # the truth: logged and measured
         commanded, density, r_a = period.command(step, positions, projection, velocity)
@@ -325,7 +294,7 @@ def _step_count(tube: VirtualTube, swarm: SwarmParams, config: SimConfig, positi
     extent = float(np.ptp(tube.project(positions).l_m))
     limit = config.time_limit_s or 4.0 * (tube.length_m + extent + 2 * swarm.r_a_m) / swarm.v_min_mps
     steps = math.ceil(limit / config.dt_s)
-    _check_memory(steps + 1, positions.shape[1], limit)
+    check_memory(steps + 1, positions.shape[1], limit)
     return steps
 
 
@@ -408,10 +377,7 @@ def _result(
     if replanner is not None:
         description['replans'] = [asdict(call) for call in replanner.calls]
     log.flush(metrics=metrics.to_json(), finished=True)
-    band = (swarm.v_min_mps, swarm.v_max_mps)
-    outside = dynamics_violations(
-        arrays['velocities_mps'], arrays['commands_mps'], band, swarm.a_v_mps2, swarm.a_n_mps2, dt_s
-    )
+    outside = dynamics_violations(arrays['velocities_mps'], arrays['commands_mps'], swarm, dt_s)
     return SimResult(
         **arrays, metrics=metrics, planned=plan is not None, meta=description, flown=flown, dynamics_violations=outside
     )

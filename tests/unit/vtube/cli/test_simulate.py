@@ -29,7 +29,7 @@ def simulated(
         dynamics_violations=outside,
     )
     return pipeline.Simulated(
-        scene=SimpleNamespace(name='C'),
+        scene=SimpleNamespace(name='C', control=SimpleNamespace(foresight_s=0.0)),
         swarm=SimpleNamespace(n_robots=8),
         config=SimConfig(seed=3, replan_every_s=1.0, acceleration_limits=limits),
         result=result,

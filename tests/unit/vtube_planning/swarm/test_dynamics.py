@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from vtube_planning.params import SwarmParams
 from vtube_planning.swarm.dynamics import dynamics_violations, limit_acceleration, respond
 
 
@@ -75,7 +76,7 @@ def test_violations_match_an_independent_count_on_random_logs() -> None:
         commands = commands.reshape(2, 30, 6).transpose(1, 0, 2)
         commands[::2] = rng.uniform(-5, 5, commands[::2].shape)
         commands[3, :, 2] = np.nan  # a robot without a record
-        got = dynamics_violations(velocities, commands, (1.0, 5.0), 1.0, 1.0, 0.1)
+        got = dynamics_violations(velocities, commands, SwarmParams(v_min_mps=1.0, v_max_mps=5.0), 0.1)
         assert got == _violations_by_loop(velocities, commands, (1.0, 5.0), 1.0, 1.0, 0.1)
         assert 0 < got < 180
 
@@ -88,5 +89,5 @@ def test_the_model_s_own_responses_are_never_violations() -> None:
     targets = np.stack([rng.uniform(2, 5, (40, 8)), rng.uniform(-math.pi, math.pi, (40, 8))])
     new_speed, new_heading = respond(speed, heading, targets[0], targets[1], 1.0, 1.0, 0.02)
     commands = np.stack([new_speed * np.cos(new_heading), new_speed * np.sin(new_heading)], axis=1)
-    assert dynamics_violations(velocities, commands, (2.0, 5.0), 1.0, 1.0, 0.02) == 0
-    assert dynamics_violations(velocities, commands, (2.0, 5.0), 0.5, 1.0, 0.02) > 0  # tighter limits: caught
+    assert dynamics_violations(velocities, commands, SwarmParams(), 0.02) == 0
+    assert dynamics_violations(velocities, commands, SwarmParams(a_v_mps2=0.5), 0.02) > 0  # tighter limits: caught

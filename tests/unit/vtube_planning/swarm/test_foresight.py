@@ -72,7 +72,7 @@ def test_a_command_into_the_wall_is_replaced_by_one_inside_the_model() -> None:
     assert foresight.overridden == 1
     heading = math.atan2(commanded[1, 0], commanded[0, 0])
     assert heading < 0.5  # turns away from the wall
-    assert dynamics_violations(velocity[None], commanded[None], (2.0, 5.0), 1.0, 1.0, 0.02) == 0
+    assert dynamics_violations(velocity[None], commanded[None], SwarmParams(), 0.02) == 0
 
 
 def test_a_robot_about_to_hit_the_one_ahead_gives_way() -> None:
@@ -103,9 +103,8 @@ NARROWING = VirtualTube(
 def test_short_flights_that_fail_under_the_law_alone_pass_with_foresight() -> None:
     law = _flight(ControlParams(), NARROWING, 6, 0)
     assert law.metrics.collision_pairs > 0 or law.metrics.tube_violation_steps > 0  # a case the law alone fails
-    band = (2.0, 5.0)
-    assert dynamics_violations(law.velocities_mps, law.commands_mps, band, 1.0, 1.0, 0.02) > 0
+    assert dynamics_violations(law.velocities_mps, law.commands_mps, SwarmParams(), 0.02) > 0
     foreseen = _flight(ControlParams(foresight_s=3.0), NARROWING, 6, 0)
     m = foreseen.metrics
     assert (m.collision_pairs, m.tube_violation_steps, m.completed) == (0, 0, True)
-    assert dynamics_violations(foreseen.velocities_mps, foreseen.commands_mps, band, 1.0, 1.0, 0.02) == 0
+    assert foreseen.dynamics_violations == 0 < law.dynamics_violations

@@ -142,16 +142,6 @@ def test_planned_swarm_expands_before_the_narrowing(scene_a) -> None:
     assert result.metrics.density_tracking_mean_per_m2 < 0.15
 
 
-def test_a_run_that_cannot_fit_in_memory_is_refused_before_it_starts(scene_a, monkeypatch) -> None:
-    scene, plan = scene_a
-    config = SimConfig(time_limit_s=10.0)  # 501 steps of 20 robots: 2 x 501 x 20 x 10 floats = 1.6 MB
-    monkeypatch.setattr(simulate_module, 'available_memory_bytes', lambda: 1_500_000)
-    with pytest.raises(ParamsError, match=r'flying 20 robots for up to 10 s .* more than the 0.0 GiB available'):
-        simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=config)
-    monkeypatch.setattr(simulate_module, 'available_memory_bytes', lambda: 1_700_000)
-    assert simulate(scene.tube, scene.swarm, scene.control, plan=plan, config=config).t_s.size > 1
-
-
 def test_a_flight_starts_from_the_given_positions_and_its_log_says_so(scene_a) -> None:
     """Given positions are the first logged step as given, moving along the tube at v_min (no plan); the config keeps
     them as comparable, hashable rows; a count other than the swarm's is refused before the run."""
