@@ -16,6 +16,7 @@ from typing import Any
 from robotarium_exp.analysis.loaders import InputFile
 from robotarium_exp.analysis.passage import INFERRED_START, Passage
 from robotarium_exp.analysis.trajectory import Coverage, Gap
+from robotarium_exp.verifier import wall_failure
 from vtube_planning.swarm.metrics import strict_json
 
 
@@ -171,7 +172,9 @@ class RecordingMetrics:
 
     def failures(self) -> tuple[str, ...]:
         """What the recording shows failed: robots that collided, and, where the flight recorded its start, robots
-        that never entered the tube or never left it (a passage inferred from the data is not judged)."""
+        that never entered the tube or never left it and robot bodies on the tube walls
+        (`robotarium_exp.verifier.wall_failure`, the rule of every verdict on a Robotarium run); a passage inferred
+        from the data is not judged."""
         found = []
         colliding = self.colliding_pairs
         if colliding:
@@ -182,6 +185,9 @@ class RecordingMetrics:
                 found.append(f'robots {", ".join(passage.never_inside)} never entered the tube')
             if passage.not_exited:
                 found.append(f'robots {", ".join(passage.not_exited)} never passed the exit')
+        if self.tube is not None and self.tube.body_radius_m > 0.0:
+            tube = self.tube
+            found += filter(None, [wall_failure(tube.tube_violation_steps, tube.robots_outside, tube.max_outside_m)])
         clearances = self.tube.obstacle_clearance_m if self.tube is not None else None
         touched = [r for r, c in zip(self.robot_ids, clearances or (), strict=False) if c is not None and c <= 0.0]
         if touched:
