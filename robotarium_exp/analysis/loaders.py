@@ -225,16 +225,20 @@ def load_npz_log(path: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
 
 def _log_source(arrays: dict[str, np.ndarray], meta: dict[str, Any], where: str) -> dict[str, Any]:
     """What a vtube log's description says of its run: scene, tube, plan, and where the flight began when it
-    recorded that (`FlightStart`, on the trajectory's clock; None for logs
-    that do not record it: simulations, earlier submissions)."""
+    recorded that (`FlightStart`, on the trajectory's clock; a simulation's first row, whose robots are points
+    (``point_robots``); None for logs that do not record it: earlier submissions)."""
     t_s = arrays['t_s']
     first = float(t_s[0]) if t_s.size else 0.0
     start = FlightStart.from_record(meta.get('flight_start'), where, first)
+    simulated = meta.get('kind') == 'simulation' and start is None
+    if simulated:  # a simulation starts at its first row, as `simulate` times it; its robots are points
+        start = FlightStart(0, 0.0, 0.0)
     return {
         'scene': meta.get('scene'),
         'tube_hash': meta.get('tube_hash'),
         'planned': meta.get('planned'),
         'flight_start': start.to_record() if start is not None else None,
+        'point_robots': simulated,
     }
 
 

@@ -67,6 +67,9 @@ class TubeMetrics:
     obstacle_clearance_m
         Per robot, the smallest distance from its body (``body_radius_m``; 0: its centre) to the scene's obstacles
         over the recording, 0 when it touched one; None for a scene without obstacles or a robot never seen.
+    closest_in_passage, closest_after_passage
+        The smallest distance between two robots and its time, up to the last robot's exit (the approach and the
+        passage) and after it (parking); None without a last exit or a frame there.
     """
 
     passage: Passage
@@ -79,6 +82,8 @@ class TubeMetrics:
     tracking: TrackingErrors | None
     body_radius_m: float = 0.0
     obstacle_clearance_m: tuple[float | None, ...] | None = None
+    closest_in_passage: tuple[float, float] | None = None
+    closest_after_passage: tuple[float, float] | None = None
 
     def to_json(self) -> dict[str, Any]:
         """The keys ``metrics.json`` holds for a recording analysed in a scene."""
@@ -99,6 +104,8 @@ class TubeMetrics:
             'extent_at_narrowing_m': self.extent_at_narrowing_m,
             'obstacle_clearance_m': list(self.obstacle_clearance_m) if self.obstacle_clearance_m is not None else None,
         }
+        for key, closest in (('passage', self.closest_in_passage), ('after_passage', self.closest_after_passage)):
+            out[f'min_distance_{key}_m'], out[f'min_distance_{key}_time_s'] = closest or (None, None)
         if self.tracking is not None:
             out.update(asdict(self.tracking))
         return out

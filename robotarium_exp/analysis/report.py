@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from robotarium_exp.analysis.distances import PairDistances, pair_distances
 from robotarium_exp.analysis.loaders import input_record
@@ -35,6 +36,8 @@ from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.provenance import provenance
 from vtube_planning.swarm.metrics import tracking_errors, tube_violations
+
+FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -76,7 +79,9 @@ def analyse(
         closest=closest,
         collision_distance_m=collision,
         collision_frames=distances.frames_below if collision is not None else None,
-        tube=_tube_metrics(trajectory, scene, plan, along) if scene is not None and along is not None else None,
+        tube=_tube_metrics(trajectory, scene, plan, along, distances)
+        if scene is not None and along is not None
+        else None,
         source=trajectory.source,
         inputs=input_record(trajectory.source.get('files', [])),
         options=options or {},
@@ -126,15 +131,18 @@ def _obstacle_clearance(trajectory: Trajectory, scene: Scene, body_radius: float
     return tuple(out)
 
 
-def _tube_metrics(trajectory: Trajectory, scene: Scene, plan: Plan | None, along: AlongTube) -> TubeMetrics:
-    """The passage, tube violations, the swarm's length before the narrowing and the tracking of ``plan``."""
+def _tube_metrics(
+    trajectory: Trajectory, scene: Scene, plan: Plan | None, along: AlongTube, distances: PairDistances
+) -> TubeMetrics:
+    """The passage, tube violations, the swarm's length before the narrowing, the tracking of ``plan`` and the
+    closest two robots came in the passage and after it."""
     length = scene.tube.length_m
     start = FlightStart.from_record(trajectory.source.get('flight_start'), str(trajectory.source.get('path')))
     if start is None:
         passage, body_radius = observed_passage(along, length, trajectory.robot_ids), 0.0
-    else:  # a flight of ours on a Robotarium: its robots' bodies, as the experiment counts them
+    else:  # a flight of ours: on a Robotarium its robots' bodies, as the experiment counts them; simulated, points
         passage = recorded_passage(along, length, trajectory.robot_ids, start)
-        body_radius = 0.5 * ROBOTARIUM.robot_diameter_m
+        body_radius = 0.0 if trajectory.source.get('point_robots') else 0.5 * ROBOTARIUM.robot_diameter_m
     violation_steps, robots_outside, max_outside = tube_violations(along.l_m, along.clearance_m, length, body_radius)
     complete = along.complete
     narrowing = narrowing_start(scene)
@@ -161,13 +169,32 @@ def _tube_metrics(trajectory: Trajectory, scene: Scene, plan: Plan | None, along
         extent_start_m=extent_start,
         extent_at_narrowing_m=extent_at_narrowing,
         tracking=tracking,
+        closest_in_passage=_closest(trajectory.t_s, distances.frame_min_m, passage.last_exit_s, before=True),
+        closest_after_passage=_closest(trajectory.t_s, distances.frame_min_m, passage.last_exit_s, before=False),
     )
+
+
+def _closest(
+    t_s: FloatArray, frame_min_m: FloatArray, last_exit_s: float | None, *, before: bool
+) -> tuple[float, float] | None:
+    """The smallest of ``frame_min_m`` and its time over the frames up to ``last_exit_s`` (``before``) or after it;
+    None without a last exit or a measured frame there."""
+    if last_exit_s is None:
+        return None
+    where = (t_s <= last_exit_s) if before else (t_s > last_exit_s)
+    values = np.where(where & np.isfinite(frame_min_m), frame_min_m, np.inf)
+    if not np.isfinite(values).any():
+        return None
+    k = int(np.argmin(values))
+    return float(values[k]), float(t_s[k])
 
 
 ROW_TITLES = (
     'robots',
     'frames (every robot present)',
     'minimum distance [m]',
+    'minimum distance up to the last exit (passage) [m]',
+    'minimum distance after the last exit (parking) [m]',
     'collision distance [m]',
     'collision pairs',
     'passing time [s]',
@@ -238,6 +265,8 @@ def _cells(m: RecordingMetrics) -> list[str]:
         _number(m.robots, 'd'),
         f'{_number(m.frames, "d")} ({m.complete_frames})',
         distance,
+        _at(tube.closest_in_passage if tube else None),
+        _at(tube.closest_after_passage if tube else None),
         _number(m.collision_distance_m, '.3f'),
         _number(m.collision_pairs, 'd'),
         _number(tube.passage.passing_time_s if tube else None, '.2f'),
@@ -246,6 +275,11 @@ def _cells(m: RecordingMetrics) -> list[str]:
         _number(tracking.speed_tracking_mean_mps if tracking else None, '.4f'),
         _number(tracking.density_tracking_mean_per_m2 if tracking else None, '.3f'),
     ]
+
+
+def _at(closest: tuple[float, float] | None) -> str:
+    """A distance and its time, or '–'."""
+    return '–' if closest is None else f'{closest[0]:.3f} (t = {closest[1]:.2f} s)'
 
 
 def _number(value: float | None, fmt: str) -> str:

@@ -141,3 +141,28 @@ def test_each_robots_clearance_from_the_scenes_obstacles(tmp_path) -> None:
         ).metrics.tube.obstacle_clearance_m
         is None
     )
+
+
+def test_a_simulation_log_is_timed_from_its_first_row_on_points_and_its_parking_is_apart(tmp_path) -> None:
+    """Issue 49: the demo's planned simulation (31.040 s by `simulate`) showed no passing time beside the returned
+    run; its log starts with the robots inside the tube. A simulation's log is timed from its first row, with point
+    robots; the closest approach is given up to the last exit and after it (parking) apart."""
+    from robotarium_exp.analysis.loaders import load_trajectory
+    from vtube_planning.log import LogWriter
+
+    t = np.arange(300) * 0.1
+    x = -1.2 + 0.1 * t[:, None] - np.array([0.0, 0.1, 0.205])
+    y = np.broadcast_to(np.array([-0.1, 0.05, 0.22]), x.shape).copy()
+    y[280:, 1] = y[280:, 0] + 0.1  # parked: r0 and r1 0.1 m apart from t = 28.0 s, after the last exit
+    log = LogWriter(tmp_path / 'sim.npz', {'kind': 'simulation', 'scene': 'robotarium_trapezoid'})
+    for k in range(t.size):
+        log.append(t_s=np.float64(t[k]), positions_m=np.stack([x[k], y[k]]))
+    log.flush(finished=True)
+    m = analyse(load_trajectory([tmp_path / 'sim.npz']), load_scene('robotarium_trapezoid')).metrics.tube
+    assert m is not None
+    last_out = (1.0 + 1.405) / 0.1
+    assert m.passage.passing_time_s == pytest.approx(last_out, abs=0.1 + 1e-9) and m.body_radius_m == 0.0
+    in_passage, parking = m.closest_in_passage, m.closest_after_passage
+    assert in_passage is not None and parking is not None
+    assert in_passage[1] <= m.passage.last_exit_s < parking[1] == pytest.approx(28.0)
+    assert parking[0] == pytest.approx(np.hypot(0.1, 0.1)) and in_passage[0] == pytest.approx(np.hypot(0.1, 0.15))
