@@ -159,7 +159,11 @@ def generated_scene(text: str, source: str, folder: Path | None = None) -> tuple
 
 def _obstacles_table(obstacles: Obstacles, folder: Path) -> str:
     """``[obstacles]`` in TOML, numbers exact, an image's ``file`` relative to ``folder`` when it can be."""
-    lines = ['[obstacles]']
+    free = [image for image in obstacles.images if image.unknown_free]
+    lines = [
+        '# unknown cells of the images count as FREE here (unknown = "free"): the tube may cross unmapped space'
+    ] * bool(free)
+    lines += ['[obstacles]']
     for kind, entries in obstacles.table(folder).items():
         lines.append(f'{kind} = [')
         for entry in entries:
