@@ -118,6 +118,14 @@ class TubeSpec:
             if len(point) != 2 or not all(is_real(v) for v in point):
                 msg = f'tube generation: {name} must be [x, y], finite; got {point!r}.'
                 raise TubeGenerationError(msg)
+        apart = math.dist(self.start_m, self.goal_m)
+        if apart < 2.0 * self.resolution_m:
+            msg = (
+                f'tube generation: start_m and goal_m are {apart:.3g} m apart ({list(self.start_m)} and '
+                f'{list(self.goal_m)}), less than two cells of the search grid (resolution_m = {self.resolution_m:g}); '
+                'put the goal where the tube should end.'
+            )
+            raise TubeGenerationError(msg)
 
     @property
     def search_ends(self) -> tuple[tuple[float, float], tuple[float, float]]:

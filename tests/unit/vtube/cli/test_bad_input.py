@@ -118,7 +118,29 @@ BAD = [
     ('replay, no scene', 'replay {tmp}/no_scene --out {out}/run.html', 2, 'records no scene, and the replay draws'),
     ('replay, another scene', 'replay {tmp}/log_A.npz --scene B --out {out}/r.html', 2, "recorded in scene 'A', whose"),
     ('replay, not a page', 'replay {tmp}/log_A.npz --out {out}/run.png', 2, 'run.png is not an .html file; give --out'),
+    (
+        'image smaller than the map',
+        'tube generate {tmp}/tiny_pixels.toml --out {out}/s.toml',
+        2,
+        'the occupancy images cover 0.0 % of [workspace]',
+    ),
+    (
+        'search grid too large',
+        'tube generate {tmp}/huge_pixels.toml --out {out}/s.toml',
+        2,
+        'give [tube.generate] resolution_m = 22.4 or more, or a smaller [workspace]',
+    ),
+    ('start is the goal', 'tube generate {tmp}/start_is_goal.toml --out {out}/s.toml', 2, 'start_m and goal_m are'),
 ]
+
+
+def map_text(image_m: float, side_m: float, start: str = '[10.0, 50.0]', goal: str = '[90.0, 50.0]') -> str:
+    """A map file of a square workspace ``side_m`` on a side holding ``grid.npy`` at ``image_m`` per pixel."""
+    return (
+        f'[tube.generate]\nstart_m = {start}\ngoal_m = {goal}\nhalf_width_min_m = 1.0\nhalf_width_max_m = 3.0\n'
+        f'[workspace]\nx_min_m = 0.0\nx_max_m = {side_m}\ny_min_m = 0.0\ny_max_m = {side_m}\nmargin_m = 0.2\n'
+        f'[obstacles]\nimages = [{{ file = "grid.npy", resolution_m = {image_m}, origin_m = [0.0, 0.0] }}]\n'
+    )
 
 
 @pytest.fixture(scope='module')
@@ -182,6 +204,10 @@ def bad_files(tmp_path_factory) -> Path:
     (tmp / 'listed_meta').mkdir()
     np.save(tmp / 'listed_meta' / 'vtube_t_s.npy', np.arange(3.0))
     (tmp / 'listed_meta' / 'vtube_meta.json').write_text('[]')
+    np.save(tmp / 'grid.npy', np.zeros((100, 100), dtype=bool))  # 100 x 100 free cells
+    (tmp / 'tiny_pixels.toml').write_text(map_text(1e-7, 100.0))  # issue 49: every obstacle ignored, exit 0
+    (tmp / 'huge_pixels.toml').write_text(map_text(1000.0, 1e5, '[1e4, 5e4]', '[9e4, 5e4]'))  # was a 429 TiB grid
+    (tmp / 'start_is_goal.toml').write_text(map_text(1.0, 100.0, goal='[10.0, 50.0]'))  # was an IndexError
     (tmp / 'shapes').mkdir()
     np.save(tmp / 'shapes' / 'vtube_t.npy', np.zeros(5))
     np.save(tmp / 'shapes' / 'vtube_poses.npy', np.zeros((5, 7)))
