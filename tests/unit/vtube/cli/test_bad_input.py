@@ -130,6 +130,12 @@ BAD = [
         2,
         'give [tube.generate] resolution_m = 22.4 or more, or a smaller [workspace]',
     ),
+    (
+        'comparison of another scene',
+        'analyze {tmp}/no_scene --scene B --compare {tmp}/log_A.npz --out {out}',
+        2,
+        "the log was recorded in scene 'A', whose tube is not the tube of scene 'B'",
+    ),
     ('start is the goal', 'tube generate {tmp}/start_is_goal.toml --out {out}/s.toml', 2, 'start_m and goal_m are'),
 ]
 
