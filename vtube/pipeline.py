@@ -359,6 +359,8 @@ def analyse_data(inputs: Sequence[Path], out: Path, options: AnalysisOptions | N
         simulated = load_trajectory([options.compare], max_gap=gap)
         if scene is not None:  # the log shown beside the data is measured in the same tube
             check_recorded_tube(simulated, scene)
+        if scene is not None:  # the log shown beside the data is measured in the same tube
+            check_recorded_tube(simulated, scene)
         results['comparison'] = analyse(simulated, scene, plan, collision_distance_m=distance)
     report = write_report(out, results, scene, plan)
     if scene is not None:

@@ -136,6 +136,15 @@ BAD = [
         2,
         "the log was recorded in scene 'A', whose tube is not the tube of scene 'B'",
     ),
+    ('a hundred million robots', 'simulate A --out {out} --n 100000000', 2, 'flies at most 5000 robots; give --n'),
+    ('robotarium swarm too large', 'simulate robotarium_curve --out {out} --n 1000', 2, 'which flies 1 to 20 robots'),
+    (
+        'build into a folder',
+        'submission build robotarium_curve --out {out}',
+        2,
+        'is a folder; give the .py file to write',
+    ),
+    ('tube narrower than a robot', 'plan {tmp}/thin.toml --out {out}', 2, 'no wider than a robot (2 r_p = 0.6 m)'),
     ('start is the goal', 'tube generate {tmp}/start_is_goal.toml --out {out}/s.toml', 2, 'start_m and goal_m are'),
 ]
 
@@ -214,6 +223,9 @@ def bad_files(tmp_path_factory) -> Path:
     (tmp / 'tiny_pixels.toml').write_text(map_text(1e-7, 100.0))  # issue 49: every obstacle ignored, exit 0
     (tmp / 'huge_pixels.toml').write_text(map_text(1000.0, 1e5, '[1e4, 5e4]', '[9e4, 5e4]'))  # was a 429 TiB grid
     (tmp / 'start_is_goal.toml').write_text(map_text(1.0, 100.0, goal='[10.0, 50.0]'))  # was an IndexError
+    thin = '[tube.width]\nstart_m = 3.0\nparts = [{ kind = "constant", length_m = 10.0 }, { kind = "smooth", '
+    thin += 'length_m = 5.0, to_m = 0.2 }, { kind = "constant" }]\n'  # issue 49: planned "certified"
+    (tmp / 'thin.toml').write_text('[tube.center]\npieces = [{ kind = "line", length_m = 30.0 }]\n' + thin)
     (tmp / 'shapes').mkdir()
     np.save(tmp / 'shapes' / 'vtube_t.npy', np.zeros(5))
     np.save(tmp / 'shapes' / 'vtube_poses.npy', np.zeros((5, 7)))

@@ -111,3 +111,26 @@ def test_bad_numbers_are_refused_by_the_parser(tmp_path, capsys, bad: list[str])
     with pytest.raises(SystemExit) as stop:
         main(['simulate', 'C', '--out', str(tmp_path), *bad])
     assert stop.value.code == 2 and 'error: argument' in capsys.readouterr().err
+
+
+def test_a_folder_another_simulate_is_writing_is_refused(tmp_path, monkeypatch, capsys) -> None:
+    """Issue 49: four concurrent runs into one folder each printed "written" while the log held one of them. A run
+    holds its folder while it flies; a second is refused (exit 2) naming the holder, and the hold ends with the run."""
+    import os
+    import socket
+
+    seen = []
+
+    def simulate_scene(scene, out, **options):
+        seen.append(sorted(p.name for p in out.iterdir()))
+        return simulated(metrics())
+
+    monkeypatch.setattr(pipeline, 'simulate_scene', simulate_scene)
+    assert main(['simulate', 'C', '--out', str(tmp_path)]) == 0
+    assert seen == [['.lock']] and not (tmp_path / '.lock').exists()  # held while flying, released after
+    holder = {'pid': os.getpid(), 'host': socket.gethostname(), 'since': 'now'}  # alive: this very process
+    (tmp_path / '.lock').write_text(json.dumps(holder), encoding='utf-8')
+    capsys.readouterr()
+    assert main(['simulate', 'C', '--out', str(tmp_path)]) == 2
+    assert f'is being written by another simulate run (process {os.getpid()}' in capsys.readouterr().err
+    assert len(seen) == 1
