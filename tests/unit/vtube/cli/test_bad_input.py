@@ -145,6 +145,8 @@ BAD = [
         'is a folder; give the .py file to write',
     ),
     ('tube narrower than a robot', 'plan {tmp}/thin.toml --out {out}', 2, 'no wider than a robot (2 r_p = 0.6 m)'),
+    ('campaign step too coarse', 'campaign run {tmp}/coarse.toml --out {out}', 2, 'dt_s must be a number in [0.001'),
+    ('campaign step too fine', 'campaign run {tmp}/fine.toml --out {out}', 2, 'dt_s must be a number in [0.001, 0.1]'),
     ('start is the goal', 'tube generate {tmp}/start_is_goal.toml --out {out}/s.toml', 2, 'start_m and goal_m are'),
 ]
 
@@ -226,6 +228,10 @@ def bad_files(tmp_path_factory) -> Path:
     thin = '[tube.width]\nstart_m = 3.0\nparts = [{ kind = "constant", length_m = 10.0 }, { kind = "smooth", '
     thin += 'length_m = 5.0, to_m = 0.2 }, { kind = "constant" }]\n'  # issue 49: planned "certified"
     (tmp / 'thin.toml').write_text('[tube.center]\npieces = [{ kind = "line", length_m = 30.0 }]\n' + thin)
+    for name, dt_s in (('coarse', 5.0), ('fine', 1e-7)):  # issue 49: "0 of 1 completed" at exit 0; "no finished run"
+        (tmp / f'{name}.toml').write_text(
+            f'name = "{name}"\n[axes]\nscene = ["C"]\nseed = 1\n[settings]\ndt_s = {dt_s}\n'
+        )
     (tmp / 'shapes').mkdir()
     np.save(tmp / 'shapes' / 'vtube_t.npy', np.zeros(5))
     np.save(tmp / 'shapes' / 'vtube_poses.npy', np.zeros((5, 7)))
