@@ -73,6 +73,7 @@ def load_trajectory(inputs: list[str | Path], *, max_gap: MaxGap = DEFAULT_MAX_G
             'topics': contents.topics,
             'world_frame': contents.world_frame,
             'ignored': contents.ignored,
+            **_recorded_run(contents.custom, str(first)),
         }
         return assemble(contents.samples, source=source, max_gap=max_gap)
     if len(paths) > 1:
@@ -240,6 +241,26 @@ def _log_source(arrays: dict[str, np.ndarray], meta: dict[str, Any], where: str)
         'flight_start': start.to_record() if start is not None else None,
         'point_robots': simulated,
     }
+
+
+def _recorded_run(custom: dict[str, str], where: str) -> dict[str, Any]:
+    """What a bag `vtube export` wrote keeps of its log's run (`robotarium_exp.analysis.export.RECORDED`, JSON in
+    its ``custom_data``): scene, tube, flight start; empty for any other bag."""
+    from robotarium_exp.analysis.export import CUSTOM_KEY, RECORDED
+
+    if CUSTOM_KEY not in custom:
+        return {}
+    try:
+        recorded = json.loads(custom[CUSTOM_KEY])
+    except ValueError as err:
+        msg = f'{where}: its custom_data {CUSTOM_KEY!r} is not the JSON vtube export writes ({err}); remove the key.'
+        raise AnalysisError(msg) from err
+    if not isinstance(recorded, dict):
+        msg = f'{where}: its custom_data {CUSTOM_KEY!r} holds a JSON {type(recorded).__name__}, not an object.'
+        raise AnalysisError(msg)
+    start = FlightStart.from_record(recorded.get('flight_start'), where)
+    kept = {key: recorded.get(key) for key in RECORDED}
+    return kept | {'flight_start': start.to_record() if start is not None else None}
 
 
 def _log_samples(arrays: dict[str, np.ndarray]) -> dict[str, RobotSamples]:
