@@ -234,7 +234,7 @@ def build_submission(
     scene = load_scene(name_or_path)
     plan = plan_for(scene, plan_file=plan_file) if planning else None
     if not declare:
-        submission = build(scene, plan)
+        submission = build(scene, plan, plan_file=plan_file)
         return WrittenSubmission(submission, write(submission, out), None)
     from submission.robustness import CHECKED_MODELS
 
@@ -248,6 +248,7 @@ def build_submission(
         testbed_models=models,
         progress=progress,
         seed_done=seed_done,
+        plan_file=plan_file,
     )
     return WrittenSubmission(submission, written, report)
 
