@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -146,13 +147,16 @@ def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[
             f"the experiment's data files were downloaded into, or one file: {ACCEPTED}."
         )
         raise AnalysisError(msg)
-    arrays, broken = {}, []
+    arrays, broken, cut = {}, [], []
     for path in files:
         try:
             loaded = np.load(path, allow_pickle=False)
         except (OSError, ValueError, EOFError) as err:
-            broken.append(f'{path.name} ({why(err)})')
-            continue
+            loaded = _frames_before_the_cut(path)
+            if loaded is None:
+                broken.append(f'{path.name} ({why(err)})')
+                continue
+            cut.append(f'{path.name}: cut in a save after {loaded.shape[0]} whole frames; those are analysed')
         if not isinstance(loaded, np.ndarray) or not (
             np.issubdtype(loaded.dtype, np.number) or np.issubdtype(loaded.dtype, np.bool_)
         ):
@@ -164,15 +168,21 @@ def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[
         'kind': 'robotarium submission',
         'path': str(folder),
         'unreadable': broken,
+        'cut': cut,
         'arrays': {k: list(v.shape) for k, v in arrays.items()},
     }
     if (folder / SUBMISSION_META).is_file():
         return _submission_log(folder, arrays, broken, source)
     if 't' not in arrays or 'poses' not in arrays:
-        read = sorted(arrays)
+        missing = [
+            f'{SUBMISSION_PREFIX}{n}.npy'
+            for n in ('t', 'poses')
+            if not (folder / f'{SUBMISSION_PREFIX}{n}.npy').exists()
+        ]
+        lacking = f'it holds no {" and no ".join(missing)}' if missing else f'truncated or corrupt: {"; ".join(broken)}'
         msg = (
-            f'{str(folder)!r}: cannot read vtube_t.npy and vtube_poses.npy; truncated or corrupt: {broken}; '
-            f'read: {read}.'
+            f'{str(folder)!r}: cannot read vtube_t.npy and vtube_poses.npy ({lacking}; read: {sorted(arrays) or "nothing"}); '
+            'give the folder the testbed returned, with the files the submission saved.'
         )
         raise AnalysisError(msg)
     t_s, poses = arrays['t'], arrays['poses']
@@ -185,6 +195,26 @@ def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[
     steps = min(t_s.shape[0], poses.shape[0])  # a save interrupted between two files
     source['files'] = [str(folder / f'{SUBMISSION_PREFIX}{name}.npy') for name in ('t', 'poses')]
     return _per_robot(np.asarray(arrays['t'][:steps], dtype=float), arrays['poses'][:steps]), source
+
+
+def _frames_before_the_cut(path: Path) -> np.ndarray | None:
+    """The whole frames (rows of the first axis) of a ``.npy`` file of numbers cut in the middle of a save (the
+    testbed may stop a run at any time), or None when its header is unreadable or not one frame is whole."""
+    try:
+        with path.open('rb') as stream:
+            version = np.lib.format.read_magic(stream)
+            header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+            shape, fortran, dtype = header(stream)
+            data = stream.read()
+    except (OSError, ValueError, EOFError):
+        return None
+    if fortran or not shape or dtype.hasobject or not np.issubdtype(dtype, np.number):
+        return None
+    frame_bytes = dtype.itemsize * math.prod(shape[1:])
+    frames = min(shape[0], len(data) // frame_bytes) if frame_bytes else 0
+    if frames < 1:
+        return None
+    return np.frombuffer(data[: frames * frame_bytes], dtype=dtype).reshape((frames, *shape[1:]))
 
 
 def _submission_log(

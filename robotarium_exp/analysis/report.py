@@ -308,6 +308,8 @@ def _notes(label: str, m: RecordingMetrics) -> list[str]:
         )
     if m.gaps:
         lines.append(f'\n{len(m.gaps)} gap(s), never interpolated across: {[asdict(g) for g in m.gaps[:5]]}')
+    if m.source.get('cut'):
+        lines.append('\nCut in a save: ' + '; '.join(m.source['cut']) + '.')
     ignored = m.source.get('ignored') or []
     if ignored:
         lines.append(

@@ -70,6 +70,7 @@ def analyze_view(analysed: Analysed) -> View:
             f'{len(source.get("ignored") or [])} topics/frames/variables ignored'
         )
     ]
+    lines += [f'  {cut}' for cut in source.get('cut') or ()]  # a file the testbed stopped writing mid-save
     if m.closest is not None:
         pair = ' and '.join(m.closest.robots)
         closest = f'minimum distance {m.closest.min_distance_m:.3f} m ({pair}, t = {m.closest.time_s:.2f} s)'

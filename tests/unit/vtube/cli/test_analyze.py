@@ -133,3 +133,10 @@ def test_the_minimum_distance_in_the_passage_and_while_parking_are_said_apart() 
     alone = analyze_view(analysed(apart=((0.221, 32.08), None))).lines
     assert alone[2] == '  minimum distance up to the last exit (passage) 0.221 m (t = 32.08 s)'
     assert not any('up to the last exit' in line for line in analyze_view(analysed()).lines)
+
+
+def test_a_file_cut_in_a_save_is_said() -> None:
+    """Issue 49: the frames before a cut are analysed, and the cut is said below the first line."""
+    done = analysed()
+    done.data.trajectory.source['cut'] = ['vtube_poses.npy: cut in a save after 4 whole frames; those are analysed']
+    assert analyze_view(done).lines[1] == '  vtube_poses.npy: cut in a save after 4 whole frames; those are analysed'

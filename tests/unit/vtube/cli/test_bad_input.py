@@ -267,3 +267,15 @@ def test_bad_input_gets_one_error_line_and_loses_nothing(
     assert len(errors) == 1 and phrase in errors[0], stderr
     assert 'Traceback' not in stderr
     assert [p.name for p in out.iterdir()] == ['earlier.npz'] and (out / 'earlier.npz').read_bytes() == PRECIOUS
+
+
+@pytest.mark.parametrize(
+    'command',
+    ['simulate A --out {out} --n -3', 'robotarium run', 'robotarium', '--bogus', 'plan A --out {out} --method x'],
+)
+def test_a_bad_command_line_is_one_error_line(tmp_path, capsys, monkeypatch, command: str) -> None:
+    """Issue 49: argparse printed its usage block, five lines, above the error; one `error:` line, as everywhere."""
+    args = [part.format(out=tmp_path / 'out') for part in command.split()]
+    assert vtube(args, monkeypatch) == 2
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 1 and ': error: ' in lines[0] and lines[0].endswith(' --help)'), lines
