@@ -130,9 +130,9 @@ def input_record(files: list[str]) -> tuple[InputFile, ...]:
     return tuple(record)
 
 
-def _per_robot(t_s: np.ndarray, poses: np.ndarray) -> dict[str, RobotSamples]:
-    """Poses (T, 3, N) on stamps in seconds (T,) -> each robot's samples."""
-    stamps = seconds_to_ns(t_s)
+def _per_robot(t_s: np.ndarray, poses: np.ndarray, where: str = 'the time stamps') -> dict[str, RobotSamples]:
+    """Poses (T, 3, N) on stamps in seconds (T,) (read from ``where``) -> each robot's samples."""
+    stamps = seconds_to_ns(t_s, where)
     return {f'robot_{k}': RobotSamples(stamps, poses[:, :2, k], poses[:, 2, k]) for k in range(poses.shape[2])}
 
 
@@ -194,7 +194,8 @@ def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[
         raise AnalysisError(msg)
     steps = min(t_s.shape[0], poses.shape[0])  # a save interrupted between two files
     source['files'] = [str(folder / f'{SUBMISSION_PREFIX}{name}.npy') for name in ('t', 'poses')]
-    return _per_robot(np.asarray(arrays['t'][:steps], dtype=float), arrays['poses'][:steps]), source
+    t_s = np.asarray(arrays['t'][:steps], dtype=float)
+    return _per_robot(t_s, arrays['poses'][:steps], f'{str(folder)!r}: vtube_t.npy'), source
 
 
 def _frames_before_the_cut(path: Path) -> np.ndarray | None:

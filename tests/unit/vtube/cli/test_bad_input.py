@@ -147,6 +147,12 @@ BAD = [
     ('tube narrower than a robot', 'plan {tmp}/thin.toml --out {out}', 2, 'no wider than a robot (2 r_p = 0.6 m)'),
     ('campaign step too coarse', 'campaign run {tmp}/coarse.toml --out {out}', 2, 'dt_s must be a number in [0.001'),
     ('campaign step too fine', 'campaign run {tmp}/fine.toml --out {out}', 2, 'dt_s must be a number in [0.001, 0.1]'),
+    (
+        'a NaN stamp',
+        'analyze {tmp}/nan_stamp --out {out}',
+        2,
+        'vtube_t.npy hold 1 value(s) that are not a time (the first',
+    ),
     ('start is the goal', 'tube generate {tmp}/start_is_goal.toml --out {out}/s.toml', 2, 'start_m and goal_m are'),
 ]
 
@@ -196,6 +202,7 @@ def bad_files(tmp_path_factory) -> Path:
     returned['clock_back'] = (np.r_[0.033 * np.arange(25), 0.033 * np.arange(25) - 0.175], np.zeros((50, 3, 2)))
     returned['milliseconds'] = (33.0 * np.arange(50), np.zeros((50, 3, 2)))
     returned['no_scene'] = (0.033 * np.arange(50), np.zeros((50, 3, 2)))
+    returned['nan_stamp'] = (np.where(np.arange(50) == 7, np.nan, 0.033 * np.arange(50)), np.zeros((50, 3, 2)))
     for name, (t_s, poses) in returned.items():
         (tmp / name).mkdir()
         np.save(tmp / name / 'vtube_t.npy', t_s)
