@@ -39,7 +39,8 @@ from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.planning.polynomial import plan_polynomial
 from vtube_planning.provenance import copy_scene, provenance
-from vtube_planning.swarm.formation import FloatArray, as_positions
+from vtube_planning.swarm.formation import FloatArray, as_positions, start_formation
+from vtube_planning.swarm.map_contact import require_clear_start
 from vtube_planning.swarm.simulate import SimConfig, SimResult, simulate
 
 PlanMethod = Literal['convex', 'polynomial']
@@ -110,6 +111,9 @@ def robotarium_start(scene: Scene, swarm: SwarmParams) -> FloatArray | None:
 
 GRID_START = 'a grid before the entrance (spacing 2 r_a)'
 ROBOTARIUM_START = "the Robotarium flight's entry formation (its robots' centres)"
+START_FIX = (
+    'give the tube room before its entrance (a map file: move start_m inwards or lengthen lead_m), or fewer robots.'
+)
 
 
 @dataclass(frozen=True)
@@ -188,13 +192,14 @@ def simulate_scene(
 
 def _started(scene: Scene, swarm: SwarmParams, config: SimConfig) -> tuple[SimConfig, str]:
     """``config`` with where the robots start (the given positions, a Robotarium scene's entry formation, else the
-    simulator's grid), and that place in words."""
-    if config.initial_positions_m is not None:
-        return config, 'the given positions'
-    robotarium = robotarium_start(scene, swarm)
-    if robotarium is None:
-        return config, GRID_START
-    return replace(config, initial_positions_m=as_positions(robotarium)), ROBOTARIUM_START
+    simulator's grid), and that place in words; refused where a body would start on an obstacle or off the map."""
+    robotarium = None if config.initial_positions_m is not None else robotarium_start(scene, swarm)
+    if robotarium is not None:
+        config = replace(config, initial_positions_m=as_positions(robotarium))
+    start = start_formation(scene.tube, swarm, config.initial_positions_m, config.seed, config.jitter_m)
+    require_clear_start(start, scene, swarm.r_p_m, START_FIX)
+    given = 'the given positions' if robotarium is None else ROBOTARIUM_START
+    return config, GRID_START if config.initial_positions_m is None else given
 
 
 @dataclass(frozen=True)

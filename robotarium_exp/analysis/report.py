@@ -35,6 +35,7 @@ from vtube_planning.files import write_atomically
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.provenance import provenance
+from vtube_planning.swarm.map_contact import map_contact
 from vtube_planning.swarm.metrics import tracking_errors, tube_violations
 
 FloatArray = NDArray[np.float64]
@@ -171,6 +172,11 @@ def _tube_metrics(
         tracking=tracking,
         closest_in_passage=_closest(trajectory.t_s, distances.frame_min_m, passage.last_exit_s, before=True),
         closest_after_passage=_closest(trajectory.t_s, distances.frame_min_m, passage.last_exit_s, before=False),
+        map_contact=(
+            map_contact(along.t_s, trajectory.positions_m, scene, body_radius, along.l_m)
+            if scene.obstacles or scene.workspace is not None
+            else None
+        ),
     )
 
 

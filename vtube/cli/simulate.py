@@ -105,10 +105,14 @@ def _check_swarm_size(scene_name: str, n_robots: int | None) -> None:
 
 
 def simulate_view(simulated: Simulated) -> View:
+    from vtube_planning.swarm.map_contact import map_contact
     from vtube_planning.swarm.metrics import passage_failures
 
     result, config, m = simulated.result, simulated.config, simulated.result.metrics
-    failures = passage_failures(m)
+    scene = simulated.scene
+    mapped = bool(scene.obstacles) or scene.workspace is not None
+    contact = map_contact(result.t_s, result.positions_m, scene, simulated.swarm.r_p_m, result.l_m) if mapped else None
+    failures = (*passage_failures(m), *(contact.failures() if contact else ()))
     rows = [
         ('passing time', f'{m.passing_time_s:.3f} s' + ('' if m.completed else ' (not every robot exited)')),
         ('minimum distance', f'{m.min_distance_m:.4f} m at t = {m.min_distance_time_s:.2f} s'),
@@ -119,6 +123,17 @@ def simulate_view(simulated: Simulated) -> View:
         ),
         ('speed violations', f'{m.speed_violations} commands outside [v_min, v_max]'),
     ]
+    if contact is not None:  # over the whole run, before the entrance and after the exit
+        beyond = contact.outside_after_exit
+        said = (
+            f'bodies (r_p) on obstacles {contact.on_obstacles} robot-steps, outside the workspace '
+            f'{contact.outside_workspace} before the exit'
+            + (
+                f'; {beyond} robot-steps outside it beyond the exit, where this model drives on (no parking)'
+                * bool(beyond)
+            )
+        )
+        rows.append(('map', said))
     if m.speed_tracking_mean_mps is not None:
         rows += [
             ('speed tracking', f'mean {m.speed_tracking_mean_mps:.3f}, max {m.speed_tracking_max_mps:.3f} m/s'),

@@ -166,3 +166,27 @@ def test_a_simulation_log_is_timed_from_its_first_row_on_points_and_its_parking_
     assert in_passage is not None and parking is not None
     assert in_passage[1] <= m.passage.last_exit_s < parking[1] == pytest.approx(28.0)
     assert parking[0] == pytest.approx(np.hypot(0.1, 0.1)) and in_passage[0] == pytest.approx(np.hypot(0.1, 0.15))
+
+
+def test_bodies_outside_the_workspace_before_the_exit_fail_the_recording() -> None:
+    """Issue 49: `analyze` counts bodies outside the scene's workspace (the trapezoid's is the arena) over the whole
+    run; a robot that leaves it before passing the exit fails the recording, one beyond the exit is counted apart."""
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+    t = np.arange(300) * 0.1
+    x = -1.2 + 0.1 * t[:, None] - np.array([0.0, 0.3])
+    y = np.zeros_like(x)
+    y[100:110, 1] = 1.2  # r1 jumps off the arena (|y| <= 1) while inside the tube's span
+    stamps = np.arange(300, dtype=np.int64) * 100_000_000
+    samples = {f'r{k}': RobotSamples(stamps, np.stack([x[:, k], y[:, k]], axis=1)) for k in range(2)}
+    start = {'iteration': 0, 'robotarium_time_s': 0.0, 't_s': 0.0}
+    m = analyse(assemble(samples, source={'path': 'f', 'flight_start': start}), load_scene('robotarium_trapezoid'))
+    contact = m.metrics.tube.map_contact
+    assert contact is not None and contact.outside_workspace == 10 and contact.on_obstacles == 0
+    beyond = int((x[:, 0] > 1.6 - 0.055).sum() + (x[:, 1] > 1.6 - 0.055).sum())  # past the exit, off the arena's end
+    assert contact.outside_after_exit == beyond > 0
+    assert any(
+        f.startswith('robot bodies were outside the workspace (the map) in 10 robot-steps')
+        for f in m.metrics.failures()
+    )
+    assert m.metrics.to_json()['map_contact']['outside_workspace'] == 10

@@ -153,6 +153,7 @@ BAD = [
         2,
         'vtube_t.npy hold 1 value(s) that are not a time (the first',
     ),
+    ('start off the map', 'simulate {tmp}/A_tight_map.toml --out {out}', 2, 'the start puts 20 robot bodies outside'),
     ('start is the goal', 'tube generate {tmp}/start_is_goal.toml --out {out}/s.toml', 2, 'start_m and goal_m are'),
 ]
 
@@ -239,6 +240,11 @@ def bad_files(tmp_path_factory) -> Path:
         (tmp / f'{name}.toml').write_text(
             f'name = "{name}"\n[axes]\nscene = ["C"]\nseed = 1\n[settings]\ndt_s = {dt_s}\n'
         )
+    edges = np.concatenate(scene.tube.boundaries(np.linspace(0.0, scene.tube.length_m, 400)))
+    (low_x, low_y), (high_x, high_y) = edges.min(axis=0) - 0.5, edges.max(axis=0) + 0.5  # the tube's box, no more
+    tight = f'[workspace]\nx_min_m = {low_x}\nx_max_m = {high_x}\ny_min_m = {low_y}\ny_max_m = {high_y}\n'
+    shipped = Path(__file__).resolve().parents[4] / 'vtube_planning' / 'scenes' / 'A.toml'
+    (tmp / 'A_tight_map.toml').write_text(shipped.read_text(encoding='utf-8') + tight)  # issue 49: flew off the map
     (tmp / 'shapes').mkdir()
     np.save(tmp / 'shapes' / 'vtube_t.npy', np.zeros(5))
     np.save(tmp / 'shapes' / 'vtube_poses.npy', np.zeros((5, 7)))

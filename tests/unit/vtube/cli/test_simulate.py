@@ -23,7 +23,7 @@ def simulated(m: PassageMetrics, *, planned: bool = True, meta: dict | None = No
         metrics=m, planned=planned, t_s=np.zeros(625), meta={'provenance': {'p': 1}} | (meta or {})
     )
     return pipeline.Simulated(
-        scene=SimpleNamespace(name='C'),
+        scene=SimpleNamespace(name='C', obstacles=(), workspace=None),
         swarm=SimpleNamespace(n_robots=8),
         config=SimConfig(seed=3, replan_every_s=1.0),
         result=result,
@@ -134,3 +134,33 @@ def test_a_folder_another_simulate_is_writing_is_refused(tmp_path, monkeypatch, 
     assert main(['simulate', 'C', '--out', str(tmp_path)]) == 2
     assert f'is being written by another simulate run (process {os.getpid()}' in capsys.readouterr().err
     assert len(seen) == 1
+
+
+def test_a_run_on_a_map_counts_bodies_off_the_map_over_the_whole_run() -> None:
+    """Issue 49: the robots of a map scene ended 36 m beyond a 30 m map and the summary said nothing. Bodies
+    outside the workspace before the exit fail the run; beyond the exit (this model does not park) they are told."""
+    from vtube_planning.geometry.workspace import Workspace
+
+    positions = np.zeros((625, 2, 1))
+    positions[:, 0, 0] = np.linspace(-1.0, 40.0, 625)
+    positions[10, 1, 0] = 9.9  # once 0.1 m from the map's edge: inside the tube's span
+    l_m = positions[:, 0, :] + 0.0  # a straight tube from x = 0, 30 m long
+    result = SimpleNamespace(
+        metrics=metrics(),
+        planned=True,
+        t_s=0.02 * np.arange(625),
+        positions_m=positions,
+        l_m=l_m,
+        meta={'provenance': {}},
+    )
+    scene = SimpleNamespace(
+        name='map', obstacles=(), workspace=Workspace(-5.0, 32.0, -10.0, 10.0), tube=SimpleNamespace(length_m=30.0)
+    )
+    done = pipeline.Simulated(scene, SimpleNamespace(n_robots=1, r_p_m=0.3), SimConfig(), result, (Path('o/s.npz'),))
+    view = simulate_view(done)
+    beyond = int((positions[:, 0, 0] > 32.0 - 0.3).sum())
+    assert view.exit_code == 1 and view.data['failures'][-1].startswith(
+        'robot bodies were outside the workspace (the map) in 1 robot-steps (first at t = 0.20 s'
+    )
+    line = next(line for line in view.lines if line.startswith('  map '))
+    assert line.endswith(f'; {beyond} robot-steps outside it beyond the exit, where this model drives on (no parking)')
