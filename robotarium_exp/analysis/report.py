@@ -15,6 +15,9 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import shutil
+import tempfile
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -213,11 +216,25 @@ ROW_TITLES = (
 
 
 def write_report(out: Path, results: dict[str, Analysis], scene: Scene | None, plan: Plan | None) -> Path:
-    """metrics.json, report.md and the figures for one or more analysed trajectories (label -> analysis)."""
+    """metrics.json, report.md and the figures for one or more analysed trajectories (label -> analysis), made in a
+    hidden folder beside ``out`` and moved into it only when all are written: a run killed while it draws leaves
+    ``out`` as it was, never one run's metrics beside another's report."""
+    out.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f'.{out.name}.', suffix='.partial', dir=out.parent))
+    try:
+        _write_report(staging, results, scene, plan)
+        for name in ('metrics.json', *(f.name for f in staging.iterdir() if f.suffix == '.png'), 'report.md'):
+            os.replace(staging / name, out / name)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    return out / 'report.md'
+
+
+def _write_report(out: Path, results: dict[str, Analysis], scene: Scene | None, plan: Plan | None) -> None:
+    """`write_report`'s files, into the folder ``out``."""
     from robotarium_exp.analysis.plots import analysis_figures
     from vtube_planning.plots import save_figure
 
-    out.mkdir(parents=True, exist_ok=True)
     write_atomically(
         out / 'metrics.json',
         json.dumps({k: a.metrics.to_json() for k, a in results.items()}, indent=1, allow_nan=False),
@@ -233,9 +250,7 @@ def write_report(out: Path, results: dict[str, Analysis], scene: Scene | None, p
     for label, analysis in results.items():
         lines += _notes(label, analysis.metrics)
     lines += [''] + [f'![{name}]({file})' for name, file in figures.items()] + ['']
-    path = out / 'report.md'
-    write_atomically(path, '\n'.join(lines))
-    return path
+    write_atomically(out / 'report.md', '\n'.join(lines))
 
 
 def _header(results: dict[str, Analysis], scene: Scene | None, plan: Plan | None) -> list[str]:

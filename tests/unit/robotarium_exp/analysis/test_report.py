@@ -190,3 +190,35 @@ def test_bodies_outside_the_workspace_before_the_exit_fail_the_recording() -> No
         for f in m.metrics.failures()
     )
     assert m.metrics.to_json()['map_contact']['outside_workspace'] == 10
+
+
+def test_a_report_killed_while_it_draws_leaves_the_folder_as_it_was(tmp_path, monkeypatch) -> None:
+    """Issue 49: a second `analyze` into the same --out, killed, left metrics.json of one input beside report.md of
+    the other. The files are made in a hidden folder and moved in only when all are written."""
+    import json
+
+    import robotarium_exp.analysis.plots as analysis_plots
+    from robotarium_exp.analysis.report import write_report
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+    def flight(lane: float):
+        t = np.arange(100) * 0.1
+        samples = {
+            'r0': RobotSamples(np.arange(100, dtype=np.int64) * 100_000_000, np.stack([t, 0 * t + lane], axis=1))
+        }
+        return analyse(assemble(samples, source={'path': f'lane {lane}'}), None)
+
+    out = tmp_path / 'report'
+    write_report(out, {'data': flight(0.0)}, None, None)
+    first = {p.name: p.read_bytes() for p in out.iterdir()}
+    assert {'metrics.json', 'report.md'} <= set(first)
+
+    def killed(*args, **kwargs):
+        raise KeyboardInterrupt  # as a kill while the figures are drawn
+
+    monkeypatch.setattr(analysis_plots, 'analysis_figures', killed)
+    with pytest.raises(KeyboardInterrupt):
+        write_report(out, {'data': flight(0.5)}, None, None)
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == first  # nothing of the second run
+    assert sorted(p.name for p in tmp_path.iterdir()) == ['report']  # no hidden folder left
+    assert json.loads(first['metrics.json'])['data']['source']['path'] == 'lane 0.0'
