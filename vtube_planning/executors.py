@@ -12,6 +12,7 @@ Dask is an optional extra (``pip install 'vtube[cluster]'``); `connect` names it
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
 import threading
@@ -90,13 +91,19 @@ def _dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any) -> Iterat
         for future in as_completed(futures):
             yield index[future.key], future.result()
     except lost as err:
+        import logging
+
+        logging.getLogger('distributed').setLevel(logging.CRITICAL)  # its reconnection tracebacks: said here, once
+        where = getattr(getattr(client, 'scheduler', None), 'address', None)
         msg = (
-            f'the Dask cluster failed during the runs ({type(err).__name__}: {" ".join(str(err).split())}); every '
-            'run finished before it is kept: start the cluster again and rerun the same command.'
+            f'the Dask cluster{f" of the scheduler at {where}" if where else ""} failed during the runs '
+            f'({type(err).__name__}: {" ".join(str(err).split())}); every run finished before it is kept: start the '
+            'cluster again and rerun the same command.'
         )
         raise ExecutorError(msg) from err
     finally:
-        client.cancel(futures)
+        with contextlib.suppress(Exception):  # a scheduler that is gone takes no cancellation
+            client.cancel(futures)
 
 
 def connect(address: str, timeout_s: float = 10.0) -> Any:
