@@ -154,6 +154,12 @@ BAD = [
         'vtube_t.npy hold 1 value(s) that are not a time (the first',
     ),
     ('start off the map', 'simulate {tmp}/A_tight_map.toml --out {out}', 2, 'the start puts 20 robot bodies outside'),
+    (
+        'heading without a lead',
+        'tube generate {tmp}/headed.toml --out {out}/s.toml',
+        2,
+        'give lead_m > 0 (e.g. the length',
+    ),
     ('start is the goal', 'tube generate {tmp}/start_is_goal.toml --out {out}/s.toml', 2, 'start_m and goal_m are'),
 ]
 
@@ -232,6 +238,8 @@ def bad_files(tmp_path_factory) -> Path:
     np.save(tmp / 'grid.npy', np.zeros((100, 100), dtype=bool))  # 100 x 100 free cells
     (tmp / 'tiny_pixels.toml').write_text(map_text(1e-7, 100.0))  # issue 49: every obstacle ignored, exit 0
     (tmp / 'huge_pixels.toml').write_text(map_text(1000.0, 1e5, '[1e4, 5e4]', '[9e4, 5e4]'))  # was a 429 TiB grid
+    headed = map_text(1.0, 100.0).replace('half_width_min_m', 'start_heading_deg = 60.0\nhalf_width_min_m')
+    (tmp / 'headed.toml').write_text(headed)  # issue 49: the heading was ignored, or a "radius 0.000 m" refusal
     (tmp / 'start_is_goal.toml').write_text(map_text(1.0, 100.0, goal='[10.0, 50.0]'))  # was an IndexError
     thin = '[tube.width]\nstart_m = 3.0\nparts = [{ kind = "constant", length_m = 10.0 }, { kind = "smooth", '
     thin += 'length_m = 5.0, to_m = 0.2 }, { kind = "constant" }]\n'  # issue 49: planned "certified"
