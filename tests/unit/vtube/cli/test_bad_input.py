@@ -160,6 +160,8 @@ BAD = [
         2,
         'give lead_m > 0 (e.g. the length',
     ),
+    ('empty scene name', 'study --out {out} --scenes , --seeds 1', 2, "argument --scenes: ',' holds an empty name"),
+    ('no poses returned', 'analyze {tmp}/only_times --out {out}', 2, '(it holds no vtube_poses.npy; read: '),
     ('start is the goal', 'tube generate {tmp}/start_is_goal.toml --out {out}/s.toml', 2, 'start_m and goal_m are'),
 ]
 
@@ -253,6 +255,8 @@ def bad_files(tmp_path_factory) -> Path:
     tight = f'[workspace]\nx_min_m = {low_x}\nx_max_m = {high_x}\ny_min_m = {low_y}\ny_max_m = {high_y}\n'
     shipped = Path(__file__).resolve().parents[4] / 'vtube_planning' / 'scenes' / 'A.toml'
     (tmp / 'A_tight_map.toml').write_text(shipped.read_text(encoding='utf-8') + tight)  # issue 49: flew off the map
+    (tmp / 'only_times').mkdir()  # issue 49: "truncated or corrupt: []"
+    np.save(tmp / 'only_times' / 'vtube_t.npy', np.arange(3.0))
     (tmp / 'shapes').mkdir()
     np.save(tmp / 'shapes' / 'vtube_t.npy', np.zeros(5))
     np.save(tmp / 'shapes' / 'vtube_poses.npy', np.zeros((5, 7)))
