@@ -7,13 +7,10 @@ from dataclasses import dataclass
 
 from robotarium_exp.experiment import ExperimentResult
 from robotarium_exp.spec import ROBOTARIUM
-from robotarium_exp.verifier import VerifierCounts
-from vtube_planning.swarm.metrics import passage_failures
+from robotarium_exp.verifier import BODY_ON_WALL_STEPS_TOLERATED, VerifierCounts, wall_failure
+from vtube_planning.swarm.metrics import PassageMetrics, passage_failures
 
-BODY_ON_WALL_STEPS_TOLERATED = 0
-"""Robot-steps a flight may have with a robot's body on or over a tube wall (its centre closer to the wall than
-the body radius, while 0 <= l <= L): none. A body on the wall is a robot touching the tube the experiment shows it
-keeps to; both shipped scenes fly with none, planned and unplanned, over the V2 initialization seeds of docs/robotarium_compare/."""
+__all__ = ['BODY_ON_WALL_STEPS_TOLERATED', 'VerifierVerdict', 'flight_failures', 'run_failures', 'testbed_verdict']
 
 
 @dataclass(frozen=True)
@@ -40,22 +37,30 @@ def testbed_verdict(result: ExperimentResult) -> VerifierVerdict:
 
 
 def flight_failures(result: ExperimentResult) -> tuple[str, ...]:
-    """Why a flight on a Robotarium failed, one reason each: the testbed would not run it, a robot never passed
-    the exit, robots collided ([`passage_failures`][vtube_planning.swarm.metrics.passage_failures]), bodies were on the
-    walls (more than `BODY_ON_WALL_STEPS_TOLERATED`), a robot did not park. Empty: the flight succeeded."""
-    counts, metrics = result.errors, result.metrics
+    """Why a flight of `robotarium_exp.experiment.run_experiment` failed: `run_failures` of its counts, its
+    passage and whether every robot parked. Empty: the flight succeeded."""
+    return run_failures(result.errors, result.metrics, parked=result.completed)
+
+
+def run_failures(counts: VerifierCounts, metrics: PassageMetrics | None, *, parked: bool) -> tuple[str, ...]:
+    """The one verdict on a run on a Robotarium, whoever flew it (`vtube robotarium run`, `robotarium compare`,
+    the preflight of `submission build` and `submission check`, the demo), one reason each: the testbed would not
+    run it, the simulator counted actuator-limit steps, a robot never passed the exit, robots collided
+    ([`passage_failures`][vtube_planning.swarm.metrics.passage_failures]), bodies were on the walls (more than
+    `BODY_ON_WALL_STEPS_TOLERATED`), a robot did not park. ``metrics``: the passage measured on the robots'
+    bodies (None: not measured, judged on the counts and parking alone). Empty: the run succeeded."""
     failures = []
-    if not testbed_verdict(result).would_run:
+    if not VerifierVerdict(counts, 0.0).would_run:
         failures.append(
             f'the testbed would not run it ({counts.too_close} pair-steps of robots too close, {counts.outside} '
             'robot-steps outside the arena)'
         )
-    failures += passage_failures(metrics)
-    if metrics.tube_violation_steps > BODY_ON_WALL_STEPS_TOLERATED:
-        failures.append(
-            f'robot bodies were on the tube walls in {metrics.tube_violation_steps} robot-steps '
-            f'({metrics.robots_outside} robots, up to {metrics.max_outside_m:.3f} m over)'
-        )
-    if not result.completed:
+    if counts.actuator:
+        failures.append(f'the simulator counted {counts.actuator} steps over the wheel-speed limit')
+    if metrics is not None:
+        failures += passage_failures(metrics)
+        wall = wall_failure(metrics.tube_violation_steps, metrics.robots_outside, metrics.max_outside_m)
+        failures += [wall] if wall else []
+    if not parked:
         failures.append('not every robot parked beyond the exit by the last step')
     return tuple(failures)

@@ -36,12 +36,14 @@ from robotarium_exp.fit import fit_of_flight
 from robotarium_exp.flight_data import FlightData
 from robotarium_exp.initializer import InitializerSample, initializer_durations
 from robotarium_exp.spec import ROBOTARIUM
+from robotarium_exp.verdict import run_failures
 from robotarium_exp.verifier import VerifierCounts, closest_centres_m, recount
 from submission.declaration import Declaration, declare
 from submission.errors import CheckError
 from submission.recording import SimulatorRecord, read_record
-from submission.robustness import CHECKED_MODELS, VERDICT_MODELS, Margins, margins
+from submission.robustness import CHECKED_MODELS, VERDICT_MODELS, Margins, margins, record_passage
 from vtube_planning.onboard import SampledTube
+from vtube_planning.swarm.metrics import PassageMetrics
 
 Backend = Literal['bundled', 'pypi']
 RUN_TIMEOUT_S = 900.0
@@ -54,7 +56,8 @@ class RunReport:
     """One run of the file: which simulator and seed, how the process ended, and what the simulator recorded.
 
     ``record`` is None when the run left none (stopped after ``timed_out_s``, or the runner itself failed);
-    ``completed``: every robot's last recorded pose lies past the tube's exit.
+    ``completed``: every robot's last recorded pose lies past the tube's exit; ``metrics``: the passage measured on
+    the robots' bodies from the record (`submission.robustness.record_passage`; None: not measured).
     """
 
     backend: Backend
@@ -65,6 +68,7 @@ class RunReport:
     record: SimulatorRecord | None = None
     completed: bool = False
     model: str = 'ideal'
+    metrics: PassageMetrics | None = None
 
     @property
     def label(self) -> str:
@@ -113,14 +117,11 @@ class RunReport:
             found.append(f'crashed (exit {self.returncode}): {tail}')
         elif not record.end_of_script:
             found.append('never called debug() / call_at_scripts_end(), which the testbed needs at the end')
-        if not counted.clean:
-            found.append(f'the simulator counted {counted.describe()}')
+        found += run_failures(counted, self.metrics, parked=self.completed) if record.robotariums else []
         if not recounted.clean:
             found.append(
                 f"the verifier's rules on the simulator's recorded poses and commands count {recounted.describe()}"
             )
-        if record.robotariums and not self.completed:
-            found.append("not every robot ended past the tube's exit (the flight did not complete)")
         return found
 
     @property
@@ -242,7 +243,16 @@ def run_file(
             return RunReport(backend, seed, -1, timed_out_s=timeout_s, model=testbed_model)
         record = read_record(record_path) if record_path.is_file() else None
     tail, completed = result.stderr[-400:], _completed(record, data)
-    return RunReport(backend, seed, result.returncode, tail, None, record, completed, testbed_model)
+    metrics = _passage(record, data)
+    return RunReport(backend, seed, result.returncode, tail, None, record, completed, testbed_model, metrics)
+
+
+def _passage(record: SimulatorRecord | None, data: FlightData) -> PassageMetrics | None:
+    """The recorded run's passage through the file's tube, on the robots' bodies (None: nothing to measure)."""
+    if record is None or record.poses.shape[0] == 0 or record.poses.shape[2] != data.n_robots:
+        return None
+    tube = SampledTube(data.tube.l_m, data.tube.xy_m, data.tube.half_width_m, data.tube.area_m2)
+    return record_passage(record, tube, ROBOTARIUM.collision_diameter_m)[0]
 
 
 def _completed(record: SimulatorRecord | None, data: FlightData) -> bool:

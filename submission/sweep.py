@@ -84,7 +84,7 @@ class RunMeasures:
     """One run of a built file, measured from what the simulator validated (`measure_run`).
 
     ``problems`` are the preflight's ([`submission.check.RunReport.problems`][submission.check.RunReport.problems]:
-    crash, verifier counts, a robot not past the exit); ``through``: every robot past the exit; ``parked``: every
+    crash, verifier counts, a robot not past the exit, a body on a wall); ``through``: every robot past the exit; ``parked``: every
     robot's control point in its own slot at the end; ``body_on_wall``: robot-steps with 0 <= l <= L and the body (not
     only the centre) touching or crossing the wall; ``dip_error``: the mean |rho - rho*| / rho* over the plan's dip
     (None: no dip flown).
@@ -150,7 +150,6 @@ def judge(runs: Sequence[RunMeasures]) -> tuple[str, str]:
     for run in runs:
         found = [*run.problems]
         found += ['not every robot parked in its slot'] * (run.through and not run.parked)  # else: not through
-        found += [f'{run.body_on_wall} robot-steps with the body on the wall'] * bool(run.body_on_wall)
         if run.dip_error is not None and run.dip_error > DIP_ERROR_BAR:
             found.append(f'density error in the dip {100 * run.dip_error:.0f} % > {100 * DIP_ERROR_BAR:.0f} %')
         for problem in found:

@@ -23,7 +23,6 @@ from robotarium_exp.analysis.recorded_tube import check_recorded_tube
 from robotarium_exp.analysis.report import analyse, write_report
 from robotarium_exp.analysis.trajectory import DEFAULT_MAX_GAP, MaxGap
 from robotarium_exp.errors import AnalysisError
-from robotarium_exp.experiment import initial_conditions
 from robotarium_exp.fit import Fit, robotarium_fit
 from robotarium_exp.rps_alias import install
 from robotarium_exp.rps_import import kept_apart
@@ -31,6 +30,7 @@ from robotarium_exp.scene import load_scene
 from submission.builder import Submission, build, build_declared, write
 from submission.check import CheckReport
 from submission.declaration import Declaration
+from vtube.starts import GRID_START, started
 from vtube_planning import plots
 from vtube_planning.files import write_atomically
 from vtube_planning.geometry.scene import Scene
@@ -40,7 +40,6 @@ from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
 from vtube_planning.provenance import copy_scene, provenance
 from vtube_planning.swarm.foresight import with_foresight
-from vtube_planning.swarm.formation import FloatArray, as_positions
 from vtube_planning.swarm.simulate import SimConfig, SimResult, simulate
 
 PlanMethod = Literal['convex', 'polynomial']
@@ -106,20 +105,6 @@ def plan_scene(
     return Planned(scene, plan, method, plan_file, figure, copy_scene(scene, out), fit)
 
 
-def robotarium_start(scene: Scene, swarm: SwarmParams) -> FloatArray | None:
-    """Where the robots of a Robotarium scene (one with a ``[robotarium]`` table) start on the testbed, (2, N): the
-    centres of its start formation for ``swarm``'s robots; None for another scene (the simulator's grid): the hook
-    through which a simulation of a Robotarium scene starts as its flight does."""
-    if scene.testbed != 'robotarium':
-        return None
-    start: FloatArray = initial_conditions(replace(scene, swarm=swarm))[:2]
-    return start
-
-
-GRID_START = 'a grid before the entrance (spacing 2 r_a)'
-ROBOTARIUM_START = "the Robotarium flight's entry formation (its robots' centres)"
-
-
 @dataclass(frozen=True)
 class Simulated:
     """A simulated passage of ``swarm`` through ``scene`` with ``config``, and the files written: the log, the
@@ -162,7 +147,7 @@ def simulate_scene(
     scene = replace(scene, control=with_foresight(scene.control, scene.swarm)) if foresight else scene
     swarm = scene.swarm if n_robots is None else replace(scene.swarm, n_robots=n_robots)
     plan = plan_for(scene, swarm, plan_file) if planning else None
-    config, start = _started(scene, swarm, config or SimConfig())
+    config, start = started(scene, swarm, config or SimConfig())
     mode = 'planned' if planning else 'unplanned'
     stem, log = out / f'sim_{scene.name}_{mode}', out / f'sim_{scene.name}_{mode}.npz'
     made = provenance(scene=scene, plan_file=plan_file, seeds=[config.seed])
@@ -194,17 +179,6 @@ def simulate_scene(
             written.append(plots.animate(result, scene.tube, f'{stem}.gif', progress=lambda i, n: tick(i + 1)))
     written.append(copy_scene(scene, out))
     return Simulated(scene, swarm, config, result, tuple(written), start)
-
-
-def _started(scene: Scene, swarm: SwarmParams, config: SimConfig) -> tuple[SimConfig, str]:
-    """``config`` with where the robots start (the given positions, a Robotarium scene's entry formation, else the
-    simulator's grid), and that place in words."""
-    if config.initial_positions_m is not None:
-        return config, 'the given positions'
-    robotarium = robotarium_start(scene, swarm)
-    if robotarium is None:
-        return config, GRID_START
-    return replace(config, initial_positions_m=as_positions(robotarium)), ROBOTARIUM_START
 
 
 @dataclass(frozen=True)
@@ -244,7 +218,7 @@ def build_submission(
     scene = load_scene(name_or_path)
     plan = plan_for(scene, plan_file=plan_file) if planning else None
     if not declare:
-        submission = build(scene, plan)
+        submission = build(scene, plan, plan_file=plan_file)
         return WrittenSubmission(submission, write(submission, out), None)
     from submission.robustness import CHECKED_MODELS
 
@@ -258,6 +232,7 @@ def build_submission(
         testbed_models=models,
         progress=progress,
         seed_done=seed_done,
+        plan_file=plan_file,
     )
     return WrittenSubmission(submission, written, report)
 
@@ -367,6 +342,10 @@ def analyse_data(inputs: Sequence[Path], out: Path, options: AnalysisOptions | N
     results = {'data': analyse(trajectory, scene, plan, collision_distance_m=distance, options=recorded)}
     if options.compare is not None:
         simulated = load_trajectory([options.compare], max_gap=gap)
+        if scene is not None:  # the log shown beside the data is measured in the same tube
+            check_recorded_tube(simulated, scene)
+        if scene is not None:  # the log shown beside the data is measured in the same tube
+            check_recorded_tube(simulated, scene)
         results['comparison'] = analyse(simulated, scene, plan, collision_distance_m=distance)
     report = write_report(out, results, scene, plan)
     if scene is not None:

@@ -378,7 +378,13 @@ def _check_family(family: Family) -> None:
 
 def _check_settings(settings: RunSettings) -> None:
     checks = (
-        (is_real(settings.dt_s) and settings.dt_s > 0, 'dt_s must be a number > 0 (s)'),
+        (
+            is_real(settings.dt_s) and 1e-3 <= settings.dt_s <= 0.1,
+            (
+                'dt_s must be a number in [0.001, 0.1] (s; the studies fly 0.02): a coarser step jumps robots '
+                'through each other and the walls, a finer one multiplies the run time'
+            ),
+        ),
         (is_real(settings.jitter_m) and settings.jitter_m >= 0, 'jitter_m must be a number >= 0 (m)'),
         (
             isinstance(settings.failure_robot, int)

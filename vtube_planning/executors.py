@@ -4,14 +4,19 @@
 order they finish; the caller stores each at once. One worker runs in this process (what tests patch and
 debuggers step into); more start fresh processes (``spawn``: nothing of the parent's state leaks into a run); a
 ``dask.distributed.Client`` sends the items to its cluster, whose workers must have vtube installed. Stopping the
-iteration (an interrupt, an error in the caller) cancels what has not started.
+iteration (an interrupt, an error in the caller) cancels what has not started; a local worker whose parent is gone
+(killed, even by ``kill -9``) ends itself within `WATCH_PARENT_S` (`die_with_parent`).
 
 Dask is an optional extra (``pip install 'vtube[cluster]'``); `connect` names it when it is missing.
 """
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
+import os
+import threading
+import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from typing import Any
@@ -37,8 +42,30 @@ def map_unordered(
         yield from _processes(fn, items, workers)
 
 
+WATCH_PARENT_S = 0.5
+"""How often a local worker looks whether the process that started it is still there."""
+
+
+def die_with_parent(parent_pid: int) -> None:
+    """Initializer of every local worker: a daemon thread ends the worker as soon as ``parent_pid`` is no longer
+    its parent (the campaign was killed, ``kill -9`` included: nobody would store what it computes)."""
+
+    def watch() -> None:
+        while True:
+            time.sleep(WATCH_PARENT_S)
+            if os.getppid() != parent_pid:
+                os._exit(1)
+
+    threading.Thread(target=watch, name='vtube-watch-parent', daemon=True).start()
+
+
 def _processes(fn: Callable[[Any], Any], items: Sequence[Any], workers: int) -> Iterator[tuple[int, Any]]:
-    pool = ProcessPoolExecutor(min(workers, len(items)), mp_context=multiprocessing.get_context('spawn'))
+    pool = ProcessPoolExecutor(
+        min(workers, len(items)),
+        mp_context=multiprocessing.get_context('spawn'),
+        initializer=die_with_parent,
+        initargs=(os.getpid(),),
+    )
     futures: dict[Future[Any], int] = {pool.submit(fn, item): i for i, item in enumerate(items)}
     try:
         pending = set(futures)
@@ -64,13 +91,19 @@ def _dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any) -> Iterat
         for future in as_completed(futures):
             yield index[future.key], future.result()
     except lost as err:
+        import logging
+
+        logging.getLogger('distributed').setLevel(logging.CRITICAL)  # its reconnection tracebacks: said here, once
+        where = getattr(getattr(client, 'scheduler', None), 'address', None)
         msg = (
-            f'the Dask cluster failed during the runs ({type(err).__name__}: {" ".join(str(err).split())}); every '
-            'run finished before it is kept: start the cluster again and rerun the same command.'
+            f'the Dask cluster{f" of the scheduler at {where}" if where else ""} failed during the runs '
+            f'({type(err).__name__}: {" ".join(str(err).split())}); every run finished before it is kept: start the '
+            'cluster again and rerun the same command.'
         )
         raise ExecutorError(msg) from err
     finally:
-        client.cancel(futures)
+        with contextlib.suppress(Exception):  # a scheduler that is gone takes no cancellation
+            client.cancel(futures)
 
 
 def connect(address: str, timeout_s: float = 10.0) -> Any:

@@ -32,6 +32,12 @@ def write_atomically(path: str | Path, content: Content) -> Path:
                 handle.write(content.encode('utf-8') if isinstance(content, str) else content)
         os.chmod(temporary, 0o666 & ~_UMASK)
         os.replace(temporary, path)
+    except OSError as err:  # a full disk, a file too large, ...: named, with the file left as it was
+        Path(temporary).unlink(missing_ok=True)
+        if err.filename is not None:
+            raise
+        msg = f'{err.strerror or err} while writing {path}; the file there was left as it was (free space, or another folder).'
+        raise type(err)(err.errno, msg) from err
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise

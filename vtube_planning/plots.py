@@ -59,13 +59,22 @@ def draw_tube(ax: Axes, tube: VirtualTube, *, n_sections: int = 12, obstacles: O
     ax.set_ylabel('y [m]')
 
 
+UNKNOWN_RGBA = (0.85, 0.6, 0.25, 0.45)
+"""The colour of an occupancy image's unknown cells (never mapped), whether they count as occupied or free."""
+
+
 def _draw_image(ax: Axes, image: OccupancyImage, label: str | None) -> None:
-    """Draw an occupancy image's occupied pixels (grey as the other obstacles; free pixels transparent), row 0 at
-    the top of its extent, pixel for pixel."""
+    """Draw an occupancy image's occupied pixels (grey as the other obstacles; free pixels transparent) and its
+    unknown cells (`UNKNOWN_RGBA`, labelled with what they count as), row 0 at the top of its extent, pixel for
+    pixel."""
     from matplotlib.patches import Rectangle
 
     rgba = np.zeros((*image.occupied.shape, 4))
     rgba[image.occupied] = (0.55, 0.55, 0.55, 0.8)
+    if image.unknown_cells is not None:
+        rgba[image.unknown_cells] = UNKNOWN_RGBA
+        counted = 'free' if image.unknown_free else 'occupied'
+        ax.add_patch(Rectangle(image.origin_m, 0.0, 0.0, color=UNKNOWN_RGBA, lw=0, label=f'unknown cells ({counted})'))
     ax.imshow(rgba, extent=image.extent_m, origin='upper', interpolation='nearest', zorder=1)
     if label is not None:  # an image has no legend entry of its own
         ax.add_patch(Rectangle(image.origin_m, 0.0, 0.0, color='0.55', alpha=0.8, lw=0, label=label))

@@ -50,20 +50,24 @@ DEFAULT_FRAME_PATTERN = r'^(?P<robot>.+)$'
 
 @dataclass
 class BagContents:
-    """What a bag holds: the robots' samples, and every topic or frame not read, with the reason."""
+    """What a bag holds: the robots' samples, every topic or frame not read, with the reason, and its
+    ``custom_data`` (ROS2 bags' ``metadata.yaml``; empty for others)."""
 
     samples: dict[str, RobotSamples]
     world_frame: str | None
     topics: list[str]
     ignored: list[dict[str, str]]
+    custom: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass
 class _Seen:
-    """Every connection's topic and type, and the topics read, over the bags read so far."""
+    """Every connection's topic and type, the topics read, and the ROS2 bags' ``custom_data``, over the bags read
+    so far."""
 
     available: dict[str, str] = field(default_factory=dict)
     read_topics: set[str] = field(default_factory=set)
+    custom: dict[str, str] = field(default_factory=dict)
 
 
 def read_bag(
@@ -111,7 +115,7 @@ def read_bag(
             f'(?P<robot>...) group (--topic-pattern, --frame-pattern) or the world frame (--world-frame){hint}.'
         )
         raise AnalysisError(msg)
-    return BagContents(samples, world, sorted(seen.read_topics), ignored)
+    return BagContents(samples, world, sorted(seen.read_topics), ignored, seen.custom)
 
 
 def _read_one(path: Path, selection: Selection, seen: _Seen) -> None:
@@ -124,6 +128,7 @@ def _read_one(path: Path, selection: Selection, seen: _Seen) -> None:
         reader, ros1 = _open(path)
         with reader:
             defaults = get_typestore(Stores.ROS1_NOETIC if ros1 else Stores.ROS2_HUMBLE)
+            seen.custom.update({} if ros1 else _custom_data(reader))
             handlers = {}
             for c in reader.connections:
                 seen.available[c.topic] = c.msgtype
@@ -138,6 +143,13 @@ def _read_one(path: Path, selection: Selection, seen: _Seen) -> None:
             'metadata.yaml, or .mcap / .db3 files.'
         )
         raise AnalysisError(msg) from err
+
+
+def _custom_data(reader: Any) -> dict[str, str]:
+    """A ROS2 bag's ``custom_data`` (``metadata.yaml``; a folder's reader keeps it with its storage's metadata)."""
+    holder = getattr(reader, 'storage', reader)
+    custom = getattr(getattr(holder, 'metadata', None), 'custom', None)
+    return {str(k): str(v) for k, v in custom.items()} if isinstance(custom, dict) else {}
 
 
 def _open(path: Path) -> tuple[Any, bool]:

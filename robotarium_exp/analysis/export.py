@@ -4,7 +4,9 @@ Each robot's poses become ``geometry_msgs/PoseStamped`` on ``/<robot>/pose`` in 
 `robotarium_exp.analysis.bags` reads by default, so ``vtube analyze`` reads the bag back to the same frames),
 stamped at the frame's time since the trajectory's first frame (a trajectory without headings gets the identity
 orientation, heading 0); a frame where a robot has no position gives no message for it. With a scene the tube (its centre line and both walls) and the obstacles' outlines are one
-``visualization_msgs/MarkerArray`` on ``/vtube/tube`` at the first frame, as line strips in the same frame. CSV:
+``visualization_msgs/MarkerArray`` on ``/vtube/tube`` at the first frame, as line strips in the same frame. What a
+vtube log records of its run (`RECORDED`: its scene, tube, flight start) goes into the bag's ``custom_data``, which
+`robotarium_exp.analysis.bags` reads back. A bag is written whole in a hidden folder beside ``out`` and renamed. CSV:
 one row per robot and frame with a position (``t_s,robot,x_m,y_m,heading_rad``; the heading empty when unknown).
 """
 
@@ -12,7 +14,11 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import math
+import os
+import shutil
+import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -30,6 +36,11 @@ WORLD = 'world'
 TUBE_TOPIC = '/vtube/tube'
 POSE = 'geometry_msgs/msg/PoseStamped'
 MARKERS = 'visualization_msgs/msg/MarkerArray'
+CUSTOM_KEY = 'vtube'
+"""The key of the bag's ``custom_data`` (``metadata.yaml``) that keeps what the source recorded of its run."""
+RECORDED = ('scene', 'tube_hash', 'planned', 'flight_start', 'point_robots')
+"""What a vtube log records of its run that the bag keeps (JSON under `CUSTOM_KEY`), so that ``vtube analyze`` of
+the bag times the passage from the flight's start and judges the walls on the bodies, as of the log."""
 
 
 def export(trajectory: Trajectory, out: Path, fmt: str, scene: Scene | None = None) -> Path:
@@ -43,7 +54,13 @@ def export(trajectory: Trajectory, out: Path, fmt: str, scene: Scene | None = No
     if out.exists():
         msg = f'{out} exists; a bag is a new folder: give another --out, or delete it.'
         raise AnalysisError(msg)
-    _write_bag(trajectory, out, 'mcap' if fmt == 'mcap' else 'sqlite3', scene)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    building = Path(tempfile.mkdtemp(prefix=f'.{out.name}.', suffix='.partial', dir=out.parent))
+    try:  # written whole beside ``out`` and renamed: a failed export leaves nothing behind
+        _write_bag(trajectory, building / 'bag', 'mcap' if fmt == 'mcap' else 'sqlite3', scene)
+        os.rename(building / 'bag', out)
+    finally:
+        shutil.rmtree(building, ignore_errors=True)
     return out
 
 
@@ -70,6 +87,9 @@ def _write_bag(trajectory: Trajectory, out: Path, storage: str, scene: Scene | N
     stamps = np.round(trajectory.t_s * 1e9).astype(np.int64)
     plugin = StoragePlugin.MCAP if storage == 'mcap' else StoragePlugin.SQLITE3
     with Writer(out, version=9, storage_plugin=plugin) as writer:
+        recorded = {key: trajectory.source.get(key) for key in RECORDED}
+        if any(value is not None for value in recorded.values()):
+            writer.set_custom_data(CUSTOM_KEY, json.dumps(recorded))
         if scene is not None:
             tube = writer.add_connection(TUBE_TOPIC, MARKERS, typestore=store)
             writer.write(tube, int(stamps[0]), bytes(store.serialize_cdr(_markers(store, scene), MARKERS)))
@@ -117,7 +137,7 @@ def _markers(store: Any, scene: Scene) -> Any:
     l_m = np.linspace(0.0, tube.length_m, 400)
     lines = [(tube.center_at(l_m), (0.5, 0.5, 0.5)), *((wall, (0.1, 0.1, 0.1)) for wall in tube.boundaries(l_m))]
     if scene.obstacles is not None:
-        lines += [(outline, (0.8, 0.2, 0.2)) for outline in scene.obstacles.outlines()]
+        lines += [(outline.T, (0.8, 0.2, 0.2)) for outline in scene.obstacles.outlines()]  # (2, K) -> (K, 2)
     return store.types[MARKERS]([_line(store, k, np.asarray(xy), rgb) for k, (xy, rgb) in enumerate(lines)])
 
 

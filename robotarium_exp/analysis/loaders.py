@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -73,6 +74,7 @@ def load_trajectory(inputs: list[str | Path], *, max_gap: MaxGap = DEFAULT_MAX_G
             'topics': contents.topics,
             'world_frame': contents.world_frame,
             'ignored': contents.ignored,
+            **_recorded_run(contents.custom, str(first)),
         }
         return assemble(contents.samples, source=source, max_gap=max_gap)
     if len(paths) > 1:
@@ -128,9 +130,9 @@ def input_record(files: list[str]) -> tuple[InputFile, ...]:
     return tuple(record)
 
 
-def _per_robot(t_s: np.ndarray, poses: np.ndarray) -> dict[str, RobotSamples]:
-    """Poses (T, 3, N) on stamps in seconds (T,) -> each robot's samples."""
-    stamps = seconds_to_ns(t_s)
+def _per_robot(t_s: np.ndarray, poses: np.ndarray, where: str = 'the time stamps') -> dict[str, RobotSamples]:
+    """Poses (T, 3, N) on stamps in seconds (T,) (read from ``where``) -> each robot's samples."""
+    stamps = seconds_to_ns(t_s, where)
     return {f'robot_{k}': RobotSamples(stamps, poses[:, :2, k], poses[:, 2, k]) for k in range(poses.shape[2])}
 
 
@@ -145,13 +147,16 @@ def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[
             f"the experiment's data files were downloaded into, or one file: {ACCEPTED}."
         )
         raise AnalysisError(msg)
-    arrays, broken = {}, []
+    arrays, broken, cut = {}, [], []
     for path in files:
         try:
             loaded = np.load(path, allow_pickle=False)
         except (OSError, ValueError, EOFError) as err:
-            broken.append(f'{path.name} ({why(err)})')
-            continue
+            loaded = _frames_before_the_cut(path)
+            if loaded is None:
+                broken.append(f'{path.name} ({why(err)})')
+                continue
+            cut.append(f'{path.name}: cut in a save after {loaded.shape[0]} whole frames; those are analysed')
         if not isinstance(loaded, np.ndarray) or not (
             np.issubdtype(loaded.dtype, np.number) or np.issubdtype(loaded.dtype, np.bool_)
         ):
@@ -163,15 +168,21 @@ def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[
         'kind': 'robotarium submission',
         'path': str(folder),
         'unreadable': broken,
+        'cut': cut,
         'arrays': {k: list(v.shape) for k, v in arrays.items()},
     }
     if (folder / SUBMISSION_META).is_file():
         return _submission_log(folder, arrays, broken, source)
     if 't' not in arrays or 'poses' not in arrays:
-        read = sorted(arrays)
+        missing = [
+            f'{SUBMISSION_PREFIX}{n}.npy'
+            for n in ('t', 'poses')
+            if not (folder / f'{SUBMISSION_PREFIX}{n}.npy').exists()
+        ]
+        lacking = f'it holds no {" and no ".join(missing)}' if missing else f'truncated or corrupt: {"; ".join(broken)}'
         msg = (
-            f'{str(folder)!r}: cannot read vtube_t.npy and vtube_poses.npy; truncated or corrupt: {broken}; '
-            f'read: {read}.'
+            f'{str(folder)!r}: cannot read vtube_t.npy and vtube_poses.npy ({lacking}; read: {sorted(arrays) or "nothing"}); '
+            'give the folder the testbed returned, with the files the submission saved.'
         )
         raise AnalysisError(msg)
     t_s, poses = arrays['t'], arrays['poses']
@@ -183,7 +194,28 @@ def load_submission_folder(folder: Path) -> tuple[dict[str, RobotSamples], dict[
         raise AnalysisError(msg)
     steps = min(t_s.shape[0], poses.shape[0])  # a save interrupted between two files
     source['files'] = [str(folder / f'{SUBMISSION_PREFIX}{name}.npy') for name in ('t', 'poses')]
-    return _per_robot(np.asarray(arrays['t'][:steps], dtype=float), arrays['poses'][:steps]), source
+    t_s = np.asarray(arrays['t'][:steps], dtype=float)
+    return _per_robot(t_s, arrays['poses'][:steps], f'{str(folder)!r}: vtube_t.npy'), source
+
+
+def _frames_before_the_cut(path: Path) -> np.ndarray | None:
+    """The whole frames (rows of the first axis) of a ``.npy`` file of numbers cut in the middle of a save (the
+    testbed may stop a run at any time), or None when its header is unreadable or not one frame is whole."""
+    try:
+        with path.open('rb') as stream:
+            version = np.lib.format.read_magic(stream)
+            header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+            shape, fortran, dtype = header(stream)
+            data = stream.read()
+    except (OSError, ValueError, EOFError):
+        return None
+    if fortran or not shape or dtype.hasobject or not np.issubdtype(dtype, np.number):
+        return None
+    frame_bytes = dtype.itemsize * math.prod(shape[1:])
+    frames = min(shape[0], len(data) // frame_bytes) if frame_bytes else 0
+    if frames < 1:
+        return None
+    return np.frombuffer(data[: frames * frame_bytes], dtype=dtype).reshape((frames, *shape[1:]))
 
 
 def _submission_log(
@@ -225,17 +257,41 @@ def load_npz_log(path: Path) -> tuple[dict[str, RobotSamples], dict[str, Any]]:
 
 def _log_source(arrays: dict[str, np.ndarray], meta: dict[str, Any], where: str) -> dict[str, Any]:
     """What a vtube log's description says of its run: scene, tube, plan, and where the flight began when it
-    recorded that (`FlightStart`, on the trajectory's clock; None for logs
-    that do not record it: simulations, earlier submissions)."""
+    recorded that (`FlightStart`, on the trajectory's clock; a simulation's first row, whose robots are points
+    (``point_robots``); None for logs that do not record it: earlier submissions)."""
     t_s = arrays['t_s']
     first = float(t_s[0]) if t_s.size else 0.0
     start = FlightStart.from_record(meta.get('flight_start'), where, first)
+    simulated = meta.get('kind') == 'simulation' and start is None
+    if simulated:  # a simulation starts at its first row, as `simulate` times it; its robots are points
+        start = FlightStart(0, 0.0, 0.0)
     return {
         'scene': meta.get('scene'),
         'tube_hash': meta.get('tube_hash'),
         'planned': meta.get('planned'),
         'flight_start': start.to_record() if start is not None else None,
+        'point_robots': simulated,
     }
+
+
+def _recorded_run(custom: dict[str, str], where: str) -> dict[str, Any]:
+    """What a bag `vtube export` wrote keeps of its log's run (`robotarium_exp.analysis.export.RECORDED`, JSON in
+    its ``custom_data``): scene, tube, flight start; empty for any other bag."""
+    from robotarium_exp.analysis.export import CUSTOM_KEY, RECORDED
+
+    if CUSTOM_KEY not in custom:
+        return {}
+    try:
+        recorded = json.loads(custom[CUSTOM_KEY])
+    except ValueError as err:
+        msg = f'{where}: its custom_data {CUSTOM_KEY!r} is not the JSON vtube export writes ({err}); remove the key.'
+        raise AnalysisError(msg) from err
+    if not isinstance(recorded, dict):
+        msg = f'{where}: its custom_data {CUSTOM_KEY!r} holds a JSON {type(recorded).__name__}, not an object.'
+        raise AnalysisError(msg)
+    start = FlightStart.from_record(recorded.get('flight_start'), where)
+    kept = {key: recorded.get(key) for key in RECORDED}
+    return kept | {'flight_start': start.to_record() if start is not None else None}
 
 
 def _log_samples(arrays: dict[str, np.ndarray]) -> dict[str, RobotSamples]:

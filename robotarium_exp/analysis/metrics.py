@@ -18,6 +18,8 @@ from robotarium_exp.analysis.distances import PairDistances
 from robotarium_exp.analysis.loaders import InputFile
 from robotarium_exp.analysis.passage import INFERRED_START, AlongTube, Passage
 from robotarium_exp.analysis.trajectory import Coverage, Gap, Trajectory
+from robotarium_exp.verifier import wall_failure
+from vtube_planning.swarm.map_contact import MapContact
 from vtube_planning.swarm.metrics import strict_json
 
 
@@ -68,6 +70,12 @@ class TubeMetrics:
     obstacle_clearance_m
         Per robot, the smallest distance from its body (``body_radius_m``; 0: its centre) to the scene's obstacles
         over the recording, 0 when it touched one; None for a scene without obstacles or a robot never seen.
+    closest_in_passage, closest_after_passage
+        The smallest distance between two robots and its time, up to the last robot's exit (the approach and the
+        passage) and after it (parking); None without a last exit or a frame there.
+    map_contact
+        Robot-frames with a body (``body_radius_m``) on an obstacle or outside the scene's workspace, over the whole
+        recording (`vtube_planning.swarm.map_contact`); None for a scene with neither.
     """
 
     passage: Passage
@@ -80,6 +88,9 @@ class TubeMetrics:
     tracking: TrackingErrors | None
     body_radius_m: float = 0.0
     obstacle_clearance_m: tuple[float | None, ...] | None = None
+    closest_in_passage: tuple[float, float] | None = None
+    closest_after_passage: tuple[float, float] | None = None
+    map_contact: MapContact | None = None
 
     def to_json(self) -> dict[str, Any]:
         """The keys ``metrics.json`` holds for a recording analysed in a scene."""
@@ -100,6 +111,10 @@ class TubeMetrics:
             'extent_at_narrowing_m': self.extent_at_narrowing_m,
             'obstacle_clearance_m': list(self.obstacle_clearance_m) if self.obstacle_clearance_m is not None else None,
         }
+        if self.map_contact is not None:
+            out['map_contact'] = asdict(self.map_contact)
+        for key, closest in (('passage', self.closest_in_passage), ('after_passage', self.closest_after_passage)):
+            out[f'min_distance_{key}_m'], out[f'min_distance_{key}_time_s'] = closest or (None, None)
         if self.tracking is not None:
             out.update(asdict(self.tracking))
         return out
@@ -173,7 +188,10 @@ class RecordingMetrics:
 
     def failures(self) -> tuple[str, ...]:
         """What the recording shows failed: robots that collided, and, where the flight recorded its start, robots
-        that never entered the tube or never left it (a passage inferred from the data is not judged)."""
+        that never entered the tube or never left it, bodies outside the workspace before the exit, and robot bodies on
+        the tube walls
+        (`robotarium_exp.verifier.wall_failure`, the rule of every verdict on a Robotarium run); a passage inferred
+        from the data is not judged."""
         found = []
         colliding = self.colliding_pairs
         if colliding:
@@ -184,6 +202,12 @@ class RecordingMetrics:
                 found.append(f'robots {", ".join(passage.never_inside)} never entered the tube')
             if passage.not_exited:
                 found.append(f'robots {", ".join(passage.not_exited)} never passed the exit')
+        judged = passage is not None and passage.start != INFERRED_START  # obstacles: `touched` below
+        contact = self.tube.map_contact if judged and self.tube is not None else None
+        found += [f for f in (contact.failures() if contact else ()) if 'outside the workspace' in f]
+        if self.tube is not None and self.tube.body_radius_m > 0.0:
+            tube = self.tube
+            found += filter(None, [wall_failure(tube.tube_violation_steps, tube.robots_outside, tube.max_outside_m)])
         clearances = self.tube.obstacle_clearance_m if self.tube is not None else None
         touched = [r for r, c in zip(self.robot_ids, clearances or (), strict=False) if c is not None and c <= 0.0]
         if touched:

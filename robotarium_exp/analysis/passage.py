@@ -35,7 +35,7 @@ from vtube_planning.swarm.metrics import crossing_times, passage_times
 
 FloatArray = NDArray[np.float64]
 
-INFERRED_START = 'start inferred from the first robot to reach the entrance, one robot having been seen before it'
+INFERRED_START = 'start inferred from the data: the first robot to reach the entrance, when one was seen before it'
 """How `observed_passage` knows where the passage starts."""
 
 
@@ -80,7 +80,7 @@ class FlightStart:
         return {'iteration': self.iteration, 'robotarium_time_s': self.robotarium_time_s, 't_s': self.t_s}
 
     def describe(self) -> str:
-        """The start, in words."""
+        """The start, in words (a simulation's: its first row, with nothing before it)."""
         before = (
             f'after an initialization of {self.iteration} steps ({self.robotarium_time_s:.2f} s)'
             if self.iteration

@@ -15,12 +15,16 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import shutil
+import tempfile
 from collections.abc import Mapping
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from robotarium_exp.analysis.distances import PairDistances, pair_distances
 from robotarium_exp.analysis.loaders import input_record
@@ -34,7 +38,10 @@ from vtube_planning.files import write_atomically
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.provenance import provenance
+from vtube_planning.swarm.map_contact import map_contact
 from vtube_planning.swarm.metrics import tracking_errors, tube_violations
+
+FloatArray = NDArray[np.float64]
 
 
 def analyse(
@@ -66,7 +73,9 @@ def analyse(
         closest=closest,
         collision_distance_m=collision,
         collision_frames=distances.frames_below if collision is not None else None,
-        tube=_tube_metrics(trajectory, scene, plan, along) if scene is not None and along is not None else None,
+        tube=_tube_metrics(trajectory, scene, plan, along, distances)
+        if scene is not None and along is not None
+        else None,
         source=trajectory.source,
         inputs=input_record(trajectory.source.get('files', [])),
         options=options or {},
@@ -116,15 +125,18 @@ def _obstacle_clearance(trajectory: Trajectory, scene: Scene, body_radius: float
     return tuple(out)
 
 
-def _tube_metrics(trajectory: Trajectory, scene: Scene, plan: Plan | None, along: AlongTube) -> TubeMetrics:
-    """The passage, tube violations, the swarm's length before the narrowing and the tracking of ``plan``."""
+def _tube_metrics(
+    trajectory: Trajectory, scene: Scene, plan: Plan | None, along: AlongTube, distances: PairDistances
+) -> TubeMetrics:
+    """The passage, tube violations, the swarm's length before the narrowing, the tracking of ``plan`` and the
+    closest two robots came in the passage and after it."""
     length = scene.tube.length_m
     start = FlightStart.from_record(trajectory.source.get('flight_start'), str(trajectory.source.get('path')))
     if start is None:
         passage, body_radius = observed_passage(along, length, trajectory.robot_ids), 0.0
-    else:  # a flight of ours on a Robotarium: its robots' bodies, as the experiment counts them
+    else:  # a flight of ours: on a Robotarium its robots' bodies, as the experiment counts them; simulated, points
         passage = recorded_passage(along, length, trajectory.robot_ids, start)
-        body_radius = 0.5 * ROBOTARIUM.robot_diameter_m
+        body_radius = 0.0 if trajectory.source.get('point_robots') else 0.5 * ROBOTARIUM.robot_diameter_m
     violation_steps, robots_outside, max_outside = tube_violations(along.l_m, along.clearance_m, length, body_radius)
     complete = along.complete
     narrowing = narrowing_start(scene)
@@ -151,13 +163,37 @@ def _tube_metrics(trajectory: Trajectory, scene: Scene, plan: Plan | None, along
         extent_start_m=extent_start,
         extent_at_narrowing_m=extent_at_narrowing,
         tracking=tracking,
+        closest_in_passage=_closest(trajectory.t_s, distances.frame_min_m, passage.last_exit_s, before=True),
+        closest_after_passage=_closest(trajectory.t_s, distances.frame_min_m, passage.last_exit_s, before=False),
+        map_contact=(
+            map_contact(along.t_s, trajectory.positions_m, scene, body_radius, along.l_m)
+            if scene.obstacles or scene.workspace is not None
+            else None
+        ),
     )
+
+
+def _closest(
+    t_s: FloatArray, frame_min_m: FloatArray, last_exit_s: float | None, *, before: bool
+) -> tuple[float, float] | None:
+    """The smallest of ``frame_min_m`` and its time over the frames up to ``last_exit_s`` (``before``) or after it;
+    None without a last exit or a measured frame there."""
+    if last_exit_s is None:
+        return None
+    where = (t_s <= last_exit_s) if before else (t_s > last_exit_s)
+    values = np.where(where & np.isfinite(frame_min_m), frame_min_m, np.inf)
+    if not np.isfinite(values).any():
+        return None
+    k = int(np.argmin(values))
+    return float(values[k]), float(t_s[k])
 
 
 ROW_TITLES = (
     'robots',
     'frames (every robot present)',
     'minimum distance [m]',
+    'minimum distance up to the last exit (passage) [m]',
+    'minimum distance after the last exit (parking) [m]',
     'collision distance [m]',
     'collision pairs',
     'passing time [s]',
@@ -170,11 +206,25 @@ ROW_TITLES = (
 
 
 def write_report(out: Path, results: dict[str, Analysis], scene: Scene | None, plan: Plan | None) -> Path:
-    """metrics.json, report.md and the figures for one or more analysed trajectories (label -> analysis)."""
+    """metrics.json, report.md and the figures for one or more analysed trajectories (label -> analysis), made in a
+    hidden folder beside ``out`` and moved into it only when all are written: a run killed while it draws leaves
+    ``out`` as it was, never one run's metrics beside another's report."""
+    out.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f'.{out.name}.', suffix='.partial', dir=out.parent))
+    try:
+        _write_report(staging, results, scene, plan)
+        for name in ('metrics.json', *(f.name for f in staging.iterdir() if f.suffix == '.png'), 'report.md'):
+            os.replace(staging / name, out / name)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    return out / 'report.md'
+
+
+def _write_report(out: Path, results: dict[str, Analysis], scene: Scene | None, plan: Plan | None) -> None:
+    """`write_report`'s files, into the folder ``out``."""
     from robotarium_exp.analysis.plots import analysis_figures
     from vtube_planning.plots import save_figure
 
-    out.mkdir(parents=True, exist_ok=True)
     write_atomically(
         out / 'metrics.json',
         json.dumps({k: a.metrics.to_json() for k, a in results.items()}, indent=1, allow_nan=False),
@@ -190,9 +240,7 @@ def write_report(out: Path, results: dict[str, Analysis], scene: Scene | None, p
     for label, analysis in results.items():
         lines += _notes(label, analysis.metrics)
     lines += [''] + [f'![{name}]({file})' for name, file in figures.items()] + ['']
-    path = out / 'report.md'
-    write_atomically(path, '\n'.join(lines))
-    return path
+    write_atomically(out / 'report.md', '\n'.join(lines))
 
 
 def _header(results: dict[str, Analysis], scene: Scene | None, plan: Plan | None) -> list[str]:
@@ -228,6 +276,8 @@ def _cells(m: RecordingMetrics) -> list[str]:
         _number(m.robots, 'd'),
         f'{_number(m.frames, "d")} ({m.complete_frames})',
         distance,
+        _at(tube.closest_in_passage if tube else None),
+        _at(tube.closest_after_passage if tube else None),
         _number(m.collision_distance_m, '.3f'),
         _number(m.collision_pairs, 'd'),
         _number(tube.passage.passing_time_s if tube else None, '.2f'),
@@ -236,6 +286,11 @@ def _cells(m: RecordingMetrics) -> list[str]:
         _number(tracking.speed_tracking_mean_mps if tracking else None, '.4f'),
         _number(tracking.density_tracking_mean_per_m2 if tracking else None, '.3f'),
     ]
+
+
+def _at(closest: tuple[float, float] | None) -> str:
+    """A distance and its time, or '–'."""
+    return '–' if closest is None else f'{closest[0]:.3f} (t = {closest[1]:.2f} s)'
 
 
 def _number(value: float | None, fmt: str) -> str:
@@ -264,6 +319,8 @@ def _notes(label: str, m: RecordingMetrics) -> list[str]:
         )
     if m.gaps:
         lines.append(f'\n{len(m.gaps)} gap(s), never interpolated across: {[asdict(g) for g in m.gaps[:5]]}')
+    if m.source.get('cut'):
+        lines.append('\nCut in a save: ' + '; '.join(m.source['cut']) + '.')
     ignored = m.source.get('ignored') or []
     if ignored:
         lines.append(

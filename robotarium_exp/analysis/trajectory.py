@@ -255,9 +255,19 @@ def check_time(rid: str, stamps: IntArray) -> None:
         raise AnalysisError(msg)
 
 
-def seconds_to_ns(t_s: ArrayLike) -> IntArray:
-    """Stamps in seconds (a file's float array) as integer nanoseconds, rounded to the nanosecond."""
-    return np.round(np.asarray(t_s, dtype=float) * 1e9).astype(np.int64)
+def seconds_to_ns(t_s: ArrayLike, where: str = 'the time stamps') -> IntArray:
+    """Stamps in seconds (a file's float array) as integer nanoseconds, rounded to the nanosecond; refused, naming
+    the first and ``where`` they come from, when some are NaN, infinite or beyond what nanoseconds hold (292 years)."""
+    seconds = np.asarray(t_s, dtype=float)
+    bad = ~(np.abs(seconds) < 9.2e9)  # NaN, infinite or out of int64's range in nanoseconds
+    if bad.any():
+        k = int(np.flatnonzero(bad.ravel())[0])
+        msg = (
+            f'{where} hold {int(bad.sum())} value(s) that are not a time (the first, {seconds.ravel()[k]!r}, at row '
+            f'{k}); every stamp must be a finite number of seconds: repair or cut those rows.'
+        )
+        raise AnalysisError(msg)
+    return np.round(seconds * 1e9).astype(np.int64)
 
 
 def _clean(rid: str, samples: RobotSamples) -> tuple[IntArray, FloatArray, FloatArray | None, int, int]:

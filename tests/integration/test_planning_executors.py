@@ -19,3 +19,50 @@ def test_local_processes_return_every_result_with_its_index() -> None:
 def test_an_error_in_a_local_process_propagates() -> None:
     with pytest.raises(TypeError):
         list(map_unordered(operator.neg, [1, 'x', 3], workers=2))
+
+
+SLEEPER = """
+import sys, time
+from vtube_planning.executors import map_unordered
+if __name__ == '__main__':
+    for _ in map_unordered(time.sleep, [60.0, 60.0], workers=2):
+        pass
+"""
+
+
+def _stat(pid: int | str) -> list[str] | None:
+    """The fields of /proc/PID/stat after the command's name (state first, then the parent's pid), or None."""
+    from pathlib import Path
+
+    try:
+        return Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
+    except (OSError, IndexError):
+        return None
+
+
+def test_workers_end_when_their_campaign_is_killed(tmp_path) -> None:
+    """Issue 49: `kill -9` of `campaign run` left its workers running (still alive 20 s later). Each worker ends
+    itself once its parent is gone."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = tmp_path / 'sleeper.py'
+    script.write_text(SLEEPER, encoding='utf-8')
+    parent = subprocess.Popen([sys.executable, str(script)])
+
+    def children() -> list[int]:
+        return [int(e) for e in os.listdir('/proc') if e.isdigit() and (_stat(e) or ['', '0'])[1] == str(parent.pid)]
+
+    deadline = time.monotonic() + 60.0
+    while len(children()) < 2 and time.monotonic() < deadline:  # the two workers (and spawn's helpers)
+        time.sleep(0.2)
+    workers = children()
+    assert len(workers) >= 2
+    os.kill(parent.pid, signal.SIGKILL)
+    parent.wait()
+    time.sleep(3.0)  # a few times WATCH_PARENT_S
+    alive = [pid for pid in workers if (_stat(pid) or ['Z'])[0] != 'Z']  # gone, or a zombie: ended
+    assert alive == []

@@ -60,10 +60,10 @@ def test_a_file_that_leaves_the_arena_and_prints_a_clean_summary_fails(tmp_path)
     counted, recounted = bundled.counted, bundled.recounted
     assert counted is not None and counted.outside > 0 and counted == recounted  # V2's counters, recounted alike
     assert bundled.record is not None and bundled.record.experiment_steps == STEPS_OUTSIDE
-    assert f'bundled seed 0: the simulator counted 0 pair-steps too close, {counted.outside} steps outside' in (
+    assert f'bundled seed 0: the testbed would not run it (0 pair-steps of robots too close, {counted.outside} ' in (
         '\n'.join(report.problems)
-    )
-    assert "bundled seed 0: not every robot ended past the tube's exit" in '\n'.join(report.problems)
+    )  # the one verdict on a run (robotarium_exp.verdict.run_failures), as robotarium run says it
+    assert 'bundled seed 0: not every robot parked beyond the exit by the last step' in '\n'.join(report.problems)
     for run in report.runs:  # the PyPI simulator too, when installed: its own counters and the recount
         assert not run.ok and run.counted is not None and run.counted.outside > 0
         assert run.recounted is not None and run.recounted.outside > 0 and run.recounted.too_close == 0

@@ -45,7 +45,8 @@ def test_submission_files_analyse_like_the_simulator_log_of_the_same_run(tmp_pat
     assert from_files['collision_pairs'] == 0 and from_files['tube_violation_steps'] == 0
     assert from_log['tube_violation_steps'] == 0
     # the files record the flight's start: timed as the experiment times it; the simulator's log does not (inferred,
-    # and its robots start inside the tube), but it saw the same entry and exits
+    # and its robots start inside the tube), but it saw the same entry and exits (a 'bundled robotarium' log, not a
+    # simulation's, which is timed from its first row)
     assert from_files['passage']['start'].startswith('start recorded by the flight at t = 0.00 s')
     assert from_log['passing_time_s'] is None and from_log['passage']['start'].startswith('start inferred')
     observed = from_log['last_exit_s'] - from_log['first_entry_s']

@@ -70,6 +70,7 @@ def analyze_view(analysed: Analysed) -> View:
             f'{len(source.get("ignored") or [])} topics/frames/variables ignored'
         )
     ]
+    lines += [f'  {cut}' for cut in source.get('cut') or ()]  # a file the testbed stopped writing mid-save
     if m.closest is not None:
         pair = ' and '.join(m.closest.robots)
         closest = f'minimum distance {m.closest.min_distance_m:.3f} m ({pair}, t = {m.closest.time_s:.2f} s)'
@@ -81,6 +82,10 @@ def analyze_view(analysed: Analysed) -> View:
         else 'collisions not counted (give --collision-distance)'
     )
     lines.append(f'  {closest}, {collisions}')
+    if m.tube is not None and m.tube.closest_in_passage is not None:
+        apart = [('up to the last exit (passage)', m.tube.closest_in_passage)]
+        apart += [('after it (parking)', m.tube.closest_after_passage)] if m.tube.closest_after_passage else []
+        lines.append('  minimum distance ' + ', '.join(f'{when} {d:.3f} m (t = {t:.2f} s)' for when, (d, t) in apart))
     if m.tube is not None:
         passage = m.tube.passage
         if passage.passing_time_s is None:

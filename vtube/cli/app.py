@@ -12,7 +12,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 from contextlib import AbstractContextManager, nullcontext, redirect_stdout
-from typing import Any
+from typing import Any, NoReturn
 
 from vtube.cli import (
     analyze,
@@ -89,12 +89,16 @@ class HelpFormatter(argparse.HelpFormatter):
 
 
 class Parser(argparse.ArgumentParser):
-    """Every vtube (sub)command's parser: defaults in the help, the exit codes below it."""
+    """Every vtube (sub)command's parser: defaults in the help, the exit codes below it, and a bad command line told
+    in one ``error:`` line, as every other refusal (not argparse's usage block above it)."""
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         kwargs.setdefault('formatter_class', HelpFormatter)
         kwargs.setdefault('epilog', EXIT_CODES)
         super().__init__(*args, **kwargs)
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_BAD_INPUT, f'{self.prog}: error: {message} (see {self.prog} --help)\n')
 
 
 def command_words(argv: Sequence[str]) -> str | None:

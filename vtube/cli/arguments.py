@@ -99,8 +99,12 @@ def bag_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def words(text: str) -> tuple[str, ...]:
-    """A comma-separated list of names."""
-    return tuple(text.split(','))
+    """A comma-separated list of names, none of them empty."""
+    names = tuple(part.strip() for part in text.split(','))
+    if not all(names):
+        msg = f'{text!r} holds an empty name; give names separated by commas, like A,B'
+        raise argparse.ArgumentTypeError(msg)
+    return names
 
 
 def parse_sizes(text: str, option: str = '--sizes') -> tuple[int, ...]:

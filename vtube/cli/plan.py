@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from vtube.cli.arguments import positive, writable_folder
-from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
+from vtube.cli.command import EXIT_FAILED, EXIT_OK, BadInput, Command, View
 from vtube_planning.params import OBJECTIVES
 
 if TYPE_CHECKING:
@@ -48,7 +48,27 @@ def plan(args: argparse.Namespace) -> Planned:
     from vtube.pipeline import plan_scene
 
     writable_folder(args.out)
+    room_for_a_robot(args.scene)
     return plan_scene(args.scene, args.out, method=args.method, grid_step_m=args.grid_step_m, objective=args.objective)
+
+
+def room_for_a_robot(name_or_path: str) -> None:
+    """Refuse, before planning, a tube whose narrowest part is no wider than a robot (half-width <= r_p): the
+    planner's model sees densities, not bodies, and would certify a plan that no robot can fly."""
+    import numpy as np
+
+    from robotarium_exp.scene import load_scene
+
+    scene = load_scene(name_or_path)
+    l_m = np.linspace(0.0, scene.tube.length_m, 4001)
+    half = np.asarray(scene.tube.half_width(l_m), dtype=float)
+    k = int(np.argmin(half))
+    if half[k] <= scene.swarm.r_p_m:
+        msg = (
+            f'scene {scene.name!r}: the tube is {2 * half[k]:.3f} m wide at l = {l_m[k]:.3f} m, no wider than a robot '
+            f'(2 r_p = {2 * scene.swarm.r_p_m:g} m): no robot fits through; widen the tube there.'
+        )
+        raise BadInput(msg)
 
 
 def plan_view(planned: Planned) -> View:

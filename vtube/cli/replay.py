@@ -42,15 +42,31 @@ def replay(args: argparse.Namespace) -> Replay:
     try:
         scene = load_scene(name)
     except SceneError as err:
+        copy = None if args.scene is not None else _scene_copy(name, args.inputs)
         if args.scene is not None:
             raise
-        why = str(err).rstrip('.')
-        msg = f'the run records scene {name!r}, which is not shipped ({why}); give its file: --scene PATH.toml.'
-        raise BadInput(msg) from err
+        if copy is None:
+            why = str(err).rstrip('.')
+            msg = (
+                f'the run records scene {name!r}, which is not shipped ({why}), and no copy scene_{name}.toml lies '
+                'beside it; give its file: --scene PATH.toml.'
+            )
+            raise BadInput(msg) from err
+        scene = load_scene(copy)
     check_recorded_tube(trajectory, scene)
     shown = args.plan is not None or flew_a_plan(trajectory)
     plan = plan_for(scene, plan_file=args.plan) if shown else None
     return write_replay(trajectory, scene, plan, args.out, plan_label(args.plan))
+
+
+def _scene_copy(name: str, inputs: list[Path]) -> Path | None:
+    """The copy of scene ``name`` that vtube writes beside a run's log (``scene_<name>.toml``, in the log's folder
+    or in a testbed folder given), or None."""
+    for given in inputs:
+        copy = (given if given.is_dir() else given.parent) / f'scene_{name}.toml'
+        if copy.is_file():
+            return copy
+    return None
 
 
 def replay_view(done: Replay) -> View:

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import argparse
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from vtube.cli.arguments import count, positive, seed, writable_folder
-from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
+from vtube.cli.command import EXIT_FAILED, EXIT_OK, BadInput, Command, View
 from vtube.cli.render import progress_bars
 
 if TYPE_CHECKING:
@@ -48,31 +50,78 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
+MAX_ROBOTS = 5000
+"""The largest swarm `vtube simulate` flies (--n): the paper's studies fly at most 80."""
+
+
 def simulate(args: argparse.Namespace) -> Simulated:
+    """Fly the scene, holding ``--out`` (`vtube_planning.campaign_store.holding`: a second run into the same
+    folder is refused, not mixed into one log)."""
     from vtube.pipeline import simulate_scene
+    from vtube_planning.campaign_store import holding
     from vtube_planning.swarm.simulate import SimConfig
 
     writable_folder(args.out)
-    return simulate_scene(
-        args.scene,
-        args.out,
-        planning=not args.no_planning,
-        n_robots=args.n_robots,
-        plan_file=args.plan,
-        foresight=(args.controller or ('foresight' if args.acceleration_limits else 'law')) == 'foresight',
-        config=SimConfig(
-            seed=args.seed, acceleration_limits=args.acceleration_limits, replan_every_s=args.replan_every_s
-        ),
-        animate=args.animate,
-        progress=progress_bars(quiet=args.quiet),
-    )
+    _check_swarm_size(args.scene, args.n_robots)
+    made = not args.out.exists()
+    with holding(args.out, 'simulate'), _removed_if_left_empty(args.out, made):
+        return simulate_scene(
+            args.scene,
+            args.out,
+            planning=not args.no_planning,
+            n_robots=args.n_robots,
+            plan_file=args.plan,
+            foresight=(args.controller or ('foresight' if args.acceleration_limits else 'law')) == 'foresight',
+            config=SimConfig(
+                seed=args.seed, acceleration_limits=args.acceleration_limits, replan_every_s=args.replan_every_s
+            ),
+            animate=args.animate,
+            progress=progress_bars(quiet=args.quiet),
+        )
+
+
+@contextmanager
+def _removed_if_left_empty(out: Path, made: bool) -> Iterator[None]:
+    """Inside: a run into ``out``; a folder it ``made`` and left empty (a refusal: nothing flown) is removed."""
+    from vtube_planning.campaign_store import LOCK_FILE
+
+    try:
+        yield
+    except BaseException:
+        if made and out.is_dir() and not any(p.name != LOCK_FILE for p in out.iterdir()):
+            (out / LOCK_FILE).unlink(missing_ok=True)
+            out.rmdir()
+        raise
+
+
+def _check_swarm_size(scene_name: str, n_robots: int | None) -> None:
+    """Refuse, before any work, a swarm larger than `MAX_ROBOTS`, or than the testbed holds for a Robotarium
+    scene."""
+    if n_robots is None:
+        return
+    if n_robots > MAX_ROBOTS:
+        msg = f'--n {n_robots}: vtube simulate flies at most {MAX_ROBOTS} robots; give --n {MAX_ROBOTS} or fewer.'
+        raise BadInput(msg)
+    from robotarium_exp.scene import load_scene
+    from robotarium_exp.spec import ROBOTARIUM
+
+    if n_robots > ROBOTARIUM.max_robots and load_scene(scene_name).testbed == 'robotarium':
+        msg = (
+            f'--n {n_robots}: scene {scene_name!r} is a Robotarium scene, which flies 1 to {ROBOTARIUM.max_robots} '
+            f"robots (the testbed's); give --n {ROBOTARIUM.max_robots} or fewer, or simulate a scene of the paper."
+        )
+        raise BadInput(msg)
 
 
 def simulate_view(simulated: Simulated) -> View:
+    from vtube_planning.swarm.map_contact import map_contact
     from vtube_planning.swarm.metrics import passage_failures
 
     result, config, m = simulated.result, simulated.config, simulated.result.metrics
-    failures = passage_failures(m)
+    scene = simulated.scene
+    mapped = bool(scene.obstacles) or scene.workspace is not None
+    contact = map_contact(result.t_s, result.positions_m, scene, simulated.swarm.r_p_m, result.l_m) if mapped else None
+    failures = (*passage_failures(m), *(contact.failures() if contact else ()))
     if config.acceleration_limits and result.dynamics_violations:
         failures += (f'{result.dynamics_violations} commands the robots could not fly under (2)-(4)',)
     rows = [
@@ -87,6 +136,17 @@ def simulate_view(simulated: Simulated) -> View:
         ('model violations', f"{result.dynamics_violations} commands outside (2)-(4) from the robot's velocity"),
         ('controller', _controller(simulated.scene.control.foresight_s)),
     ]
+    if contact is not None:  # over the whole run, before the entrance and after the exit
+        beyond = contact.outside_after_exit
+        said = (
+            f'bodies (r_p) on obstacles {contact.on_obstacles} robot-steps, outside the workspace '
+            f'{contact.outside_workspace} before the exit'
+            + (
+                f'; {beyond} robot-steps outside it beyond the exit, where this model drives on (no parking)'
+                * bool(beyond)
+            )
+        )
+        rows.append(('map', said))
     if m.speed_tracking_mean_mps is not None:
         rows += [
             ('speed tracking', f'mean {m.speed_tracking_mean_mps:.3f}, max {m.speed_tracking_max_mps:.3f} m/s'),

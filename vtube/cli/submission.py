@@ -8,8 +8,8 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from vtube.cli.arguments import SEEDS_HELP, count, positive, seeds, testbed_model_name
-from vtube.cli.command import EXIT_FAILED, EXIT_OK, Command, View
+from vtube.cli.arguments import SEEDS_HELP, count, positive, seeds, testbed_model_name, writable_folder
+from vtube.cli.command import EXIT_FAILED, EXIT_OK, BadInput, Command, View
 from vtube.cli.render import progress_bar, tell
 
 if TYPE_CHECKING:
@@ -62,6 +62,7 @@ def build(args: argparse.Namespace) -> WrittenSubmission:
     duration to declare (`vtube.pipeline.build_submission`), each stage of the check told on stderr as it starts."""
     from vtube.pipeline import build_submission
 
+    _writable_file(args.out)
     with initializer_bar(args.initializer_seeds) as seed_done:
         return build_submission(
             args.scene,
@@ -75,6 +76,14 @@ def build(args: argparse.Namespace) -> WrittenSubmission:
             progress=tell,
             seed_done=seed_done,
         )
+
+
+def _writable_file(out: Path) -> None:
+    """Refuse, before minutes of checks, an ``--out`` that names a folder or lies where no file can be written."""
+    if out.is_dir():
+        msg = f'--out {out} is a folder; give the .py file to write, e.g. --out {out / "experiment.py"}.'
+        raise BadInput(msg)
+    writable_folder(out.parent)
 
 
 def build_view(written: WrittenSubmission) -> View:

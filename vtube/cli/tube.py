@@ -60,8 +60,24 @@ def generate_view(result: TubeGenerated) -> View:
             f'  min curvature radius  {summary["curvature_radius_min_m"]:.3f} m',
             f'  max lambda |kappa|    {summary["lambda_kappa_max"]:.3f}  (regular below 1)',
             f'  obstacles             clear: closest {certificate}',
+            *_unknown_lines(result.generated),
         )
     )
+
+
+def _unknown_lines(generated: GeneratedTube) -> list[str]:
+    """What the map's images made of their unknown cells (nothing for a map without images)."""
+    images = generated.obstacles.images
+    if not images:
+        return []
+    share = generated.obstacles.unknown_share(generated.tube)
+    if share is None:
+        return [
+            '  unknown cells         occupied (never mapped is never free; unknown = "free" in an image allows them)'
+        ]
+    return [
+        f'  unknown cells         FREE (unknown = "free"): {100 * share:.1f} % of the tube lies on cells never mapped'
+    ]
 
 
 def map_examples() -> dict[str, str]:

@@ -27,12 +27,25 @@ _BATCH = 16
 """Segments that `_pulled_straight` tries at once."""
 
 
+MAX_GRID_NODES = 2e7
+"""The most nodes a search grid may hold (some 1.5 GB of arrays); a map that needs more is refused up front."""
+
+
 class SearchGrid:
     """The search grid: node centres, their clearance, and the free nodes (room for the narrowest tube)."""
 
     def __init__(self, spec: TubeSpec) -> None:
         b, h = spec.bounds, spec.resolution_m
         self.spec = spec
+        nodes_x, nodes_y = (b.x_max_m - b.x_min_m) / h, (b.y_max_m - b.y_min_m) / h
+        if nodes_x * nodes_y > MAX_GRID_NODES:
+            least = math.sqrt((b.x_max_m - b.x_min_m) * (b.y_max_m - b.y_min_m) / MAX_GRID_NODES)
+            msg = (
+                f'the search grid of the map ({b}) at resolution_m = {h:g} m would hold {nodes_x * nodes_y:.3g} '
+                f'nodes, more than {MAX_GRID_NODES:.0e}; give [tube.generate] resolution_m = {least:.3g} or more, or '
+                'a smaller [workspace].'
+            )
+            raise TubeGenerationError(msg)
         self.x = np.arange(b.x_min_m + 0.5 * h, b.x_max_m, h)
         self.y = np.arange(b.y_min_m + 0.5 * h, b.y_max_m, h)
         if self.x.size < 2 or self.y.size < 2:

@@ -31,7 +31,7 @@ Steps 1-3 are `vtube_planning.geometry.centre_path`'s. Every refusal is a
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -39,7 +39,7 @@ from numpy.typing import NDArray
 from vtube_planning.errors import TubeError, TubeGenerationError
 from vtube_planning.geometry.centerline import ArcPath
 from vtube_planning.geometry.centre_path import SearchGrid, centre_curve
-from vtube_planning.geometry.obstacles import ObstacleCertificate, obstacle_certificate
+from vtube_planning.geometry.obstacles import ObstacleCertificate, Obstacles, obstacle_certificate
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.tube_spec import TubeSpec
 from vtube_planning.geometry.width import WidthProfile, width_under
@@ -50,11 +50,13 @@ __all__ = ['GeneratedTube', 'TubeSpec', 'generate_tube']
 
 @dataclass(frozen=True)
 class GeneratedTube:
-    """A certified tube and how it was made: the tube, the path's vertices, the obstacle certificate."""
+    """A certified tube and how it was made: the tube, the path's vertices, the obstacle certificate, the obstacles
+    it was generated among."""
 
     tube: VirtualTube
     path_m: FloatArray
     certificate: ObstacleCertificate
+    obstacles: Obstacles = field(default_factory=Obstacles)
 
 
 def generate_tube(spec: TubeSpec, name: str = 'generated') -> GeneratedTube:
@@ -82,7 +84,7 @@ def generate_tube(spec: TubeSpec, name: str = 'generated') -> GeneratedTube:
             k = int(np.argmin(edge))
             msg = f'the generated tube leaves the map at ({points[k, 0]:.3f}, {points[k, 1]:.3f}).'
             raise TubeGenerationError(msg)
-    return GeneratedTube(tube, corners, certificate)
+    return GeneratedTube(tube, corners, certificate, spec.obstacles)
 
 
 def _width_parts(center: ArcPath, l_m: FloatArray, spec: TubeSpec) -> WidthProfile:

@@ -34,6 +34,8 @@ from dataclasses import fields, replace
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # Python 3.10
@@ -86,6 +88,7 @@ def map_spec(data: dict[str, Any], source: str) -> TubeSpec:
     try:
         bounds = Workspace(**data['workspace'])
         obstacles = obstacles_from_table(data['obstacles'], Path(source).parent) if 'obstacles' in data else Obstacles()
+        _require_coverage(bounds, obstacles, source)
         if 'turn_radius_min_m' not in table:
             swarm = SwarmParams(**{k: v for k, v in data.get('swarm', {}).items() if k in _SWARM_FIELDS})
             table['turn_radius_min_m'] = swarm.v_min_mps**2 / swarm.a_n_mps2
@@ -157,9 +160,41 @@ def generated_scene(text: str, source: str, folder: Path | None = None) -> tuple
     return scene, generated
 
 
+def _require_coverage(bounds: Workspace, obstacles: Obstacles, source: str, samples: int = 201) -> None:
+    """Refuse a map whose occupancy images do not cover its workspace (checked on a grid of ``samples`` squared
+    points): space outside every image is space nobody mapped, and no obstacle of it would be seen."""
+    if not obstacles.images:
+        return
+    x = np.linspace(bounds.x_min_m, bounds.x_max_m, samples)
+    y = np.linspace(bounds.y_min_m, bounds.y_max_m, samples)
+    xx, yy = np.meshgrid(x, y)
+    covered = np.zeros(xx.shape, dtype=bool)
+    for image in obstacles.images:
+        x0, x1, y0, y1 = image.extent_m
+        covered |= (xx >= x0 - 1e-9) & (xx <= x1 + 1e-9) & (yy >= y0 - 1e-9) & (yy <= y1 + 1e-9)
+    if covered.all():
+        return
+    spans = '; '.join(
+        f'{Path(image.source).name or "an image"} spans x in [{image.extent_m[0]:.6g}, {image.extent_m[1]:.6g}], '
+        f'y in [{image.extent_m[2]:.6g}, {image.extent_m[3]:.6g}] m ({image.occupied.shape[1]} x '
+        f'{image.occupied.shape[0]} pixels at resolution_m = {image.resolution_m:g})'
+        for image in obstacles.images
+    )
+    msg = (
+        f'{source}: the occupancy images cover {100 * covered.mean():.1f} % of [workspace] ({bounds}), where nothing '
+        f'outside them would be seen: {spans}; correct resolution_m or origin_m of the image, or shrink [workspace] '
+        'to the image.'
+    )
+    raise SceneError(msg)
+
+
 def _obstacles_table(obstacles: Obstacles, folder: Path) -> str:
     """``[obstacles]`` in TOML, numbers exact, an image's ``file`` relative to ``folder`` when it can be."""
-    lines = ['[obstacles]']
+    free = [image for image in obstacles.images if image.unknown_free]
+    lines = [
+        '# unknown cells of the images count as FREE here (unknown = "free"): the tube may cross unmapped space'
+    ] * bool(free)
+    lines += ['[obstacles]']
     for kind, entries in obstacles.table(folder).items():
         lines.append(f'{kind} = [')
         for entry in entries:

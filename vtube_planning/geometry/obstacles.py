@@ -123,6 +123,23 @@ class Obstacles:
             hit |= image.inside(points)
         return hit
 
+    def unknown_share(self, tube: VirtualTube, across: int = 41) -> float | None:
+        """The share of the tube's area (sampled: half a pixel along, ``across`` points across, weighted by the
+        half-width) on unknown cells of images that count them free (``unknown = "free"``); None: no image does."""
+        free = [image for image in self.images if image.unknown_free]
+        if not free:
+            return None
+        step = max(0.5 * min(image.resolution_m for image in free), tube.length_m / 20000.0)
+        l_m = np.linspace(0.0, tube.length_m, math.ceil(tube.length_m / step) + 1)
+        half = np.asarray(tube.half_width(l_m), dtype=float)
+        offsets = np.linspace(-1.0, 1.0, across)[None, :, None] * half[:, None, None]
+        points = (tube.center_at(l_m)[:, None, :] + offsets * tube.normal(l_m)[:, None, :]).reshape(-1, 2)
+        on = np.zeros(points.shape[0], dtype=bool)
+        for image in free:
+            on |= image.on_unknown(points)
+        weights = np.repeat(half, across)
+        return float((weights * on).sum() / weights.sum())
+
     @cached_property
     def _shapes(self) -> Shapes:
         discs = [(d.center_m, d.radius_m) for d in self.discs]

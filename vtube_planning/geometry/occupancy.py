@@ -5,14 +5,19 @@ In a scene or map file's ``[obstacles]``:
 
     images = [{ file = "room.png", resolution_m = 0.05, origin_m = [-10.0, -5.0], occupied_thresh = 0.65 }]
 
-``file`` is read relative to the scene file's folder (or absolute); ``occupied_thresh`` is optional (0.65, as
-``map_server``). The conventions are ROS ``map_server``'s (``trinary`` mode, ``negate: 0``; unknown cells count as
-free): ``origin_m`` is the lower-left corner of the bottom-left pixel, row 0 of the image is its top (the largest
-y), column 0 its left (the smallest x), and a pixel is occupied where its darkness, 1 - its grey level in [0, 1],
-exceeds ``occupied_thresh`` (a colour pixel's grey level is the mean of its red, green and blue; alpha is
-ignored; integer pixels are scaled by their type's largest value). A ``.npy`` file (``np.save``; pickled data is
-refused) holds a 2-D array of occupancy probabilities in [0, 1], occupied where above ``occupied_thresh``, or of
-booleans (True: occupied), in the same orientation (row 0 the top).
+``file`` is read relative to the scene file's folder (or absolute); ``occupied_thresh`` and ``free_thresh`` are
+optional (0.65 and 0.196, as ``map_server``'s maps give them). The conventions are ROS ``map_server``'s
+(``trinary`` mode, ``negate: 0``): ``origin_m`` is the lower-left corner of the bottom-left pixel, row 0 of the
+image is its top (the largest y), column 0 its left (the smallest x), and a pixel is occupied where its darkness,
+1 - its grey level in [0, 1], exceeds ``occupied_thresh``, free where it is below ``free_thresh``, and unknown
+(never mapped: ``map_server``'s grey 205) otherwise (a colour pixel's grey level is the mean of its red, green and
+blue; alpha is ignored; integer pixels are scaled by their type's largest value). A ``.npy`` file (``np.save``;
+pickled data is refused) holds a 2-D array of occupancy probabilities in [0, 1], read with the same thresholds,
+or of booleans (True: occupied; none unknown), in the same orientation (row 0 the top).
+
+**Unknown cells are obstacles** unless the entry says ``unknown = "free"``: a tube is never certified through
+space nobody mapped (an unmapped wall is still a wall). With ``unknown = "free"`` they count as free, and
+``vtube tube generate`` says how much of the tube lies on them; the figures draw unknown cells either way.
 
 Occupied pixel (row i, column j) of an image of H rows is the closed square [x0 + j r, x0 + (j + 1) r] x
 [y0 + (H - 1 - i) r, y0 + (H - i) r]. `OccupancyImage.clearance` is the exact Euclidean distance to the
@@ -43,9 +48,13 @@ BoolArray = NDArray[np.bool_]
 
 OCCUPIED_THRESH = 0.65
 """The default ``occupied_thresh`` (ROS ``map_server``'s)."""
+FREE_THRESH = 0.196
+"""The default ``free_thresh`` (the value of ROS maps' YAML files: ``map_server``'s unknown grey 205 is unknown)."""
+UNKNOWN = ('occupied', 'free')
+"""What an entry's ``unknown`` may say of the unknown cells; the first is the default."""
 
 _KEYS = {'file', 'resolution_m', 'origin_m'}
-_OPTIONAL = {'occupied_thresh'}
+_OPTIONAL = {'occupied_thresh', 'free_thresh', 'unknown'}
 _FIRST_K = 16
 """Boundary centres asked of the k-d tree per point at first (doubled for the points that need more)."""
 
@@ -56,7 +65,9 @@ class OccupancyImage:
     and the lower-left corner of the bottom-left pixel, in metres.
 
     Two images are equal (and hash alike) when their occupied pixels, resolution and origin are; ``source`` (the
-    file read, absolute; '' for an image made in code) and ``occupied_thresh`` only record where they came from.
+    file read, absolute; '' for an image made in code), the thresholds and ``unknown_cells`` only record where they
+    came from. ``occupied`` holds the obstacles: the unknown cells (``unknown_cells``, None: none) among them
+    unless ``unknown_free``.
     """
 
     occupied: BoolArray = field(compare=False, repr=False)
@@ -64,6 +75,9 @@ class OccupancyImage:
     origin_m: tuple[float, float]
     source: str = field(default='', compare=False)
     occupied_thresh: float = field(default=OCCUPIED_THRESH, compare=False)
+    free_thresh: float = field(default=FREE_THRESH, compare=False)
+    unknown_cells: BoolArray | None = field(default=None, compare=False, repr=False)
+    unknown_free: bool = field(default=False, compare=False)
     digest: str = field(init=False, default='')
     _grid: BoolArray = field(init=False, compare=False, repr=False)
     _lows: FloatArray = field(init=False, compare=False, repr=False)
@@ -116,6 +130,20 @@ class OccupancyImage:
         rows, cols = self.occupied.shape
         x0, y0 = self.origin_m
         return x0, x0 + cols * self.resolution_m, y0, y0 + rows * self.resolution_m
+
+    def on_unknown(self, points_m: FloatArray) -> BoolArray:
+        """Whether each of (k, 2) points lies in an unknown cell (the pixel holding it), (k,)."""
+        p = np.asarray(points_m, dtype=float).reshape(-1, 2)
+        if self.unknown_cells is None:
+            return np.zeros(p.shape[0], dtype=bool)
+        rows, cols = self.unknown_cells.shape
+        with np.errstate(invalid='ignore'):
+            j = np.floor((p[:, 0] - self.origin_m[0]) / self.resolution_m)
+            k = np.floor((p[:, 1] - self.origin_m[1]) / self.resolution_m)
+        valid = (j >= 0) & (j < cols) & (k >= 0) & (k < rows)
+        jv, kv = np.where(valid, j, 0).astype(np.intp), np.where(valid, k, 0).astype(np.intp)
+        found: BoolArray = valid & self.unknown_cells[::-1][kv, jv]
+        return found
 
     def inside(self, points_m: FloatArray) -> BoolArray:
         """Whether each of (k, 2) points lies in a closed occupied square, (k,): the 3 x 3 pixels around it tested
@@ -214,6 +242,8 @@ class OccupancyImage:
             'resolution_m': self.resolution_m,
             'origin_m': list(self.origin_m),
             'occupied_thresh': self.occupied_thresh,
+            'free_thresh': self.free_thresh,
+            'unknown': UNKNOWN[self.unknown_free],
         }
 
 
@@ -236,20 +266,37 @@ def image_from_entry(entry: object, folder: Path | None = None) -> OccupancyImag
         msg = f'[obstacles] images: occupied_thresh of {file!r} must be a number in [0, 1) (map_server: 0.65); got '
         msg += f'{threshold!r}.'
         raise SceneError(msg)
+    free = entry.get('free_thresh', min(FREE_THRESH, threshold))
+    if not is_real(free) or not 0.0 <= free <= threshold:
+        msg = f'[obstacles] images: free_thresh of {file!r} must be a number in [0, occupied_thresh = {threshold}] '
+        msg += f'(map_server: 0.196); got {free!r}.'
+        raise SceneError(msg)
+    unknown = entry.get('unknown', UNKNOWN[0])
+    if unknown not in UNKNOWN:
+        msg = f'[obstacles] images: unknown of {file!r} must be "occupied" (the default: never mapped is never free) '
+        msg += f'or "free"; got {unknown!r}.'
+        raise SceneError(msg)
     base = Path(folder) if folder is not None else Path()
     path = Path(os.path.abspath(base / file))
     origin = entry['origin_m']
+    darkness = _darkness(path, file, base)
+    occupied: BoolArray = darkness > threshold
+    cells = ~occupied & ~(darkness < free)  # neither occupied nor free: never mapped
     return OccupancyImage(
-        _occupied(path, file, base, float(threshold)),
+        occupied | cells if unknown == 'occupied' else occupied,
         entry['resolution_m'],
         tuple(origin) if isinstance(origin, (list, tuple)) else origin,
         source=str(path),
         occupied_thresh=float(threshold),
+        free_thresh=float(free),
+        unknown_cells=cells if cells.any() else None,
+        unknown_free=unknown == 'free',
     )
 
 
-def _occupied(path: Path, file: str, folder: Path, threshold: float) -> BoolArray:
-    """The occupied pixels of an image or ``.npy`` file (module doc)."""
+def _darkness(path: Path, file: str, folder: Path) -> FloatArray:
+    """Each pixel's darkness (occupancy probability) of an image or ``.npy`` file (module doc); a boolean array's
+    cells are 1 (occupied) or 0 (free)."""
     if not path.is_file():
         msg = (
             f'[obstacles] images: the file {str(path)!r} does not exist (file = {file!r} is read relative to the '
@@ -257,7 +304,7 @@ def _occupied(path: Path, file: str, folder: Path, threshold: float) -> BoolArra
         )
         raise SceneError(msg)
     if path.suffix.lower() == '.npy':
-        return _occupied_npy(path, threshold)
+        return _darkness_npy(path)
     import matplotlib.image
 
     try:
@@ -274,12 +321,12 @@ def _occupied(path: Path, file: str, folder: Path, threshold: float) -> BoolArra
     if grey.ndim != 2 or grey.size == 0:
         msg = f'[obstacles] images: {str(path)!r} has pixels of shape {pixels.shape}; give a grey or colour image.'
         raise SceneError(msg)
-    occupied: BoolArray = (1.0 - grey) > threshold
-    return occupied
+    darkness: FloatArray = 1.0 - grey
+    return darkness
 
 
-def _occupied_npy(path: Path, threshold: float) -> BoolArray:
-    """The occupied cells of a ``.npy`` array of occupancy probabilities or booleans."""
+def _darkness_npy(path: Path) -> FloatArray:
+    """The occupancy probabilities of a ``.npy`` array of them or of booleans (1.0: occupied, 0.0: free)."""
     try:
         array = np.load(path, allow_pickle=False)
     except (OSError, ValueError) as err:
@@ -293,7 +340,7 @@ def _occupied_npy(path: Path, threshold: float) -> BoolArray:
         msg = f'[obstacles] images: {str(path)!r} must hold a non-empty 2-D array (rows, columns); got {shape}.'
         raise SceneError(msg)
     if array.dtype == np.bool_:
-        return array
+        return array.astype(float)
     if not np.issubdtype(array.dtype, np.number) or np.iscomplexobj(array):
         msg = f'[obstacles] images: {str(path)!r} holds {array.dtype} values; give occupancy probabilities or booleans.'
         raise SceneError(msg)
@@ -304,5 +351,4 @@ def _occupied_npy(path: Path, threshold: float) -> BoolArray:
             'refused; a ROS OccupancyGrid of 0..100 and -1: divide by 100 and give unknown cells a value).'
         )
         raise SceneError(msg)
-    occupied: BoolArray = values > threshold
-    return occupied
+    return values

@@ -91,6 +91,22 @@ class TubeSpec:
             if len(point) != 2 or not all(is_real(v) for v in point):
                 msg = f'tube generation: {name} must be [x, y], finite; got {point!r}.'
                 raise TubeGenerationError(msg)
+        headed = [name for name in ('start_heading_deg', 'goal_heading_deg') if getattr(self, name) is not None]
+        if headed and self.lead_m <= 0.0:
+            msg = (
+                f'tube generation: {" and ".join(headed)} hold the tube straight along a heading for lead_m, which is '
+                '0: give lead_m > 0 (e.g. the length of the start formation or of the parking lanes), or leave the '
+                'heading out.'
+            )
+            raise TubeGenerationError(msg)
+        apart = math.dist(self.start_m, self.goal_m)
+        if apart < 2.0 * self.resolution_m:
+            msg = (
+                f'tube generation: start_m and goal_m are {apart:.3g} m apart ({list(self.start_m)} and '
+                f'{list(self.goal_m)}), less than two cells of the search grid (resolution_m = {self.resolution_m:g}); '
+                'put the goal where the tube should end.'
+            )
+            raise TubeGenerationError(msg)
 
     @property
     def search_ends(self) -> tuple[tuple[float, float], tuple[float, float]]:

@@ -252,3 +252,34 @@ def test_when_no_row_fits_before_the_narrowing_the_fix_does_not_offer_fewer_robo
     misfit = only_misfit(replace(data, initial_conditions=ic))
     front = float(ic[0].max()) + 1.45
     assert misfit.fix == f'lengthen the wide part before the narrowing by {front - 1.4:.2f} m'
+
+
+def test_a_generated_tube_is_told_in_the_map_file_s_keys_and_never_beyond_the_arena(tmp_path) -> None:
+    """Issue 49: refusals of generated tubes spoke of the generated scene ("lengthen the wide part by 2.00 m",
+    "move it"); they name the map file's keys, and a lengthening the arena has no room for is not proposed."""
+    from robotarium_exp.fit import GENERATED, Misfit, for_map_file, robotarium_fit
+    from robotarium_exp.scene import load_scene
+    from vtube.cli.tube import map_examples
+    from vtube_planning.geometry.map_file import generated_scene
+
+    text = map_examples()['robotarium_gate'].replace('n_robots = 6', 'n_robots = 12')
+    assert 'n_robots = 12' in text
+    (tmp_path / 'gate.toml').write_text(generated_scene(text, str(tmp_path / 'map.toml'))[0], encoding='utf-8')
+    scene = load_scene(tmp_path / 'gate.toml')
+    assert GENERATED in scene.text
+    fixes = [m.fix for m in robotarium_fit(scene).misfits]
+    assert fixes[0].startswith('the arena has no room to move start_m 0.50 m back (to (-1.95, 0.00), outside the box')
+    assert fixes[0].endswith(': use at most 6 robots') and 'lengthen the wide part' not in ' '.join(fixes)
+    assert (
+        fixes[1]
+        == 'in the map file, move goal_m away from the arena edge (the slots lie beyond it), or use fewer robots'
+    )
+    inner = text.replace('start_m = [-1.45, 0.0]', 'start_m = [-1.1, 0.0]')  # room behind the start: 0.275 m
+    (tmp_path / 'inner.toml').write_text(generated_scene(inner, str(tmp_path / 'map.toml'))[0], encoding='utf-8')
+    inner_scene = load_scene(tmp_path / 'inner.toml')
+    moved = for_map_file(Misfit('x', 'lengthen the wide part', 'narrowing', 0.2, 6), inner_scene).fix
+    assert (
+        moved
+        == 'in the map file, move start_m 0.20 m further back from the narrow passage, to (-1.30, 0.00), or use at most 6 robots'
+    )
+    assert for_map_file(Misfit('x', 'y', 'other'), scene).fix == 'y'  # a rule without a map-file fix keeps its own

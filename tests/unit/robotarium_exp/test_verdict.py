@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 import robotarium_exp.verdict
@@ -42,7 +43,7 @@ def flight(counts: VerifierCounts | None = None, parked: bool = True, **passage:
 @pytest.mark.parametrize(
     ('result', 'reason'),
     [
-        (flight(VerifierCounts(actuator=9)), None),  # actuator limits: counted by the testbed, not refused
+        (flight(VerifierCounts(actuator=9)), 'the simulator counted 9 steps over the wheel-speed limit'),  # as check
         (flight(VerifierCounts(too_close=4)), 'the testbed would not run it (4 pair-steps of robots too close, 0 '),
         (flight(VerifierCounts(outside=1)), 'the testbed would not run it (0 pair-steps of robots too close, 1 '),
         (flight(completed=False, robots_passed=6), '2 of 8 robots never passed the exit'),
@@ -62,3 +63,22 @@ def test_bodies_on_the_walls_are_tolerated_up_to_none() -> None:
     assert failures == ('robot bodies were on the tube walls in 14715 robot-steps (20 robots, up to 0.250 m over)',)
     every = flight(VerifierCounts(1, 1, 0), parked=False, completed=False, robots_passed=0, collision_pairs=3)
     assert len(flight_failures(every)) == 4  # type: ignore[arg-type]
+
+
+def test_a_preflight_run_and_a_flight_get_the_one_verdict() -> None:
+    """Issue 49: the 8-robot L-shaped tube's flight failed on 33 robot-steps of bodies on a wall while the build's
+    preflight of the same run said PASS; both now take `run_failures`, so the same run fails both ways."""
+    from submission.check import CheckReport, RunReport
+    from submission.recording import SimulatorRecord
+
+    on_wall = flight(tube_violation_steps=33, robots_outside=1, max_outside_m=0.012)
+    steps = 4
+    poses = np.zeros((steps, 3, 8))
+    poses[:, 0] = 0.3 * np.arange(8) - 1.0  # apart, in the arena: the verifier's rules count nothing
+    record = SimulatorRecord(poses, np.zeros((steps, 2, 8)), 0.033, {}, steps + 5, 5, 1, True)
+    run = RunReport('bundled', 0, 0, record=record, completed=True, metrics=on_wall.metrics)
+    assert run.problems == list(flight_failures(on_wall))  # type: ignore[arg-type]
+    assert run.problems == ['robot bodies were on the tube walls in 33 robot-steps (1 robots, up to 0.012 m over)']
+    assert not CheckReport('f.py', runs=(run,)).passed
+    clean = RunReport('bundled', 0, 0, record=record, completed=True, metrics=flight().metrics)
+    assert clean.ok and CheckReport('f.py', runs=(clean,)).passed

@@ -281,3 +281,29 @@ def test_non_finite_flight_data_is_refused_before_a_file_exists(monkeypatch) -> 
     monkeypatch.setattr(FlightData, 'to_plain', lambda self: real(self) | {'constant_speed_mps': float('nan')})
     with pytest.raises(SubmissionError, match=r"the flight data holds nan at DATA\['constant_speed_mps'\]"):
         build('robotarium_trapezoid', None)
+
+
+def test_the_rebuild_command_of_an_own_scene_file_and_plan_works_as_printed(tmp_path, monkeypatch) -> None:
+    """Issue 49: the header's "Rebuild with" named an own scene file by its name (an unknown scene) and dropped
+    --plan. It names the file and the plan by absolute path, so that it works from any folder, exactly as printed."""
+    import shlex
+
+    from vtube.cli.app import main
+
+    own = tmp_path / 'mine' / 'my tube.toml'  # a space: quoted as the shell needs
+    own.parent.mkdir()
+    own.write_text((ROOT / 'robotarium_exp' / 'scenes' / 'robotarium_trapezoid.toml').read_text(), encoding='utf-8')
+    monkeypatch.chdir(own.parent)
+    assert main(['plan', own.name, '--out', 'plan']) == 0
+    plan_file = Path('plan') / 'plan_my tube.npz'
+    scene = load_scene(own.name)
+    source = build(scene, Plan.load(plan_file, scene.tube), plan_file=plan_file).source
+    rebuild = source.split('Rebuild with:\n')[1].splitlines()[0].strip()
+    words = shlex.split(rebuild)
+    assert words[:3] == ['vtube', 'submission', 'build'] and words[3] == str(own.resolve())
+    assert words[words.index('--plan') + 1] == str(plan_file.resolve())
+    monkeypatch.chdir(tmp_path)  # elsewhere: the command as printed, FILE given
+    args = [*words[1 : words.index('FILE')], str(tmp_path / 'again.py'), *words[words.index('FILE') + 1 :]]
+    assert main([*args, '--no-declare']) == 0
+    again = (tmp_path / 'again.py').read_text(encoding='utf-8')
+    assert again.split('DATA = ')[1] == source.split('DATA = ')[1]  # the same flight, from the same plan

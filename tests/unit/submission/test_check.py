@@ -71,13 +71,13 @@ def test_a_clean_completed_run_is_ok_and_its_durations_are_the_simulators_counts
         (RunReport('bundled', 0, 0, record=record(end_of_script=False), completed=True), 'never called debug()'),
         (
             RunReport('pypi', None, 0, record=record(errors={'boundary': 4, 'text': 'x'}), completed=True),
-            'the simulator counted 0 pair-steps too close, 4 steps outside the arena',
+            'the testbed would not run it (0 pair-steps of robots too close, 4 robot-steps outside the arena)',
         ),
         (
             RunReport('bundled', 0, 0, record=record(gap_m=0.05), completed=True),
             "the verifier's rules on the simulator's recorded poses and commands count 10 pair-steps too close",
         ),
-        (RunReport('bundled', 0, 0, record=record(), completed=False), "not every robot ended past the tube's exit"),
+        (RunReport('bundled', 0, 0, record=record(), completed=False), 'not every robot parked beyond the exit'),
     ],
 )
 def test_each_reason_a_run_fails(run: RunReport, problem: str) -> None:
@@ -90,7 +90,7 @@ def test_the_report_passes_only_with_runs_all_ok_and_no_problem() -> None:
     assert CheckReport('f.py', runs=(good,)).passed and not CheckReport('f.py').passed  # no runs: not passed
     failed = CheckReport('f.py', runs=(good, bad), declaration_problem='declare more.')
     assert not failed.passed and failed.problems == [
-        "pypi: not every robot ended past the tube's exit (the flight did not complete)",
+        'pypi: not every robot parked beyond the exit by the last step',
         'declare more.',
     ]
     imports = CheckReport('f.py', disallowed_imports=('cvxpy',))

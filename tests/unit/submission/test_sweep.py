@@ -143,7 +143,11 @@ def test_verifier_counts_take_the_worse_of_the_simulator_and_the_recount(planned
     assert (measured.too_close, measured.actuator) == (3, 4)
     status, reason = judge([measured])
     assert status == 'FAIL'
-    assert 'the simulator counted 1 pair-steps too close' in reason
+    assert 'the testbed would not run it (1 pair-steps of robots too close' in reason
+
+
+WALL = 'robot bodies were on the tube walls in {} robot-steps (1 robots, up to 0.010 m over)'
+"""The preflight's problem of a run with bodies on a wall (`robotarium_exp.verifier.wall_failure`)."""
 
 
 def good(label: str = 'bundled seed 0', **change) -> RunMeasures:
@@ -156,7 +160,7 @@ def good(label: str = 'bundled seed 0', **change) -> RunMeasures:
     ('bad', 'named'),
     [
         (good(parked=False), 'not every robot parked in its slot'),
-        (good(body_on_wall=3), '3 robot-steps with the body on the wall'),
+        (good(body_on_wall=3, problems=(WALL.format(3),)), 'robot bodies were on the tube walls in 3 robot-steps'),
         (good(dip_error=DIP_ERROR_BAR + 0.01), 'density error in the dip 26 % > 25 %'),
         (good(problems=("not every robot ended past the tube's exit (the flight did not complete)",)), 'exit'),
     ],
@@ -174,8 +178,9 @@ def test_a_case_passes_at_the_bar_without_a_dip_and_not_without_runs() -> None:
 
 
 def test_a_criterion_failed_by_several_seeds_is_named_once_with_the_first() -> None:
-    _, reason = judge([good('seed 0', body_on_wall=2), good('seed 1', body_on_wall=5, parked=False)])
-    assert reason == 'seed 0: 2 robot-steps with the body on the wall; seed 1: not every robot parked in its slot'
+    walls = [good('seed 0', body_on_wall=2, problems=(WALL.format(2),))]
+    _, reason = judge([*walls, good('seed 1', body_on_wall=5, parked=False, problems=(WALL.format(5),))])
+    assert reason == f'seed 0: {WALL.format(2)}; seed 1: not every robot parked in its slot'
 
 
 def test_summary_sums_counts_and_keeps_the_worst() -> None:

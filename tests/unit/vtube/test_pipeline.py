@@ -169,7 +169,7 @@ def test_a_submission_is_written_undeclared_or_built_declared(tmp_path, monkeypa
     assert written.submission.scene == 'robotarium_trapezoid' and not written.submission.planned
     calls = []
 
-    def build_declared(scene, plan, out, *, seeds, initializer_seeds, testbed_models, progress, seed_done):
+    def build_declared(scene, plan, out, *, seeds, initializer_seeds, testbed_models, progress, seed_done, plan_file):
         calls.append((scene.name, plan is None, out, seeds, initializer_seeds, testbed_models))
         assert progress == told.append and seed_done is None  # the check's progress, passed through
         return written.submission, SimpleNamespace(passed=True, declaration='the declaration'), out

@@ -138,3 +138,14 @@ def test_a_cluster_that_fails_mid_way_is_named_after_the_runs_it_finished(monkey
     client.outcomes = (ValueError('the run itself'),)
     with pytest.raises(ValueError, match='the run itself'):
         list(map_unordered(str, ['a'], client=client))
+    # issue 49: a killed scheduler is named by its address, and one that no longer takes a cancellation is let go
+    from types import SimpleNamespace
+
+    def refuse(futures) -> None:
+        raise OSError('the scheduler is gone')
+
+    client.scheduler = SimpleNamespace(address='tcp://10.0.0.7:8786')
+    client.cancel = refuse
+    client.outcomes = ('first', CommClosedError('in <TCP (closed)>: Stream is closed'))
+    with pytest.raises(ExecutorError, match=r'^the Dask cluster of the scheduler at tcp://10\.0\.0\.7:8786 failed'):
+        list(map_unordered(str, ['a', 'b'], client=client))

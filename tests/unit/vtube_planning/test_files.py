@@ -51,3 +51,22 @@ def test_a_log_ignores_a_link_planted_at_the_old_temporary_name(tmp_path) -> Non
     write_npz(tmp_path / 'run.npz', {'x': np.arange(3.0)}, {'finished': True})
     arrays, meta = read_npz(tmp_path / 'run.npz', ValueError, 'log')
     assert target.read_text() == 'keep me' and arrays['x'].tolist() == [0.0, 1.0, 2.0] and meta == {'finished': True}
+
+
+def test_a_full_disk_is_named_with_the_file(tmp_path) -> None:
+    """Issue 49: a full disk said "[Errno 27] File too large" without naming the file."""
+    import errno
+
+    target = tmp_path / 'metrics.json'
+    target.write_text('earlier')
+
+    def too_large(handle) -> None:
+        handle.write(b'part')
+        raise OSError(errno.EFBIG, 'File too large')
+
+    with pytest.raises(
+        OSError, match=rf'File too large while writing {target}; the file there was left as it was'
+    ) as err:
+        write_atomically(target, too_large)
+    assert err.value.errno == errno.EFBIG and target.read_text() == 'earlier'
+    assert [p.name for p in tmp_path.iterdir()] == ['metrics.json']

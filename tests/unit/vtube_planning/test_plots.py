@@ -133,3 +133,21 @@ def test_the_animation_frames_the_whole_paths_with_robots_as_r_p_discs(scene, tm
     path = animate(result, tube, tmp_path / 'run.gif', frames=3)  # type: ignore[arg-type]
     with Image.open(path) as gif:
         assert gif.size[0] == GIF_WIDTH_PX and gif.n_frames == 3
+
+
+def test_an_images_unknown_cells_are_drawn_and_say_what_they_count_as() -> None:
+    """Issue 49: the figure drew only occupied pixels, so a tube across unmapped space looked clear."""
+    from matplotlib.figure import Figure
+
+    from vtube_planning.geometry.occupancy import OccupancyImage
+    from vtube_planning.plots import UNKNOWN_RGBA, _draw_image
+
+    unknown = np.array([[False, True], [False, False]])
+    for free, said in ((False, 'unknown cells (occupied)'), (True, 'unknown cells (free)')):
+        occupied = np.array([[True, False], [False, False]]) | (unknown & (not free))
+        image = OccupancyImage(occupied, 1.0, (0.0, 0.0), unknown_cells=unknown, unknown_free=free)
+        ax = Figure().add_subplot()
+        _draw_image(ax, image, None)
+        drawn = ax.images[0].get_array()
+        assert tuple(drawn[0, 1]) == UNKNOWN_RGBA and drawn[1, 1, 3] == 0.0  # unknown coloured, free transparent
+        assert [patch.get_label() for patch in ax.patches] == [said]

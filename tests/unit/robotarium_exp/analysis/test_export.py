@@ -88,3 +88,54 @@ def test_what_cannot_be_written_is_refused(flown, tmp_path) -> None:
         export(trajectory, tmp_path / 'x', 'json')
     assert _topic_name('robot_1') == 'robot_1' and _topic_name('3 bots/é') == 'robot_3_bots__'
     assert _topic_names(('a b', 'a_b', 'c')) == ['a_b_0', 'a_b_1', 'c']  # two ids, one name: told apart
+
+
+def test_a_flight_on_a_map_with_obstacles_exports_and_reads_back_its_passage(tmp_path) -> None:
+    """Issue 49: `vtube export --format mcap` of any scene with obstacles was a traceback that left a 43-byte file.
+    A Robotarium flight (its start recorded) on the shipped gate map: the bag holds the obstacles' outlines, and
+    `analyze` of it times the passage from the flight's start and judges the walls on the bodies, as of the log."""
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+    from robotarium_exp.scene import load_scene as load_robotarium_scene
+    from vtube.cli.tube import map_examples
+    from vtube_planning.geometry.map_file import generated_scene
+
+    (tmp_path / 'gate.toml').write_text(generated_scene(map_examples()['robotarium_gate'], 'gate.toml')[0])
+    scene = load_robotarium_scene(tmp_path / 'gate.toml')
+    assert scene.obstacles.outlines()
+    l_m = np.linspace(-0.1, scene.tube.length_m + 0.2, 300)[:, None] - np.array([0.0, 0.15])  # two robots along
+    centre = scene.tube.center_at(np.clip(l_m.ravel(), 0.0, scene.tube.length_m)).reshape(300, 2, 2)
+    stamps = np.arange(300, dtype=np.int64) * 33_000_000
+    samples = {f'r{k}': RobotSamples(stamps, centre[:, k]) for k in range(2)}
+    start = {'iteration': 800, 'robotarium_time_s': 26.4, 't_s': 0.0}
+    source = {'path': 'flight', 'scene': scene.name, 'tube_hash': scene.tube.fingerprint(), 'flight_start': start}
+    flight = assemble(samples, source=source)
+    bag = export(flight, tmp_path / 'run', 'mcap', scene)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ['gate.toml', 'run']  # no partial folder left
+    with AnyReader([bag]) as reader:
+        (connection,) = [c for c in reader.connections if c.topic == TUBE_TOPIC]
+        ((_, _, raw),) = list(reader.messages(connections=[connection]))
+        markers = reader.deserialize(raw, connection.msgtype).markers
+    assert len(markers) == 3 + len(scene.obstacles.outlines())
+    outline = np.array([[p.x, p.y] for p in markers[3].points])
+    np.testing.assert_allclose(outline, scene.obstacles.outlines()[0].T)
+    before, after = analyse(flight, scene).metrics.tube, analyse(load_trajectory([bag]), scene).metrics.tube
+    assert before is not None and after is not None
+    assert after.passage.start == before.passage.start and after.passage.start.startswith('start recorded by the')
+    assert after.passage.passing_time_s == pytest.approx(before.passage.passing_time_s, abs=1e-9)
+    assert after.body_radius_m == before.body_radius_m > 0.0
+
+
+def test_a_failed_bag_leaves_nothing_behind(flown, tmp_path, monkeypatch) -> None:
+    import robotarium_exp.analysis.export as export_module
+
+    _, trajectory = flown
+
+    def broken(trajectory, out, storage, scene) -> None:
+        out.mkdir()
+        (out / 'half.mcap').write_bytes(b'43 bytes of a bag that never got its messages')
+        raise ValueError('too many values to unpack')
+
+    monkeypatch.setattr(export_module, '_write_bag', broken)
+    with pytest.raises(ValueError, match='too many values'):
+        export(trajectory, tmp_path / 'run', 'mcap')
+    assert list(tmp_path.iterdir()) == []

@@ -83,3 +83,14 @@ def test_failures_are_collisions_and_from_a_recorded_start_robots_that_did_not_p
     assert metrics(None, inferred).failures() == ()
     assert metrics(0.2, None).failures() == ('1 robot pairs came closer than 0.200 m',)
     assert metrics(None, TubeMetrics(PASSAGE, 0, 0, 0.0, 1.4, None, None, None)).failures() == ()
+
+
+def test_bodies_on_a_wall_fail_a_recording_as_every_verdict_on_a_robotarium_run() -> None:
+    """Issue 49: the demo and `vtube analyze` judge a flight's bodies on the walls as `robotarium run` and the check
+    do (`robotarium_exp.verifier.wall_failure`); centres over a wall of data of unknown robots are not judged."""
+    on_wall = TubeMetrics(PASSAGE, 33, 1, 0.012, 1.4, None, None, None, body_radius_m=0.055)
+    assert metrics(None, on_wall).failures() == (
+        'robot bodies were on the tube walls in 33 robot-steps (1 robots, up to 0.012 m over)',
+    )
+    centres = TubeMetrics(PASSAGE, 33, 1, 0.012, 1.4, None, None, None)
+    assert metrics(None, centres).failures() == ()

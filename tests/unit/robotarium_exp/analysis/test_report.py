@@ -141,3 +141,84 @@ def test_each_robots_clearance_from_the_scenes_obstacles(tmp_path) -> None:
         ).metrics.tube.obstacle_clearance_m
         is None
     )
+
+
+def test_a_simulation_log_is_timed_from_its_first_row_on_points_and_its_parking_is_apart(tmp_path) -> None:
+    """Issue 49: the demo's planned simulation (31.040 s by `simulate`) showed no passing time beside the returned
+    run; its log starts with the robots inside the tube. A simulation's log is timed from its first row, with point
+    robots; the closest approach is given up to the last exit and after it (parking) apart."""
+    from robotarium_exp.analysis.loaders import load_trajectory
+    from vtube_planning.log import LogWriter
+
+    t = np.arange(300) * 0.1
+    x = -1.2 + 0.1 * t[:, None] - np.array([0.0, 0.1, 0.205])
+    y = np.broadcast_to(np.array([-0.1, 0.05, 0.22]), x.shape).copy()
+    y[280:, 1] = y[280:, 0] + 0.1  # parked: r0 and r1 0.1 m apart from t = 28.0 s, after the last exit
+    log = LogWriter(tmp_path / 'sim.npz', {'kind': 'simulation', 'scene': 'robotarium_trapezoid'})
+    for k in range(t.size):
+        log.append(t_s=np.float64(t[k]), positions_m=np.stack([x[k], y[k]]))
+    log.flush(finished=True)
+    m = analyse(load_trajectory([tmp_path / 'sim.npz']), load_scene('robotarium_trapezoid')).metrics.tube
+    assert m is not None
+    last_out = (1.0 + 1.405) / 0.1
+    assert m.passage.passing_time_s == pytest.approx(last_out, abs=0.1 + 1e-9) and m.body_radius_m == 0.0
+    in_passage, parking = m.closest_in_passage, m.closest_after_passage
+    assert in_passage is not None and parking is not None
+    assert in_passage[1] <= m.passage.last_exit_s < parking[1] == pytest.approx(28.0)
+    assert parking[0] == pytest.approx(np.hypot(0.1, 0.1)) and in_passage[0] == pytest.approx(np.hypot(0.1, 0.15))
+
+
+def test_bodies_outside_the_workspace_before_the_exit_fail_the_recording() -> None:
+    """Issue 49: `analyze` counts bodies outside the scene's workspace (the trapezoid's is the arena) over the whole
+    run; a robot that leaves it before passing the exit fails the recording, one beyond the exit is counted apart."""
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+    t = np.arange(300) * 0.1
+    x = -1.2 + 0.1 * t[:, None] - np.array([0.0, 0.3])
+    y = np.zeros_like(x)
+    y[100:110, 1] = 1.2  # r1 jumps off the arena (|y| <= 1) while inside the tube's span
+    stamps = np.arange(300, dtype=np.int64) * 100_000_000
+    samples = {f'r{k}': RobotSamples(stamps, np.stack([x[:, k], y[:, k]], axis=1)) for k in range(2)}
+    start = {'iteration': 0, 'robotarium_time_s': 0.0, 't_s': 0.0}
+    m = analyse(assemble(samples, source={'path': 'f', 'flight_start': start}), load_scene('robotarium_trapezoid'))
+    contact = m.metrics.tube.map_contact
+    assert contact is not None and contact.outside_workspace == 10 and contact.on_obstacles == 0
+    beyond = int((x[:, 0] > 1.6 - 0.055).sum() + (x[:, 1] > 1.6 - 0.055).sum())  # past the exit, off the arena's end
+    assert contact.outside_after_exit == beyond > 0
+    assert any(
+        f.startswith('robot bodies were outside the workspace (the map) in 10 robot-steps')
+        for f in m.metrics.failures()
+    )
+    assert m.metrics.to_json()['map_contact']['outside_workspace'] == 10
+
+
+def test_a_report_killed_while_it_draws_leaves_the_folder_as_it_was(tmp_path, monkeypatch) -> None:
+    """Issue 49: a second `analyze` into the same --out, killed, left metrics.json of one input beside report.md of
+    the other. The files are made in a hidden folder and moved in only when all are written."""
+    import json
+
+    import robotarium_exp.analysis.plots as analysis_plots
+    from robotarium_exp.analysis.report import write_report
+    from robotarium_exp.analysis.trajectory import RobotSamples, assemble
+
+    def flight(lane: float):
+        t = np.arange(100) * 0.1
+        samples = {
+            'r0': RobotSamples(np.arange(100, dtype=np.int64) * 100_000_000, np.stack([t, 0 * t + lane], axis=1))
+        }
+        return analyse(assemble(samples, source={'path': f'lane {lane}'}), None)
+
+    out = tmp_path / 'report'
+    write_report(out, {'data': flight(0.0)}, None, None)
+    first = {p.name: p.read_bytes() for p in out.iterdir()}
+    assert {'metrics.json', 'report.md'} <= set(first)
+
+    def killed(*args, **kwargs):
+        raise KeyboardInterrupt  # as a kill while the figures are drawn
+
+    monkeypatch.setattr(analysis_plots, 'analysis_figures', killed)
+    with pytest.raises(KeyboardInterrupt):
+        write_report(out, {'data': flight(0.5)}, None, None)
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == first  # nothing of the second run
+    assert sorted(p.name for p in tmp_path.iterdir()) == ['report']  # no hidden folder left
+    assert json.loads(first['metrics.json'])['data']['source']['path'] == 'lane 0.0'

@@ -11,7 +11,14 @@ from vtube.cli.app import main
 
 
 def analysed(
-    *, robots: int = 3, closest=True, collision_m: float | None = 0.27, tube=True, failures=(), clearances=None
+    *,
+    robots: int = 3,
+    closest=True,
+    collision_m: float | None = 0.27,
+    tube=True,
+    failures=(),
+    clearances=None,
+    apart=(None, None),
 ) -> pipeline.Analysed:
     passage = SimpleNamespace(
         passing_time_s=None if tube == 'unobserved' else 41.234, unobserved=['the exit'], start='start inferred'
@@ -28,6 +35,8 @@ def analysed(
             tube_violation_steps=7,
             violations_counted=lambda: 'the centre',
             obstacle_clearance_m=clearances,
+            closest_in_passage=apart[0],
+            closest_after_passage=apart[1],
         )
         if tube
         else None,
@@ -112,3 +121,22 @@ def test_a_plan_needs_its_scene(tmp_path, capsys) -> None:
     assert capsys.readouterr().err == 'error: --plan needs the scene it was made for (--scene).\n'
     assert main(['analyze', str(tmp_path / 'nothing'), '--scene', 'robotarium_trapezoid', '--out', str(tmp_path)]) == 2
     assert capsys.readouterr().err.startswith('error: ')
+
+
+def test_the_minimum_distance_in_the_passage_and_while_parking_are_said_apart() -> None:
+    """Issue 49: the demo's 0.173 m at 63.9 s was measured while parking, unlabelled."""
+    lines = analyze_view(analysed(apart=((0.221, 32.08), (0.173, 63.86)))).lines
+    assert lines[2] == (
+        '  minimum distance up to the last exit (passage) 0.221 m (t = 32.08 s), after it (parking) 0.173 m '
+        '(t = 63.86 s)'
+    )
+    alone = analyze_view(analysed(apart=((0.221, 32.08), None))).lines
+    assert alone[2] == '  minimum distance up to the last exit (passage) 0.221 m (t = 32.08 s)'
+    assert not any('up to the last exit' in line for line in analyze_view(analysed()).lines)
+
+
+def test_a_file_cut_in_a_save_is_said() -> None:
+    """Issue 49: the frames before a cut are analysed, and the cut is said below the first line."""
+    done = analysed()
+    done.data.trajectory.source['cut'] = ['vtube_poses.npy: cut in a save after 4 whole frames; those are analysed']
+    assert analyze_view(done).lines[1] == '  vtube_poses.npy: cut in a save after 4 whole frames; those are analysed'

@@ -150,7 +150,61 @@ BAD = [
     ('replay, no scene', 'replay {tmp}/no_scene --out {out}/run.html', 2, 'records no scene, and the replay draws'),
     ('replay, another scene', 'replay {tmp}/log_A.npz --scene B --out {out}/r.html', 2, "recorded in scene 'A', whose"),
     ('replay, not a page', 'replay {tmp}/log_A.npz --out {out}/run.png', 2, 'run.png is not an .html file; give --out'),
+    (
+        'image smaller than the map',
+        'tube generate {tmp}/tiny_pixels.toml --out {out}/s.toml',
+        2,
+        'the occupancy images cover 0.0 % of [workspace]',
+    ),
+    (
+        'search grid too large',
+        'tube generate {tmp}/huge_pixels.toml --out {out}/s.toml',
+        2,
+        'give [tube.generate] resolution_m = 22.4 or more, or a smaller [workspace]',
+    ),
+    (
+        'comparison of another scene',
+        'analyze {tmp}/no_scene --scene B --compare {tmp}/log_A.npz --out {out}',
+        2,
+        "the log was recorded in scene 'A', whose tube is not the tube of scene 'B'",
+    ),
+    ('a hundred million robots', 'simulate A --out {out} --n 100000000', 2, 'flies at most 5000 robots; give --n'),
+    ('robotarium swarm too large', 'simulate robotarium_curve --out {out} --n 1000', 2, 'which flies 1 to 20 robots'),
+    (
+        'build into a folder',
+        'submission build robotarium_curve --out {out}',
+        2,
+        'is a folder; give the .py file to write',
+    ),
+    ('tube narrower than a robot', 'plan {tmp}/thin.toml --out {out}', 2, 'no wider than a robot (2 r_p = 0.6 m)'),
+    ('campaign step too coarse', 'campaign run {tmp}/coarse.toml --out {out}', 2, 'dt_s must be a number in [0.001'),
+    ('campaign step too fine', 'campaign run {tmp}/fine.toml --out {out}', 2, 'dt_s must be a number in [0.001, 0.1]'),
+    (
+        'a NaN stamp',
+        'analyze {tmp}/nan_stamp --out {out}',
+        2,
+        'vtube_t.npy hold 1 value(s) that are not a time (the first',
+    ),
+    ('start off the map', 'simulate {tmp}/A_tight_map.toml --out {out}', 2, 'the start puts 20 robot bodies outside'),
+    (
+        'heading without a lead',
+        'tube generate {tmp}/headed.toml --out {out}/s.toml',
+        2,
+        'give lead_m > 0 (e.g. the length',
+    ),
+    ('empty scene name', 'study --out {out} --scenes , --seeds 1', 2, "argument --scenes: ',' holds an empty name"),
+    ('no poses returned', 'analyze {tmp}/only_times --out {out}', 2, '(it holds no vtube_poses.npy; read: '),
+    ('start is the goal', 'tube generate {tmp}/start_is_goal.toml --out {out}/s.toml', 2, 'start_m and goal_m are'),
 ]
+
+
+def map_text(image_m: float, side_m: float, start: str = '[10.0, 50.0]', goal: str = '[90.0, 50.0]') -> str:
+    """A map file of a square workspace ``side_m`` on a side holding ``grid.npy`` at ``image_m`` per pixel."""
+    return (
+        f'[tube.generate]\nstart_m = {start}\ngoal_m = {goal}\nhalf_width_min_m = 1.0\nhalf_width_max_m = 3.0\n'
+        f'[workspace]\nx_min_m = 0.0\nx_max_m = {side_m}\ny_min_m = 0.0\ny_max_m = {side_m}\nmargin_m = 0.2\n'
+        f'[obstacles]\nimages = [{{ file = "grid.npy", resolution_m = {image_m}, origin_m = [0.0, 0.0] }}]\n'
+    )
 
 
 @pytest.fixture(scope='module')
@@ -191,6 +245,7 @@ def bad_files(tmp_path_factory) -> Path:
     returned['clock_back'] = (np.r_[0.033 * np.arange(25), 0.033 * np.arange(25) - 0.175], np.zeros((50, 3, 2)))
     returned['milliseconds'] = (33.0 * np.arange(50), np.zeros((50, 3, 2)))
     returned['no_scene'] = (0.033 * np.arange(50), np.zeros((50, 3, 2)))
+    returned['nan_stamp'] = (np.where(np.arange(50) == 7, np.nan, 0.033 * np.arange(50)), np.zeros((50, 3, 2)))
     for name, (t_s, poses) in returned.items():
         (tmp / name).mkdir()
         np.save(tmp / name / 'vtube_t.npy', t_s)
@@ -219,6 +274,26 @@ def bad_files(tmp_path_factory) -> Path:
     (tmp / 'listed_meta').mkdir()
     np.save(tmp / 'listed_meta' / 'vtube_t_s.npy', np.arange(3.0))
     (tmp / 'listed_meta' / 'vtube_meta.json').write_text('[]')
+    np.save(tmp / 'grid.npy', np.zeros((100, 100), dtype=bool))  # 100 x 100 free cells
+    (tmp / 'tiny_pixels.toml').write_text(map_text(1e-7, 100.0))  # issue 49: every obstacle ignored, exit 0
+    (tmp / 'huge_pixels.toml').write_text(map_text(1000.0, 1e5, '[1e4, 5e4]', '[9e4, 5e4]'))  # was a 429 TiB grid
+    headed = map_text(1.0, 100.0).replace('half_width_min_m', 'start_heading_deg = 60.0\nhalf_width_min_m')
+    (tmp / 'headed.toml').write_text(headed)  # issue 49: the heading was ignored, or a "radius 0.000 m" refusal
+    (tmp / 'start_is_goal.toml').write_text(map_text(1.0, 100.0, goal='[10.0, 50.0]'))  # was an IndexError
+    thin = '[tube.width]\nstart_m = 3.0\nparts = [{ kind = "constant", length_m = 10.0 }, { kind = "smooth", '
+    thin += 'length_m = 5.0, to_m = 0.2 }, { kind = "constant" }]\n'  # issue 49: planned "certified"
+    (tmp / 'thin.toml').write_text('[tube.center]\npieces = [{ kind = "line", length_m = 30.0 }]\n' + thin)
+    for name, dt_s in (('coarse', 5.0), ('fine', 1e-7)):  # issue 49: "0 of 1 completed" at exit 0; "no finished run"
+        (tmp / f'{name}.toml').write_text(
+            f'name = "{name}"\n[axes]\nscene = ["C"]\nseed = 1\n[settings]\ndt_s = {dt_s}\n'
+        )
+    edges = np.concatenate(scene.tube.boundaries(np.linspace(0.0, scene.tube.length_m, 400)))
+    (low_x, low_y), (high_x, high_y) = edges.min(axis=0) - 0.5, edges.max(axis=0) + 0.5  # the tube's box, no more
+    tight = f'[workspace]\nx_min_m = {low_x}\nx_max_m = {high_x}\ny_min_m = {low_y}\ny_max_m = {high_y}\n'
+    shipped = Path(__file__).resolve().parents[4] / 'vtube_planning' / 'scenes' / 'A.toml'
+    (tmp / 'A_tight_map.toml').write_text(shipped.read_text(encoding='utf-8') + tight)  # issue 49: flew off the map
+    (tmp / 'only_times').mkdir()  # issue 49: "truncated or corrupt: []"
+    np.save(tmp / 'only_times' / 'vtube_t.npy', np.arange(3.0))
     (tmp / 'shapes').mkdir()
     np.save(tmp / 'shapes' / 'vtube_t.npy', np.zeros(5))
     np.save(tmp / 'shapes' / 'vtube_poses.npy', np.zeros((5, 7)))
@@ -254,3 +329,15 @@ def test_bad_input_gets_one_error_line_and_loses_nothing(
     assert len(errors) == 1 and phrase in errors[0], stderr
     assert 'Traceback' not in stderr
     assert [p.name for p in out.iterdir()] == ['earlier.npz'] and (out / 'earlier.npz').read_bytes() == PRECIOUS
+
+
+@pytest.mark.parametrize(
+    'command',
+    ['simulate A --out {out} --n -3', 'robotarium run', 'robotarium', '--bogus', 'plan A --out {out} --method x'],
+)
+def test_a_bad_command_line_is_one_error_line(tmp_path, capsys, monkeypatch, command: str) -> None:
+    """Issue 49: argparse printed its usage block, five lines, above the error; one `error:` line, as everywhere."""
+    args = [part.format(out=tmp_path / 'out') for part in command.split()]
+    assert vtube(args, monkeypatch) == 2
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 1 and ': error: ' in lines[0] and lines[0].endswith(' --help)'), lines

@@ -28,3 +28,22 @@ def test_a_log_replayed_as_a_page(tmp_path, capsys) -> None:
     write_npz(log, {'t_s': t, 'positions_m': positions}, meta | {'scene': 'my_tube'})
     assert main(['replay', str(log), '--out', str(page)]) == 2
     assert "records scene 'my_tube', which is not shipped" in capsys.readouterr().err
+
+
+def test_a_run_of_an_own_scene_finds_the_scene_copy_beside_its_log(tmp_path, capsys) -> None:
+    """Issue 49: `vtube replay LOG` of an own scene needed --scene although `simulate` had copied the scene file
+    beside the log (``scene_<name>.toml``)."""
+    from pathlib import Path
+
+    t = 0.02 * np.arange(50)
+    positions = np.stack([np.stack([3.0 * t + k, 0.0 * t + k], axis=1) for k in range(2)], axis=2)
+    meta = {'format': LOG_FORMAT, 'version': LOG_VERSION, 'kind': 'simulation', 'scene': 'my_tube', 'planned': False}
+    log = tmp_path / 'log.npz'
+    write_npz(log, {'t_s': t, 'positions_m': positions}, meta)
+    shipped = Path(__file__).resolve().parents[4] / 'vtube_planning' / 'scenes' / 'A.toml'
+    (tmp_path / 'scene_my_tube.toml').write_text(shipped.read_text(encoding='utf-8'), encoding='utf-8')
+    assert main(['replay', str(log), '--out', str(tmp_path / 'run.html')]) == 0
+    assert capsys.readouterr().out.splitlines()[-1].endswith('2 robots, 0.98 s, 30 of 50 frames')
+    (tmp_path / 'scene_my_tube.toml').unlink()
+    assert main(['replay', str(log), '--out', str(tmp_path / 'run.html')]) == 2
+    assert 'no copy scene_my_tube.toml lies beside it; give its file: --scene' in capsys.readouterr().err

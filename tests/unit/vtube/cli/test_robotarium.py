@@ -46,11 +46,11 @@ def run(
 def test_the_view_of_a_run_the_testbed_would_run() -> None:
     phase = PhaseTracking(100, 0.12, 0.3, 0.05, 0.1)
     tracked = PlanTracking(None, phase, PhaseTracking(0, None, None, None, None), phase, 4.0, None)
-    view = experiment_view(run(VerifierCounts(0, 0, 2), tracked))
+    view = experiment_view(run(VerifierCounts(0, 0, 0), tracked))
     assert view.lines[0] == (
         'Robotarium experiment, scene robotarium_curve, with planning, barrier on: would run on the Robotarium'
     )
-    assert '  too close (pair-steps) 0' in view.lines and '  actuator-limit steps   2' in view.lines
+    assert '  too close (pair-steps) 0' in view.lines and '  actuator-limit steps   0' in view.lines
     assert view.lines[4].startswith('  duration               61.2 s (initialization included: declare at least ')
     assert '  speed band             99.50 % of flying robot-steps in [v_min, v_max] (99.91 % where' in view.lines[9]
     tracking = [line for line in view.lines if 'tracking' in line]
@@ -61,7 +61,7 @@ def test_the_view_of_a_run_the_testbed_would_run() -> None:
     assert '  expansion              starts at 4.0 s; the front reaches the narrowing at never' in view.lines
     assert view.exit_code == 0 and view.data['would_run'] and view.data['log'] == 'r/e.npz'
     assert view.lines[-2] == f'  flight                 {FLEW}' and 'failures' not in view.data
-    assert view.data['errors'] == VerifierCounts(0, 0, 2).to_json() and view.data['duration_s'] == 61.25
+    assert view.data['errors'] == VerifierCounts(0, 0, 0).to_json() and view.data['duration_s'] == 61.25
 
 
 def test_a_run_with_robots_too_close_would_not_run_and_fails() -> None:
@@ -203,3 +203,16 @@ def test_a_comparison_with_a_failed_run_fails_naming_it() -> None:
 def test_a_scene_off_the_arena_is_refused_before_any_run(tmp_path, capsys) -> None:
     assert main(['robotarium', 'run', 'A', '--out', str(tmp_path)]) == 2
     assert 'does not fit the Robotarium' in capsys.readouterr().err
+
+
+def test_a_run_without_the_testbeds_initialization_says_its_verdict_is_not_the_testbeds() -> None:
+    """Issue 49: a tube flew clean without V2's initialization and failed with it; the run says so."""
+    from dataclasses import replace
+
+    from vtube.cli.robotarium import NOT_THE_TESTBEDS_START
+
+    clean = run(VerifierCounts(), None)
+    assert not any(line.startswith('  start ') for line in experiment_view(clean).lines)
+    shortcut = experiment_view(replace(clean, initialized=False))
+    assert f'  start                  {NOT_THE_TESTBEDS_START}' in shortcut.lines
+    assert shortcut.data['initialized'] is False and "not from the testbed's start" in NOT_THE_TESTBEDS_START

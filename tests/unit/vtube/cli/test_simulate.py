@@ -29,7 +29,7 @@ def simulated(
         dynamics_violations=outside,
     )
     return pipeline.Simulated(
-        scene=SimpleNamespace(name='C', control=SimpleNamespace(foresight_s=0.0)),
+        scene=SimpleNamespace(name='C', obstacles=(), workspace=None, control=SimpleNamespace(foresight_s=0.0)),
         swarm=SimpleNamespace(n_robots=8),
         config=SimConfig(seed=3, replan_every_s=1.0, acceleration_limits=limits),
         result=result,
@@ -137,3 +137,56 @@ def test_bad_numbers_are_refused_by_the_parser(tmp_path, capsys, bad: list[str])
     with pytest.raises(SystemExit) as stop:
         main(['simulate', 'C', '--out', str(tmp_path), *bad])
     assert stop.value.code == 2 and 'error: argument' in capsys.readouterr().err
+
+
+def test_a_folder_another_simulate_is_writing_is_refused(tmp_path, monkeypatch, capsys) -> None:
+    """Issue 49: four concurrent runs into one folder each printed "written" while the log held one of them. A run
+    holds its folder while it flies; a second is refused (exit 2) naming the holder, and the hold ends with the run."""
+    import os
+    import socket
+
+    seen = []
+
+    def simulate_scene(scene, out, **options):
+        seen.append(sorted(p.name for p in out.iterdir()))
+        return simulated(metrics())
+
+    monkeypatch.setattr(pipeline, 'simulate_scene', simulate_scene)
+    assert main(['simulate', 'C', '--out', str(tmp_path)]) == 0
+    assert seen == [['.lock']] and not (tmp_path / '.lock').exists()  # held while flying, released after
+    holder = {'pid': os.getpid(), 'host': socket.gethostname(), 'since': 'now'}  # alive: this very process
+    (tmp_path / '.lock').write_text(json.dumps(holder), encoding='utf-8')
+    capsys.readouterr()
+    assert main(['simulate', 'C', '--out', str(tmp_path)]) == 2
+    assert f'is being written by another simulate run (process {os.getpid()}' in capsys.readouterr().err
+    assert len(seen) == 1
+
+
+def test_a_run_on_a_map_counts_bodies_off_the_map_over_the_whole_run() -> None:
+    """Issue 49: the robots of a map scene ended 36 m beyond a 30 m map and the summary said nothing. Bodies
+    outside the workspace before the exit fail the run; beyond the exit (this model does not park) they are told."""
+    from vtube_planning.geometry.workspace import Workspace
+
+    positions = np.zeros((625, 2, 1))
+    positions[:, 0, 0] = np.linspace(-1.0, 40.0, 625)
+    positions[10, 1, 0] = 9.9  # once 0.1 m from the map's edge: inside the tube's span
+    l_m = positions[:, 0, :] + 0.0  # a straight tube from x = 0, 30 m long
+    result = SimpleNamespace(
+        metrics=metrics(),
+        planned=True,
+        t_s=0.02 * np.arange(625),
+        positions_m=positions,
+        l_m=l_m,
+        meta={'provenance': {}},
+    )
+    scene = SimpleNamespace(
+        name='map', obstacles=(), workspace=Workspace(-5.0, 32.0, -10.0, 10.0), tube=SimpleNamespace(length_m=30.0)
+    )
+    done = pipeline.Simulated(scene, SimpleNamespace(n_robots=1, r_p_m=0.3), SimConfig(), result, (Path('o/s.npz'),))
+    view = simulate_view(done)
+    beyond = int((positions[:, 0, 0] > 32.0 - 0.3).sum())
+    assert view.exit_code == 1 and view.data['failures'][-1].startswith(
+        'robot bodies were outside the workspace (the map) in 1 robot-steps (first at t = 0.20 s'
+    )
+    line = next(line for line in view.lines if line.startswith('  map '))
+    assert line.endswith(f'; {beyond} robot-steps outside it beyond the exit, where this model drives on (no parking)')

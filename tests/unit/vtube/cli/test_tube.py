@@ -77,3 +77,42 @@ def test_example_writes_a_map_that_generates_a_tube(tmp_path: Path, capsys) -> N
     assert 'exists; give another file name' in capsys.readouterr().err
     assert main(['tube', 'generate', str(map_path), '--out', str(scene_path)]) == 0
     assert 'obstacles             clear' in capsys.readouterr().out
+
+
+def test_a_straight_route_across_unknown_cells_goes_around_them_unless_they_are_freed(tmp_path: Path, capsys) -> None:
+    """Issue 49: a map whose straight route crosses cells never mapped (map_server's grey 205). By default they are
+    obstacles: the tube goes around and touches none. With ``unknown = "free"`` it may cross them, and the output,
+    the scene file and its figure say so."""
+    import numpy as np
+    from matplotlib.image import imsave
+
+    from vtube_planning.geometry.scene import load_scene
+
+    pixels = np.full((40, 80), 254, dtype=np.uint8)  # 20 x 10 m at 0.25 m: free
+    pixels[:28, 36:44] = 205  # x in [9, 11], y in [3, 10]: never mapped, across the straight route y = 5
+    imsave(tmp_path / 'unmapped.png', pixels, cmap='gray', vmin=0, vmax=255)
+    route = MAP_FILE.split('[obstacles]')[0].replace('start_m = [1.0, 2.0]', 'start_m = [1.0, 5.0]')
+    route = route.replace('goal_m = [19.0, 8.0]', 'goal_m = [19.0, 5.0]')
+    image = '[obstacles]\nimages = [{ file = "unmapped.png", resolution_m = 0.25, origin_m = [0.0, 0.0]%s }]\n'
+    (tmp_path / 'map.toml').write_text(route + image % '', encoding='utf-8')
+    (tmp_path / 'free.toml').write_text(route + image % ', unknown = "free"', encoding='utf-8')
+
+    def tube_on_unknown(scene_file: Path) -> float:
+        scene = load_scene(scene_file)
+        l_m = np.linspace(0.0, scene.tube.length_m, 2000)
+        left, right = scene.tube.boundaries(l_m)
+        points = np.concatenate([scene.tube.center_at(l_m), left, right])
+        return float(scene.obstacles.images[0].on_unknown(points).mean())
+
+    assert main([*COMMAND.words.split(), str(tmp_path / 'map.toml'), '--out', str(tmp_path / 'a.toml')]) == 0
+    printed = capsys.readouterr().out
+    assert '  unknown cells         occupied (never mapped is never free' in printed
+    assert tube_on_unknown(tmp_path / 'a.toml') == 0.0  # around the unmapped block, below it
+    assert 'unknown = "occupied"' in (tmp_path / 'a.toml').read_text(encoding='utf-8')
+    assert main([*COMMAND.words.split(), str(tmp_path / 'free.toml'), '--out', str(tmp_path / 'b.toml')]) == 0
+    printed = capsys.readouterr().out
+    line = next(line for line in printed.splitlines() if line.startswith('  unknown cells'))
+    share = float(line.split('FREE (unknown = "free"): ')[1].split(' %')[0])
+    assert tube_on_unknown(tmp_path / 'b.toml') > 0.0 and 5.0 < share < 30.0  # 2 m of a straight 18 m tube: 11 %
+    text = (tmp_path / 'b.toml').read_text(encoding='utf-8')
+    assert '# unknown cells of the images count as FREE here' in text and 'unknown = "free"' in text

@@ -181,11 +181,11 @@ def test_a_dark_top_left_pixel_lands_at_the_top_left_of_the_map(tmp_path: Path) 
 def test_grey_levels_colours_and_alpha_follow_map_server(tmp_path: Path) -> None:
     rgba = np.ones((1, 5, 4))
     rgba[0, 0, :3] = (1.0, 0.0, 0.0)  # grey 1/3: darkness 2/3 > 0.65, occupied
-    rgba[0, 1, :3] = 0.36  # darkness 0.64: free
+    rgba[0, 1, :3] = 0.36  # darkness 0.64: unknown (between free_thresh and occupied_thresh)
     rgba[0, 2, :3] = 0.30  # darkness 0.70: occupied
     rgba[0, 3] = (0.0, 0.0, 0.0, 0.0)  # black, transparent: alpha ignored, occupied
     imsave(tmp_path / 'rgba.png', rgba)
-    entry = {'file': 'rgba.png', 'resolution_m': 1.0, 'origin_m': [0.0, 0.0]}
+    entry = {'file': 'rgba.png', 'resolution_m': 1.0, 'origin_m': [0.0, 0.0], 'unknown': 'free'}
     assert image_from_entry(entry, tmp_path).occupied.tolist() == [[True, False, True, True, False]]
     lower = image_from_entry({**entry, 'occupied_thresh': 0.6}, tmp_path)
     assert lower.occupied.tolist() == [[True, True, True, True, False]]
@@ -293,3 +293,30 @@ def test_a_scene_file_reads_its_image_beside_it_and_refuses_a_tube_through_it(tm
     (tmp_path / 'through.toml').write_text(text + 'origin_m = [4.5, 1.5] }]\n', encoding='utf-8')
     with pytest.raises(SceneError, match=r'through\.toml: the tube meets an obstacle: at l = .*move or narrow'):
         load_scene(tmp_path / 'through.toml')
+
+
+def test_unknown_cells_are_occupied_unless_the_entry_says_free(tmp_path: Path) -> None:
+    """Issue 49: on the Willow Garage map 57 % of a certified tube lay on cells never mapped (map_server's grey
+    205, darkness 0.196): unknown cells are obstacles by default; ``unknown = "free"`` frees them and is written
+    back to the scene file's entry."""
+    grey = np.array([[254, 205, 0, 128]], dtype=np.uint8)  # free, unknown, occupied, unknown (darkness 0.498)
+    imsave(tmp_path / 'ros.png', grey, cmap='gray', vmin=0, vmax=255)
+    entry = {'file': 'ros.png', 'resolution_m': 0.5, 'origin_m': [0.0, 0.0]}
+    default = image_from_entry(entry, tmp_path)
+    assert default.occupied.tolist() == [[False, True, True, True]]
+    assert default.unknown_cells is not None and default.unknown_cells.tolist() == [[False, True, False, True]]
+    assert default.entry(tmp_path)['unknown'] == 'occupied' and default.entry(tmp_path)['free_thresh'] == 0.196
+    free = image_from_entry({**entry, 'unknown': 'free'}, tmp_path)
+    assert free.occupied.tolist() == [[False, False, True, False]] and free.entry(tmp_path)['unknown'] == 'free'
+    assert free.on_unknown(np.array([[0.75, 0.25], [0.25, 0.25], [1.75, 0.1], [9.0, 0.2]])).tolist() == [
+        True,
+        False,
+        True,
+        False,
+    ]
+    stricter = image_from_entry({**entry, 'free_thresh': 0.6}, tmp_path)  # 0.498 is now free, 205 too
+    assert stricter.occupied.tolist() == [[False, False, True, False]] and stricter.unknown_cells is None
+    with pytest.raises(SceneError, match='unknown of .* must be "occupied"'):
+        image_from_entry({**entry, 'unknown': 'maybe'}, tmp_path)
+    with pytest.raises(SceneError, match=r'free_thresh of .* must be a number in \[0, occupied_thresh'):
+        image_from_entry({**entry, 'free_thresh': 0.9}, tmp_path)
