@@ -14,6 +14,7 @@ from vtube.cli.render import progress_bars
 
 if TYPE_CHECKING:
     from vtube.pipeline import Simulated
+    from vtube_planning.swarm.simulate import SimConfig, SimResult
 
 
 def simulate_arguments(parser: argparse.ArgumentParser) -> None:
@@ -121,9 +122,7 @@ def simulate_view(simulated: Simulated) -> View:
     scene = simulated.scene
     mapped = bool(scene.obstacles) or scene.workspace is not None
     contact = map_contact(result.t_s, result.positions_m, scene, simulated.swarm.r_p_m, result.l_m) if mapped else None
-    failures = (*passage_failures(m), *(contact.failures() if contact else ()))
-    if config.acceleration_limits and result.dynamics_violations:
-        failures += (f'{result.dynamics_violations} commands the robots could not fly under (2)-(4)',)
+    failures = (*passage_failures(m), *(contact.failures() if contact else ()), *_unflyable(result, config))
     rows = [
         ('passing time', f'{m.passing_time_s:.3f} s' + ('' if m.completed else ' (not every robot exited)')),
         ('minimum distance', f'{m.min_distance_m:.4f} m at t = {m.min_distance_time_s:.2f} s'),
@@ -175,6 +174,14 @@ def simulate_view(simulated: Simulated) -> View:
         data['failures'] = list(failures)
     lines = (head, *(f'  {name:<18} {value}' for name, value in rows))
     return View(lines, data, exit_code=EXIT_FAILED if failures else EXIT_OK)
+
+
+def _unflyable(result: SimResult, config: SimConfig) -> tuple[str, ...]:
+    """The failure of commands the robots could not fly, under the acceleration limits (the paper's model flies
+    any command)."""
+    if config.acceleration_limits and result.dynamics_violations:
+        return (f'{result.dynamics_violations} commands the robots could not fly under (2)-(4)',)
+    return ()
 
 
 def _controller(horizon_s: float) -> str:

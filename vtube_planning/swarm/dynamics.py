@@ -3,9 +3,9 @@
 A robot flies p' = v with v_min <= |v| <= v_max (2), its speed changes by at most a_v per second (3) and its
 centripetal acceleration |v| |theta'| is at most a_n (4). Over a period dt a robot told to fly at a target speed
 and heading moves its speed towards the target by at most a_v dt and turns its heading towards the target's by at
-most a_n dt / |v| (the new speed). :func:`respond` is that rule on speeds and headings; the simulator's physics
-(:func:`limit_acceleration`) and the foresight's predictions (`vtube_planning.swarm.foresight`) both use it, so the
-prediction is the physics. :func:`dynamics_violations` counts the commands a log holds that no robot of the model
+most a_n dt / |v| (the new speed). `respond` is that rule on speeds and headings; the simulator's physics
+(`limit_acceleration`) and the foresight's predictions (`vtube_planning.swarm.foresight`) both use it, so the
+prediction is the physics. `dynamics_violations` counts the commands a log holds that no robot of the model
 could fly from its velocity of that period.
 """
 

@@ -43,14 +43,14 @@ LANE_LOOKAHEAD_S = 1.0
 SUB_STEPS = 7
 """The horizon after the first period is predicted in this many equal steps."""
 LOCATE_STEPS = 3
-"""Newton steps of :meth:`TubeTables.locate` (from a guess a metre off, the offset is then within a millimetre)."""
+"""Newton steps of `TubeTables.locate` (from a guess a metre off, the offset is then within a millimetre)."""
 TABLE_STEP_M = 0.05
 """Spacing of the tube's tables (m)."""
 LAW_MARGIN_M = float(__import__('os').environ.get('LM', '0.1'))
 """The law's command stands only with this much room to spare beyond r_s and 2 r_s: the backups take over before
 the safe distances are reached, not at them."""
 ALL_PAIRS_UP_TO = 64
-"""Swarms of up to this many robots check every neighbour; larger ones the nearest :data:`NEIGHBOURS`."""
+"""Swarms of up to this many robots check every neighbour; larger ones the nearest `NEIGHBOURS`."""
 NEIGHBOURS = 10
 
 
@@ -61,7 +61,7 @@ def default_horizon(swarm: SwarmParams) -> float:
 
 
 def with_foresight(control: ControlParams, swarm: SwarmParams) -> ControlParams:
-    """``control`` flown under the foresight: its own horizon ``foresight_s``, else :func:`default_horizon`."""
+    """``control`` flown under the foresight: its own horizon ``foresight_s``, else `default_horizon`."""
     return replace(control, foresight_s=control.foresight_s or default_horizon(swarm))
 
 
@@ -170,7 +170,7 @@ class _Backups:
 class Foresight:
     """The foresight of a swarm of ``n_robots``, with its state (every robot's announced backup).
 
-    ``horizon_s`` is T (:func:`default_horizon` is the usual choice). With ``acceleration_limits`` the robots
+    ``horizon_s`` is T (`default_horizon` is the usual choice). With ``acceleration_limits`` the robots
     obey (3), (4); without, a velocity changes at once (the paper's model) and the foresight predicts that.
     """
 
@@ -231,7 +231,7 @@ class Foresight:
         return self.tables.lane_heading(x, y, l_m, lane, self.swarm.r_s_m, ahead)
 
     def _times(self, dt_s: float) -> FloatArray:
-        """The step lengths of a prediction: one period, then :data:`SUB_STEPS` equal steps to the horizon."""
+        """The step lengths of a prediction: one period, then `SUB_STEPS` equal steps to the horizon."""
         rest = max(self.horizon_s - dt_s, dt_s)
         return np.concatenate([[dt_s], np.full(SUB_STEPS, rest / SUB_STEPS)])
 

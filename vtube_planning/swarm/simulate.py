@@ -196,8 +196,7 @@ def simulate(
     meta
         Extra description stored in the log and the result (scene name, ...).
     baseline
-        Another swarm law (the paper's baselines, `vtube_planning.baselines.flocking`); with it, ``plan``
-        must be None and r_a stays constant.
+        Another swarm law (`vtube_planning.baselines.flocking`, ...); with it ``plan`` is None, r_a constant.
     on_step
         Told the simulated time after every step (a progress bar).
     """
@@ -214,8 +213,7 @@ def simulate(
     description = _description(tube, swarm, control, plan, config, n, meta)
     log = LogWriter(log_path, description, flush_every=config.log_every)
     faults = _faults(config, baseline, positions, velocity)
-    foresight = foresight_for(tube, swarm, n, control, config.acceleration_limits)
-    limits = config.acceleration_limits
+    foresight, limits = foresight_for(tube, swarm, n, control, config.acceleration_limits), config.acceleration_limits
     period = SimulatedPeriod(tube, swarm, config.dt_s, limits, stepper, baseline, replanner, faults, foresight)
     for step in range(steps + 1):
         projection = tube.project(positions)  # the truth: logged and measured

@@ -178,9 +178,14 @@ def test_a_run_on_a_map_counts_bodies_off_the_map_over_the_whole_run() -> None:
         positions_m=positions,
         l_m=l_m,
         meta={'provenance': {}},
+        dynamics_violations=0,
     )
     scene = SimpleNamespace(
-        name='map', obstacles=(), workspace=Workspace(-5.0, 32.0, -10.0, 10.0), tube=SimpleNamespace(length_m=30.0)
+        name='map',
+        obstacles=(),
+        workspace=Workspace(-5.0, 32.0, -10.0, 10.0),
+        tube=SimpleNamespace(length_m=30.0),
+        control=SimpleNamespace(foresight_s=0.0),
     )
     done = pipeline.Simulated(scene, SimpleNamespace(n_robots=1, r_p_m=0.3), SimConfig(), result, (Path('o/s.npz'),))
     view = simulate_view(done)
