@@ -23,13 +23,13 @@ from vtube.cli.app import main
 from vtube.cli.demo import FLIGHT_MODEL
 from vtube.pipeline import (
     DEMO_SCENE,
-    ROBOTARIUM_START,
     Analysed,
     Planned,
     Returned,
     Simulated,
     WrittenSubmission,
 )
+from vtube.starts import ROBOTARIUM_START
 from vtube_planning.swarm.metrics import passage_metrics
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -9,7 +9,6 @@ from typing import TYPE_CHECKING
 
 from vtube.cli.arguments import positive, writable_folder
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, BadInput, Command, View
-from vtube_planning.params import OBJECTIVES
 
 if TYPE_CHECKING:
     from vtube.pipeline import Planned
@@ -20,6 +19,8 @@ TERMS = {'entry_s': 'entry half-extent', 'exit_s': 'exit half-extent'}
 
 
 def plan_arguments(parser: argparse.ArgumentParser) -> None:
+    from vtube_planning.params import OBJECTIVES  # here: building the parser of another command imports nothing
+
     parser.add_argument('scene', help='a shipped scene name (see `vtube scene list`) or a .toml file')
     parser.add_argument('--out', type=Path, required=True, help='folder for the plan file and its figure')
     parser.add_argument(

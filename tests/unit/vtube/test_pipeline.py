@@ -17,7 +17,7 @@ from robotarium_exp.errors import AnalysisError
 from robotarium_exp.experiment import initial_conditions
 from robotarium_exp.scene import load_scene
 from submission.builder import UNDECLARED
-from vtube import pipeline
+from vtube import pipeline, starts
 from vtube.pipeline import (
     AnalysisOptions,
     Returned,
@@ -245,17 +245,17 @@ def test_a_robotarium_scene_is_simulated_from_its_flights_entry_formation(tmp_pa
     """The hook gives a Robotarium scene's entry formation (for the swarm flown), None for a paper scene; the
     simulation starts exactly there unless its config gives positions."""
     paper = load_scene('A')
-    assert pipeline.robotarium_start(paper, paper.swarm) is None
+    assert starts.robotarium_start(paper, paper.swarm) is None
     scene = load_scene('robotarium_curve')
     four = replace(scene.swarm, n_robots=4)
-    start = pipeline.robotarium_start(scene, four)
+    start = starts.robotarium_start(scene, four)
     assert start is not None
     np.testing.assert_array_equal(start, initial_conditions(replace(scene, swarm=four))[:2])
     inside = scene.tube.project(start)
     assert np.all(inside.clearance_m > 0) and np.all((inside.l_m > 0) & (inside.l_m < scene.tube.length_m))
     flown = simulate_scene('robotarium_curve', tmp_path, planning=False, n_robots=4, config=SHORT)
     np.testing.assert_array_equal(flown.result.positions_m[0], start)
-    assert flown.start == pipeline.ROBOTARIUM_START and flown.config.initial_positions_m == as_positions(start)
+    assert flown.start == starts.ROBOTARIUM_START and flown.config.initial_positions_m == as_positions(start)
     moved = replace(SHORT, initial_positions_m=start - 0.01)
     given = simulate_scene('robotarium_curve', tmp_path, planning=False, n_robots=4, config=moved)
     assert given.start == 'the given positions'

@@ -84,7 +84,9 @@ def test_every_control_option_reaches_the_step() -> None:
         'compensate_delay_steps': 2.0,
         'compensate_lag_s': 0.1,
     }
-    assert {f.name for f in fields(ControlParams)} == set(changed)
+    # the foresight is the simulator's layer over the step, for robots held to (2)-(4): no submission carries it
+    assert {f.name for f in fields(ControlParams)} == {*changed, 'foresight_s'}
+    assert replace(base, foresight_s=3.0).step_params(SWARM) == base.step_params(SWARM)
     for name, value in changed.items():
         assert replace(base, **{name: value}).step_params(SWARM) != base.step_params(SWARM), name
 
