@@ -46,7 +46,7 @@ LOCATE_STEPS = 3
 """Newton steps of `TubeTables.locate` (from a guess a metre off, the offset is then within a millimetre)."""
 TABLE_STEP_M = 0.05
 """Spacing of the tube's tables (m)."""
-LAW_MARGIN_M = float(__import__('os').environ.get('LM', '0.1'))
+LAW_MARGIN_M = 0.1
 """The law's command stands only with this much room to spare beyond r_s and 2 r_s: the backups take over before
 the safe distances are reached, not at them."""
 ALL_PAIRS_UP_TO = 64
