@@ -2,9 +2,9 @@
 beside the swarm step followed by the foresight (`vtube_planning.swarm.foresight`), the controller of robots held
 to (2)-(4).
 
-The crowd is `benchmarks.sim_bench`'s: robots on a jittered grid at about one robot per m^2 in a straight tube
-sized to hold them, each flying along the tube at 3 m/s, so that the foresight checks every robot's command and
-overrides the ones its neighbours make unsafe (the share is printed). Both are called in turn in one process (a
+The crowd flies as Table 1's swarm does in a tube: robots on a grid jittered by 0.2 m at the desired density
+rho_d = 0.1989 robots/m^2 (2.24 m apart) in a straight tube sized to hold them, each flying along the tube at
+3 m/s; the foresight checks every robot's command and overrides the ones it finds unsafe (the share is printed). Both are called in turn in one process (a
 load that comes and goes slows them alike); prints the median milliseconds per period, their ratio, and whether the
 goals hold: within 2x of the step alone at N = 20, under 50 ms at N = 10,000.
 
@@ -18,17 +18,33 @@ import argparse
 import numpy as np
 
 from benchmarks._timing import timed_together
-from benchmarks.sim_bench import flying, setup, stepper
-from vtube_planning.params import SwarmParams
+from benchmarks.sim_bench import flying, stepper
+from vtube_planning import ArcPath, ArcPiece, VirtualTube, WidthPart, WidthProfile
+from vtube_planning.onboard import StepParams
+from vtube_planning.params import ControlParams, SwarmParams
 from vtube_planning.swarm.foresight import Foresight, default_horizon
 
 GOAL_RATIO_AT_20 = 2.0
 GOAL_MS_AT_10000 = 50.0
 
 
+def crowd(n: int, rng: np.random.Generator) -> tuple[VirtualTube, np.ndarray, np.ndarray, StepParams]:
+    """n robots at rho_d in a straight tube, their radii (r_a) and the default step's numbers."""
+    swarm = SwarmParams(n_robots=n)
+    spacing = 1.0 / np.sqrt(swarm.rho_d_per_m2)
+    cols = max(1, int(np.sqrt(n)))
+    half_width = 0.5 * cols * spacing + 1.0
+    length = spacing * (n // cols + 1) + 20.0
+    tube = VirtualTube(ArcPath((ArcPiece(length),)), WidthProfile(half_width, (WidthPart('constant', length),)))
+    k = np.arange(n)
+    grid = np.vstack([5.0 + spacing * (k // cols), -half_width + 1.0 + spacing * (0.5 + k % cols)])
+    params = ControlParams().step_params(swarm)
+    return tube, grid + 0.2 * rng.standard_normal(grid.shape), np.full(n, params.r_a_m), params
+
+
 def row(n: int, repeats: int) -> tuple[float, float, float]:
     """Median ms of the step alone and of the step with the foresight, and the share of robots overridden."""
-    tube, positions, r_a, params = setup(n, np.random.default_rng(0))
+    tube, positions, r_a, params = crowd(n, np.random.default_rng(0))
     swarm = SwarmParams(n_robots=n)
     velocity = np.vstack([np.full(n, 3.0), np.zeros(n)])
     law = flying(stepper(tube, params, r_a), positions, r_a)
