@@ -18,9 +18,12 @@ TERMS = {'entry_s': 'entry half-extent', 'exit_s': 'exit half-extent'}
 """The last-robot-out terms of the objective, as the plan's summary names them."""
 
 
-def plan_arguments(parser: argparse.ArgumentParser) -> None:
-    from vtube_planning.params import OBJECTIVES  # here: building the parser of another command imports nothing
+OBJECTIVES = ('centre', 'last_out')
+"""`vtube_planning.params.OBJECTIVES`, written here so that a refusal of the plan command's options imports no
+numerical library."""
 
+
+def plan_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('scene', help='a shipped scene name (see `vtube scene list`) or a .toml file')
     parser.add_argument('--out', type=Path, required=True, help='folder for the plan file and its figure')
     parser.add_argument(
@@ -38,7 +41,7 @@ def plan_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         '--objective',
-        choices=OBJECTIVES,
+        choices=OBJECTIVES,  # the planner's (tests/unit/vtube/cli/test_plan.py holds them equal)
         default=None,
         help="centre: the swarm centre's traversal time, the paper's (p1); last_out: first robot in to last robot "
         "out, the passing time measured (default: the scene's [planning] objective, else centre)",

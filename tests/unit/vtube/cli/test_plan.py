@@ -100,3 +100,10 @@ def test_a_scene_files_planning_table_chooses_the_objective(tmp_path, capsys) ->
     assert Plan.load(tmp_path / 'plan_line.npz', load_scene(str(path)).tube).options.objective == 'last_out'
     assert main(['plan', str(path), '--out', str(tmp_path), '--objective', 'centre']) == 0  # the option overrides
     assert 'passing time (model)' not in capsys.readouterr().out
+
+
+def test_the_command_offers_the_planner_s_objectives() -> None:
+    from vtube.cli import plan as plan_command
+    from vtube_planning.params import OBJECTIVES
+
+    assert plan_command.OBJECTIVES == OBJECTIVES
