@@ -8,7 +8,8 @@ speed s along the tube at the lateral offset eta (lambda(l) - r_s), eta in [-1, 
 tube. Every period, for every robot:
 
 1. the law's command is safe if, after one period of following it, the robot can keep its lane (its present eta)
-   at the law's speed for the horizon T without coming closer than r_s to a wall or 2 r_s to a neighbour;
+   at the law's speed for the horizon T without coming closer than r_s to a wall or 2 r_s to a neighbour, with
+   `LAW_MARGIN_M` to spare; the walls are the narrowest half-width over the `merge_window` ahead;
 2. the neighbours fly the backups they announced the period before (each robot announces its lane and speed);
 3. a safe law's command stands; otherwise the robot flies the safe backup whose first command is closest to the
    law's, or, when none is safe, the one that falls short latest (then least);
@@ -52,6 +53,7 @@ the safe distances are reached, not at them."""
 ALL_PAIRS_UP_TO = 64
 """Swarms of up to this many robots check every neighbour; larger ones the nearest `NEIGHBOURS`."""
 NEIGHBOURS = 10
+"""How many nearest neighbours a robot of a larger swarm checks."""
 
 
 def default_horizon(swarm: SwarmParams) -> float:
@@ -236,8 +238,8 @@ class Foresight:
         return np.concatenate([[dt_s], np.full(SUB_STEPS, rest / SUB_STEPS)])
 
     def _paths(self, robots: _Robots, backups: _Backups, dt_s: float) -> list[tuple[FloatArray, FloatArray]]:
-        """Where robots ``backups.rows`` are at each step of the horizon, flying their backups (R, K): (x, y, l,
-        offset) per step, each (R, K), as positions only for the first two."""
+        """Where robots ``backups.rows`` are at each step of the horizon, flying their backups: (x, y) per step,
+        each (R, K)."""
         return [(x, y) for x, y, _, _ in self._flights(robots, backups, dt_s)]
 
     def _flights(
