@@ -48,7 +48,7 @@ def row(n: int, repeats: int) -> tuple[float, float, float]:
     swarm = SwarmParams(n_robots=n)
     velocity = np.vstack([np.full(n, 3.0), np.zeros(n)])
     law = flying(stepper(tube, params, r_a), positions, r_a)
-    foresight = Foresight(tube, swarm, n, horizon_s=default_horizon(swarm), acceleration_limits=True)
+    foresight = Foresight(tube, swarm, horizon_s=default_horizon(swarm), acceleration_limits=True)
     guarded = flying(stepper(tube, params, r_a), positions, r_a)
     frames = [positions, positions + np.array([[0.06], [0.0]])]
     count = [0]

@@ -68,12 +68,12 @@ def with_foresight(control: ControlParams, swarm: SwarmParams) -> ControlParams:
 
 
 def foresight_for(
-    tube: VirtualTube, swarm: SwarmParams, n_robots: int, control: ControlParams, acceleration_limits: bool
+    tube: VirtualTube, swarm: SwarmParams, control: ControlParams, acceleration_limits: bool
 ) -> Foresight | None:
     """The foresight ``control`` asks for (None when its horizon is 0: the law alone)."""
     if control.foresight_s <= 0:
         return None
-    return Foresight(tube, swarm, n_robots, horizon_s=control.foresight_s, acceleration_limits=acceleration_limits)
+    return Foresight(tube, swarm, horizon_s=control.foresight_s, acceleration_limits=acceleration_limits)
 
 
 def merge_window(swarm: SwarmParams) -> float:
@@ -170,15 +170,13 @@ class _Backups:
 
 
 class Foresight:
-    """The foresight of a swarm of ``n_robots``, with its state (every robot's announced backup).
+    """The foresight of a swarm, with its state (every robot's announced backup).
 
     ``horizon_s`` is T (`default_horizon` is the usual choice). With ``acceleration_limits`` the robots
     obey (3), (4); without, a velocity changes at once (the paper's model) and the foresight predicts that.
     """
 
-    def __init__(
-        self, tube: VirtualTube, swarm: SwarmParams, n_robots: int, *, horizon_s: float, acceleration_limits: bool
-    ) -> None:
+    def __init__(self, tube: VirtualTube, swarm: SwarmParams, *, horizon_s: float, acceleration_limits: bool) -> None:
         self.swarm = swarm
         self.horizon_s = float(horizon_s)
         self.a_v = swarm.a_v_mps2 if acceleration_limits else math.inf

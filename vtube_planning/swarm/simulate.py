@@ -213,7 +213,7 @@ def simulate(
     description = _description(tube, swarm, control, plan, config, n, meta)
     log = LogWriter(log_path, description, flush_every=config.log_every)
     faults = _faults(config, baseline, positions, velocity)
-    foresight, limits = foresight_for(tube, swarm, n, control, config.acceleration_limits), config.acceleration_limits
+    foresight, limits = foresight_for(tube, swarm, control, config.acceleration_limits), config.acceleration_limits
     period = SimulatedPeriod(tube, swarm, config.dt_s, limits, stepper, baseline, replanner, faults, foresight)
     for step in range(steps + 1):
         projection = tube.project(positions)  # the truth: logged and measured

@@ -50,7 +50,7 @@ def test_the_tables_locate_points_as_the_projection_does(tube: VirtualTube) -> N
 
 
 def _foresight(tube: VirtualTube, n: int) -> Foresight:
-    return Foresight(tube, replace(SWARM, n_robots=n), n, horizon_s=3.0, acceleration_limits=True)
+    return Foresight(tube, replace(SWARM, n_robots=n), horizon_s=3.0, acceleration_limits=True)
 
 
 def test_a_safe_command_is_followed_as_the_robot_can() -> None:
