@@ -12,7 +12,8 @@ tube. Every period, for every robot:
    `LAW_MARGIN_M` to spare; the walls are the narrowest half-width over the `merge_window` ahead;
 2. the neighbours fly the backups they announced the period before (each robot announces its lane and speed);
 3. a safe law's command stands; otherwise the robot flies the safe backup whose first command is closest to the
-   law's, or, when none is safe, the one that falls short latest (then least);
+   law's, or, when none is safe, the one that falls short latest (then least), and keeps flying backups for
+   `HOLD_S` before the law again;
 4. the robot is commanded its velocity after one period of following the target: a command inside (2)-(4) from
    its present velocity.
 
@@ -50,6 +51,9 @@ TABLE_STEP_M = 0.05
 LAW_MARGIN_M = 0.1
 """The law's command stands only with this much room to spare beyond r_s and 2 r_s: the backups take over before
 the safe distances are reached, not at them."""
+HOLD_S = 1.0
+"""A robot whose law's command was unsafe flies backups for this long before the law again: two robots that each
+make the other's law unsafe would otherwise take turns, one period the law, the next a backup, and fly neither."""
 ALL_PAIRS_UP_TO = 64
 """Swarms of up to this many robots check every neighbour; larger ones the nearest `NEIGHBOURS`."""
 NEIGHBOURS = 10
@@ -186,6 +190,7 @@ class Foresight:
         self._tree = cKDTree(self.tables.xy_m.T)
         self.announced: tuple[FloatArray, FloatArray] | None = None  # every robot's lane and speed
         self.overridden = 0  # robot-periods where the law's command was replaced
+        self._held: FloatArray | float = 0.0  # per robot, how much longer it flies a backup before the law again
 
     def __call__(self, positions: FloatArray, velocity: FloatArray, command: FloatArray, dt_s: float) -> FloatArray:
         """The commands (2, N) for robots at ``positions`` flying ``velocity`` whose law commands ``command``."""
@@ -206,7 +211,9 @@ class Foresight:
         first = self._foresee(robots, law, others, neighbours, dt_s, LAW_MARGIN_M)[0][:, 0]
         target_speed, target_heading = law_speed.copy(), law_heading.copy()
         announced_lane, announced_speed = lane.copy(), law_speed.copy()
-        risky = np.flatnonzero(np.isfinite(first))
+        unsafe = np.isfinite(first)
+        self._held = np.where(unsafe, HOLD_S, np.maximum(self._held - dt_s, 0.0))
+        risky = np.flatnonzero(unsafe | (self._held > 0.0))
         if risky.size:
             chosen_lane, chosen_speed = self._choose(robots, risky, law_speed, law_heading, others, neighbours, dt_s)
             announced_lane[risky], announced_speed[risky] = chosen_lane, chosen_speed
