@@ -16,9 +16,9 @@ import time
 from pathlib import Path
 from typing import Any
 
-from vtube_planning.campaign import Campaign
-from vtube_planning.campaign_runner import run_campaign
-from vtube_planning.study import MODES
+from vtube_planning.studies.campaign import Campaign
+from vtube_planning.studies.campaign_runner import run_campaign
+from vtube_planning.studies.study import MODES
 
 
 def comparable(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:

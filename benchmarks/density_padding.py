@@ -17,7 +17,7 @@ import numpy as np
 
 from vtube_planning import load_scene
 from vtube_planning.planning.planner import plan_convex
-from vtube_planning.stats import paired_difference
+from vtube_planning.studies.stats import paired_difference
 from vtube_planning.swarm.metrics import tracking_errors
 from vtube_planning.swarm.simulate import SimConfig, simulate
 

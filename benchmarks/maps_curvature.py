@@ -15,9 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
-from vtube_planning.campaign_store import read_results
 from vtube_planning.planning.planner import plan_convex
-from vtube_planning.study import Point
+from vtube_planning.studies.campaign_store import read_results
+from vtube_planning.studies.study import Point
 
 
 def main(argv: list[str] | None = None) -> None:

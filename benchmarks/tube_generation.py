@@ -4,7 +4,7 @@ takes, and whether every certified tube misses its obstacles (independently, at 
     python -m benchmarks.tube_generation [--seeds 100] [--families forest,blocks,bottleneck] [--workers 2]
         [--no-plan] [--list]
 
-Per family (`vtube_planning.geometry.maps`, 80 m x 40 m at 0.1 m): maps; certified tubes; refusals by
+Per family (`vtube_planning.geometry.from_maps.maps`, 80 m x 40 m at 0.1 m): maps; certified tubes; refusals by
 reason (no passage with the room, a corner too tight for the 4 m radius, other); the generation time per map
 (median and largest, seconds of one process; ``benchmarks/tube_generation_speed.py`` times generation alone, and
 against another checkout); certified tubes the independent check finds within the 0.3 m margin
@@ -26,8 +26,8 @@ from concurrent.futures import ProcessPoolExecutor
 def one_map(family: str, seed: int, plan: bool) -> dict[str, object]:
     """Generate the map's tube, check it, plan it."""
     from tests.support.tube_clearance import closest_approach
-    from vtube_planning.geometry.generate import TubeGenerationError, generate_tube
-    from vtube_planning.geometry.maps import LIMITS, random_map
+    from vtube_planning.geometry.from_maps.generate import TubeGenerationError, generate_tube
+    from vtube_planning.geometry.from_maps.maps import LIMITS, random_map
     from vtube_planning.params import PlanningOptions, SwarmParams
     from vtube_planning.planning.planner import plan_convex
 

@@ -31,8 +31,8 @@ def generator(root: str | None) -> Generator:
             del sys.modules[name]
         sys.path.insert(0, root)
     try:
-        generate = importlib.import_module('vtube_planning.geometry.generate')
-        maps = importlib.import_module('vtube_planning.geometry.maps')
+        generate = importlib.import_module('vtube_planning.geometry.from_maps.generate')
+        maps = importlib.import_module('vtube_planning.geometry.from_maps.maps')
     finally:
         if root is not None:
             sys.path.remove(root)

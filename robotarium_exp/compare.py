@@ -22,9 +22,9 @@ from robotarium_exp.rps_alias import seed_rps
 from robotarium_exp.tracking import plan_tracking
 from robotarium_exp.verdict import flight_failures
 from vtube_planning.geometry.scene import Scene
-from vtube_planning.judging import confirmed, detectable_text, judge
 from vtube_planning.planning.plan import Plan
-from vtube_planning.stats import NOT_SHOWN, nonzero_count, paired_difference, relative, signed_rank_p
+from vtube_planning.studies.judging import confirmed, detectable_text, judge
+from vtube_planning.studies.stats import NOT_SHOWN, nonzero_count, paired_difference, relative, signed_rank_p
 from vtube_planning.swarm.metrics import strict_json
 
 COLUMNS = (
@@ -132,8 +132,8 @@ def comparison_table(rows: list[ComparisonRow]) -> str:
 
 def paired_table(rows: list[ComparisonRow], confirm_seeds: Collection[int] = ()) -> str:
     """Markdown: per measure of BETTER, planned - unplanned paired by seed (the same initialization draws), its
-    interval, effect and signed-rank p-value, Holm-adjusted within its family (`vtube_planning.judging`: no
-    family declared, each measure is its own), and the verdict (`vtube_planning.stats`), over every seed; with
+    interval, effect and signed-rank p-value, Holm-adjusted within its family (`vtube_planning.studies.judging`: no
+    family declared, each measure is its own), and the verdict (`vtube_planning.studies.stats`), over every seed; with
     ``confirm_seeds`` held out, on the other seeds, the claims found tested again on those, and both's verdict."""
     held = set(confirm_seeds)
     found = judge(_tests([r for r in rows if r.seed not in held]), ())

@@ -10,8 +10,8 @@ initialization for the seeds asked (0..seeds-1 for a count) exactly as the prefl
 verifier count, simulator's or recounted, the run ended normally, every robot past the exit), every robot parked in its
 slot, no robot-step with the body on the wall, and a mean density error in the plan's dip at most `DIP_ERROR_BAR`.
 
-The cases run in parallel (`vtube_planning.executors.map_unordered`), each row appended to ``runs.csv`` as
-it comes (`vtube_planning.campaign_store.prepare_table`: a rerun does only the missing rows; a case that
+The cases run in parallel (`vtube_planning.studies.executors.map_unordered`), each row appended to ``runs.csv`` as
+it comes (`vtube_planning.studies.campaign_store.prepare_table`: a rerun does only the missing rows; a case that
 raised is a row with its error, done again next time); ``sweep.md`` holds the table, scene x N.
 """
 
@@ -39,16 +39,16 @@ from submission.check import RUN_TIMEOUT_S, RunReport, file_flight_data, run_fil
 from submission.errors import SubmissionError
 from submission.robustness import record_passage
 from vtube_planning import __version__
-from vtube_planning.campaign_store import RUNS_FILE, holding, prepare_table
 from vtube_planning.errors import VtubeError
-from vtube_planning.executors import map_unordered
 from vtube_planning.files import write_atomically
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.onboard import swarm_area
 from vtube_planning.onboard.parking import PARKED_WITHIN_M
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
-from vtube_planning.seeds import seeds_text
+from vtube_planning.studies.campaign_store import RUNS_FILE, holding, prepare_table
+from vtube_planning.studies.executors import map_unordered
+from vtube_planning.studies.seeds import seeds_text
 
 DIP_ERROR_BAR = 0.25
 """The largest mean relative density error |rho - rho*| / rho* over the plan's dip that passes (issue 31)."""
@@ -243,7 +243,7 @@ def case_key(case: Case) -> str:
 
 def _seeds_key(seeds: tuple[int, ...]) -> int | str:
     """The seeds as keys and the record hold them: seeds 0..n-1 as the count n (as before ranges were taken, so
-    that earlier sweeps resume), others as their text (`vtube_planning.seeds.seeds_text`)."""
+    that earlier sweeps resume), others as their text (`vtube_planning.studies.seeds.seeds_text`)."""
     return len(seeds) if seeds == tuple(range(len(seeds))) else seeds_text(seeds)
 
 

@@ -41,5 +41,5 @@ class LogError(VtubeError, ValueError):
 
 
 class TubeGenerationError(VtubeError, ValueError):
-    """No certified tube for an obstacle map (`vtube_planning.geometry.generate`): the message names the place
+    """No certified tube for an obstacle map (`vtube_planning.geometry.from_maps.generate`): the message names the place
     and the reason."""

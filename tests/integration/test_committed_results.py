@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from vtube_planning.campaign_verify import verify
+from vtube_planning.studies.campaign_verify import verify
 
 DOCS = Path(__file__).resolve().parents[2] / 'docs'
 VERIFIED = ('maps_study', 'maps_study_limits', 'ablation', 'replanning', 'faults', 'foresight')

@@ -13,9 +13,9 @@ import pytest
 
 from tests.support.campaigns import SMALL, write
 from tests.support.terminal import stderr_on_a_pipe, stderr_on_a_terminal
-from vtube_planning.campaign import Campaign
-from vtube_planning.campaign_runner import run_campaign
-from vtube_planning.campaign_store import RUNS_FILE, read_results
+from vtube_planning.studies.campaign import Campaign
+from vtube_planning.studies.campaign_runner import run_campaign
+from vtube_planning.studies.campaign_store import RUNS_FILE, read_results
 
 
 def comparable(rows: list[dict]) -> list[dict]:
@@ -77,7 +77,7 @@ def test_progress_is_drawn_on_a_terminal_and_not_on_a_pipe(tmp_path) -> None:
 
 def test_a_scheduler_without_workers_is_refused_within_the_timeout() -> None:
     distributed = pytest.importorskip('distributed')
-    from vtube_planning.executors import ExecutorError, connect
+    from vtube_planning.studies.executors import ExecutorError, connect
 
     refused = pytest.raises(ExecutorError, match='has no worker after 1 s; start one with `dask worker')
     with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=':0') as cluster, refused:

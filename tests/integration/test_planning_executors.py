@@ -7,7 +7,7 @@ import operator
 
 import pytest
 
-from vtube_planning.executors import map_unordered
+from vtube_planning.studies.executors import map_unordered
 
 
 def test_local_processes_return_every_result_with_its_index() -> None:
@@ -23,7 +23,7 @@ def test_an_error_in_a_local_process_propagates() -> None:
 
 SLEEPER = """
 import sys, time
-from vtube_planning.executors import map_unordered
+from vtube_planning.studies.executors import map_unordered
 if __name__ == '__main__':
     for _ in map_unordered(time.sleep, [60.0, 60.0], workers=2):
         pass

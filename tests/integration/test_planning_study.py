@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from vtube.cli import main
-from vtube_planning.campaign_store import read_results
-from vtube_planning.study import ABLATIONS, Point, run_point
+from vtube_planning.studies.campaign_store import read_results
+from vtube_planning.studies.study import ABLATIONS, Point, run_point
 
 
 def test_a_reduced_grid_end_to_end(tmp_path, capsys) -> None:

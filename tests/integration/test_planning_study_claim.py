@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-from vtube_planning.campaign import Campaign
-from vtube_planning.campaign_runner import run_campaign
-from vtube_planning.paper_report import summarise
 from vtube_planning.params import SwarmParams
-from vtube_planning.study import MODES
+from vtube_planning.studies.campaign import Campaign
+from vtube_planning.studies.campaign_runner import run_campaign
+from vtube_planning.studies.paper_report import summarise
+from vtube_planning.studies.study import MODES
 
 
 def test_reduced_study_reproduces_the_papers_claim(tmp_path) -> None:

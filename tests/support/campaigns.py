@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from vtube_planning.campaign import METRICS
-from vtube_planning.study import Point
+from vtube_planning.studies.campaign import METRICS
+from vtube_planning.studies.study import Point
 
 SMALL = """
 [axes]

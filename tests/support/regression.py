@@ -57,10 +57,10 @@ from robotarium_exp.rps_alias import install as install_rps
 from robotarium_exp.rps_alias import seed_rps
 from robotarium_exp.rps_import import kept_apart
 from robotarium_exp.scene import load_scene
-from vtube_planning import study as run_point_module  # the module whose ``simulate`` run_point calls
 from vtube_planning.params import ControlParams
 from vtube_planning.planning.planner import plan_convex
-from vtube_planning.study import Point, ablation_setup, run_point
+from vtube_planning.studies import study as run_point_module  # the module whose ``simulate`` run_point calls
+from vtube_planning.studies.study import Point, ablation_setup, run_point
 from vtube_planning.swarm.simulate import SimConfig, simulate
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -9,7 +9,7 @@ import re
 from pathlib import Path
 
 from vtube.cli.command import BadInput
-from vtube_planning.seeds import SEED_MAX, SeedsError, parse_seeds
+from vtube_planning.studies.seeds import SEED_MAX, SeedsError, parse_seeds
 
 
 def whole(text: str) -> int:
@@ -34,7 +34,7 @@ SEEDS_HELP = 'seeds: a count n (0..n-1), a range 10-19 or a list 3,7,11'
 
 
 def seeds(text: str) -> tuple[int, ...]:
-    """An argparse type: which seeds to run, in the order given (`vtube_planning.seeds.parse_seeds`): a
+    """An argparse type: which seeds to run, in the order given (`vtube_planning.studies.seeds.parse_seeds`): a
     count n (seeds 0..n-1), a range ``10-19``, a list ``3,7,11`` or a mix ``0-4,10``."""
     try:
         return parse_seeds(text)

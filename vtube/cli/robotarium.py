@@ -11,7 +11,7 @@ from vtube.cli.arguments import SEEDS_HELP, seed, seeds, testbed_model_name, wri
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, BadInput, Command, View
 from vtube.cli.render import progress_bar
 from vtube_planning.files import write_atomically
-from vtube_planning.seeds import seeds_text
+from vtube_planning.studies.seeds import seeds_text
 
 if TYPE_CHECKING:
     from robotarium_exp.experiment import ExperimentConfig, ExperimentResult

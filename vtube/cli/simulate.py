@@ -56,10 +56,10 @@ MAX_ROBOTS = 5000
 
 
 def simulate(args: argparse.Namespace) -> Simulated:
-    """Fly the scene, holding ``--out`` (`vtube_planning.campaign_store.holding`: a second run into the same
+    """Fly the scene, holding ``--out`` (`vtube_planning.studies.campaign_store.holding`: a second run into the same
     folder is refused, not mixed into one log)."""
     from vtube.pipeline import simulate_scene
-    from vtube_planning.campaign_store import holding
+    from vtube_planning.studies.campaign_store import holding
     from vtube_planning.swarm.simulate import SimConfig
 
     writable_folder(args.out)
@@ -84,7 +84,7 @@ def simulate(args: argparse.Namespace) -> Simulated:
 @contextmanager
 def _removed_if_left_empty(out: Path, made: bool) -> Iterator[None]:
     """Inside: a run into ``out``; a folder it ``made`` and left empty (a refusal: nothing flown) is removed."""
-    from vtube_planning.campaign_store import LOCK_FILE
+    from vtube_planning.studies.campaign_store import LOCK_FILE
 
     try:
         yield

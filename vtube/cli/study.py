@@ -13,9 +13,9 @@ from vtube.cli.command import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_OK, BadInput, Co
 from vtube_planning.files import write_atomically
 
 if TYPE_CHECKING:
-    from vtube_planning.campaign import Campaign
-    from vtube_planning.campaign_runner import Outcome
-    from vtube_planning.campaign_verify import Verification
+    from vtube_planning.studies.campaign import Campaign
+    from vtube_planning.studies.campaign_runner import Outcome
+    from vtube_planning.studies.campaign_verify import Verification
 
 
 @dataclass(frozen=True)
@@ -75,9 +75,9 @@ def execute(campaign: Campaign, out: Path, args: argparse.Namespace) -> Campaign
     connects to the scheduler before any run."""
     import os
 
-    from vtube_planning.campaign_runner import run_campaign
-    from vtube_planning.campaign_store import RUNS_FILE
-    from vtube_planning.executors import connect
+    from vtube_planning.studies.campaign_runner import run_campaign
+    from vtube_planning.studies.campaign_store import RUNS_FILE
+    from vtube_planning.studies.executors import connect
 
     writable_folder(out)
     points = campaign.points()  # a bad scene fails here, before any run
@@ -129,11 +129,12 @@ def study(args: argparse.Namespace) -> StudyDone:
     rerun resumes it); writes study.md, study.json and study.png."""
     import json
 
-    from vtube_planning import plots, study_plots
-    from vtube_planning.campaign import Campaign
-    from vtube_planning.paper_report import study_markdown, summarise
+    from vtube_planning import plots
     from vtube_planning.params import SwarmParams
-    from vtube_planning.study import BASELINE_MODES, BASELINE_SCENES, MODES
+    from vtube_planning.studies import study_plots
+    from vtube_planning.studies.campaign import Campaign
+    from vtube_planning.studies.paper_report import study_markdown, summarise
+    from vtube_planning.studies.study import BASELINE_MODES, BASELINE_SCENES, MODES
     from vtube_planning.swarm.metrics import strict_json
 
     out: Path = args.out
@@ -208,8 +209,8 @@ def confirm_argument(parser: argparse.ArgumentParser) -> None:
 def ablation(args: argparse.Namespace) -> CampaignDone:
     """The ablation grid as a campaign in ``--out`` (a rerun resumes it), and its report (its families:
     `ABLATION_FAMILIES`)."""
-    from vtube_planning.campaign import ABLATION_FAMILIES, Campaign
-    from vtube_planning.study import ABLATIONS
+    from vtube_planning.studies.campaign import ABLATION_FAMILIES, Campaign
+    from vtube_planning.studies.study import ABLATIONS
 
     grid = {'scene': args.scenes, 'n_robots': parse_sizes(args.sizes), 'seed': args.seeds}
     grid |= {'model': args.models, 'controller': args.controllers, 'saturation': args.saturations}
@@ -239,7 +240,7 @@ def campaign_run_arguments(parser: argparse.ArgumentParser) -> None:
 
 def campaign_run(args: argparse.Namespace) -> CampaignDone:
     """Run a campaign file into ``--out`` (or the file's ``out``), resuming it, then write its report."""
-    from vtube_planning.campaign import Campaign
+    from vtube_planning.studies.campaign import Campaign
 
     campaign = Campaign.from_toml(args.file)
     if args.confirm_seeds:
@@ -265,9 +266,10 @@ def campaign_done_view(done: CampaignDone) -> View:
 def write_report(out: Path) -> CampaignReport | None:
     """A campaign folder's tables and figures (report.md, differences.png, verdicts.png, means.png), from its table
     alone (None: it holds no finished run)."""
-    from vtube_planning import plots, study_plots
-    from vtube_planning.campaign_store import made_by, read_results
-    from vtube_planning.study_report import map_differences, report_text
+    from vtube_planning import plots
+    from vtube_planning.studies import study_plots
+    from vtube_planning.studies.campaign_store import made_by, read_results
+    from vtube_planning.studies.study_report import map_differences, report_text
 
     campaign, rows, missing = read_results(out)
     if not rows:
@@ -315,7 +317,7 @@ def campaign_verify_arguments(parser: argparse.ArgumentParser) -> None:
 def campaign_verify(args: argparse.Namespace) -> Verification:
     import os
 
-    from vtube_planning.campaign_verify import verify
+    from vtube_planning.studies.campaign_verify import verify
 
     return verify(args.folder, runs=args.runs, workers=args.workers or os.cpu_count() or 1)
 

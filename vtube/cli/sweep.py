@@ -32,7 +32,7 @@ def sweep(args: argparse.Namespace) -> SweepOutcome:
     """Run what is missing of the sweep into ``--out`` (a rerun resumes it) and write its table."""
     from submission.check import RUN_TIMEOUT_S
     from submission.sweep import sweep as run_sweep
-    from vtube_planning.campaign_store import RUNS_FILE
+    from vtube_planning.studies.campaign_store import RUNS_FILE
 
     sizes = parse_sizes(args.n, '--n')
     writable_folder(args.out)

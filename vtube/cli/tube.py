@@ -13,7 +13,7 @@ from vtube.cli.command import BadInput, Command, View
 from vtube_planning.files import write_atomically
 
 if TYPE_CHECKING:
-    from vtube_planning.geometry.generate import GeneratedTube
+    from vtube_planning.geometry.from_maps.generate import GeneratedTube
 
 
 @dataclass(frozen=True)
@@ -36,7 +36,7 @@ def generate_arguments(parser: argparse.ArgumentParser) -> None:
 def generate(args: argparse.Namespace) -> TubeGenerated:
     import time
 
-    from vtube_planning.geometry.map_file import generated_scene
+    from vtube_planning.geometry.from_maps.map_file import generated_scene
 
     path: Path = args.out
     if path.exists():

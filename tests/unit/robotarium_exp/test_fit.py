@@ -260,7 +260,7 @@ def test_a_generated_tube_is_told_in_the_map_file_s_keys_and_never_beyond_the_ar
     from robotarium_exp.fit import GENERATED, Misfit, for_map_file, robotarium_fit
     from robotarium_exp.scene import load_scene
     from vtube.cli.tube import map_examples
-    from vtube_planning.geometry.map_file import generated_scene
+    from vtube_planning.geometry.from_maps.map_file import generated_scene
 
     text = map_examples()['robotarium_gate'].replace('n_robots = 6', 'n_robots = 12')
     assert 'n_robots = 12' in text

@@ -13,7 +13,7 @@ from robotarium_exp.fit import robotarium_fit
 from robotarium_exp.flight_data import FlightData
 from robotarium_exp.scene import load_scene
 from tests.support.tube_clearance import closest_approach
-from vtube_planning.geometry.map_file import generated_scene
+from vtube_planning.geometry.from_maps.map_file import generated_scene
 
 MAPS = Path(__file__).parents[3] / 'docs' / 'maps'
 

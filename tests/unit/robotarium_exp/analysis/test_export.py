@@ -97,7 +97,7 @@ def test_a_flight_on_a_map_with_obstacles_exports_and_reads_back_its_passage(tmp
     from robotarium_exp.analysis.trajectory import RobotSamples, assemble
     from robotarium_exp.scene import load_scene as load_robotarium_scene
     from vtube.cli.tube import map_examples
-    from vtube_planning.geometry.map_file import generated_scene
+    from vtube_planning.geometry.from_maps.map_file import generated_scene
 
     (tmp_path / 'gate.toml').write_text(generated_scene(map_examples()['robotarium_gate'], 'gate.toml')[0])
     scene = load_robotarium_scene(tmp_path / 'gate.toml')

@@ -20,9 +20,9 @@ import pytest
 from robotarium_exp import rps_alias
 from robotarium_exp.scene import load_scene
 from vtube.cli.app import main
-from vtube_planning.campaign import Campaign, run_key
 from vtube_planning.npzfile import META_KEY, read_npz, write_npz
 from vtube_planning.planning.planner import plan_convex
+from vtube_planning.studies.campaign import Campaign, run_key
 from vtube_planning.swarm.simulate import SimConfig, simulate
 
 PRECIOUS = b'an earlier result that a failed command must not touch'

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from vtube.cli.app import main
 from vtube.cli.example import ExampleWritten, campaign_examples, example_view
-from vtube_planning.campaign import Campaign
+from vtube_planning.studies.campaign import Campaign
 
 ROOT = Path(__file__).resolve().parents[4]
 

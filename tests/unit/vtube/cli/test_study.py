@@ -20,7 +20,7 @@ from vtube.cli.study import (
     campaign_run_lines,
     study_view,
 )
-from vtube_planning.campaign_runner import Outcome
+from vtube_planning.studies.campaign_runner import Outcome
 
 FAILED_ROW = {'key': 'k1', 'scene': 'C', 'mode': 'planning', 'seed': 2, 'error': 'ValueError: no'}
 

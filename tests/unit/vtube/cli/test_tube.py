@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from tests.unit.vtube_planning.geometry.test_generate import MAP_FILE
+from tests.unit.vtube_planning.geometry.from_maps.test_generate import MAP_FILE
 from vtube.cli.app import main
 from vtube.cli.tube import COMMANDS, map_examples
 

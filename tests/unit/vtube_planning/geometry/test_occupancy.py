@@ -14,8 +14,8 @@ from matplotlib.image import imsave
 from tests.support.tube_clearance import closest_approach
 from vtube_planning.errors import SceneError
 from vtube_planning.geometry import occupancy
-from vtube_planning.geometry.centre_path import SearchGrid
-from vtube_planning.geometry.generate import TubeSpec, generate_tube
+from vtube_planning.geometry.from_maps.centre_path import SearchGrid
+from vtube_planning.geometry.from_maps.generate import TubeSpec, generate_tube
 from vtube_planning.geometry.obstacles import Disc, Obstacles, Polygon, obstacles_from_table
 from vtube_planning.geometry.occupancy import OCCUPIED_THRESH, OccupancyImage, image_from_entry
 from vtube_planning.geometry.workspace import Workspace
@@ -259,7 +259,7 @@ def test_the_warehouse_example_generates_a_tube_clear_of_its_drawn_boxes(tmp_pat
     keeps its margin from them as polygons (the independent check)."""
     import importlib.util
 
-    from vtube_planning.geometry.map_file import generated_scene
+    from vtube_planning.geometry.from_maps.map_file import generated_scene
     from vtube_planning.geometry.scene import load_scene
 
     maps = Path(__file__).parents[4] / 'docs' / 'maps'

@@ -1,0 +1,87 @@
+"""The ablation modes: each switches exactly the part it names; the grid command refuses bad arguments."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from vtube.cli import main
+from vtube_planning.errors import ParamsError
+from vtube_planning.geometry.scene import load_scene
+from vtube_planning.studies.study import ABLATIONS, Point, ablation_setup, run_point
+from vtube_planning.swarm.simulate import SimConfig, default_constant_speed, simulate
+
+
+@pytest.fixture(scope='module')
+def setups():
+    scene = load_scene('C')
+    return scene, {mode: ablation_setup(mode, scene, scene.swarm, 0.02) for mode in ABLATIONS}
+
+
+def test_each_mode_switches_exactly_the_part_it_names(setups) -> None:
+    scene, s = setups
+    full = s['planning']
+    assert full.plan is not None and full.control == scene.control and full.constant_speed_mps is None
+    # without (p7): planned again with (p7) left out, nothing else changed; the dip before the narrowing is gone
+    no_p7 = s['planning without (p7)']
+    assert no_p7.plan is not None and no_p7.control == full.control
+    assert no_p7.plan.options == replace(full.plan.options, predictive_model='none')
+    assert full.plan.active['p7'].any() and not no_p7.plan.active['p7'].any()
+    assert no_p7.plan.density_per_m2.min() > full.plan.density_per_m2.min() + 0.05
+    # (a3) off: the same plan, only the gain of (a3) and its feed-forward zeroed
+    off = s['planned speed, (a3) off']
+    assert off.plan is full.plan
+    assert off.control.k_ra_m3ps == 0.0 and not off.control.feedforward
+    assert replace(off.control, k_ra_m3ps=full.control.k_ra_m3ps, feedforward=full.control.feedforward) == full.control
+    # flat: the full plan's grid at the constant mid speed and the density rho_d; (a3) as in the full plan
+    flat = s['constant speed, (a3) to rho_d']
+    assert flat.plan is not None and flat.control == full.control
+    np.testing.assert_array_equal(flat.plan.l_m, full.plan.l_m)
+    assert np.all(flat.plan.speed_mps == default_constant_speed(scene.swarm))
+    assert np.all(flat.plan.density_per_m2 == scene.swarm.rho_d_per_m2)
+    # no planning: no plan; the two differ in their constant speed only
+    mid, fast = s['no planning'], s['no planning at v_max']
+    assert mid.plan is None and fast.plan is None and mid.control == fast.control
+    assert (mid.constant_speed_mps, fast.constant_speed_mps) == (3.5, scene.swarm.v_max_mps)
+
+
+def test_a3_off_keeps_every_avoidance_radius_and_a3_on_changes_them(setups) -> None:
+    scene, s = setups
+    config = SimConfig(time_limit_s=3.0)
+    radii = {}
+    for mode in ('planning', 'planned speed, (a3) off'):
+        setup = s[mode]
+        result = simulate(scene.tube, scene.swarm, setup.control, plan=setup.plan, config=config)
+        radii[mode] = result.r_a_m
+    assert np.all(radii['planned speed, (a3) off'] == scene.swarm.r_a_m)
+    assert radii['planning'].max() > 1.2 * scene.swarm.r_a_m
+
+
+def test_bad_grid_arguments(tmp_path, capsys) -> None:
+    assert main(['ablation', '--out', str(tmp_path), '--sizes', '20,x']) == 2
+    assert '--sizes must be comma-separated whole numbers >= 1' in capsys.readouterr().err
+    assert main(['ablation', '--out', str(tmp_path), '--models', 'paper,fast']) == 2
+    assert "axes.model holds 'fast'; choose from 'paper', 'acceleration limits'." in capsys.readouterr().err
+    assert main(['ablation', '--out', str(tmp_path), '--saturations', 'clip']) == 2
+    assert "axes.saturation holds 'clip'; choose from 'radial', 'forward'." in capsys.readouterr().err
+
+
+def test_the_compensated_delay_is_the_runs_own_or_misjudged_by_a_period() -> None:
+    assert Point('C', latency_steps=3, lag_s=0.1).compensated() == (0.0, 0.0)
+    assert Point('C', latency_steps=3, lag_s=0.1, compensation='known').compensated() == (3.0, 0.1)
+    assert Point('C', latency_steps=3, compensation='known-1').compensated() == (2.0, 0.0)
+    assert Point('C', latency_steps=3, compensation='known+1').compensated() == (4.0, 0.0)
+    assert Point('C', latency_steps=0, compensation='known-1').compensated() == (0.0, 0.0)  # never below 0
+    with pytest.raises(ParamsError, match="the baseline 'flocking' does not fly"):
+        run_point(Point('C', mode='flocking', latency_steps=2, compensation='known'))
+
+
+def test_a_point_on_a_random_map_flies_that_maps_tube() -> None:
+    from vtube_planning.geometry.from_maps.maps import scene_on_map
+
+    point = Point('C', map='forest', map_seed=3, map_clutter=10)
+    assert point.load_scene().tube.length_m == scene_on_map(load_scene('C'), 'forest', 3, clutter=10).tube.length_m
+    assert Point('C').load_scene().tube.length_m == load_scene('C').tube.length_m  # no map: the scene's own tube
+    assert point.load_scene().tube.length_m != load_scene('C').tube.length_m
