@@ -1,16 +1,16 @@
 """Where `vtube submission build` spends its time, before and after the runs went to every core and the
 initializer's durations were reused, side by side in one run; and the rebuild after a change of control parameters.
 
-    python -m benchmarks.build_bench [--scene robotarium_curve] [--initializer-seeds 200]
+    python -m benchmarks.build_bench [--scene robotarium_curve] [--seeds 3] [--initializer-seeds 200]
 
-Each case is what `vtube submission build SCENE` does (the plan, the file, its preflight: 3 seeds under each testbed
-model of the check, the PyPI simulator's run when it is installed, V2's initializer alone over the seeds) in this
-process, with a cache folder of its own (`submission.reuse`, through ``VTUBE_CACHE_DIR``):
+Each case is what `vtube submission build SCENE` does (the plan, the file, its preflight: ``--seeds`` seeds under each
+testbed model of the check, the PyPI simulator's run when it is installed, V2's initializer alone over the initializer
+seeds) in this process, with a cache folder of its own (`submission.reuse`, through ``VTUBE_CACHE_DIR``):
 
 - **before**: the runs one after another (``workers=1``), the cache empty: the build as it was;
 - **after**: the runs ``os.cpu_count()`` at a time, the cache empty: a first build;
 - **rebuild**: after, then the same scene with one control gain changed (``[control] keeping_gain`` x 1.1): the
-  file, its plan and its runs are new, the initializer's durations are the first build's (same formation).
+  plan is made and the file run again, the initializer's durations are the first build's (same formation).
 
 Per case: the wall time of each stage (plan and file, the runs, the initializer) and in all, the CPU time of this
 process and its children, and the load average (1 min) at its end. The files of before and after must be the
@@ -59,7 +59,9 @@ def cache(folder: Path) -> Iterator[None]:
             os.environ[CACHE_ENV] = saved
 
 
-def one_build(scene_ref: str | Path, out: Path, workers: int | None, seeds: int) -> tuple[dict[str, float], str]:
+def one_build(
+    scene_ref: str | Path, out: Path, workers: int | None, seeds: tuple[int, int]
+) -> tuple[dict[str, float], str]:
     """Wall seconds per stage, in all, CPU and load of one build; and the file's source."""
     marks: list[tuple[str, float]] = []
     start, cpu = time.perf_counter(), cpu_s()
@@ -71,7 +73,7 @@ def one_build(scene_ref: str | Path, out: Path, workers: int | None, seeds: int)
 
     scene = load_scene(scene_ref)
     submission, report, _ = build_declared(
-        scene, plan_for(scene), out, initializer_seeds=seeds, progress=progress, workers=workers
+        scene, plan_for(scene), out, seeds=seeds[0], initializer_seeds=seeds[1], progress=progress, workers=workers
     )
     end = time.perf_counter()
     if not report.passed:
@@ -88,22 +90,25 @@ def unstamped(source: str) -> list[str]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--scene', default='robotarium_curve')
+    parser.add_argument('--seeds', type=int, default=3)
     parser.add_argument('--initializer-seeds', type=int, default=200)
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix='vtube-build-bench-') as folder:
-        root = Path(folder)
+        root, seeds = Path(folder), (args.seeds, args.initializer_seeds)
         changed = root / f'{args.scene}_gain.toml'
         changed.write_text(load_scene(args.scene).text + CONTROL_CHANGE, encoding='utf-8')
         cases: list[tuple[str, Callable[[], tuple[dict[str, float], str]]]] = [
-            ('before', lambda: one_build(args.scene, root / 'before.py', 1, args.initializer_seeds)),
-            ('after', lambda: one_build(args.scene, root / 'after.py', None, args.initializer_seeds)),
-            ('rebuild', lambda: one_build(changed, root / 'rebuild.py', None, args.initializer_seeds)),
+            ('before', lambda: one_build(args.scene, root / 'before.py', 1, seeds)),
+            ('after', lambda: one_build(args.scene, root / 'after.py', None, seeds)),
+            ('rebuild', lambda: one_build(changed, root / 'rebuild.py', None, seeds)),
         ]
         rows, sources = {}, {}
         for name, run in cases:
             with cache(root / ('cache-before' if name == 'before' else 'cache')):
                 rows[name], sources[name] = run()
-    print(f'{args.scene}, {args.initializer_seeds} initializer seeds, {os.cpu_count()} cores')
+    print(
+        f'{args.scene}: {args.seeds} seeds per model, {args.initializer_seeds} initializer seeds, {os.cpu_count()} cores'
+    )
     print(f'{"":<16}' + ''.join(f'{name:>10}' for name in rows))
     for key in (*STAGES, 'wall', 'cpu', 'load'):
         unit = '' if key == 'load' else ' [s]'
