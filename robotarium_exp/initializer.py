@@ -22,6 +22,9 @@ import robotarium_exp.rps.robotarium as simulator
 from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps_alias import seed_rps
 
+INITIALIZATION_LIMIT = 15_000
+"""Steps after which an initialization counts as stuck."""
+
 
 @dataclass(frozen=True)
 class InitializerSample:
@@ -38,7 +41,7 @@ class InitializerSample:
 def initializer_durations(
     ic: NDArray[np.float64],
     seeds: Iterable[int],
-    limit: int = 15_000,
+    limit: int = INITIALIZATION_LIMIT,
     *,
     workers: int | None = None,
     seed_done: Callable[[], None] | None = None,

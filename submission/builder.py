@@ -159,6 +159,7 @@ def build_declared(
     seed_done: Callable[[], None] | None = None,
     testbed_models: tuple[str, ...] = CHECKED_MODELS,
     plan_file: Path | None = None,
+    workers: int | None = None,
 ) -> tuple[Submission, CheckReport, Path]:
     """Build the submission and check it ([`submission.check.check`][submission.check.check], options as there) in a
     private folder; when it passes, stamp the declaration the check derived into the header of the file checked and
@@ -176,6 +177,7 @@ def build_declared(
             progress=progress,
             seed_done=seed_done,
             testbed_models=testbed_models,
+            workers=workers,
         )
     if report.passed and report.declaration is not None:
         submission = submission.declared(report.declaration)

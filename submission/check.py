@@ -34,14 +34,16 @@ from typing import Literal
 
 from robotarium_exp.fit import fit_of_flight
 from robotarium_exp.flight_data import FlightData
-from robotarium_exp.initializer import InitializerSample, initializer_durations
+from robotarium_exp.initializer import InitializerSample
 from robotarium_exp.spec import ROBOTARIUM
 from robotarium_exp.verdict import run_failures
 from robotarium_exp.verifier import VerifierCounts, closest_centres_m, recount
 from submission.declaration import Declaration, declare
 from submission.errors import CheckError
 from submission.recording import SimulatorRecord, read_record
+from submission.reuse import cached_initializer_durations
 from submission.robustness import CHECKED_MODELS, VERDICT_MODELS, Margins, margins, record_passage
+from submission.schedule import Job, flights
 from vtube_planning.onboard import SampledTube
 from vtube_planning.swarm.metrics import PassageMetrics
 
@@ -272,11 +274,13 @@ def check(
     progress: Callable[[str], None] | None = None,
     seed_done: Callable[[], None] | None = None,
     testbed_models: tuple[str, ...] = CHECKED_MODELS,
+    workers: int | None = None,
 ) -> CheckReport:
     """Run the whole preflight on a submission file: a run per seed of ``seeds`` (a count n: seeds 0..n-1) under
     each of ``testbed_models``; the
     initializer alone over ``initializer_seeds`` seeds; each run of the file stopped after ``run_timeout_s``;
-    ``progress`` is told what starts, ``seed_done`` each initializer seed that ends."""
+    ``progress`` is told what starts, ``seed_done`` each initializer seed that ends; the runs share ``workers``
+    processes (default: one per core; `submission.schedule`), the initializer's seeds come from `submission.reuse`."""
     path = Path(path).resolve()
     run_seeds = tuple(range(seeds)) if isinstance(seeds, int) else tuple(seeds)
     source = _read_source(path, len(run_seeds))
@@ -293,23 +297,23 @@ def check(
     if not fit.fits:
         return CheckReport(str(path), misfits=tuple(map(str, fit.misfits)))
     tell = progress or (lambda text: None)
-    runs: list[RunReport] = []
-    by_model: dict[str, list[RunReport]] = {}
-    for model in testbed_models:
-        if model != 'ideal' and not all(run.ok for run in by_model.get('ideal', [])):
-            break  # no margins for a file that fails in the ideal simulator already
-        by_model[model] = []
-        for seed in run_seeds:
-            under = f', {model}' if model != 'ideal' else ''
-            tell(f'running the file on the bundled simulator, seed {seed}{under} (at most {run_timeout_s:g} s)')
-            by_model[model].append(run_file(path, 'bundled', seed, data, run_timeout_s, model))
-        runs += by_model[model] if model in VERDICT_MODELS else []
-    if importlib.util.find_spec('rps') is not None:
-        tell(f'running the file on the PyPI simulator (at most {run_timeout_s:g} s)')
-        runs.append(run_file(path, 'pypi', None, data, run_timeout_s))
+
+    def starts(job: Job) -> None:
+        backend, seed, model = job
+        under = f'bundled simulator, seed {seed}' + (f', {model}' if model != 'ideal' else '')
+        tell(
+            f'running the file on the {under if backend == "bundled" else "PyPI simulator"} (at most {run_timeout_s:g} s)'
+        )
+
+    def run(job: Job) -> RunReport:
+        return run_file(path, job[0], job[1], data, run_timeout_s, job[2])
+
+    pypi = importlib.util.find_spec('rps') is not None
+    by_model, pypi_runs = flights(run, run_seeds, testbed_models, pypi=pypi, starts=starts, workers=workers)
+    runs = [run for model, done in by_model.items() if model in VERDICT_MODELS for run in done] + pypi_runs
     tell(f"V2's initializer alone for the file's initial conditions, {initializer_seeds} seeds")
     robots = {run.record.poses.shape[2] for run in runs if run.record is not None and run.record.robotariums}
-    initializer = initializer_durations(data.initial_conditions, range(initializer_seeds), seed_done=seed_done)
+    initializer = cached_initializer_durations(data.initial_conditions, range(initializer_seeds), seed_done=seed_done)
     report = CheckReport(
         str(path),
         runs=tuple(runs),

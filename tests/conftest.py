@@ -10,12 +10,14 @@ The thread count changes no bit of any result (tests/integration/test_regression
 
 Tests write to temporary folders only: the session lists the untracked paths of the working tree when it starts and
 when it ends (`tests.support.tree`), and a run that leaves a new one fails, naming it (outside a git checkout there
-is nothing to compare and nothing is checked).
+is nothing to compare and nothing is checked). The cache of `submission.reuse` is a temporary folder of the session
+(``VTUBE_CACHE_DIR``, inherited by the subprocesses), never the user's.
 """
 
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -48,6 +50,18 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
 def _controller(config: pytest.Config) -> bool:
     """Not a pytest-xdist worker (the controller sees the whole run)."""
     return not hasattr(config, 'workerinput')
+
+
+@pytest.fixture(autouse=True, scope='session')
+def _session_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
+    """`submission.reuse`'s cache in a temporary folder while the session runs."""
+    saved = os.environ.get('VTUBE_CACHE_DIR')
+    os.environ['VTUBE_CACHE_DIR'] = str(tmp_path_factory.mktemp('vtube-cache'))
+    yield
+    if saved is None:
+        del os.environ['VTUBE_CACHE_DIR']
+    else:
+        os.environ['VTUBE_CACHE_DIR'] = saved
 
 
 def pytest_sessionstart(session: pytest.Session) -> None:

@@ -1,0 +1,79 @@
+"""The initializer's durations reused between checks: keyed by what they depend on, run only for seeds not stored.
+
+Oracle: `robotarium_exp.initializer.initializer_durations` itself (V2's steps 352 and 512 for seeds 0 and 1 of a
+single robot, ``tests/unit/robotarium_exp/test_initializer.py``), called directly.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from robotarium_exp.initializer import initializer_durations
+from submission import reuse
+
+IC = np.array([[0.3], [0.2], [2.5]])
+
+
+@pytest.fixture
+def ran(monkeypatch):
+    """The seeds each call of the initializer ran (in this process: one worker)."""
+    calls: list[list[int]] = []
+
+    def counted(ic, seeds, limit, seed_done=None):
+        calls.append(list(seeds))
+        return initializer_durations(ic, seeds, limit, workers=1, seed_done=seed_done)
+
+    monkeypatch.setattr(reuse, 'initializer_durations', counted)
+    return calls
+
+
+def test_seeds_run_once_then_come_from_the_cache_as_the_initializer_gives_them(tmp_path, ran) -> None:
+    done: list[int] = []
+    first = reuse.cached_initializer_durations(IC, [1, 0], 400, seed_done=lambda: done.append(1), folder=tmp_path)
+    assert first == initializer_durations(IC, [1, 0], 400, workers=1) and ran == [[1, 0]] and len(done) == 2
+    assert first.stuck_seeds == (1,)  # seed 1 takes 512 steps: stuck under 400, stored as such
+    again = reuse.cached_initializer_durations(IC, [0, 2, 1, 0], 400, seed_done=lambda: done.append(1), folder=tmp_path)
+    assert again == initializer_durations(IC, [0, 2, 1, 0], 400, workers=1)
+    assert ran == [[1, 0], [2]] and len(done) == 6  # only seed 2 is new; progress counts every seed asked for
+    other_limit = reuse.cached_initializer_durations(IC, [1], 600, folder=tmp_path)
+    assert other_limit.durations_s == pytest.approx((512 * 0.033,)) and ran[-1] == [1]
+
+
+def test_the_key_is_what_the_durations_depend_on() -> None:
+    key = reuse.initializer_key(IC, 400)
+    assert key == reuse.initializer_key(IC.copy(), 400)
+    assert key != reuse.initializer_key(IC, 401)
+    assert key != reuse.initializer_key(IC + np.array([[1e-12], [0.0], [0.0]]), 400)
+
+
+def test_a_file_that_is_not_a_map_of_durations_is_run_again_and_replaced(tmp_path, ran) -> None:
+    path = tmp_path / reuse.FOLDER / f'{reuse.initializer_key(IC, 400)}.json'
+    path.parent.mkdir(parents=True)
+    for text in ('not json', '[1, 2]', json.dumps({'durations_s': {'0': 'soon'}})):
+        path.write_text(text, encoding='utf-8')
+        ran.clear()
+        assert reuse.cached_initializer_durations(IC, [0], 400, folder=tmp_path).durations_s == pytest.approx(
+            (352 * 0.033,)
+        )
+        assert ran == [[0]]
+    assert json.loads(path.read_text(encoding='utf-8'))['durations_s'] == {'0': pytest.approx(352 * 0.033)}
+
+
+def test_a_cache_that_cannot_be_written_costs_only_the_runs(tmp_path, ran) -> None:
+    (tmp_path / reuse.FOLDER).write_text('a file where the folder should be', encoding='utf-8')
+    sample = reuse.cached_initializer_durations(IC, [0], 400, folder=tmp_path)
+    assert sample.durations_s == pytest.approx((352 * 0.033,)) and ran == [[0]]
+
+
+def test_the_folder_is_the_users_cache_never_the_repository(monkeypatch, tmp_path) -> None:
+    monkeypatch.setenv(reuse.CACHE_ENV, str(tmp_path / 'own'))
+    assert reuse.cache_folder() == tmp_path / 'own'
+    monkeypatch.delenv(reuse.CACHE_ENV)
+    monkeypatch.setenv('XDG_CACHE_HOME', str(tmp_path / 'xdg'))
+    assert reuse.cache_folder() == tmp_path / 'xdg' / 'vtube'
+    monkeypatch.delenv('XDG_CACHE_HOME')
+    monkeypatch.setenv('HOME', str(tmp_path / 'home'))
+    assert reuse.cache_folder() == tmp_path / 'home' / '.cache' / 'vtube'
