@@ -6,9 +6,7 @@ is a usage error.
 With pytest-xdist, ``pytest -n 2 --dist loadfile`` keeps each file on one worker, so that module fixtures (the demo
 run among them) are built once. Every test process uses one BLAS thread (unless OPENBLAS_NUM_THREADS is set): OpenBLAS threads spin while they
 wait, so two workers with two threads each on two cores run the small QPs of the certificates many times slower.
-The thread count changes no bit of any result (tests/integration/test_regression.py). On a machine whose numpy
-would dispatch SIMD kernels the golden file's environment did not have (AVX-512), they are disabled the same way
-(`tests.support.simd`): their last bits move the harness's chaotic cases beyond its tolerance.
+The thread count changes no bit of any result (tests/integration/test_regression.py).
 
 Tests write to temporary folders only: the session lists the untracked paths of the working tree when it starts and
 when it ends (`tests.support.tree`), and a run that leaves a new one fails, naming it (outside a git checkout there
@@ -24,12 +22,9 @@ from pathlib import Path
 
 import pytest
 
-from tests.support.simd import beyond_golden
 from tests.support.tree import left_behind, untracked_paths
 
 os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')  # before numpy is imported, inherited by workers and subprocesses
-if 'NPY_DISABLE_CPU_FEATURES' not in os.environ and (extra := beyond_golden()):
-    os.environ['NPY_DISABLE_CPU_FEATURES'] = extra  # numpy's dispatch as the golden file's (`tests.support.simd`)
 
 ROOMS = ('unit', 'integration')
 HERE = Path(__file__).resolve().parent
