@@ -153,13 +153,14 @@ class TubeTables:
 
 @dataclass(frozen=True)
 class _Robots:
-    """The robots now: positions (2, N), speeds, headings, arc lengths and offsets (N,)."""
+    """The robots now: positions (2, N), speeds, headings, arc lengths, offsets and lanes (N,)."""
 
     positions: FloatArray
     speed: FloatArray
     heading: FloatArray
     l_m: FloatArray
     offset_m: FloatArray
+    lane: FloatArray
 
 
 @dataclass(frozen=True)
@@ -197,16 +198,16 @@ class Foresight:
         speed, heading = np.hypot(velocity[0], velocity[1]), np.arctan2(velocity[1], velocity[0])
         l_guess = self.tables.l_m[self._tree.query(positions.T)[1]]
         l_m, offset = self.tables.locate(positions[0], positions[1], l_guess)
-        robots = _Robots(positions, speed, heading, l_m, offset)
         lane = self.tables.lane_of(l_m, offset, self.swarm.r_s_m)
+        robots = _Robots(positions, speed, heading, l_m, offset, lane)
         law_speed = np.clip(np.hypot(command[0], command[1]), self.swarm.v_min_mps, self.swarm.v_max_mps)
         law_heading = np.arctan2(command[1], command[0])
         if self.announced is None:
             self.announced = (lane, speed)
         lanes, speeds = self._column(self.announced)
-        others = self._paths(robots, _Backups(np.arange(speed.size), lanes, speeds, *_free(speeds)), dt_s)
-        neighbours = self._neighbours(positions)
         rows = np.arange(speed.size)
+        others = self._paths(robots, _Backups(rows, lanes, speeds, *_free(speeds)), dt_s)
+        neighbours = self._neighbours(positions)
         law = _Backups(rows, lane[:, None], law_speed[:, None], law_speed[:, None], law_heading[:, None])
         first = self._foresee(robots, law, others, neighbours, dt_s, LAW_MARGIN_M)[0][:, 0]
         target_speed, target_heading = law_speed.copy(), law_heading.copy()
@@ -321,8 +322,7 @@ class Foresight:
         law's, else the one that falls short latest, then least."""
         swarm = self.swarm
         band = np.array([swarm.v_min_mps, 0.5 * (swarm.v_min_mps + swarm.v_max_mps), swarm.v_max_mps])
-        own = self.tables.lane_of(robots.l_m[risky], robots.offset_m[risky], swarm.r_s_m)
-        lanes = np.concatenate([np.tile(LANES, (risky.size, 1)), own[:, None]], axis=1)
+        lanes = np.concatenate([np.tile(LANES, (risky.size, 1)), robots.lane[risky, None]], axis=1)
         lane = np.repeat(lanes, band.size, axis=1)
         speed = np.tile(band, (risky.size, lanes.shape[1]))
         first, shortfall = self._foresee(robots, _Backups(risky, lane, speed, *_free(speed)), others, neighbours, dt_s)
