@@ -1,5 +1,6 @@
 """The regression harness (:mod:`tests.support.regression`): every case flies the golden metrics and fingerprints of
-tests/integration/regression.json in every environment, and its exact bits in the golden file's environment.
+tests/integration/regression.json in every environment, and its exact bits in the environments the golden file holds
+(its own and its variants: other machine kinds).
 
 Regenerate the golden file on purpose only: ``python -m tests.support.regression --write``.
 """
@@ -18,13 +19,14 @@ from tests.support.regression import (
     changed_gains,
     deviation,
     differences,
-    environment_differences,
     fingerprint,
+    golden,
     load_reference,
+    ulp_moves,
 )
 
 REFERENCE = load_reference()
-SAME_ENVIRONMENT = not environment_differences(REFERENCE['environment'])
+GOLDEN, BITS = golden(REFERENCE)
 GAIN_CASE = 'grid_C_N80_kdtree_first_8s'
 """A short case whose fingerprints every gain of ControlParams changed by 1e-9 moves by 40 x the tolerance or more,
 in every environment (``--sensitivity``)."""
@@ -36,7 +38,7 @@ def test_every_golden_case_is_a_case() -> None:
 
 @pytest.mark.parametrize('case', [pytest.param(case, id=case.name) for case in CASES])
 def test_no_drift_from_the_golden_file(case: Case) -> None:
-    drift = differences(REFERENCE['cases'][case.name], fingerprint(case)[0], bits=SAME_ENVIRONMENT)
+    drift = differences(GOLDEN[case.name], fingerprint(case)[0], bits=BITS)
     assert not drift.found, f'{case.name} drifted from the golden file:\n' + '\n'.join(drift.found)
 
 
@@ -76,3 +78,34 @@ def test_deviation_is_absolute_below_one_relative_above(golden: float, value: fl
 def test_deviation_of_nan_against_a_number_is_infinite() -> None:
     assert deviation(1.0, float('nan')) == float('inf')
     assert deviation(float('inf'), 1.0) == float('inf')
+
+
+def test_a_variant_environment_is_compared_with_its_own_records_bit_for_bit() -> None:
+    name = GAIN_CASE
+    moved = copy.deepcopy(REFERENCE['cases'][name])
+    step = f'step {moved["fingerprints"]["steps"][0]}'
+    moved['fingerprints'][step][3] += 1e-6
+    other = REFERENCE['environment'] | {'numpy_simd': 'X86_V2 X86_V3 X86_V4', 'openblas_core': 'SkylakeX'}
+    reference = {**REFERENCE, 'variants': {'other': {'environment': other, 'cases': {name: moved}}}}
+    records, bits = golden(reference, here=other)
+    assert bits and records[name] is moved and records['plan_C'] is REFERENCE['cases']['plan_C']
+    records, bits = golden(reference, here=REFERENCE['environment'])
+    assert bits and records[name] is REFERENCE['cases'][name]
+
+
+def test_elsewhere_what_moved_between_known_environments_is_not_compared() -> None:
+    name = GAIN_CASE
+    original = REFERENCE['cases'][name]
+    moved = copy.deepcopy(original)
+    step = f'step {moved["fingerprints"]["steps"][0]}'
+    moved['fingerprints'][step][3] += 1e-6
+    other = REFERENCE['environment'] | {'openblas_core': 'SkylakeX'}
+    reference = {**REFERENCE, 'variants': {'other': {'environment': other, 'cases': {name: moved}}}}
+    records, bits = golden(reference, here=REFERENCE['environment'] | {'openblas_core': 'Zen'})
+    assert not bits
+    assert f'fingerprint {step}' in records[name]['environments']
+    assert ulp_moves(original, moved) == {f'fingerprint {step}': records[name]['environments'][f'fingerprint {step}']}
+    third = copy.deepcopy(original)
+    third['fingerprints'][step][3] -= 1e-6  # a third machine kind, beyond the tolerance where the two known differ
+    assert differences(records[name], third, bits=False).found == []
+    assert differences(original, third, bits=False).found != []

@@ -4,6 +4,7 @@ committed submissions' flights), each for a fixed scene and seed, against tests/
 
     PYTHONPATH=$TREE python -m tests.support.regression --compare      # OK / DIFF per case; exit 1 on any drift
     PYTHONPATH=$TREE python -m tests.support.regression --write        # regenerate the golden file, on purpose
+    PYTHONPATH=$TREE python -m tests.support.regression --write-variant  # add this machine kind's records
     PYTHONPATH=$TREE python -m tests.support.regression --sensitivity  # what 1e-9 on a gain and the environment move
 
 Three layers, compared case by case:
@@ -11,8 +12,11 @@ Three layers, compared case by case:
   errors, the Robotarium verifier's counts, ...): integers, flags and texts exactly, floats within ``TOLERANCE``;
 - ``fingerprints``: the main trajectory at a few fixed steps (every robot's position, their mean and spread) at full
   precision, within ``TOLERANCE``. These two layers are compared in every environment;
-- ``arrays``: sha256 of every array of the run, compared only in the environment of the golden file's key
-  (``environment()``): there any changed bit is drift.
+- ``arrays``: sha256 of every array of the run, compared only in an environment the golden file holds records for
+  (``environment()``: the machine kind's SIMD targets and OpenBLAS kernels among others): there any changed bit is
+  drift. Besides its own environment's records the file holds ``variants``: the same code's records on other machine
+  kinds (``--write-variant`` there, or emulated: ``EMULATED``). Elsewhere what differs between the known
+  environments beyond TOLERANCE / ULP_MARGIN is left out, like what one ulp moves.
 
 A float x is within tolerance of its golden value g when |x - g| <= TOLERANCE * max(1, |g|) (absolute below 1,
 relative above). ``--sensitivity`` measures the margin: the deviation each ``ControlParams`` gain changed by
@@ -93,6 +97,9 @@ ENVIRONMENTS = (
 """The environment changes ``--sensitivity`` emulates, each in a subprocess (numpy >= 2.4 groups AVX2, FMA3, ... as
 X86_V3: disabling it sends numpy's loops to SSE4.2 code). It also changes each gain by one ulp in-process: the
 last-bit difference another libm or compiler would make in the control law."""
+EMULATED = 'NPY_DISABLE_CPU_FEATURES="X86_V4 AVX512_ICL AVX512_SPR" OPENBLAS_CORETYPE=Haswell'
+"""How an AVX-512 machine flies the golden file's environment (numpy's loops up to X86_V3, OpenBLAS's Haswell
+kernels): measured bit for bit on all cases (a Sapphire Rapids machine against the Haswell-kind golden file)."""
 BLOCKS = 8
 """Each array is also hashed in this many blocks of rows (steps), to say where a difference starts."""
 VERSIONED = ('numpy', 'scipy', 'cvxpy', 'clarabel', 'cvxopt', 'daqp', 'casadi')
@@ -513,11 +520,7 @@ def environment() -> dict[str, str]:
             key[name] = importlib.metadata.version(name)
         except importlib.metadata.PackageNotFoundError:
             key[name] = 'absent'
-    try:
-        from numpy._core._multiarray_umath import __cpu_features__ as features
-    except ImportError:  # numpy < 2
-        from numpy.core._multiarray_umath import __cpu_features__ as features
-    key['numpy_simd'] = ' '.join(sorted(name for name, on in features.items() if on))
+    key['numpy_simd'] = ' '.join(_numpy_simd())
     try:
         blas = np.show_config(mode='dicts')['Build Dependencies']['blas']
         key['numpy_blas'] = f'{blas.get("name")} {blas.get("version")}'
@@ -525,6 +528,18 @@ def environment() -> dict[str, str]:
         key['numpy_blas'] = 'unknown'
     key['openblas_core'] = _openblas_core()
     return key
+
+
+def _numpy_simd() -> list[str]:
+    """The SIMD targets numpy runs its loops with here: its baseline and the dispatch targets this CPU has (and
+    NPY_DISABLE_CPU_FEATURES leaves on). Features numpy was not built to dispatch to (GFNI, AVX512F alone, ...)
+    change no bit, so they are not part of the key."""
+    try:
+        from numpy._core import _multiarray_umath as umath
+    except ImportError:  # numpy < 2
+        from numpy.core import _multiarray_umath as umath
+    targets = set(umath.__cpu_baseline__) | set(umath.__cpu_dispatch__)
+    return sorted(name for name, on in umath.__cpu_features__.items() if on and name in targets)
 
 
 def _openblas_core() -> str:
@@ -644,8 +659,35 @@ def ulp_moves(old: dict[str, Any], new: dict[str, Any]) -> dict[str, float]:
 
 def unstable(record: dict[str, Any]) -> set[str]:
     """The metrics and fingerprints of a golden record that one ulp on every gain moved by more than
-    TOLERANCE / ULP_MARGIN when it was written: the run amplifies last-bit differences there (chaotic passages)."""
-    return {name for name, d in record.get('ulp', {}).items() if d > TOLERANCE / ULP_MARGIN}
+    TOLERANCE / ULP_MARGIN when it was written, or that differ so between the environments the golden file holds
+    (``golden`` adds those as 'environments'): the run amplifies last-bit differences there (chaotic passages)."""
+    moves = record.get('ulp', {}) | record.get('environments', {})
+    return {name for name, d in moves.items() if d > TOLERANCE / ULP_MARGIN}
+
+
+def golden(reference: dict[str, Any], here: dict[str, str] | None = None) -> tuple[dict[str, Any], bool]:
+    """The golden records of every case for the environment ``here`` (this one by default), and whether their bits
+    are compared. In the golden file's environment its records, bits compared; in the environment of one of its
+    ``variants`` (another machine kind, written with --write-variant) the variant's records where they differ,
+    bits compared; elsewhere the golden file's records, each knowing what moved between the environments it holds
+    (``unstable``), bits not compared."""
+    here = environment() if here is None else here
+    cases = reference['cases']
+    if here == reference['environment']:
+        return cases, True
+    variants = list(reference.get('variants', {}).values())
+    for variant in variants:
+        if here == variant['environment']:
+            return cases | variant['cases'], True
+    records = {}
+    for name, record in cases.items():
+        moves: dict[str, float] = {}
+        for variant in variants:
+            if name in variant['cases']:
+                for key, d in ulp_moves(record, variant['cases'][name]).items():
+                    moves[key] = max(d, moves.get(key, 0.0))
+        records[name] = record | {'environments': moves}
+    return records, False
 
 
 @dataclass
@@ -763,12 +805,12 @@ def differences(
     return drift
 
 
-def _json(value: Any, depth: int = 0) -> str:
-    """JSON with one line per array record (depth 4: cases / case / arrays / array)."""
-    if not isinstance(value, dict) or depth == 4 or not value:
+def _json(value: Any, depth: int = 0, flat: int = 4) -> str:
+    """JSON with one line per array record (depth 4: cases / case / arrays / array; 6 in a variant)."""
+    if not isinstance(value, dict) or depth == flat or not value:
         return json.dumps(value)
     pad = ' ' * (depth + 1)
-    items = (f'{pad}{json.dumps(k)}: {_json(v, depth + 1)}' for k, v in value.items())
+    items = (f'{pad}{json.dumps(k)}: {_json(v, depth + 1, 6 if k == "variants" else flat)}' for k, v in value.items())
     return '{\n' + ',\n'.join(items) + '\n' + ' ' * depth + '}'
 
 
@@ -784,7 +826,8 @@ def _selected(text: str | None, pattern: str | None = None) -> list[Case]:
 
 
 def write(cases: list[Case], arrays_path: Path | None) -> None:
-    """Fingerprint ``cases`` into the golden file (other cases' records are kept when only some are run)."""
+    """Fingerprint ``cases`` into the golden file, in this environment (other cases' records are kept when only some
+    are run); the variants of the cases written are dropped: they were made by the code before."""
     old = load_reference() if REFERENCE.exists() and len(cases) < len(CASES) else {'cases': {}}
     records, kept = dict(old['cases']), {}
     for case in cases:
@@ -795,26 +838,61 @@ def write(cases: list[Case], arrays_path: Path | None) -> None:
         seconds = records[case.name]['seconds'], records[case.name]['cpu_seconds']
         print(f'{seconds[0]:7.2f} s ({seconds[1]:6.2f} s CPU)  {case.name}', flush=True)
     names = [c.name for c in CASES]
-    out = {'environment': environment(), 'cases': {n: records[n] for n in names if n in records}}
+    written = {c.name for c in cases}
+    variants = {
+        label: v | {'cases': {n: r for n, r in v['cases'].items() if n not in written}}
+        for label, v in old.get('variants', {}).items()
+        if old.get('environment') == environment()
+    }
+    out = {'environment': environment(), 'cases': {n: records[n] for n in names if n in records}, 'variants': variants}
     REFERENCE.write_text(_json(out) + '\n', encoding='utf-8')
     seconds = sum(r['cpu_seconds'] for r in out['cases'].values())
     print(f'written {REFERENCE} ({seconds:.1f} s of runs, CPU)')
+    print(f'add the records of the other machine kinds with --write-variant there (emulated: {EMULATED})')
     if arrays_path is not None:
         np.savez_compressed(arrays_path, **kept)
         print(f'written {arrays_path}')
+
+
+def write_variant(cases: list[Case]) -> int:
+    """Add this environment's records of ``cases`` to the golden file as a variant, where they differ from the
+    golden file's (the same code, another machine kind); 2 in the golden file's own environment."""
+    reference = load_reference()
+    here = environment()
+    if here == reference['environment']:
+        print("error: this is the golden file's own environment; write its records with --write", file=sys.stderr)
+        return 2
+    label = '; '.join(f'{k}={v}' for k, v in here.items() if reference['environment'].get(k) != v)
+    variants = reference.get('variants', {})
+    mine = variants.pop(label, {'cases': {}})['cases']
+    for case in cases:
+        record, _ = fingerprint(case)
+        same = differences(reference['cases'][case.name], record, bits=True, tolerance=0.0)
+        mine.pop(case.name, None)
+        if same.found:
+            mine[case.name] = record
+        print(f'{"differs" if same.found else "same   "}  {case.name}', flush=True)
+    variants[label] = {'environment': here, 'cases': {c.name: mine[c.name] for c in CASES if c.name in mine}}
+    REFERENCE.write_text(_json(reference | {'variants': variants}) + '\n', encoding='utf-8')
+    print(f"written {REFERENCE}: {len(mine)} cases of this environment differ from the golden file's")
+    return 0
 
 
 def compare(cases: list[Case], arrays_path: Path | None, deviations: Path | None = None) -> int:
     """Print OK / DIFF per case against the golden file; 1 on any drift or missing case, else 0. ``deviations``:
     write each case's largest deviations there (JSON), for ``--sensitivity``."""
     reference = load_reference()
-    changed = environment_differences(reference['environment'])
-    if changed:
-        print(f'note: the golden file was written in another environment ({changed}): bits are not compared')
+    records, bits = golden(reference)
+    if not bits:
+        changed = environment_differences(reference['environment'])
+        print(
+            f'note: the golden file was written in another environment ({changed}) and holds no variant of this '
+            'one: bits are not compared'
+        )
     saved = np.load(arrays_path) if arrays_path is not None else None
     failed, total, largest = 0, 0.0, {}
     for case in cases:
-        old = reference['cases'].get(case.name)
+        old = records.get(case.name)
         new, arrays = fingerprint(case)
         total += new['cpu_seconds']
         if old is None:
@@ -824,7 +902,7 @@ def compare(cases: list[Case], arrays_path: Path | None, deviations: Path | None
         mine = None
         if saved is not None:
             mine = {k.split('/', 1)[1]: saved[k] for k in saved.files if k.startswith(case.name + '/')}
-        drift = differences(old, new, arrays, mine, bits=not changed)
+        drift = differences(old, new, arrays, mine, bits=bits)
         largest[case.name] = {'found': len(drift.found), **{k: v for k, (_, v) in drift.largest.items()}}
         failed += bool(drift.found)
         worst = ', '.join(f'{k} {v:.2g} ({n})' for k, (n, v) in drift.largest.items())
@@ -929,6 +1007,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog='python -m tests.support.regression', description=__doc__.split('\n\n')[0])
     action = parser.add_mutually_exclusive_group(required=True)
     action.add_argument('--write', action='store_true', help='regenerate the golden file from this tree')
+    action.add_argument(
+        '--write-variant', action='store_true', help="add this machine kind's records where they differ"
+    )
     action.add_argument('--compare', action='store_true', help='OK / DIFF per case; exit 1 on any drift')
     action.add_argument('--sensitivity', action='store_true', help='measure 1e-9 gain changes against environments')
     parser.add_argument('--case', default=None, help='only the cases whose name contains this text')
@@ -941,6 +1022,8 @@ def main(argv: list[str] | None = None) -> int:
     if args.write:
         write(cases, args.arrays)
         return 0
+    if args.write_variant:
+        return write_variant(cases)
     if args.sensitivity:
         return sensitivity(cases, args.out)
     return compare(cases, args.arrays, args.deviations)
