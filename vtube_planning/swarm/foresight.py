@@ -34,26 +34,38 @@ from scipy.spatial import cKDTree
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import ControlParams, SwarmParams
 from vtube_planning.swarm.dynamics import respond
+from vtube_planning.swarm.tube_tables import TubeTables
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
+Flight = tuple[FloatArray, ...]
+"""One step of predicted flights: x, y, arc length l and offset y_tube, each (R, K)."""
 
 LANES = np.array([-1.0, -0.5, 0.0, 0.5, 1.0])
 """The backups' lanes eta (besides the robot's present one), each at v_min, mid-band and v_max."""
 LANE_LOOKAHEAD_S = 1.0
 """A backup steers for its lane at the point this many seconds of flight ahead (at least 1 m)."""
+PREDICTION_LOCATE_STEPS = 2
+"""Newton steps locating a predicted point, from the arc length flown (at most 2.2 m a step, off by the bend's
+share of it: a few decimetres, then millimetres after one step, far less after two)."""
 SUB_STEPS = 7
 """The horizon after the first period is predicted in this many equal steps."""
-LOCATE_STEPS = 3
-"""Newton steps of `TubeTables.locate` (from a guess a metre off, the offset is then within a millimetre)."""
-TABLE_STEP_M = 0.05
-"""Spacing of the tube's tables (m)."""
 LAW_MARGIN_M = 0.1
 """The law's command stands only with this much room to spare beyond r_s and 2 r_s: the backups take over before
 the safe distances are reached, not at them."""
 HOLD_S = 1.0
 """A robot whose law's command was unsafe flies backups for this long before the law again: two robots that each
 make the other's law unsafe would otherwise take turns, one period the law, the next a backup, and fly neither."""
+DECIDE_EVERY_S = 0.1
+"""Robots held to (3), (4) decide every this long (the law's command checked as held over it, then the lane), and
+in between fly the law or the backup decided: over 0.1 s any command moves a robot at most a dt^2 / 2 = 5 mm
+(a = a_v, a_n = 1 m/s^2) off the path predicted, within `LAW_MARGIN_M`; one decision costs what one period did."""
+KEEP_M_S = 0.1
+"""A robot whose announced backup falls short keeps it unless another falls short by this much less (m s) or later:
+two backups equally short would otherwise take turns, and neither be flown."""
+KEEP_MPS = 0.5
+"""A robot whose announced backup is safe keeps it unless another safe one's first command is this much closer to
+the law's (m/s): the nearest to the law changes with the speed, and two backups taken in turn are neither flown."""
 ALL_PAIRS_UP_TO = 64
 """Swarms of up to this many robots check every neighbour; larger ones the nearest `NEIGHBOURS`."""
 NEIGHBOURS = 10
@@ -84,71 +96,6 @@ def merge_window(swarm: SwarmParams) -> float:
     """How far ahead the foresight sees a narrowing: sqrt(3) v_min^2 / a_n, the distance an S-turn at v_min flies
     to move a robot sideways by one turning radius v_min^2 / a_n (m)."""
     return math.sqrt(3.0) * swarm.v_min_mps**2 / swarm.a_n_mps2
-
-
-@dataclass(frozen=True)
-class TubeTables:
-    """The tube on a fine grid, past both ends by ``margin_m``: where a predicted point lies, without searching."""
-
-    l_m: FloatArray
-    xy_m: FloatArray
-    angle_rad: FloatArray
-    curvature_per_m: FloatArray
-    half_width_m: FloatArray
-    """The narrowest half-width over the window ahead of each l."""
-    length_m: float
-
-    @classmethod
-    def of(cls, tube: VirtualTube, margin_m: float, window_m: float = 0.0) -> TubeTables:
-        """Tables of ``tube`` from -``margin_m`` to L + ``margin_m``; the half-width at l is the narrowest one over
-        [l, l + ``window_m``]."""
-        count = math.ceil((tube.length_m + 2 * margin_m) / TABLE_STEP_M) + 1
-        l_m = np.linspace(-margin_m, tube.length_m + margin_m, count)
-        tangent = tube.tangent(l_m)
-        angle = np.unwrap(np.arctan2(tangent[:, 1], tangent[:, 0]))
-        curvature = np.asarray(tube.curvature(l_m), dtype=float)
-        half_width = np.asarray(tube.half_width(l_m), dtype=float)
-        window = max(1, round(window_m / TABLE_STEP_M))
-        padded = np.concatenate([half_width, np.full(window - 1, half_width[-1])])
-        narrowest = np.lib.stride_tricks.sliding_window_view(padded, window).min(axis=1)
-        return cls(l_m, tube.center_at(l_m).T.copy(), angle, curvature, narrowest, tube.length_m)
-
-    def locate(self, x: FloatArray, y: FloatArray, l_guess: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """Arc length and lateral offset of points (x, y) near arc lengths ``l_guess``: Newton steps on
-        (p - gamma(l)) . t(l) = 0, whose derivative is -(1 - kappa y) (``docs/theory.md`` §3.1)."""
-        for _ in range(LOCATE_STEPS):
-            dx = x - np.interp(l_guess, self.l_m, self.xy_m[0])
-            dy = y - np.interp(l_guess, self.l_m, self.xy_m[1])
-            angle = np.interp(l_guess, self.l_m, self.angle_rad)
-            cos, sin = np.cos(angle), np.sin(angle)
-            offset = dy * cos - dx * sin
-            bend = 1.0 - np.interp(l_guess, self.l_m, self.curvature_per_m) * offset
-            l_guess = l_guess + (dx * cos + dy * sin) / np.maximum(bend, 0.1)
-        return l_guess, offset
-
-    def clearance(self, l_m: FloatArray, offset_m: FloatArray) -> FloatArray:
-        """lambda(l) - |y|, +inf outside the tube's span 0 <= l <= L (where no wall is measured)."""
-        inside = (l_m >= 0.0) & (l_m <= self.length_m)
-        return np.where(inside, np.interp(l_m, self.l_m, self.half_width_m) - np.abs(offset_m), np.inf)
-
-    def lane_heading(
-        self, x: FloatArray, y: FloatArray, l_m: FloatArray, lane: FloatArray, r_s_m: float, ahead_m: FloatArray
-    ) -> FloatArray:
-        """The heading from (x, y), at arc length l, to the point of the lane eta ``ahead_m`` metres further along
-        the tube (pure pursuit: it turns into a narrowing or a bend before the robot gets there)."""
-        there = l_m + ahead_m
-        room = np.maximum(np.interp(there, self.l_m, self.half_width_m) - r_s_m, 0.0)
-        angle = np.interp(there, self.l_m, self.angle_rad)
-        lateral = lane * room
-        goal_x = np.interp(there, self.l_m, self.xy_m[0]) - lateral * np.sin(angle)
-        goal_y = np.interp(there, self.l_m, self.xy_m[1]) + lateral * np.cos(angle)
-        heading: FloatArray = np.arctan2(goal_y - y, goal_x - x)
-        return heading
-
-    def lane_of(self, l_m: FloatArray, offset_m: FloatArray, r_s_m: float) -> FloatArray:
-        """The lane eta a robot at (l, y) flies in now, in [-1, 1]."""
-        room = np.maximum(np.interp(l_m, self.l_m, self.half_width_m) - r_s_m, 1e-9)
-        return np.clip(offset_m / room, -1.0, 1.0)
 
 
 @dataclass(frozen=True)
@@ -188,50 +135,91 @@ class Foresight:
         self.a_n = swarm.a_n_mps2 if acceleration_limits else math.inf
         window = merge_window(swarm) if acceleration_limits else 0.0
         self.tables = TubeTables.of(tube, swarm.v_max_mps * self.horizon_s + 2.0 * swarm.r_a_m, window)
-        self._tree = cKDTree(self.tables.xy_m.T)
+        self._tree = cKDTree(self.tables.stacked[:2].T)
         self.announced: tuple[FloatArray, FloatArray] | None = None  # every robot's lane and speed
         self.overridden = 0  # robot-periods where the law's command was replaced
         self._held: FloatArray | float = 0.0  # per robot, how much longer it flies a backup before the law again
+        self._backup: NDArray[np.bool_] = np.zeros(0, dtype=bool)  # the robots flying a backup
+        self._until_decision_s = 0.0
 
     def __call__(self, positions: FloatArray, velocity: FloatArray, command: FloatArray, dt_s: float) -> FloatArray:
-        """The commands (2, N) for robots at ``positions`` flying ``velocity`` whose law commands ``command``."""
+        """The commands (2, N) for robots at ``positions`` flying ``velocity`` whose law commands ``command``: a
+        decision every `DECIDE_EVERY_S` (every period in the paper's model), in between the law's command or the
+        backup decided, as the robot can follow it."""
         speed, heading = np.hypot(velocity[0], velocity[1]), np.arctan2(velocity[1], velocity[0])
+        law_speed = np.clip(np.hypot(command[0], command[1]), self.swarm.v_min_mps, self.swarm.v_max_mps)
+        law_heading = np.arctan2(command[1], command[0])
+        if self._until_decision_s > 0.5 * dt_s and self.announced is not None:
+            self._until_decision_s -= dt_s
+            target_speed, target_heading = self._follow(positions, law_speed, law_heading, speed)
+        else:
+            every = max(dt_s, DECIDE_EVERY_S if math.isfinite(self.a_v) else dt_s)
+            self._until_decision_s = every - dt_s
+            target_speed, target_heading = self._decide(positions, speed, heading, law_speed, law_heading, every)
+        self.overridden += int(np.count_nonzero(self._backup))
+        new_speed, new_heading = respond(speed, heading, target_speed, target_heading, self.a_v, self.a_n, dt_s)
+        commanded: FloatArray = new_speed * np.vstack([np.cos(new_heading), np.sin(new_heading)])
+        return commanded
+
+    def _follow(
+        self, positions: FloatArray, law_speed: FloatArray, law_heading: FloatArray, speed: FloatArray
+    ) -> tuple[FloatArray, FloatArray]:
+        """Targets between two decisions: the law's, and the backups decided for the robots flying them."""
+        target_speed, target_heading = law_speed.copy(), law_heading.copy()
+        rows = np.flatnonzero(self._backup)
+        if rows.size and self.announced is not None:
+            x, y = positions[0, rows], positions[1, rows]
+            l_m, _ = self.tables.locate(x, y, self.tables.l_m[self._tree.query(positions[:, rows].T)[1]])
+            lane, target_speed[rows] = self.announced[0][rows], self.announced[1][rows]
+            target_heading[rows] = self._steer(x, y, l_m, lane, speed[rows])
+        return target_speed, target_heading
+
+    def _decide(
+        self,
+        positions: FloatArray,
+        speed: FloatArray,
+        heading: FloatArray,
+        law_speed: FloatArray,
+        law_heading: FloatArray,
+        every_s: float,
+    ) -> tuple[FloatArray, FloatArray]:
+        """A decision: each robot's law checked as ``every_s`` of its command then its lane, the backups of the
+        robots whose law is unsafe (or held) chosen, announced; the targets (speeds, headings)."""
         l_guess = self.tables.l_m[self._tree.query(positions.T)[1]]
         l_m, offset = self.tables.locate(positions[0], positions[1], l_guess)
         lane = self.tables.lane_of(l_m, offset, self.swarm.r_s_m)
         robots = _Robots(positions, speed, heading, l_m, offset, lane)
-        law_speed = np.clip(np.hypot(command[0], command[1]), self.swarm.v_min_mps, self.swarm.v_max_mps)
-        law_heading = np.arctan2(command[1], command[0])
-        if self.announced is None:
-            self.announced = (lane, speed)
-        lanes, speeds = self._column(self.announced)
-        rows = np.arange(speed.size)
-        others = self._paths(robots, _Backups(rows, lanes, speeds, *_free(speeds)), dt_s)
+        announced = self.announced if self.announced is not None else (lane, speed)
+        rows, free = np.arange(speed.size), np.full(speed.size, np.nan)
+        both = _Backups(  # column 0: the backup each announced (its neighbours' view), 1: its law's command
+            rows,
+            np.column_stack([announced[0], lane]),
+            np.column_stack([announced[1], law_speed]),
+            np.column_stack([free, law_speed]),
+            np.column_stack([free, law_heading]),
+        )
+        flights = self._flights(robots, both, every_s)
+        others = [(x[:, :1], y[:, :1]) for x, y, _, _ in flights]
         neighbours = self._neighbours(positions)
-        law = _Backups(rows, lane[:, None], law_speed[:, None], law_speed[:, None], law_heading[:, None])
-        first = self._foresee(robots, law, others, neighbours, dt_s, LAW_MARGIN_M)[0][:, 0]
+        law = [tuple(a[:, 1:] for a in flight) for flight in flights]
+        first = self._foresee(robots, rows, law, others, neighbours, every_s, LAW_MARGIN_M)[0][:, 0]
         target_speed, target_heading = law_speed.copy(), law_heading.copy()
         announced_lane, announced_speed = lane.copy(), law_speed.copy()
         unsafe = np.isfinite(first)
-        self._held = np.where(unsafe, HOLD_S, np.maximum(self._held - dt_s, 0.0))
-        risky = np.flatnonzero(unsafe | (self._held > 0.0))
+        self._held = np.where(unsafe, HOLD_S, np.maximum(self._held - every_s, 0.0))
+        self._backup = unsafe | (self._held > 0.0)
+        risky = np.flatnonzero(self._backup)
         if risky.size:
-            chosen_lane, chosen_speed = self._choose(robots, risky, law_speed, law_heading, others, neighbours, dt_s)
+            chosen_lane, chosen_speed = self._choose(
+                robots, risky, law_speed, law_heading, announced, others, neighbours, every_s
+            )
             announced_lane[risky], announced_speed[risky] = chosen_lane, chosen_speed
             target_speed[risky] = chosen_speed
             target_heading[risky] = self._steer(
                 positions[0, risky], positions[1, risky], l_m[risky], chosen_lane, speed[risky]
             )
-            self.overridden += risky.size
         self.announced = (announced_lane, announced_speed)
-        new_speed, new_heading = respond(speed, heading, target_speed, target_heading, self.a_v, self.a_n, dt_s)
-        commanded: FloatArray = new_speed * np.vstack([np.cos(new_heading), np.sin(new_heading)])
-        return commanded
-
-    @staticmethod
-    def _column(pair: tuple[FloatArray, FloatArray]) -> tuple[FloatArray, FloatArray]:
-        """Lanes and speeds (N,) as one backup per robot, (N, 1)."""
-        return pair[0][:, None], pair[1][:, None]
+        return target_speed, target_heading
 
     def _steer(self, x: FloatArray, y: FloatArray, l_m: FloatArray, lane: FloatArray, speed: FloatArray) -> FloatArray:
         """The heading that steers for ``lane`` from (x, y) at arc length l and ``speed``."""
@@ -243,14 +231,7 @@ class Foresight:
         rest = max(self.horizon_s - dt_s, dt_s)
         return np.concatenate([[dt_s], np.full(SUB_STEPS, rest / SUB_STEPS)])
 
-    def _paths(self, robots: _Robots, backups: _Backups, dt_s: float) -> list[tuple[FloatArray, FloatArray]]:
-        """Where robots ``backups.rows`` are at each step of the horizon, flying their backups: (x, y) per step,
-        each (R, K)."""
-        return [(x, y) for x, y, _, _ in self._flights(robots, backups, dt_s)]
-
-    def _flights(
-        self, robots: _Robots, backups: _Backups, dt_s: float
-    ) -> list[tuple[FloatArray, FloatArray, FloatArray, FloatArray]]:
+    def _flights(self, robots: _Robots, backups: _Backups, dt_s: float) -> list[Flight]:
         """Each step's (x, y, l, y_tube) of robots ``backups.rows`` flying their backups (R, K)."""
         rows, shape = backups.rows, backups.lane.shape
         speed = np.broadcast_to(robots.speed[rows, None], shape)
@@ -258,7 +239,7 @@ class Foresight:
         x, y = robots.positions[0, rows, None], robots.positions[1, rows, None]
         l_m = np.broadcast_to(robots.l_m[rows, None], shape)
         offset = np.broadcast_to(robots.offset_m[rows, None], shape)
-        out = []
+        out: list[Flight] = []
         for index, step in enumerate(self._times(dt_s)):
             target = self._steer(x, y, l_m, backups.lane, speed)
             target_speed = backups.speed
@@ -269,7 +250,7 @@ class Foresight:
             speed, heading = respond(speed, heading, target_speed, target, self.a_v, self.a_n, step)
             dx, dy = step * speed * np.cos(heading), step * speed * np.sin(heading)
             x, y = x + dx, y + dy
-            l_m, offset = self.tables.locate(x, y, l_m + np.hypot(dx, dy))
+            l_m, offset = self.tables.locate(x, y, l_m + np.hypot(dx, dy), PREDICTION_LOCATE_STEPS)
             out.append((x, y, l_m, offset))
         return out
 
@@ -283,30 +264,37 @@ class Foresight:
     def _foresee(
         self,
         robots: _Robots,
-        backups: _Backups,
+        rows: IntArray,
+        flights: list[Flight],
         others: list[tuple[FloatArray, FloatArray]],
         neighbours: IntArray,
         dt_s: float,
         margin_m: float = 0.0,
-    ) -> tuple[FloatArray, FloatArray]:
-        """(R, K) for robots ``backups.rows`` flying their backups: the time of the first step closer than r_s to a
-        wall or 2 r_s to a neighbour (inf: none), and how far short they fall over the horizon, the integral over
-        time of (r_s - clearance)+ and (2 r_s - the nearest neighbour's distance)+ (m s)."""
-        rows, shape, r_s = backups.rows, backups.lane.shape, self.swarm.r_s_m
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """(R, K) for robots ``rows`` flying ``flights`` (`_flights`): the time of the first step closer than r_s to a
+        wall or 2 r_s to a neighbour (inf: none), the time of the first contact (a centre outside the tube, or
+        bodies closer than 2 r_p), and how far short they fall over the horizon, the integral over time of
+        (r_s - clearance)+ and (2 r_s - the nearest neighbour's distance)+ (m s)."""
+        shape, r_s = flights[0][0].shape, self.swarm.r_s_m
         near = neighbours[rows]  # (R, M)
         itself = np.broadcast_to((near == rows[:, None])[:, None, :], (*shape, near.shape[1]))
-        shortfall, first = np.zeros(shape), np.full(shape, np.inf)
+        shortfall, first, contact = np.zeros(shape), np.full(shape, np.inf), np.full(shape, np.inf)
         elapsed = 0.0
-        flights = self._flights(robots, backups, dt_s)
+        dx0 = robots.positions[0, rows, None, None] - robots.positions[0, near][:, None, :]
+        dy0 = robots.positions[1, rows, None, None] - robots.positions[1, near][:, None, :]
         for step, (x, y, l_m, offset), (ox, oy) in zip(self._times(dt_s), flights, others):
             elapsed += step
-            wall = np.maximum(r_s + margin_m - self.tables.clearance(l_m, offset), 0.0)
-            gap = np.hypot(x[:, :, None] - ox[near, 0][:, None, :], y[:, :, None] - oy[near, 0][:, None, :])
+            clearance = self.tables.clearance(l_m, offset)
+            dx1, dy1 = x[:, :, None] - ox[near, 0][:, None, :], y[:, :, None] - oy[near, 0][:, None, :]
+            gap = _closest(dx0, dy0, dx1, dy1)
+            dx0, dy0 = dx1, dy1
             gap[itself] = np.inf
-            short = wall + np.maximum(2.0 * r_s + margin_m - gap.min(axis=2), 0.0)
+            nearest = gap.min(axis=2)
+            short = np.maximum(r_s + margin_m - clearance, 0.0) + np.maximum(2.0 * r_s + margin_m - nearest, 0.0)
             shortfall += step * short
             first[(short > 0.0) & np.isinf(first)] = elapsed
-        return first, shortfall
+            contact[((clearance < 0.0) | (nearest < 2.0 * self.swarm.r_p_m)) & np.isinf(contact)] = elapsed
+        return first, contact, shortfall
 
     def _choose(
         self,
@@ -314,26 +302,39 @@ class Foresight:
         risky: IntArray,
         law_speed: FloatArray,
         law_heading: FloatArray,
+        announced: tuple[FloatArray, FloatArray],
         others: list[tuple[FloatArray, FloatArray]],
         neighbours: IntArray,
         dt_s: float,
     ) -> tuple[FloatArray, FloatArray]:
         """The backups (lanes, speeds) of the ``risky`` robots: the safe one whose first command is closest to the
-        law's, else the one that falls short latest, then least."""
+        law's, else the one whose first contact comes latest, then whose first shortfall, then the least short;
+        the backup a robot announced keeps it over an equal one (`KEEP_M_S`)."""
         swarm = self.swarm
         band = np.array([swarm.v_min_mps, 0.5 * (swarm.v_min_mps + swarm.v_max_mps), swarm.v_max_mps])
         lanes = np.concatenate([np.tile(LANES, (risky.size, 1)), robots.lane[risky, None]], axis=1)
-        lane = np.repeat(lanes, band.size, axis=1)
-        speed = np.tile(band, (risky.size, lanes.shape[1]))
-        first, shortfall = self._foresee(robots, _Backups(risky, lane, speed, *_free(speed)), others, neighbours, dt_s)
+        kept_lane, kept_speed = (a[risky, None] for a in announced)
+        lane = np.concatenate([np.repeat(lanes, band.size, axis=1), kept_lane], axis=1)
+        speed = np.concatenate([np.tile(band, (risky.size, lanes.shape[1])), kept_speed], axis=1)
+        flights = self._flights(robots, _Backups(risky, lane, speed, *_free(speed)), dt_s)
+        first, contact, shortfall = self._foresee(robots, risky, flights, others, neighbours, dt_s)
         x, y = robots.positions[0, risky, None], robots.positions[1, risky, None]
         heading = self._steer(x, y, robots.l_m[risky, None], lane, robots.speed[risky, None])
         deviation = np.hypot(
             speed * np.cos(heading) - (law_speed * np.cos(law_heading))[risky, None],
             speed * np.sin(heading) - (law_speed * np.sin(law_heading))[risky, None],
         )
+        touch = np.where(np.isinf(contact), 0.0, self.horizon_s + 1.0 - contact)  # 0: none; the sooner the worse
         later = np.where(np.isinf(first), 0.0, self.horizon_s + 1.0 - first)  # 0: safe; else the sooner the worse
-        best = np.argmin(1e4 * later + 1e2 * shortfall + deviation, axis=1)
+        score = 1e6 * touch + 1e4 * later + 1e2 * shortfall + deviation
+        # the announced backup, last column, is kept over one whose harm comes later by less than a prediction step
+        resolution = self._times(dt_s)[-1]
+        score[:, -1] -= np.where(
+            touch[:, -1] > 0.0,
+            1e6 * resolution,
+            np.where(later[:, -1] > 0.0, 1e4 * resolution + 1e2 * KEEP_M_S, KEEP_MPS),
+        )
+        best = np.argmin(score, axis=1)
         picked = np.arange(risky.size)
         return lane[picked, best], speed[picked, best]
 
@@ -341,3 +342,12 @@ class Foresight:
 def _free(like: FloatArray) -> tuple[FloatArray, FloatArray]:
     """No given first target: the backup steers for its lane from the first period on."""
     return np.full(like.shape, np.nan), np.full(like.shape, np.nan)
+
+
+def _closest(dx0: FloatArray, dy0: FloatArray, dx1: FloatArray, dy1: FloatArray) -> FloatArray:
+    """The closest two robots come over a step whose start and end separations are (dx0, dy0) and (dx1, dy1),
+    both moving straight at constant speed over it: a crossing between two predicted points is not missed."""
+    ex, ey = dx1 - dx0, dy1 - dy0
+    t = np.clip(-(dx0 * ex + dy0 * ey) / np.maximum(ex * ex + ey * ey, 1e-300), 0.0, 1.0)
+    closest: FloatArray = np.hypot(dx0 + t * ex, dy0 + t * ey)
+    return closest

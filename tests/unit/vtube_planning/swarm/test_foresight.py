@@ -7,14 +7,13 @@ import math
 from dataclasses import replace
 
 import numpy as np
-import pytest
 
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
 from vtube_planning.params import ControlParams, SwarmParams
 from vtube_planning.swarm.dynamics import dynamics_violations, limit_acceleration
-from vtube_planning.swarm.foresight import Foresight, TubeTables
+from vtube_planning.swarm.foresight import Foresight, _closest
 from vtube_planning.swarm.simulate import SimConfig, simulate
 
 SWARM = SwarmParams(n_robots=2)
@@ -31,22 +30,6 @@ BENT = VirtualTube(
     ),
     WidthProfile(2.0, (WidthPart('constant', 40.0),)),
 )
-
-
-@pytest.mark.parametrize('tube', [STRAIGHT, BENT], ids=['straight', 'bent'])
-def test_the_tables_locate_points_as_the_projection_does(tube: VirtualTube) -> None:
-    tables = TubeTables.of(tube, 5.0)
-    rng = np.random.default_rng(3)
-    l_true = rng.uniform(0.0, tube.length_m, 500)
-    y_true = rng.uniform(-0.95, 0.95, 500) * np.asarray(tube.half_width(l_true))
-    points = tube.center_at(l_true).T + y_true * tube.normal(l_true).T
-    l_m, offset = tables.locate(points[0], points[1], l_true + rng.uniform(-1.0, 1.0, 500))  # a guess 1 m off
-    exact = tube.project(points)
-    np.testing.assert_allclose(l_m, exact.l_m, atol=2e-3)
-    np.testing.assert_allclose(offset, exact.y_m, atol=2e-3)
-    clearance = tables.clearance(l_m, offset)
-    np.testing.assert_allclose(clearance, exact.clearance_m, atol=3e-3)
-    assert np.isinf(tables.clearance(np.array([-1.0, tube.length_m + 1.0]), np.zeros(2))).all()
 
 
 def _foresight(tube: VirtualTube, n: int) -> Foresight:
@@ -108,3 +91,32 @@ def test_short_flights_that_fail_under_the_law_alone_pass_with_foresight() -> No
     m = foreseen.metrics
     assert (m.collision_pairs, m.tube_violation_steps, m.completed) == (0, 0, True)
     assert foreseen.dynamics_violations == 0 < law.dynamics_violations
+
+
+def test_the_closest_approach_over_a_step_is_the_densely_sampled_one() -> None:
+    rng = np.random.default_rng(8)
+    start, end = rng.normal(0.0, 2.0, (2, 2, 300))
+    closest = _closest(start[0], start[1], end[0], end[1])
+    t = np.linspace(0.0, 1.0, 4001)[:, None]
+    sampled = np.hypot(start[0] + t * (end[0] - start[0]), start[1] + t * (end[1] - start[1])).min(axis=0)
+    np.testing.assert_allclose(closest, sampled, atol=3e-3)
+    assert (closest <= np.minimum(np.hypot(*start), np.hypot(*end)) + 1e-15).all()
+    # two robots crossing between the two predicted points: 2 m apart at both, 0 between
+    assert _closest(np.array([-1.0]), np.array([0.0]), np.array([1.0]), np.array([0.0]))[0] == 0.0
+
+
+def test_a_robot_whose_backups_all_fall_short_keeps_the_one_it_announced() -> None:
+    foresight = _foresight(STRAIGHT, 2)
+    positions = np.array([[5.0, 5.0], [-0.3, 0.3]])  # 0.6 m apart, side by side: every backup is short
+    velocity = np.array([[3.0, 3.0], [0.0, 0.0]])
+    chosen = []
+    for _ in range(10):
+        commanded = foresight(positions, velocity, velocity.copy(), 0.02)
+        chosen.append((foresight.announced[0].copy(), foresight.announced[1].copy()))
+        positions = positions + 0.02 * commanded
+        velocity = commanded
+    lanes = np.array([c[0] for c in chosen[1:]])
+    speeds = np.array([c[1] for c in chosen[1:]])
+    assert (np.abs(np.diff(speeds, axis=0)) < 1e-12).all()  # no turns taken between slow and fast backups
+    assert (np.abs(np.diff(lanes, axis=0)) < 0.05).all()
+    assert lanes[-1, 0] < 0.0 < lanes[-1, 1]  # and the ones kept part them
