@@ -6,6 +6,8 @@ every constraint on that interpolated plan on a grid ten times finer than the so
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -37,9 +39,24 @@ MEANINGS = {
 """What each certificate entry bounds, for messages."""
 
 
+RELAXED_MPS2 = 1e6
+"""a_v and a_n as a relaxed plan sees them (``options.freedom = 'relaxed'``), m/s^2: (p3) and (p4) never bind (a
+speed change from v_max to v_min within a grid step of 1e-4 m at 5 m/s needs 1.3e5)."""
+
+
+def planned_limits(swarm: SwarmParams, options: PlanningOptions) -> SwarmParams:
+    """The swarm as the planner holds it: itself, or with ``options.freedom = 'relaxed'`` a_v and a_n raised to
+    `RELAXED_MPS2`, so that (p3) and (p4) are left out (``docs/theory.md`` §8.8)."""
+    if options.freedom == 'paper':
+        return swarm
+    return replace(swarm, a_v_mps2=RELAXED_MPS2, a_n_mps2=RELAXED_MPS2)
+
+
 def initial_conditions(swarm: SwarmParams, options: PlanningOptions) -> tuple[float, float]:
-    """Boundary values (v_a(0), rho_a(0)): the options', or v_min and the packing density (resolution A15)."""
-    v0 = swarm.v_min_mps if options.v0_mps is None else float(options.v0_mps)
+    """Boundary values (v_a(0), rho_a(0)): the options', or v_min (v_max for a relaxed plan) and the packing density
+    (resolution A15)."""
+    start = swarm.v_min_mps if options.freedom == 'paper' else swarm.v_max_mps
+    v0 = start if options.v0_mps is None else float(options.v0_mps)
     rho0 = swarm.rho_packing if options.rho0_per_m2 is None else float(options.rho0_per_m2)
     return v0, rho0
 
@@ -86,8 +103,10 @@ def certify(
 
     Violations are divided by the constraint's own bound (v_min or v_max, a_v, sqrt(a_n r_t), rho_max, a_rho,
     the initial value). Between fine points the plan is piecewise linear in w and rho, so rates are exact per
-    fine interval and (p3), (p6) use the interval's largest speed.
+    fine interval and (p3), (p6) use the interval's largest speed. A relaxed plan is held to a_v and a_n as
+    `planned_limits` raises them.
     """
+    swarm = planned_limits(swarm, options)
     excess, change = _excess(tube, swarm, options, l_m, speed_mps, density)
     certificate = {name: _worst(values) for name, (values, _) in excess.items()}
     v0, rho0 = initial_conditions(swarm, options)
@@ -106,7 +125,7 @@ def worst_places(
     """Where each certificate entry is worst: the arc length (m) of the largest relative violation of (p2)-(p7)
     on the certificate's fine grid (an interval's start for the rates (p3), (p6)), 0 for the initial values and
     NaN for a constraint with no point to evaluate (p4 on a straight tube)."""
-    excess, _ = _excess(tube, swarm, options, l_m, speed_mps, density)
+    excess, _ = _excess(tube, planned_limits(swarm, options), options, l_m, speed_mps, density)
     places = {name: float(at[np.argmax(values)]) if values.size else np.nan for name, (values, at) in excess.items()}
     return places | {'initial': 0.0}
 

@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from vtube_planning.errors import PlanError
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import PlanningOptions, SwarmParams
-from vtube_planning.planning.constraints import RHO_EPSILON, curvature_speed_limit, initial_conditions
+from vtube_planning.planning.constraints import RHO_EPSILON, curvature_speed_limit, initial_conditions, planned_limits
 
 FloatArray = NDArray[np.float64]
 
@@ -82,8 +82,10 @@ def discretise(
 
     The slowest admissible speed profile (decelerate at a_v from v_0 down to v_min) and the fastest admissible
     expansion along it (density falling at a_rho until rho_epsilon) are the most permissive choices for every
-    other constraint; if they violate one, the problem is infeasible there, and the message says where.
+    other constraint; if they violate one, the problem is infeasible there, and the message says where. The
+    problem holds the swarm as `planned_limits` has it (a relaxed plan's a_v and a_n raised).
     """
+    swarm = planned_limits(swarm, options)
     if l_m is None:
         l_m = uniform_grid(tube.length_m, options.grid_step_m)
     sub = np.linspace(l_m[:-1], l_m[1:], SUBSAMPLES + 1, axis=1)  # (K, S+1) samples of each interval

@@ -86,7 +86,7 @@ METRICS: dict[str, type] = {
 }
 """What a run measures (`run_point`), and its type in the table."""
 _CHOICES = {
-    'mode': (*study.ABLATIONS, *study.REPLANNING_MODES, *study.BASELINE_MODES),
+    'mode': (*study.ABLATIONS, *study.REPLANNING_MODES, *study.FREEDOM_MODES, *study.BASELINE_MODES),
     'model': tuple(study.MODELS),
     'controller': study.CONTROLLERS,
     'saturation': SATURATIONS,

@@ -62,13 +62,15 @@ class Ablation:
     (constant speed, constant r_a); ``a3``: whether r_a follows (a3) (off: its gain and feed-forward are zero);
     ``speed``: the constant forward speed of ``'flat'`` and ``'none'``, ``'mid'`` = (v_min + v_max) / 2 or
     ``'v_max'``; ``replan_every_s``: replan the rest of the tube from the measured state this often while flying
-    (0: never; [`SimConfig`][vtube_planning.swarm.simulate.SimConfig]).
+    (0: never; [`SimConfig`][vtube_planning.swarm.simulate.SimConfig]); ``freedom``: what the plan is held to, the
+    planning option of `vtube_planning.params.FREEDOMS`.
     """
 
     plan: Literal['full', 'without (p7)', 'flat', 'none']
     a3: bool
     speed: Literal['mid', 'v_max'] = 'mid'
     replan_every_s: float = 0.0
+    freedom: Literal['paper', 'relaxed'] = 'paper'
 
 
 ABLATIONS = {
@@ -81,6 +83,9 @@ ABLATIONS = {
 }
 REPLANNING_MODES = {'replanning every 0.5 s': Ablation('full', a3=True, replan_every_s=0.5)}
 """Modes that replan online (not part of ``vtube ablation``'s grid; campaigns name them)."""
+FREEDOM_MODES = {'planning (relaxed)': Ablation('full', a3=True, freedom='relaxed')}
+"""The plan with the unplanned swarm's freedom in the paper's model: from v_max, (p3) and (p4) left out (not part
+of ``vtube ablation``'s grid; campaigns name it)."""
 MODELS = {'paper': False, 'acceleration limits': True}
 """Robot models: the paper's p' = sat(v_c), or every robot also held to the acceleration limits (3), (4)."""
 CONTROLLERS = ('law', 'foresight')
@@ -106,13 +111,13 @@ def ablation_setup(mode: str, scene: Scene, swarm: SwarmParams, dt_s: float) -> 
     """The simulator's inputs for ``mode`` (a key of ABLATIONS, or of BASELINE_MODES)."""
     if mode in BASELINE_MODES:
         return _baseline_setup(mode, scene, swarm, dt_s)
-    ablation = ABLATIONS[mode] if mode in ABLATIONS else REPLANNING_MODES[mode]
+    ablation = (ABLATIONS | REPLANNING_MODES | FREEDOM_MODES)[mode]
     speed = default_constant_speed(swarm) if ablation.speed == 'mid' else swarm.v_max_mps
     control = scene.control if ablation.a3 else replace(scene.control, k_ra_m3ps=0.0, feedforward=False)
     if ablation.plan == 'none':
         return Setup(None, control, speed)
     model = 'none' if ablation.plan == 'without (p7)' else scene.planning.predictive_model
-    plan = _cached_plan(scene, swarm, model)
+    plan = _cached_plan(scene, swarm, model, ablation.freedom)
     if ablation.plan == 'flat':
         plan = replace(
             plan,
@@ -127,9 +132,9 @@ _PLANS: dict[tuple[str, SwarmParams, PlanningOptions], Plan] = {}
 """The plans of this process (each worker of a study has its own), planned once per scene file, swarm and options."""
 
 
-def _cached_plan(scene: Scene, swarm: SwarmParams, model: str) -> Plan:
-    """The scene's plan for this swarm with (p7) read as ``model``."""
-    options = replace(scene.planning, predictive_model=model)
+def _cached_plan(scene: Scene, swarm: SwarmParams, model: str, freedom: str = 'paper') -> Plan:
+    """The scene's plan for this swarm with (p7) read as ``model``, held to ``freedom``."""
+    options = replace(scene.planning, predictive_model=model, freedom=freedom)
     key = (scene.source, swarm, options)
     if key not in _PLANS:
         _PLANS[key] = plan_convex(scene.tube, swarm, options, scene=scene.name)

@@ -36,6 +36,8 @@ from vtube_planning.studies.stats import (
 COMPARISONS = (
     ('planning', 'no planning', "the paper's comparison"),
     ('planning', 'no planning at v_max', 'the plan against the fastest constant speed'),
+    ('planning (relaxed)', 'no planning', "the plan with the unplanned swarm's freedom against 3.5 m/s"),
+    ('planning (relaxed)', 'no planning at v_max', "the plan with the unplanned swarm's freedom against v_max"),
     ('planning', 'planning without (p7)', 'what the pre-expansion (p7) buys'),
     ('planning', 'planned speed, (a3) off', 'what (a3) buys on top of the planned speed'),
     ('replanning every 0.5 s', 'planning', 'what replanning online buys'),
