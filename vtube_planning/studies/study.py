@@ -19,6 +19,7 @@ import numpy as np
 from vtube_planning.baselines.flocking import FlockingParams, flocking_command
 from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
 from vtube_planning.errors import ParamsError
+from vtube_planning.geometry.bends import too_tight
 from vtube_planning.geometry.from_maps.maps import CLUTTER, WIDTH_M, scene_on_map
 from vtube_planning.geometry.scene import Scene, load_scene
 from vtube_planning.onboard import Saturation
@@ -200,6 +201,10 @@ def run_point(point: Point, settings: RunSettings = RunSettings()) -> dict[str, 
     same reference for every mode: mean |rho - rho*(l_c)| while the swarm's centre is in the tube), the share of
     in-tube robot-steps moving backwards, and NMPC's converged share (NaN for the other modes)."""
     scene = point.load_scene()
+    turn = scene.swarm.v_min_mps**2 / scene.swarm.a_n_mps2
+    why = too_tight(scene.tube, turn, scene.swarm.r_p_m) if MODELS[point.model] else None
+    if why is not None:
+        raise ParamsError(f'scene {scene.name!r} under the acceleration limits: {why}.')
     if point.compensation != 'none' and point.mode in BASELINE_MODES:
         msg = f'delay compensation acts in the swarm step, which the baseline {point.mode!r} does not fly; use none.'
         raise ParamsError(msg)
