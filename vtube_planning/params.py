@@ -173,6 +173,10 @@ class PlanningOptions:
         One of ``FREEDOMS``: ``'paper'`` plans under (p2)-(p7) from v_min (the paper); ``'relaxed'`` starts at v_max
         (unless ``v0_mps`` is given) and leaves (p3), (p4) out, the freedom of the unplanned swarm in the paper's robot
         model (``docs/theory.md`` §8.8).
+    braking_room
+        Keep the planned spacing 1 / sqrt(rho) at least 2 r_s plus the distance (v^2 - v_min^2) / (2 a_v) a robot
+        needs to brake from the planned speed v to v_min (``docs/theory.md`` §8.9). False (the default): the paper's
+        constraints only.
     """
 
     grid_step_m: float = 0.25
@@ -184,6 +188,7 @@ class PlanningOptions:
     refinement: int = 1
     objective: str = 'centre'
     freedom: str = 'paper'
+    braking_room: bool = False
 
     def __post_init__(self) -> None:
         for name in ('grid_step_m', 'lookahead_m', 'v0_mps', 'rho0_per_m2'):
@@ -205,6 +210,9 @@ class PlanningOptions:
             raise ParamsError(msg)
         if self.objective not in OBJECTIVES:
             msg = f'planning option objective must be one of {OBJECTIVES}; got {self.objective!r}.'
+            raise ParamsError(msg)
+        if not isinstance(self.braking_room, bool):
+            msg = f'planning option braking_room must be true or false; got {self.braking_room!r}.'
             raise ParamsError(msg)
         if self.freedom not in FREEDOMS:
             msg = f'planning option freedom must be one of {FREEDOMS}; got {self.freedom!r}.'

@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import PlanningOptions, SwarmParams
+from vtube_planning.planning.braking import braking_excess
 from vtube_planning.planning.density import predicted_density
 from vtube_planning.planning.last_out import last_out_terms
 
@@ -26,7 +27,7 @@ FINE_FACTOR = 10
 ACTIVE_RTOL = 1e-3
 """A constraint is reported active at a grid point when its relative slack is below this."""
 CONSTRAINTS = ('p2', 'p3', 'p4', 'p5', 'p6', 'p7', 'initial')
-"""The certificate's entries."""
+"""The certificate's entries (and ``'braking'`` for a plan with ``braking_room``)."""
 MEANINGS = {
     'p2': 'the speed band [v_min, v_max]',
     'p3': 'the speed change a_v',
@@ -35,6 +36,7 @@ MEANINGS = {
     'p6': 'the density change a_rho',
     'p7': 'the predicted density change a_rho over the look-ahead',
     'initial': 'the initial speed and density',
+    'braking': 'the spacing for braking to v_min (planning option braking_room)',
 }
 """What each certificate entry bounds, for messages."""
 
@@ -167,6 +169,8 @@ def _excess(
         'p6': ((np.abs(np.diff(rho)) / dl * v_top - a_rho) / a_rho, fine[:-1]),
         'p7': ((np.abs(rho_f - rho) / options.lookahead_m * v - a_rho) / a_rho, fine),
     }
+    if options.braking_room:
+        excess['braking'] = (braking_excess(swarm, v, rho), fine[:-1])
     return excess, np.abs(rho_f / rho - 1.0)
 
 

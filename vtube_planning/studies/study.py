@@ -11,6 +11,7 @@ Reports are in `vtube_planning.studies.paper_report` and `vtube_planning.studies
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from typing import Any, Literal
 
@@ -94,6 +95,27 @@ CONTROLLERS = ('law', 'foresight')
 (`vtube_planning.swarm.foresight`), the same for every mode of a cell."""
 GRID_SCENES = ('C', 'D')
 """The scenes whose plans pre-expand (p7 binds before the narrowing); on A and B the plan is the same without it."""
+
+
+def physics_text(modes: Iterable[str]) -> str:
+    """What the ``modes`` fly, beside the robot model and controller their setting names: the freedom of each
+    mode's plan, or its constant speed, or its baseline's law."""
+    parts = []
+    for mode in modes:
+        ablation = (ABLATIONS | REPLANNING_MODES | FREEDOM_MODES).get(mode)
+        if ablation is None:
+            parts.append(f"{mode}: the baseline's own law")
+        elif ablation.plan in ('none', 'flat'):
+            speed = 'v_max' if ablation.speed == 'v_max' else '(v_min + v_max) / 2'
+            parts.append(f'{mode}: {speed} from the first period')
+        elif ablation.freedom == 'relaxed':
+            parts.append(f'{mode}: a plan from v_max, (p3) and (p4) left out')
+        else:
+            parts.append(f"{mode}: the paper's plan, (p3) from v_min and (p4)")
+    return (
+        'Physics: every mode flies the robot model of its setting (paper: (2) only; acceleration limits: (2)-(4) '
+        'for every robot) under the controller it names (the law where none is named); ' + '; '.join(parts) + '.'
+    )
 
 
 @dataclass(frozen=True)

@@ -32,6 +32,7 @@ from vtube_planning.studies.stats import (
     relative,
     signed_rank_p,
 )
+from vtube_planning.studies.study import physics_text
 
 COMPARISONS = (
     ('planning', 'no planning', "the paper's comparison"),
@@ -47,14 +48,8 @@ COMPARISONS = (
 CLAIMS = (('passing_time_s', 'lower', 'passing time [s]'), ('min_distance_m', 'higher', 'min distance [m]'))
 
 
-CELL_AXES = (
-    'scene',
-    'map',
-    'map_seed',
-    'map_clutter',
-    'map_width_m',
-    'n_robots',
-    'model',
+CELL_AXES: tuple[str, ...] = ('scene', 'map', 'map_seed', 'map_clutter', 'map_width_m', 'n_robots', 'model')
+CELL_AXES += (
     'controller',
     'saturation',
     'pose_noise_m',
@@ -85,8 +80,11 @@ def _population_text(row: dict[str, Any]) -> str:
 
 
 def setting_text(row: dict[str, Any]) -> str:
-    """A cell's setting in words, scene and N left out: the robot model, the saturation and the faults that are on."""
+    """A cell's setting in words, scene and N left out: the robot model, the saturation, the controller (unless the
+    law) and the faults that are on."""
     words = [f'{row["model"]} model', f'{row["saturation"]} sat']
+    if row.get('controller') not in (None, 'law'):
+        words.append(f'{row["controller"]} controller')
     if row.get('pose_noise_m'):
         words.append(f'pose noise {row["pose_noise_m"]:g} m')
     if row.get('latency_steps'):
@@ -228,6 +226,8 @@ def mode_summary(rows: list[dict[str, Any]]) -> str:
     whose metrics the rows hold)."""
     columns = [c for c in _MODE_COLUMNS if c[0] in rows[0]]
     lines = [
+        physics_text(dict.fromkeys(r['mode'] for r in rows)),
+        '',
         'Per setting and mode, over all cells and seeds:',
         '',
         '| setting | mode | ' + ' | '.join(header for _, header, _ in columns) + ' |',
