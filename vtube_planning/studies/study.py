@@ -97,6 +97,15 @@ GRID_SCENES = ('C', 'D')
 """The scenes whose plans pre-expand (p7 binds before the narrowing); on A and B the plan is the same without it."""
 
 
+def check_turns(scene: Scene, models: Iterable[str]) -> None:
+    """[`ParamsError`][vtube_planning.errors.ParamsError] when one of the robot ``models`` holds robots to (2)-(4)
+    and the scene's tube has a bend none of them can turn through (`vtube_planning.geometry.bends.too_tight`)."""
+    turn = scene.swarm.v_min_mps**2 / scene.swarm.a_n_mps2
+    why = too_tight(scene.tube, turn, scene.swarm.r_p_m) if any(MODELS.get(m) for m in models) else None
+    if why is not None:
+        raise ParamsError(f'scene {scene.name!r} under the acceleration limits: {why}.')
+
+
 def physics_text(modes: Iterable[str]) -> str:
     """What the ``modes`` fly, beside the robot model and controller their setting names: the freedom of each
     mode's plan, or its constant speed, or its baseline's law."""
@@ -223,10 +232,7 @@ def run_point(point: Point, settings: RunSettings = RunSettings()) -> dict[str, 
     same reference for every mode: mean |rho - rho*(l_c)| while the swarm's centre is in the tube), the share of
     in-tube robot-steps moving backwards, and NMPC's converged share (NaN for the other modes)."""
     scene = point.load_scene()
-    turn = scene.swarm.v_min_mps**2 / scene.swarm.a_n_mps2
-    why = too_tight(scene.tube, turn, scene.swarm.r_p_m) if MODELS[point.model] else None
-    if why is not None:
-        raise ParamsError(f'scene {scene.name!r} under the acceleration limits: {why}.')
+    check_turns(scene, (point.model,))
     if point.compensation != 'none' and point.mode in BASELINE_MODES:
         msg = f'delay compensation acts in the swarm step, which the baseline {point.mode!r} does not fly; use none.'
         raise ParamsError(msg)

@@ -116,3 +116,9 @@ def test_a_bend_no_robot_can_turn_fails_a_run_under_the_acceleration_limits(tmp_
     point = Point(str(path), mode='no planning', model='acceleration limits', n_robots=2)
     with pytest.raises(ParamsError, match='under the acceleration limits: the bend at l = 20.000..21.571 m'):
         run_point(point)
+    from vtube_planning.studies.campaign import Campaign
+
+    limited = Campaign.from_dict({'axes': {'scene': [str(path)], 'model': ['paper', 'acceleration limits']}})
+    with pytest.raises(ParamsError, match='make the centre radius at least 2.834 m'):
+        limited.points()  # before any run
+    assert len(Campaign.from_dict({'axes': {'scene': [str(path)], 'model': ['paper']}}).points()) == 1
