@@ -66,12 +66,7 @@ class ConvexPlanner:
             inv_scale = self.inv_scale[end]
             cons += [cp.multiply(inv_scale, dw) <= tangent, -cp.multiply(inv_scale, dw) <= tangent]
             cons += [cp.abs(rho[1:] - rho[:-1]) <= cp.multiply(swarm.a_rho * dl, w[j])]  # (p6)
-        # the room for braking, w >= h(rho) with h's tangent at the previous iterate (braking.braking_tangent)
-        self.braking = (cp.Parameter(n, nonneg=True, name='braking_slope'), cp.Parameter(n, name='braking_intercept'))
-        if options.braking_room:
-            for i in (slice(None, -1), slice(1, None)):
-                for j in (slice(None, -1), slice(1, None)):
-                    cons.append(w[i] >= cp.multiply(self.braking[0][j], rho[j]) + self.braking[1][j])
+        cons += self._braking_rows(n)
         self.footprint_gap: cp.Parameter | None = None
         self.footprint_root: cp.Parameter | None = None
         if options.predictive_model == 'local_width':
@@ -106,6 +101,16 @@ class ConvexPlanner:
             objective += self.end_linear @ ends + 0.5 * self.end_curvature @ cp.square(ends) + self.end_constant
         self.cvx = cp.Problem(cp.Minimize(objective), cons)
         self.value = math.nan
+
+    def _braking_rows(self, n: int) -> list[cp.Constraint]:
+        """The room for braking (none unless ``braking_room``): min(w) >= h(max(rho)) per interval, with h's tangent
+        at the previous iterate as parameters (`braking.braking_tangent`)."""
+        self.braking = (cp.Parameter(n, nonneg=True, name='braking_slope'), cp.Parameter(n, name='braking_intercept'))
+        if not self.problem.options.braking_room:
+            return []
+        ends = (slice(None, -1), slice(1, None))
+        slope, intercept = self.braking
+        return [self.w[i] >= cp.multiply(slope[j], self.rho[j]) + intercept[j] for i in ends for j in ends]
 
     def set_tangent(self, w_bar: FloatArray, rho_bar: FloatArray) -> None:
         """Linearise (p3) at ``w_bar``; for the rigid shift, freeze the footprint at ``rho_bar``."""

@@ -49,16 +49,8 @@ CLAIMS = (('passing_time_s', 'lower', 'passing time [s]'), ('min_distance_m', 'h
 
 
 CELL_AXES: tuple[str, ...] = ('scene', 'map', 'map_seed', 'map_clutter', 'map_width_m', 'n_robots', 'model')
-CELL_AXES += (
-    'controller',
-    'saturation',
-    'pose_noise_m',
-    'latency_steps',
-    'lag_s',
-    'compensation',
-    'failure',
-    'dropout',
-)
+CELL_AXES += ('controller', 'saturation', 'pose_noise_m', 'latency_steps', 'lag_s', 'compensation', 'failure')
+CELL_AXES += ('dropout',)
 """What a row's mode is compared within (a cell): every field of `Point` but the mode and the seed."""
 
 
