@@ -135,6 +135,11 @@ OBJECTIVES = ('centre', 'last_out')
 """What the planner's time term models: ``'centre'`` the swarm centre's traversal time, the paper's (p1);
 ``'last_out'`` the measured passing time, first robot in to last robot out (``docs/theory.md`` §8.7)."""
 
+FREEDOMS = ('paper', 'relaxed')
+"""What the plan is held to: ``'paper'`` (p2)-(p7) from v_min, as the paper plans; ``'relaxed'`` the freedom the
+unplanned swarm has in the paper's robot model, which holds no robot to (3), (4): the plan starts at v_max and
+(p3), (p4) are left out (``docs/theory.md`` §8.8)."""
+
 
 @dataclass(frozen=True)
 class PlanningOptions:
@@ -164,6 +169,14 @@ class PlanningOptions:
         One of ``OBJECTIVES``: ``'centre'`` minimises the centre's traversal time, the paper's (p1); ``'last_out'``
         adds the swarm's half-extents N / (4 lambda rho) over the speed at the entrance and the exit, so that the
         time term models the measured passing time, first robot in to last robot out (``docs/theory.md`` §8.7).
+    freedom
+        One of ``FREEDOMS``: ``'paper'`` plans under (p2)-(p7) from v_min (the paper); ``'relaxed'`` starts at v_max
+        (unless ``v0_mps`` is given) and leaves (p3), (p4) out, the freedom of the unplanned swarm in the paper's robot
+        model (``docs/theory.md`` §8.8).
+    braking_room
+        Keep the planned spacing 1 / sqrt(rho) at least 2 r_s plus the distance (v^2 - v_min^2) / (2 a_v) a robot
+        needs to brake from the planned speed v to v_min (``docs/theory.md`` §8.9). False (the default): the paper's
+        constraints only.
     """
 
     grid_step_m: float = 0.25
@@ -174,6 +187,8 @@ class PlanningOptions:
     rho0_per_m2: float | None = None
     refinement: int = 1
     objective: str = 'centre'
+    freedom: str = 'paper'
+    braking_room: bool = False
 
     def __post_init__(self) -> None:
         for name in ('grid_step_m', 'lookahead_m', 'v0_mps', 'rho0_per_m2'):
@@ -195,6 +210,12 @@ class PlanningOptions:
             raise ParamsError(msg)
         if self.objective not in OBJECTIVES:
             msg = f'planning option objective must be one of {OBJECTIVES}; got {self.objective!r}.'
+            raise ParamsError(msg)
+        if not isinstance(self.braking_room, bool):
+            msg = f'planning option braking_room must be true or false; got {self.braking_room!r}.'
+            raise ParamsError(msg)
+        if self.freedom not in FREEDOMS:
+            msg = f'planning option freedom must be one of {FREEDOMS}; got {self.freedom!r}.'
             raise ParamsError(msg)
 
 

@@ -53,6 +53,7 @@ def plan(args: argparse.Namespace) -> Planned:
 
     writable_folder(args.out)
     room_for_a_robot(args.scene)
+    room_to_turn(args.scene, paper_plan_only=True)
     return plan_scene(args.scene, args.out, method=args.method, grid_step_m=args.grid_step_m, objective=args.objective)
 
 
@@ -73,6 +74,22 @@ def room_for_a_robot(name_or_path: str) -> None:
             f'(2 r_p = {2 * scene.swarm.r_p_m:g} m): no robot fits through; widen the tube there.'
         )
         raise BadInput(msg)
+
+
+def room_to_turn(name_or_path: str, *, paper_plan_only: bool = False) -> None:
+    """Refuse, before any work, a tube with a bend through which no path turns no tighter than v_min^2 / a_n, the
+    tightest turn of a robot held to (2) and (4) (`vtube_planning.geometry.bends`, ``docs/theory.md`` §3.6); with
+    ``paper_plan_only`` only for a plan held to the paper's (p4) (a relaxed plan leaves (4) out)."""
+    from robotarium_exp.scene import load_scene
+    from vtube_planning.geometry.bends import too_tight
+
+    scene = load_scene(name_or_path)
+    if paper_plan_only and scene.planning.freedom != 'paper':
+        return
+    swarm = scene.swarm
+    why = too_tight(scene.tube, swarm.v_min_mps**2 / swarm.a_n_mps2, swarm.r_p_m)
+    if why is not None:
+        raise BadInput(f'scene {scene.name!r}: {why}.')
 
 
 def plan_view(planned: Planned) -> View:

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 from vtube.cli.arguments import count, positive, seed, writable_folder
 from vtube.cli.command import EXIT_FAILED, EXIT_OK, BadInput, Command, View
+from vtube.cli.plan import room_to_turn
 from vtube.cli.render import progress_bars
 
 if TYPE_CHECKING:
@@ -64,6 +65,8 @@ def simulate(args: argparse.Namespace) -> Simulated:
 
     writable_folder(args.out)
     _check_swarm_size(args.scene, args.n_robots)
+    if args.acceleration_limits:
+        room_to_turn(args.scene)
     made = not args.out.exists()
     with holding(args.out, 'simulate'), _removed_if_left_empty(args.out, made):
         return simulate_scene(

@@ -26,6 +26,7 @@ from scipy.linalg.lapack import dpbtrf as _band_factor
 from scipy.linalg.lapack import dpbtrs as _band_solve
 
 from vtube_planning.errors import SolverError
+from vtube_planning.planning.braking import braking_tangent
 from vtube_planning.planning.constraints import RHO_EPSILON
 from vtube_planning.planning.last_out import QuadraticModel
 from vtube_planning.planning.problem import Problem
@@ -62,6 +63,7 @@ class BandedPlanner:
         dl = np.diff(problem.l_m)
         self.dl = dl
         self._p3 = slice(0, 4)  # (p3)'s four rows per interval come first; set_tangent fills them
+        self._braking = slice(4, 8) if problem.options.braking_room else None  # then the room for braking's
         self.g, self.h, self.kept = _constraint_rows(problem, dl)  # (K, kinds, 4), (K, kinds), (K, kinds)
         self.interval = np.nonzero(self.kept)[0]  # (m,) each imposed row's interval, ascending
         self.first_row = np.searchsorted(self.interval, np.arange(k))  # (K,) where each interval's rows start
@@ -88,6 +90,23 @@ class BandedPlanner:
                 block[:, row, W_RIGHT] += inv_scale
                 block[:, row, W_LEFT] -= inv_scale
                 block[:, row, end] -= 3.0 / w_end
+                row += 1
+        if self._braking is not None:
+            self._set_braking(rho_bar)
+
+    def _set_braking(self, rho_bar: FloatArray) -> None:
+        """Linearise the room for braking at ``rho_bar``: w_i >= slope_j rho_j + intercept_j for both ends i, j of
+        every interval, with h's tangent at rho_bar_j (`braking.braking_tangent`)."""
+        assert self._braking is not None
+        slope, intercept = braking_tangent(self.problem.swarm, rho_bar)
+        block = self.g[:, self._braking, :]
+        block[:] = 0.0
+        row = self._braking.start
+        for w_end in (W_LEFT, W_RIGHT):
+            for rho_end, j in ((RHO_LEFT, slice(None, -1)), (RHO_RIGHT, slice(1, None))):
+                block[:, row - self._braking.start, w_end] = -(1.0 - MARGIN)
+                block[:, row - self._braking.start, rho_end] = slope[j]
+                self.h[:, row] = -intercept[j]
                 row += 1
 
     def set_exit_model(self, model: QuadraticModel) -> None:
@@ -230,6 +249,8 @@ def _constraint_rows(problem: Problem, dl: FloatArray) -> tuple[FloatArray, Floa
 
     for _ in range(4):  # (p3), linearised at the previous iterate
         add({}, -2.0)
+    for _ in range(4 if options.braking_room else 0):  # the room for braking, linearised at the previous iterate
+        add({}, 0.0)
     # (p6): +-(rho_{k+1} - rho_k) - a_rho dl_k w_j <= 0 for j = k, k+1
     rate = swarm.a_rho * dl * tight
     for sign in (1.0, -1.0):

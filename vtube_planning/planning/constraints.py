@@ -6,11 +6,14 @@ every constraint on that interpolated plan on a grid ten times finer than the so
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import PlanningOptions, SwarmParams
+from vtube_planning.planning.braking import braking_excess
 from vtube_planning.planning.density import predicted_density
 from vtube_planning.planning.last_out import last_out_terms
 
@@ -24,7 +27,7 @@ FINE_FACTOR = 10
 ACTIVE_RTOL = 1e-3
 """A constraint is reported active at a grid point when its relative slack is below this."""
 CONSTRAINTS = ('p2', 'p3', 'p4', 'p5', 'p6', 'p7', 'initial')
-"""The certificate's entries."""
+"""The certificate's entries (and ``'braking'`` for a plan with ``braking_room``)."""
 MEANINGS = {
     'p2': 'the speed band [v_min, v_max]',
     'p3': 'the speed change a_v',
@@ -33,13 +36,29 @@ MEANINGS = {
     'p6': 'the density change a_rho',
     'p7': 'the predicted density change a_rho over the look-ahead',
     'initial': 'the initial speed and density',
+    'braking': 'the spacing for braking to v_min (planning option braking_room)',
 }
 """What each certificate entry bounds, for messages."""
 
 
+RELAXED_MPS2 = 1e6
+"""a_v and a_n as a relaxed plan sees them (``options.freedom = 'relaxed'``), m/s^2: (p3) and (p4) never bind (a
+speed change from v_max to v_min within a grid step of 1e-4 m at 5 m/s needs 1.3e5)."""
+
+
+def planned_limits(swarm: SwarmParams, options: PlanningOptions) -> SwarmParams:
+    """The swarm as the planner holds it: itself, or with ``options.freedom = 'relaxed'`` a_v and a_n raised to
+    `RELAXED_MPS2`, so that (p3) and (p4) are left out (``docs/theory.md`` §8.8)."""
+    if options.freedom == 'paper':
+        return swarm
+    return replace(swarm, a_v_mps2=RELAXED_MPS2, a_n_mps2=RELAXED_MPS2)
+
+
 def initial_conditions(swarm: SwarmParams, options: PlanningOptions) -> tuple[float, float]:
-    """Boundary values (v_a(0), rho_a(0)): the options', or v_min and the packing density (resolution A15)."""
-    v0 = swarm.v_min_mps if options.v0_mps is None else float(options.v0_mps)
+    """Boundary values (v_a(0), rho_a(0)): the options', or v_min (v_max for a relaxed plan) and the packing density
+    (resolution A15)."""
+    start = swarm.v_min_mps if options.freedom == 'paper' else swarm.v_max_mps
+    v0 = start if options.v0_mps is None else float(options.v0_mps)
     rho0 = swarm.rho_packing if options.rho0_per_m2 is None else float(options.rho0_per_m2)
     return v0, rho0
 
@@ -86,8 +105,10 @@ def certify(
 
     Violations are divided by the constraint's own bound (v_min or v_max, a_v, sqrt(a_n r_t), rho_max, a_rho,
     the initial value). Between fine points the plan is piecewise linear in w and rho, so rates are exact per
-    fine interval and (p3), (p6) use the interval's largest speed.
+    fine interval and (p3), (p6) use the interval's largest speed. A relaxed plan is held to a_v and a_n as
+    `planned_limits` raises them.
     """
+    swarm = planned_limits(swarm, options)
     excess, change = _excess(tube, swarm, options, l_m, speed_mps, density)
     certificate = {name: _worst(values) for name, (values, _) in excess.items()}
     v0, rho0 = initial_conditions(swarm, options)
@@ -106,7 +127,7 @@ def worst_places(
     """Where each certificate entry is worst: the arc length (m) of the largest relative violation of (p2)-(p7)
     on the certificate's fine grid (an interval's start for the rates (p3), (p6)), 0 for the initial values and
     NaN for a constraint with no point to evaluate (p4 on a straight tube)."""
-    excess, _ = _excess(tube, swarm, options, l_m, speed_mps, density)
+    excess, _ = _excess(tube, planned_limits(swarm, options), options, l_m, speed_mps, density)
     places = {name: float(at[np.argmax(values)]) if values.size else np.nan for name, (values, at) in excess.items()}
     return places | {'initial': 0.0}
 
@@ -148,6 +169,8 @@ def _excess(
         'p6': ((np.abs(np.diff(rho)) / dl * v_top - a_rho) / a_rho, fine[:-1]),
         'p7': ((np.abs(rho_f - rho) / options.lookahead_m * v - a_rho) / a_rho, fine),
     }
+    if options.braking_room:
+        excess['braking'] = (braking_excess(swarm, v, rho), fine[:-1])
     return excess, np.abs(rho_f / rho - 1.0)
 
 

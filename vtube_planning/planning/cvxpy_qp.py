@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 
 from vtube_planning.errors import SolverError
 from vtube_planning.onboard import swarm_area
+from vtube_planning.planning.braking import braking_tangent
 from vtube_planning.planning.constraints import RHO_EPSILON
 from vtube_planning.planning.density import footprint
 from vtube_planning.planning.last_out import QuadraticModel
@@ -65,6 +66,7 @@ class ConvexPlanner:
             inv_scale = self.inv_scale[end]
             cons += [cp.multiply(inv_scale, dw) <= tangent, -cp.multiply(inv_scale, dw) <= tangent]
             cons += [cp.abs(rho[1:] - rho[:-1]) <= cp.multiply(swarm.a_rho * dl, w[j])]  # (p6)
+        cons += self._braking_rows(n)
         self.footprint_gap: cp.Parameter | None = None
         self.footprint_root: cp.Parameter | None = None
         if options.predictive_model == 'local_width':
@@ -100,6 +102,16 @@ class ConvexPlanner:
         self.cvx = cp.Problem(cp.Minimize(objective), cons)
         self.value = math.nan
 
+    def _braking_rows(self, n: int) -> list[cp.Constraint]:
+        """The room for braking (none unless ``braking_room``): min(w) >= h(max(rho)) per interval, with h's tangent
+        at the previous iterate as parameters (`braking.braking_tangent`)."""
+        self.braking = (cp.Parameter(n, nonneg=True, name='braking_slope'), cp.Parameter(n, name='braking_intercept'))
+        if not self.problem.options.braking_room:
+            return []
+        ends = (slice(None, -1), slice(1, None))
+        slope, intercept = self.braking
+        return [self.w[i] >= cp.multiply(slope[j], self.rho[j]) + intercept[j] for i in ends for j in ends]
+
     def set_tangent(self, w_bar: FloatArray, rho_bar: FloatArray) -> None:
         """Linearise (p3) at ``w_bar``; for the rigid shift, freeze the footprint at ``rho_bar``."""
         swarm, options = self.problem.swarm, self.problem.options
@@ -107,6 +119,8 @@ class ConvexPlanner:
         self.inv_scale['left'].value = 1.0 / (swarm.a_v_mps2 * dl * w_bar[:-1] ** 3)
         self.inv_scale['right'].value = 1.0 / (swarm.a_v_mps2 * dl * w_bar[1:] ** 3)
         self.slope.value = 3.0 / w_bar
+        if options.braking_room:
+            self.braking[0].value, self.braking[1].value = braking_tangent(swarm, rho_bar)
         if self.footprint_gap is not None and self.footprint_root is not None:
             back, front = footprint(self.problem.tube, self.problem.l_m, rho_bar, swarm.n_robots)
             shifted = swarm_area(self.problem.tube, back + options.lookahead_m, front + options.lookahead_m, 0.0)

@@ -21,10 +21,10 @@ def fastest_admissible(problem: Problem) -> tuple[FloatArray, FloatArray] | None
     allows. Where that is too fast for the local-width (p7), w >= ratio max(rho) / (a_rho dl_p), the speed cap is
     lowered to what (p7) asks and the profile recomputed, for at most ``REPAIRS`` passes. Every constraint then
     holds, so the procedure may start there. The rigid-shift (p7) is not checked here: it starts from the slowest
-    profile, as does a problem whose repairs do not settle.
+    profile, as do the room for braking and a problem whose repairs do not settle.
     """
     swarm, options = problem.swarm, problem.options
-    if options.predictive_model == 'rigid_shift':
+    if options.predictive_model == 'rigid_shift' or options.braking_room:
         return None
     dl = problem.dl_m
     floor = 1.0 / problem.speed_cap_mps

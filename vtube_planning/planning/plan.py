@@ -26,7 +26,14 @@ from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.npzfile import read_npz, write_npz
 from vtube_planning.onboard import PlanProfile
 from vtube_planning.params import PlanningOptions, SwarmParams
-from vtube_planning.planning.constraints import MEANINGS, certify, curvature_speed_limit, objective_terms, worst_places
+from vtube_planning.planning.constraints import (
+    MEANINGS,
+    certify,
+    curvature_speed_limit,
+    objective_terms,
+    planned_limits,
+    worst_places,
+)
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -342,7 +349,7 @@ def make_plan(
         speed_mps=speed,
         density_per_m2=density,
         half_width_m=np.asarray(tube.half_width(l_m)),
-        speed_limit_mps=curvature_speed_limit(tube, swarm, l_m),
+        speed_limit_mps=curvature_speed_limit(tube, planned_limits(swarm, options), l_m),
         time_s=objective['time_s'],
         objective=objective,
         certificate=certificate,

@@ -22,7 +22,7 @@ from vtube_planning.errors import PlanError, SolverError
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import PlanningOptions, SwarmParams
 from vtube_planning.planning.banded_qp import BandedPlanner
-from vtube_planning.planning.constraints import RHO_EPSILON, certify, curvature_speed_limit
+from vtube_planning.planning.constraints import RHO_EPSILON, certify, curvature_speed_limit, planned_limits
 from vtube_planning.planning.fastest_start import fastest_admissible
 from vtube_planning.planning.last_out import GROWTH, MAX_TRIES, ExitTerm, half_extent_weight
 from vtube_planning.planning.plan import (
@@ -136,7 +136,7 @@ def replan(plan: Plan, state: SwarmState, tube: VirtualTube, *, formulation: For
         raise PlanError(msg)
     swarm = plan.swarm if state.n_robots is None else replace(plan.swarm, n_robots=state.n_robots)
     ahead = np.linspace(start, start + step, SUBSAMPLES + 1)
-    top = min(swarm.v_max_mps, float(curvature_speed_limit(tube, swarm, ahead).min()))
+    top = min(swarm.v_max_mps, float(curvature_speed_limit(tube, planned_limits(swarm, plan.options), ahead).min()))
     speed = float(np.clip(state.speed_mps, swarm.v_min_mps, top))
     density = float(np.clip(state.density_per_m2, RHO_EPSILON, swarm.rho_max_per_m2))
     options = replace(plan.options, v0_mps=speed, rho0_per_m2=density)

@@ -76,13 +76,16 @@ def plan_polynomial(
     ------
     PlanError
         When the problem is infeasible (same checks as the convex method), or for the rigid-shift reading of
-        (p7) or the last-robot-out objective, which this method does not implement.
+        (p7), the last-robot-out objective or the room for braking, which this method does not implement.
     """
     if options.predictive_model != 'local_width':
         msg = "the polynomial method implements the local-width reading of (p7) only; use method 'convex'."
         raise PlanError(msg)
     if options.objective != 'centre':
         msg = "the polynomial method plans for the centre's time only (objective 'centre'); use method 'convex'."
+        raise PlanError(msg)
+    if options.braking_room:
+        msg = "the polynomial method does not keep the room for braking (braking_room); use method 'convex'."
         raise PlanError(msg)
     started = time.perf_counter()
     problem = discretise(tube, swarm, options)

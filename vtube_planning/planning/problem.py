@@ -18,7 +18,8 @@ from numpy.typing import NDArray
 from vtube_planning.errors import PlanError
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import PlanningOptions, SwarmParams
-from vtube_planning.planning.constraints import RHO_EPSILON, curvature_speed_limit, initial_conditions
+from vtube_planning.planning.braking import braking_excess
+from vtube_planning.planning.constraints import RHO_EPSILON, curvature_speed_limit, initial_conditions, planned_limits
 
 FloatArray = NDArray[np.float64]
 
@@ -82,8 +83,10 @@ def discretise(
 
     The slowest admissible speed profile (decelerate at a_v from v_0 down to v_min) and the fastest admissible
     expansion along it (density falling at a_rho until rho_epsilon) are the most permissive choices for every
-    other constraint; if they violate one, the problem is infeasible there, and the message says where.
+    other constraint; if they violate one, the problem is infeasible there, and the message says where. The
+    problem holds the swarm as `planned_limits` has it (a relaxed plan's a_v and a_n raised).
     """
+    swarm = planned_limits(swarm, options)
     if l_m is None:
         l_m = uniform_grid(tube.length_m, options.grid_step_m)
     sub = np.linspace(l_m[:-1], l_m[1:], SUBSAMPLES + 1, axis=1)  # (K, S+1) samples of each interval
@@ -99,6 +102,8 @@ def discretise(
     problem = Problem(tube, swarm, options, l_m, speed_cap, width_ratio, v0, rho0, w_start, rho_start)
     if options.predictive_model == 'local_width':
         _check_local_width(problem)
+    if options.braking_room:
+        _check_braking(problem)
     return problem
 
 
@@ -195,5 +200,21 @@ def _check_local_width(problem: Problem) -> None:
             f'density {max(problem.rho_start[k], problem.rho_start[k + 1]):.4g} robots/m^2 meets a width ratio '
             f'{problem.width_ratio[k]:.3g} over the look-ahead {options.lookahead_m:g} m; start at a lower density, '
             'make the narrowing start later or more gradual, or lengthen lookahead_m.'
+        )
+        raise PlanError(msg)
+
+
+def _check_braking(problem: Problem) -> None:
+    """[`PlanError`][vtube_planning.errors.PlanError] where the room for braking fails even on the slowest start
+    expanding as fast as it may."""
+    swarm = problem.swarm
+    bad = np.flatnonzero(braking_excess(swarm, 1.0 / problem.w_start, problem.rho_start) > 1e-12)
+    if bad.size:
+        k = int(bad[0])
+        msg = (
+            f'the room for braking cannot hold at l = {problem.l_m[k]:.3f} m: even braking from v_0 to v_min and '
+            f'expanding as fast as (p6) allows, the spacing at {max(problem.rho_start[k], problem.rho_start[k + 1]):.4g} '
+            'robots/m^2 is shorter than 2 r_s plus the braking distance; start slower or at a lower density, or plan '
+            'without braking_room.'
         )
         raise PlanError(msg)

@@ -86,7 +86,7 @@ METRICS: dict[str, type] = {
 }
 """What a run measures (`run_point`), and its type in the table."""
 _CHOICES = {
-    'mode': (*study.ABLATIONS, *study.REPLANNING_MODES, *study.BASELINE_MODES),
+    'mode': (*study.ABLATIONS, *study.REPLANNING_MODES, *study.FREEDOM_MODES, *study.BASELINE_MODES),
     'model': tuple(study.MODELS),
     'controller': study.CONTROLLERS,
     'saturation': SATURATIONS,
@@ -180,8 +180,7 @@ class Campaign:
             )
             raise CampaignError(msg)
         if ('axes' in data) == ('grids' in data):
-            msg = 'give the axes once: one [axes] table, or several [[grids]] tables.'
-            raise CampaignError(msg)
+            raise CampaignError('give the axes once: one [axes] table, or several [[grids]] tables.')
         grids = [data['axes']] if 'axes' in data else data['grids']
         settings = data.get('settings', {})
         tables = isinstance(grids, list) and all(isinstance(g, Mapping) for g in grids)
@@ -223,11 +222,12 @@ class Campaign:
 
     def points(self) -> list[Point]:
         """Every run, grid after grid, each grid in the order of AXES, with each scene's own N and saturation
-        filled in; a run that two grids share is run once."""
+        filled in; a run that two grids share is run once (`study.check_turns` refuses a scene first)."""
         points: dict[Point, None] = {}
         for grid in self.grids:
             for scene_name in grid['scene']:
                 scene = load_scene(scene_name)
+                study.check_turns(scene, grid.get('model', ('paper',)))
                 own = {'n_robots': (scene.swarm.n_robots,), 'saturation': (scene.control.saturation,)}
                 axes = [grid.get(a) or own.get(a) or (getattr(Point, a),) for a in AXES if a != 'scene']
                 axes[list(AXES).index('seed') - 1] += self.confirm_seeds

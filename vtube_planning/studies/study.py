@@ -11,6 +11,7 @@ Reports are in `vtube_planning.studies.paper_report` and `vtube_planning.studies
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from typing import Any, Literal
 
@@ -19,6 +20,7 @@ import numpy as np
 from vtube_planning.baselines.flocking import FlockingParams, flocking_command
 from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
 from vtube_planning.errors import ParamsError
+from vtube_planning.geometry.bends import too_tight
 from vtube_planning.geometry.from_maps.maps import CLUTTER, WIDTH_M, scene_on_map
 from vtube_planning.geometry.scene import Scene, load_scene
 from vtube_planning.onboard import Saturation
@@ -62,13 +64,15 @@ class Ablation:
     (constant speed, constant r_a); ``a3``: whether r_a follows (a3) (off: its gain and feed-forward are zero);
     ``speed``: the constant forward speed of ``'flat'`` and ``'none'``, ``'mid'`` = (v_min + v_max) / 2 or
     ``'v_max'``; ``replan_every_s``: replan the rest of the tube from the measured state this often while flying
-    (0: never; [`SimConfig`][vtube_planning.swarm.simulate.SimConfig]).
+    (0: never; [`SimConfig`][vtube_planning.swarm.simulate.SimConfig]); ``freedom``: what the plan is held to, the
+    planning option of `vtube_planning.params.FREEDOMS`.
     """
 
     plan: Literal['full', 'without (p7)', 'flat', 'none']
     a3: bool
     speed: Literal['mid', 'v_max'] = 'mid'
     replan_every_s: float = 0.0
+    freedom: Literal['paper', 'relaxed'] = 'paper'
 
 
 ABLATIONS = {
@@ -81,6 +85,9 @@ ABLATIONS = {
 }
 REPLANNING_MODES = {'replanning every 0.5 s': Ablation('full', a3=True, replan_every_s=0.5)}
 """Modes that replan online (not part of ``vtube ablation``'s grid; campaigns name them)."""
+FREEDOM_MODES = {'planning (relaxed)': Ablation('full', a3=True, freedom='relaxed')}
+"""The plan with the unplanned swarm's freedom in the paper's model: from v_max, (p3) and (p4) left out (not part
+of ``vtube ablation``'s grid; campaigns name it)."""
 MODELS = {'paper': False, 'acceleration limits': True}
 """Robot models: the paper's p' = sat(v_c), or every robot also held to the acceleration limits (3), (4)."""
 CONTROLLERS = ('law', 'foresight')
@@ -88,6 +95,36 @@ CONTROLLERS = ('law', 'foresight')
 (`vtube_planning.swarm.foresight`), the same for every mode of a cell."""
 GRID_SCENES = ('C', 'D')
 """The scenes whose plans pre-expand (p7 binds before the narrowing); on A and B the plan is the same without it."""
+
+
+def check_turns(scene: Scene, models: Iterable[str]) -> None:
+    """[`ParamsError`][vtube_planning.errors.ParamsError] when one of the robot ``models`` holds robots to (2)-(4)
+    and the scene's tube has a bend none of them can turn through (`vtube_planning.geometry.bends.too_tight`)."""
+    turn = scene.swarm.v_min_mps**2 / scene.swarm.a_n_mps2
+    why = too_tight(scene.tube, turn, scene.swarm.r_p_m) if any(MODELS.get(m) for m in models) else None
+    if why is not None:
+        raise ParamsError(f'scene {scene.name!r} under the acceleration limits: {why}.')
+
+
+def physics_text(modes: Iterable[str]) -> str:
+    """What the ``modes`` fly, beside the robot model and controller their setting names: the freedom of each
+    mode's plan, or its constant speed, or its baseline's law."""
+    parts = []
+    for mode in modes:
+        ablation = (ABLATIONS | REPLANNING_MODES | FREEDOM_MODES).get(mode)
+        if ablation is None:
+            parts.append(f"{mode}: the baseline's own law")
+        elif ablation.plan in ('none', 'flat'):
+            speed = 'v_max' if ablation.speed == 'v_max' else '(v_min + v_max) / 2'
+            parts.append(f'{mode}: {speed} from the first period')
+        elif ablation.freedom == 'relaxed':
+            parts.append(f'{mode}: a plan from v_max, (p3) and (p4) left out')
+        else:
+            parts.append(f"{mode}: the paper's plan, (p3) from v_min and (p4)")
+    return (
+        'Physics: every mode flies the robot model of its setting (paper: (2) only; acceleration limits: (2)-(4) '
+        'for every robot) under the controller it names (the law where none is named); ' + '; '.join(parts) + '.'
+    )
 
 
 @dataclass(frozen=True)
@@ -106,13 +143,13 @@ def ablation_setup(mode: str, scene: Scene, swarm: SwarmParams, dt_s: float) -> 
     """The simulator's inputs for ``mode`` (a key of ABLATIONS, or of BASELINE_MODES)."""
     if mode in BASELINE_MODES:
         return _baseline_setup(mode, scene, swarm, dt_s)
-    ablation = ABLATIONS[mode] if mode in ABLATIONS else REPLANNING_MODES[mode]
+    ablation = (ABLATIONS | REPLANNING_MODES | FREEDOM_MODES)[mode]
     speed = default_constant_speed(swarm) if ablation.speed == 'mid' else swarm.v_max_mps
     control = scene.control if ablation.a3 else replace(scene.control, k_ra_m3ps=0.0, feedforward=False)
     if ablation.plan == 'none':
         return Setup(None, control, speed)
     model = 'none' if ablation.plan == 'without (p7)' else scene.planning.predictive_model
-    plan = _cached_plan(scene, swarm, model)
+    plan = _cached_plan(scene, swarm, model, ablation.freedom)
     if ablation.plan == 'flat':
         plan = replace(
             plan,
@@ -127,9 +164,9 @@ _PLANS: dict[tuple[str, SwarmParams, PlanningOptions], Plan] = {}
 """The plans of this process (each worker of a study has its own), planned once per scene file, swarm and options."""
 
 
-def _cached_plan(scene: Scene, swarm: SwarmParams, model: str) -> Plan:
-    """The scene's plan for this swarm with (p7) read as ``model``."""
-    options = replace(scene.planning, predictive_model=model)
+def _cached_plan(scene: Scene, swarm: SwarmParams, model: str, freedom: str = 'paper') -> Plan:
+    """The scene's plan for this swarm with (p7) read as ``model``, held to ``freedom``."""
+    options = replace(scene.planning, predictive_model=model, freedom=freedom)
     key = (scene.source, swarm, options)
     if key not in _PLANS:
         _PLANS[key] = plan_convex(scene.tube, swarm, options, scene=scene.name)
@@ -195,6 +232,7 @@ def run_point(point: Point, settings: RunSettings = RunSettings()) -> dict[str, 
     same reference for every mode: mean |rho - rho*(l_c)| while the swarm's centre is in the tube), the share of
     in-tube robot-steps moving backwards, and NMPC's converged share (NaN for the other modes)."""
     scene = point.load_scene()
+    check_turns(scene, (point.model,))
     if point.compensation != 'none' and point.mode in BASELINE_MODES:
         msg = f'delay compensation acts in the swarm step, which the baseline {point.mode!r} does not fly; use none.'
         raise ParamsError(msg)

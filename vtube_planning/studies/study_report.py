@@ -32,10 +32,13 @@ from vtube_planning.studies.stats import (
     relative,
     signed_rank_p,
 )
+from vtube_planning.studies.study import physics_text
 
 COMPARISONS = (
     ('planning', 'no planning', "the paper's comparison"),
     ('planning', 'no planning at v_max', 'the plan against the fastest constant speed'),
+    ('planning (relaxed)', 'no planning', "the plan with the unplanned swarm's freedom against 3.5 m/s"),
+    ('planning (relaxed)', 'no planning at v_max', "the plan with the unplanned swarm's freedom against v_max"),
     ('planning', 'planning without (p7)', 'what the pre-expansion (p7) buys'),
     ('planning', 'planned speed, (a3) off', 'what (a3) buys on top of the planned speed'),
     ('replanning every 0.5 s', 'planning', 'what replanning online buys'),
@@ -45,23 +48,9 @@ COMPARISONS = (
 CLAIMS = (('passing_time_s', 'lower', 'passing time [s]'), ('min_distance_m', 'higher', 'min distance [m]'))
 
 
-CELL_AXES = (
-    'scene',
-    'map',
-    'map_seed',
-    'map_clutter',
-    'map_width_m',
-    'n_robots',
-    'model',
-    'controller',
-    'saturation',
-    'pose_noise_m',
-    'latency_steps',
-    'lag_s',
-    'compensation',
-    'failure',
-    'dropout',
-)
+CELL_AXES: tuple[str, ...] = ('scene', 'map', 'map_seed', 'map_clutter', 'map_width_m', 'n_robots', 'model')
+CELL_AXES += ('controller', 'saturation', 'pose_noise_m', 'latency_steps', 'lag_s', 'compensation', 'failure')
+CELL_AXES += ('dropout',)
 """What a row's mode is compared within (a cell): every field of `Point` but the mode and the seed."""
 
 
@@ -83,8 +72,11 @@ def _population_text(row: dict[str, Any]) -> str:
 
 
 def setting_text(row: dict[str, Any]) -> str:
-    """A cell's setting in words, scene and N left out: the robot model, the saturation and the faults that are on."""
+    """A cell's setting in words, scene and N left out: the robot model, the saturation, the controller (unless the
+    law) and the faults that are on."""
     words = [f'{row["model"]} model', f'{row["saturation"]} sat']
+    if row.get('controller') not in (None, 'law'):
+        words.append(f'{row["controller"]} controller')
     if row.get('pose_noise_m'):
         words.append(f'pose noise {row["pose_noise_m"]:g} m')
     if row.get('latency_steps'):
@@ -226,6 +218,8 @@ def mode_summary(rows: list[dict[str, Any]]) -> str:
     whose metrics the rows hold)."""
     columns = [c for c in _MODE_COLUMNS if c[0] in rows[0]]
     lines = [
+        physics_text(dict.fromkeys(r['mode'] for r in rows)),
+        '',
         'Per setting and mode, over all cells and seeds:',
         '',
         '| setting | mode | ' + ' | '.join(header for _, header, _ in columns) + ' |',

@@ -169,6 +169,21 @@ BAD = [
         "the log was recorded in scene 'A', whose tube is not the tube of scene 'B'",
     ),
     ('a hundred million robots', 'simulate A --out {out} --n 100000000', 2, 'flies at most 5000 robots; give --n'),
+    (
+        'bend too tight to plan',
+        'plan {tmp}/hairpin.toml --out {out}',
+        2,
+        (
+            'the bend at l = 20.000..21.571 m (centre radius 1 m, turning 90 deg) lets no robot through that turns no '
+            'tighter than v_min^2 / a_n = 4 m: the widest curve between its walls has radius 2.166 m; widen the tube'
+        ),
+    ),
+    (
+        'bend too tight to fly under the limits',
+        'simulate {tmp}/hairpin.toml --out {out} --acceleration-limits --no-planning',
+        2,
+        'make the centre radius at least 2.834 m',
+    ),
     ('robotarium swarm too large', 'simulate robotarium_curve --out {out} --n 1000', 2, 'which flies 1 to 20 robots'),
     (
         'build into a folder',
@@ -216,6 +231,9 @@ def bad_files(tmp_path_factory) -> Path:
     (tmp / 'endless.toml').write_text('[tube.center]\npieces = [{ kind = "line", length_m = 1e300 }]\n' + width)
     line = '[tube.center]\npieces = [{ kind = "line", length_m = 10.0 }]\n'
     (tmp / 'objective.toml').write_text(line + width + '[planning]\nobjective = "fastest"\n')
+    hairpin = '{ kind = "line", length_m = 20.0 }, { kind = "arc", radius_m = 1.0, angle_deg = 90.0 }'
+    narrow = '[tube.width]\nstart_m = 0.5\nparts = [{ kind = "constant" }]\n'
+    (tmp / 'hairpin.toml').write_text(f'[tube.center]\npieces = [{hairpin}, {hairpin[:34]}]\n' + narrow)
     rng = np.random.default_rng(0)
     (tmp / 'random.bag').write_bytes(rng.bytes(2000))
     (tmp / 'binary.py').write_bytes(rng.bytes(500))

@@ -320,3 +320,55 @@ def test_a_plan_with_unusable_numbers_is_refused(tmp_path, shipped_plans, arrays
         edited[name] = values
     with pytest.raises(PlanError, match=match):
         Plan.load(_tampered(tmp_path, plan, 'bad.npz', edited, meta), load_scene('D').tube)
+
+
+# ---------------------------------------------------------------------- the relaxed plan (freedom = 'relaxed')
+
+
+@pytest.mark.parametrize('radius_m', [4.0, 9.0])
+def test_a_relaxed_plan_starts_at_v_max_and_ignores_p3_and_p4(radius_m: float) -> None:
+    """In a circle whose (p4) holds the paper's plan at sqrt(a_n r) after a ramp from v_min, the relaxed plan flies
+    v_max from l = 0: the freedom of the unplanned swarm in the paper's robot model."""
+    swarm = SwarmParams()
+    tube = tube_of(ArcPath((ArcPiece(radius_m * 2.5, radius_m=radius_m),)), 0.5 * radius_m)
+    paper = plan_convex(tube, swarm, PlanningOptions(grid_step_m=0.1))
+    relaxed = plan_convex(tube, swarm, PlanningOptions(grid_step_m=0.1, freedom='relaxed'))
+    assert paper.speed_mps.max() == pytest.approx(math.sqrt(swarm.a_n_mps2 * radius_m), rel=1e-7)
+    np.testing.assert_allclose(relaxed.speed_mps, swarm.v_max_mps, rtol=1e-7)
+    assert relaxed.time_s == pytest.approx(tube.length_m / swarm.v_max_mps, rel=1e-7)
+    assert relaxed.is_certified(CERTIFIED)  # held to what it was planned under
+    assert initial_conditions(swarm, relaxed.options)[0] == swarm.v_max_mps
+    assert np.all(relaxed.speed_limit_mps > swarm.v_max_mps)  # the plan file's speed limit is the relaxed one
+
+
+def test_a_relaxed_plan_keeps_the_other_constraints_and_a_given_start() -> None:
+    """(p2), (p5)-(p7) still hold: the density falls at the (p6) limit as on a straight tube, and v0_mps given is
+    the start; the paper's certificate of that plan fails (p3) or (p4), the relaxed one does not."""
+    swarm = SwarmParams()
+    scene = load_scene('D')
+    options = replace(scene.planning, freedom='relaxed', v0_mps=3.0)
+    plan = plan_convex(scene.tube, swarm, options)
+    assert plan.speed_mps[0] == pytest.approx(3.0) and plan.speed_mps[5] == pytest.approx(swarm.v_max_mps)
+    assert plan.is_certified(CERTIFIED) and plan.certificate['p7'] <= CERTIFIED
+    as_paper = make_plan(
+        scene.tube,
+        swarm,
+        replace(options, freedom='paper'),
+        plan.l_m,
+        plan.speed_mps,
+        plan.density_per_m2,
+        solved=plan.solved,
+        scene='D',
+    )
+    assert max(as_paper.certificate['p3'], as_paper.certificate['p4']) > 0.1
+    with pytest.raises(ValueError, match='freedom must be one of'):
+        PlanningOptions(freedom='free')
+
+
+def test_the_paper_plan_is_unchanged_by_the_new_options(shipped_plans: dict[str, Plan]) -> None:
+    """freedom = 'paper' and braking_room = False are the defaults: the same plan, bit for bit."""
+    scene = load_scene('C')
+    again = plan_convex(scene.tube, scene.swarm, replace(scene.planning, freedom='paper', braking_room=False))
+    assert np.array_equal(again.speed_mps, shipped_plans['C'].speed_mps)
+    assert np.array_equal(again.density_per_m2, shipped_plans['C'].density_per_m2)
+    assert 'braking' not in again.certificate

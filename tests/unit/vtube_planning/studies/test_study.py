@@ -85,3 +85,40 @@ def test_a_point_on_a_random_map_flies_that_maps_tube() -> None:
     assert point.load_scene().tube.length_m == scene_on_map(load_scene('C'), 'forest', 3, clutter=10).tube.length_m
     assert Point('C').load_scene().tube.length_m == load_scene('C').tube.length_m  # no map: the scene's own tube
     assert point.load_scene().tube.length_m != load_scene('C').tube.length_m
+
+
+def test_the_relaxed_mode_flies_the_plan_with_the_unplanned_swarms_freedom(setups) -> None:
+    """'planning (relaxed)': the same scene's plan with freedom 'relaxed' (from v_max, (p3), (p4) left out), (a3) as in
+    the paper's plan; a campaign may name it; the reports say what each mode's plan is held to."""
+    from vtube_planning.studies.campaign import Campaign
+    from vtube_planning.studies.study import FREEDOM_MODES, physics_text
+
+    scene, s = setups
+    relaxed = ablation_setup('planning (relaxed)', scene, scene.swarm, 0.02)
+    assert relaxed.plan is not None and relaxed.control == s['planning'].control
+    assert relaxed.plan.options == replace(scene.planning, freedom='relaxed')
+    assert relaxed.plan.speed_mps[0] == scene.swarm.v_max_mps and relaxed.plan.time_s < s['planning'].plan.time_s
+    campaign = Campaign.from_dict({'axes': {'scene': ['C'], 'mode': [*FREEDOM_MODES, 'no planning at v_max']}})
+    assert [p.mode for p in campaign.points()] == ['planning (relaxed)', 'no planning at v_max']
+    text = physics_text(['planning', 'planning (relaxed)', 'no planning at v_max', 'nmpc'])
+    assert "planning: the paper's plan, (p3) from v_min and (p4); planning (relaxed): a plan from v_max" in text
+    assert "no planning at v_max: v_max from the first period; nmpc: the baseline's own law." in text
+
+
+def test_a_bend_no_robot_can_turn_fails_a_run_under_the_acceleration_limits(tmp_path) -> None:
+    """A run under (2)-(4) in a tube with a bend no robot can turn fails, before it flies, with the refusal's words."""
+    hairpin = '{ kind = "line", length_m = 20.0 }, { kind = "arc", radius_m = 1.0, angle_deg = 90.0 }'
+    path = tmp_path / 'hairpin.toml'
+    path.write_text(
+        f'[tube.center]\npieces = [{hairpin}, {{ kind = "line", length_m = 20.0 }}]\n'
+        '[tube.width]\nstart_m = 0.5\nparts = [{ kind = "constant" }]\n'
+    )
+    point = Point(str(path), mode='no planning', model='acceleration limits', n_robots=2)
+    with pytest.raises(ParamsError, match='under the acceleration limits: the bend at l = 20.000..21.571 m'):
+        run_point(point)
+    from vtube_planning.studies.campaign import Campaign
+
+    limited = Campaign.from_dict({'axes': {'scene': [str(path)], 'model': ['paper', 'acceleration limits']}})
+    with pytest.raises(ParamsError, match='make the centre radius at least 2.834 m'):
+        limited.points()  # before any run
+    assert len(Campaign.from_dict({'axes': {'scene': [str(path)], 'model': ['paper']}}).points()) == 1

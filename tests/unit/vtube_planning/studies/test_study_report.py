@@ -158,3 +158,19 @@ def test_a_claim_not_shown_prints_the_shift_its_seeds_would_find() -> None:
     y = np.array([r['passing_time_s'] for r in rows if r['mode'] == 'no planning'])
     assert timed['verdict'] == 'not shown' and timed['detectable'] == shift
     assert f'not shown (80 % power at {shift:.2f} SD = {shift * np.std(x - y, ddof=1):.3g})' in grid_markdown(rows)
+
+
+def test_every_table_names_its_physics() -> None:
+    """The setting names the robot model and, unless the law, the controller; the mode summary says what each mode's
+    plan is held to."""
+    from vtube_planning.studies.study_report import mode_summary, setting_text
+
+    row = {'scene': 'C', 'n_robots': 20, 'model': 'acceleration limits', 'saturation': 'radial', 'seed': 0}
+    assert (
+        setting_text(row | {'controller': 'foresight'}) == 'acceleration limits model, radial sat, foresight controller'
+    )
+    assert setting_text(row | {'controller': 'law'}) == 'acceleration limits model, radial sat'
+    rows = [row | {'mode': m, 'collision_pairs': 0, 'completed': True} for m in ('planning (relaxed)', 'no planning')]
+    text = mode_summary(rows)
+    assert text.startswith('Physics: every mode flies the robot model of its setting')
+    assert 'planning (relaxed): a plan from v_max, (p3) and (p4) left out' in text
