@@ -56,10 +56,6 @@ the safe distances are reached, not at them."""
 HOLD_S = 1.0
 """A robot whose law's command was unsafe flies backups for this long before the law again: two robots that each
 make the other's law unsafe would otherwise take turns, one period the law, the next a backup, and fly neither."""
-DECIDE_EVERY_S = 0.1
-"""Robots held to (3), (4) decide every this long (the law's command checked as held over it, then the lane), and
-in between fly the law or the backup decided: over 0.1 s any command moves a robot at most a dt^2 / 2 = 5 mm
-(a = a_v, a_n = 1 m/s^2) off the path predicted, within `LAW_MARGIN_M`; one decision costs what one period did."""
 KEEP_M_S = 0.1
 """A robot whose announced backup falls short keeps it unless another falls short by this much less (m s) or later:
 two backups equally short would otherwise take turns, and neither be flown."""
@@ -139,40 +135,16 @@ class Foresight:
         self.announced: tuple[FloatArray, FloatArray] | None = None  # every robot's lane and speed
         self.overridden = 0  # robot-periods where the law's command was replaced
         self._held: FloatArray | float = 0.0  # per robot, how much longer it flies a backup before the law again
-        self._backup: NDArray[np.bool_] = np.zeros(0, dtype=bool)  # the robots flying a backup
-        self._until_decision_s = 0.0
 
     def __call__(self, positions: FloatArray, velocity: FloatArray, command: FloatArray, dt_s: float) -> FloatArray:
-        """The commands (2, N) for robots at ``positions`` flying ``velocity`` whose law commands ``command``: a
-        decision every `DECIDE_EVERY_S` (every period in the paper's model), in between the law's command or the
-        backup decided, as the robot can follow it."""
+        """The commands (2, N) for robots at ``positions`` flying ``velocity`` whose law commands ``command``."""
         speed, heading = np.hypot(velocity[0], velocity[1]), np.arctan2(velocity[1], velocity[0])
         law_speed = np.clip(np.hypot(command[0], command[1]), self.swarm.v_min_mps, self.swarm.v_max_mps)
         law_heading = np.arctan2(command[1], command[0])
-        if self._until_decision_s > 0.5 * dt_s and self.announced is not None:
-            self._until_decision_s -= dt_s
-            target_speed, target_heading = self._follow(positions, law_speed, law_heading, speed)
-        else:
-            every = max(dt_s, DECIDE_EVERY_S if math.isfinite(self.a_v) else dt_s)
-            self._until_decision_s = every - dt_s
-            target_speed, target_heading = self._decide(positions, speed, heading, law_speed, law_heading, every)
-        self.overridden += int(np.count_nonzero(self._backup))
+        target_speed, target_heading = self._decide(positions, speed, heading, law_speed, law_heading, dt_s)
         new_speed, new_heading = respond(speed, heading, target_speed, target_heading, self.a_v, self.a_n, dt_s)
         commanded: FloatArray = new_speed * np.vstack([np.cos(new_heading), np.sin(new_heading)])
         return commanded
-
-    def _follow(
-        self, positions: FloatArray, law_speed: FloatArray, law_heading: FloatArray, speed: FloatArray
-    ) -> tuple[FloatArray, FloatArray]:
-        """Targets between two decisions: the law's, and the backups decided for the robots flying them."""
-        target_speed, target_heading = law_speed.copy(), law_heading.copy()
-        rows = np.flatnonzero(self._backup)
-        if rows.size and self.announced is not None:
-            x, y = positions[0, rows], positions[1, rows]
-            l_m, _ = self.tables.locate(x, y, self.tables.l_m[self._tree.query(positions[:, rows].T)[1]])
-            lane, target_speed[rows] = self.announced[0][rows], self.announced[1][rows]
-            target_heading[rows] = self._steer(x, y, l_m, lane, speed[rows])
-        return target_speed, target_heading
 
     def _decide(
         self,
@@ -181,10 +153,10 @@ class Foresight:
         heading: FloatArray,
         law_speed: FloatArray,
         law_heading: FloatArray,
-        every_s: float,
+        dt_s: float,
     ) -> tuple[FloatArray, FloatArray]:
-        """A decision: each robot's law checked as ``every_s`` of its command then its lane, the backups of the
-        robots whose law is unsafe (or held) chosen, announced; the targets (speeds, headings)."""
+        """Each robot's law checked as one period of its command then its lane, the backups of the robots whose law
+        is unsafe (or held) chosen and announced; the targets (speeds, headings)."""
         l_guess = self.tables.l_m[self._tree.query(positions.T)[1]]
         l_m, offset = self.tables.locate(positions[0], positions[1], l_guess)
         lane = self.tables.lane_of(l_m, offset, self.swarm.r_s_m)
@@ -198,26 +170,26 @@ class Foresight:
             np.column_stack([free, law_speed]),
             np.column_stack([free, law_heading]),
         )
-        flights = self._flights(robots, both, every_s)
+        flights = self._flights(robots, both, dt_s)
         others = [(x[:, :1], y[:, :1]) for x, y, _, _ in flights]
         neighbours = self._neighbours(positions)
         law = [tuple(a[:, 1:] for a in flight) for flight in flights]
-        first = self._foresee(robots, rows, law, others, neighbours, every_s, LAW_MARGIN_M)[0][:, 0]
+        first = self._foresee(robots, rows, law, others, neighbours, dt_s, LAW_MARGIN_M)[0][:, 0]
         target_speed, target_heading = law_speed.copy(), law_heading.copy()
         announced_lane, announced_speed = lane.copy(), law_speed.copy()
         unsafe = np.isfinite(first)
-        self._held = np.where(unsafe, HOLD_S, np.maximum(self._held - every_s, 0.0))
-        self._backup = unsafe | (self._held > 0.0)
-        risky = np.flatnonzero(self._backup)
+        self._held = np.where(unsafe, HOLD_S, np.maximum(self._held - dt_s, 0.0))
+        risky = np.flatnonzero(unsafe | (self._held > 0.0))
         if risky.size:
             chosen_lane, chosen_speed = self._choose(
-                robots, risky, law_speed, law_heading, announced, others, neighbours, every_s
+                robots, risky, law_speed, law_heading, announced, others, neighbours, dt_s
             )
             announced_lane[risky], announced_speed[risky] = chosen_lane, chosen_speed
             target_speed[risky] = chosen_speed
             target_heading[risky] = self._steer(
                 positions[0, risky], positions[1, risky], l_m[risky], chosen_lane, speed[risky]
             )
+            self.overridden += risky.size
         self.announced = (announced_lane, announced_speed)
         return target_speed, target_heading
 
@@ -327,13 +299,7 @@ class Foresight:
         touch = np.where(np.isinf(contact), 0.0, self.horizon_s + 1.0 - contact)  # 0: none; the sooner the worse
         later = np.where(np.isinf(first), 0.0, self.horizon_s + 1.0 - first)  # 0: safe; else the sooner the worse
         score = 1e6 * touch + 1e4 * later + 1e2 * shortfall + deviation
-        # the announced backup, last column, is kept over one whose harm comes later by less than a prediction step
-        resolution = self._times(dt_s)[-1]
-        score[:, -1] -= np.where(
-            touch[:, -1] > 0.0,
-            1e6 * resolution,
-            np.where(later[:, -1] > 0.0, 1e4 * resolution + 1e2 * KEEP_M_S, KEEP_MPS),
-        )
+        score[:, -1] -= np.where(later[:, -1] > 0.0, 1e2 * KEEP_M_S, KEEP_MPS)  # the announced backup: last column
         best = np.argmin(score, axis=1)
         picked = np.arange(risky.size)
         return lane[picked, best], speed[picked, best]
