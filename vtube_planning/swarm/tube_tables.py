@@ -54,7 +54,8 @@ class TubeTables:
         last = self.l_m.size - 1
         position = np.maximum(np.minimum((l_m - self.l_m[0]) * (last / (self.l_m[-1] - self.l_m[0])), last), 0.0)
         cell = np.minimum(position.astype(np.intp), last - 1)
-        interpolated: FloatArray = self.stacked[rows, cell] + (position - cell) * self.slopes[rows, cell]
+        below, slope = (np.take(table[rows], cell, axis=1) for table in (self.stacked, self.slopes))
+        interpolated: FloatArray = below + (position - cell) * slope
         return interpolated
 
     def locate(
