@@ -107,6 +107,11 @@ delays of 5.0 iterations (v and omega), lags of 0.18 s (v) and 0.20 s (omega), h
 bias as medians with robust sds over robots and runs. The issue's numbers differ a little (delay of v 4.5, speed gain
 1.023, turn gain 0.99, bias -0.004, jumps 1.2 per 1000): these are ours."""
 
+FITTED_VERSION = 2
+"""The version of `FITTED`'s numbers, which a submission's header records with its delay margin: 1, issue 32's
+identification; 2, issue 50's pose side (stale poses only while a robot stands, jumps as continuation along the
+heading, runs whose commands were scaled after saving left out of the identification)."""
+
 STILL = 1e-3
 """A command (m/s, rad/s) below this in both channels leaves a robot standing still."""
 
