@@ -13,6 +13,7 @@ Distances are said as what they are: the closest two robots' centres came, and t
 
 from __future__ import annotations
 
+import itertools
 import math
 import re
 from collections.abc import Callable, Mapping, Sequence
@@ -151,9 +152,11 @@ def from_header(source: str) -> DelayMargin | None:
     found = HEADER_SUMMARY.search(source)
     if found is None:
         return None
+    following = source[found.end() :].splitlines()[1:]
+    lines = [line for line in itertools.takewhile(lambda line: line.startswith('  at '), following)]
     rungs = tuple(
         Rung(float(multiple), int(runs), int(failed), float(centres) if centres else math.nan)
-        for multiple, failed, runs, centres in HEADER_RUNG.findall(source[found.end() :])
+        for multiple, failed, runs, centres in HEADER_RUNG.findall('\n'.join(lines))
     )
     return DelayMargin(rungs, int(found.group(2)), int(found.group(1)))
 

@@ -140,7 +140,8 @@ def test_the_margin_in_json_and_read_back_from_its_header_lines() -> None:
     assert data['rungs'][0]['failure_rate_upper_95'] == pytest.approx(failure_bound(0, 10))
     assert data['rungs'][0]['gap_between_bodies_m'] == pytest.approx(0.185 - ROBOTARIUM.robot_diameter_m)
     assert data['rungs'][2]['closest_centres_m'] is None and data['rungs'][2]['failed'] == 3
-    header = '"""\nSomething before.\n' + '\n'.join(margin.header_lines()) + '\nPlan: after.\n"""\n'
+    later = '  at 9x: 0 of 10 runs failed: at most 26 % of runs may fail; no distance recorded.'  # not the margin's
+    header = '"""\nSomething before.\n' + '\n'.join(margin.header_lines()) + f'\nPlan: after.\n{later}\n"""\n'
     back = from_header(header)
     assert (
         back is not None and back.multiple == 1.5 and back.seeds == 10 and back.model_version == models.FITTED_VERSION
