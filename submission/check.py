@@ -281,12 +281,11 @@ def check(
     margin_seeds: Sequence[int] = (),
 ) -> CheckReport:
     """Run the whole preflight on a submission file: a run per seed of ``seeds`` (a count n: seeds 0..n-1) under
-    each of ``testbed_models``; the
-    initializer alone over ``initializer_seeds`` seeds; each run of the file stopped after ``run_timeout_s``;
-    ``progress`` is told what starts, ``seed_done`` each initializer seed that ends; the runs share ``workers``
-    processes (default: one per core; `submission.schedule`), the initializer's seeds come from `submission.reuse`.
-    With ``margin_seeds`` (at least 10), and once every verdict run is fine, the delay margin over those seeds
-    (`submission.delay_margin`, reusing the runs already flown)."""
+    each of ``testbed_models``; the initializer alone over ``initializer_seeds`` seeds; each run of the file stopped
+    after ``run_timeout_s``; ``progress`` is told what starts, ``seed_done`` each initializer seed that ends; the runs
+    share ``workers`` processes (default: one per core; `submission.schedule`), the initializer's seeds come from
+    `submission.reuse`. With ``margin_seeds`` (at least 10), once every verdict run is fine, the delay margin over
+    those seeds (`submission.delay_margin`, reusing the runs already flown)."""
     path = Path(path).resolve()
     run_seeds = tuple(range(seeds)) if isinstance(seeds, int) else tuple(seeds)
     source = _read_source(path, len(run_seeds), len(margin_seeds))
