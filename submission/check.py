@@ -311,9 +311,7 @@ def check(
     by_model, pypi_runs = flights(run, run_seeds, testbed_models, pypi=pypi, starts=starts, workers=workers)
     runs = [run for model, done in by_model.items() if model in VERDICT_MODELS for run in done] + pypi_runs
     fine = bool(margin_seeds) and all(run.ok for run in runs)  # no margin for a file that fails
-    delay_margin, margin_runs = (
-        search(lambda jobs: batch(run, jobs, starts, workers), margin_seeds, by_model) if fine else (None, [])
-    )
+    found = search(lambda jobs: batch(run, jobs, starts, workers), margin_seeds, by_model) if fine else (None, [])
     tell(f"V2's initializer alone for the file's initial conditions, {initializer_seeds} seeds")
     robots = {run.record.poses.shape[2] for run in runs if run.record is not None and run.record.robotariums}
     initializer = cached_initializer_durations(data.initial_conditions, range(initializer_seeds), seed_done=seed_done)
@@ -325,8 +323,8 @@ def check(
         header_declaration=Declaration.from_header(source),
         stress_runs=tuple(run for model, done in by_model.items() if model not in VERDICT_MODELS for run in done),
         margins=tuple(margins(m, [(r.ok, r.record, r.duration_s) for r in done], data) for m, done in by_model.items()),
-        delay_margin=delay_margin,
-        margin_runs=tuple(margin_runs),
+        delay_margin=found[0],
+        margin_runs=tuple(found[1]),
     )
     return _declared(report, initializer)
 
