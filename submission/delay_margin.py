@@ -116,7 +116,7 @@ class DelayMargin:
     def summary(self) -> str:
         """The margin in one sentence (the header's first line of it; `from_header` reads it back)."""
         m = self.multiple
-        said = 'none (a run failed at 1x)' if m is None else f'{m:g}x' + (' or more' if self.top else '')
+        said = 'none: a run failed at 1x' if m is None else f'{m:g}x' + (' or more' if self.top else '')
         return (
             f'{HEADER_PREFIX} {said} the fitted delay and lag (testbed model fitted, version {self.model_version}; '
             f'{self.seeds} seeds at each multiple).'

@@ -83,7 +83,8 @@ def test_a_non_monotone_file_keeps_the_multiple_below_its_first_failure() -> Non
     runs_at, asked = stub({1.5, 2.0})
     none = DelayMargin(climb(runs_at), MIN_SEEDS)
     assert asked == [1.0] and none.multiple is None
-    assert none.summary().startswith('Delay margin: none (a run failed at 1x) the fitted delay and lag')
+    assert none.summary().startswith('Delay margin: none: a run failed at 1x the fitted delay and lag')
+    assert from_header(none.summary()) == DelayMargin((), MIN_SEEDS)  # the summary alone: its rungs are not there
 
 
 def test_a_file_clean_over_the_whole_ladder_keeps_at_least_its_top() -> None:
