@@ -182,7 +182,9 @@ def test_a_submission_is_written_undeclared_or_built_declared(tmp_path, monkeypa
         'robotarium_trapezoid', tmp_path / 'b.py', planning=False, seeds=2, initializer_seeds=5, progress=told.append
     )
     assert calls == [('robotarium_trapezoid', True, tmp_path / 'b.py', 2, 5, ('ideal', 'fitted', 'fitted:2'), ())]
-    build_submission('robotarium_trapezoid', tmp_path / 'c.py', planning=False, margin_seeds=range(10))
+    build_submission(
+        'robotarium_trapezoid', tmp_path / 'c.py', planning=False, margin_seeds=range(10), progress=told.append
+    )
     assert calls[-1][-1] == range(10)  # the delay margin's seeds reach the check
     assert declared.declaration == 'the declaration' and declared.path == tmp_path / 'b.py'
     failed = WrittenSubmission(written.submission, tmp_path, SimpleNamespace(passed=False, declaration='x'))
