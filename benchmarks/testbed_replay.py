@@ -28,7 +28,7 @@ WARM_UP = 40
 
 
 def without_noise(model: TestbedModel) -> TestbedModel:
-    """``model``'s command path at its mean gains and bias, poses untouched."""
+    """``model``'s command path at its mean gains and bias, without stalls, poses untouched."""
     return replace(
         model,
         speed_gain_sd=0.0,
@@ -40,7 +40,7 @@ def without_noise(model: TestbedModel) -> TestbedModel:
         heading_quantum_rad=0.0,
         stale_rate=0.0,
         stale_rate_still=0.0,
-        jump_rate=0.0,
+        stall_rate=0.0,
     )
 
 

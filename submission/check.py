@@ -39,11 +39,12 @@ from robotarium_exp.spec import ROBOTARIUM
 from robotarium_exp.verdict import run_failures
 from robotarium_exp.verifier import VerifierCounts, closest_centres_m, recount
 from submission.declaration import Declaration, declare
+from submission.delay_margin import MIN_SEEDS, DelayMargin, search
 from submission.errors import CheckError
 from submission.recording import SimulatorRecord, read_record
 from submission.reuse import cached_initializer_durations
 from submission.robustness import CHECKED_MODELS, VERDICT_MODELS, Margins, margins, record_passage
-from submission.schedule import Job, flights
+from submission.schedule import Job, batch, flights
 from vtube_planning.onboard import SampledTube
 from vtube_planning.swarm.metrics import PassageMetrics
 
@@ -146,6 +147,8 @@ class CheckReport:
     header_declaration: Declaration | None = None
     stress_runs: tuple[RunReport, ...] = ()
     margins: tuple[Margins, ...] = ()
+    delay_margin: DelayMargin | None = None
+    margin_runs: tuple[RunReport, ...] = ()
 
     @property
     def passed(self) -> bool:
@@ -275,15 +278,17 @@ def check(
     seed_done: Callable[[], None] | None = None,
     testbed_models: tuple[str, ...] = CHECKED_MODELS,
     workers: int | None = None,
+    margin_seeds: Sequence[int] = (),
 ) -> CheckReport:
     """Run the whole preflight on a submission file: a run per seed of ``seeds`` (a count n: seeds 0..n-1) under
-    each of ``testbed_models``; the
-    initializer alone over ``initializer_seeds`` seeds; each run of the file stopped after ``run_timeout_s``;
-    ``progress`` is told what starts, ``seed_done`` each initializer seed that ends; the runs share ``workers``
-    processes (default: one per core; `submission.schedule`), the initializer's seeds come from `submission.reuse`."""
+    each of ``testbed_models``; the initializer alone over ``initializer_seeds`` seeds; each run of the file stopped
+    after ``run_timeout_s``; ``progress`` is told what starts, ``seed_done`` each initializer seed that ends; the runs
+    share ``workers`` processes (default: one per core; `submission.schedule`), the initializer's seeds come from
+    `submission.reuse`. With ``margin_seeds`` (at least 10), once every verdict run is fine, the delay margin over
+    those seeds (`submission.delay_margin`, reusing the runs already flown)."""
     path = Path(path).resolve()
     run_seeds = tuple(range(seeds)) if isinstance(seeds, int) else tuple(seeds)
-    source = _read_source(path, len(run_seeds))
+    source = _read_source(path, len(run_seeds), len(margin_seeds))
     try:
         compile(source, str(path), 'exec')
         disallowed = tuple(static_check(source))
@@ -297,13 +302,7 @@ def check(
     if not fit.fits:
         return CheckReport(str(path), misfits=tuple(map(str, fit.misfits)))
     tell = progress or (lambda text: None)
-
-    def starts(job: Job) -> None:
-        backend, seed, model = job
-        under = f'bundled simulator, seed {seed}' + (f', {model}' if model != 'ideal' else '')
-        tell(
-            f'running the file on the {under if backend == "bundled" else "PyPI simulator"} (at most {run_timeout_s:g} s)'
-        )
+    starts = _teller(tell, run_timeout_s)
 
     def run(job: Job) -> RunReport:
         return run_file(path, job[0], job[1], data, run_timeout_s, job[2])
@@ -311,6 +310,8 @@ def check(
     pypi = importlib.util.find_spec('rps') is not None
     by_model, pypi_runs = flights(run, run_seeds, testbed_models, pypi=pypi, starts=starts, workers=workers)
     runs = [run for model, done in by_model.items() if model in VERDICT_MODELS for run in done] + pypi_runs
+    fine = bool(margin_seeds) and all(run.ok for run in runs)  # no margin for a file that fails
+    found = search(lambda jobs: batch(run, jobs, starts, workers), margin_seeds, by_model) if fine else (None, [])
     tell(f"V2's initializer alone for the file's initial conditions, {initializer_seeds} seeds")
     robots = {run.record.poses.shape[2] for run in runs if run.record is not None and run.record.robotariums}
     initializer = cached_initializer_durations(data.initial_conditions, range(initializer_seeds), seed_done=seed_done)
@@ -322,11 +323,26 @@ def check(
         header_declaration=Declaration.from_header(source),
         stress_runs=tuple(run for model, done in by_model.items() if model not in VERDICT_MODELS for run in done),
         margins=tuple(margins(m, [(r.ok, r.record, r.duration_s) for r in done], data) for m, done in by_model.items()),
+        delay_margin=found[0],
+        margin_runs=tuple(found[1]),
     )
     return _declared(report, initializer)
 
 
-def _read_source(path: Path, seeds: int) -> str:
+def _teller(tell: Callable[[str], None], run_timeout_s: float) -> Callable[[Job], None]:
+    """What ``progress`` is told as a run starts."""
+
+    def starts(job: Job) -> None:
+        backend, seed, model = job
+        under = f'bundled simulator, seed {seed}' + (f', {model}' if model != 'ideal' else '')
+        tell(
+            f'running the file on the {under if backend == "bundled" else "PyPI simulator"} (at most {run_timeout_s:g} s)'
+        )
+
+    return starts
+
+
+def _read_source(path: Path, seeds: int, margin_seeds: int = 0) -> str:
     """The file's text, refused with what to give instead when it is not a Python source file."""
     if path.is_dir():
         msg = f'{str(path)!r} is a folder; give the submission .py file (vtube submission build writes one).'
@@ -338,6 +354,11 @@ def _read_source(path: Path, seeds: int) -> str:
         msg = (
             "the duration to declare rests on runs with the testbed's initialization; check with seeds >= 1 "
             f'(got {seeds}).'
+        )
+        raise CheckError(msg)
+    if 0 < margin_seeds < MIN_SEEDS:
+        msg = (
+            f'a delay margin rests on at least {MIN_SEEDS} seeds (got {margin_seeds}); give --margin-seeds {MIN_SEEDS}.'
         )
         raise CheckError(msg)
     try:
@@ -352,7 +373,9 @@ def _declared(report: CheckReport, initializer: InitializerSample) -> CheckRepor
     if report.experiment_s is None:
         return report
     try:
-        derived = replace(declare(initializer, report.experiment_s), margins=report.margins)
+        derived = replace(
+            declare(initializer, report.experiment_s), margins=report.margins, delay_margin=report.delay_margin
+        )
     except CheckError as err:
         return replace(report, declaration_problem=str(err))
     recorded = report.header_declaration

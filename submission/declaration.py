@@ -17,7 +17,7 @@ import numpy as np
 
 from robotarium_exp.initializer import InitializerSample
 from robotarium_exp.spec import ROBOTARIUM
-from submission import robustness
+from submission import delay_margin, robustness
 from submission.errors import CheckError
 
 DECLARE_QUANTILE = 0.995
@@ -40,6 +40,8 @@ class Declaration:
     stuck_share: float
     margins: tuple[robustness.Margins, ...] = ()
     """The runs' margins under each testbed model (`submission.robustness`), recorded in the header."""
+    delay_margin: delay_margin.DelayMargin | None = None
+    """The delay margin (`submission.delay_margin`) when the check searched it, recorded in the header."""
 
     def basis(self) -> str:
         """What the duration rests on, in one line."""
@@ -72,6 +74,7 @@ class Declaration:
             f'Declare on the web form: {robots} robots and {self.duration_s} s, derived by `vtube submission check`',
             f'from {self.basis()}.',
             *(margin.line() for margin in self.margins),
+            *([] if self.delay_margin is None else self.delay_margin.header_lines()),
         ]
 
     @classmethod
@@ -89,6 +92,7 @@ class Declaration:
             float(overruns) / 100,
             float(stuck) / 100,
             robustness.from_header(source),
+            delay_margin.from_header(source),
         )
 
 

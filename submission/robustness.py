@@ -4,8 +4,8 @@ The preflight flies the file on the bundled simulator under the testbed models o
 (`robotarium_exp.rps.testbed_model`): ``ideal`` (V2's simulator) and ``fitted`` (the delay, lag, gains and
 noise fitted to real runs) decide the verdict, and the declared duration covers both; ``fitted:2`` (twice the delay
 and lag) is a stress test whose margins are reported and recorded in the header, not a condition of the verdict.
-A model's margins: how many of its runs were clean and completed, the smallest distance between two robots' centres,
-the robot-steps with a body over a wall, and the longest passing time and run.
+A model's margins: how many of its runs were clean and completed, the smallest distance between two robots' centres
+(and the gap it leaves between their bodies), the robot-steps with a body over a wall, and the longest passing time and run.
 """
 
 from __future__ import annotations
@@ -33,6 +33,14 @@ VERDICT_MODELS = ('ideal', 'fitted')
 HEADER_PREFIX = 'Under testbed model'
 
 
+def gap_mm(centres_m: float) -> str:
+    """The gap between two robots' bodies whose centres are ``centres_m`` apart, in words."""
+    gap = 1000 * (centres_m - ROBOTARIUM.robot_diameter_m)
+    if not math.isfinite(gap):
+        return 'no gap recorded'
+    return f'a {gap:.0f} mm gap between bodies' if gap >= 0 else f'bodies overlapping by {-gap:.0f} mm'
+
+
 @dataclass(frozen=True)
 class Margins:
     """One testbed model's runs, summed up (NaN where no run left a record)."""
@@ -48,14 +56,33 @@ class Margins:
     def line(self) -> str:
         """The margins in one line (the header records it; `from_header` reads it back)."""
         return (
-            f'{HEADER_PREFIX} {self.model}: {self.clean} of {self.runs} runs clean, min distance '
-            f'{self.min_distance_m:.3f} m, body on a wall {self.wall_steps} robot-steps, passing at most '
+            f'{HEADER_PREFIX} {self.model}: {self.clean} of {self.runs} runs clean, closest centres '
+            f'{self.min_distance_m:.3f} m ({gap_mm(self.min_distance_m)}), body on a wall {self.wall_steps} robot-steps, passing at most '
             f'{self.passing_time_s:.1f} s, run at most {self.duration_s:.1f} s.'
         )
 
+    def to_json(self) -> dict[str, object]:
+        """The margins for ``--json`` (None where no run left a record)."""
+        centres = _finite(self.min_distance_m)
+        return {
+            'model': self.model,
+            'runs': self.runs,
+            'clean': self.clean,
+            'closest_centres_m': centres,
+            'gap_between_bodies_m': None if centres is None else centres - ROBOTARIUM.robot_diameter_m,
+            'body_on_wall_robot_steps': self.wall_steps,
+            'passing_time_max_s': _finite(self.passing_time_s),
+            'duration_max_s': _finite(self.duration_s),
+        }
+
+
+def _finite(x: float) -> float | None:
+    return x if math.isfinite(x) else None
+
 
 HEADER_MARGINS = re.compile(
-    rf'{HEADER_PREFIX} (\S+): (\d+) of (\d+) runs clean, min distance (\S+) m, body on a wall (\d+) robot-steps, '
+    rf'{HEADER_PREFIX} (\S+): (\d+) of (\d+) runs clean, (?:min distance|closest centres) (\S+) m(?: \([^)]*\))?, '
+    r'body on a wall (\d+) robot-steps, '
     r'passing at most (\S+) s, run at most (\S+) s\.'
 )
 

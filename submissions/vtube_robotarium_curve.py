@@ -4,9 +4,9 @@ Scene 'robotarium_curve': Robotarium: narrowing curved tube. 6 robots, with spee
 
 Declare on the web form: 6 robots and 280 s, derived by `vtube submission check`
 from initializer 99.5% over 200 seeds 209.1 s + experiment 67.7 s; overruns 0.0%, stuck 0.0%.
-Under testbed model ideal: 3 of 3 runs clean, min distance 0.173 m, body on a wall 0 robot-steps, passing at most 39.7 s, run at most 117.6 s.
-Under testbed model fitted: 3 of 3 runs clean, min distance 0.185 m, body on a wall 0 robot-steps, passing at most 34.9 s, run at most 116.5 s.
-Under testbed model fitted:2: 3 of 3 runs clean, min distance 0.127 m, body on a wall 0 robot-steps, passing at most 41.8 s, run at most 165.6 s.
+Under testbed model ideal: 3 of 3 runs clean, closest centres 0.173 m (a 63 mm gap between bodies), body on a wall 0 robot-steps, passing at most 39.7 s, run at most 117.6 s.
+Under testbed model fitted: 3 of 3 runs clean, closest centres 0.185 m (a 75 mm gap between bodies), body on a wall 0 robot-steps, passing at most 34.9 s, run at most 116.5 s.
+Under testbed model fitted:2: 3 of 3 runs clean, closest centres 0.127 m (a 17 mm gap between bodies), body on a wall 0 robot-steps, passing at most 41.8 s, run at most 165.6 s.
 Plan: convex slowness method, 261 grid points, traversal time 23.30 s;
 certificate: every constraint holds within 1e-6 (relative).
 Arrays rounded to six significant digits.

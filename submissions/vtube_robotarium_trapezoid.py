@@ -4,9 +4,9 @@ Scene 'robotarium_trapezoid': Robotarium: narrowing trapezoidal tube. 6 robots, 
 
 Declare on the web form: 6 robots and 370 s, derived by `vtube submission check`
 from initializer 99.5% over 200 seeds 318.6 s + experiment 45.3 s; overruns 0.0%, stuck 0.0%.
-Under testbed model ideal: 3 of 3 runs clean, min distance 0.202 m, body on a wall 0 robot-steps, passing at most 32.0 s, run at most 87.8 s.
-Under testbed model fitted: 3 of 3 runs clean, min distance 0.199 m, body on a wall 0 robot-steps, passing at most 33.5 s, run at most 92.4 s.
-Under testbed model fitted:2: 2 of 3 runs clean, min distance 0.153 m, body on a wall 0 robot-steps, passing at most 42.6 s, run at most 101.3 s.
+Under testbed model ideal: 3 of 3 runs clean, closest centres 0.202 m (a 92 mm gap between bodies), body on a wall 0 robot-steps, passing at most 32.0 s, run at most 87.8 s.
+Under testbed model fitted: 3 of 3 runs clean, closest centres 0.199 m (a 89 mm gap between bodies), body on a wall 0 robot-steps, passing at most 33.5 s, run at most 92.4 s.
+Under testbed model fitted:2: 2 of 3 runs clean, closest centres 0.153 m (a 43 mm gap between bodies), body on a wall 0 robot-steps, passing at most 42.6 s, run at most 101.3 s.
 Plan: convex slowness method, 197 grid points, traversal time 22.38 s;
 certificate: every constraint holds within 1e-6 (relative).
 Arrays rounded to six significant digits.

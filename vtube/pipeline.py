@@ -207,12 +207,14 @@ def build_submission(
     seeds: int | Sequence[int] = 3,
     initializer_seeds: int = 200,
     testbed_models: tuple[str, ...] | None = None,
+    margin_seeds: Sequence[int] = (),
     progress: Callable[[str], None] | None = None,
     seed_done: Callable[[], None] | None = None,
 ) -> WrittenSubmission:
     """Write the single-file submission for a Robotarium scene (its plan from ``plan_file``, or planned here) to
     ``out``; with ``declare``, preflighted under ``testbed_models`` (None: every model of
-    `submission.robustness.CHECKED_MODELS`) and rewritten with the duration to declare
+    `submission.robustness.CHECKED_MODELS`; with ``margin_seeds``, the delay margin too) and rewritten with the
+    duration to declare
     (`submission.builder.build_declared`: one build, one preflight, which reports to ``progress`` and
     ``seed_done``)."""
     scene = load_scene(name_or_path)
@@ -230,6 +232,7 @@ def build_submission(
         seeds=seeds,
         initializer_seeds=initializer_seeds,
         testbed_models=models,
+        margin_seeds=margin_seeds,
         progress=progress,
         seed_done=seed_done,
         plan_file=plan_file,

@@ -16,8 +16,9 @@
 * ``testbed_model`` (a name or a `TestbedModel`): what the real robots
   do to the commands and the poses. ``'ideal'`` (the default) is the simulator above, bit for bit and without an
   extra draw; with another model (``'fitted'``, ``'fitted:2'``) the clipped command drives the robots through the
-  model's delay, lag, gains and bias, ``get_poses`` returns the poses with its noise, heading steps, stale repeats
-  and jumps, and the verifier still counts the true poses. The initialization stays ideal; the model's per-robot
+  model's delay, lag, gains, bias and stalls (a stalled robot drives on, so its next pose jumps ahead),
+  ``get_poses`` returns the poses with its noise, heading steps and stale repeats, and the verifier still counts
+  the true poses. The initialization stays ideal; the model's per-robot
   draws are made when it ends (`robotarium_exp.rps.testbed_model`).
 
 Randomness comes from ``random`` and ``np.random``, as in V2, so that a script's seeds (or ``rps_alias --seed``)

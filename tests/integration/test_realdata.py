@@ -291,3 +291,38 @@ def test_the_testbed_identification_finds_a_delay_of_3_to_7_iterations_on_robota
         assert 3 <= delay <= 7 and 0 < lag < 0.5
     gains = per_robot([run], 0, *fit_channel([run], 0)[:2])[:, 0]
     assert np.all(np.abs(gains - 1) < 0.1)
+
+
+def test_the_pose_side_of_real_runs_stale_while_standing_and_stalls_that_drive_on() -> None:
+    """robotarium-cbf4 and robotarium-lines3 (none of them scaled after saving): a robot actually driving repeats a
+    pose in under 1 % of its iterations, one standing in most; its big steps lie along the heading and stay."""
+    from benchmarks.testbed_identification import scaled_after_saving, stale_and_jumps, stale_by_motion, stalls
+    from benchmarks.testbed_runs import default_files, load_runs
+
+    runs = load_runs(default_files(None))
+    assert len(runs) == 6 and not any(scaled_after_saving(run) for run in runs)
+    stale = stale_by_motion(runs)
+    assert stale['driving'] < 0.01 and stale['stopped'] > 0.3
+    assert stale_and_jumps(runs)['stale_moving'] > 2 * stale['driving']  # by the commands, driving robots look stale
+    found = stalls(runs)
+    assert found['continued'] > 0.8 and found['along'] > 0.8 and found['extra_steps'] > 1
+
+
+def test_a_run_whose_commands_were_scaled_after_saving_is_found() -> None:
+    """Synthetic: a robot driving circles through all four quadrants with the model's response to its commands;
+    the same run with the velocities times 0.8 in the quadrant x < 0, y > 0 is found, the plain one is not."""
+    from benchmarks.testbed_identification import response, scaled_after_saving
+    from benchmarks.testbed_runs import DT, Run
+
+    rng = np.random.default_rng(3)
+    steps = 3000
+    u = np.stack([0.1 + 0.02 * rng.standard_normal(steps), 0.4 + 0.3 * rng.standard_normal(steps)], axis=1)
+    for scale, found in ((1.0, False), (0.8, True)):
+        poses = np.zeros((steps, 3, 1))
+        poses[0, :, 0] = [0.0, -0.2, 0.0]
+        v, w = response(u[:, :1], 5.0, 0.19)[:, 0], response(u[:, 1:], 5.0, 0.19)[:, 0]
+        for k in range(steps - 1):
+            x, y, th = poses[k, :, 0]
+            g = scale if (x < 0 and y > 0) else 1.0
+            poses[k + 1, :, 0] = [x + DT * g * v[k] * np.cos(th), y + DT * g * v[k] * np.sin(th), th + DT * g * w[k]]
+        assert scaled_after_saving(Run('synthetic', poses, u[:, :, None])) == found

@@ -32,6 +32,25 @@ def initializer_seeds_argument(parser: argparse.ArgumentParser) -> None:
         help='the runs fly under these testbed models, ideal first (default ideal,fitted,fitted:2: ideal and fitted '
         'decide the verdict, the others are stress tests reported with their margins)',
     )
+    parser.add_argument(
+        '--margin-seeds',
+        type=margin_seeds,
+        default=(),
+        help='also search the delay margin: the largest multiple of the fitted delay and lag (1x, 1.5x, 2x, ...) at '
+        f'which every run over these seeds stays clean, {SEEDS_HELP}, at least 10 (default: no search; it flies '
+        'up to 70 more runs)',
+    )
+
+
+def margin_seeds(text: str) -> tuple[int, ...]:
+    """An argparse type: the seeds of the delay margin's runs at each multiple, at least 10 of them."""
+    from submission.delay_margin import MIN_SEEDS
+
+    chosen = seeds(text)
+    if len(chosen) < MIN_SEEDS:
+        msg = f'{text!r} gives {len(chosen)} seeds; a delay margin rests on at least {MIN_SEEDS} (e.g. {MIN_SEEDS})'
+        raise argparse.ArgumentTypeError(msg)
+    return chosen
 
 
 def testbed_models(text: str) -> tuple[str, ...]:
@@ -73,6 +92,7 @@ def build(args: argparse.Namespace) -> WrittenSubmission:
             seeds=args.seeds,
             initializer_seeds=args.initializer_seeds,
             testbed_models=args.testbed_models,
+            margin_seeds=args.margin_seeds,
             progress=tell,
             seed_done=seed_done,
         )
@@ -157,6 +177,7 @@ def preflight(args: argparse.Namespace) -> CheckReport:
             run_timeout_s=args.run_timeout_s or RUN_TIMEOUT_S,
             progress=tell,
             seed_done=seed_done,
+            margin_seeds=args.margin_seeds,
             **({} if args.testbed_models is None else {'testbed_models': args.testbed_models}),
         )
 
@@ -166,6 +187,10 @@ def preflight_view(report: CheckReport) -> View:
     data = {'file': report.path, 'passed': report.passed, 'robots': report.robots}
     data |= {'declare_duration_s': report.declare_duration_s, 'problem': report.declaration_problem or None}
     data['runs'] = [_run_data(run) for run in report.runs]
+    data['stress_runs'] = [_run_data(run) for run in report.stress_runs]
+    data['margins'] = [margin.to_json() for margin in report.margins]
+    data['delay_margin'] = None if report.delay_margin is None else report.delay_margin.to_json()
+    data['margin_runs'] = [_run_data(run) for run in report.margin_runs]
     return View(tuple(check_lines(report)), data, EXIT_OK if report.passed else EXIT_FAILED)
 
 
@@ -181,13 +206,16 @@ def check_lines(report: CheckReport) -> list[str]:
         return [*lines, f'  FAIL: imports missing on the Robotarium server: {", ".join(report.disallowed_imports)}']
     lines.append('  imports                only the standard library, numpy/scipy/matplotlib/cvxopt and rps: ok')
     lines.append(
-        f'  {"run":<{RUN_WIDTH}} {"done":>5} {"too close":>10} {"outside":>8} {"actuator":>9} {"min dist [m]":>13} '
-        f'{"duration [s]":>13}'
+        f'  {"run":<{RUN_WIDTH}} {"done":>5} {"too close":>10} {"outside":>8} {"actuator":>9} {"centres [m]":>12} '
+        f'{"gap [mm]":>9} {"duration [s]":>13}'
     )
     lines += [_run_line(run) for run in (*report.runs, *report.stress_runs)]
     lines += [f'  FAIL: {problem}' for problem in report.problems]
     lines += [f'  stress ({run.label}): {problem}' for run in report.stress_runs for problem in run.problems]
     lines += [f'  margins                {margin.line()}' for margin in report.margins]
+    if report.delay_margin is not None:
+        summary, *rungs = report.delay_margin.header_lines()
+        lines += [f'  delay margin           {summary}', *(f'                         {rung}' for rung in rungs)]
     declared = report.declaration
     lines.append(
         f'  declare                {report.robots or "?"} robots, '
@@ -203,6 +231,8 @@ def check_lines(report: CheckReport) -> list[str]:
 
 def _run_line(run: RunReport) -> str:
     """One run of the file as the simulator recorded it, or why there is no record."""
+    from robotarium_exp.spec import ROBOTARIUM
+
     counted, closest, duration = run.counted, run.min_center_distance_m, run.duration_s
     if run.timed_out_s is not None:
         return f'  {run.label:<{RUN_WIDTH}} did not finish in {run.timed_out_s:g} s'
@@ -210,13 +240,16 @@ def _run_line(run: RunReport) -> str:
         return f'  {run.label:<{RUN_WIDTH}} left no record of the simulator (exit {run.returncode})'
     return (
         f'  {run.label:<{RUN_WIDTH}} {"yes" if run.completed else "no":>5} {counted.too_close:>10} {counted.outside:>8} '
-        f'{counted.actuator:>9} {"-" if closest is None else f"{closest:.3f}":>13} {duration:>13.1f}'
+        f'{counted.actuator:>9} {"-" if closest is None else f"{closest:.3f}":>12} '
+        f'{"-" if closest is None else f"{1000 * (closest - ROBOTARIUM.robot_diameter_m):.0f}":>9} {duration:>13.1f}'
     )
 
 
 def _run_data(run: RunReport) -> dict[str, object]:
     """One run for ``--json``: the simulator's counts and the verifier's recount of its record."""
-    counted, recounted = run.counted, run.recounted
+    from robotarium_exp.spec import ROBOTARIUM
+
+    counted, recounted, closest = run.counted, run.recounted, run.min_center_distance_m
     return {
         'backend': run.backend,
         'seed': run.seed,
@@ -225,7 +258,9 @@ def _run_data(run: RunReport) -> dict[str, object]:
         'completed': run.completed,
         'counted': None if counted is None else counted.to_json(),
         'recounted': None if recounted is None else recounted.to_json(),
+        'model': run.model,
         'min_center_distance_m': run.min_center_distance_m,
+        'gap_between_bodies_m': None if closest is None else closest - ROBOTARIUM.robot_diameter_m,
         'duration_s': run.duration_s,
         'problems': run.problems,
     }

@@ -330,3 +330,48 @@ def test_the_margins_are_measured_on_the_tube_and_read_back_from_the_header(tmp_
     rounded = Margins('fitted', 2, 1, round(found.min_distance_m, 3), found.wall_steps,
                       round(found.passing_time_s, 1), round(found.duration_s, 1))  # fmt: skip
     assert from_header(source) == (rounded,) and Declaration.from_header(source).margins == (rounded,)
+
+
+def test_the_check_searches_the_delay_margin_only_when_asked_and_the_header_records_it(tmp_path, monkeypatch) -> None:
+    """Stubbed runs fail from 2.5x on: the margin is 2x over the 10 seeds; the check's own fitted and fitted:2 runs
+    (seeds 0, 1) are reused, and a file whose verdict runs fail gets no search."""
+    from submission.delay_margin import from_header
+
+    path = write(build('robotarium_trapezoid', None), tmp_path / 'sub.py')
+    flown: list[tuple[int | None, str]] = []
+    failing: set[str] = {'fitted:2.5'}
+
+    def run_file(path, backend, seed, data, timeout_s, model='ideal'):
+        if backend == 'bundled':
+            flown.append((seed, model))
+        bad = model in failing and seed == 7
+        errors = {'robots_too_close': 4} if bad else None
+        return RunReport(backend, seed, 0, record=record(FAKE_STEPS, errors=errors, gap_m=0.05 if bad else 0.5),
+                         completed=True, model=model)  # fmt: skip
+
+    monkeypatch.setattr(check_module, 'run_file', run_file)
+    monkeypatch.setattr(
+        check_module, 'cached_initializer_durations', lambda ic, seeds, seed_done=None: InitializerSample((20.0,), ())
+    )
+    plain = check(path, seeds=2, initializer_seeds=1)
+    assert plain.delay_margin is None and plain.margin_runs == () and len(flown) == 6
+    flown.clear()
+    report = check(path, seeds=2, initializer_seeds=1, margin_seeds=range(10))
+    margin = report.delay_margin
+    assert report.passed and margin is not None and margin.multiple == 2.0 and margin.seeds == 10
+    assert [(r.multiple, r.failed) for r in margin.rungs] == [(1, 0), (1.5, 0), (2, 0), (2.5, 1)]
+    assert margin.rungs[-1].closest_centres_m == pytest.approx(0.05)
+    assert flown.count((0, 'fitted')) == flown.count((1, 'fitted:2')) == 1  # the check's runs, not flown again
+    assert len(flown) == 6 + 8 + 10 + 8 + 10 and len(report.margin_runs) == 40
+    assert report.declaration is not None and report.declaration.delay_margin == margin
+    stamped = build('robotarium_trapezoid', None, declaration=report.declaration).source
+    assert 'Delay margin: 2x the fitted delay and lag (testbed model fitted, version' in stamped
+    assert from_header(stamped) == margin and Declaration.from_header(stamped).delay_margin == margin
+    failing.add('fitted')  # seed 7 is not a verdict seed: the verdict passes, the margin is none
+    assert check(path, seeds=2, initializer_seeds=1, margin_seeds=range(10)).delay_margin.multiple is None
+    failing.add('ideal')
+    flown.clear()
+    assert check(path, seeds=(7,), initializer_seeds=1, margin_seeds=range(10)).delay_margin is None
+    assert {m for _, m in flown} == {'ideal'}
+    with pytest.raises(CheckError, match='at least 10 seeds'):
+        check(path, seeds=1, initializer_seeds=1, margin_seeds=range(4))

@@ -169,8 +169,10 @@ def test_a_submission_is_written_undeclared_or_built_declared(tmp_path, monkeypa
     assert written.submission.scene == 'robotarium_trapezoid' and not written.submission.planned
     calls = []
 
-    def build_declared(scene, plan, out, *, seeds, initializer_seeds, testbed_models, progress, seed_done, plan_file):
-        calls.append((scene.name, plan is None, out, seeds, initializer_seeds, testbed_models))
+    def build_declared(
+        scene, plan, out, *, seeds, initializer_seeds, testbed_models, margin_seeds, progress, seed_done, plan_file
+    ):
+        calls.append((scene.name, plan is None, out, seeds, initializer_seeds, testbed_models, margin_seeds))
         assert progress == told.append and seed_done is None  # the check's progress, passed through
         return written.submission, SimpleNamespace(passed=True, declaration='the declaration'), out
 
@@ -179,7 +181,11 @@ def test_a_submission_is_written_undeclared_or_built_declared(tmp_path, monkeypa
     declared = build_submission(
         'robotarium_trapezoid', tmp_path / 'b.py', planning=False, seeds=2, initializer_seeds=5, progress=told.append
     )
-    assert calls == [('robotarium_trapezoid', True, tmp_path / 'b.py', 2, 5, ('ideal', 'fitted', 'fitted:2'))]
+    assert calls == [('robotarium_trapezoid', True, tmp_path / 'b.py', 2, 5, ('ideal', 'fitted', 'fitted:2'), ())]
+    build_submission(
+        'robotarium_trapezoid', tmp_path / 'c.py', planning=False, margin_seeds=range(10), progress=told.append
+    )
+    assert calls[-1][-1] == range(10)  # the delay margin's seeds reach the check
     assert declared.declaration == 'the declaration' and declared.path == tmp_path / 'b.py'
     failed = WrittenSubmission(written.submission, tmp_path, SimpleNamespace(passed=False, declaration='x'))
     assert failed.declaration is None  # a file that failed its check records no declaration

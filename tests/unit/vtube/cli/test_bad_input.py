@@ -103,6 +103,12 @@ BAD = [
     ('unknown scene among many', 'study --out {out} --scenes A,Z --seeds 1', 2, "unknown scene 'Z'"),
     ('poses all NaN', 'analyze {tmp}/nan_poses --out {out}', 2, 'has a finite position'),
     ('folder as submission', 'submission check {tmp}', 2, 'is a folder; give the submission .py file'),
+    (
+        'delay margin on too few seeds',
+        'submission check {tmp}/binary.py --margin-seeds 5',
+        2,
+        "'5' gives 5 seeds; a delay margin rests on at least 10",
+    ),
     ('random bytes bag', 'analyze {tmp}/random.bag --out {out}', 2, 'as a ROS bag'),
     ('bad regex', 'analyze {tmp}/shapes --out {out} --topic-pattern (', 2, "'(' is not a regular expression"),
     ('negative radius', 'analyze {tmp}/shapes --out {out} --collision-distance -1', 2, "'-1' is not a number > 0"),

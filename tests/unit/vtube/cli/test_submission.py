@@ -42,7 +42,10 @@ def test_a_passing_preflight_in_lines_and_json() -> None:
     timed_out = RunReport('pypi', None, -1, timed_out_s=3.0)
     lines = check_lines(report(GOOD, header_declaration=DECLARED))
     assert lines[0] == 'submission /f.py' and 'only the standard library' in lines[1]
-    assert lines[3] == '  bundled seed 0            yes          0        0         0         0.500           3.5'
+    assert (
+        lines[3] == '  bundled seed 0            yes          0        0         0        0.500       390           3.5'
+    )
+    assert 'centres [m]' in lines[2] and 'gap [mm]' in lines[2]  # 0.5 m between centres, bodies 0.11 m wide
     assert lines[2].index('done') + 4 == lines[3].index('yes') + 3  # right-aligned columns line up
     assert lines[-4:] == [
         '  declare                6 robots, 100 s',
@@ -96,7 +99,8 @@ def test_a_preview_build_says_it_is_not_for_upload_and_gives_the_command_that_bu
 def preflight_on(stream: io.StringIO, monkeypatch, capsys, seeds: int) -> str:
     """``vtube submission check`` with the check stubbed: it tells what starts and ends ``seeds`` seeds."""
 
-    def check(path, *, seeds, initializer_seeds, run_timeout_s, progress, seed_done):
+    def check(path, *, seeds, initializer_seeds, run_timeout_s, progress, seed_done, margin_seeds):
+        assert margin_seeds == ()  # no margin search unless asked
         progress(f'running the file on the bundled simulator, seed 0 (at most {run_timeout_s:g} s)')
         for _ in range(initializer_seeds):
             seed_done()
@@ -129,13 +133,13 @@ def test_the_build_options_reach_the_pipeline(tmp_path, monkeypatch, capsys) -> 
     monkeypatch.setattr(pipeline, 'build_submission', build_submission)
     out = tmp_path / 's.py'
     argv = ['submission', 'build', 'robotarium_curve', '--out', str(out), '--seeds', '10-11']
-    assert main([*argv, '--testbed-models', 'ideal, fitted']) == 0
+    assert main([*argv, '--testbed-models', 'ideal, fitted', '--margin-seeds', '20-29']) == 0
     assert '  ... running the file on the bundled simulator, seed 10' in capsys.readouterr().err
     assert calls[-1] == (
         'robotarium_curve',
         out,
         {'planning': True, 'plan_file': None, 'declare': True, 'seeds': (10, 11), 'initializer_seeds': 200}
-        | {'testbed_models': ('ideal', 'fitted')},
+        | {'testbed_models': ('ideal', 'fitted'), 'margin_seeds': tuple(range(20, 30))},
     )
     assert main(['submission', 'build', 'x', '--out', str(out), '--no-planning', '--no-declare', '--plan', 'p']) == 0
     assert calls[-1][2]['seeds'] == (0, 1, 2)
@@ -146,6 +150,7 @@ def test_the_build_options_reach_the_pipeline(tmp_path, monkeypatch, capsys) -> 
         'seeds': 0,
         'initializer_seeds': 200,
         'testbed_models': None,
+        'margin_seeds': (),
     }
     assert 'check it before uploading' in capsys.readouterr().out
 
@@ -189,3 +194,26 @@ def test_a_plan_file_is_flown_as_given_and_refused_elsewhere(tmp_path, capsys) -
     assert main(['robotarium', 'run', 'robotarium_curve', '--plan', str(plan_file), '--out', str(tmp_path)]) == 2
     analyze = ['analyze', str(tmp_path), '--scene', 'robotarium_curve', '--plan', str(plan_file)]
     assert main([*analyze, '--out', str(tmp_path / 'a')]) == 2
+
+
+def test_the_delay_margin_margins_and_stress_runs_in_lines_and_json() -> None:
+    from submission.delay_margin import DelayMargin, Rung
+    from submission.robustness import Margins
+
+    margin = DelayMargin((Rung(1.0, 10, 0, 0.185), Rung(1.5, 10, 2, 0.013)), 10)
+    stress = RunReport('bundled', 0, 0, record=record(100), completed=True, model='fitted:2')
+    margins = (Margins('fitted:2', 1, 1, 0.127, 0, 30.0, 40.0),)
+    done = report(GOOD, stress_runs=(stress,), margins=margins, delay_margin=margin, margin_runs=(GOOD, stress))
+    lines = check_lines(done)
+    at = lines.index(f'  delay margin           {margin.summary()}')
+    assert lines[at + 1 : at + 3] == [f'                           {rung.line()}' for rung in margin.rungs]
+    assert 'Delay margin: 1x the fitted delay and lag' in lines[at] and 'at most 26 % of runs may fail' in lines[at + 1]
+    assert any('closest centres 0.127 m (a 17 mm gap between bodies)' in line for line in lines)
+    data = json.loads(json.dumps(preflight_view(done).data))
+    assert data['delay_margin']['multiple'] == 1.0 and len(data['delay_margin']['rungs']) == 2
+    assert [r['model'] for r in data['margin_runs']] == ['ideal', 'fitted:2'] and data['stress_runs'][0]['ok']
+    assert data['margins'][0]['closest_centres_m'] == 0.127
+    assert data['margins'][0]['gap_between_bodies_m'] == pytest.approx(0.017)
+    assert data['runs'][0]['gap_between_bodies_m'] == pytest.approx(0.39)
+    plain = preflight_view(report(GOOD)).data
+    assert plain['delay_margin'] is None and plain['margin_runs'] == [] and plain['stress_runs'] == []
