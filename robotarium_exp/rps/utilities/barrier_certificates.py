@@ -6,11 +6,11 @@ Every certificate solves ``min ||u - u_hat||^2`` subject to the pairwise barrier
 Two ways to solve it (`use_qp_solver`):
 
 - ``'testbed'``, the default: cvxopt stopped at the testbed's tolerances (1e-2, at most 50 iterations) on every row,
-  as the testbed's certificates do (the same rows; V2 lists the walls and the polygon's sides robot by robot,
-  `barrier_rows` side by side, which moves cvxopt's answers by about 1e-11, except on an infeasible QP, where they
-  depend on the order). Its answers are not the optimum, and the difference matters: with the exact
-  optimum the initializer's 90 % duration quantile was 15-25 % lower than V2's (``docs/robotarium.md`` §2.6). With
-  the testbed's solver a script (and the initializer) runs as on the official simulators, step for step.
+  as the testbed's certificates do (the same rows in V2's order, `barrier_rows`: cvxopt's answer to an infeasible
+  QP, two robots at one point, depends on the order). Its answers are not the optimum, and the difference matters:
+  with the exact optimum the initializer's 90 % duration quantile was 15-25 % lower than V2's
+  (``docs/robotarium.md`` §2.6). With the testbed's solver a script (and the initializer) runs as on the official
+  simulators, step for step.
 - ``'exact'``: DAQP, a dual active-set solver, on the same constraints folded (`bounded_barrier_rows`: the
   walls and the polygon's sides along the axes bound u's components, opposite diagonal sides make one two-sided row)
   and without the pair rows that cannot bind (with the speed polygon, none can once gamma h^3 >= 4 d u_max /
