@@ -32,7 +32,7 @@ SIDE_NORMALS = (
     (_DIAGONAL, -_DIAGONAL),
 )
 """The speed polygon's outward normals, side by side from +x counter-clockwise, with V2's coefficients (exactly 0
-and 1/sqrt(2), not cos and sin of the angle), so its testbed QP is V2's to the bit."""
+and 1/sqrt(2), not cos and sin of the angle), so the testbed QP's matrix is V2's, coefficient for coefficient."""
 
 
 @dataclass(frozen=True)
