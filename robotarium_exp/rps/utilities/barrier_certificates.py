@@ -43,7 +43,13 @@ from numpy.typing import NDArray
 
 from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.robotarium_abc import ARENA
-from robotarium_exp.rps.utilities.barrier_inputs import V2_BOUNDARY, V2Arguments, checked_pair, v2_positions
+from robotarium_exp.rps.utilities.barrier_inputs import (
+    V2_BOUNDARY,
+    V2Arguments,
+    checked_pair,
+    one_row_rows,
+    v2_positions,
+)
 from robotarium_exp.rps.utilities.barrier_rows import BarrierSpec, BoundedRows, barrier_rows, bounded_barrier_rows
 from robotarium_exp.rps.utilities.transformations import create_si_to_uni_mapping, create_uni_to_si_mapping
 
@@ -282,12 +288,12 @@ class Certificate:
             dxi = dxi.copy()
             dxi[:, over] *= spec.magnitude_limit / norms[over]
             self.stats.solves += 1
-        if qp_solver() == 'exact':
+        if qp_solver() == 'exact' and x.shape[0] > 1:
             rows = bounded_barrier_rows(x[:2], spec)
             u = self._warm_solve(dxi.ravel(), rows)
             self.stats.rows_last = rows.lower.size
-        else:
-            a, b = barrier_rows(x[:2], spec)
+        else:  # V2 given one row of positions reads it as both coordinates (`one_row_rows`)
+            a, b = barrier_rows(x[:2], spec) if x.shape[0] > 1 else one_row_rows(x, spec)
             u = _solve_qp(n, dxi, a, b)
             self.stats.rows_last = a.shape[0]
         return self._failed(n) if u is None else u

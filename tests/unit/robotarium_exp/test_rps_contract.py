@@ -18,16 +18,15 @@ this module's `outcome` and `plain` over ``namespace('rps')``, the official modu
 
 ``left_out`` lists, with a reason each, the calls whose official answer is a defect of its code, not a contract, or
 one we do not reproduce: classic's ``at_position`` reaching its last check (it names an undefined variable,
-``NameError``), classic's ``uni_to_si_dyn`` given a non-array (its message names an unbound variable), classic's
-CLF pose controller on its approach line (0/0, NaN; ours takes the limit), its hybrid controller with a negative
-``position_epsilon`` (it rebinds its state to an int), V2's plain certificate given one-row positions (it broadcasts
-x into y; ours refuses), and classic's robust certificates (differential drive, ``create_robust_barriers``): without
-walls every solve is a ``NameError`` (``solver2``); obstacles of a wrong shape (broadcasting errors naming other
-shapes), any obstacles with walls (a crash), one pose broadcast to two robots, ``max_num_robots=True`` and no robots
-(an empty list) meet classic's preallocated matrices in ways ours does not reproduce; with walls, a few ill-posed
-QPs that cvxopt, stopped at its loose tolerance, answers with a point the slightest change of the data moves. Also
-left out, unlisted: three classic certificate calls with two robots at one point, where cvxopt itself fails ("domain
-error").
+``NameError``), classic's ``uni_to_si_dyn`` given a non-array (its message names an unbound variable), classic's CLF
+pose controller on its approach line (0/0, NaN; ours takes the limit), its hybrid controller with a negative
+``position_epsilon`` (it rebinds its state to an int), and classic's robust certificates (differential drive,
+``create_robust_barriers``): without walls every solve is a ``NameError`` (``solver2``); obstacles of a wrong shape
+(broadcasting errors naming other shapes), any obstacles with walls (a crash), one pose broadcast to two robots,
+``max_num_robots=True`` and no robots (an empty list) meet classic's preallocated matrices in ways ours does not
+reproduce; with walls, a few ill-posed QPs that cvxopt, stopped at its loose tolerance, answers with a point the
+slightest change of the data moves. Also left out, unlisted: three classic certificate calls with two robots at one
+point, where cvxopt itself fails ("domain error").
 """
 
 from __future__ import annotations
