@@ -21,28 +21,31 @@ def _frame(poses: FloatArray) -> tuple[FloatArray, FloatArray]:
     return np.cos(poses[2]), np.sin(poses[2])
 
 
-def si_to_uni(dxi: ArrayLike, poses: ArrayLike, d: float) -> FloatArray:
-    """Unicycle commands [v; omega] (2, N) that move the control points at ``dxi`` (2, N), for poses (3, N)."""
+def si_to_uni(dxi: ArrayLike, poses: ArrayLike, d: float, *, finite: bool = True) -> FloatArray:
+    """Unicycle commands [v; omega] (2, N) that move the control points at ``dxi`` (2, N), for poses (3, N).
+
+    ``finite=False`` lets NaN and inf through (they propagate as through the Robotarium's own maps)."""
     d = positive(d, 'projection distance d')
-    poses = as_columns(poses, 3, 'poses')
-    dxi = as_columns(dxi, 2, 'single-integrator velocities dxi', poses.shape[1])
+    poses = as_columns(poses, 3, 'poses', finite=finite)
+    dxi = as_columns(dxi, 2, 'single-integrator velocities dxi', poses.shape[1], finite=finite)
     c, s = _frame(poses)
     return np.vstack([c * dxi[0] + s * dxi[1], (-s * dxi[0] + c * dxi[1]) / d])
 
 
-def uni_to_si(dxu: ArrayLike, poses: ArrayLike, d: float) -> FloatArray:
-    """Velocities (2, N) of the control points under unicycle commands ``dxu`` [v; omega] (2, N): the inverse map."""
+def uni_to_si(dxu: ArrayLike, poses: ArrayLike, d: float, *, finite: bool = True) -> FloatArray:
+    """Velocities (2, N) of the control points under unicycle commands ``dxu`` [v; omega] (2, N): the inverse map
+    (``finite`` as in `si_to_uni`)."""
     d = positive(d, 'projection distance d')
-    poses = as_columns(poses, 3, 'poses')
-    dxu = as_columns(dxu, 2, 'unicycle commands dxu', poses.shape[1])
+    poses = as_columns(poses, 3, 'poses', finite=finite)
+    dxu = as_columns(dxu, 2, 'unicycle commands dxu', poses.shape[1], finite=finite)
     c, s = _frame(poses)
     return np.vstack([c * dxu[0] - d * s * dxu[1], s * dxu[0] + d * c * dxu[1]])
 
 
-def uni_to_si_states(poses: ArrayLike, d: float) -> FloatArray:
-    """Control points p = [x; y] + d e_theta, (2, N)."""
+def uni_to_si_states(poses: ArrayLike, d: float, *, finite: bool = True) -> FloatArray:
+    """Control points p = [x; y] + d e_theta, (2, N) (``finite`` as in `si_to_uni`)."""
     d = positive(d, 'projection distance d')
-    poses = as_columns(poses, 3, 'poses')
+    poses = as_columns(poses, 3, 'poses', finite=finite)
     c, s = _frame(poses)
     return np.vstack([poses[0] + d * c, poses[1] + d * s])
 

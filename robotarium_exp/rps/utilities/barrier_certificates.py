@@ -6,11 +6,11 @@ Every certificate solves ``min ||u - u_hat||^2`` subject to the pairwise barrier
 Two ways to solve it (`use_qp_solver`):
 
 - ``'testbed'``, the default: cvxopt stopped at the testbed's tolerances (1e-2, at most 50 iterations) on every row,
-  as the testbed's certificates do (the same rows; V2 lists the walls and the polygon's sides robot by robot,
-  `barrier_rows` side by side, which moves cvxopt's answers by about 1e-11, except on an infeasible QP, where they
-  depend on the order). Its answers are not the optimum, and the difference matters: with the exact
-  optimum the initializer's 90 % duration quantile was 15-25 % lower than V2's (``docs/robotarium.md`` §2.6). With
-  the testbed's solver a script (and the initializer) runs as on the official simulators, step for step.
+  as the testbed's certificates do (the same rows in V2's order, `barrier_rows`: cvxopt's answer to an infeasible
+  QP, two robots at one point, depends on the order). Its answers are not the optimum, and the difference matters:
+  with the exact optimum the initializer's 90 % duration quantile was 15-25 % lower than V2's
+  (``docs/robotarium.md`` §2.6). With the testbed's solver a script (and the initializer) runs as on the official
+  simulators, step for step.
 - ``'exact'``: DAQP, a dual active-set solver, on the same constraints folded (`bounded_barrier_rows`: the
   walls and the polygon's sides along the axes bound u's components, opposite diagonal sides make one two-sided row)
   and without the pair rows that cannot bind (with the speed polygon, none can once gamma h^3 >= 4 d u_max /
@@ -43,7 +43,13 @@ from numpy.typing import NDArray
 
 from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.robotarium_abc import ARENA
-from robotarium_exp.rps.utilities.barrier_inputs import V2_BOUNDARY, V2Arguments, checked_pair, v2_positions
+from robotarium_exp.rps.utilities.barrier_inputs import (
+    V2_BOUNDARY,
+    V2Arguments,
+    checked_pair,
+    one_row_rows,
+    v2_positions,
+)
 from robotarium_exp.rps.utilities.barrier_rows import BarrierSpec, BoundedRows, barrier_rows, bounded_barrier_rows
 from robotarium_exp.rps.utilities.transformations import create_si_to_uni_mapping, create_uni_to_si_mapping
 
@@ -282,12 +288,12 @@ class Certificate:
             dxi = dxi.copy()
             dxi[:, over] *= spec.magnitude_limit / norms[over]
             self.stats.solves += 1
-        if qp_solver() == 'exact':
+        if qp_solver() == 'exact' and x.shape[0] > 1:
             rows = bounded_barrier_rows(x[:2], spec)
             u = self._warm_solve(dxi.ravel(), rows)
             self.stats.rows_last = rows.lower.size
-        else:
-            a, b = barrier_rows(x[:2], spec)
+        else:  # V2 given one row of positions reads it as both coordinates (`one_row_rows`)
+            a, b = barrier_rows(x[:2], spec) if x.shape[0] > 1 else one_row_rows(x, spec)
             u = _solve_qp(n, dxi, a, b)
             self.stats.rows_last = a.shape[0]
         return self._failed(n) if u is None else u

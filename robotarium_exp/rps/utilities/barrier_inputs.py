@@ -9,6 +9,7 @@ the same operations, so a script gets V2's answer or V2's error (``tests/unit/ro
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -16,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.rps.errors import RobotariumError
-from robotarium_exp.rps.utilities.barrier_rows import BarrierSpec
+from robotarium_exp.rps.utilities.barrier_rows import BarrierSpec, barrier_rows
 
 FloatArray = NDArray[np.float64]
 
@@ -54,19 +55,32 @@ class V2Arguments:
 
 def v2_positions(x: Any, n: int, walls: bool) -> FloatArray:
     """The positions V2's certificate uses for ``n`` robots: the first two rows and the first ``n`` columns of ``x``,
-    with V2's error where ``x`` has fewer columns (or is no array) or, with ``walls``, a single row."""
+    with V2's error where ``x`` has fewer columns (or is no array), no row, or, with ``walls``, a single row. A
+    single row without walls V2 accepts (`one_row_rows`), and so do we, with a warning."""
     positions = x[:2, :]
     if positions.shape[1] < n:
         positions[:, positions.shape[1]]  # V2's loop over the pairs stops here with numpy's IndexError
+    if positions.shape[0] == 0:
+        np.zeros(2)[:] = -2 * (positions[:, 0] - positions[:, 1])  # V2's first pair row: numpy's ValueError
     if walls and positions.shape[0] < 2:
-        positions[1, 0]  # V2's first wall row reads y: numpy's IndexError
-    if positions.shape[0] != 2:
-        msg = (
-            f'x must have at least 2 rows [x; y] (V2 broadcasts a single row into both coordinates and answers for '
-            f'positions it was not given); got {np.shape(x)}.'
+        positions[1, 0]  # V2's first wall row (after the pairs) reads y: numpy's IndexError
+    if positions.shape[0] == 1:
+        warnings.warn(
+            f"x has one row (shape {np.shape(x)}): as V2, each robot's one value is read as both of its coordinates "
+            'in the pair rows; give x as 2xN [x; y] (or 3xN poses).',
+            RuntimeWarning,
+            stacklevel=3,
         )
-        raise RobotariumError(msg)
     return np.asarray(positions[:, :n], dtype=float)
+
+
+def one_row_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArray]:
+    """V2's plain certificate's rows for positions given as one row (1, N): V2 broadcasts each pair's difference d
+    into both coordinates of its row (-2 (d, d)) but its barrier is h = d^2 - R^2; the speed polygon is as ever."""
+    a, b = barrier_rows(np.vstack([x[0], x[0]]), spec)
+    i, j = np.triu_indices(x.shape[1], k=1)  # the pairs in barrier_rows' order, V2's
+    b[: i.size] = spec.barrier_gain * ((x[0, i] - x[0, j]) ** 2 - spec.safety_radius**2) ** 3
+    return a, b
 
 
 def checked_pair(u: object, x: object, u_name: str, x_name: str, state_rows: int = 2) -> tuple[FloatArray, FloatArray]:

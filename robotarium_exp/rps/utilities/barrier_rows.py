@@ -20,6 +20,20 @@ FloatArray = NDArray[np.float64]
 
 POLYGON_SIDES = 8
 
+_DIAGONAL = 1 / np.sqrt(2)
+SIDE_NORMALS = (
+    (1.0, 0.0),
+    (_DIAGONAL, _DIAGONAL),
+    (0.0, 1.0),
+    (-_DIAGONAL, _DIAGONAL),
+    (-1.0, 0.0),
+    (-_DIAGONAL, -_DIAGONAL),
+    (0.0, -1.0),
+    (_DIAGONAL, -_DIAGONAL),
+)
+"""The speed polygon's outward normals, side by side from +x counter-clockwise, with V2's coefficients (exactly 0
+and 1/sqrt(2), not cos and sin of the angle), so the testbed QP's matrix is V2's, coefficient for coefficient."""
+
 
 @dataclass(frozen=True)
 class BarrierSpec:
@@ -47,10 +61,10 @@ def barrier_rows(x: FloatArray, spec: BarrierSpec) -> tuple[FloatArray, FloatArr
     if spec.boundary is not None:
         n, walls = x.shape[1], _wall_bounds(x, spec, layout)
         blocks.append(layout.wall_rows)
-        bounds.append(np.concatenate([walls[1, n:], walls[0, n:], walls[1, :n], walls[0, :n]]))
+        bounds.append(np.stack([walls[1, n:], walls[0, n:], walls[1, :n], walls[0, :n]], axis=1).ravel())
     if spec.speed_polygon:
         blocks.append(layout.polygon_rows)
-        bounds.append(layout.polygon_bounds.ravel())
+        bounds.append(layout.polygon_bounds.T.ravel())
     return np.concatenate(blocks), np.concatenate(bounds)
 
 
@@ -166,10 +180,9 @@ def _row_layout(n: int, spec: BarrierSpec) -> _Layout:
         walls[block, robots, 2 * robots + axis] = sign
     sides = np.zeros((POLYGON_SIDES, n, 2 * n))
     bounds = np.empty((POLYGON_SIDES, n))
-    for side in range(POLYGON_SIDES):
-        angle = 2 * math.pi * side / POLYGON_SIDES
-        sides[side, robots, 2 * robots] = math.cos(angle)
-        sides[side, robots, 2 * robots + 1] = math.sin(angle)
+    for side, (cos, sin) in enumerate(SIDE_NORMALS):
+        sides[side, robots, 2 * robots] = cos
+        sides[side, robots, 2 * robots + 1] = sin
         full = side == 0 and spec.full_first_side
         bounds[side] = spec.magnitude_limit * (1.0 if full else math.cos(math.pi / POLYGON_SIDES))
     if spec.speed_polygon:  # component by component: all x, then all y
@@ -182,8 +195,8 @@ def _row_layout(n: int, spec: BarrierSpec) -> _Layout:
     edges = np.repeat([[xmin + half, ymin + half], [xmax - half, ymax - half]], n, axis=1)
     layout = _Layout(
         pairs,
-        walls.reshape(4 * n, 2 * n),
-        sides.reshape(-1, 2 * n),
+        walls.transpose(1, 0, 2).reshape(4 * n, 2 * n),  # robot by robot, as V2 lists them
+        sides.transpose(1, 0, 2).reshape(-1, 2 * n),
         bounds,
         diagonal_rows,
         fixed_bounds,

@@ -48,11 +48,23 @@ def create_si_position_controller(
             raise AssertionError(f'{name} must be a positive number.')
     if not (isinstance(velocity_magnitude_limit, (int, float)) and velocity_magnitude_limit >= 0):
         raise AssertionError('velocity_magnitude_limit must be non-negative.')
+    return si_position_law(x_velocity_gain, y_velocity_gain, velocity_magnitude_limit, mixed=True)
+
+
+def si_position_law(
+    x_velocity_gain: float, y_velocity_gain: float, velocity_magnitude_limit: float, *, mixed: bool
+) -> Callable[[FloatArray, FloatArray], FloatArray]:
+    """``f(x, goals) -> dxi``: the gains times the position error, scaled down to ``velocity_magnitude_limit``.
+
+    ``mixed``: V2's product ``diag(gains) @ error``, where a NaN or inf in one coordinate of a robot's error reaches
+    both of its commands (0 * NaN is NaN); else classic's, coordinate by coordinate. Equal on finite input."""
+    gains = np.diag([x_velocity_gain, y_velocity_gain])
 
     def controller(x: FloatArray, goals: FloatArray) -> FloatArray:
         _check_shapes(x, goals, 2, 2)
-        dxi = np.vstack([x_velocity_gain * (goals[0] - x[0]), y_velocity_gain * (goals[1] - x[1])])
-        norms = np.hypot(*dxi)
+        error = goals - x
+        dxi = gains @ error if mixed else np.vstack([x_velocity_gain * error[0], y_velocity_gain * error[1]])
+        norms = np.linalg.norm(dxi, axis=0)  # as both officials (NaN where hypot says inf: no clamp then)
         over = norms > velocity_magnitude_limit
         dxi[:, over] = velocity_magnitude_limit * dxi[:, over] / norms[over]
         return dxi

@@ -1,7 +1,7 @@
 """``rps.utilities.transformations`` (V2): single-integrator commands to unicycles and back.
 
 The near-identity map (a point ``projection_distance`` ahead of the axle) is `unicycle_mapping`'s; the heading
-laws are V2's. Arguments are checked with V2's messages.
+laws are V2's. Arguments are checked with V2's messages; NaN and inf are not refused but propagate, as in V2.
 """
 
 from __future__ import annotations
@@ -88,13 +88,13 @@ def create_si_to_uni_mapping(projection_distance: float = 0.05) -> tuple[Map, Ca
 
     def si_to_uni_dyn(dxi: FloatArray, states: FloatArray) -> FloatArray:
         _check_pair(dxi, 'dxi', states, 3, 'states')
-        return si_to_uni(dxi, states, d)
+        return si_to_uni(dxi, states, d, finite=False)  # V2: NaN and inf propagate
 
     def uni_to_si_states_(states: FloatArray) -> FloatArray:
         if states.shape[0] != 3:
             raise AssertionError(f'states must be 3xN. Got {states.shape[0]}x{states.shape[1]}.')
         states[0:2, :]  # V2 reads the positions: a 1-D array fails here with numpy's IndexError
-        return uni_to_si_states(states, d)
+        return uni_to_si_states(states, d, finite=False)
 
     return si_to_uni_dyn, uni_to_si_states_
 
@@ -109,7 +109,7 @@ def create_uni_to_si_mapping(projection_distance: float = 0.05) -> tuple[Map, Ma
 
     def uni_to_si_dyn(dxu: FloatArray, states: FloatArray) -> FloatArray:
         _check_pair(dxu, 'dxu', states, 3, 'states')
-        return uni_to_si(dxu, states, d)
+        return uni_to_si(dxu, states, d, finite=False)
 
     def si_to_uni_states(uni_states: FloatArray, si_states: FloatArray) -> FloatArray:
         m, n = uni_states.shape

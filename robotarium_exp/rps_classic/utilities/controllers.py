@@ -90,7 +90,7 @@ def create_si_position_controller(
     """``f(xi, positions) -> dxi``: gains times the position error, scaled down to ``velocity_magnitude_limit``."""
     factory = 'create_si_position_controller'
     enforce(f'In the function {factory}', SI_GAINS, locals())
-    controller = v2.create_si_position_controller(x_velocity_gain, y_velocity_gain, velocity_magnitude_limit)
+    controller = v2.si_position_law(x_velocity_gain, y_velocity_gain, velocity_magnitude_limit, mixed=False)
     place = f'In the si_position_controller function created by the {factory} function'
     return Checked(controller, pair(place, SI_CONTROLLER, 'xi', 'positions'))
 

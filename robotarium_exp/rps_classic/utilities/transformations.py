@@ -126,7 +126,7 @@ def create_si_to_uni_mapping(
     enforce('In the function create_si_to_uni_mapping', MAPPING, locals())
 
     def si_to_uni_dyn(dxi: FloatArray, poses: FloatArray) -> FloatArray:
-        dxu = si_to_uni(dxi, poses, projection_distance)
+        dxu = si_to_uni(dxi, poses, projection_distance, finite=False)  # NaN and inf propagate, as in classic
         dxu[1] = np.maximum(np.minimum(dxu[1], angular_velocity_limit), -angular_velocity_limit)  # classic's order
         return dxu
 
@@ -134,7 +134,7 @@ def create_si_to_uni_mapping(
 
     def uni_to_si_states_(poses: FloatArray) -> FloatArray:
         _rows, _columns = np.shape(poses)  # classic unpacks the shape (1-D or None fails), then reads rows 0 to 2
-        return uni_to_si_states(np.vstack([poses[0, :], poses[1, :], poses[2, :]]), projection_distance)
+        return uni_to_si_states(np.vstack([poses[0, :], poses[1, :], poses[2, :]]), projection_distance, finite=False)
 
     return checked, uni_to_si_states_
 
@@ -142,5 +142,5 @@ def create_si_to_uni_mapping(
 def create_uni_to_si_dynamics(projection_distance: float = 0.05) -> Map:
     """``uni_to_si_dyn(dxu, poses)``: the velocities of the points ``projection_distance`` ahead of the robots."""
     enforce('In the function create_uni_to_si_dynamics', UNI_TO_SI, locals())
-    uni_to_si_dyn: Map = lambda dxu, poses: uni_to_si(dxu, poses, projection_distance)
+    uni_to_si_dyn: Map = lambda dxu, poses: uni_to_si(dxu, poses, projection_distance, finite=False)
     return _created('uni_to_si_dyn', 'create_uni_to_si_dynamics', UNI_COMMANDS, 'dxu', uni_to_si_dyn)

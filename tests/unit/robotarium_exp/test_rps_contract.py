@@ -18,17 +18,15 @@ this module's `outcome` and `plain` over ``namespace('rps')``, the official modu
 
 ``left_out`` lists, with a reason each, the calls whose official answer is a defect of its code, not a contract, or
 one we do not reproduce: classic's ``at_position`` reaching its last check (it names an undefined variable,
-``NameError``), classic's ``uni_to_si_dyn`` given a non-array (its message names an unbound variable), classic's
-CLF pose controller on its approach line (0/0, NaN; ours takes the limit), its hybrid controller with a negative
-``position_epsilon`` (it rebinds its state to an int), V2's plain certificate given one-row positions (it broadcasts
-x into y; ours refuses), V2's certificates given two robots at one point (an infeasible QP, which cvxopt at the
-testbed's loose tolerance answers with a point that depends on the order of the rows, and ours lists them in
-another order), and classic's robust certificates (differential drive, ``create_robust_barriers``): without
-walls every solve is a ``NameError`` (``solver2``); obstacles of a wrong shape (broadcasting errors naming other
-shapes), any obstacles with walls (a crash), one pose broadcast to two robots, ``max_num_robots=True`` and no robots
-(an empty list) meet classic's preallocated matrices in ways ours does not reproduce; with walls, a few ill-posed
-QPs that cvxopt, stopped at its loose tolerance, answers with a point the slightest change of the data moves. Also left out, unlisted: three classic
-certificate calls with two robots at one point, where cvxopt itself fails ("domain error").
+``NameError``), classic's ``uni_to_si_dyn`` given a non-array (its message names an unbound variable), classic's CLF
+pose controller on its approach line (0/0, NaN; ours takes the limit), its hybrid controller with a negative
+``position_epsilon`` (it rebinds its state to an int), and classic's robust certificates (differential drive,
+``create_robust_barriers``): without walls every solve is a ``NameError`` (``solver2``); obstacles of a wrong shape
+(broadcasting errors naming other shapes), any obstacles with walls (a crash), one pose broadcast to two robots,
+``max_num_robots=True`` and no robots (an empty list) meet classic's preallocated matrices in ways ours does not
+reproduce; with walls, a few ill-posed QPs that cvxopt, stopped at its loose tolerance, answers with a point the
+slightest change of the data moves. Also left out, unlisted: three classic certificate calls with two robots at one
+point, where cvxopt itself fails ("domain error").
 """
 
 from __future__ import annotations
@@ -87,10 +85,13 @@ def plain(value: Any) -> Any:
 
 def agrees(answer: Any, expected: Any) -> bool:
     """Whether a recorded answer and ours agree: the same exception and message, or arrays of one shape whose values
-    (rounded to 1e-4 each) differ by at most 1e-4, or equal plain values."""
+    (rounded to 1e-4 each) differ by at most 1e-4 (NaN where the official's is NaN, inf of its sign where it is
+    inf), or equal plain values."""
     if isinstance(answer, dict) and isinstance(expected, dict):
         ours, theirs = np.array(answer['values'], dtype=float), np.array(expected['values'], dtype=float)
-        return answer['shape'] == expected['shape'] and bool(np.allclose(ours, theirs, rtol=0, atol=1.01e-4))
+        return answer['shape'] == expected['shape'] and bool(
+            np.allclose(ours, theirs, rtol=0, atol=1.01e-4, equal_nan=True)
+        )
     if isinstance(answer, list) and isinstance(expected, list) and len(answer) == len(expected):
         return all(agrees(a, e) for a, e in zip(answer, expected, strict=True))
     return bool(answer == expected)

@@ -104,3 +104,23 @@ def test_bad_input_raises_value_error_with_the_shape(call, match: str) -> None:
     with pytest.raises(MappingError, match=match):
         call()
     assert issubclass(MappingError, ValueError)
+
+
+def test_with_finite_false_nan_and_inf_propagate_column_by_column_instead_of_being_refused() -> None:
+    """The Robotarium's own maps (V2's ``rps.utilities.transformations``) let them through: the other robots'
+    answers are the finite ones, the robot with NaN or inf gets IEEE's answer (inf * 0 is NaN)."""
+    rng = np.random.default_rng(4)
+    poses, u, d = random_poses(rng, 4), rng.normal(0, 0.2, (2, 4)), 0.05
+    poses[2, 0], u[0, 1], u[1, 2] = np.nan, np.inf, np.nan
+    poses[2, 1] = 0.0  # heading along x: v = inf, omega = (-0 * inf + u_y) / d = NaN
+    for call, args in ((si_to_uni, (u, poses)), (uni_to_si, (u, poses)), (uni_to_si_states, (poses,))):
+        with pytest.raises(MappingError, match='must be finite'):
+            call(*args, d)
+        with np.errstate(invalid='ignore'):  # numpy warns of inf * 0, as on the Robotarium's maps
+            answer = call(*args, d, finite=False)
+        finite_columns = [3] if call is not uni_to_si_states else [1, 2, 3]
+        np.testing.assert_array_equal(answer[:, finite_columns], call(*(a[:, finite_columns] for a in args), d))
+        assert np.isnan(answer[:, 0]).all()
+    with np.errstate(invalid='ignore'):
+        mapped = si_to_uni(u, poses, d, finite=False)
+    assert mapped[0, 1] == np.inf and np.isnan(mapped[1, 1]) and np.isnan(mapped[:, 2]).all()

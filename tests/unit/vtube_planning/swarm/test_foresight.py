@@ -1,5 +1,6 @@
-"""The foresight: the tube's tables against the exact projection, the law's command let through where it is safe,
-replaced by a command inside (2)-(4) where it is not, and short flights that collide without it and not with it."""
+"""The foresight: the law's command let through where it is safe, replaced by a command inside (2)-(4) where it is
+not; the closest approach between predicted points; the announced backup kept (the short flights that collide without it and not with it:
+``tests/integration/test_foresight_flights.py``)."""
 
 from __future__ import annotations
 
@@ -11,10 +12,9 @@ import numpy as np
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
-from vtube_planning.params import ControlParams, SwarmParams
+from vtube_planning.params import SwarmParams
 from vtube_planning.swarm.dynamics import dynamics_violations, limit_acceleration
 from vtube_planning.swarm.foresight import Foresight, _closest
-from vtube_planning.swarm.simulate import SimConfig, simulate
 
 SWARM = SwarmParams(n_robots=2)
 STRAIGHT = VirtualTube(ArcPath((ArcPiece(40.0),)), WidthProfile(3.0, (WidthPart('constant', 40.0),)))
@@ -66,31 +66,6 @@ def test_a_robot_about_to_hit_the_one_ahead_gives_way() -> None:
     assert foresight.overridden >= 1
     behind = commanded[:, 0]
     assert np.hypot(*behind) < 4.0 or abs(behind[1]) > 0.0  # slows down or steers out of line
-
-
-def _flight(control: ControlParams, tube: VirtualTube, n: int, seed: int):
-    swarm = replace(SwarmParams(), n_robots=n)
-    config = SimConfig(seed=seed, acceleration_limits=True, time_limit_s=40.0)
-    return simulate(tube, swarm, control, plan=None, config=config, constant_speed_mps=4.0)
-
-
-NARROWING = VirtualTube(
-    ArcPath((ArcPiece(30.0),)),
-    WidthProfile(
-        3.0,
-        (WidthPart('constant', 10.0), WidthPart('linear', 2.0, to_m=1.2, corner_m=0.3), WidthPart('constant', 18.0)),
-    ),
-)
-
-
-def test_short_flights_that_fail_under_the_law_alone_pass_with_foresight() -> None:
-    law = _flight(ControlParams(), NARROWING, 6, 0)
-    assert law.metrics.collision_pairs > 0 or law.metrics.tube_violation_steps > 0  # a case the law alone fails
-    assert dynamics_violations(law.velocities_mps, law.commands_mps, SwarmParams(), 0.02) > 0
-    foreseen = _flight(ControlParams(foresight_s=3.0), NARROWING, 6, 0)
-    m = foreseen.metrics
-    assert (m.collision_pairs, m.tube_violation_steps, m.completed) == (0, 0, True)
-    assert foreseen.dynamics_violations == 0 < law.dynamics_violations
 
 
 def test_the_closest_approach_over_a_step_is_the_densely_sampled_one() -> None:

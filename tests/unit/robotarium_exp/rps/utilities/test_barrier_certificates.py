@@ -193,6 +193,52 @@ def v2_rows(points: np.ndarray, radius: float, gain: float, limit: float) -> tup
     return np.array(rows), np.array(rhs)
 
 
+def v2_boundary_rows(x: np.ndarray, radius: float, gain: float, limit: float, walls: tuple) -> tuple:
+    """V2's boundary certificate's rows written out as its source builds them, loop by loop: the pairs i < j, then
+    robot by robot its four walls (+y, -y, +x, -x), then robot by robot its eight sides, with V2's coefficients
+    (0, 1 and 1/sqrt(2)), all at limit cos(pi/8)."""
+    n, diagonal = x.shape[1], 1 / np.sqrt(2)
+    rows, rhs = [], []
+    for i in range(n - 1):
+        for j in range(i + 1, n):
+            diff = x[:, i] - x[:, j]
+            row = np.zeros(2 * n)
+            row[2 * i : 2 * i + 2], row[2 * j : 2 * j + 2] = -2 * diff, 2 * diff
+            rows.append(row)
+            rhs.append(gain * (np.dot(diff, diff) - radius**2) ** 3)
+    xmin, xmax, ymin, ymax = walls
+    for k in range(n):
+        room = (ymax - radius / 2 - x[1, k], x[1, k] - ymin - radius / 2, xmax - radius / 2 - x[0, k])
+        for normal, distance in zip(([0, 1], [0, -1], [1, 0], [-1, 0]), (*room, x[0, k] - xmin - radius / 2)):
+            row = np.zeros(2 * n)
+            row[2 * k : 2 * k + 2] = normal
+            rows.append(row)
+            rhs.append(0.4 * gain * distance**3)
+    sides = ([1, 0], [diagonal, diagonal], [0, 1], [-diagonal, diagonal])
+    for i in range(n):
+        for normal in (*sides, *([-c for c in side] for side in sides)):
+            row = np.zeros(2 * n)
+            row[2 * i : 2 * i + 2] = normal
+            rows.append(row)
+            rhs.append(limit * np.cos(np.pi / 8))
+    return np.array(rows), np.array(rhs)
+
+
+def test_the_rows_are_v2s_row_for_row_so_the_testbed_qp_is_v2s() -> None:
+    """The same rows in the same order with the same coefficients, bit for bit (the walls' bounds to rounding: V2
+    subtracts the wall and R/2 from each position, ours adds the position to their precomputed sum): cvxopt, stopped
+    early, answers V2's point (its answer to an infeasible QP, two robots at one point, depends on the order)."""
+    rng = np.random.default_rng(8)
+    for n in (2, 3, 7):
+        x = rng.uniform(-1.0, 1.0, (2, n))
+        certificate = bc.create_si_barrier_certificate_with_boundary(boundary_points=np.array([-1.6, 1.6, -1.0, 1.0]))
+        spec = certificate.spec
+        a, b = bc.barrier_rows(x, spec)
+        expected_a, expected_b = v2_boundary_rows(x, 0.15, 100.0, 0.2, (-1.6, 1.6, -1.0, 1.0))
+        np.testing.assert_array_equal(a, expected_a)
+        np.testing.assert_allclose(b, expected_b, rtol=1e-12, atol=0)
+
+
 def test_testbed_solver_answers_what_cvxopt_at_the_testbed_options_answers() -> None:
     """The default certificate equals cvxopt run by hand on V2's own row layout, at V2's options."""
     from cvxopt import matrix, solvers

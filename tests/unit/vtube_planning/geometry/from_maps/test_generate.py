@@ -154,17 +154,6 @@ def test_map_file_errors_name_the_fix() -> None:
         generated_scene(MAP_FILE + '\n[robotarium]\nn_robots = 6\n', 'gap.toml')  # no silent 4 m turns in the arena
 
 
-def test_the_readme_example_map_gives_a_certified_tube_that_misses_its_obstacles() -> None:
-    from pathlib import Path
-
-    path = Path(__file__).parents[5] / 'docs' / 'maps' / 'forest.toml'
-    text, made = generated_scene(path.read_text(encoding='utf-8'), str(path))
-    scene = scene_from_text(text, name='forest', source='forest_scene.toml')
-    assert len(scene.obstacles.discs) == 30 and len(scene.obstacles.polygons) == 3
-    assert scene.tube.summary()['curvature_radius_min_m'] >= 4.0  # v_min^2 / a_n of Table 1
-    assert_misses(made.tube, scene.obstacles, 0.3)
-
-
 def test_headings_at_the_ends_are_held_straight_for_the_lead() -> None:
     obstacles = wall_with_gap(4.0, 7.0)
     made = generate_tube(spec(obstacles, start_heading_deg=0.0, goal_heading_deg=90.0, lead_m=1.0))
