@@ -365,9 +365,10 @@ def random_narrowing_tube(rng: np.random.Generator) -> VirtualTube:
 
 
 def test_entry_queue_properties_over_random_starts() -> None:
-    """Every queue the design returns: robots at least the spacing apart, all in the initializer's box, the ones
-    behind the entrance between the wall lines continued behind it (outside the tube, never beside a wall), the others
-    0.1 m from the walls, the front row just before the narrowing, and the rows in the order they enter."""
+    """Every queue the design returns: robots at least the spacing apart, all in the initializer's box, the back row
+    as far back as the box allows, the ones behind the entrance between the wall lines continued behind it (outside
+    the tube, never beside a wall), the others 0.1 m from the walls, the front row before the narrowing, and the rows
+    a spacing apart in the order they enter."""
     rng = np.random.default_rng(50)
     queues = behind = 0
     for _ in range(300):
@@ -384,7 +385,11 @@ def test_entry_queue_properties_over_random_starts() -> None:
         where = t.project(q.poses[:2])
         room = np.where(where.l_m < 0.0, t.half_width(0.0), t.half_width(np.maximum(where.l_m, 0.0)))
         assert np.all(np.abs(where.y_m) <= room - WALL_CLEARANCE_M + 1e-9)
-        assert narrowing.start_m - 2 * QUEUE_BEFORE_NARROWING_M <= where.l_m.max() <= narrowing.start_m
+        assert where.l_m.max() <= narrowing.start_m - QUEUE_BEFORE_NARROWING_M  # the swarm starts before it
+        # the back row as far back as the box allows: a full row 2 cm further back leaves the box
+        l_back = where.l_m.min() - 0.02
+        row = t.center_at(l_back) + np.outer((np.arange(q.columns) - 0.5 * (q.columns - 1)) * SPACING, t.normal(l_back))
+        assert np.any(np.abs(row) > BOX)
         rows = np.unique(np.round(where.l_m, 6))
         assert rows.size == q.rows and q.rows == math.ceil(n / q.columns)
         assert (
