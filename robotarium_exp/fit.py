@@ -235,13 +235,24 @@ def _formation_before_narrowing(data: FlightData) -> list[Misfit]:
     return [
         Misfit(
             f'the start formation ({rows} row(s) of up to {columns}) reaches l = {front:.2f} m, past the start of the '
-            f'narrowing at l = {start:.2f} m: the swarm would start inside it',
+            f'narrowing at l = {start:.2f} m: the swarm would start inside it, {_no_queue(samples.xy_m[:, 0])}',
             f'lengthen the wide part before the narrowing by {front - start:.2f} m{fewer}',
             'narrowing',
             front - start,
             fitting * columns if 0 < fitting < rows else 0,
         )
     ]
+
+
+def _no_queue(entrance: FloatArray) -> str:
+    """Why the rows cannot queue behind the entrance instead (`robotarium_exp.design.entry_queue`, theory §12)."""
+    box = np.array(ROBOTARIUM.ic_box_m)
+    if np.any(np.abs(entrance) > box):
+        return (
+            f'and no robot can queue behind the entrance at ({entrance[0]:.2f}, {entrance[1]:.2f}), outside the box '
+            f'|x| <= {box[0]}, |y| <= {box[1]} the testbed initializes robots in'
+        )
+    return 'and queued behind the entrance the rows would leave the box the testbed initializes robots in'
 
 
 def _parking_inside(data: FlightData) -> list[Misfit]:

@@ -21,6 +21,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from robotarium_exp.design import (
     LOOK_AHEAD_BANDS,
     R_S_M,
@@ -166,6 +168,9 @@ def derived_values(tube: VirtualTube, n_robots: int) -> Values:
     if formation.problem is None:
         rho = round(formation_density(tube, formation, r_a), 2)
         where = f'{formation.rows} row(s) of up to {formation.columns}, {formation.length_m:.2f} m long'
+        if formation.queue:
+            queued = int(np.count_nonzero(tube.project(formation.poses[:2]).l_m < 0.0))
+            where += f', the entry queue: {queued} behind the entrance (documentation: Theory §12)'
         rho_reason = f'the start formation ({where}) under the density measure: the swarm starts on its plan'
         length = formation.length_m
     else:

@@ -48,7 +48,9 @@ class Comparison:
 
 
 def experiment_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument('scene', help='a Robotarium scene (robotarium_trapezoid, robotarium_curve) or a .toml file')
+    parser.add_argument(
+        'scene', help='a Robotarium scene (robotarium_trapezoid, robotarium_curve, their _20 variants) or a .toml file'
+    )
     parser.add_argument('--out', type=Path, required=True, help='folder for the log and the figure')
     parser.add_argument('--no-planning', action='store_true', help='constant mid-range speed and constant r_a')
     parser.add_argument('--no-barrier', action='store_true', help='send the swarm commands without the certificate')

@@ -65,7 +65,7 @@ def testbed_models(text: str) -> tuple[str, ...]:
 
 
 def build_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument('scene', help='robotarium_trapezoid, robotarium_curve or a .toml file')
+    parser.add_argument('scene', help='robotarium_trapezoid, robotarium_curve (and their _20 variants) or a .toml file')
     parser.add_argument('--out', type=Path, required=True, help='the .py file to write')
     parser.add_argument('--no-planning', action='store_true', help='constant speed and r_a (the comparison)')
     parser.add_argument('--plan', type=Path, default=None, help='embed this plan file (vtube plan) instead of planning')

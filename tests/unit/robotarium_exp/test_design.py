@@ -14,9 +14,12 @@ from robotarium_exp.design import (
     PARKING_NEAREST_M,
     PARKING_SPACING_M,
     PARKING_WALL_M,
+    QUEUE_BEFORE_NARROWING_M,
     WALL_CLEARANCE_M,
     Formation,
     Narrowing,
+    entry_queue,
+    first_inside_box,
     first_narrowing,
     formation_density,
     order_for_v2_initializer,
@@ -104,6 +107,8 @@ def test_the_formation_keeps_the_spacing_the_walls_and_the_tube_direction(name: 
         tangent = t.tangent(where.l_m)
         heading = np.arctan2(tangent[:, 1], tangent[:, 0])
         np.testing.assert_allclose(np.angle(np.exp(1j * (f.poses[2] - heading))), 0.0, atol=1e-9)
+        if f.queue:  # moved back to end before the narrowing (test_entry_queue_*)
+            continue
         # the back row lies at the first cross-section inside the box, 0.1 m from the walls
         back = np.isclose(where.l_m, f.l_back_m, atol=1e-9)
         assert np.all(np.abs(where.y_m[back]) <= t.half_width(f.l_back_m) - WALL_CLEARANCE_M + 1e-9), (name, n)
@@ -343,3 +348,76 @@ def test_the_formation_density_is_n_over_its_padded_area(name: str, formations) 
         assert formation_density(t, f, r_a) == pytest.approx(expected, rel=1e-12), (name, n)
         checked += 1
     assert checked >= 3
+
+
+def random_narrowing_tube(rng: np.random.Generator) -> VirtualTube:
+    """A tube with a wide part and a narrowing, its entrance anywhere in the arena's left half, heading roughly
+    along the arena, sometimes bent."""
+    half = float(rng.uniform(0.25, 0.9))
+    wide = float(rng.uniform(0.0, 1.2))
+    parts = (WidthPart('constant', wide), WidthPart('linear', 0.4, 0.2, 0.05)) if wide > 0.0 else ()
+    parts = parts or (WidthPart('linear', 0.4, 0.2, 0.05),)
+    length = wide + 0.4 + float(rng.uniform(0.1, 0.6))
+    start = (float(rng.uniform(-1.45, 0.2)), float(rng.uniform(-0.3, 0.3)))
+    bend = rng.uniform() < 0.5
+    pieces = (ArcPiece(0.5 * length), ArcPiece(0.5 * length, 1.5, True)) if bend else (ArcPiece(length),)
+    return tube(pieces, start, float(rng.uniform(-20.0, 20.0)), (half, parts))
+
+
+def test_entry_queue_properties_over_random_starts() -> None:
+    """Every queue the design returns: robots at least the spacing apart, all in the initializer's box, the back row
+    as far back as the box allows, the ones behind the entrance between the wall lines continued behind it (outside
+    the tube, never beside a wall), the others 0.1 m from the walls, the front row before the narrowing, and the rows
+    a spacing apart in the order they enter."""
+    rng = np.random.default_rng(50)
+    queues = behind = 0
+    for _ in range(300):
+        t = random_narrowing_tube(rng)
+        n = int(rng.integers(2, 21))
+        q = entry_queue(t, n)
+        if q is None:
+            continue
+        queues += 1
+        narrowing = first_narrowing(t)
+        assert narrowing is not None and q.queue and q.problem is None and q.poses.shape == (3, n)
+        assert gaps(q.poses).min() >= SPACING - 1e-12
+        assert np.all(np.abs(q.poses[:2].T) <= BOX)
+        where = t.project(q.poses[:2])
+        room = np.where(where.l_m < 0.0, t.half_width(0.0), t.half_width(np.maximum(where.l_m, 0.0)))
+        assert np.all(np.abs(where.y_m) <= room - WALL_CLEARANCE_M + 1e-9)
+        assert where.l_m.max() <= narrowing.start_m - QUEUE_BEFORE_NARROWING_M  # the swarm starts before it
+        # the back row as far back as the box allows: a full row 2 cm further back leaves the box
+        l_back = where.l_m.min() - 0.02
+        row = t.center_at(l_back) + np.outer((np.arange(q.columns) - 0.5 * (q.columns - 1)) * SPACING, t.normal(l_back))
+        assert np.any(np.abs(row) > BOX)
+        rows = np.unique(np.round(where.l_m, 6))
+        assert rows.size == q.rows and q.rows == math.ceil(n / q.columns)
+        assert (
+            q.rows == 1 or np.diff(rows).min() >= SPACING - 1e-9
+        )  # rows a spacing apart: each enters after the one ahead
+        behind += int(np.count_nonzero(where.l_m < 0.0))
+    assert queues >= 30 and behind >= 100  # the random tubes exercise the queue behind the entrance
+
+
+def test_entry_queue_only_where_the_box_has_room_and_the_tube_narrows() -> None:
+    assert entry_queue(straight(0.5), 20) is None  # no narrowing: nothing to queue for
+    shipped = load_scene('robotarium_trapezoid').tube  # enters at x = -1.45, outside the box: no room behind
+    assert entry_queue(shipped, 15) is None and entry_queue(shipped, 20) is None
+    assert start_formation(shipped, 20).queue is False  # the fit verdict refuses it, as before
+
+
+@pytest.mark.parametrize('n', range(1, 13))
+def test_a_formation_that_fits_is_unchanged(n: int) -> None:
+    t = load_scene('robotarium_trapezoid').tube
+    f = start_formation(t, n)
+    assert not f.queue and f.l_back_m == first_inside_box(t)  # the first cross-section in the box, as before
+
+
+@pytest.mark.parametrize('name', ['robotarium_trapezoid_20', 'robotarium_curve_20'])
+def test_the_twenty_robot_scenes_queue_two_rows_behind_the_entrance(name: str) -> None:
+    scene = load_scene(name)
+    f = start_formation(scene.tube, 20)
+    assert f.queue and (f.rows, f.columns) == (4, 5)
+    where = scene.tube.project(f.poses[:2])
+    assert np.count_nonzero(where.l_m < 0.0) == 10  # two rows of five outside the tube, behind its entrance
+    assert np.all(np.abs(where.y_m[where.l_m < 0.0]) <= scene.tube.half_width(0.0) - WALL_CLEARANCE_M + 1e-9)

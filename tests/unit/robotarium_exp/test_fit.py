@@ -99,7 +99,8 @@ def test_a_formation_reaching_the_narrowing(data: FlightData) -> None:
     assert back < 1.4 < front
     assert misfit.what == (
         f'the start formation (2 row(s) of up to 3) reaches l = {front:.2f} m, past the start of the narrowing at '
-        'l = 1.40 m: the swarm would start inside it'
+        'l = 1.40 m: the swarm would start inside it, and no robot can queue behind the entrance at (-1.45, 0.00), '
+        'outside the box |x| <= 1.375, |y| <= 0.875 the testbed initializes robots in'
     )
     assert misfit.fix == f'lengthen the wide part before the narrowing by {front - 1.4:.2f} m, or use at most 3 robots'
 

@@ -181,7 +181,16 @@ def test_a_scene_without_a_robotarium_table_loads_as_the_planning_package_does(t
 
 
 def test_list_scenes_has_the_papers_and_the_robotariums() -> None:
-    assert list_scenes() == ['A', 'B', 'C', 'D', 'robotarium_curve', 'robotarium_trapezoid']
+    assert list_scenes() == [
+        'A',
+        'B',
+        'C',
+        'D',
+        'robotarium_curve',
+        'robotarium_curve_20',
+        'robotarium_trapezoid',
+        'robotarium_trapezoid_20',
+    ]
 
 
 @pytest.mark.parametrize('name', ['A', 'robotarium_trapezoid', 'robotarium_curve'])
@@ -202,7 +211,7 @@ def test_a_shipped_scenes_text_round_trips(tmp_path: Path, name: str) -> None:
 
 def test_an_unknown_scene_lists_the_shipped_ones() -> None:
     with pytest.raises(
-        SceneError, match=r"unknown scene 'nowhere'; shipped scenes are \['A', .*'robotarium_trapezoid'\]"
+        SceneError, match=r"unknown scene 'nowhere'; shipped scenes are \['A', .*'robotarium_trapezoid_20'\]"
     ):
         shipped_scene_text('nowhere')
     with pytest.raises(SceneError, match="unknown scene 'nowhere'"):

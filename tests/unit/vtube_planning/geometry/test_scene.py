@@ -12,7 +12,7 @@ from vtube_planning.params import SwarmParams
 
 ARENA = (-1.6, 1.6, -1.0, 1.0)  # Robotarium arena, docs/design.md
 PAPER_SCENES = ('A', 'B', 'C', 'D')
-ROBOTARIUM_SCENES = ('robotarium_curve', 'robotarium_trapezoid')
+ROBOTARIUM_SCENES = ('robotarium_curve', 'robotarium_curve_20', 'robotarium_trapezoid', 'robotarium_trapezoid_20')
 
 VALID = """
 title = "a user scene"
@@ -28,7 +28,7 @@ lookahead_m = 2.0
 """
 
 
-def test_shipped_scenes_are_the_paper_cases_and_two_robotarium_scenes() -> None:
+def test_shipped_scenes_are_the_paper_cases_and_the_robotarium_scenes() -> None:
     """vtube_planning ships the paper's scenes; the Robotarium's are robotarium_exp's declarations."""
     from robotarium_exp.scene import list_scenes as every_scene
 
