@@ -14,6 +14,7 @@ from vtube.cli.render import progress_bars
 
 if TYPE_CHECKING:
     from vtube.pipeline import Simulated
+    from vtube_planning.swarm.map_contact import MapContact
     from vtube_planning.swarm.simulate import SimConfig, SimResult
 
 
@@ -114,6 +115,21 @@ def _check_swarm_size(scene_name: str, n_robots: int | None) -> None:
         raise BadInput(msg)
 
 
+def _map_row(contact: MapContact) -> str:
+    """The summary's map row: contacts up to each robot's exit (failures), and beyond it (told apart)."""
+    said = (
+        f'bodies (r_p) on obstacles {contact.on_obstacles} robot-steps, outside the workspace '
+        f'{contact.outside_workspace}, up to their exit'
+    )
+    beyond = contact.on_obstacles_after_exit + contact.outside_after_exit
+    if beyond:
+        said += (
+            f'; beyond the exit, where a robot has left the run and this model drives on (no parking): on obstacles '
+            f'{contact.on_obstacles_after_exit}, outside the workspace {contact.outside_after_exit} (not failures)'
+        )
+    return said
+
+
 def simulate_view(simulated: Simulated) -> View:
     from vtube_planning.swarm.map_contact import map_contact
     from vtube_planning.swarm.metrics import passage_failures
@@ -136,16 +152,7 @@ def simulate_view(simulated: Simulated) -> View:
         ('controller', _controller(simulated.scene.control.foresight_s)),
     ]
     if contact is not None:  # over the whole run, before the entrance and after the exit
-        beyond = contact.outside_after_exit
-        said = (
-            f'bodies (r_p) on obstacles {contact.on_obstacles} robot-steps, outside the workspace '
-            f'{contact.outside_workspace} before the exit'
-            + (
-                f'; {beyond} robot-steps outside it beyond the exit, where this model drives on (no parking)'
-                * bool(beyond)
-            )
-        )
-        rows.append(('map', said))
+        rows.append(('map', _map_row(contact)))
     if m.speed_tracking_mean_mps is not None:
         rows += [
             ('speed tracking', f'mean {m.speed_tracking_mean_mps:.3f}, max {m.speed_tracking_max_mps:.3f} m/s'),

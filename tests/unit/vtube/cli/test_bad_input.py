@@ -195,6 +195,12 @@ BAD = [
     ('empty scene name', 'study --out {out} --scenes , --seeds 1', 2, "argument --scenes: ',' holds an empty name"),
     ('no poses returned', 'analyze {tmp}/only_times --out {out}', 2, '(it holds no vtube_poses.npy; read: '),
     ('start is the goal', 'tube generate {tmp}/start_is_goal.toml --out {out}/s.toml', 2, 'start_m and goal_m are'),
+    (
+        'no room to start on the map',
+        'tube generate {tmp}/edge_start.toml --out {out}/s.toml',
+        2,
+        'outside the workspace (the map), the first at (-0.40, 49.20); the 20 robots start in a formation 11.2 m deep',
+    ),
 ]
 
 
@@ -279,6 +285,8 @@ def bad_files(tmp_path_factory) -> Path:
     (tmp / 'huge_pixels.toml').write_text(map_text(1000.0, 1e5, '[1e4, 5e4]', '[9e4, 5e4]'))  # was a 429 TiB grid
     headed = map_text(1.0, 100.0).replace('half_width_min_m', 'start_heading_deg = 60.0\nhalf_width_min_m')
     (tmp / 'headed.toml').write_text(headed)  # issue 49: the heading was ignored, or a "radius 0.000 m" refusal
+    # issue 49: the grid started off the map; here 7 rows of 3 robots 1.6 m apart, the last at x = 10 - 0.8 - 6 x 1.6
+    (tmp / 'edge_start.toml').write_text(map_text(1.0, 100.0))
     (tmp / 'start_is_goal.toml').write_text(map_text(1.0, 100.0, goal='[10.0, 50.0]'))  # was an IndexError
     thin = '[tube.width]\nstart_m = 3.0\nparts = [{ kind = "constant", length_m = 10.0 }, { kind = "smooth", '
     thin += 'length_m = 5.0, to_m = 0.2 }, { kind = "constant" }]\n'  # issue 49: planned "certified"

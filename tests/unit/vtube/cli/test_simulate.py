@@ -164,7 +164,8 @@ def test_a_folder_another_simulate_is_writing_is_refused(tmp_path, monkeypatch, 
 
 def test_a_run_on_a_map_counts_bodies_off_the_map_over_the_whole_run() -> None:
     """Issue 49: the robots of a map scene ended 36 m beyond a 30 m map and the summary said nothing. Bodies
-    outside the workspace before the exit fail the run; beyond the exit (this model does not park) they are told."""
+    outside the workspace before the exit fail the run; beyond the exit (the robot has left the run, and this model
+    does not park) they are told."""
     from vtube_planning.geometry.workspace import Workspace
 
     positions = np.zeros((625, 2, 1))
@@ -194,4 +195,5 @@ def test_a_run_on_a_map_counts_bodies_off_the_map_over_the_whole_run() -> None:
         'robot bodies were outside the workspace (the map) in 1 robot-steps (first at t = 0.20 s'
     )
     line = next(line for line in view.lines if line.startswith('  map '))
-    assert line.endswith(f'; {beyond} robot-steps outside it beyond the exit, where this model drives on (no parking)')
+    assert line.endswith(f'on obstacles 0, outside the workspace {beyond} (not failures)')
+    assert 'outside the workspace 1, up to their exit;' in line
