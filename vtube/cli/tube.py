@@ -73,6 +73,11 @@ def generate_view(result: TubeGenerated) -> View:
             f'  min curvature radius  {summary["curvature_radius_min_m"]:.3f} m',
             f'  max lambda |kappa|    {summary["lambda_kappa_max"]:.3f}  (regular below 1)',
             f'  obstacles             clear: closest {certificate}',
+            *(
+                [f'  ends                  held straight along the headings for lead_m = {result.generated.lead_m:g} m']
+                if result.generated.lead_m
+                else []
+            ),
             *_unknown_lines(result.generated),
         )
     )

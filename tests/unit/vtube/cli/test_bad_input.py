@@ -187,10 +187,10 @@ BAD = [
     ),
     ('start off the map', 'simulate {tmp}/A_tight_map.toml --out {out}', 2, 'the start puts 20 robot bodies outside'),
     (
-        'heading without a lead',
+        'heading against the route',
         'tube generate {tmp}/headed.toml --out {out}/s.toml',
         2,
-        'give lead_m > 0 (e.g. the length',
+        'no lead from 2 to 12 m holds the heading given (lead_m was not given, so the generator tried 5)',
     ),
     ('empty scene name', 'study --out {out} --scenes , --seeds 1', 2, "argument --scenes: ',' holds an empty name"),
     ('no poses returned', 'analyze {tmp}/only_times --out {out}', 2, '(it holds no vtube_poses.npy; read: '),
@@ -283,8 +283,8 @@ def bad_files(tmp_path_factory) -> Path:
     np.save(tmp / 'grid.npy', np.zeros((100, 100), dtype=bool))  # 100 x 100 free cells
     (tmp / 'tiny_pixels.toml').write_text(map_text(1e-7, 100.0))  # issue 49: every obstacle ignored, exit 0
     (tmp / 'huge_pixels.toml').write_text(map_text(1000.0, 1e5, '[1e4, 5e4]', '[9e4, 5e4]'))  # was a 429 TiB grid
-    headed = map_text(1.0, 100.0).replace('half_width_min_m', 'start_heading_deg = 60.0\nhalf_width_min_m')
-    (tmp / 'headed.toml').write_text(headed)  # issue 49: the heading was ignored, or a "radius 0.000 m" refusal
+    headed = map_text(1.0, 100.0).replace('half_width_min_m', 'start_heading_deg = 180.0\nhalf_width_min_m')
+    (tmp / 'headed.toml').write_text(headed)  # issue 49: a "radius 0.000 m" refusal; now each lead tried (U-turns)
     # issue 49: the grid started off the map; here 7 rows of 3 robots 1.6 m apart, the last at x = 10 - 0.8 - 6 x 1.6
     (tmp / 'edge_start.toml').write_text(map_text(1.0, 100.0))
     (tmp / 'start_is_goal.toml').write_text(map_text(1.0, 100.0, goal='[10.0, 50.0]'))  # was an IndexError

@@ -8,7 +8,8 @@ import pytest
 
 from tests.support.tube_clearance import closest_approach
 from vtube_planning.errors import SceneError
-from vtube_planning.geometry.from_maps.generate import TubeGenerationError, TubeSpec, generate_tube
+from vtube_planning.geometry.from_maps.centre_path import CornerError
+from vtube_planning.geometry.from_maps.generate import LEADS, TubeGenerationError, TubeSpec, generate_tube
 from vtube_planning.geometry.from_maps.map_file import generated_scene
 from vtube_planning.geometry.obstacles import Disc, Obstacles, Polygon
 from vtube_planning.geometry.scene import scene_from_text
@@ -163,6 +164,47 @@ def test_the_readme_example_map_gives_a_certified_tube_that_misses_its_obstacles
     assert len(scene.obstacles.discs) == 30 and len(scene.obstacles.polygons) == 3
     assert scene.tube.summary()['curvature_radius_min_m'] >= 4.0  # v_min^2 / a_n of Table 1
     assert_misses(made.tube, scene.obstacles, 0.3)
+
+
+def test_a_heading_without_a_lead_gets_the_shortest_lead_that_fits() -> None:
+    """Issue 49: a heading without lead_m ended in "radius 0.000 m". The lead is fitted: the shortest of LEADS (in
+    turn radii) whose tube holds the heading, 2 lead_m straight and the turn off it no tighter than the limit."""
+    obstacles = wall_with_gap(4.0, 7.0)
+    made = generate_tube(spec(obstacles, start_heading_deg=90.0, turn_radius_min_m=1.0))  # up, then right
+    assert made.lead_m in [factor * 1.0 for factor in LEADS] and made.certificate.clear
+    assert np.allclose(made.tube.tangent(0.0), [0.0, 1.0]) and np.allclose(made.tube.curvature(np.array([0.0])), 0.0)
+    shorter = [factor * 1.0 for factor in LEADS if factor * 1.0 < made.lead_m]
+    for lead in shorter:  # each shorter lead is refused when given
+        with pytest.raises(TubeGenerationError):
+            generate_tube(spec(obstacles, start_heading_deg=90.0, turn_radius_min_m=1.0, lead_m=lead))
+    l_m = np.linspace(0.0, made.tube.length_m, 4001)
+    assert np.max(np.abs(made.tube.curvature(l_m))) <= 1.0 + 1e-9
+    assert made.lead_m == generate_tube(spec(obstacles, start_heading_deg=90.0, turn_radius_min_m=1.0)).lead_m
+    assert generate_tube(spec(obstacles)).lead_m == 0.0  # no heading: no lead
+
+
+def test_a_tight_corner_is_routed_around_another_way(monkeypatch) -> None:
+    """Issue 49: a corner no arc rounds was refused where another route had room (between other discs, or wider of
+    the same one); the corner is taken out of the grid and the route searched again. On this seeded forest the
+    cheapest route's corners cannot be rounded with a 3 m radius; another route's can."""
+    from vtube_planning.geometry.from_maps import generate
+
+    rng = np.random.default_rng(6)
+    discs = tuple(
+        Disc((float(x), float(y)), float(r))
+        for x, y, r in zip(rng.uniform(3, 17, 12), rng.uniform(0, 10, 12), rng.uniform(0.3, 1.2, 12), strict=True)
+    )
+    obstacles = Obstacles(discs)
+    tight = spec(obstacles, half_width_min_m=0.3, turn_radius_min_m=3.0)
+    monkeypatch.setattr(generate, 'ROUTES', 1)
+    with pytest.raises(CornerError, match='cannot be rounded with turn_radius_min_m = 3.0'):
+        generate_tube(tight)  # the cheapest route alone: refused at a corner
+    monkeypatch.undo()
+    made = generate_tube(tight)
+    assert made.certificate.clear
+    assert_misses(made.tube, obstacles, 0.1)
+    l_m = np.linspace(0.0, made.tube.length_m, 4001)
+    assert np.max(np.abs(made.tube.curvature(l_m))) <= 1.0 / 3.0 + 1e-9
 
 
 def test_headings_at_the_ends_are_held_straight_for_the_lead() -> None:
