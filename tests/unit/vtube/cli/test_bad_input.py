@@ -183,7 +183,7 @@ BAD = [
         'a NaN stamp',
         'analyze {tmp}/nan_stamp --out {out}',
         2,
-        'vtube_t.npy hold 1 value(s) that are not a time (the first',
+        'vtube_t.npy hold 1 value(s) that are not a time (the first, nan, at row 7)',
     ),
     ('start off the map', 'simulate {tmp}/A_tight_map.toml --out {out}', 2, 'the start puts 20 robot bodies outside'),
     (
