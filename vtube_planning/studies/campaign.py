@@ -119,8 +119,8 @@ class Campaign:
     held_out: bool = False
     """Whether the report tests the confirm_seeds apart, only on the claims the others found."""
     base: Path | None = field(default=None, compare=False)
-    """The folder scene files are named relative to: the campaign file's (None: the working directory). Not part
-    of what it is: a scene file is recorded, and keys its runs, as the campaign file names it."""
+    """The campaign file's folder, which its scene files are named from (None: the working directory); not part of
+    what it is."""
 
     def __post_init__(self) -> None:
         if not self.grids:
@@ -174,8 +174,7 @@ class Campaign:
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], base: Path | None = None) -> Campaign:
-        """A campaign from its parsed TOML (or `to_json`); relative scene paths name files in ``base``, and are kept
-        as named (`Campaign.base`)."""
+        """A campaign from its parsed TOML (or `to_json`); relative scene paths name files in ``base``."""
         unknown = [k for k in data if k not in KEYS]
         if unknown:
             msg = (
@@ -226,8 +225,7 @@ class Campaign:
         return ['key', *AXES, *self.metrics, 'wall_s', 'version', 'scene_sha256', 'error']
 
     def scene_path(self, scene: str) -> str:
-        """Where a scene of the grids is loaded from: a shipped name or an absolute path as it is, a relative scene
-        file from the campaign file's folder."""
+        """Where a scene of the grids is loaded from (`scene_from`)."""
         return scene_from(scene, self.base)
 
     def runnable(self, point: Point) -> Point:
@@ -277,25 +275,6 @@ REPORT_KEYS = ('held_out', 'families')
 """The keys that change the report, not the runs."""
 
 
-_PAPER = (('model', ('paper',)), ('saturation', ('radial',)))
-_VMAX = 'planning - no planning at v_max'
-ABLATION_FAMILIES = (
-    Family(
-        'faster than no planning (paper model, radial sat)', ('planning - no planning',), ('passing_time_s',), _PAPER
-    ),
-    Family('faster than no planning at v_max (paper model, radial sat)', (_VMAX,), ('passing_time_s',), _PAPER),
-    Family(
-        'a larger minimum distance than no planning, at 3.5 m/s or v_max (paper model, radial sat)',
-        ('planning - no planning', _VMAX),
-        ('min_distance_m',),
-        _PAPER,
-    ),
-    Family('what (p7) buys (paper model, radial sat)', ('planning - planning without (p7)',), (), _PAPER),
-)
-"""The families of ``vtube ablation``: one per claim the README quotes from it (the paper's model, radial
-saturation); its other cells make one family per comparison and metric."""
-
-
 LATER_AXES: dict[str, Any] = {'lag_s': 0.0, 'compensation': 'none'}
 LATER_AXES |= {'map': 'none', 'map_seed': 0, 'map_clutter': CLUTTER, 'map_width_m': WIDTH_M, 'controller': 'law'}
 """Axes added after campaigns were committed, with their defaults: a run at a default leaves them out of its key, so
@@ -333,7 +312,8 @@ def _axis_values(axis: str, value: Any) -> tuple[Any, ...]:
 
 
 def scene_from(scene: str, base: Path | None) -> str:
-    """Where the scene ``scene`` of a campaign whose file lies in ``base`` is loaded from (`Campaign.scene_path`)."""
+    """Where the scene ``scene`` of a campaign whose file lies in ``base`` is loaded from: a shipped name or an
+    absolute path as it is, a relative scene file from ``base``."""
     if base is None or not scene.endswith('.toml') or Path(scene).is_absolute():
         return scene
     return str(base / scene)
