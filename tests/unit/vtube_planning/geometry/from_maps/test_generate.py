@@ -219,6 +219,14 @@ def test_headings_at_the_ends_are_held_straight_for_the_lead() -> None:
         TubeGenerationError, match=r"the end of the start's straight lead \(1\.000, 0\.000\) lies outside"
     ):
         generate_tube(spec(obstacles, start_heading_deg=-90.0, lead_m=1.0))  # 2 m down from y = 2: off the map
+    # a lead too short for its turn: its end turns by theta towards the goal, on an empty map, and half the lead's
+    # 2 lead_m allows a radius of lead_m / tan(theta / 2); the turn needs lead_m >= r tan(theta / 2)
+    half_turn = 0.5 * np.arctan2(8.0 - 2.0, 19.0 - 1.5)
+    with pytest.raises(
+        TubeGenerationError,
+        match=rf'radius of {0.25 / np.tan(half_turn):.3f} m at most; lengthen lead_m beyond {2.0 * np.tan(half_turn):.2f} m',
+    ):
+        generate_tube(spec(Obstacles(), start_heading_deg=0.0, turn_radius_min_m=2.0, lead_m=0.25))
     with pytest.raises(TubeGenerationError, match='the straight lead from .* has too little room'):
         generate_tube(spec(obstacles, start_heading_deg=0.0, lead_m=5.5))  # 11 m along y = 2: through the wall
 
