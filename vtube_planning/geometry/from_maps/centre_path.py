@@ -353,8 +353,8 @@ def _rounded(corners: FloatArray, grid: SearchGrid, leads: tuple[bool, bool] = (
             lead = (k == 0 and leads[0]) or (k == turns.size - 1 and leads[1])  # a lead's end: half the lead's
             fix = 'move the obstacles near it apart, or the start or goal'  # segment (2 lead_m) serves the arc
             if lead and largest < smallest and abs(turn) < math.radians(179.0):
-                need = smallest * math.tan(0.5 * abs(turn))  # this turn's; a longer lead moves the turn too
-                fix = f'lengthen lead_m beyond {need:.2f} m (or leave it out: it is fitted), or turn the heading'
+                needed = smallest * math.tan(0.5 * abs(turn))  # this turn's; a longer lead moves the turn too
+                fix = f'lengthen lead_m beyond {needed:.2f} m (or leave it out: it is fitted), or turn the heading'
             msg = (
                 f'the turn of {math.degrees(abs(turn)):.0f} degrees at ({x:.3f}, {y:.3f}) cannot be rounded with '
                 f'turn_radius_min_m = {spec.turn_radius_min_m}: {why}; {fix}.'
