@@ -44,8 +44,8 @@ def generate(args: argparse.Namespace) -> TubeGenerated:
         raise BadInput(msg)
     started = time.perf_counter()
     text, generated = generated_scene(args.map.read_text(encoding='utf-8'), str(args.map), path.parent)
-    _require_room_to_start(text, path, str(args.map))
     seconds = time.perf_counter() - started
+    _require_room_to_start(text, path, str(args.map))
     path.parent.mkdir(parents=True, exist_ok=True)
     write_atomically(path, text)
     return TubeGenerated(args.map, path, generated, seconds)
