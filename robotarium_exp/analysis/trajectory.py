@@ -263,7 +263,7 @@ def seconds_to_ns(t_s: ArrayLike, where: str = 'the time stamps') -> IntArray:
     if bad.any():
         k = int(np.flatnonzero(bad.ravel())[0])
         msg = (
-            f'{where} hold {int(bad.sum())} value(s) that are not a time (the first, {seconds.ravel()[k]!r}, at row '
+            f'{where} hold {int(bad.sum())} value(s) that are not a time (the first, {float(seconds.ravel()[k])}, at row '
             f'{k}); every stamp must be a finite number of seconds: repair or cut those rows.'
         )
         raise AnalysisError(msg)

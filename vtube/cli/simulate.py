@@ -15,6 +15,7 @@ from vtube.cli.render import progress_bars
 
 if TYPE_CHECKING:
     from vtube.pipeline import Simulated
+    from vtube_planning.swarm.map_contact import MapContact
     from vtube_planning.swarm.simulate import SimConfig, SimResult
 
 
@@ -117,6 +118,21 @@ def _check_swarm_size(scene_name: str, n_robots: int | None) -> None:
         raise BadInput(msg)
 
 
+def _map_row(contact: MapContact) -> str:
+    """The summary's map row: contacts up to each robot's exit (failures), and beyond it (told apart)."""
+    said = (
+        f'bodies (r_p) on obstacles {contact.on_obstacles} robot-steps, outside the workspace '
+        f'{contact.outside_workspace}, up to their exit'
+    )
+    beyond = contact.on_obstacles_after_exit + contact.outside_after_exit
+    if beyond:
+        said += (
+            f'; beyond the exit, where a robot has left the run and this model drives on (no parking): on obstacles '
+            f'{contact.on_obstacles_after_exit}, outside the workspace {contact.outside_after_exit} (not failures)'
+        )
+    return said
+
+
 def simulate_view(simulated: Simulated) -> View:
     from vtube_planning.swarm.map_contact import map_contact
     from vtube_planning.swarm.metrics import passage_failures
@@ -139,16 +155,7 @@ def simulate_view(simulated: Simulated) -> View:
         ('controller', _controller(simulated.scene.control.foresight_s)),
     ]
     if contact is not None:  # over the whole run, before the entrance and after the exit
-        beyond = contact.outside_after_exit
-        said = (
-            f'bodies (r_p) on obstacles {contact.on_obstacles} robot-steps, outside the workspace '
-            f'{contact.outside_workspace} before the exit'
-            + (
-                f'; {beyond} robot-steps outside it beyond the exit, where this model drives on (no parking)'
-                * bool(beyond)
-            )
-        )
-        rows.append(('map', said))
+        rows.append(('map', _map_row(contact)))
     if m.speed_tracking_mean_mps is not None:
         rows += [
             ('speed tracking', f'mean {m.speed_tracking_mean_mps:.3f}, max {m.speed_tracking_max_mps:.3f} m/s'),
@@ -157,7 +164,7 @@ def simulate_view(simulated: Simulated) -> View:
                 f'mean {m.density_tracking_mean_per_m2:.4f}, max {m.density_tracking_max_per_m2:.4f} /m^2',
             ),
         ]
-    rows.append(('start', simulated.start))
+    rows += [('start', simulated.start), *_narrows(simulated)]
     replans: list[dict[str, Any]] | None = result.meta.get('replans')
     if replans is not None:
         rows.append(('replanning', _replanning(replans, config.replan_every_s)))
@@ -177,6 +184,27 @@ def simulate_view(simulated: Simulated) -> View:
         data['failures'] = list(failures)
     lines = (head, *(f'  {name:<18} {value}' for name, value in rows))
     return View(lines, data, exit_code=EXIT_FAILED if failures else EXIT_OK)
+
+
+def _narrows(simulated: Simulated) -> list[tuple[str, str]]:
+    """A row where the tube is narrower than the avoidance radius r_a: the law's wall barrier (sigma(d, r_s, r_a)
+    of the clearance d) acts from both walls there, and its lateral push, saturated radially, leaves little forward
+    speed (none where the half-width is r_s or less): robots crawl or stop, far behind the plan (issue 49)."""
+    import numpy as np
+
+    tube, swarm = simulated.scene.tube, simulated.swarm
+    l_m = np.linspace(0.0, tube.length_m, 2001)
+    half = np.asarray(tube.half_width(l_m), dtype=float)
+    k = int(np.argmin(half))
+    if half[k] >= swarm.r_a_m:
+        return []
+    said = (
+        f'half-width {half[k]:.3f} m at l = {l_m[k]:.2f} m, below r_a = {swarm.r_a_m:g} m: the wall barrier pushes '
+        'from both walls there and leaves little forward speed'
+        + (f' (none at r_s = {swarm.r_s_m:g} m or less: no robot passes)' if half[k] <= swarm.r_s_m else '')
+        + '; robots crawl through, far slower than planned: widen the tube or lower r_a_m'
+    )
+    return [('narrowest', said)]
 
 
 def _unflyable(result: SimResult, config: SimConfig) -> tuple[str, ...]:

@@ -209,7 +209,8 @@ def confirm_argument(parser: argparse.ArgumentParser) -> None:
 def ablation(args: argparse.Namespace) -> CampaignDone:
     """The ablation grid as a campaign in ``--out`` (a rerun resumes it), and its report (its families:
     `ABLATION_FAMILIES`)."""
-    from vtube_planning.studies.campaign import ABLATION_FAMILIES, Campaign
+    from vtube_planning.studies.campaign import Campaign
+    from vtube_planning.studies.judging import ABLATION_FAMILIES
     from vtube_planning.studies.study import ABLATIONS
 
     grid = {'scene': args.scenes, 'n_robots': parse_sizes(args.sizes), 'seed': args.seeds}

@@ -41,7 +41,7 @@ import itertools
 import json
 import sys
 from collections.abc import Iterable, Mapping
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -118,6 +118,9 @@ class Campaign:
     """The families of claims the report adjusts together (`vtube_planning.studies.judging`)."""
     held_out: bool = False
     """Whether the report tests the confirm_seeds apart, only on the claims the others found."""
+    base: Path | None = field(default=None, compare=False)
+    """The campaign file's folder, which its scene files are named from (None: the working directory); not part of
+    what it is."""
 
     def __post_init__(self) -> None:
         if not self.grids:
@@ -132,7 +135,7 @@ class Campaign:
                 msg = 'a grid names no scene: give axes.scene, e.g. scene = ["C", "D"].'
                 raise CampaignError(msg)
             for axis, values in grid.items():
-                _check_values(axis, values)
+                _check_values(axis, values, self.base)
         wrong = [m for m in self.metrics if m not in METRICS]
         if wrong or not self.metrics:
             msg = f'unknown metric {wrong[0]!r}' if wrong else 'the campaign keeps no metric'
@@ -171,7 +174,7 @@ class Campaign:
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], base: Path | None = None) -> Campaign:
-        """A campaign from its parsed TOML (or `to_json`); relative scene paths are taken from ``base``."""
+        """A campaign from its parsed TOML (or `to_json`); relative scene paths name files in ``base``."""
         unknown = [k for k in data if k not in KEYS]
         if unknown:
             msg = (
@@ -192,14 +195,14 @@ class Campaign:
         if extra:
             msg = f'unknown setting {extra[0]!r}; the settings are {", ".join(sorted(known))}.'
             raise CampaignError(msg)
-        values = tuple({axis: _axis_values(axis, value, base) for axis, value in grid.items()} for grid in grids)
+        values = tuple({axis: _axis_values(axis, value) for axis, value in grid.items()} for grid in grids)
         metrics = data.get('metrics', list(METRICS))
         if not isinstance(metrics, list):
             msg = f'metrics must be a list of names, like ["passing_time_s", "min_distance_m"]; got {metrics!r}.'
             raise CampaignError(msg)
         name = str(data.get('name', 'campaign'))
         out = None if data.get('out') is None else (base or Path()) / str(data['out'])
-        confirm = _axis_values('seed', data['confirm_seeds'], base) if 'confirm_seeds' in data else ()
+        confirm = _axis_values('seed', data['confirm_seeds']) if 'confirm_seeds' in data else ()
         held_out = data.get('held_out', False)
         if not isinstance(held_out, bool):
             raise CampaignError(f'held_out must be true or false; got {held_out!r}.')
@@ -207,7 +210,7 @@ class Campaign:
             families = families_from_toml(data.get('families', {}))
         except FamilyError as err:
             raise CampaignError(str(err)) from err
-        return cls(values, tuple(metrics), RunSettings(**settings), name, out, confirm, families, held_out)
+        return cls(values, tuple(metrics), RunSettings(**settings), name, out, confirm, families, held_out, base)
 
     @property
     def judging(self) -> Judging:
@@ -220,13 +223,21 @@ class Campaign:
         scene file's sha256 (of its text), error."""
         return ['key', *AXES, *self.metrics, 'wall_s', 'version', 'scene_sha256', 'error']
 
+    def scene_path(self, scene: str) -> str:
+        """Where a scene of the grids is loaded from (`scene_from`)."""
+        return scene_from(scene, self.base)
+
+    def runnable(self, point: Point) -> Point:
+        """``point`` with its scene where it is loaded from (`scene_path`), to run in any working directory."""
+        return replace(point, scene=self.scene_path(point.scene))
+
     def points(self) -> list[Point]:
         """Every run, grid after grid, each grid in the order of AXES, with each scene's own N and saturation
         filled in; a run that two grids share is run once (`study.check_turns` refuses a scene first)."""
         points: dict[Point, None] = {}
         for grid in self.grids:
             for scene_name in grid['scene']:
-                scene = load_scene(scene_name)
+                scene = load_scene(self.scene_path(scene_name))
                 study.check_turns(scene, grid.get('model', ('paper',)))
                 own = {'n_robots': (scene.swarm.n_robots,), 'saturation': (scene.control.saturation,)}
                 axes = [grid.get(a) or own.get(a) or (getattr(Point, a),) for a in AXES if a != 'scene']
@@ -264,25 +275,6 @@ REPORT_KEYS = ('held_out', 'families')
 """The keys that change the report, not the runs."""
 
 
-_PAPER = (('model', ('paper',)), ('saturation', ('radial',)))
-_VMAX = 'planning - no planning at v_max'
-ABLATION_FAMILIES = (
-    Family(
-        'faster than no planning (paper model, radial sat)', ('planning - no planning',), ('passing_time_s',), _PAPER
-    ),
-    Family('faster than no planning at v_max (paper model, radial sat)', (_VMAX,), ('passing_time_s',), _PAPER),
-    Family(
-        'a larger minimum distance than no planning, at 3.5 m/s or v_max (paper model, radial sat)',
-        ('planning - no planning', _VMAX),
-        ('min_distance_m',),
-        _PAPER,
-    ),
-    Family('what (p7) buys (paper model, radial sat)', ('planning - planning without (p7)',), (), _PAPER),
-)
-"""The families of ``vtube ablation``: one per claim the README quotes from it (the paper's model, radial
-saturation); its other cells make one family per comparison and metric."""
-
-
 LATER_AXES: dict[str, Any] = {'lag_s': 0.0, 'compensation': 'none'}
 LATER_AXES |= {'map': 'none', 'map_seed': 0, 'map_clutter': CLUTTER, 'map_width_m': WIDTH_M, 'controller': 'law'}
 """Axes added after campaigns were committed, with their defaults: a run at a default leaves them out of its key, so
@@ -298,9 +290,9 @@ def run_key(point: Point, settings: RunSettings) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def _axis_values(axis: str, value: Any, base: Path | None) -> tuple[Any, ...]:
+def _axis_values(axis: str, value: Any) -> tuple[Any, ...]:
     """An axis's values from TOML: a list (for the runs' and the maps' seeds also a count n, for 0..n-1, or a text
-    of `parse_seeds`, like "100-109"); scene files relative to ``base``."""
+    of `parse_seeds`, like "100-109"); scene files as named (relative to the campaign file: `scene_from`)."""
     if axis in ('seed', 'map_seed') and isinstance(value, str):
         try:
             return parse_seeds(value)
@@ -314,9 +306,17 @@ def _axis_values(axis: str, value: Any, base: Path | None) -> tuple[Any, ...]:
     if not isinstance(value, list):
         msg = f'axes.{axis} must be a list of values, like {axis} = [{_example(axis)}]; got {value!r}.'
         raise CampaignError(msg)
-    if axis == 'scene' and base is not None:
-        return tuple(str(base / v) if isinstance(v, str) and v.endswith('.toml') else v for v in value)
+    if axis == 'scene':  # a scene file as the campaign file names it, relative to it: the same from any directory
+        return tuple(Path(v).as_posix() if isinstance(v, str) and v.endswith('.toml') else v for v in value)
     return tuple(value)
+
+
+def scene_from(scene: str, base: Path | None) -> str:
+    """Where the scene ``scene`` of a campaign whose file lies in ``base`` is loaded from: a shipped name or an
+    absolute path as it is, a relative scene file from ``base``."""
+    if base is None or not scene.endswith('.toml') or Path(scene).is_absolute():
+        return scene
+    return str(base / scene)
 
 
 def _example(axis: str) -> str:
@@ -324,7 +324,7 @@ def _example(axis: str) -> str:
     return {int: '0, 1', float: '0.0, 0.02'}.get(kind, '"C", "D"' if axis == 'scene' else '"..."')
 
 
-def _check_values(axis: str, values: Iterable[Any]) -> None:
+def _check_values(axis: str, values: Iterable[Any], base: Path | None = None) -> None:
     values = tuple(values)
     if not values:
         msg = f'axes.{axis} has no values, so the grid is empty; give at least one, like {axis} = [{_example(axis)}].'
@@ -349,7 +349,7 @@ def _check_values(axis: str, values: Iterable[Any]) -> None:
             msg = f'axes.{axis} holds {value!r}; its values must be {bound}.'
             raise CampaignError(msg)
         if axis == 'scene':
-            load_scene(value)  # a SceneError names the file and the fix
+            load_scene(scene_from(value, base))  # a SceneError names the file and the fix
 
 
 def _check_family(family: Family) -> None:

@@ -59,11 +59,14 @@ def run_campaign(
     started = time.perf_counter()
     points = campaign.points()
     keys = [run_key(p, campaign.settings) for p in points]
-    scenes = {name: sha256_of(load_scene(name).text) for name in dict.fromkeys(p.scene for p in points)}
+    scenes = {
+        name: sha256_of(load_scene(campaign.scene_path(name)).text) for name in dict.fromkeys(p.scene for p in points)
+    }
     expected = {k: {'version': __version__, 'scene_sha256': scenes[p.scene]} for p, k in zip(points, keys, strict=True)}
     with holding(out, 'campaign'):
         done = prepare_folder(campaign, out, expected)
-        todo = [(p, campaign.settings, campaign.metrics) for p, k in zip(points, keys, strict=True) if k not in done]
+        waiting = [p for p, k in zip(points, keys, strict=True) if k not in done]
+        todo = [(campaign.runnable(p), campaign.settings, campaign.metrics) for p in waiting]
         if todo:
             record_made(out, provenance() | {'commit': source_commit(), 'done_before': len(done), 'to_run': len(todo)})
         rows, failed = dict(done), 0
@@ -72,7 +75,7 @@ def run_campaign(
         with (out / RUNS_FILE).open('a', newline='', encoding='utf-8') as handle, bar, _noting_interrupts() as noted:
             writer = csv.DictWriter(handle, fieldnames=campaign.columns)
             for i, row in map_unordered(run_row, todo, workers=workers, client=client):
-                point = todo[i][0]
+                point = waiting[i]  # as recorded: its scene file named relative to the campaign file
                 if row['version'] != __version__:
                     msg = (
                         f'a worker runs vtube {row["version"]}, this process {__version__}: their rows would mix. '

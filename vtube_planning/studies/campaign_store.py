@@ -106,7 +106,21 @@ def prepare_folder(
     A recorded campaign that differs only in how its report judges (REPORT_KEYS) is the same; the new one is
     recorded. Returns the done rows by key."""
     record = campaign.to_json()
-    return prepare_table(out, CAMPAIGN_FILE, record, campaign.columns, expected, what='campaign', apart=REPORT_KEYS)
+    if campaign.base is not None and _named_files(campaign):
+        record[SCENE_FOLDER] = str(campaign.base.resolve())
+    apart = (*REPORT_KEYS, SCENE_FOLDER)
+    return prepare_table(out, CAMPAIGN_FILE, record, campaign.columns, expected, what='campaign', apart=apart)
+
+
+SCENE_FOLDER = 'scene_folder'
+"""The key of ``campaign.json`` that records where the campaign file was (absolute), whose folder its relative
+scene files are named from: not part of what the campaign is (the same file run from another working directory,
+or moved with its scenes, is the same campaign); `read_results` finds the scenes there."""
+
+
+def _named_files(campaign: Campaign) -> bool:
+    """Whether a grid names a scene file relative to the campaign file."""
+    return any(campaign.scene_path(s) != s for grid in campaign.grids for s in grid['scene'])
 
 
 def prepare_table(
@@ -208,7 +222,9 @@ def read_results(out: Path) -> tuple[Campaign, list[dict[str, Any]], int]:
     if not recorded.is_file() or not table.is_file():
         msg = f'{out} holds no campaign ({CAMPAIGN_FILE} and {RUNS_FILE}); run `vtube campaign run FILE --out {out}`.'
         raise CampaignError(msg)
-    campaign = Campaign.from_dict(_recorded(recorded))
+    data = _recorded(recorded)
+    folder = data.pop(SCENE_FOLDER, None)
+    campaign = Campaign.from_dict(data, base=Path(folder) if isinstance(folder, str) else None)
     with table.open(newline='', encoding='utf-8') as handle:
         found = {
             row['key']: row

@@ -61,7 +61,8 @@ def verify(out: Path, *, runs: int | None = None, workers: int = 1, client: Any 
     campaign, rows, missing = read_results(out)
     made = made_by(out)
     chosen = rows if runs is None or runs >= len(rows) else [rows[int(k)] for k in _spread(len(rows), runs)]
-    jobs = [(Point(**{axis: row[axis] for axis in AXES}), campaign.settings, campaign.metrics) for row in chosen]
+    points = [campaign.runnable(Point(**{axis: row[axis] for axis in AXES})) for row in chosen]
+    jobs = [(point, campaign.settings, campaign.metrics) for point in points]
     differences = []
     for i, again in sorted(map_unordered(run_row, jobs, workers=workers, client=client), key=lambda found: found[0]):
         row = chosen[i]

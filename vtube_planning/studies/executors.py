@@ -13,6 +13,7 @@ Dask is an optional extra (``pip install 'vtube[cluster]'``); `connect` names it
 from __future__ import annotations
 
 import contextlib
+import logging
 import multiprocessing
 import os
 import threading
@@ -88,12 +89,12 @@ def _dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any) -> Iterat
     futures = client.map(fn, list(items), pure=False)
     index = {future.key: i for i, future in enumerate(futures)}
     try:
-        for future in as_completed(futures):
-            yield index[future.key], future.result()
+        with _client_quiet():
+            for future in as_completed(futures):
+                yield index[future.key], future.result()
     except lost as err:
-        import logging
-
-        logging.getLogger('distributed').setLevel(logging.CRITICAL)  # its reconnection tracebacks: said here, once
+        for name in ('distributed', 'distributed.client'):  # its reconnection tracebacks, then: said here, once
+            logging.getLogger(name).setLevel(logging.CRITICAL)
         where = getattr(getattr(client, 'scheduler', None), 'address', None)
         msg = (
             f'the Dask cluster{f" of the scheduler at {where}" if where else ""} failed during the runs '
@@ -104,6 +105,20 @@ def _dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any) -> Iterat
     finally:
         with contextlib.suppress(Exception):  # a scheduler that is gone takes no cancellation
             client.cancel(futures)
+
+
+@contextlib.contextmanager
+def _client_quiet() -> Iterator[None]:
+    """While the runs go, distributed's client logs nothing below CRITICAL: a lost scheduler is logged there
+    ("Failed to reconnect to scheduler ..., closing client") before its futures fail, and the one error line of
+    `_dask` says it, with the scheduler's address."""
+    logger = logging.getLogger('distributed.client')
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
 
 
 def connect(address: str, timeout_s: float = 10.0) -> Any:

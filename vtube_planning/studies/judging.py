@@ -185,3 +185,22 @@ def detectable_text(test: Mapping[str, Any]) -> str:
         return 'too few pairs to find any shift'
     units = '' if not np.isfinite(test['sd']) or test['sd'] == 0.0 else f' = {shift * test["sd"]:.3g}'
     return f'80 % power at {shift:.2f} SD{units}'
+
+
+_PAPER = (('model', ('paper',)), ('saturation', ('radial',)))
+_VMAX = 'planning - no planning at v_max'
+ABLATION_FAMILIES = (
+    Family(
+        'faster than no planning (paper model, radial sat)', ('planning - no planning',), ('passing_time_s',), _PAPER
+    ),
+    Family('faster than no planning at v_max (paper model, radial sat)', (_VMAX,), ('passing_time_s',), _PAPER),
+    Family(
+        'a larger minimum distance than no planning, at 3.5 m/s or v_max (paper model, radial sat)',
+        ('planning - no planning', _VMAX),
+        ('min_distance_m',),
+        _PAPER,
+    ),
+    Family('what (p7) buys (paper model, radial sat)', ('planning - planning without (p7)',), (), _PAPER),
+)
+"""The families of ``vtube ablation``: one per claim the README quotes from it (the paper's model, radial
+saturation); its other cells make one family per comparison and metric."""

@@ -4,7 +4,13 @@ A scene made from a map (`vtube tube generate`) has obstacles and a workspace (t
 clear of both, but the swarm flies before the entrance and beyond the exit too. A body (a disc of ``body_radius_m``
 about a robot's centre) is on an obstacle where the centre's clearance to the obstacles is below the radius, and
 outside the workspace where its signed clearance to the rectangle's edge is. Either is a failure of the run
-(`MapContact.failures`); a start formation with either is refused before the run (`require_clear_start`).
+(`MapContact.failures`) up to the robot's exit; a start formation with either is refused before the run
+(`require_clear_start`).
+
+A robot that has passed the exit has left the run: the paper's model, which does not park, drives it on at its speed
+until the last robot is through (the run ends then), across whatever lies beyond the goal. Its contacts there are
+counted apart and told, not failed; a flight that parks (the Robotarium's) is judged on its parking by the verdict of
+the testbed (`robotarium_exp.fit`, the analysis's obstacle clearance), not here.
 """
 
 from __future__ import annotations
@@ -23,15 +29,17 @@ FloatArray = NDArray[np.float64]
 @dataclass(frozen=True)
 class MapContact:
     """Robot-steps with a body on an obstacle and outside the workspace, and when and where each first happened
-    (None: never; the scene has neither, or no robot touched it). ``outside_workspace`` counts the steps before a
-    robot passed the exit; ``outside_after_exit`` those after it, where the paper's model, which does not park,
-    drives on at its speed (told, not a failure)."""
+    (None: never; the scene has neither, or no robot touched it). ``on_obstacles`` and ``outside_workspace`` count
+    the steps before a robot passed the exit; ``on_obstacles_after_exit`` and ``outside_after_exit`` those after it,
+    where the robot has left the run and the paper's model, which does not park, drives on at its speed (told, not a
+    failure: module doc)."""
 
     on_obstacles: int
     outside_workspace: int
     first_on_obstacle: tuple[float, float, float] | None = None
     first_outside: tuple[float, float, float] | None = None
     outside_after_exit: int = 0
+    on_obstacles_after_exit: int = 0
 
     def failures(self) -> tuple[str, ...]:
         """One reason per kind of contact (empty: none)."""
@@ -52,7 +60,7 @@ def map_contact(
     t_s: FloatArray, positions_m: FloatArray, scene: Scene, body_radius_m: float, l_m: FloatArray | None = None
 ) -> MapContact:
     """The contacts of the (T, 2, N) positions at the times (T,) with ``scene``'s obstacles and workspace; with the
-    robots' arc lengths ``l_m`` (T, N), the steps outside the workspace after a robot passed the exit apart."""
+    robots' arc lengths ``l_m`` (T, N), the steps after a robot passed the exit apart."""
     n = positions_m.shape[2]
     points = positions_m.transpose(0, 2, 1).reshape(-1, 2)  # (T N, 2), step by step
     obstacles = scene.obstacles.clearance(points) if scene.obstacles else None
@@ -60,10 +68,11 @@ def map_contact(
     after = np.zeros(points.shape[0], dtype=bool)
     if l_m is not None:
         after = (np.fmax.accumulate(np.asarray(l_m, dtype=float), axis=0) > scene.tube.length_m).ravel()  # NaN: unseen
-    beyond = 0
-    if workspace is not None:
-        beyond = int(((workspace < body_radius_m) & after).sum())
-        workspace = np.where(after, np.inf, workspace)
+    beyond = [0, 0]
+    for k, clearance in enumerate((obstacles, workspace)):
+        if clearance is not None:
+            beyond[k] = int(((clearance < body_radius_m) & after).sum())
+    obstacles, workspace = (None if c is None else np.where(after, np.inf, c) for c in (obstacles, workspace))
 
     def contact(clearance: FloatArray | None) -> tuple[int, tuple[float, float, float] | None]:
         touching = np.zeros(0, dtype=bool) if clearance is None else np.asarray(clearance) < body_radius_m
@@ -73,7 +82,7 @@ def map_contact(
         return int(touching.sum()), (float(t_s[k // n]), float(points[k, 0]), float(points[k, 1]))
 
     (on, first_on), (out, first_out) = contact(obstacles), contact(workspace)
-    return MapContact(on, out, first_on, first_out, beyond)
+    return MapContact(on, out, first_on, first_out, outside_after_exit=beyond[1], on_obstacles_after_exit=beyond[0])
 
 
 def require_clear_start(positions_m: FloatArray, scene: Scene, body_radius_m: float, fix: str) -> None:

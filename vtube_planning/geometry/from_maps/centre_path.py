@@ -27,6 +27,14 @@ _BATCH = 16
 """Segments that `_pulled_straight` tries at once."""
 
 
+class CornerError(TubeGenerationError):
+    """A corner of the path that no arc rounds (`_rounded`): the refusal, and the corner's place (x, y)."""
+
+    def __init__(self, message: str, corner_m: tuple[float, float]) -> None:
+        super().__init__(message)
+        self.corner_m = corner_m
+
+
 MAX_GRID_NODES = 2e7
 """The most nodes a search grid may hold (some 1.5 GB of arrays); a map that needs more is refused up front."""
 
@@ -72,6 +80,12 @@ class SearchGrid:
         edge = np.where(near_end, np.inf, edge.reshape(xx.shape))  # every node lies inside the map
         self.clear = np.minimum(np.maximum(to_obstacle, 0.0), edge)
         self.free = self.clear >= spec.room_m + 0.5 * math.sqrt(2.0) * h  # a step between nodes keeps the room
+
+    def block(self, point: tuple[float, float], radius_m: float) -> None:
+        """Take the nodes within ``radius_m`` of ``point`` out of the search (a corner no arc rounds: the next
+        search routes another way, around the obstacle on its other side or between others)."""
+        near = np.hypot(self.x[:, None] - point[0], self.y[None, :] - point[1]) <= radius_m
+        self.free &= ~near
 
     def node(self, point: tuple[float, float], what: str) -> tuple[int, int]:
         room = float(self.spec.obstacles.clearance(np.array([point]))[0])
@@ -333,12 +347,19 @@ def _rounded(corners: FloatArray, grid: SearchGrid, leads: tuple[bool, bool] = (
                 if largest < smallest
                 else f"an arc of radius {smallest:.3f} m or more comes closer to an obstacle than the tube's room"
             )
+            if abs(turn) > math.radians(179.0):  # tan(turn / 2) without bound: no arc at all
+                why = 'the route turns back on itself there, which no arc rounds (a heading against the route?)'
+
+            lead = (k == 0 and leads[0]) or (k == turns.size - 1 and leads[1])  # a lead's end: half the lead's
+            fix = 'move the obstacles near it apart, or the start or goal'  # segment (2 lead_m) serves the arc
+            if lead and largest < smallest and abs(turn) < math.radians(179.0):
+                needed = smallest * math.tan(0.5 * abs(turn))  # this turn's; a longer lead moves the turn too
+                fix = f'lengthen lead_m beyond {needed:.2f} m (or leave it out: it is fitted), or turn the heading'
             msg = (
                 f'the turn of {math.degrees(abs(turn)):.0f} degrees at ({x:.3f}, {y:.3f}) cannot be rounded with '
-                f'turn_radius_min_m = {spec.turn_radius_min_m}: {why}; move the obstacles near it apart, or the '
-                'start or goal.'
+                f'turn_radius_min_m = {spec.turn_radius_min_m}: {why}; {fix}.'
             )
-            raise TubeGenerationError(msg)
+            raise CornerError(msg, (float(x), float(y)))
         radii[k] = radius
     tangents = radii * np.tan(0.5 * np.abs(turns))
     pieces: list[ArcPiece] = []

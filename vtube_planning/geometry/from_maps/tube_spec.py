@@ -48,7 +48,8 @@ class TubeSpec:
         The grid of the path search.
     start_heading_deg, goal_heading_deg, lead_m
         Optional headings at the start and the goal, each held straight for at least ``lead_m`` (a start
-        formation in rows across the tube, parking lanes beyond its exit).
+        formation in rows across the tube, parking lanes beyond its exit); a heading with ``lead_m`` 0 leaves the
+        lead to the generator, which fits the shortest that works (`LEADS`).
     """
 
     bounds: Workspace
@@ -91,14 +92,6 @@ class TubeSpec:
             if len(point) != 2 or not all(is_real(v) for v in point):
                 msg = f'tube generation: {name} must be [x, y], finite; got {point!r}.'
                 raise TubeGenerationError(msg)
-        headed = [name for name in ('start_heading_deg', 'goal_heading_deg') if getattr(self, name) is not None]
-        if headed and self.lead_m <= 0.0:
-            msg = (
-                f'tube generation: {" and ".join(headed)} hold the tube straight along a heading for lead_m, which is '
-                '0: give lead_m > 0 (e.g. the length of the start formation or of the parking lanes), or leave the '
-                'heading out.'
-            )
-            raise TubeGenerationError(msg)
         apart = math.dist(self.start_m, self.goal_m)
         if apart < 2.0 * self.resolution_m:
             msg = (
@@ -107,6 +100,11 @@ class TubeSpec:
                 'put the goal where the tube should end.'
             )
             raise TubeGenerationError(msg)
+
+    @property
+    def headed(self) -> bool:
+        """Whether a heading is given at the start or the goal."""
+        return self.start_heading_deg is not None or self.goal_heading_deg is not None
 
     @property
     def search_ends(self) -> tuple[tuple[float, float], tuple[float, float]]:

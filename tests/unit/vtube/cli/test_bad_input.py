@@ -204,18 +204,24 @@ BAD = [
         'a NaN stamp',
         'analyze {tmp}/nan_stamp --out {out}',
         2,
-        'vtube_t.npy hold 1 value(s) that are not a time (the first',
+        'vtube_t.npy hold 1 value(s) that are not a time (the first, nan, at row 7)',
     ),
     ('start off the map', 'simulate {tmp}/A_tight_map.toml --out {out}', 2, 'the start puts 20 robot bodies outside'),
     (
-        'heading without a lead',
+        'heading against the route',
         'tube generate {tmp}/headed.toml --out {out}/s.toml',
         2,
-        'give lead_m > 0 (e.g. the length',
+        'no lead from 2 to 12 m holds the heading given (lead_m was not given, so the generator tried 5)',
     ),
     ('empty scene name', 'study --out {out} --scenes , --seeds 1', 2, "argument --scenes: ',' holds an empty name"),
     ('no poses returned', 'analyze {tmp}/only_times --out {out}', 2, '(it holds no vtube_poses.npy; read: '),
     ('start is the goal', 'tube generate {tmp}/start_is_goal.toml --out {out}/s.toml', 2, 'start_m and goal_m are'),
+    (
+        'no room to start on the map',
+        'tube generate {tmp}/edge_start.toml --out {out}/s.toml',
+        2,
+        'outside the workspace (the map), the first at (-0.40, 49.20); the 20 robots start in a formation 11.2 m deep',
+    ),
 ]
 
 
@@ -301,8 +307,10 @@ def bad_files(tmp_path_factory) -> Path:
     np.save(tmp / 'grid.npy', np.zeros((100, 100), dtype=bool))  # 100 x 100 free cells
     (tmp / 'tiny_pixels.toml').write_text(map_text(1e-7, 100.0))  # issue 49: every obstacle ignored, exit 0
     (tmp / 'huge_pixels.toml').write_text(map_text(1000.0, 1e5, '[1e4, 5e4]', '[9e4, 5e4]'))  # was a 429 TiB grid
-    headed = map_text(1.0, 100.0).replace('half_width_min_m', 'start_heading_deg = 60.0\nhalf_width_min_m')
-    (tmp / 'headed.toml').write_text(headed)  # issue 49: the heading was ignored, or a "radius 0.000 m" refusal
+    headed = map_text(1.0, 100.0).replace('half_width_min_m', 'start_heading_deg = 180.0\nhalf_width_min_m')
+    (tmp / 'headed.toml').write_text(headed)  # issue 49: a "radius 0.000 m" refusal; now each lead tried (U-turns)
+    # issue 49: the grid started off the map; here 7 rows of 3 robots 1.6 m apart, the last at x = 10 - 0.8 - 6 x 1.6
+    (tmp / 'edge_start.toml').write_text(map_text(1.0, 100.0))
     (tmp / 'start_is_goal.toml').write_text(map_text(1.0, 100.0, goal='[10.0, 50.0]'))  # was an IndexError
     thin = '[tube.width]\nstart_m = 3.0\nparts = [{ kind = "constant", length_m = 10.0 }, { kind = "smooth", '
     thin += 'length_m = 5.0, to_m = 0.2 }, { kind = "constant" }]\n'  # issue 49: planned "certified"

@@ -17,9 +17,18 @@ from vtube.cli.simulate import _replanning, simulate_view
 from vtube_planning.swarm.metrics import PassageMetrics
 from vtube_planning.swarm.simulate import SimConfig
 
+WIDE = SimpleNamespace(length_m=30.0, half_width=lambda l_m: np.full(np.shape(l_m), 2.0))
+"""A tube 4 m wide throughout, wider than the swarm's r_a = 0.8 m."""
+
 
 def simulated(
-    m: PassageMetrics, *, planned: bool = True, meta: dict | None = None, outside: int = 0, limits: bool = False
+    m: PassageMetrics,
+    *,
+    planned: bool = True,
+    meta: dict | None = None,
+    outside: int = 0,
+    limits: bool = False,
+    tube: object = None,
 ) -> pipeline.Simulated:
     result = SimpleNamespace(
         metrics=m,
@@ -29,8 +38,10 @@ def simulated(
         dynamics_violations=outside,
     )
     return pipeline.Simulated(
-        scene=SimpleNamespace(name='C', obstacles=(), workspace=None, control=SimpleNamespace(foresight_s=0.0)),
-        swarm=SimpleNamespace(n_robots=8),
+        scene=SimpleNamespace(
+            name='C', obstacles=(), workspace=None, control=SimpleNamespace(foresight_s=0.0), tube=tube or WIDE
+        ),
+        swarm=SimpleNamespace(n_robots=8, r_s_m=0.4, r_a_m=0.8),
         config=SimConfig(seed=3, replan_every_s=1.0, acceleration_limits=limits),
         result=result,
         written=(Path('o/sim_C_planned.npz'), Path('o/a.png')),
@@ -164,7 +175,8 @@ def test_a_folder_another_simulate_is_writing_is_refused(tmp_path, monkeypatch, 
 
 def test_a_run_on_a_map_counts_bodies_off_the_map_over_the_whole_run() -> None:
     """Issue 49: the robots of a map scene ended 36 m beyond a 30 m map and the summary said nothing. Bodies
-    outside the workspace before the exit fail the run; beyond the exit (this model does not park) they are told."""
+    outside the workspace before the exit fail the run; beyond the exit (the robot has left the run, and this model
+    does not park) they are told."""
     from vtube_planning.geometry.workspace import Workspace
 
     positions = np.zeros((625, 2, 1))
@@ -184,14 +196,33 @@ def test_a_run_on_a_map_counts_bodies_off_the_map_over_the_whole_run() -> None:
         name='map',
         obstacles=(),
         workspace=Workspace(-5.0, 32.0, -10.0, 10.0),
-        tube=SimpleNamespace(length_m=30.0),
+        tube=SimpleNamespace(length_m=30.0, half_width=lambda l_m: np.full(np.shape(l_m), 2.0)),
         control=SimpleNamespace(foresight_s=0.0),
     )
-    done = pipeline.Simulated(scene, SimpleNamespace(n_robots=1, r_p_m=0.3), SimConfig(), result, (Path('o/s.npz'),))
+    swarm = SimpleNamespace(n_robots=1, r_p_m=0.3, r_s_m=0.4, r_a_m=0.8)
+    done = pipeline.Simulated(scene, swarm, SimConfig(), result, (Path('o/s.npz'),))
     view = simulate_view(done)
     beyond = int((positions[:, 0, 0] > 32.0 - 0.3).sum())
     assert view.exit_code == 1 and view.data['failures'][-1].startswith(
         'robot bodies were outside the workspace (the map) in 1 robot-steps (first at t = 0.20 s'
     )
     line = next(line for line in view.lines if line.startswith('  map '))
-    assert line.endswith(f'; {beyond} robot-steps outside it beyond the exit, where this model drives on (no parking)')
+    assert line.endswith(f'on obstacles 0, outside the workspace {beyond} (not failures)')
+    assert 'outside the workspace 1, up to their exit;' in line
+
+
+@pytest.mark.parametrize(('narrowest', 'said'), [(0.6, ''), (0.398, ' (none at r_s = 0.4 m or less: no robot passes)')])
+def test_a_tube_narrower_than_r_a_is_told_where(narrowest: float, said: str) -> None:
+    """Issue 49: passing times of 200 s and more against a plan of 32 s, on tubes from maps. Where the half-width
+    is below r_a, the law's wall barrier pushes from both walls and, saturated radially, leaves little forward
+    speed (none at r_s or less): the summary says where, and what to change."""
+    tube = SimpleNamespace(
+        length_m=20.0, half_width=lambda l_m: np.where(np.abs(np.asarray(l_m) - 5.0) < 1.0, narrowest, 2.0)
+    )
+    line = next(line for line in simulate_view(simulated(metrics(), tube=tube)).lines if 'narrowest' in line)
+    assert line == (
+        f'  narrowest          half-width {narrowest:.3f} m at l = 4.01 m, below r_a = 0.8 m: the wall barrier pushes '
+        f'from both walls there and leaves little forward speed{said}; robots crawl through, far slower than planned: '
+        'widen the tube or lower r_a_m'
+    )
+    assert not [line for line in simulate_view(simulated(metrics())).lines if 'narrowest' in line]

@@ -10,12 +10,15 @@ from vtube.cli.app import main
 from vtube.cli.tube import COMMANDS, map_examples
 
 COMMAND = COMMANDS[0]
+ROOMY = MAP_FILE.replace('start_m = [1.0, 2.0]', 'start_m = [3.0, 3.0]').replace('v_min_mps', 'n_robots = 4\nv_min_mps')
+"""The gap map with room behind its start for the start formation of its swarm (`vtube tube generate` checks it)."""
+SWARM = ROOMY[ROOMY.index('[swarm]') :]
 ROOT = Path(__file__).resolve().parents[4]
 
 
 def test_generate_writes_a_scene_that_scene_show_takes(tmp_path: Path, capsys) -> None:
     map_path, out = tmp_path / 'gap.toml', tmp_path / 'scene' / 'gap_scene.toml'
-    map_path.write_text(MAP_FILE, encoding='utf-8')
+    map_path.write_text(ROOMY, encoding='utf-8')
     assert main([*COMMAND.words.split(), str(map_path), '--out', str(out)]) == 0
     printed = capsys.readouterr().out
     assert printed.startswith(f'tube generated from {map_path} in ') and f'written to {out}' in printed
@@ -49,7 +52,7 @@ def test_an_image_map_generates_a_scene_elsewhere_that_still_finds_the_image(tmp
     maps.mkdir()
     imsave(maps / 'gap.png', np.repeat(1.0 - wall_image()[:, :, None], 3, axis=2))  # occupied: black
     image = '[obstacles]\nimages = [{ file = "gap.png", resolution_m = 0.25, origin_m = [0.0, 0.0] }]\n'
-    (maps / 'gap.toml').write_text(MAP_FILE.split('[obstacles]')[0] + image, encoding='utf-8')
+    (maps / 'gap.toml').write_text(ROOMY.split('[obstacles]')[0] + image + SWARM, encoding='utf-8')
     assert main([*COMMAND.words.split(), str(maps / 'gap.toml'), '--out', str(out)]) == 0
     assert 'file = "../../maps/gap.png"' in out.read_text(encoding='utf-8')
     scene = load_scene(out)
@@ -91,11 +94,11 @@ def test_a_straight_route_across_unknown_cells_goes_around_them_unless_they_are_
     pixels = np.full((40, 80), 254, dtype=np.uint8)  # 20 x 10 m at 0.25 m: free
     pixels[:28, 36:44] = 205  # x in [9, 11], y in [3, 10]: never mapped, across the straight route y = 5
     imsave(tmp_path / 'unmapped.png', pixels, cmap='gray', vmin=0, vmax=255)
-    route = MAP_FILE.split('[obstacles]')[0].replace('start_m = [1.0, 2.0]', 'start_m = [1.0, 5.0]')
+    route = ROOMY.split('[obstacles]')[0].replace('start_m = [3.0, 3.0]', 'start_m = [4.0, 5.0]')
     route = route.replace('goal_m = [19.0, 8.0]', 'goal_m = [19.0, 5.0]')
     image = '[obstacles]\nimages = [{ file = "unmapped.png", resolution_m = 0.25, origin_m = [0.0, 0.0]%s }]\n'
-    (tmp_path / 'map.toml').write_text(route + image % '', encoding='utf-8')
-    (tmp_path / 'free.toml').write_text(route + image % ', unknown = "free"', encoding='utf-8')
+    (tmp_path / 'map.toml').write_text(route + image % '' + SWARM, encoding='utf-8')
+    (tmp_path / 'free.toml').write_text(route + image % ', unknown = "free"' + SWARM, encoding='utf-8')
 
     def tube_on_unknown(scene_file: Path) -> float:
         scene = load_scene(scene_file)
@@ -113,6 +116,6 @@ def test_a_straight_route_across_unknown_cells_goes_around_them_unless_they_are_
     printed = capsys.readouterr().out
     line = next(line for line in printed.splitlines() if line.startswith('  unknown cells'))
     share = float(line.split('FREE (unknown = "free"): ')[1].split(' %')[0])
-    assert tube_on_unknown(tmp_path / 'b.toml') > 0.0 and 5.0 < share < 30.0  # 2 m of a straight 18 m tube: 11 %
+    assert tube_on_unknown(tmp_path / 'b.toml') > 0.0 and 5.0 < share < 30.0  # 2 m of a straight 15 m tube: 13 %
     text = (tmp_path / 'b.toml').read_text(encoding='utf-8')
     assert '# unknown cells of the images count as FREE here' in text and 'unknown = "free"' in text

@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import re
 from dataclasses import asdict, replace
 from importlib import resources
+from pathlib import Path
 
 import pytest
 
@@ -52,7 +54,8 @@ def test_a_campaign_file_expands_into_runs_with_stable_keys(tmp_path) -> None:
     scene_file = write(tmp_path, resources.files('vtube_planning.scenes').joinpath('C.toml').read_text(), 'mine.toml')
     own = Campaign.from_toml(write(tmp_path, '[axes]\nscene = ["mine.toml"]\n', 'own.toml'))
     mine = load_scene(scene_file)
-    assert own.points() == [Point(str(scene_file), n_robots=mine.swarm.n_robots, saturation=mine.control.saturation)]
+    assert own.points() == [Point('mine.toml', n_robots=mine.swarm.n_robots, saturation=mine.control.saturation)]
+    assert own.runnable(own.points()[0]).scene == str(scene_file)  # named as in the file, loaded beside it
     maps = Campaign.from_toml(write(tmp_path, FAULTS + 'map = ["forest"]\nmap_seed = 2\n', 'maps.toml')).points()
     assert len(maps) == 2 * len(points) and {(p.map, p.map_seed) for p in maps} == {('forest', 0), ('forest', 1)}
 
@@ -150,3 +153,28 @@ def test_a_bad_campaign_is_refused_before_any_run(tmp_path, capsys, fake_runs, c
     assert captured.err.startswith('error: ') and len(captured.err.splitlines()) == 1
     assert message in captured.err and captured.out == ''
     assert fake_runs[0] == [] and not (tmp_path / 'out' / RUNS_FILE).exists()
+
+
+def test_a_campaign_file_named_from_another_directory_is_the_same_campaign(tmp_path, monkeypatch) -> None:
+    """Issue 49: the same campaign file and folder named from another working directory were refused as "another
+    campaign": its scene files were recorded relative to the working directory. They are recorded as the campaign
+    file names them (relative to it): the same points, keys and record from anywhere, and the folder read back."""
+    from vtube_planning.studies.campaign_store import prepare_folder, read_results
+
+    study = tmp_path / 'study'
+    (study / 'scenes').mkdir(parents=True)
+    (study / 'scenes' / 'mine.toml').write_text(resources.files('vtube_planning.scenes').joinpath('C.toml').read_text())
+    write(study, '[axes]\nscene = ["scenes/mine.toml", "C"]\nseed = 1\n', 'own.toml')
+    out = tmp_path / 'results'
+    seen = []
+    for cwd, named in ((tmp_path, Path('study/own.toml')), (study / 'scenes', Path('../own.toml'))):
+        monkeypatch.chdir(cwd)
+        campaign = Campaign.from_toml(named)
+        keys = [run_key(p, campaign.settings) for p in campaign.points()]
+        assert prepare_folder(campaign, Path(os.path.relpath(out)), {key: {} for key in keys}) == {}  # not refused
+        seen.append((campaign.points(), keys, campaign.to_json()))
+    assert seen[0] == seen[1] and seen[0][0][0].scene == 'scenes/mine.toml'
+    monkeypatch.chdir(tmp_path / 'study' / 'scenes')
+    read, rows, missing = read_results(out)  # its scenes found from the recorded folder, from anywhere
+    assert read.points() == seen[0][0] and (rows, missing) == ([], 2)
+    assert json.loads((out / 'campaign.json').read_text())['scene_folder'] == str(study.resolve())

@@ -4,6 +4,7 @@ Dask cluster run in tests/integration/test_planning_executors.py and test_planni
 from __future__ import annotations
 
 import sys
+from types import SimpleNamespace
 
 import pytest
 
@@ -149,3 +150,33 @@ def test_a_cluster_that_fails_mid_way_is_named_after_the_runs_it_finished(monkey
     client.outcomes = ('first', CommClosedError('in <TCP (closed)>: Stream is closed'))
     with pytest.raises(ExecutorError, match=r'^the Dask cluster of the scheduler at tcp://10\.0\.0\.7:8786 failed'):
         list(map_unordered(str, ['a', 'b'], client=client))
+
+
+def test_the_client_s_own_log_of_a_lost_scheduler_is_not_printed(monkeypatch, caplog) -> None:
+    """Issue 49: a scheduler killed mid-campaign printed distributed's "Failed to reconnect to scheduler ...,
+    closing client" above the one error line, and its reconnection's traceback after it; the client's log is quiet
+    while the runs go, and after a loss."""
+    import logging
+
+    distributed = pytest.importorskip('distributed')
+    from distributed.comm.core import CommClosedError
+
+    from vtube_planning.studies.executors import ExecutorError, map_unordered
+
+    logger = logging.getLogger('distributed.client')
+    before = logger.level
+
+    class Lost:
+        key = 0
+
+        def result(self) -> object:
+            logger.error('Failed to reconnect to scheduler after 10.00 seconds, closing client')
+            raise CommClosedError('in <TCP (closed)>: Stream is closed')
+
+    client = SimpleNamespace(map=lambda fn, items, pure: [Lost()], cancel=lambda futures: None)
+    monkeypatch.setattr(distributed, 'as_completed', iter)
+    with caplog.at_level(logging.DEBUG), pytest.raises(ExecutorError, match='the Dask cluster failed during the runs'):
+        list(map_unordered(str, ['a'], client=client))
+    assert not [r for r in caplog.records if 'Failed to reconnect' in r.getMessage()]
+    assert logger.level == logging.CRITICAL  # and its tracebacks of the reconnection, later, neither
+    logger.setLevel(before)

@@ -50,6 +50,22 @@ def test_beyond_the_exit_the_workspace_is_counted_apart() -> None:
     assert map_contact(np.arange(3.0), positions, scene, 0.3, back).outside_after_exit == 2
 
 
+def test_beyond_the_exit_obstacles_are_counted_apart_too() -> None:
+    """Issue 49: a robot past the exit has left the run (the paper's model drives on, without parking); a wall
+    beyond the goal it drives into is told, not a failure, as the map's edge is."""
+    scene = replace(scene_with_a_map(), obstacles=Obstacles(discs=(Disc((150.0, 0.0), 1.0),)))
+    beyond = scene.tube.length_m + 1.0
+    positions = np.zeros((3, 2, 1))
+    positions[:, 0, 0] = [150.0, 150.0, 150.0]  # on the disc throughout
+    l_m = np.array([[1.0], [beyond], [beyond + 1.0]])
+    contact = map_contact(np.arange(3.0), positions, scene, 0.3, l_m)
+    assert (contact.on_obstacles, contact.on_obstacles_after_exit) == (1, 2)
+    assert contact.failures() == (
+        'robot bodies were on an obstacle in 1 robot-steps (first at t = 0.00 s, (150.00, 0.00))',
+    )
+    assert map_contact(np.arange(3.0), positions, scene, 0.3, l_m + beyond).failures() == ()
+
+
 def test_a_start_on_the_map_s_edge_or_an_obstacle_is_refused() -> None:
     scene = scene_with_a_map()
     require_clear_start(np.array([[-1.0, -2.0], [0.0, 1.0]]), scene, 0.3, 'fix it.')  # clear: nothing raised

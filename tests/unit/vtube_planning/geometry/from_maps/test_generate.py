@@ -8,7 +8,8 @@ import pytest
 
 from tests.support.tube_clearance import closest_approach
 from vtube_planning.errors import SceneError
-from vtube_planning.geometry.from_maps.generate import TubeGenerationError, TubeSpec, generate_tube
+from vtube_planning.geometry.from_maps.centre_path import CornerError
+from vtube_planning.geometry.from_maps.generate import LEADS, TubeGenerationError, TubeSpec, generate_tube
 from vtube_planning.geometry.from_maps.map_file import generated_scene
 from vtube_planning.geometry.obstacles import Disc, Obstacles, Polygon
 from vtube_planning.geometry.scene import scene_from_text
@@ -154,6 +155,47 @@ def test_map_file_errors_name_the_fix() -> None:
         generated_scene(MAP_FILE + '\n[robotarium]\nn_robots = 6\n', 'gap.toml')  # no silent 4 m turns in the arena
 
 
+def test_a_heading_without_a_lead_gets_the_shortest_lead_that_fits() -> None:
+    """Issue 49: a heading without lead_m ended in "radius 0.000 m". The lead is fitted: the shortest of LEADS (in
+    turn radii) whose tube holds the heading, 2 lead_m straight and the turn off it no tighter than the limit."""
+    obstacles = wall_with_gap(4.0, 7.0)
+    made = generate_tube(spec(obstacles, start_heading_deg=90.0, turn_radius_min_m=1.0))  # up, then right
+    assert made.lead_m in [factor * 1.0 for factor in LEADS] and made.certificate.clear
+    assert np.allclose(made.tube.tangent(0.0), [0.0, 1.0]) and np.allclose(made.tube.curvature(np.array([0.0])), 0.0)
+    shorter = [factor * 1.0 for factor in LEADS if factor * 1.0 < made.lead_m]
+    for lead in shorter:  # each shorter lead is refused when given
+        with pytest.raises(TubeGenerationError):
+            generate_tube(spec(obstacles, start_heading_deg=90.0, turn_radius_min_m=1.0, lead_m=lead))
+    l_m = np.linspace(0.0, made.tube.length_m, 4001)
+    assert np.max(np.abs(made.tube.curvature(l_m))) <= 1.0 + 1e-9
+    assert made.lead_m == generate_tube(spec(obstacles, start_heading_deg=90.0, turn_radius_min_m=1.0)).lead_m
+    assert generate_tube(spec(obstacles)).lead_m == 0.0  # no heading: no lead
+
+
+def test_a_tight_corner_is_routed_around_another_way(monkeypatch) -> None:
+    """Issue 49: a corner no arc rounds was refused where another route had room (between other discs, or wider of
+    the same one); the corner is taken out of the grid and the route searched again. On this seeded forest the
+    cheapest route's corners cannot be rounded with a 3 m radius; another route's can."""
+    from vtube_planning.geometry.from_maps import generate
+
+    rng = np.random.default_rng(6)
+    discs = tuple(
+        Disc((float(x), float(y)), float(r))
+        for x, y, r in zip(rng.uniform(3, 17, 12), rng.uniform(0, 10, 12), rng.uniform(0.3, 1.2, 12), strict=True)
+    )
+    obstacles = Obstacles(discs)
+    tight = spec(obstacles, half_width_min_m=0.3, turn_radius_min_m=3.0)
+    monkeypatch.setattr(generate, 'ROUTES', 1)
+    with pytest.raises(CornerError, match='cannot be rounded with turn_radius_min_m = 3.0'):
+        generate_tube(tight)  # the cheapest route alone: refused at a corner
+    monkeypatch.undo()
+    made = generate_tube(tight)
+    assert made.certificate.clear
+    assert_misses(made.tube, obstacles, 0.1)
+    l_m = np.linspace(0.0, made.tube.length_m, 4001)
+    assert np.max(np.abs(made.tube.curvature(l_m))) <= 1.0 / 3.0 + 1e-9
+
+
 def test_headings_at_the_ends_are_held_straight_for_the_lead() -> None:
     obstacles = wall_with_gap(4.0, 7.0)
     made = generate_tube(spec(obstacles, start_heading_deg=0.0, goal_heading_deg=90.0, lead_m=1.0))
@@ -166,6 +208,14 @@ def test_headings_at_the_ends_are_held_straight_for_the_lead() -> None:
         TubeGenerationError, match=r"the end of the start's straight lead \(1\.000, 0\.000\) lies outside"
     ):
         generate_tube(spec(obstacles, start_heading_deg=-90.0, lead_m=1.0))  # 2 m down from y = 2: off the map
+    # a lead too short for its turn: its end turns by theta towards the goal, on an empty map, and half the lead's
+    # 2 lead_m allows a radius of lead_m / tan(theta / 2); the turn needs lead_m >= r tan(theta / 2)
+    half_turn = 0.5 * np.arctan2(8.0 - 2.0, 19.0 - 1.5)
+    with pytest.raises(
+        TubeGenerationError,
+        match=rf'radius of {0.25 / np.tan(half_turn):.3f} m at most; lengthen lead_m beyond {2.0 * np.tan(half_turn):.2f} m',
+    ):
+        generate_tube(spec(Obstacles(), start_heading_deg=0.0, turn_radius_min_m=2.0, lead_m=0.25))
     with pytest.raises(TubeGenerationError, match='the straight lead from .* has too little room'):
         generate_tube(spec(obstacles, start_heading_deg=0.0, lead_m=5.5))  # 11 m along y = 2: through the wall
 
