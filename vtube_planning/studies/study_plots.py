@@ -192,6 +192,7 @@ def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
     groups: dict[tuple[str, str, str], list[dict[str, Any]]] = {}  # (scene, mode, cell label): rows, in one pass
     for r in rows:
         where = '' if r.get('map') in (None, 'none') else f'{r["map"]} map {r["map_seed"]}, '
+        where += f'narrowest {r["narrowest_m"]:g} m, ' if r.get('narrowest_m') else ''
         groups.setdefault((r['scene'], r['mode'], f'{where}N={r["n_robots"]}, {setting_text(r)}'), []).append(r)
     cells = {s: list(dict.fromkeys(label for scene, _, label in groups if scene == s)) for s in scenes}
     height = sum(0.3 * len(c) + 0.9 for c in cells.values())
