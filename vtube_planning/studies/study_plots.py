@@ -178,6 +178,12 @@ def _square(x: float, y: float, color: str) -> Any:
     return Rectangle((x - 0.45, y - 0.45), 0.9, 0.9, color=color)
 
 
+def _where(row: dict[str, Any]) -> str:
+    """Where a cell flies within its scene, for a label: its random map and its narrowest half-width, if any."""
+    where = '' if row.get('map') in (None, 'none') else f'{row["map"]} map {row["map_seed"]}, '
+    return where + (f'narrowest {row["narrowest_m"]:g} m, ' if row.get('narrowest_m') else '')
+
+
 def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
     """A study's means per cell and mode: one row of panels per scene; passing time and minimum distance (mean over
     seeds with its 95 % interval; passing time over the runs that completed, hollow when some did not) and the
@@ -191,9 +197,7 @@ def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
     modes = list(dict.fromkeys(r['mode'] for r in rows))
     groups: dict[tuple[str, str, str], list[dict[str, Any]]] = {}  # (scene, mode, cell label): rows, in one pass
     for r in rows:
-        where = '' if r.get('map') in (None, 'none') else f'{r["map"]} map {r["map_seed"]}, '
-        where += f'narrowest {r["narrowest_m"]:g} m, ' if r.get('narrowest_m') else ''
-        groups.setdefault((r['scene'], r['mode'], f'{where}N={r["n_robots"]}, {setting_text(r)}'), []).append(r)
+        groups.setdefault((r['scene'], r['mode'], f'{_where(r)}N={r["n_robots"]}, {setting_text(r)}'), []).append(r)
     cells = {s: list(dict.fromkeys(label for scene, _, label in groups if scene == s)) for s in scenes}
     height = sum(0.3 * len(c) + 0.9 for c in cells.values())
     fig = Figure(figsize=(13.0, 1.0 + height), layout='constrained')
