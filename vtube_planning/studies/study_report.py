@@ -101,6 +101,7 @@ def verdict_summary(table: list[dict[str, Any]], held_out: bool = False) -> str:
     settings = list(dict.fromkeys(setting_text(p) for p in table))
     compared = [c for c in COMPARISONS if any((p['a'], p['b']) == c[:2] for p in table)]
     cells = '(scene, map, N)' if any(r.get('map') not in (None, 'none') for r in table) else '(scene, N)'
+    cells = cells.replace('scene', 'scene, narrowest half-width') if any(p.get('narrowest_m') for p in table) else cells
     seeds = (
         'on the seeds found on, the claims found then tested again on the held-out seeds (~: not confirmed there)'
         if held_out

@@ -97,6 +97,7 @@ def test_the_report_adds_the_crossover_table_only_to_a_crossover_campaign() -> N
     assert text.startswith(report_text('campaign', rows, 0, POOLED, []))
     assert '| paper model, radial sat | C | 0.9 | 20 | no planning at v_max | -1.' in text
     assert text.count('| paper model, radial sat | C |') == len(TIMES)
+    assert 'Cells (scene, narrowest half-width, N) where a beats b' in text  # the verdict rows count them
 
 
 def test_the_figure_colours_each_cell_by_its_difference_and_frames_the_wins() -> None:
