@@ -307,7 +307,7 @@ def crossover_figure(rows: list[dict[str, Any]], judging: Judging | None = None)
             i, j = widths.index(c['narrowest_m']), sizes.index(c['n_robots'])
             grid[i, j] = c['difference_s']
             text = 'n/a' if np.isnan(c['difference_s']) else f'{c["difference_s"]:+.1f} s'
-            text += f'\nT{sign(c["time"])} D{sign(c["distance"])}\n{c["planned_collisions"]} / {c["best_collisions"]}'
+            text += f'\nT {sign(c["time"])}  D {sign(c["distance"])}\n{c["planned_collisions"]} / {c["best_collisions"]}'
             ax.text(j, i, text, ha='center', va='center', fontsize=7)
             if c['wins']:
                 ax.add_patch(_frame(j, i))
@@ -324,7 +324,7 @@ def crossover_figure(rows: list[dict[str, Any]], judging: Judging | None = None)
         fig.colorbar(image, ax=axes.ravel().tolist(), label='planning - best unplanned, passing time [s]')
     fig.suptitle(
         'each cell: planning - best unplanned (mean over seeds), T and D verdicts, collision pairs (planning / '
-        'best); black frame: the plan wins (T+ with 0 collisions)',
+        'best); black frame: the plan wins (T + with 0 collisions)',
         fontsize=8,
     )
     return fig
