@@ -307,7 +307,9 @@ def crossover_figure(rows: list[dict[str, Any]], judging: Judging | None = None)
             i, j = widths.index(c['narrowest_m']), sizes.index(c['n_robots'])
             grid[i, j] = c['difference_s']
             text = 'n/a' if np.isnan(c['difference_s']) else f'{c["difference_s"]:+.1f} s'
-            text += f'\nT {sign(c["time"])}  D {sign(c["distance"])}\n{c["planned_collisions"]} / {c["best_collisions"]}'
+            text += (
+                f'\nT {sign(c["time"])}  D {sign(c["distance"])}\n{c["planned_collisions"]} / {c["best_collisions"]}'
+            )
             ax.text(j, i, text, ha='center', va='center', fontsize=7)
             if c['wins']:
                 ax.add_patch(_frame(j, i))
