@@ -14,6 +14,7 @@ from vtube_planning.studies.campaign_verify import verify
 
 DOCS = Path(__file__).resolve().parents[2] / 'docs'
 VERIFIED = ('maps_study', 'maps_study_limits', 'ablation', 'replanning', 'faults', 'foresight', 'equal_freedom')
+VERIFIED += ('crossover_reduced',)
 """The committed campaign folders made at a commit whose code gives them (docs/delay predates the verdict rules)."""
 
 

@@ -265,27 +265,31 @@ def campaign_done_view(done: CampaignDone) -> View:
 
 
 def write_report(out: Path) -> CampaignReport | None:
-    """A campaign folder's tables and figures (report.md, differences.png, verdicts.png, means.png), from its table
-    alone (None: it holds no finished run)."""
+    """A campaign folder's tables and figures (report.md, differences.png, verdicts.png, means.png, and
+    crossover.png for a crossover campaign), from its table alone (None: it holds no finished run)."""
     from vtube_planning import plots
     from vtube_planning.studies import study_plots
     from vtube_planning.studies.campaign_store import made_by, read_results
-    from vtube_planning.studies.study_report import map_differences, report_text
+    from vtube_planning.studies.crossover import campaign_report_text, is_crossover
+    from vtube_planning.studies.study_report import map_differences
 
     campaign, rows, missing = read_results(out)
     if not rows:
         return None
-    text = report_text(campaign.name, rows, missing, campaign.judging, made_by(out))
+    text = campaign_report_text(campaign, rows, missing, made_by(out))
     write_atomically(out / 'report.md', text)
     if map_differences(rows, campaign.families):
         differences = study_plots.map_differences_figure(rows, campaign.families)
     else:
         differences = study_plots.paired_differences_figure(rows, campaign.judging)
-    figures = (
+    figures: tuple[Path, ...] = (
         plots.save_figure(differences, out / 'differences.png'),
         plots.save_figure(study_plots.verdict_matrix_figure(rows, campaign.judging), out / 'verdicts.png'),
         plots.save_figure(study_plots.cell_means_figure(rows), out / 'means.png'),
     )
+    if is_crossover(campaign):
+        crossover = study_plots.crossover_figure(rows, campaign.judging)
+        figures += (plots.save_figure(crossover, out / 'crossover.png'),)
     return CampaignReport(text, (out / 'report.md', *figures))
 
 

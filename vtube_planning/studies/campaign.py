@@ -63,12 +63,11 @@ else:
 
 
 class CampaignError(VtubeError, ValueError):
-    """A campaign that cannot be expanded or run: an unknown axis or metric, an empty grid, a folder that holds
-    another campaign."""
+    """A campaign that cannot be expanded or run: an unknown axis or metric, an empty grid, another campaign's folder."""
 
 
 AXES: dict[str, type] = {'scene': str, 'map': str, 'map_seed': int, 'map_clutter': int, 'map_width_m': float}
-AXES |= {'n_robots': int, 'model': str, 'saturation': str, 'pose_noise_m': float}
+AXES |= {'narrowest_m': float, 'n_robots': int, 'model': str, 'saturation': str, 'pose_noise_m': float}
 AXES |= {'latency_steps': int, 'lag_s': float, 'compensation': str, 'failure': str, 'dropout': float}
 AXES |= {'controller': str, 'seed': int, 'mode': str}
 """The axes (the fields of `Point`) in the order runs are expanded: a cell's modes and seeds are adjacent."""
@@ -239,6 +238,7 @@ class Campaign:
             for scene_name in grid['scene']:
                 scene = load_scene(self.scene_path(scene_name))
                 study.check_turns(scene, grid.get('model', ('paper',)))
+                _ = [study.narrowed(scene, width) for width in grid.get('narrowest_m', ())]  # refused up front
                 own = {'n_robots': (scene.swarm.n_robots,), 'saturation': (scene.control.saturation,)}
                 axes = [grid.get(a) or own.get(a) or (getattr(Point, a),) for a in AXES if a != 'scene']
                 axes[list(AXES).index('seed') - 1] += self.confirm_seeds
@@ -275,7 +275,7 @@ REPORT_KEYS = ('held_out', 'families')
 """The keys that change the report, not the runs."""
 
 
-LATER_AXES: dict[str, Any] = {'lag_s': 0.0, 'compensation': 'none'}
+LATER_AXES: dict[str, Any] = {'lag_s': 0.0, 'compensation': 'none', 'narrowest_m': 0.0}
 LATER_AXES |= {'map': 'none', 'map_seed': 0, 'map_clutter': CLUTTER, 'map_width_m': WIDTH_M, 'controller': 'law'}
 """Axes added after campaigns were committed, with their defaults: a run at a default leaves them out of its key, so
 that the tables written before keep their keys (a rerun resumes them)."""
@@ -341,7 +341,7 @@ def _check_values(axis: str, values: Iterable[Any], base: Path | None = None) ->
             msg = f'axes.{axis} holds {value!r}; choose from {", ".join(map(repr, _CHOICES[axis]))}.'
             raise CampaignError(msg)
         low = {'n_robots': 1, 'seed': 0, 'latency_steps': 0, 'lag_s': 0.0, 'pose_noise_m': 0.0, 'dropout': 0.0}
-        low |= {'map_seed': 0, 'map_clutter': 0, 'map_width_m': WIDTH_RANGE_M[0]}
+        low |= {'map_seed': 0, 'map_clutter': 0, 'map_width_m': WIDTH_RANGE_M[0], 'narrowest_m': 0.0}
         high = {'dropout': 1.0, 'map_width_m': WIDTH_RANGE_M[1] + 1e-12}
         if axis in low and value < low[axis] or axis in high and value >= high[axis]:
             bounds = {'dropout': 'in [0, 1)', 'map_width_m': f'in [{WIDTH_RANGE_M[0]:g}, {WIDTH_RANGE_M[1]:g}] m'}

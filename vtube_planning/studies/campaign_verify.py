@@ -4,7 +4,7 @@ Results committed beside the code (``docs/*/runs.csv`` and their ``report.md``) 
 `verify` takes the folder's finished runs (all, or ``runs`` of them spread evenly over the table), makes each
 again with this code (the same point and settings, through the runner's own `run_row`) and compares every
 metric the table keeps: counts and flags exactly, numbers to a relative 1e-9 (the table holds them as Python
-writes floats, exactly); and it writes the report again from the table (`report_text`) and compares it with
+writes floats, exactly); and it writes the report again from the table (`campaign_report_text`) and compares it with
 the folder's ``report.md``, word for word. Figures are not compared (they are drawn from the same rows). The
 folder's ``provenance.json`` says which commit and command made the runs.
 """
@@ -21,9 +21,9 @@ import numpy as np
 from vtube_planning.studies.campaign import AXES, METRICS
 from vtube_planning.studies.campaign_runner import run_row
 from vtube_planning.studies.campaign_store import made_by, read_results
+from vtube_planning.studies.crossover import campaign_report_text
 from vtube_planning.studies.executors import map_unordered
 from vtube_planning.studies.study import Point
-from vtube_planning.studies.study_report import report_text
 
 REPORT_FILE = 'report.md'
 RELATIVE = 1e-9
@@ -72,7 +72,7 @@ def verify(out: Path, *, runs: int | None = None, workers: int = 1, client: Any 
     report = out / REPORT_FILE
     matches = None
     if report.is_file():
-        text = report_text(campaign.name, rows, missing, campaign.judging, made)
+        text = campaign_report_text(campaign, rows, missing, made)
         matches = report.read_text(encoding='utf-8') == text
     return Verification(len(chosen), len(rows), tuple(differences), matches, tuple(made))
 

@@ -22,7 +22,7 @@ from vtube_planning.baselines.nmpc import NmpcParams, NmpcSwarm
 from vtube_planning.errors import ParamsError
 from vtube_planning.geometry.bends import too_tight
 from vtube_planning.geometry.from_maps.maps import CLUTTER, WIDTH_M, scene_on_map
-from vtube_planning.geometry.scene import Scene, load_scene
+from vtube_planning.geometry.scene import Scene, load_scene, scene_data, scene_from_data
 from vtube_planning.onboard import Saturation
 from vtube_planning.params import ControlParams, PlanningOptions, SwarmParams
 from vtube_planning.planning.plan import Plan
@@ -179,7 +179,8 @@ class Point:
     ``map`` a family of `vtube_planning.geometry.from_maps.maps` or 'none', with its seed and difficulty), how (mode of
     ABLATIONS or BASELINE_MODES, robot model of MODELS, saturation of SATURATIONS), which seed, and which faults
     ([`SimConfig`][vtube_planning.swarm.simulate.SimConfig]; ``failure``: 'none', or the failing robot's mode, 'stop' or
-    'coast', placed by `RunSettings`). ``n_robots`` and ``saturation`` None: the scene's own."""
+    'coast', placed by `RunSettings`). ``n_robots`` and ``saturation`` None: the scene's own; ``narrowest_m``: the
+    tube's narrowest half-width (`narrowed`), 0: the scene's own."""
 
     scene: str
     map: str = 'none'
@@ -198,6 +199,7 @@ class Point:
     failure: FailureMode | Literal['none'] = 'none'
     dropout: float = 0.0
     controller: str = 'law'
+    narrowest_m: float = 0.0
 
     def compensated(self) -> tuple[float, float]:
         """The delay (periods) and lag (s) the controller compensates: none, or the run's own (``'known'``), or
@@ -209,11 +211,34 @@ class Point:
         return float(max(0, self.latency_steps + offset)), self.lag_s
 
     def load_scene(self) -> Scene:
-        """The scene flown: the named one, on its random map if the point has one."""
-        scene = load_scene(self.scene)
+        """The scene flown: the named one, narrowed to ``narrowest_m``, on its random map if the point has one."""
+        scene = narrowed(load_scene(self.scene), self.narrowest_m)
         if self.map == 'none':
             return scene
         return scene_on_map(scene, self.map, self.map_seed, clutter=self.map_clutter, width_m=self.map_width_m)
+
+
+def narrowed(scene: Scene, narrowest_m: float) -> Scene:
+    """``scene`` with its tube's narrowest half-width set to ``narrowest_m`` (0: the scene as it is): every part of
+    the width profile that ends at the narrowest half-width ends at ``narrowest_m`` instead, the rest of the file
+    unchanged (C, D: the narrowing ends there and the tube keeps that width). A tube that does not narrow from its
+    start, or ``narrowest_m`` not below the start, raises [`ParamsError`][vtube_planning.errors.ParamsError]."""
+    if narrowest_m == 0.0:
+        return scene
+    data = scene_data(scene.text, scene.source)
+    width = data['tube']['width']
+    ends = [part['to_m'] for part in width['parts'] if 'to_m' in part]
+    if not ends or min(ends) >= width['start_m'] or not 0.0 < narrowest_m < width['start_m']:
+        msg = (
+            f'scene {scene.name!r}: narrowest_m = {narrowest_m:g} needs a tube that narrows from its start '
+            f'half-width ({width["start_m"]:g} m) and a value in (0, {width["start_m"]:g}) m; give such a value, '
+            "or 0 for the scene's own."
+        )
+        raise ParamsError(msg)
+    for part in [part for part in width['parts'] if part.get('to_m') == min(ends)]:
+        part['to_m'] = narrowest_m
+    narrow = scene_from_data(data, name=scene.name, source=f'{scene.source}, narrowest {narrowest_m:g} m')
+    return replace(narrow, text=scene.text)
 
 
 @dataclass(frozen=True)

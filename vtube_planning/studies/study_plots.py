@@ -178,6 +178,12 @@ def _square(x: float, y: float, color: str) -> Any:
     return Rectangle((x - 0.45, y - 0.45), 0.9, 0.9, color=color)
 
 
+def _where(row: dict[str, Any]) -> str:
+    """Where a cell flies within its scene, for a label: its random map and its narrowest half-width, if any."""
+    where = '' if row.get('map') in (None, 'none') else f'{row["map"]} map {row["map_seed"]}, '
+    return where + (f'narrowest {row["narrowest_m"]:g} m, ' if row.get('narrowest_m') else '')
+
+
 def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
     """A study's means per cell and mode: one row of panels per scene; passing time and minimum distance (mean over
     seeds with its 95 % interval; passing time over the runs that completed, hollow when some did not) and the
@@ -191,8 +197,7 @@ def cell_means_figure(rows: list[dict[str, Any]]) -> Figure:
     modes = list(dict.fromkeys(r['mode'] for r in rows))
     groups: dict[tuple[str, str, str], list[dict[str, Any]]] = {}  # (scene, mode, cell label): rows, in one pass
     for r in rows:
-        where = '' if r.get('map') in (None, 'none') else f'{r["map"]} map {r["map_seed"]}, '
-        groups.setdefault((r['scene'], r['mode'], f'{where}N={r["n_robots"]}, {setting_text(r)}'), []).append(r)
+        groups.setdefault((r['scene'], r['mode'], f'{_where(r)}N={r["n_robots"]}, {setting_text(r)}'), []).append(r)
     cells = {s: list(dict.fromkeys(label for scene, _, label in groups if scene == s)) for s in scenes}
     height = sum(0.3 * len(c) + 0.9 for c in cells.values())
     fig = Figure(figsize=(13.0, 1.0 + height), layout='constrained')
@@ -273,3 +278,61 @@ def _map_label(f: dict[str, Any], setting: str) -> str:
     return (
         f'{f["a"]} - {f["b"]}  |  {len(f["per_map"])} {f["map"]} maps, scene {f["scene"]}, N={f["n_robots"]}, {setting}'
     )
+
+
+def crossover_figure(rows: list[dict[str, Any]], judging: Judging | None = None) -> Figure:
+    """The crossover (`vtube_planning.studies.crossover.crossover_cells`): one panel per scene and setting, the
+    narrowest half-width down and N across; each cell coloured by planning - best unplanned passing time (blue: the
+    plan is faster), marked with it, the verdicts T and D and the collision pairs (planning / best, all seeds),
+    framed in black where the plan wins (T holds with 0 collisions)."""
+    from matplotlib.figure import Figure
+
+    from vtube_planning.studies.crossover import crossover_cells, sign
+    from vtube_planning.studies.judging import POOLED
+
+    cells = crossover_cells(rows, judging or POOLED)
+    panels = list(dict.fromkeys((c['scene'], c['setting']) for c in cells))
+    scenes = list(dict.fromkeys(scene for scene, _ in panels))
+    settings = list(dict.fromkeys(setting for _, setting in panels))
+    fig = Figure(figsize=(4.6 * len(settings), 0.6 + 3.0 * len(scenes)), layout='constrained')
+    axes = np.array(fig.subplots(len(scenes), len(settings), squeeze=False))
+    finite = [abs(c['difference_s']) for c in cells if not np.isnan(c['difference_s'])]
+    span = max(finite, default=1.0) or 1.0
+    for (scene, setting), ax in ((p, axes[scenes.index(p[0]), settings.index(p[1])]) for p in panels):
+        mine = [c for c in cells if (c['scene'], c['setting']) == (scene, setting)]
+        widths = sorted({c['narrowest_m'] for c in mine})
+        sizes = sorted({c['n_robots'] for c in mine})
+        grid = np.full((len(widths), len(sizes)), np.nan)
+        for c in mine:
+            i, j = widths.index(c['narrowest_m']), sizes.index(c['n_robots'])
+            grid[i, j] = c['difference_s']
+            text = 'n/a' if np.isnan(c['difference_s']) else f'{c["difference_s"]:+.1f} s'
+            text += (
+                f'\nT {sign(c["time"])}  D {sign(c["distance"])}\n{c["planned_collisions"]} / {c["best_collisions"]}'
+            )
+            ax.text(j, i, text, ha='center', va='center', fontsize=7)
+            if c['wins']:
+                ax.add_patch(_frame(j, i))
+        image = ax.imshow(grid, cmap='coolwarm', vmin=-span, vmax=span, aspect='auto')
+        ax.set_xticks(range(len(sizes)), [str(n) for n in sizes])
+        ax.set_yticks(range(len(widths)), [f'{w:g}' for w in widths])
+        ax.set_xlabel('N', fontsize=8)
+        ax.set_ylabel('narrowest half-width [m]', fontsize=8)
+        ax.set_title(f'scene {scene}, {setting}', fontsize=8)
+    for ax in axes.flat:
+        if not ax.images:
+            ax.set_axis_off()
+    if cells:
+        fig.colorbar(image, ax=axes.ravel().tolist(), label='planning - best unplanned, passing time [s]')
+    fig.suptitle(
+        'each cell: planning - best unplanned (mean over seeds), T and D verdicts, collision pairs (planning / '
+        'best); black frame: the plan wins (T + with 0 collisions)',
+        fontsize=8,
+    )
+    return fig
+
+
+def _frame(x: float, y: float) -> Any:
+    from matplotlib.patches import Rectangle
+
+    return Rectangle((x - 0.48, y - 0.48), 0.96, 0.96, fill=False, edgecolor='k', lw=2.5)

@@ -50,7 +50,7 @@ CLAIMS = (('passing_time_s', 'lower', 'passing time [s]'), ('min_distance_m', 'h
 
 CELL_AXES: tuple[str, ...] = ('scene', 'map', 'map_seed', 'map_clutter', 'map_width_m', 'n_robots', 'model')
 CELL_AXES += ('controller', 'saturation', 'pose_noise_m', 'latency_steps', 'lag_s', 'compensation', 'failure')
-CELL_AXES += ('dropout',)
+CELL_AXES += ('dropout', 'narrowest_m')
 """What a row's mode is compared within (a cell): every field of `Point` but the mode and the seed."""
 
 
@@ -59,10 +59,11 @@ def _cell(row: Mapping[str, Any]) -> tuple[Any, ...]:
 
 
 def place_text(row: dict[str, Any]) -> str:
-    """Where a cell flies: its scene, and its random map if it has one."""
+    """Where a cell flies: its scene (narrowed, `vtube_planning.studies.study.narrowed`), its random map if any."""
+    scene = f'Scene {row["scene"]}' + (f', narrowest {row["narrowest_m"]:g} m' if row.get('narrowest_m') else '')
     if row.get('map') in (None, 'none'):
-        return f'Scene {row["scene"]}'
-    return f'Scene {row["scene"]} on {_population_text(row)} map {row["map_seed"]}'
+        return scene
+    return f'{scene} on {_population_text(row)} map {row["map_seed"]}'
 
 
 def _population_text(row: dict[str, Any]) -> str:
@@ -100,6 +101,7 @@ def verdict_summary(table: list[dict[str, Any]], held_out: bool = False) -> str:
     settings = list(dict.fromkeys(setting_text(p) for p in table))
     compared = [c for c in COMPARISONS if any((p['a'], p['b']) == c[:2] for p in table)]
     cells = '(scene, map, N)' if any(r.get('map') not in (None, 'none') for r in table) else '(scene, N)'
+    cells = cells.replace('scene', 'scene, narrowest half-width') if any(p.get('narrowest_m') for p in table) else cells
     seeds = (
         'on the seeds found on, the claims found then tested again on the held-out seeds (~: not confirmed there)'
         if held_out

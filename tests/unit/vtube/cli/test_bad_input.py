@@ -201,6 +201,12 @@ BAD = [
     ('campaign step too coarse', 'campaign run {tmp}/coarse.toml --out {out}', 2, 'dt_s must be a number in [0.001'),
     ('campaign step too fine', 'campaign run {tmp}/fine.toml --out {out}', 2, 'dt_s must be a number in [0.001, 0.1]'),
     (
+        'campaign tube widened',
+        'campaign run {tmp}/wide.toml --out {out}',
+        2,
+        'narrowest_m = 5 needs a tube that narrows',
+    ),
+    (
         'a NaN stamp',
         'analyze {tmp}/nan_stamp --out {out}',
         2,
@@ -319,6 +325,7 @@ def bad_files(tmp_path_factory) -> Path:
         (tmp / f'{name}.toml').write_text(
             f'name = "{name}"\n[axes]\nscene = ["C"]\nseed = 1\n[settings]\ndt_s = {dt_s}\n'
         )
+    (tmp / 'wide.toml').write_text('name = "wide"\n[axes]\nscene = ["C"]\nnarrowest_m = [5.0]\nseed = 1\n')
     edges = np.concatenate(scene.tube.boundaries(np.linspace(0.0, scene.tube.length_m, 400)))
     (low_x, low_y), (high_x, high_y) = edges.min(axis=0) - 0.5, edges.max(axis=0) + 0.5  # the tube's box, no more
     tight = f'[workspace]\nx_min_m = {low_x}\nx_max_m = {high_x}\ny_min_m = {low_y}\ny_max_m = {high_y}\n'

@@ -43,7 +43,8 @@ def test_a_campaign_file_expands_into_runs_with_stable_keys(tmp_path) -> None:
     before = {
         k: v
         for k, v in asdict(points[0]).items()
-        if k not in ('lag_s', 'compensation', 'map', 'map_seed', 'map_clutter', 'map_width_m', 'controller')
+        if k
+        not in ('lag_s', 'compensation', 'map', 'map_seed', 'map_clutter', 'map_width_m', 'controller', 'narrowest_m')
     }  # axes added later
     text = json.dumps({'point': before, 'settings': asdict(campaign.settings)}, sort_keys=True)
     assert keys[0] == hashlib.sha256(text.encode()).hexdigest()[:16]  # tables written before keep their keys
@@ -58,6 +59,9 @@ def test_a_campaign_file_expands_into_runs_with_stable_keys(tmp_path) -> None:
     assert own.runnable(own.points()[0]).scene == str(scene_file)  # named as in the file, loaded beside it
     maps = Campaign.from_toml(write(tmp_path, FAULTS + 'map = ["forest"]\nmap_seed = 2\n', 'maps.toml')).points()
     assert len(maps) == 2 * len(points) and {(p.map, p.map_seed) for p in maps} == {('forest', 0), ('forest', 1)}
+    narrow = Campaign.from_toml(write(tmp_path, FAULTS + 'narrowest_m = [0.9, 1.5]\n', 'narrow.toml')).points()
+    assert len(narrow) == 2 * len(points) and {p.narrowest_m for p in narrow} == {0.9, 1.5}
+    assert not set(keys) & {run_key(p, campaign.settings) for p in narrow}  # a narrowed tube is another run
 
 
 def test_fresh_seeds_to_confirm_are_run_in_every_grid_and_recorded() -> None:

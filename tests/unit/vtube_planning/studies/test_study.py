@@ -10,7 +10,7 @@ import pytest
 from vtube.cli import main
 from vtube_planning.errors import ParamsError
 from vtube_planning.geometry.scene import load_scene
-from vtube_planning.studies.study import ABLATIONS, Point, ablation_setup, run_point
+from vtube_planning.studies.study import ABLATIONS, Point, ablation_setup, narrowed, run_point
 from vtube_planning.swarm.simulate import SimConfig, default_constant_speed, simulate
 
 
@@ -122,3 +122,21 @@ def test_a_bend_no_robot_can_turn_fails_a_run_under_the_acceleration_limits(tmp_
     with pytest.raises(ParamsError, match='make the centre radius at least 2.834 m'):
         limited.points()  # before any run
     assert len(Campaign.from_dict({'axes': {'scene': [str(path)], 'model': ['paper']}}).points()) == 1
+
+
+def test_a_narrowed_scene_ends_its_narrowing_at_the_width_given_and_keeps_the_rest() -> None:
+    scene = load_scene('C')
+    lengths = np.linspace(0.0, scene.tube.length_m, 241)
+    own = scene.tube.half_width(lengths)
+    assert narrowed(scene, 0.0) is scene
+    for width in (0.9, 1.5):
+        narrow = narrowed(scene, width)
+        found = narrow.tube.half_width(lengths)
+        assert found.min() == pytest.approx(width) and found[-1] == pytest.approx(width)
+        before = lengths < 20.0  # the part before the narrowing (C.toml) is the scene's own
+        assert np.array_equal(found[before], own[before])
+        assert narrow.swarm == scene.swarm and narrow.planning == scene.planning and narrow.text == scene.text
+        assert narrow.source != scene.source  # the plans of the process are cached by source
+    assert Point('C', narrowest_m=0.9).load_scene().tube.half_width(lengths).min() == pytest.approx(0.9)
+    with pytest.raises(ParamsError, match='narrowest_m = 4.5 needs a tube that narrows'):
+        narrowed(scene, 4.5)
