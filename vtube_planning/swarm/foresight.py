@@ -12,14 +12,16 @@ tube. Every period, for every robot:
    `LAW_MARGIN_M` to spare; the walls are the narrowest half-width over the `merge_window` ahead;
 2. the neighbours fly the backups they announced the period before (each robot announces its lane and speed);
 3. a safe law's command stands; otherwise the robot flies the safe backup whose first command is closest to the
-   law's, or, when none is safe, the one that falls short latest (then least), and keeps flying backups for
-   `HOLD_S` before the law again;
+   law's, or, when none is safe, the one whose first contact comes latest (then its first shortfall, then how far
+   short it falls), keeping the backup it announced over a barely better one (`KEEP_M_S`, `KEEP_MPS`), and keeps
+   flying backups for `HOLD_S` before the law again; two robots are checked at the closest they come between two
+   predicted points, not only at the points;
 4. the robot is commanded its velocity after one period of following the target: a command inside (2)-(4) from
    its present velocity.
 
 Every prediction follows the robot's response under (3), (4) (`vtube_planning.swarm.dynamics.respond`, the
-simulator's own physics). Predicted points are located on the tube through tables of its centre line, tangent
-angle, curvature and half-width on a fine grid, by Newton steps from the arc length the path predicts.
+simulator's own physics). Predicted points are located on the tube through its tables
+(`vtube_planning.swarm.tube_tables`), by Newton steps from the arc length the path predicts.
 """
 
 from __future__ import annotations
@@ -281,7 +283,7 @@ class Foresight:
     ) -> tuple[FloatArray, FloatArray]:
         """The backups (lanes, speeds) of the ``risky`` robots: the safe one whose first command is closest to the
         law's, else the one whose first contact comes latest, then whose first shortfall, then the least short;
-        the backup a robot announced keeps it over an equal one (`KEEP_M_S`)."""
+        the backup a robot announced kept over a barely better one (`KEEP_M_S`, `KEEP_MPS`)."""
         swarm = self.swarm
         band = np.array([swarm.v_min_mps, 0.5 * (swarm.v_min_mps + swarm.v_max_mps), swarm.v_max_mps])
         lanes = np.concatenate([np.tile(LANES, (risky.size, 1)), robots.lane[risky, None]], axis=1)
