@@ -526,7 +526,7 @@ def environment() -> dict[str, str]:
         key['numpy_blas'] = f'{blas.get("name")} {blas.get("version")}'
     except (TypeError, KeyError):  # numpy < 1.26: no dicts
         key['numpy_blas'] = 'unknown'
-    key['openblas_core'] = _openblas_core()
+    key['openblas_core'] = openblas_core()
     return key
 
 
@@ -542,7 +542,7 @@ def _numpy_simd() -> list[str]:
     return sorted(name for name, on in umath.__cpu_features__.items() if on and name in targets)
 
 
-def _openblas_core() -> str:
+def openblas_core() -> str:
     """The kernel set numpy's OpenBLAS picked for this CPU (or OPENBLAS_CORETYPE): it changes the last bits of the
     Robotarium runs (measured: Haswell here, Sandybridge or Prescott 7e-14 away), and CPUs of the same numpy SIMD
     features may get different ones."""

@@ -43,8 +43,10 @@ import numpy as np
 import pytest
 
 from robotarium_exp import rps_alias
+from tests.support.regression import openblas_core
 
 TABLE = json.loads((Path(__file__).with_name('rps_contract.json')).read_text(encoding='utf-8'))
+OPENBLAS_CORE = openblas_core()
 PACKAGES = {'v2': 'robotarium_exp.rps', 'classic': 'robotarium_exp.rps_classic'}
 MODULES = ('graph', 'misc', 'transformations', 'controllers', 'barrier_certificates', 'barrier_certificates2')
 
@@ -97,6 +99,13 @@ def agrees(answer: Any, expected: Any) -> bool:
     return bool(answer == expected)
 
 
+def compared_here(expression: str) -> bool:
+    """Whether a row is compared on this machine: a row the table marks kernel-dependent (an ill-posed QP whose
+    recorded answer moves with OpenBLAS's kernels) only where OpenBLAS runs kernels that give the recorded answer."""
+    dependent = TABLE['kernel_dependent']
+    return expression not in dependent['expressions'] or OPENBLAS_CORE in dependent['openblas_core']
+
+
 def rows_of(generation: str, module: str) -> list[tuple[str, Any]]:
     """The rows of one module: (expression, recorded outcome), exceptions as [name, message]."""
     raised = [(expression, [kind, message]) for expression, kind, message in TABLE[generation]]
@@ -115,6 +124,7 @@ def test_every_call_gets_the_official_answer_or_exception(generation: str, modul
     answers = [
         (expression, plain(outcome(expression, names)), expected)
         for expression, expected in rows_of(generation, module)
+        if compared_here(expression)
     ]
     assert answers, 'the table covers every module'
     assert [row for row in answers if not agrees(row[1], row[2])] == []
