@@ -92,20 +92,19 @@ class BandedPlanner:
                 block[:, row, end] -= 3.0 / w_end
                 row += 1
         if self._braking is not None:
-            self._set_braking(rho_bar)
+            self._set_braking(self._braking, rho_bar)
 
-    def _set_braking(self, rho_bar: FloatArray) -> None:
-        """Linearise the room for braking at ``rho_bar``: w_i >= slope_j rho_j + intercept_j for both ends i, j of
-        every interval, with h's tangent at rho_bar_j (`braking.braking_tangent`)."""
-        assert self._braking is not None
+    def _set_braking(self, rows: slice, rho_bar: FloatArray) -> None:
+        """Linearise the room for braking, constraint ``rows``, at ``rho_bar``: w_i >= slope_j rho_j + intercept_j for
+        both ends i, j of every interval, with h's tangent at rho_bar_j (`braking.braking_tangent`)."""
         slope, intercept = braking_tangent(self.problem.swarm, rho_bar)
-        block = self.g[:, self._braking, :]
+        block = self.g[:, rows, :]
         block[:] = 0.0
-        row = self._braking.start
+        row = rows.start
         for w_end in (W_LEFT, W_RIGHT):
             for rho_end, j in ((RHO_LEFT, slice(None, -1)), (RHO_RIGHT, slice(1, None))):
-                block[:, row - self._braking.start, w_end] = -(1.0 - MARGIN)
-                block[:, row - self._braking.start, rho_end] = slope[j]
+                block[:, row - rows.start, w_end] = -(1.0 - MARGIN)
+                block[:, row - rows.start, rho_end] = slope[j]
                 self.h[:, row] = -intercept[j]
                 row += 1
 
