@@ -75,7 +75,7 @@ class TubeMetrics:
         passage) and after it (parking); None without a last exit or a frame there.
     map_contact
         Robot-frames with a body (``body_radius_m``) on an obstacle or outside the scene's workspace, over the whole
-        recording (`vtube_planning.swarm.map_contact`); None for a scene with neither.
+        recording, those beyond the exit apart (`vtube_planning.swarm.map_contact`); None for a scene with neither.
     """
 
     passage: Passage
@@ -188,10 +188,11 @@ class RecordingMetrics:
 
     def failures(self) -> tuple[str, ...]:
         """What the recording shows failed: robots that collided, and, where the flight recorded its start, robots
-        that never entered the tube or never left it, bodies outside the workspace before the exit, and robot bodies on
-        the tube walls
-        (`robotarium_exp.verifier.wall_failure`, the rule of every verdict on a Robotarium run); a passage inferred
-        from the data is not judged."""
+        that never entered the tube or never left it, bodies outside the workspace at any time (beyond the exit too,
+        but in a simulation of a Robotarium scene: `vtube_planning.swarm.map_contact.fails_beyond_exit`), and robot
+        bodies on the tube walls (`robotarium_exp.verifier.wall_failure`, the rule of every verdict on a Robotarium
+        run); a passage inferred from the data is not judged. Bodies on an obstacle fail it over the whole recording,
+        whatever its start (``touched``)."""
         found = []
         colliding = self.colliding_pairs
         if colliding:

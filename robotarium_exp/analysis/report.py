@@ -166,7 +166,14 @@ def _tube_metrics(
         closest_in_passage=_closest(trajectory.t_s, distances.frame_min_m, passage.last_exit_s, before=True),
         closest_after_passage=_closest(trajectory.t_s, distances.frame_min_m, passage.last_exit_s, before=False),
         map_contact=(
-            map_contact(along.t_s, trajectory.positions_m, scene, body_radius, along.l_m)
+            map_contact(
+                along.t_s,
+                trajectory.positions_m,
+                scene,
+                body_radius,
+                along.l_m,
+                parks=not trajectory.source.get('point_robots'),  # a simulation's robots drive on, a flight's park
+            )
             if scene.obstacles or scene.workspace is not None
             else None
         ),

@@ -119,17 +119,19 @@ def _check_swarm_size(scene_name: str, n_robots: int | None) -> None:
 
 
 def _map_row(contact: MapContact) -> str:
-    """The summary's map row: contacts up to each robot's exit (failures), and beyond it (told apart)."""
+    """The summary's map row: contacts up to each robot's exit and beyond it, told apart (the fixes differ); every
+    one fails the run but, for a Robotarium scene, those beyond the exit (`MapContact.fails_beyond_exit`)."""
     said = (
         f'bodies (r_p) on obstacles {contact.on_obstacles} robot-steps, outside the workspace '
         f'{contact.outside_workspace}, up to their exit'
     )
+    said += (
+        f'; beyond the exit, where this model drives on until the last robot is through (no parking): on obstacles '
+        f'{contact.on_obstacles_after_exit}, outside the workspace {contact.outside_after_exit}'
+    )
     beyond = contact.on_obstacles_after_exit + contact.outside_after_exit
-    if beyond:
-        said += (
-            f'; beyond the exit, where a robot has left the run and this model drives on (no parking): on obstacles '
-            f'{contact.on_obstacles_after_exit}, outside the workspace {contact.outside_after_exit} (not failures)'
-        )
+    if beyond and not contact.fails_beyond_exit:
+        said += ' (not failures: the Robotarium flight parks there, and `vtube robotarium run` judges it)'
     return said
 
 

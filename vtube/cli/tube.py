@@ -45,22 +45,25 @@ def generate(args: argparse.Namespace) -> TubeGenerated:
     started = time.perf_counter()
     text, generated = generated_scene(args.map.read_text(encoding='utf-8'), str(args.map), path.parent)
     seconds = time.perf_counter() - started
-    _require_room_to_start(text, path, str(args.map))
+    _require_room_at_the_ends(text, path, str(args.map))
     path.parent.mkdir(parents=True, exist_ok=True)
     write_atomically(path, text)
     return TubeGenerated(args.map, path, generated, seconds)
 
 
-def _require_room_to_start(text: str, path: Path, map_file: str) -> None:
+def _require_room_at_the_ends(text: str, path: Path, map_file: str) -> None:
     """Refuse a generated scene (``text``, to be written to ``path``) whose swarm would start on an obstacle or off
-    the map (`vtube.starts.require_room_to_start`): the generator checks the start region as well as the tube."""
+    the map, or run out beyond the goal into one (`vtube.starts.require_room_to_start`, `require_room_beyond_goal`):
+    the generator checks the ends as well as the tube."""
     from robotarium_exp.scene import TABLE, robotarium_scene
-    from vtube.starts import require_room_to_start
+    from vtube.starts import require_room_beyond_goal, require_room_to_start
     from vtube_planning.geometry.scene import scene_data, scene_from_data
 
     data = scene_data(text, str(path))
     build = robotarium_scene if TABLE in data else scene_from_data
-    require_room_to_start(build(data, name=Path(map_file).stem, source=str(path)), map_file)
+    scene = build(data, name=Path(map_file).stem, source=str(path))
+    require_room_to_start(scene, map_file)
+    require_room_beyond_goal(scene, map_file)
 
 
 def generate_view(result: TubeGenerated) -> View:
