@@ -1,7 +1,9 @@
-"""Draw ``warehouse.png``, the occupancy image of ``warehouse.toml``: a 40 x 20 m floor at 0.1 m per pixel (400 x 200
-pixels), as a SLAM map saved by ROS ``map_server`` would be (black occupied, white free, row 0 the top).
+"""Draw ``warehouse.png``, the occupancy image of ``warehouse.toml``: a 40 x 20 m floor and a 30 m yard east of it, at
+0.1 m per pixel (700 x 200 pixels), as a SLAM map saved by ROS ``map_server`` would be (black occupied, white free,
+row 0 the top).
 
-Outer walls 0.3 m thick, two inner walls with a 4 m doorway each, racks of shelves and a few crates; run
+Outer walls 0.3 m thick, an 8 m loading door in the east one onto the yard (where the robots run out beyond the
+goal), two inner walls with a 4 m doorway each, racks of shelves and a few crates; run
 ``python docs/maps/warehouse.py`` to write it again (the same pixels every time: nothing random)."""
 
 from __future__ import annotations
@@ -12,12 +14,13 @@ import numpy as np
 from matplotlib.image import imsave
 
 RESOLUTION_M = 0.1
-WIDTH_M, HEIGHT_M = 40.0, 20.0
+WIDTH_M, HEIGHT_M = 70.0, 20.0
 BOXES_M = [  # x_min, x_max, y_min, y_max: each an occupied rectangle
     (0.0, 40.0, 0.0, 0.3),  # outer walls
     (0.0, 40.0, 19.7, 20.0),
     (0.0, 0.3, 0.0, 20.0),
-    (39.7, 40.0, 0.0, 20.0),
+    (39.7, 40.0, 0.0, 2.0),  # east wall, a loading door y in [2, 10] onto the yard (x from 40 to 70 m)
+    (39.7, 40.0, 10.0, 20.0),
     (13.0, 13.3, 0.0, 12.0),  # first inner wall, doorway y in [12, 16]
     (13.0, 13.3, 16.0, 20.0),
     (27.0, 27.3, 0.0, 4.0),  # second inner wall, doorway y in [4, 8]
