@@ -6,6 +6,7 @@ import json
 import math
 from pathlib import Path
 from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 import pytest
@@ -13,7 +14,10 @@ import pytest
 from tests.support.passage import metrics
 from vtube import pipeline
 from vtube.cli.app import main
+from vtube.cli.command import View
 from vtube.cli.simulate import _replanning, simulate_view
+from vtube_planning.geometry.obstacles import Disc, Obstacles
+from vtube_planning.swarm.formation import FloatArray
 from vtube_planning.swarm.metrics import PassageMetrics
 from vtube_planning.swarm.simulate import SimConfig
 
@@ -173,42 +177,73 @@ def test_a_folder_another_simulate_is_writing_is_refused(tmp_path, monkeypatch, 
     assert len(seen) == 1
 
 
-def test_a_run_on_a_map_counts_bodies_off_the_map_over_the_whole_run() -> None:
-    """Issue 49: the robots of a map scene ended 36 m beyond a 30 m map and the summary said nothing. Bodies
-    outside the workspace before the exit fail the run; beyond the exit (the robot has left the run, and this model
-    does not park) they are told."""
+def map_run(x_m: FloatArray, y_m: FloatArray, obstacles: tuple[Any, ...] = (), testbed: str | None = None) -> View:
+    """The summary of one robot flown along (x, y) (T,) every 0.02 s on a map [-5, 32] x [-10, 10] m with
+    ``obstacles``, through a straight tube from x = 0, 30 m long."""
     from vtube_planning.geometry.workspace import Workspace
 
-    positions = np.zeros((625, 2, 1))
-    positions[:, 0, 0] = np.linspace(-1.0, 40.0, 625)
-    positions[10, 1, 0] = 9.9  # once 0.1 m from the map's edge: inside the tube's span
-    l_m = positions[:, 0, :] + 0.0  # a straight tube from x = 0, 30 m long
+    positions = np.stack([x_m, y_m])[:, :, None].transpose(1, 0, 2)  # (T, 2, 1)
     result = SimpleNamespace(
         metrics=metrics(),
         planned=True,
-        t_s=0.02 * np.arange(625),
+        t_s=0.02 * np.arange(len(x_m)),
         positions_m=positions,
-        l_m=l_m,
+        l_m=positions[:, 0, :] + 0.0,
         meta={'provenance': {}},
         dynamics_violations=0,
     )
     scene = SimpleNamespace(
         name='map',
-        obstacles=(),
+        obstacles=Obstacles(discs=obstacles),
         workspace=Workspace(-5.0, 32.0, -10.0, 10.0),
         tube=SimpleNamespace(length_m=30.0, half_width=lambda l_m: np.full(np.shape(l_m), 2.0)),
         control=SimpleNamespace(foresight_s=0.0),
+        testbed=testbed,
     )
     swarm = SimpleNamespace(n_robots=1, r_p_m=0.3, r_s_m=0.4, r_a_m=0.8)
-    done = pipeline.Simulated(scene, swarm, SimConfig(), result, (Path('o/s.npz'),))
-    view = simulate_view(done)
-    beyond = int((positions[:, 0, 0] > 32.0 - 0.3).sum())
-    assert view.exit_code == 1 and view.data['failures'][-1].startswith(
-        'robot bodies were outside the workspace (the map) in 1 robot-steps (first at t = 0.20 s'
+    return simulate_view(pipeline.Simulated(scene, swarm, SimConfig(), result, (Path('o/s.npz'),)))
+
+
+def test_a_run_on_a_map_counts_bodies_off_the_map_over_the_whole_run() -> None:
+    """Issue 49: the robots of a map scene ended 36 m beyond a 30 m map and the summary said nothing. Bodies
+    outside the workspace fail the run, before the exit and beyond it (this model does not park: a robot drives on
+    until the last one is through), told apart, since the fixes differ."""
+    x = np.linspace(-1.0, 40.0, 625)
+    y = np.zeros(625)
+    y[10] = 9.9  # once 0.1 m from the map's edge: inside the tube's span
+    view = map_run(x, y)
+    beyond = int((x > 32.0 - 0.3).sum())
+    assert view.exit_code == 1
+    before, after = view.data['failures'][-2:]
+    assert before.startswith('robot bodies were outside the workspace (the map) in 1 robot-steps (first at t = 0.20 s')
+    assert after.startswith(
+        f'robot bodies were outside the workspace (the map) in {beyond} robot-steps beyond the exit'
     )
+    assert 'move goal_m or goal_region_m of [tube.generate]' in after
     line = next(line for line in view.lines if line.startswith('  map '))
-    assert line.endswith(f'on obstacles 0, outside the workspace {beyond} (not failures)')
+    assert line.endswith(f'on obstacles 0, outside the workspace {beyond}')
     assert 'outside the workspace 1, up to their exit;' in line
+
+
+def test_a_run_into_a_wall_beyond_the_goal_fails() -> None:
+    """Issue 49, item 7: a map scene whose robots drive on after the exit into a wall passed (exit 0, the contacts
+    "told, not failed"); every contact over the whole run fails it now, and the failure names the fix. A Robotarium
+    scene's simulation is the exception: its flight parks where the simulated robots drive on."""
+    x = np.linspace(-1.0, 31.0, 400)  # the robot ends 1 m past the exit, on a disc 0.5 m beyond it
+    wall = (Disc((31.5, 0.0), 0.5),)
+    view = map_run(x, np.zeros(400), wall)
+    assert view.exit_code == 1
+    (failure,) = view.data['failures']
+    assert (
+        failure.startswith('robot bodies were on an obstacle in ')
+        and ' robot-steps beyond the exit (first at' in failure
+    )
+    assert 'goal_heading_deg pointing into free space with lead_m' in failure
+    assert next(line for line in view.lines if line.startswith('  passage ')).startswith('  passage            FAILED')
+    robotarium = map_run(x, np.zeros(400), wall, testbed='robotarium')
+    assert robotarium.exit_code == 0
+    assert next(line for line in robotarium.lines if line.startswith('  map ')).endswith('judges it)')
+    assert map_run(np.linspace(-1.0, 29.0, 400), np.zeros(400), wall).exit_code == 0  # it stops short of the wall
 
 
 @pytest.mark.parametrize(('narrowest', 'said'), [(0.6, ''), (0.398, ' (none at r_s = 0.4 m or less: no robot passes)')])

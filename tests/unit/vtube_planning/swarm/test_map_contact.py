@@ -12,7 +12,7 @@ from vtube_planning.errors import SceneError
 from vtube_planning.geometry.obstacles import Disc, Obstacles
 from vtube_planning.geometry.scene import load_scene
 from vtube_planning.geometry.workspace import Workspace
-from vtube_planning.swarm.map_contact import MapContact, map_contact, require_clear_start
+from vtube_planning.swarm.map_contact import MapContact, fails_beyond_exit, map_contact, require_clear_start
 
 
 def scene_with_a_map():
@@ -50,9 +50,10 @@ def test_beyond_the_exit_the_workspace_is_counted_apart() -> None:
     assert map_contact(np.arange(3.0), positions, scene, 0.3, back).outside_after_exit == 2
 
 
-def test_beyond_the_exit_obstacles_are_counted_apart_too() -> None:
-    """Issue 49: a robot past the exit has left the run (the paper's model drives on, without parking); a wall
-    beyond the goal it drives into is told, not a failure, as the map's edge is."""
+def test_beyond_the_exit_obstacles_fail_the_run_too_counted_apart_with_their_fix() -> None:
+    """Issue 49, item 7: bodies on obstacles or off the map over the *whole* run fail it. A robot past the exit
+    drives on (the paper's model does not park): a wall beyond the goal it drives into fails the run, counted and
+    said apart, naming the map file's keys that give it room."""
     scene = replace(scene_with_a_map(), obstacles=Obstacles(discs=(Disc((150.0, 0.0), 1.0),)))
     beyond = scene.tube.length_m + 1.0
     positions = np.zeros((3, 2, 1))
@@ -60,10 +61,35 @@ def test_beyond_the_exit_obstacles_are_counted_apart_too() -> None:
     l_m = np.array([[1.0], [beyond], [beyond + 1.0]])
     contact = map_contact(np.arange(3.0), positions, scene, 0.3, l_m)
     assert (contact.on_obstacles, contact.on_obstacles_after_exit) == (1, 2)
-    assert contact.failures() == (
-        'robot bodies were on an obstacle in 1 robot-steps (first at t = 0.00 s, (150.00, 0.00))',
+    assert contact.first_on_obstacle_after_exit == (1.0, 150.0, 0.0)
+    before, after = contact.failures()
+    assert before == 'robot bodies were on an obstacle in 1 robot-steps (first at t = 0.00 s, (150.00, 0.00))'
+    assert after.startswith(
+        'robot bodies were on an obstacle in 2 robot-steps beyond the exit (first at t = 1.00 s, (150.00, 0.00)): '
+        'the robots drive on beyond the goal'
     )
-    assert map_contact(np.arange(3.0), positions, scene, 0.3, l_m + beyond).failures() == ()
+    assert all(key in after for key in ('goal_m', 'goal_region_m', 'goal_heading_deg', 'lead_m', '[tube.generate]'))
+    only_after = map_contact(np.arange(3.0), positions, scene, 0.3, l_m + beyond)
+    assert [f.split(' (first')[0] for f in only_after.failures()] == [
+        'robot bodies were on an obstacle in 3 robot-steps beyond the exit'
+    ]
+
+
+def test_a_simulation_of_a_robotarium_scene_is_not_failed_beyond_the_exit_where_its_flight_parks() -> None:
+    """The one exception: the paper's model, simulated, drives a Robotarium scene's robots on where the flight parks
+    them (and `robotarium run` judges that); a recorded flight, which parks, is failed there."""
+    scene = replace(scene_with_a_map(), testbed='robotarium')
+    positions = np.zeros((2, 2, 1))
+    positions[:, 1, 0] = 19.9  # over the edge, past the exit
+    l_m = np.full((2, 1), scene.tube.length_m + 1.0)
+    simulated = map_contact(np.arange(2.0), positions, scene, 0.3, l_m)
+    assert simulated.outside_after_exit == 2 and simulated.failures() == ()
+    assert fails_beyond_exit(scene, parks=True) and not fails_beyond_exit(scene, parks=False)
+    assert fails_beyond_exit(scene_with_a_map(), parks=False)
+    flown = map_contact(np.arange(2.0), positions, scene, 0.3, l_m, parks=True)
+    assert (
+        len(flown.failures()) == 1 and 'outside the workspace (the map) in 2 robot-steps beyond' in flown.failures()[0]
+    )
 
 
 def test_a_start_on_the_map_s_edge_or_an_obstacle_is_refused() -> None:
