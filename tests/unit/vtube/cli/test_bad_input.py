@@ -228,6 +228,14 @@ BAD = [
         2,
         'outside the workspace (the map), the first at (-0.40, 49.20); the 20 robots start in a formation 11.2 m deep',
     ),
+    (
+        'no room to run out beyond the goal',
+        'tube generate {tmp}/edge_goal.toml --out {out}/s.toml',
+        2,
+        'robot bodies outside the workspace (the map), the first at (99.72, 47.30); the robots drive on beyond the '
+        "goal until the last one is through, at least 11.2 m (the depth of the 20 robots' start formation) along the "
+        "tube's last heading (0 degrees): in ",
+    ),
 ]
 
 
@@ -317,6 +325,8 @@ def bad_files(tmp_path_factory) -> Path:
     (tmp / 'headed.toml').write_text(headed)  # issue 49: a "radius 0.000 m" refusal; now each lead tried (U-turns)
     # issue 49: the grid started off the map; here 7 rows of 3 robots 1.6 m apart, the last at x = 10 - 0.8 - 6 x 1.6
     (tmp / 'edge_start.toml').write_text(map_text(1.0, 100.0))
+    # issue 49: the robots drive on beyond the goal (here 5 m from the edge) until the last one is through
+    (tmp / 'edge_goal.toml').write_text(map_text(1.0, 100.0, '[30.0, 50.0]', '[95.0, 50.0]'))
     (tmp / 'start_is_goal.toml').write_text(map_text(1.0, 100.0, goal='[10.0, 50.0]'))  # was an IndexError
     thin = '[tube.width]\nstart_m = 3.0\nparts = [{ kind = "constant", length_m = 10.0 }, { kind = "smooth", '
     thin += 'length_m = 5.0, to_m = 0.2 }, { kind = "constant" }]\n'  # issue 49: planned "certified"
