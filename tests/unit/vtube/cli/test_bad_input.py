@@ -232,9 +232,11 @@ BAD = [
         'no room to run out beyond the goal',
         'tube generate {tmp}/edge_goal.toml --out {out}/s.toml',
         2,
-        'robot bodies outside the workspace (the map), the first at (99.72, 47.30); the robots drive on beyond the '
-        "goal until the last one is through, at least 11.2 m (the depth of the 20 robots' start formation) along the "
-        "tube's last heading (0 degrees): in ",
+        (
+            'robot bodies outside the workspace (the map), the first at (99.72, 47.30); the robots drive on beyond the '
+            "goal until the last one is through, at least 11.2 m (the depth of the 20 robots' start formation) along "
+            "the tube's last heading (0 degrees): in "
+        ),
     ),
 ]
 
