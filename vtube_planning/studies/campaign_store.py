@@ -16,11 +16,13 @@ import socket
 import time
 from collections.abc import Collection, Iterable, Iterator, Mapping
 from contextlib import contextmanager
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 from vtube_planning.files import write_atomically
 from vtube_planning.studies.campaign import AXES, LATER_COLUMNS, METRICS, REPORT_KEYS, Campaign, CampaignError, run_key
+from vtube_planning.studies.study import Point
 
 RUNS_FILE, CAMPAIGN_FILE, LOCK_FILE, MADE_FILE = 'runs.csv', 'campaign.json', '.lock', 'provenance.json'
 
@@ -109,6 +111,8 @@ def prepare_folder(
     if campaign.base is not None and _named_files(campaign):
         record[SCENE_FOLDER] = str(campaign.base.resolve())
     apart = (*REPORT_KEYS, SCENE_FOLDER)
+    if (out / CAMPAIGN_FILE).is_file():
+        _rename_scenes(campaign, out, record, apart)
     return prepare_table(out, CAMPAIGN_FILE, record, campaign.columns, expected, what='campaign', apart=apart)
 
 
@@ -121,6 +125,66 @@ or moved with its scenes, is the same campaign); `read_results` finds the scenes
 def _named_files(campaign: Campaign) -> bool:
     """Whether a grid names a scene file relative to the campaign file."""
     return any(campaign.scene_path(s) != s for grid in campaign.grids for s in grid['scene'])
+
+
+def _rename_scenes(campaign: Campaign, out: Path, record: Mapping[str, Any], apart: Collection[str]) -> None:
+    """Rewrite a folder of ``campaign`` made before scene files were recorded relative to the campaign file (issue
+    49, item 16: relative to the working directory) in today's form, when its record names the same files: each
+    scene file it names, found relative to the campaign file or, failing that, to the working directory, is the
+    file ``campaign`` names (the same resolved path; the scene's hash in each row is checked when resuming). The
+    whole rows are keyed again for the names of today (runs.csv first, then campaign.json: a folder left between the
+    two is rewritten again). Nothing changes in a folder of another campaign, or one in today's form."""
+    previous = _recorded(out / CAMPAIGN_FILE)
+    renamed = _old_names(campaign, previous)
+    if not renamed:
+        return
+    grids = [{**grid, 'scene': [renamed.get(s, s) for s in grid['scene']]} for grid in previous['grids']]
+    if _without({**previous, 'grids': grids}, apart) != _without(record, apart):
+        return  # another campaign: `prepare_table` says so
+    table = out / RUNS_FILE
+    if table.is_file():
+        with table.open(newline='', encoding='utf-8') as handle:
+            reader = csv.DictReader(handle)
+            rows = [row for row in reader if None not in row.values() and None not in row]  # whole, as resumed
+        columns = list(reader.fieldnames or ())
+        write_atomically(table, _csv_text(columns, [_keyed_again(row, renamed, campaign) for row in rows]))
+    write_atomically(out / CAMPAIGN_FILE, json.dumps({**previous, 'grids': grids}, indent=1) + '\n')
+
+
+def _old_names(campaign: Campaign, previous: Mapping[str, Any]) -> dict[str, str]:
+    """The scene files a recorded campaign names otherwise than ``campaign`` does, each by ``campaign``'s name for
+    the same file (`_rename_scenes`)."""
+    named = {
+        Path(campaign.scene_path(s)).resolve(): s for g in campaign.grids for s in g['scene'] if s.endswith('.toml')
+    }
+    ours = set(named.values())
+    renamed: dict[str, str] = {}
+    grids = previous.get('grids')
+    if not isinstance(grids, list) or not all(isinstance(g, dict) and isinstance(g.get('scene'), list) for g in grids):
+        return renamed  # not a record vtube wrote: `prepare_table` refuses it
+    for grid in grids:
+        for scene in grid['scene']:
+            if not isinstance(scene, str) or not scene.endswith('.toml') or scene in ours:
+                continue
+            found = [Path(p) for p in (campaign.scene_path(scene), scene) if Path(p).is_file()]
+            if found and found[0].resolve() in named:
+                renamed[scene] = named[found[0].resolve()]
+    return renamed
+
+
+def _keyed_again(row: dict[str, Any], renamed: Mapping[str, str], campaign: Campaign) -> dict[str, Any]:
+    """A runs.csv row of a renamed scene (`_rename_scenes`) with today's name and key; any other row as it is (a
+    row whose key is not its point's, edited or cut, too: resuming runs it again)."""
+    if row.get('scene') not in renamed:
+        return row
+    try:
+        point = Point(**{axis: value for axis, value in typed_row(row, campaign.columns).items() if axis in AXES})
+    except (CampaignError, TypeError, ValueError):
+        return row
+    if run_key(point, campaign.settings) != row['key']:
+        return row
+    point = replace(point, scene=renamed[point.scene])
+    return {**row, 'scene': point.scene, 'key': run_key(point, campaign.settings)}
 
 
 def prepare_table(

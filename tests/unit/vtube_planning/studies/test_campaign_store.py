@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import hashlib
 import json
 import math
 
@@ -187,3 +188,58 @@ def test_a_value_edited_by_hand_is_named_not_a_traceback(tmp_path, campaign) -> 
             read_results(out)
     with pytest.raises(CampaignError, match="seed = 'abc' is not a whole number"):
         typed_row({'seed': 'abc'}, ['seed'])
+
+
+def test_a_folder_recorded_before_item_16_is_resumed_and_rewritten(tmp_path, monkeypatch) -> None:
+    """Issue 49, item 16's migration: a folder made before recorded its scene files relative to the working
+    directory (the old `from_dict` took `str(base / name)`, base being the campaign file's folder as given, and
+    `to_json` wrote that; its rows are keyed on it). Named from the working directory it was made in, it is the same
+    campaign (not "another campaign"): its finished rows are kept, keyed again, and the folder is rewritten as today's
+    code writes it, read back from anywhere. A record naming another file is still another campaign."""
+    from dataclasses import asdict
+    from importlib import resources
+    from pathlib import Path
+
+    from vtube_planning.studies.campaign_store import SCENE_FOLDER
+
+    study = tmp_path / 'study'
+    (study / 'scenes').mkdir(parents=True)
+    text = resources.files('vtube_planning.scenes').joinpath('C.toml').read_text()
+    (study / 'scenes' / 'mine.toml').write_text(text, encoding='utf-8')
+    (study / 'own.toml').write_text('[axes]\nscene = ["scenes/mine.toml", "C"]\nseed = 1\n', encoding='utf-8')
+    monkeypatch.chdir(tmp_path)
+    old = Campaign.from_dict({'axes': {'scene': ['study/scenes/mine.toml', 'C'], 'seed': 1}})  # as the old code had it
+    out = tmp_path / 'results'
+    out.mkdir()
+    (out / CAMPAIGN_FILE).write_text(json.dumps(old.to_json(), indent=1) + '\n', encoding='utf-8')
+    mine = old.points()[0]
+    assert mine.scene == 'study/scenes/mine.toml'
+    row = dict.fromkeys(old.columns, '') | {'key': run_key(mine, old.settings), 'passing_time_s': '12.5'}
+    row |= {axis: str(value) for axis, value in asdict(mine).items()}  # every axis, as csv writes it
+    sha = hashlib.sha256(text.encode()).hexdigest()
+    write_rows(out / RUNS_FILE, old.columns, [row | {'version': '1.0', 'scene_sha256': sha, 'completed': 'True'}])
+
+    campaign = Campaign.from_toml(Path('study/own.toml'))
+    points = campaign.points()
+    expected = {run_key(p, campaign.settings): {'version': '1.0', 'scene_sha256': sha} for p in points}
+    done = prepare_folder(campaign, out, expected)
+    new_key = run_key(points[0], campaign.settings)
+    assert points[0].scene == 'scenes/mine.toml' and new_key != row['key']
+    assert list(done) == [new_key] and done[new_key]['scene'] == 'scenes/mine.toml'
+    assert done[new_key]['passing_time_s'] == '12.5'
+    recorded = json.loads((out / CAMPAIGN_FILE).read_text())
+    assert recorded['grids'][0]['scene'] == ['scenes/mine.toml', 'C'] and recorded[SCENE_FOLDER] == str(study.resolve())
+    monkeypatch.chdir(study / 'scenes')  # today's form: the same from anywhere
+    read, rows, missing = read_results(out)
+    assert [r['key'] for r in rows] == [new_key] and missing == 1 and read.points() == points
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / 'elsewhere').mkdir()
+    (tmp_path / 'elsewhere' / 'mine.toml').write_text(text, encoding='utf-8')  # the same text, another file
+    other = tmp_path / 'other'
+    other.mkdir()
+    elsewhere = Campaign.from_dict({'axes': {'scene': ['elsewhere/mine.toml', 'C'], 'seed': 1}})
+    (other / CAMPAIGN_FILE).write_text(json.dumps(elsewhere.to_json()), encoding='utf-8')
+    with pytest.raises(CampaignError, match='holds the results of another campaign'):
+        prepare_folder(campaign, other, expected)
+    assert json.loads((other / CAMPAIGN_FILE).read_text()) == elsewhere.to_json()  # left as it was
