@@ -31,7 +31,8 @@ First = tuple[float, float, float] | None
 BEYOND_EXIT_FIX = (
     'the robots drive on beyond the goal until the last one is through: give them room there (a map file: move '
     'goal_m or goal_region_m of [tube.generate] away from the wall or the edge, or give goal_heading_deg pointing '
-    'into free space with lead_m; `vtube tube generate` checks the straight run-out)'
+    'into free space with lead_m, or fewer robots: [swarm] n_robots; `vtube tube generate` checks the straight '
+    'run-out)'
 )
 """What to change where bodies touch beyond the exit."""
 
@@ -70,14 +71,16 @@ class MapContact:
                     'beyond the exit',
                 ),
             ]
-        found = []
+        found, beyond = [], False
         for steps, first, what, where in kinds:
             if steps and first is not None:
                 t, x, y = first
                 said = f'robot bodies were {what} in {steps} robot-steps'
                 said += f' {where}' if where else ''
-                said += f' (first at t = {t:.2f} s, ({x:.2f}, {y:.2f}))'
-                found.append(said + (f': {BEYOND_EXIT_FIX}' if where else ''))
+                found.append(said + f' (first at t = {t:.2f} s, ({x:.2f}, {y:.2f}))')
+                beyond = bool(where)
+        if beyond:  # the fix once, after the last contact beyond the exit
+            found[-1] += f': {BEYOND_EXIT_FIX}'
         return tuple(found)
 
 

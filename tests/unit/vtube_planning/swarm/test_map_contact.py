@@ -73,6 +73,13 @@ def test_beyond_the_exit_obstacles_fail_the_run_too_counted_apart_with_their_fix
     assert [f.split(' (first')[0] for f in only_after.failures()] == [
         'robot bodies were on an obstacle in 3 robot-steps beyond the exit'
     ]
+    off_too = replace(scene, workspace=Workspace(-5.0, 149.0, -20.0, 20.0))  # the disc's centre is off the map too
+    both = map_contact(np.arange(3.0), positions, off_too, 0.3, l_m + beyond).failures()
+    assert [f.split(' (first')[0] for f in both] == [
+        'robot bodies were on an obstacle in 3 robot-steps beyond the exit',
+        'robot bodies were outside the workspace (the map) in 3 robot-steps beyond the exit',
+    ]
+    assert 'goal_m' not in both[0] and 'goal_m' in both[1]  # the fix once, after the last
 
 
 def test_a_simulation_of_a_robotarium_scene_is_not_failed_beyond_the_exit_where_its_flight_parks() -> None:
