@@ -15,7 +15,8 @@ tube. Every period, for every robot:
    law's, or, when none is safe, the one whose first contact comes latest (then its first shortfall, then how far
    short it falls), keeping the backup it announced over a barely better one (`KEEP_M_S`, `KEEP_MPS`), and keeps
    flying backups for `HOLD_S` before the law again; two robots are checked at the closest they come between two
-   predicted points, not only at the points;
+   predicted points, not only at the points; the robots choose twice (`PASSES`), the second time each against
+   the choices just made by the robots ahead of it, so that two robots side by side do not both turn into one gap;
 4. the robot is commanded its velocity after one period of following the target: a command inside (2)-(4) from
    its present velocity.
 
@@ -44,7 +45,12 @@ Flight = tuple[FloatArray, ...]
 """One step of predicted flights: x, y, arc length l and offset y_tube, each (R, K)."""
 
 LANES = np.array([-1.0, -0.5, 0.0, 0.5, 1.0])
-"""The backups' lanes eta (besides the robot's present one), each at v_min, mid-band and v_max."""
+"""The backups' lanes eta (besides the robot's present one), each at every speed of `SPEED_FRACTIONS`."""
+SPEED_FRACTIONS = np.array([0.0, 0.5, 1.0])
+"""The backups' speeds, as fractions of the way from v_min to v_max."""
+PASSES = 2
+"""How many times the risky robots choose in a period; from the second on, each sees the choices just made by the
+risky robots ahead of it (larger arc length) instead of their announcements of the period before."""
 LANE_LOOKAHEAD_S = 1.0
 """A backup steers for its lane at the point this many seconds of flight ahead (at least 1 m)."""
 PREDICTION_LOCATE_STEPS = 2
@@ -183,7 +189,7 @@ class Foresight:
         self._held = np.where(unsafe, HOLD_S, np.maximum(self._held - dt_s, 0.0))
         risky = np.flatnonzero(unsafe | (self._held > 0.0))
         if risky.size:
-            chosen_lane, chosen_speed = self._choose(
+            chosen_lane, chosen_speed = self._choose_in_order(
                 robots, risky, law_speed, law_heading, announced, others, neighbours, dt_s
             )
             announced_lane[risky], announced_speed[risky] = chosen_lane, chosen_speed
@@ -194,6 +200,33 @@ class Foresight:
             self.overridden += risky.size
         self.announced = (announced_lane, announced_speed)
         return target_speed, target_heading
+
+    def _choose_in_order(
+        self,
+        robots: _Robots,
+        risky: IntArray,
+        law_speed: FloatArray,
+        law_heading: FloatArray,
+        announced: tuple[FloatArray, FloatArray],
+        others: list[tuple[FloatArray, FloatArray]],
+        neighbours: IntArray,
+        dt_s: float,
+    ) -> tuple[FloatArray, FloatArray]:
+        """The backups of the ``risky`` robots, chosen `PASSES` times: first each against its neighbours'
+        announcements, then each again against the choices just made by the risky robots ahead of it. Two robots
+        side by side that choose at once from each other's old announcements can both turn into the gap between
+        them; in order, the one behind sees what the one ahead just chose."""
+        lane, speed = self._choose(robots, risky, law_speed, law_heading, announced, others, neighbours, dt_s, None)
+        ahead = (robots.l_m[neighbours[risky]] > robots.l_m[risky, None]).astype(np.intp)  # (R, M): 1 ahead
+        for _ in range(PASSES - 1):
+            chosen = _Backups(risky, lane[:, None], speed[:, None], *_free(speed[:, None]))
+            views = []  # column 0: every robot's announcement; 1: the same with the risky robots' fresh choices
+            for (ox, oy), (fx, fy, _, _) in zip(others, self._flights(robots, chosen, dt_s)):
+                nx, ny = ox.copy(), oy.copy()
+                nx[risky], ny[risky] = fx, fy
+                views.append((np.hstack([ox, nx]), np.hstack([oy, ny])))
+            lane, speed = self._choose(robots, risky, law_speed, law_heading, announced, views, neighbours, dt_s, ahead)
+        return lane, speed
 
     def _steer(self, x: FloatArray, y: FloatArray, l_m: FloatArray, lane: FloatArray, speed: FloatArray) -> FloatArray:
         """The heading that steers for ``lane`` from (x, y) at arc length l and ``speed``."""
@@ -233,7 +266,8 @@ class Foresight:
         n = positions.shape[1]
         if n <= ALL_PAIRS_UP_TO:
             return np.tile(np.arange(n), (n, 1))
-        return np.asarray(cKDTree(positions.T).query(positions.T, k=min(n, NEIGHBOURS + 1))[1], dtype=np.intp)
+        tree = cKDTree(positions.T, balanced_tree=False, compact_nodes=False)  # built every period: built fast
+        return np.asarray(tree.query(positions.T, k=min(n, NEIGHBOURS + 1))[1], dtype=np.intp)
 
     def _foresee(
         self,
@@ -244,6 +278,7 @@ class Foresight:
         neighbours: IntArray,
         dt_s: float,
         margin_m: float = 0.0,
+        seen: IntArray | None = None,
     ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """(R, K) for robots ``rows`` flying ``flights`` (`_flights`): the time of the first step closer than r_s to a
         wall or 2 r_s to a neighbour (inf: none), the time of the first contact (a centre outside the tube, or
@@ -251,7 +286,8 @@ class Foresight:
         (r_s - clearance)+ and (2 r_s - the nearest neighbour's distance)+ (m s)."""
         shape, r_s = flights[0][0].shape, self.swarm.r_s_m
         near = neighbours[rows]  # (R, M)
-        itself = np.broadcast_to((near == rows[:, None])[:, None, :], (*shape, near.shape[1]))
+        view = np.zeros_like(near) if seen is None else seen  # which flight of ``others`` each neighbour is seen in
+        itself = np.where(near == rows[:, None], np.inf, 0.0)[:, None, :]  # a robot is not its own neighbour
         shortfall, first, contact = np.zeros(shape), np.full(shape, np.inf), np.full(shape, np.inf)
         elapsed = 0.0
         dx0 = robots.positions[0, rows, None, None] - robots.positions[0, near][:, None, :]
@@ -259,11 +295,9 @@ class Foresight:
         for step, (x, y, l_m, offset), (ox, oy) in zip(self._times(dt_s), flights, others):
             elapsed += step
             clearance = self.tables.clearance(l_m, offset)
-            dx1, dy1 = x[:, :, None] - ox[near, 0][:, None, :], y[:, :, None] - oy[near, 0][:, None, :]
-            gap = _closest(dx0, dy0, dx1, dy1)
+            dx1, dy1 = x[:, :, None] - ox[near, view][:, None, :], y[:, :, None] - oy[near, view][:, None, :]
+            nearest = np.sqrt((_closest_squared(dx0, dy0, dx1, dy1) + itself).min(axis=2))
             dx0, dy0 = dx1, dy1
-            gap[itself] = np.inf
-            nearest = gap.min(axis=2)
             short = np.maximum(r_s + margin_m - clearance, 0.0) + np.maximum(2.0 * r_s + margin_m - nearest, 0.0)
             shortfall += step * short
             first[(short > 0.0) & np.isinf(first)] = elapsed
@@ -280,18 +314,19 @@ class Foresight:
         others: list[tuple[FloatArray, FloatArray]],
         neighbours: IntArray,
         dt_s: float,
+        seen: IntArray | None,
     ) -> tuple[FloatArray, FloatArray]:
         """The backups (lanes, speeds) of the ``risky`` robots: the safe one whose first command is closest to the
         law's, else the one whose first contact comes latest, then whose first shortfall, then the least short;
         the backup a robot announced kept over a barely better one (`KEEP_M_S`, `KEEP_MPS`)."""
         swarm = self.swarm
-        band = np.array([swarm.v_min_mps, 0.5 * (swarm.v_min_mps + swarm.v_max_mps), swarm.v_max_mps])
+        band = swarm.v_min_mps + SPEED_FRACTIONS * (swarm.v_max_mps - swarm.v_min_mps)
         lanes = np.concatenate([np.tile(LANES, (risky.size, 1)), robots.lane[risky, None]], axis=1)
         kept_lane, kept_speed = (a[risky, None] for a in announced)
         lane = np.concatenate([np.repeat(lanes, band.size, axis=1), kept_lane], axis=1)
         speed = np.concatenate([np.tile(band, (risky.size, lanes.shape[1])), kept_speed], axis=1)
         flights = self._flights(robots, _Backups(risky, lane, speed, *_free(speed)), dt_s)
-        first, contact, shortfall = self._foresee(robots, risky, flights, others, neighbours, dt_s)
+        first, contact, shortfall = self._foresee(robots, risky, flights, others, neighbours, dt_s, seen=seen)
         x, y = robots.positions[0, risky, None], robots.positions[1, risky, None]
         heading = self._steer(x, y, robots.l_m[risky, None], lane, robots.speed[risky, None])
         deviation = np.hypot(
@@ -312,10 +347,13 @@ def _free(like: FloatArray) -> tuple[FloatArray, FloatArray]:
     return np.full(like.shape, np.nan), np.full(like.shape, np.nan)
 
 
-def _closest(dx0: FloatArray, dy0: FloatArray, dx1: FloatArray, dy1: FloatArray) -> FloatArray:
-    """The closest two robots come over a step whose start and end separations are (dx0, dy0) and (dx1, dy1),
-    both moving straight at constant speed over it: a crossing between two predicted points is not missed."""
+def _closest_squared(dx0: FloatArray, dy0: FloatArray, dx1: FloatArray, dy1: FloatArray) -> FloatArray:
+    """The square of the closest two robots come over a step whose start and end separations are (dx0, dy0) and
+    (dx1, dy1), both moving straight at constant speed over it: a crossing between two predicted points is not
+    missed."""
     ex, ey = dx1 - dx0, dy1 - dy0
-    t = np.clip(-(dx0 * ex + dy0 * ey) / np.maximum(ex * ex + ey * ey, 1e-300), 0.0, 1.0)
-    closest: FloatArray = np.hypot(dx0 + t * ex, dy0 + t * ey)
-    return closest
+    t = -(dx0 * ex + dy0 * ey) / np.maximum(ex * ex + ey * ey, 1e-300)
+    t = np.minimum(np.maximum(t, 0.0, out=t), 1.0, out=t)
+    cx, cy = dx0 + t * ex, dy0 + t * ey
+    squared: FloatArray = cx * cx + cy * cy
+    return squared

@@ -8,13 +8,15 @@ import math
 from dataclasses import replace
 
 import numpy as np
+import pytest
 
 from vtube_planning.geometry.centerline import ArcPath, ArcPiece
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
 from vtube_planning.params import SwarmParams
+from vtube_planning.swarm import foresight as foresight_module
 from vtube_planning.swarm.dynamics import dynamics_violations, limit_acceleration
-from vtube_planning.swarm.foresight import Foresight, _closest
+from vtube_planning.swarm.foresight import Foresight, _closest_squared
 
 SWARM = SwarmParams(n_robots=2)
 STRAIGHT = VirtualTube(ArcPath((ArcPiece(40.0),)), WidthProfile(3.0, (WidthPart('constant', 40.0),)))
@@ -64,20 +66,22 @@ def test_a_robot_about_to_hit_the_one_ahead_gives_way() -> None:
     velocity = np.array([[4.0, 2.0], [0.0, 0.0]])
     commanded = foresight(positions, velocity, velocity.copy(), 0.02)
     assert foresight.overridden >= 1
-    behind = commanded[:, 0]
-    assert np.hypot(*behind) < 4.0 or abs(behind[1]) > 0.0  # slows down or steers out of line
+    behind, ahead = commanded[:, 0], commanded[:, 1]
+    closing = np.hypot(*behind) - np.hypot(*ahead)
+    assert closing < 2.0 or abs(behind[1]) > 0.0  # the gap closes slower (one slows, or the other speeds up) or
+    # the one behind steers out of line
 
 
 def test_the_closest_approach_over_a_step_is_the_densely_sampled_one() -> None:
     rng = np.random.default_rng(8)
     start, end = rng.normal(0.0, 2.0, (2, 2, 300))
-    closest = _closest(start[0], start[1], end[0], end[1])
+    closest = np.sqrt(_closest_squared(start[0], start[1], end[0], end[1]))
     t = np.linspace(0.0, 1.0, 4001)[:, None]
     sampled = np.hypot(start[0] + t * (end[0] - start[0]), start[1] + t * (end[1] - start[1])).min(axis=0)
     np.testing.assert_allclose(closest, sampled, atol=3e-3)
     assert (closest <= np.minimum(np.hypot(*start), np.hypot(*end)) + 1e-15).all()
     # two robots crossing between the two predicted points: 2 m apart at both, 0 between
-    assert _closest(np.array([-1.0]), np.array([0.0]), np.array([1.0]), np.array([0.0]))[0] == 0.0
+    assert _closest_squared(np.array([-1.0]), np.array([0.0]), np.array([1.0]), np.array([0.0]))[0] == 0.0
 
 
 def test_a_robot_whose_backups_all_fall_short_keeps_the_one_it_announced() -> None:
@@ -95,3 +99,34 @@ def test_a_robot_whose_backups_all_fall_short_keeps_the_one_it_announced() -> No
     assert (np.abs(np.diff(speeds, axis=0)) < 1e-12).all()  # no turns taken between slow and fast backups
     assert (np.abs(np.diff(lanes, axis=0)) < 0.05).all()
     assert lanes[-1, 0] < 0.0 < lanes[-1, 1]  # and the ones kept part them
+
+
+def test_in_order_the_robot_behind_chooses_against_what_the_robot_ahead_just_chose(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    def decided(
+        passes: int, told: tuple[np.ndarray, np.ndarray], positions: np.ndarray, velocity: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        monkeypatch.setattr(foresight_module, 'PASSES', passes)
+        foresight = _foresight(STRAIGHT, 2)
+        foresight.announced = (told[0].copy(), told[1].copy())
+        foresight._held = np.full(2, foresight_module.HOLD_S)  # both fly backups: both choose
+        foresight(positions, velocity, velocity.copy(), 0.02)
+        assert foresight.announced is not None
+        return foresight.announced
+
+    changed = 0
+    for seed in range(12):
+        rng = np.random.default_rng(seed)  # two robots 0.8 m apart across, robot 0 up to 1.5 m ahead
+        positions = np.array([[5.0 + rng.uniform(0.0, 1.5), 5.0], rng.uniform(-1.5, 1.5) + np.array([-0.4, 0.4])])
+        velocity = np.vstack([rng.uniform(2.0, 5.0, 2), np.zeros(2)])
+        announced = (rng.uniform(-1.0, 1.0, 2), rng.uniform(2.0, 5.0, 2))
+        in_order = decided(2, announced, positions, velocity)
+        first = decided(1, announced, positions, velocity)
+        # robot 1 chooses again, seeing robot 0's fresh choice as if robot 0 had announced it
+        fresh = (np.array([first[0][0], announced[0][1]]), np.array([first[1][0], announced[1][1]]))
+        again = decided(1, fresh, positions, velocity)
+        assert (in_order[0][0], in_order[1][0]) == (first[0][0], first[1][0])  # the one ahead: as it first chose
+        assert (in_order[0][1], in_order[1][1]) == (again[0][1], again[1][1])
+        changed += (in_order[0][1], in_order[1][1]) != (first[0][1], first[1][1])
+    assert changed >= 2  # robots behind that chose otherwise in order: the cases test something
