@@ -27,8 +27,9 @@ DOCS = ROOT / 'docs'
 VERIFIED = ('maps_study', 'maps_study_limits', 'ablation', 'replanning', 'faults', 'foresight', 'equal_freedom')
 VERIFIED += ('crossover_reduced',)
 """The committed campaign folders made at a commit whose code gives them (docs/delay predates the verdict rules)."""
-MADE_IN_KIND = ('foresight',)
-"""The folders made in the machine kind `KIND` (on an AVX-512 machine: `kind_settings`' variables)."""
+MADE_IN_KIND = ('foresight', 'crossover_reduced')
+"""The folders made (crossover_reduced: its foresight rows) in the machine kind `KIND` (on an AVX-512 machine:
+`kind_settings`' variables)."""
 KIND = {'numpy_simd': 'X86_V2 X86_V3', 'openblas_core': 'Haswell'}
 """numpy's loops up to X86_V3 and OpenBLAS's Haswell kernels."""
 VERIFY = """
