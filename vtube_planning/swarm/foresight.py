@@ -189,7 +189,7 @@ class Foresight:
         self._held = np.where(unsafe, HOLD_S, np.maximum(self._held - dt_s, 0.0))
         risky = np.flatnonzero(unsafe | (self._held > 0.0))
         if risky.size:
-            chosen_lane, chosen_speed = self._choose_in_order(
+            chosen_lane, chosen_speed = self._choose(
                 robots, risky, law_speed, law_heading, announced, others, neighbours, dt_s
             )
             announced_lane[risky], announced_speed[risky] = chosen_lane, chosen_speed
@@ -200,33 +200,6 @@ class Foresight:
             self.overridden += risky.size
         self.announced = (announced_lane, announced_speed)
         return target_speed, target_heading
-
-    def _choose_in_order(
-        self,
-        robots: _Robots,
-        risky: IntArray,
-        law_speed: FloatArray,
-        law_heading: FloatArray,
-        announced: tuple[FloatArray, FloatArray],
-        others: list[tuple[FloatArray, FloatArray]],
-        neighbours: IntArray,
-        dt_s: float,
-    ) -> tuple[FloatArray, FloatArray]:
-        """The backups of the ``risky`` robots, chosen `PASSES` times: first each against its neighbours'
-        announcements, then each again against the choices just made by the risky robots ahead of it. Two robots
-        side by side that choose at once from each other's old announcements can both turn into the gap between
-        them; in order, the one behind sees what the one ahead just chose."""
-        lane, speed = self._choose(robots, risky, law_speed, law_heading, announced, others, neighbours, dt_s, None)
-        ahead = (robots.l_m[neighbours[risky]] > robots.l_m[risky, None]).astype(np.intp)  # (R, M): 1 ahead
-        for _ in range(PASSES - 1):
-            chosen = _Backups(risky, lane[:, None], speed[:, None], *_free(speed[:, None]))
-            views = []  # column 0: every robot's announcement; 1: the same with the risky robots' fresh choices
-            for (ox, oy), (fx, fy, _, _) in zip(others, self._flights(robots, chosen, dt_s)):
-                nx, ny = ox.copy(), oy.copy()
-                nx[risky], ny[risky] = fx, fy
-                views.append((np.hstack([ox, nx]), np.hstack([oy, ny])))
-            lane, speed = self._choose(robots, risky, law_speed, law_heading, announced, views, neighbours, dt_s, ahead)
-        return lane, speed
 
     def _steer(self, x: FloatArray, y: FloatArray, l_m: FloatArray, lane: FloatArray, speed: FloatArray) -> FloatArray:
         """The heading that steers for ``lane`` from (x, y) at arc length l and ``speed``."""
@@ -314,11 +287,11 @@ class Foresight:
         others: list[tuple[FloatArray, FloatArray]],
         neighbours: IntArray,
         dt_s: float,
-        seen: IntArray | None,
     ) -> tuple[FloatArray, FloatArray]:
-        """The backups (lanes, speeds) of the ``risky`` robots: the safe one whose first command is closest to the
-        law's, else the one whose first contact comes latest, then whose first shortfall, then the least short;
-        the backup a robot announced kept over a barely better one (`KEEP_M_S`, `KEEP_MPS`)."""
+        """The backups (lanes, speeds) of the ``risky`` robots (`_best`), chosen `PASSES` times: first each against
+        its neighbours' announcements, then each again against the choices just made by the risky robots ahead of
+        it. Two robots side by side that choose at once from each other's old announcements can both turn into the
+        gap between them; in order, the one behind sees what the one ahead just chose."""
         swarm = self.swarm
         band = swarm.v_min_mps + SPEED_FRACTIONS * (swarm.v_max_mps - swarm.v_min_mps)
         lanes = np.concatenate([np.tile(LANES, (risky.size, 1)), robots.lane[risky, None]], axis=1)
@@ -326,20 +299,46 @@ class Foresight:
         lane = np.concatenate([np.repeat(lanes, band.size, axis=1), kept_lane], axis=1)
         speed = np.concatenate([np.tile(band, (risky.size, lanes.shape[1])), kept_speed], axis=1)
         flights = self._flights(robots, _Backups(risky, lane, speed, *_free(speed)), dt_s)
-        first, contact, shortfall = self._foresee(robots, risky, flights, others, neighbours, dt_s, seen=seen)
         x, y = robots.positions[0, risky, None], robots.positions[1, risky, None]
         heading = self._steer(x, y, robots.l_m[risky, None], lane, robots.speed[risky, None])
         deviation = np.hypot(
             speed * np.cos(heading) - (law_speed * np.cos(law_heading))[risky, None],
             speed * np.sin(heading) - (law_speed * np.sin(law_heading))[risky, None],
         )
+        picked = np.arange(risky.size)
+        best = self._best(robots, risky, flights, others, neighbours, dt_s, None, deviation)
+        ahead = (robots.l_m[neighbours[risky]] > robots.l_m[risky, None]).astype(np.intp)  # (R, M): 1 ahead
+        for _ in range(PASSES - 1):
+            views = []  # column 0: every robot's announcement; 1: the same with the risky robots' fresh choices
+            for (ox, oy), (fx, fy, _, _) in zip(others, flights):
+                nx, ny = ox.copy(), oy.copy()
+                nx[risky, 0], ny[risky, 0] = fx[picked, best], fy[picked, best]
+                views.append((np.hstack([ox, nx]), np.hstack([oy, ny])))
+            best = self._best(robots, risky, flights, views, neighbours, dt_s, ahead, deviation)
+        return lane[picked, best], speed[picked, best]
+
+    def _best(
+        self,
+        robots: _Robots,
+        risky: IntArray,
+        flights: list[Flight],
+        others: list[tuple[FloatArray, FloatArray]],
+        neighbours: IntArray,
+        dt_s: float,
+        seen: IntArray | None,
+        deviation: FloatArray,
+    ) -> IntArray:
+        """The column of each risky robot's best backup among ``flights``: the safe one whose first command is
+        closest to the law's (``deviation``), else the one whose first contact comes latest, then whose first
+        shortfall, then the least short; the backup a robot announced (the last column) kept over a barely better
+        one (`KEEP_M_S`, `KEEP_MPS`)."""
+        first, contact, shortfall = self._foresee(robots, risky, flights, others, neighbours, dt_s, seen=seen)
         touch = np.where(np.isinf(contact), 0.0, self.horizon_s + 1.0 - contact)  # 0: none; the sooner the worse
         later = np.where(np.isinf(first), 0.0, self.horizon_s + 1.0 - first)  # 0: safe; else the sooner the worse
         score = 1e6 * touch + 1e4 * later + 1e2 * shortfall + deviation
-        score[:, -1] -= np.where(later[:, -1] > 0.0, 1e2 * KEEP_M_S, KEEP_MPS)  # the announced backup: last column
-        best = np.argmin(score, axis=1)
-        picked = np.arange(risky.size)
-        return lane[picked, best], speed[picked, best]
+        score[:, -1] -= np.where(later[:, -1] > 0.0, 1e2 * KEEP_M_S, KEEP_MPS)
+        best: IntArray = np.argmin(score, axis=1)
+        return best
 
 
 def _free(like: FloatArray) -> tuple[FloatArray, FloatArray]:
