@@ -268,32 +268,42 @@ def _rest(rec: SimulatorRecord) -> tuple:
     return (np.zeros((1, 2, 6)), rec.dt_s, rec.errors, rec.iterations, rec.initialization_steps, 1, True)
 
 
-def test_a_stress_model_reports_margins_and_a_verdict_model_decides(tmp_path, monkeypatch) -> None:
-    """A run that fails under fitted:2 is a stress result (the file passes, its margins say so); under fitted it
-    fails the file; when the ideal runs fail already, no other model is flown."""
-    path = write(build('robotarium_trapezoid', None), tmp_path / 'sub.py')
-    flown: list[str] = []
+def _stub_runs(monkeypatch, bad, bad_gap_m: float) -> list[tuple[int | None, str]]:
+    """The check's runs stubbed: a run that is ``bad(seed, model)`` brings two robots ``bad_gap_m`` apart, every
+    other 0.5 m; the initializer sample stubbed too. The (seed, model) of the bundled runs flown, as they fly."""
+    flown: list[tuple[int | None, str]] = []
 
     def run_file(path, backend, seed, data, timeout_s, model='ideal'):
         if backend == 'bundled':
-            flown.append(model)
-        bad = model in failing
-        errors = {'robots_too_close': 4} if bad else None
-        return RunReport(backend, seed, 0, record=record(FAKE_STEPS, errors=errors, gap_m=0.1 if bad else 0.5),
+            flown.append((seed, model))
+        failed = bad(seed, model)
+        errors = {'robots_too_close': 4} if failed else None
+        return RunReport(backend, seed, 0, record=record(FAKE_STEPS, errors=errors, gap_m=bad_gap_m if failed else 0.5),
                          completed=True, model=model)  # fmt: skip
 
     monkeypatch.setattr(check_module, 'run_file', run_file)
     monkeypatch.setattr(
         check_module, 'cached_initializer_durations', lambda ic, seeds, seed_done=None: InitializerSample((20.0,), ())
     )
-    for failing, passes, models in [
+    return flown
+
+
+def test_a_stress_model_reports_margins_and_a_verdict_model_decides(tmp_path, monkeypatch) -> None:
+    """A run that fails under fitted:2 is a stress result (the file passes, its margins say so); under fitted it
+    fails the file; when the ideal runs fail already, no other model is flown."""
+    path = write(build('robotarium_trapezoid', None), tmp_path / 'sub.py')
+    failing: set[str] = set()
+    flown = _stub_runs(monkeypatch, lambda seed, model: model in failing, 0.1)
+    for case, passes, models in [
         ({'fitted:2'}, True, list(CHECKED_MODELS)),
         ({'fitted'}, False, list(CHECKED_MODELS)),
         ({'ideal'}, False, ['ideal']),
     ]:
+        failing.clear()
+        failing.update(case)
         flown.clear()
         report = check(path, seeds=1, initializer_seeds=1)
-        assert report.passed == passes and sorted(flown) == sorted(models), failing
+        assert report.passed == passes and sorted(m for _, m in flown) == sorted(models), failing
         margins = {m.model: m for m in report.margins}
         assert sorted(margins) == sorted(models)
         for model, margin in margins.items():
@@ -338,21 +348,8 @@ def test_the_check_searches_the_delay_margin_only_when_asked_and_the_header_reco
     from submission.delay_margin import from_header
 
     path = write(build('robotarium_trapezoid', None), tmp_path / 'sub.py')
-    flown: list[tuple[int | None, str]] = []
     failing: set[str] = {'fitted:2.5'}
-
-    def run_file(path, backend, seed, data, timeout_s, model='ideal'):
-        if backend == 'bundled':
-            flown.append((seed, model))
-        bad = model in failing and seed == 7
-        errors = {'robots_too_close': 4} if bad else None
-        return RunReport(backend, seed, 0, record=record(FAKE_STEPS, errors=errors, gap_m=0.05 if bad else 0.5),
-                         completed=True, model=model)  # fmt: skip
-
-    monkeypatch.setattr(check_module, 'run_file', run_file)
-    monkeypatch.setattr(
-        check_module, 'cached_initializer_durations', lambda ic, seeds, seed_done=None: InitializerSample((20.0,), ())
-    )
+    flown = _stub_runs(monkeypatch, lambda seed, model: model in failing and seed == 7, 0.05)
     plain = check(path, seeds=2, initializer_seeds=1)
     assert plain.delay_margin is None and plain.margin_runs == () and len(flown) == 6
     flown.clear()
