@@ -227,12 +227,31 @@ class Foresight:
                 given = np.isfinite(backups.first_heading)
                 target = np.where(given, backups.first_heading, target)
                 target_speed = np.where(given, backups.first_speed, target_speed)
+            before = speed, heading
             speed, heading = respond(speed, heading, target_speed, target, self.a_v, self.a_n, step)
-            dx, dy = step * speed * np.cos(heading), step * speed * np.sin(heading)
+            dx, dy = self._moved(before, speed, heading, step, index == 0)
             x, y = x + dx, y + dy
             l_m, offset = self.tables.locate(x, y, l_m + np.hypot(dx, dy), PREDICTION_LOCATE_STEPS)
             out.append((x, y, l_m, offset))
         return out
+
+    def _moved(
+        self, before: tuple[FloatArray, FloatArray], speed: FloatArray, heading: FloatArray, step: float, first: bool
+    ) -> tuple[FloatArray, FloatArray]:
+        """How far a robot flying at ``before`` (speed, heading) moves over ``step`` towards ``speed``, ``heading``:
+        its velocity changes linearly while (3), (4) let it (at a_v, and turning at a_n / speed), then holds. The
+        ``first`` step, one period, is flown as the simulator flies it, at the new velocity (moving at the new velocity
+        over a long step instead would leave a robot braking at a_v short by a_v step^2 / 2: 9 cm in 0.43 s at
+        1 m/s^2)."""
+        ux, uy = speed * np.cos(heading), speed * np.sin(heading)
+        if first:
+            return step * ux, step * uy
+        turn = np.abs(np.angle(np.exp(1j * (heading - before[1]))))
+        changing = np.minimum(np.maximum(np.abs(speed - before[0]) / self.a_v, turn * speed / self.a_n), step)
+        return (
+            step * ux - 0.5 * changing * (ux - before[0] * np.cos(before[1])),
+            step * uy - 0.5 * changing * (uy - before[0] * np.sin(before[1])),
+        )
 
     def _neighbours(self, positions: FloatArray) -> IntArray:
         """(N, M) indices of the robots each robot checks (itself as padding where it has fewer)."""

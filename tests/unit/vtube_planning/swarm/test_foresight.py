@@ -15,8 +15,8 @@ from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
 from vtube_planning.params import SwarmParams
 from vtube_planning.swarm import foresight as foresight_module
-from vtube_planning.swarm.dynamics import dynamics_violations, limit_acceleration
-from vtube_planning.swarm.foresight import Foresight, _closest_squared
+from vtube_planning.swarm.dynamics import dynamics_violations, limit_acceleration, respond
+from vtube_planning.swarm.foresight import Foresight, _Backups, _closest_squared, _free, _Robots
 
 SWARM = SwarmParams(n_robots=2)
 STRAIGHT = VirtualTube(ArcPath((ArcPiece(40.0),)), WidthProfile(3.0, (WidthPart('constant', 40.0),)))
@@ -82,6 +82,27 @@ def test_the_closest_approach_over_a_step_is_the_densely_sampled_one() -> None:
     assert (closest <= np.minimum(np.hypot(*start), np.hypot(*end)) + 1e-15).all()
     # two robots crossing between the two predicted points: 2 m apart at both, 0 between
     assert _closest_squared(np.array([-1.0]), np.array([0.0]), np.array([1.0]), np.array([0.0]))[0] == 0.0
+
+
+@pytest.mark.parametrize(('start', 'target'), [(5.0, 2.0), (2.0, 5.0), (3.0, 3.6)])
+def test_a_predicted_flight_is_where_the_simulator_takes_the_robot(start: float, target: float) -> None:
+    # oracle: the simulator's own rule (`respond`, then a period at the new velocity) in 0.02 s periods, on the
+    # centre lane of a straight tube: the prediction's long steps land where the periods do (moving at the end
+    # velocity of each long step instead would leave a braking robot 0.6 m short after 3 s)
+    foresight = Foresight(STRAIGHT, SwarmParams(n_robots=1), horizon_s=0.02 + 7 * 0.42, acceleration_limits=True)
+    robots = _Robots(
+        np.array([[5.0], [0.0]]), np.array([start]), np.zeros(1), np.array([5.0]), np.zeros(1), np.zeros(1)
+    )
+    speed = np.array([[target]])
+    flights = foresight._flights(robots, _Backups(np.arange(1), np.zeros((1, 1)), speed, *_free(speed)), 0.02)
+    x, v, elapsed = 5.0, start, 0.0
+    for step, (px, py, _, _) in zip(foresight._times(0.02), flights, strict=True):
+        for _ in range(round(step / 0.02)):
+            v = float(respond(np.array(v), np.array(0.0), np.array(target), np.array(0.0), 1.0, 1.0, 0.02)[0])
+            x += 0.02 * v
+        elapsed += step
+        assert abs(px[0, 0] - x) < 0.5 * 0.02 * elapsed + 1e-9  # periods: a_v dt / 2 m short per second
+        assert abs(py[0, 0]) < 1e-12
 
 
 def test_a_robot_whose_backups_all_fall_short_keeps_the_one_it_announced() -> None:
