@@ -212,10 +212,14 @@ class Foresight:
         return np.concatenate([[dt_s], np.full(SUB_STEPS, rest / SUB_STEPS)])
 
     def _flights(self, robots: _Robots, backups: _Backups, dt_s: float) -> list[Flight]:
-        """Each step's (x, y, l, y_tube) of robots ``backups.rows`` flying their backups (R, K)."""
+        """Each step's (x, y, l, y_tube) of robots ``backups.rows`` flying their backups (R, K). Over the first step,
+        one period, a robot moves at its new velocity, as the simulator moves it; over a longer step its velocity
+        changes linearly while (3), (4) let it (`_changing`), then holds (moved at the new velocity over a long step
+        instead, a robot braking at a_v would fall short by a_v step^2 / 2: 9 cm in 0.43 s at 1 m/s^2)."""
         rows, shape = backups.rows, backups.lane.shape
         speed = np.broadcast_to(robots.speed[rows, None], shape)
         heading = np.broadcast_to(robots.heading[rows, None], shape)
+        vx, vy = speed * np.cos(heading), speed * np.sin(heading)
         x, y = robots.positions[0, rows, None], robots.positions[1, rows, None]
         l_m = np.broadcast_to(robots.l_m[rows, None], shape)
         offset = np.broadcast_to(robots.offset_m[rows, None], shape)
@@ -227,31 +231,27 @@ class Foresight:
                 given = np.isfinite(backups.first_heading)
                 target = np.where(given, backups.first_heading, target)
                 target_speed = np.where(given, backups.first_speed, target_speed)
-            before = speed, heading
-            speed, heading = respond(speed, heading, target_speed, target, self.a_v, self.a_n, step)
-            dx, dy = self._moved(before, speed, heading, step, index == 0)
+            new_speed, new_heading = respond(speed, heading, target_speed, target, self.a_v, self.a_n, step)
+            ux, uy = new_speed * np.cos(new_heading), new_speed * np.sin(new_heading)
+            if index == 0:
+                dx, dy = step * ux, step * uy
+            else:
+                changing = self._changing(speed, heading, new_speed, new_heading, step)
+                dx, dy = step * ux - 0.5 * changing * (ux - vx), step * uy - 0.5 * changing * (uy - vy)
+            speed, heading, vx, vy = new_speed, new_heading, ux, uy
             x, y = x + dx, y + dy
             l_m, offset = self.tables.locate(x, y, l_m + np.hypot(dx, dy), PREDICTION_LOCATE_STEPS)
             out.append((x, y, l_m, offset))
         return out
 
-    def _moved(
-        self, before: tuple[FloatArray, FloatArray], speed: FloatArray, heading: FloatArray, step: float, first: bool
-    ) -> tuple[FloatArray, FloatArray]:
-        """How far a robot flying at ``before`` (speed, heading) moves over ``step`` towards ``speed``, ``heading``:
-        its velocity changes linearly while (3), (4) let it (at a_v, and turning at a_n / speed), then holds. The
-        ``first`` step, one period, is flown as the simulator flies it, at the new velocity (moving at the new velocity
-        over a long step instead would leave a robot braking at a_v short by a_v step^2 / 2: 9 cm in 0.43 s at
-        1 m/s^2)."""
-        ux, uy = speed * np.cos(heading), speed * np.sin(heading)
-        if first:
-            return step * ux, step * uy
-        turn = np.abs(np.angle(np.exp(1j * (heading - before[1]))))
-        changing = np.minimum(np.maximum(np.abs(speed - before[0]) / self.a_v, turn * speed / self.a_n), step)
-        return (
-            step * ux - 0.5 * changing * (ux - before[0] * np.cos(before[1])),
-            step * uy - 0.5 * changing * (uy - before[0] * np.sin(before[1])),
-        )
+    def _changing(
+        self, speed: FloatArray, heading: FloatArray, new_speed: FloatArray, new_heading: FloatArray, step: float
+    ) -> FloatArray:
+        """How long, within ``step``, a robot's velocity changes from (``speed``, ``heading``) to the new one under
+        (3), (4): its speed at a_v, its heading at a_n / new speed (`respond` turns by at most that, unwrapped)."""
+        turning = np.abs(new_heading - heading) * new_speed / self.a_n
+        changing: FloatArray = np.minimum(np.maximum(np.abs(new_speed - speed) / self.a_v, turning), step)
+        return changing
 
     def _neighbours(self, positions: FloatArray) -> IntArray:
         """(N, M) indices of the robots each robot checks (itself as padding where it has fewer)."""
