@@ -279,6 +279,7 @@ class Foresight:
         shape, r_s = flights[0][0].shape, self.swarm.r_s_m
         near = neighbours[rows]  # (R, M)
         view = np.zeros_like(near) if seen is None else seen  # which flight of ``others`` each neighbour is seen in
+        seen_at = near * others[0][0].shape[1] + view  # the flat index of that flight's point
         itself = np.where(near == rows[:, None], np.inf, 0.0)[:, None, :]  # a robot is not its own neighbour
         shortfall, first, contact = np.zeros(shape), np.full(shape, np.inf), np.full(shape, np.inf)
         elapsed = 0.0
@@ -287,8 +288,10 @@ class Foresight:
         for step, (x, y, l_m, offset), (ox, oy) in zip(self._times(dt_s), flights, others):
             elapsed += step
             clearance = self.tables.clearance(l_m, offset)
-            dx1, dy1 = x[:, :, None] - ox[near, view][:, None, :], y[:, :, None] - oy[near, view][:, None, :]
-            nearest = np.sqrt((_closest_squared(dx0, dy0, dx1, dy1) + itself).min(axis=2))
+            ox, oy = np.take(ox, seen_at), np.take(oy, seen_at)
+            dx1, dy1 = x[:, :, None] - ox[:, None, :], y[:, :, None] - oy[:, None, :]
+            squared = _closest_squared(dx0, dy0, dx1, dy1)
+            nearest = np.sqrt((np.add(squared, itself, out=squared)).min(axis=2))
             dx0, dy0 = dx1, dy1
             short = np.maximum(r_s + margin_m - clearance, 0.0) + np.maximum(2.0 * r_s + margin_m - nearest, 0.0)
             shortfall += step * short
@@ -369,9 +372,18 @@ def _closest_squared(dx0: FloatArray, dy0: FloatArray, dx1: FloatArray, dy1: Flo
     """The square of the closest two robots come over a step whose start and end separations are (dx0, dy0) and
     (dx1, dy1), both moving straight at constant speed over it: a crossing between two predicted points is not
     missed."""
-    ex, ey = dx1 - dx0, dy1 - dy0
-    t = -(dx0 * ex + dy0 * ey) / np.maximum(ex * ex + ey * ey, 1e-300)
+    ex, ey = dx1 - dx0, dy1 - dy0  # written in place from here on: the same operations, fewer arrays
+    t, work = dx0 * ex, dy0 * ey
+    t += work
+    np.negative(t, out=t)
+    squared: FloatArray = np.multiply(ex, ex)
+    squared += np.multiply(ey, ey, out=work)
+    t /= np.maximum(squared, 1e-300, out=squared)
     t = np.minimum(np.maximum(t, 0.0, out=t), 1.0, out=t)
-    cx, cy = dx0 + t * ex, dy0 + t * ey
-    squared: FloatArray = cx * cx + cy * cy
+    cx = np.multiply(t, ex, out=ex)
+    cx += dx0
+    cy = np.multiply(t, ey, out=ey)
+    cy += dy0
+    np.multiply(cx, cx, out=squared)
+    squared += np.multiply(cy, cy, out=work)
     return squared
