@@ -74,7 +74,8 @@ ALL_PAIRS_UP_TO = 64
 """Swarms of up to this many robots check every neighbour; larger ones the nearest `NEIGHBOURS`."""
 NEIGHBOURS = 20
 """How many nearest neighbours a robot of a larger swarm checks: with 10, three of five planned runs of 80 robots
-in scene C collided (a robot closing in from beyond the ten nearest of a dense crowd is not seen); with 20 none."""
+in scene C collided (a robot closing in from beyond the ten nearest of a dense crowd is not seen); with 20 those
+three did not (``docs/theory.md`` §11, "Which neighbours")."""
 
 
 def default_horizon(swarm: SwarmParams) -> float:
