@@ -11,10 +11,12 @@ import pytest
 
 import submission.builder as builder_module
 from robotarium_exp.initializer import InitializerSample
+from robotarium_exp.rps.testbed_model import FITTED_VERSION
 from robotarium_exp.scene import load_scene
 from submission.builder import BUILD_STAMP, UNDECLARED, Submission, SubmissionError, build, build_declared, write
 from submission.check import CheckReport, imported_modules
 from submission.declaration import FULL_BUILD_INITIALIZER_SEEDS, Declaration, declare
+from submission.delay_margin import LADDER, MIN_SEEDS
 from vtube_planning import SceneError
 from vtube_planning.onboard import PlanProfile, SampledTube, StepParams, SwarmStep
 from vtube_planning.planning.plan import Plan
@@ -115,6 +117,21 @@ def test_committed_submission_equals_a_fresh_build(scene: str) -> None:
         f'rebuild with: vtube submission build {scene} --out submissions/vtube_{scene}.py'
     )
     assert fresh.count(BUILD_STAMP) == 1 and fresh != _unstamped(fresh)  # the stamp is there, and only there
+
+
+@pytest.mark.parametrize('scene', SCENES)
+def test_every_committed_submission_records_its_delay_margin(scene: str) -> None:
+    """Its header names the margin, the seeds (at least the minimum a margin rests on) and the model version."""
+    source = (ROOT / 'submissions' / f'vtube_{scene}.py').read_text(encoding='utf-8')
+    recorded = Declaration.from_header(source)
+    assert recorded is not None and recorded.delay_margin is not None, (
+        f'rebuild with: vtube submission build {scene} --out submissions/vtube_{scene}.py --margin-seeds {MIN_SEEDS}'
+    )
+    margin = recorded.delay_margin
+    assert margin.seeds >= MIN_SEEDS and margin.model_version == FITTED_VERSION
+    assert [rung.multiple for rung in margin.rungs] == list(LADDER[: len(margin.rungs)])
+    assert all(rung.runs == margin.seeds for rung in margin.rungs)
+    assert f'{margin.seeds} seeds at each multiple' in source and 'runs may fail' in source
 
 
 def _unstamped(source: str) -> str:
