@@ -105,6 +105,18 @@ def test_a_predicted_flight_is_where_the_simulator_takes_the_robot(start: float,
         assert abs(py[0, 0]) < 1e-12
 
 
+def test_a_velocity_changes_for_as_long_as_the_limits_make_it_take() -> None:
+    # analytic: a speed change takes |dv| / a_v, a turn |dtheta| v / a_n (v the new speed), the longer of the two,
+    # at most the step; in the paper's model (no a_v, a_n) a velocity changes at once
+    limited = Foresight(STRAIGHT, SWARM, horizon_s=3.0, acceleration_limits=True)
+    speed, heading = np.array([3.0, 3.0, 3.0, 3.0]), np.array([0.0, 0.0, 0.5, 0.0])
+    new_speed, new_heading = np.array([3.3, 3.2, 3.0, 3.6]), np.array([0.0, 0.1, 0.4, 0.2])
+    changing = limited._changing(speed, heading, new_speed, new_heading, 0.43)
+    np.testing.assert_allclose(changing, [0.3, max(0.2, 0.1 * 3.2), 0.1 * 3.0, 0.43], rtol=1e-12)  # 0.43: capped
+    instant = Foresight(STRAIGHT, SWARM, horizon_s=3.0, acceleration_limits=False)
+    assert (instant._changing(speed, heading, new_speed, new_heading, 0.43) == 0.0).all()
+
+
 def test_a_robot_whose_backups_all_fall_short_keeps_the_one_it_announced() -> None:
     foresight = _foresight(STRAIGHT, 2)
     positions = np.array([[5.0, 5.0], [-0.3, 0.3]])  # 0.6 m apart, side by side: every backup is short
