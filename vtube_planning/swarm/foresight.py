@@ -293,7 +293,7 @@ class Foresight:
             ox, oy = np.take(ox, seen_at), np.take(oy, seen_at)
             dx1, dy1 = x[:, :, None] - ox[:, None, :], y[:, :, None] - oy[:, None, :]
             squared = _closest_squared(dx0, dy0, dx1, dy1)
-            nearest = np.sqrt((np.add(squared, itself, out=squared)).min(axis=2))
+            nearest = np.sqrt(np.add(squared, itself, out=squared).min(axis=2))
             dx0, dy0 = dx1, dy1
             short = np.maximum(r_s + margin_m - clearance, 0.0) + np.maximum(2.0 * r_s + margin_m - nearest, 0.0)
             shortfall += step * short
