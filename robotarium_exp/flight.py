@@ -105,7 +105,8 @@ class Flight:
         flying = ~step.parked
         safe, held = step.velocity, True
         if self.safety is not None:
-            safe, held = self.safety(step.velocity, poses, points, flying, walls(step.projection, flying))
+            slope = self.stepper.tube.half_width_slope(step.projection.l_m)
+            safe, held = self.safety(step.velocity, poses, points, flying, walls(step.projection, flying, slope))
             self.stepper.sent(safe)  # a delay compensation predicts from what the robots are sent
         w = self.wheels
         dxu, _ = scale_to_wheel_limits(
@@ -121,16 +122,27 @@ class Flight:
         return Period(poses, points, step, safe, dxu, flying, held)
 
 
-def walls(projection: Projection, flying: NDArray[np.bool_]) -> tuple[FloatArray, FloatArray]:
-    """The safety filter's walls, as the outward normal (2, N) and the room h (N,) above what the rows keep: for a
-    robot flying from the entrance on (past the exit too, on the walls' extension, until it leaves for its slot:
-    its control point passes the exit before its body does), its nearer wall (h: the control point's clearance less
-    :data:`~robotarium_exp.safety.WALL_KEEP_M`); for a parked robot, the exit line behind it (h: how far beyond the
-    exit less :data:`~robotarium_exp.safety.EXIT_KEEP_M`), so that nobody pushes it back beside the tube; NaN (no
-    row) otherwise."""
+def walls(
+    projection: Projection, flying: NDArray[np.bool_], slope: FloatArray | float = 0.0
+) -> tuple[FloatArray, FloatArray]:
+    """The safety filter's walls, as the outward direction o (2, N) and the room h (N,) above what the rows keep: for
+    a robot flying from the entrance on (past the exit too, on the walls' extension, until it leaves for its slot:
+    its control point passes the exit before its body does), its nearer wall (h: the control point's clearance
+    lambda(l) - |y| less :data:`~robotarium_exp.safety.WALL_KEEP_M`); for a parked robot, the exit line behind it
+    (h: how far beyond the exit less :data:`~robotarium_exp.safety.EXIT_KEEP_M`), so that nobody pushes it back
+    beside the tube; NaN (no row) otherwise.
+
+    o is minus h's gradient, so that the row o . u <= gain h is dh/dt >= -gain h: across the tube sign(y) n, and
+    where the tube narrows, ``slope`` (d lambda / dl at the feet, 0 by default) times -t / (1 - kappa y): a robot
+    flying on along a narrowing loses room even when it does not move sideways (the trapezoid's 48 degree walls
+    take 1.1 m of room per metre flown). Without that term the rows let a crowd of twenty robots put bodies on the
+    walls at the narrowing's end under the testbed's delay (``docs/howto/submitting.md``)."""
     l_m, length = projection.l_m, projection.length_m
     inside = flying & (l_m >= 0.0)  # past the exit too, until it leaves: its body may still be beside the walls
-    outward = np.where(flying, np.sign(projection.y_m) * projection.normal, -projection.tangent)
+    bend = np.maximum(1.0 - projection.curvature_per_m * projection.y_m, 0.1)  # dl = t . dp / (1 - kappa y)
+    along = np.asarray(slope) / bend
+    across = np.sign(projection.y_m) * projection.normal - along * projection.tangent
+    outward = np.where(flying, across, -projection.tangent)
     wall = projection.half_width_m - np.abs(projection.y_m) - WALL_KEEP_M
     room = np.where(inside, wall, np.where(flying, np.nan, l_m - length - EXIT_KEEP_M))
     return outward, room

@@ -6,8 +6,8 @@ controller or anything else the file flies. So a rebuild after a change of contr
 built before, or the other scene of the same formation, takes them from a cache instead of running them again.
 
 The key is the sha256 of everything they depend on: the initial conditions' float64 bytes, the step limit, the
-source of every module of ``robotarium_exp`` (the simulator, its barrier QP and V2's draws live there) and the
-versions of Python, numpy, scipy and cvxopt. One JSON file per key maps each seed run so far to its duration
+source of every module of ``robotarium_exp`` but the tube experiment's own (`EXPERIMENT_SIDE`: the simulator, its
+barrier QP and V2's draws are in it) and the versions of Python, numpy, scipy and cvxopt. One JSON file per key maps each seed run so far to its duration
 (``null``: stuck); the seeds asked for that it lacks are run (`robotarium_exp.initializer.initializer_durations`)
 and added. The folder is ``$VTUBE_CACHE_DIR`` when set, else ``$XDG_CACHE_HOME/vtube``, else ``~/.cache/vtube``:
 never the repository. A file that does not read back as such a map is ignored (run again and replaced).
@@ -33,6 +33,13 @@ from vtube_planning.files import write_atomically
 CACHE_ENV = 'VTUBE_CACHE_DIR'
 FOLDER = 'initializer'
 VERSIONED = ('numpy', 'scipy', 'cvxopt')
+EXPERIMENT_SIDE = frozenset(
+    ('analysis', 'compare.py', 'design.py', 'experiment.py', 'fit.py', 'flight.py', 'flight_data.py', 'plots.py')
+    + ('safety.py', 'scene.py', 'tracking.py', 'verdict.py', 'verifier.py')
+)
+"""The tube experiment's modules (its controller, safety filter, design, verdicts and analysis), which V2's
+initializer never runs (a test runs it and looks): a change to them keeps the cached durations. Every other module
+of ``robotarium_exp`` (the simulators, their QPs, V2's draws, and any new one) is in the key."""
 
 
 def cache_folder() -> Path:
@@ -52,10 +59,21 @@ def initializer_key(ic: NDArray[np.float64], limit: int) -> str:
     for name in VERSIONED:
         digest.update(f' {name} {metadata.version(name)}'.encode())
     digest.update(ic.tobytes())
-    root = Path(robotarium_exp.__file__).parent
-    for path in sorted(root.rglob('*.py')):
-        digest.update(path.relative_to(root).as_posix().encode() + b'\0' + path.read_bytes())
+    for name, source in initializer_sources():
+        digest.update(name.encode() + b'\0' + source)
     return digest.hexdigest()
+
+
+def initializer_sources() -> list[tuple[str, bytes]]:
+    """The sources the initializer's runs may depend on, (path in ``robotarium_exp``, bytes) in order: every module
+    of the package but the tube experiment's own (`EXPERIMENT_SIDE`)."""
+    root = Path(robotarium_exp.__file__).parent
+    found = []
+    for path in sorted(root.rglob('*.py')):
+        name = path.relative_to(root).as_posix()
+        if name.split('/')[0] not in EXPERIMENT_SIDE:
+            found.append((name, path.read_bytes()))
+    return found
 
 
 def cached_initializer_durations(

@@ -77,6 +77,16 @@ class SampledTube:
         """
         return self.project(points_m)
 
+    def half_width_slope(self, l_m: ArrayLike) -> FloatArray:
+        """d lambda / dl at arc lengths ``l_m``: the slope of the sample interval holding l (the later one at a
+        sample), 0 on the straight extensions, which keep the end widths."""
+        l_m = np.asarray(l_m, dtype=float)
+        slopes = np.diff(self.half_width_m) / np.diff(self.l_m)
+        k = np.clip(np.searchsorted(self.l_m, l_m, side='right') - 1, 0, slopes.size - 1)
+        within = (l_m >= self.l_m[0]) & (l_m < self.length_m)
+        slope: FloatArray = np.where(within, slopes[k], 0.0)
+        return slope
+
     def area(self, l_m: ArrayLike) -> FloatArray:
         """Cumulative area A(l), m^2; the straight extensions keep the end widths (negative before l = 0)."""
         l_m = np.asarray(l_m, dtype=float)

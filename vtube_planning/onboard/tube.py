@@ -32,6 +32,11 @@ class StepTube(Protocol):
         """:meth:`project`, which may start from ``near``, a projection of N points close to these."""
         ...
 
+    def half_width_slope(self, l_m: ArrayLike) -> FloatArray | float:
+        """d lambda / dl, 0 beyond both ends (the Robotarium flight's wall rows: a narrowing closes in on a robot
+        that flies on)."""
+        ...
+
     def area(self, l_m: ArrayLike) -> FloatArray | float:
         """Cumulative area A(l), m^2, continued straight with the end widths beyond both ends."""
         ...

@@ -107,3 +107,24 @@ def test_the_walls_of_a_flight_are_the_nearer_wall_or_the_exit_line() -> None:
     expected = [0.2 - WALL_KEEP_M, 0.05 - WALL_KEEP_M, 0.3 - EXIT_KEEP_M, 0.1 - WALL_KEEP_M]
     np.testing.assert_allclose(room[:4], expected, atol=1e-9)
     assert np.isnan(room[4])
+
+
+def test_a_wall_row_is_the_rate_the_room_changes_at_in_a_narrowing_bend() -> None:
+    """Oracle by finite differences: for robots flying a bend that narrows, the room h moves by -eps o . u when
+    the control point moves by eps u (the row o . u <= gain h is dh/dt >= -gain h), in both walls' halves; without
+    the narrowing's slope the rows miss it (forward flight closes in on the robot)."""
+    width = WidthProfile(0.8, (WidthPart('constant', 1.0), WidthPart('linear', 1.5, to_m=0.35, corner_m=0.2)))
+    tube = VirtualTube(ArcPath((ArcPiece(1.0), ArcPiece(1.5, radius_m=2.0))), width)
+    rng = np.random.default_rng(11)
+    l_m = rng.uniform(1.25, 2.25, 40)  # inside the narrowing's straight slope and the bend
+    y = rng.uniform(-0.8, 0.8, 40) * np.asarray(tube.half_width(l_m))
+    points = (tube.center_at(l_m) + y[:, None] * tube.normal(l_m)).T
+    u = rng.uniform(-0.12, 0.12, (2, 40))
+    flying = np.ones(40, dtype=bool)
+    here = tube.project(points)
+    outward, room = walls(here, flying, np.asarray(tube.half_width_slope(here.l_m)))
+    eps = 1e-6
+    moved = walls(tube.project(points + eps * u), flying)[1]
+    np.testing.assert_allclose((moved - room) / eps, -np.einsum('in,in->n', outward, u), atol=1e-4)
+    flat = walls(here, flying)[0]
+    assert np.abs(np.einsum('in,in->n', flat - outward, u)).max() > 0.03

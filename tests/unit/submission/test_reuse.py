@@ -6,7 +6,10 @@ single robot, ``tests/unit/robotarium_exp/test_initializer.py``), called directl
 
 from __future__ import annotations
 
+import ast
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -47,6 +50,42 @@ def test_the_key_is_what_the_durations_depend_on() -> None:
     assert key == reuse.initializer_key(IC.copy(), 400)
     assert key != reuse.initializer_key(IC, 401)
     assert key != reuse.initializer_key(IC + np.array([[1e-12], [0.0], [0.0]]), 400)
+
+
+RUN_ONE_SEED = """
+import json, sys
+import numpy as np
+from robotarium_exp.initializer import initializer_durations
+initializer_durations(np.array([[0.3], [0.2], [2.5]]), [0], 400, workers=1)
+print(json.dumps(sorted(sys.modules)))
+"""
+
+
+def test_the_key_leaves_out_only_modules_the_initializer_never_runs() -> None:
+    """Oracle: a fresh process that runs the initializer, and the names the keyed modules import anywhere (in
+    functions too; not those for type checkers only): neither reaches a module of `EXPERIMENT_SIDE`; the simulator
+    is in the key, the tube flight is not."""
+    ran = subprocess.run([sys.executable, '-c', RUN_ONE_SEED], check=True, capture_output=True, text=True)
+    loaded = {name for name in json.loads(ran.stdout) if name.startswith('robotarium_exp.')}
+    imported = set()
+    for name, source in reuse.initializer_sources():
+        tree = ast.parse(source)
+        typing_only = {
+            id(inner)
+            for node in ast.walk(tree)
+            if isinstance(node, ast.If) and isinstance(node.test, ast.Name) and node.test.id == 'TYPE_CHECKING'
+            for inner in ast.walk(node)
+        }
+        for node in (node for node in ast.walk(tree) if id(node) not in typing_only):
+            if isinstance(node, ast.ImportFrom) and node.module:
+                imported |= {node.module} | {f'{node.module}.{alias.name}' for alias in node.names}
+            elif isinstance(node, ast.Import):
+                imported |= {alias.name for alias in node.names}
+    for module in loaded | {name for name in imported if name.startswith('robotarium_exp.')}:
+        assert module.split('.')[1] + ('' if module.count('.') > 1 else '.py') not in reuse.EXPERIMENT_SIDE, module
+    names = {name for name, _ in reuse.initializer_sources()}
+    assert {'rps/robotarium.py', 'initializer.py', 'rps_alias.py'} <= names and 'flight.py' not in names
+    assert 'robotarium_exp.rps.robotarium' in loaded
 
 
 def test_a_file_that_is_not_a_map_of_durations_is_run_again_and_replaced(tmp_path, ran) -> None:

@@ -75,3 +75,22 @@ def test_samples_a_centimetre_apart_agree_with_the_exact_tube_within_the_chord_b
     bound = np.abs(y) * kappa * 0.01 / 2 + 1e-6
     assert np.all(np.abs(a.l_m - b.l_m) <= bound) and np.abs(a.y_m - b.y_m).max() < 2e-4
     np.testing.assert_allclose(sampled.area(l_m), exact.area(l_m), rtol=0, atol=1e-3)
+
+
+def test_the_half_widths_slope_is_each_intervals_and_zero_beyond_the_ends() -> None:
+    """Oracle: the closed form of `straight`'s linear half-width (slope -1/8); on the Robotarium trapezoid sampled
+    every centimetre, the exact tube's difference quotient over the interval holding l, and its own d lambda / dl
+    at the intervals' midpoints (where the two agree to second order)."""
+    tube = straight()
+    l_m = np.array([-1.0, 0.0, 0.7, 2.0, 3.99, 4.0, 6.0])
+    np.testing.assert_allclose(tube.half_width_slope(l_m), [0.0, -0.125, -0.125, -0.125, -0.125, 0.0, 0.0])
+    exact = load_scene('robotarium_trapezoid').tube
+    sampled = exact.sampled(0.01)
+    l_m = np.random.default_rng(3).uniform(0.0, exact.length_m, 200)
+    k = np.searchsorted(sampled.l_m, l_m, side='right') - 1
+    start, end = sampled.l_m[k], sampled.l_m[k + 1]
+    quotient = (np.asarray(exact.half_width(end)) - np.asarray(exact.half_width(start))) / (end - start)
+    np.testing.assert_allclose(sampled.half_width_slope(l_m), quotient, atol=1e-9)
+    midpoint = np.asarray(exact.half_width_slope(0.5 * (start + end)))
+    np.testing.assert_allclose(sampled.half_width_slope(l_m), midpoint, atol=0.02)
+    assert np.ptp(midpoint) > 0.5  # the narrowing's walls are steep: a slope-free answer fails
