@@ -11,8 +11,9 @@ together, safety wins: the band is dropped for that step (and counted), the robo
 through the exact map.
 
 Robots flying the tube (and past its exit until they leave for a slot) also get a row for the nearer wall or its
-extension: ``o . u <= WALL_GAIN_PER_S (c - WALL_KEEP_M)`` for the control point's clearance c and the outward
-normal o, a barrier that keeps the body off the wall's line; parked
+extension: ``o . u <= WALL_GAIN_PER_S (c - WALL_KEEP_M)`` for the control point's clearance c = lambda(l) - |y| and
+o minus c's gradient (outward across the tube, and backwards where the tube narrows: flying on along a narrowing
+closes in on a robot), a barrier that keeps the body off the wall's line; parked
 robots get one for the exit line behind them (:data:`EXIT_KEEP_M`), so that robots still leaving do not push them
 back beside the tube (the curve, six robots without initialization: 49 robot-steps, 0.16 m over, without it). The law's
 own keeping push is capped with the rest of its steering at v* - v_min (0.04 m/s at the plan's slowest), and the
