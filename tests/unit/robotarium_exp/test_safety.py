@@ -77,6 +77,28 @@ def test_safety_wins_over_the_band_and_is_counted() -> None:
     assert f.stats.intervention_mps > 0.15
 
 
+def test_when_the_band_cannot_hold_the_walls_still_do_and_go_only_when_the_robots_need_it() -> None:
+    """A robot headed straight into a wall 0.01 m inside what the rows keep: the band (forward at >= v_min, i.e.
+    towards the wall) and the wall row (away at >= 0.01 m/s) cannot hold together; the band goes, the wall row
+    stays: the robot backs off at WALL_GAIN_PER_S x 0.01 m/s. Two robots nose to nose at the barrier distance
+    beside walls that close in on both: the barrier and the walls cannot hold together either, the walls go too."""
+    f = safety_filter()
+    poses = np.array([[0.0], [0.0], [np.pi / 2]])
+    points = poses[:2] + 0.05 * np.vstack([np.cos(poses[2]), np.sin(poses[2])])
+    u, held = f(
+        np.array([[0.0], [0.1]]), poses, points, np.ones(1, dtype=bool), (np.array([[0.0], [1.0]]), np.array([-0.01]))
+    )
+    assert not held and f.stats.band_dropped == 1
+    np.testing.assert_allclose(u[:, 0], [0.0, -WALL_GAIN_PER_S * 0.01], atol=1e-9)
+    poses = np.array([[-0.15, 0.15], [0.0, 0.0], [0.0, np.pi]])
+    points = poses[:2] + 0.05 * np.vstack([np.cos(poses[2]), np.sin(poses[2])])
+    closing = (np.array([[-1.0, 1.0], [0.0, 0.0]]), np.array([-0.05, -0.05]))  # each must move towards the other
+    u, held = f(np.array([[0.1, -0.1], [0.0, 0.0]]), poses, points, np.ones(2, dtype=bool), closing)
+    a, b = barrier_rows(points, BARRIER)
+    assert not held and f.stats.failures == 0 and np.all(a @ u.reshape(-1, order='F') <= b + 1e-9)
+    assert np.any(np.einsum('in,in->n', closing[0], u) > WALL_GAIN_PER_S * closing[1] + 1e-6)  # the walls went
+
+
 def test_a_wall_row_slows_the_approach_to_the_wall_and_no_more() -> None:
     """One robot heading along +x, asked to slide towards a wall above it (outward normal +y) 0.02 m beyond what the
     rows keep: its velocity towards the wall is cut to WALL_GAIN_PER_S x 0.02 m, its forward speed kept; a robot

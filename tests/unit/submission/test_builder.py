@@ -24,6 +24,8 @@ from vtube_planning.planning.planner import plan_convex
 
 ROOT = Path(__file__).resolve().parents[3]
 SCENES = ('robotarium_trapezoid', 'robotarium_curve')
+COMMITTED = (*SCENES, 'robotarium_trapezoid_20', 'robotarium_curve_20')
+"""The scenes whose submissions are committed in ``submissions/`` (as ``vtube_SCENE.py``)."""
 
 
 def namespace_of(source: str) -> dict:
@@ -106,7 +108,7 @@ def test_the_inlined_step_is_the_library_step(tmp_path, control_line: str) -> No
     assert np.any(library.r_a > data['step']['r_a_m'])  # the radii did move
 
 
-@pytest.mark.parametrize('scene', SCENES)
+@pytest.mark.parametrize('scene', COMMITTED)
 def test_committed_submission_equals_a_fresh_build(scene: str) -> None:
     """Byte for byte, given the declaration its header records (derived by the check over 200 seeds)."""
     committed = (ROOT / 'submissions' / f'vtube_{scene}.py').read_text(encoding='utf-8')
@@ -119,7 +121,7 @@ def test_committed_submission_equals_a_fresh_build(scene: str) -> None:
     assert fresh.count(BUILD_STAMP) == 1 and fresh != _unstamped(fresh)  # the stamp is there, and only there
 
 
-@pytest.mark.parametrize('scene', SCENES)
+@pytest.mark.parametrize('scene', COMMITTED)
 def test_every_committed_submission_records_its_delay_margin(scene: str) -> None:
     """Its header names the margin, the seeds (at least the minimum a margin rests on) and the model version."""
     source = (ROOT / 'submissions' / f'vtube_{scene}.py').read_text(encoding='utf-8')

@@ -29,7 +29,8 @@ from submission.recording import SimulatorRecord
 from submission.robustness import CHECKED_MODELS
 
 ROOT = Path(__file__).resolve().parents[3]
-SCENES = ('robotarium_trapezoid', 'robotarium_curve')
+COMMITTED = sorted(path.stem.removeprefix('vtube_') for path in (ROOT / 'submissions').glob('vtube_*.py'))
+"""The scenes whose submissions are committed in ``submissions/``."""
 FAKE_STEPS = 300
 """Steps of a faked run's record: its measures cost time per step, and nothing asserted depends on how many."""
 
@@ -105,7 +106,7 @@ def test_server_libraries_are_import_names() -> None:
     assert all('-' not in name and name == name.lower() for name in names)
 
 
-@pytest.mark.parametrize('scene', SCENES)
+@pytest.mark.parametrize('scene', COMMITTED)
 def test_submission_imports_only_what_the_server_has_and_parses_as_python_310(scene: str) -> None:
     source = (ROOT / 'submissions' / f'vtube_{scene}.py').read_text(encoding='utf-8')
     ast.parse(source, feature_version=(3, 10))
