@@ -24,6 +24,7 @@ from robotarium_exp.design import (
 from robotarium_exp.errors import ExperimentError
 from robotarium_exp.experiment import TUBE_EDGE_POINTS, ExperimentConfig, flight_data
 from robotarium_exp.flight_data import FlightData
+from robotarium_exp.safety import WALL_KEEP_M
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.geometry.width import first_narrowing
@@ -102,6 +103,7 @@ def for_map_file(misfit: Misfit, scene: Scene) -> Misfit:
         'entrance': 'in the map file, move start_m inwards (the start formation lies behind it) or raise half_width_max_m',
         'box': f'in the map file, move start_m inwards (the start formation lies behind it), or {fewer}',
         'tube': 'in the map file, move start_m and goal_m inwards or lower half_width_max_m',
+        'width': f'in the map file, raise half_width_min_m to at least {WALL_KEEP_M:g} m',
         'parking': f'in the map file, move goal_m away from the arena edge (the slots lie beyond it), or {fewer}',
     }
     if misfit.kind == 'narrowing':
@@ -123,6 +125,7 @@ def fit_of_flight(data: FlightData) -> Fit:
     misfits = [
         *_robots(data.n_robots),
         *_tube_inside(data.tube_edges_m),
+        *_tube_wide_enough(data.tube.l_m, data.tube.half_width_m),
         *_formation_inside(data.initial_conditions),
         *_formation_spacing(data.initial_conditions),
         *_initializer_order(data.initial_conditions),
@@ -154,6 +157,23 @@ def _tube_inside(edges_m: FloatArray) -> list[Misfit]:
                 )
             ]
     return []
+
+
+def _tube_wide_enough(l_m: FloatArray, half_width_m: FloatArray) -> list[Misfit]:
+    """The tube keeps a robot's control point WALL_KEEP_M off its nearer wall everywhere (the safety filter's wall
+    rows, `robotarium_exp.safety`): where it is narrower, the rows stop the swarm at the mouth (a tube 0.10 m wide:
+    both robots held before it to the step limit)."""
+    narrowest = int(np.argmin(half_width_m))
+    if half_width_m[narrowest] >= WALL_KEEP_M:
+        return []
+    return [
+        Misfit(
+            f'the tube narrows to {2 * half_width_m[narrowest]:.2f} m at l = {l_m[narrowest]:.2f} m, under the '
+            f"{2 * WALL_KEEP_M:.2f} m a robot passes through (its body and the safety filter's margin to each wall)",
+            f'widen it to at least {2 * WALL_KEEP_M:.2f} m there',
+            'width',
+        )
+    ]
 
 
 def _formation_inside(ic: FloatArray) -> list[Misfit]:

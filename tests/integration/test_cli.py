@@ -179,27 +179,21 @@ parts = [{ kind = "constant", length_m = 0.8 }, { kind = "linear", length_m = 0.
 [robotarium]
 n_robots = 2
 """
-"""Two robots that start abreast where the tube fits the Robotarium, then pass in single file through 0.9 m of tube
-0.10 m wide: narrower than a body (0.11 m), so both touch the walls."""
+"""Two robots that start abreast where the tube fits the Robotarium, then would pass through 0.9 m of tube 0.10 m
+wide: narrower than a body (0.11 m), let alone the safety filter's margin to both walls."""
 
 
-def test_a_robotarium_run_with_bodies_on_the_walls_exits_1_saying_so(tmp_path, capsys) -> None:
-    """A real flight the testbed would run, every robot through and parked, but touching the walls all the way."""
+def test_a_robotarium_run_through_a_tube_narrower_than_a_robot_is_refused_up_front(tmp_path, capsys) -> None:
+    """Refused before anything is flown (exit 2, one error line naming the place and the fix): flown, its wall rows
+    held both robots before the mouth to the step limit, and before them both scraped through, bodies on the walls."""
     scene = tmp_path / 'narrow.toml'
     scene.write_text(NARROW_SCENE, encoding='utf-8')
-    run = ['robotarium', 'run', str(scene), '--no-planning', '--no-initialization', '--out', str(tmp_path), '--json']
-    assert main(run) == 1
-    captured = capsys.readouterr()
-    result = json.loads(captured.out)
-    assert result['would_run'] and result['metrics']['completed'] and result['exit_code'] == 1
-    steps = result['metrics']['tube_violation_steps']
-    deepest = result['metrics']['max_outside_m']
-    said = f'robot bodies were on the tube walls in {steps} robot-steps (2 robots, up to {deepest:.3f} m over)'
-    assert steps > 0 and result['failures'] == [said]
-    assert (
-        ': would run on the Robotarium' in captured.err
-        and '  flight                 FAILED: robot bodies' in captured.err
-    )
+    run = ['robotarium', 'run', str(scene), '--no-planning', '--no-initialization', '--out', str(tmp_path)]
+    assert main(run) == 2
+    error = capsys.readouterr().err.strip()
+    assert error.count('\n') == 0 and error.startswith('error:')
+    assert 'the tube narrows to 0.10 m at l = 1.10 m, under the 0.18 m' in error and 'widen it' in error
+    assert not list(tmp_path.glob('experiment_*'))
 
 
 def test_analyze_a_bag(tmp_path, capsys) -> None:

@@ -14,6 +14,7 @@ from robotarium_exp.design import first_narrowing, neighbour_counts, start_forma
 from robotarium_exp.experiment import ExperimentConfig, flight_data
 from robotarium_exp.fit import Fit, Misfit, fit_of_flight, robotarium_fit
 from robotarium_exp.flight_data import FlightData
+from robotarium_exp.safety import WALL_KEEP_M
 from robotarium_exp.scene import load_scene, shipped_scene_text
 from robotarium_exp.spec import ROBOTARIUM
 
@@ -59,6 +60,23 @@ def test_a_tube_outside_the_arena(data: FlightData) -> None:
     first = edges[1][:, int(np.argmax(ROBOTARIUM.outside_arena(edges[1], 0.05)))]
     assert misfit.what.startswith(f"the tube's right boundary reaches ({first[0]:.2f}, {first[1]:.2f}), outside")
     assert 'the arena [-1.6, 1.6] x [-1, 1] less 0.05 m' in misfit.what and misfit.fix == 'move or shrink the tube'
+
+
+@pytest.mark.parametrize('narrowest', [WALL_KEEP_M, WALL_KEEP_M - 1e-4])
+def test_a_tube_narrower_than_a_robot_passes_through(data: FlightData, narrowest: float) -> None:
+    """At exactly the half-width the wall rows keep it fits; a tenth of a millimetre less is refused, at the
+    narrowest sample, with the width a robot needs."""
+    l_m = data.tube.l_m
+    pinch = np.minimum(data.tube.half_width_m, narrowest + (l_m[-1] - l_m))  # narrowest at the exit
+    half_width = np.where(l_m > 0.9 * l_m[-1], pinch, data.tube.half_width_m)
+    fit = fit_of_flight(replace(data, tube=replace(data.tube, half_width_m=half_width)))
+    if narrowest == WALL_KEEP_M:
+        assert fit.fits
+        return
+    (misfit,) = fit.misfits
+    at = data.tube.l_m[int(np.argmin(half_width))]
+    assert misfit.what.startswith(f'the tube narrows to {2 * narrowest:.2f} m at l = {at:.2f} m, under the 0.18 m')
+    assert misfit.fix == 'widen it to at least 0.18 m there' and misfit.kind == 'width'
 
 
 def test_a_robot_outside_the_start_box(data: FlightData) -> None:
@@ -284,3 +302,5 @@ def test_a_generated_tube_is_told_in_the_map_file_s_keys_and_never_beyond_the_ar
         == 'in the map file, move start_m 0.20 m further back from the narrow passage, to (-1.30, 0.00), or use at most 6 robots'
     )
     assert for_map_file(Misfit('x', 'y', 'other'), scene).fix == 'y'  # a rule without a map-file fix keeps its own
+    narrow = for_map_file(Misfit('x', 'widen it to at least 0.18 m there', 'width'), scene).fix
+    assert narrow == 'in the map file, raise half_width_min_m to at least 0.09 m'  # the generator's narrowest
