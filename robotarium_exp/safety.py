@@ -13,15 +13,15 @@ through the exact map.
 Robots flying the tube (and past its exit until they leave for a slot) also get a row for the nearer wall or its
 extension: ``o . u <= WALL_GAIN_PER_S (c - WALL_KEEP_M)`` for the control point's clearance c = lambda(l) - |y| and
 o minus c's gradient (outward across the tube, and backwards where the tube narrows: flying on along a narrowing
-closes in on a robot), a barrier that keeps the body off the wall's line; parked
-robots get one for the exit line behind them (:data:`EXIT_KEEP_M`), so that robots still leaving do not push them
-back beside the tube (the curve, six robots without initialization: 49 robot-steps, 0.16 m over, without it). The law's
-own keeping push is capped with the rest of its steering at v* - v_min (0.04 m/s at the plan's slowest), and the
-barrier rows between robots do not know the walls: in a crowd entering a narrowing they pushed bodies over the walls
-(the trapezoid at N = 8 without initialization: 104 robot-steps). Where the rows cannot all hold, the band goes
-first and the wall rows stay, so that a robot may slow below v_min to keep off a wall; they go too only when the
-robots cannot keep apart with them (the twenty-robot curve under the testbed model `fitted`, seeds 8 and 9: a body
-up to 7 cm over the wall while the band was dropped with the walls).
+closes in on a robot), a barrier that keeps the body off the wall's line; parked robots get one for the exit line
+behind them (:data:`EXIT_KEEP_M`), so that robots still leaving do not push them back beside the tube (the curve,
+six robots without initialization: 49 robot-steps, 0.16 m over, without it). The law's own keeping push is capped
+with the rest of its steering at v* - v_min (0.04 m/s at the plan's slowest), and the barrier rows between robots do
+not know the walls: in a crowd entering a narrowing they pushed bodies over the walls (the trapezoid at N = 8
+without initialization: 104 robot-steps). Where the rows cannot all hold, the band goes first and the wall rows
+stay, so that a robot may slow below v_min to keep off a wall; they go too only when the robots cannot keep apart
+with them (the twenty-robot curve under the testbed model `fitted`, seeds 8 and 9: a body up to 7 cm over the wall
+while the band was dropped with the walls).
 
 The QP ``min ||u - u_hat||^2 subject to A u <= b`` is a least-distance problem, solved exactly through
 non-negative least squares (Lawson and Hanson, *Solving Least Squares Problems*, ch. 23) with scipy's ``nnls``:

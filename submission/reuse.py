@@ -7,10 +7,11 @@ built before, or the other scene of the same formation, takes them from a cache 
 
 The key is the sha256 of everything they depend on: the initial conditions' float64 bytes, the step limit, the
 source of every module of ``robotarium_exp`` but the tube experiment's own (`EXPERIMENT_SIDE`: the simulator, its
-barrier QP and V2's draws are in it) and the versions of Python, numpy, scipy and cvxopt. One JSON file per key maps each seed run so far to its duration
-(``null``: stuck); the seeds asked for that it lacks are run (`robotarium_exp.initializer.initializer_durations`)
-and added. The folder is ``$VTUBE_CACHE_DIR`` when set, else ``$XDG_CACHE_HOME/vtube``, else ``~/.cache/vtube``:
-never the repository. A file that does not read back as such a map is ignored (run again and replaced).
+barrier QP and V2's draws are in it) and the versions of Python, numpy, scipy and cvxopt. One JSON file per key maps
+each seed run so far to its duration (``null``: stuck); the seeds asked for that it lacks are run
+(`robotarium_exp.initializer.initializer_durations`) and added. The folder is ``$VTUBE_CACHE_DIR`` when set, else
+``$XDG_CACHE_HOME/vtube``, else ``~/.cache/vtube``: never the repository. A file that does not read back as such a
+map is ignored (run again and replaced).
 """
 
 from __future__ import annotations
