@@ -41,6 +41,7 @@ from submission.robustness import record_passage
 from vtube_planning import __version__
 from vtube_planning.errors import VtubeError
 from vtube_planning.files import write_atomically
+from vtube_planning.geometry.from_maps.map_file import generated_scene, is_map_file
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.onboard import swarm_area
 from vtube_planning.onboard.parking import PARKED_WITHIN_M
@@ -52,7 +53,7 @@ from vtube_planning.studies.seeds import seeds_text
 
 DIP_ERROR_BAR = 0.25
 """The largest mean relative density error |rho - rho*| / rho* over the plan's dip that passes (issue 31)."""
-SWEEP_FILE, TABLE_FILE, FILES_FOLDER = 'sweep.json', 'sweep.md', 'files'
+SWEEP_FILE, TABLE_FILE, FILES_FOLDER, TUBES_FOLDER = 'sweep.json', 'sweep.md', 'files', 'tubes'
 MEASURES = (
     'too_close',
     'outside',
@@ -258,14 +259,16 @@ def sweep(
     on_row: Callable[[dict[str, Any]], None] | None = None,
 ) -> SweepOutcome:
     """Run every case of ``scenes`` x ``sizes`` not yet in ``out/runs.csv`` on ``jobs`` local processes, appending
-    each row as it comes (``on_row`` sees it), and write ``out/sweep.md``; built files go to ``out/files``.
+    each row as it comes (``on_row`` sees it), and write ``out/sweep.md``; built files go to ``out/files``, the
+    scenes generated from map files to ``out/tubes`` (`flown_scene`).
     ``seeds``: the seeds each case flies, or a count n for 0..n-1."""
     started = time.perf_counter()
     flown = tuple(range(seeds)) if isinstance(seeds, int) else tuple(seeds)
-    cases = [Case(s, n, flown, out / FILES_FOLDER, run_timeout_s) for s in scenes for n in sizes]
-    keys = [case_key(case) for case in cases]
     record = {'kind': 'robotarium sweep', 'scenes': list(scenes), 'n_robots': list(sizes), 'seeds': _seeds_key(flown)}
     with holding(out, 'sweep'):
+        tubes = [flown_scene(scene, out / TUBES_FOLDER) for scene in scenes]
+        cases = [Case(s, n, flown, out / FILES_FOLDER, run_timeout_s) for s in tubes for n in sizes]
+        keys = [case_key(case) for case in cases]
         expected = {key: {'version': __version__} for key in keys}  # rows of another version: refused
         rows = prepare_table(out, SWEEP_FILE, record, COLUMNS, expected, what='sweep')
         todo = [k for k, key in enumerate(keys) if key not in rows]
@@ -285,6 +288,20 @@ def sweep(
     write_atomically(markdown, sweep_markdown(ordered, flown))
     seconds = time.perf_counter() - started
     return SweepOutcome(ordered, len(keys) - len(todo), len(todo), seconds, out / RUNS_FILE, markdown)
+
+
+def flown_scene(scene: str, folder: Path) -> str:
+    """``scene`` as the sweep flies it: a map file (a scene file with [tube.generate]) generated into ``folder``
+    under its own name, as `vtube tube generate` writes it (the tube its rows were flown in, kept beside them); a
+    shipped name or a scene file as it is."""
+    path = Path(scene)
+    text = path.read_text(encoding='utf-8') if path.suffix == '.toml' and path.is_file() else ''
+    if not is_map_file(text):
+        return scene
+    generated, _ = generated_scene(text, scene, folder)
+    target = folder / path.name
+    write_atomically(target, generated)
+    return str(target)
 
 
 def sweep_markdown(rows: Sequence[dict[str, Any]], seeds: Sequence[int]) -> str:

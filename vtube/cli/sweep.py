@@ -18,7 +18,12 @@ SIZES = '1,2,4,6,8,10,12,15,20'
 
 
 def sweep_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument('scenes', nargs='+', metavar='SCENE', help='Robotarium scenes: shipped names or .toml files')
+    parser.add_argument(
+        'scenes',
+        nargs='+',
+        metavar='SCENE',
+        help='Robotarium scenes: shipped names, .toml files, or map files (generated into OUT/tubes first)',
+    )
     parser.add_argument('--n', default=SIZES, help='comma-separated robot counts N')
     parser.add_argument('--seeds', type=seeds, default='3', help=f'initialization {SEEDS_HELP}, per case (default 3)')
     parser.add_argument('--out', type=Path, required=True, help='folder for runs.csv, sweep.md and the built files')

@@ -26,6 +26,7 @@ from submission.sweep import (
     RunMeasures,
     case_key,
     case_row,
+    flown_scene,
     judge,
     measure_run,
     parked_at_end,
@@ -34,6 +35,7 @@ from submission.sweep import (
     sweep_markdown,
 )
 from vtube_planning.errors import SolverError
+from vtube_planning.geometry.from_maps.map_file import generated_scene
 from vtube_planning.geometry.scene import Scene
 from vtube_planning.planning.plan import Plan
 from vtube_planning.planning.planner import plan_convex
@@ -301,3 +303,24 @@ def test_a_build_refusal_after_a_fit_is_a_failure_naming_both(planned, tmp_path,
     assert (
         row['reason'] == 'the verdict said it fits, but the build refused: parking slots leave the arena; move the exit'
     )
+
+
+def test_a_map_file_is_flown_in_the_tube_it_generates_kept_beside_the_rows(tmp_path: Path) -> None:
+    """Issue 50's map layouts: a map file in the sweep is generated into ``out/tubes`` under its own name, exactly as
+    `generated_scene` writes it, and its cases are that scene's (their keys follow its text); a refusal costs no
+    flight. Oracle: the generator called here, and the key of the generated scene's case."""
+    from vtube.cli.tube import map_examples
+
+    text = map_examples()['robotarium_gate']
+    path = tmp_path / 'gate.toml'
+    path.write_text(text, encoding='utf-8')
+    out = tmp_path / 'sweep'
+    outcome = sweep([str(path)], [21], out, seeds=1)
+    generated = out / 'tubes' / 'gate.toml'
+    assert generated.read_text(encoding='utf-8') == generated_scene(text, str(path), generated.parent)[0]
+    (row,) = outcome.rows
+    assert (row['scene'], row['status']) == ('gate', 'refused') and row['reason'].startswith('does not fit')
+    assert row['key'] == case_key(Case(str(generated), 21, (0,), out / 'files'))
+    assert flown_scene('robotarium_curve', out) == 'robotarium_curve' and flown_scene(str(generated), out) == str(
+        generated
+    )  # a shipped name, and a scene file (the generated one has no [tube.generate] left), are flown as they are

@@ -125,6 +125,11 @@ def _box(value: object, key: str) -> Box:
     return x0, x1, y0, y1
 
 
+def is_map_file(text: str) -> bool:
+    """Whether a scene file's ``text`` is a map file: it has a [tube.generate] table."""
+    return any(_GENERATE.match(line) for line in text.splitlines())
+
+
 def generated_scene(text: str, source: str, folder: Path | None = None) -> tuple[str, GeneratedTube]:
     """The scene file generated from a map file's ``text`` (module doc), to be written in ``folder`` (the map
     file's folder by default), and the generated tube."""
