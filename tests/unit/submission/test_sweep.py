@@ -321,6 +321,5 @@ def test_a_map_file_is_flown_in_the_tube_it_generates_kept_beside_the_rows(tmp_p
     (row,) = outcome.rows
     assert (row['scene'], row['status']) == ('gate', 'refused') and row['reason'].startswith('does not fit')
     assert row['key'] == case_key(Case(str(generated), 21, (0,), out / 'files'))
-    assert flown_scene('robotarium_curve', out) == 'robotarium_curve' and flown_scene(str(generated), out) == str(
-        generated
-    )  # a shipped name, and a scene file (the generated one has no [tube.generate] left), are flown as they are
+    assert flown_scene('robotarium_curve', out) == 'robotarium_curve'  # a shipped name is flown as it is,
+    assert flown_scene(str(generated), out) == str(generated)  # and so is a scene file (no [tube.generate] left)
