@@ -6,12 +6,19 @@ pass parked ones), on its own side of the tube's axis where it can, the outermos
 exit fill last, and robots do not cross each other's way. Taken in a fixed order across the row, two robots leaving
 side by side swapped sides and stalled face to face (the trapezoid, four robots without initialization); taken
 in order across, the last robots met parked ones in front of the exit.
+
+Robots on their way trade the slots they hold where that shortens their ways in sum (an assignment of least total
+distance, whose straight ways do not cross): robots that left the tube in an order unlike their slots' (one
+overshooting towards the arena's edge) otherwise held each other off their slots to the end, two with swapped
+slots face to face and a third between them bound for the slot they screened (the curve's twenty-robot tube flown
+with six robots, V2's initialization seed 1: ``docs/sweep``). Robots in their slots keep them.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.optimize import linear_sum_assignment
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -20,6 +27,9 @@ PARKED_WITHIN_M = 0.03
 """A robot is parked when its control point is this close to its slot."""
 ROW_M = 1e-6
 """Slots whose depths beyond the exit differ by less than this form a row."""
+TRADE_M = 0.01
+"""Robots trade slots when that shortens their ways by more than this in sum (no trading back and forth over
+rounding)."""
 
 
 class Parking:
@@ -45,12 +55,28 @@ class Parking:
         return self.slot_of >= 0
 
     def drive(self, points: FloatArray, parked: BoolArray, velocity: FloatArray, v_max_mps: float) -> FloatArray:
-        """Parked robots drive to their slots at up to v_max; the others keep their ``velocity``."""
+        """Parked robots drive to their slots at up to v_max, trading slots on the way (module doc); the others keep
+        their ``velocity``."""
+        self._trade(points, parked)
         to_slot = self.slots[:, self.slot_of[parked]] - points[:, parked]
         reach = np.maximum(np.hypot(to_slot[0], to_slot[1]), 1e-9)
         velocity = velocity.copy()
         velocity[:, parked] = to_slot * np.minimum(1.0, v_max_mps / reach)
         return velocity
+
+    def _trade(self, points: FloatArray, parked: BoolArray) -> None:
+        """The slots held by parked robots not yet in them go to those robots by least total distance, if that
+        shortens their ways by more than :data:`TRADE_M`."""
+        robots = np.flatnonzero(parked)
+        held = self.slot_of[robots]
+        gaps = np.hypot(*(self.slots[:, None, held] - points[:, robots, None]))  # (robots, their slots)
+        away = np.diagonal(gaps) >= PARKED_WITHIN_M
+        if np.count_nonzero(away) < 2:
+            return
+        gaps = gaps[np.ix_(away, away)]
+        rows, cols = linear_sum_assignment(gaps)
+        if gaps[rows, cols].sum() < np.trace(gaps) - TRADE_M:
+            self.slot_of[robots[away][rows]] = held[away][cols]
 
     def all_in(self, points: FloatArray, parked: BoolArray) -> bool:
         """Done: every robot holds a slot and its control point (``points``, (2, N)) is within

@@ -1,11 +1,14 @@
 """Parking beyond the exit: which robot takes which slot (the farthest row first, on its own side, the outermost
-there), driving there."""
+there), driving there, trading slots on the way."""
 
 from __future__ import annotations
 
-import numpy as np
+import itertools
 
-from vtube_planning.onboard.parking import PARKED_WITHIN_M, Parking
+import numpy as np
+import pytest
+
+from vtube_planning.onboard.parking import PARKED_WITHIN_M, TRADE_M, Parking
 
 # two rows (0.6 and 0.3 m beyond an exit at x = 0 facing +x) of four lanes, 0.3 m apart across y = 0
 OFFSETS = np.array([-0.45, -0.15, 0.15, 0.45])
@@ -61,3 +64,47 @@ def test_robots_not_parked_keep_their_commands_and_hold_up_done() -> None:
     assert parking.slot_of.tolist() == [1, -1]
     assert not parking.all_in(np.array([[2.0, 2.0], [0.0, 0.0]]), parked)  # robot 0 in its slot; 1 holds none
     np.testing.assert_allclose(velocity[:, 0], 0.0, atol=1e-12)
+
+
+def test_robots_with_swapped_slots_trade_them() -> None:
+    """The sweep's deadlock (module doc): two robots beyond a row of slots, each bound for the slot beyond the
+    other, and one between them bound for the slot they screen; the outer two trade, the middle one keeps its own."""
+    slots = np.array([[1.4, 1.4, 1.4], [-0.725, -0.425, -0.125]])
+    parking = Parking(slots, 3, np.zeros(3), slots[1])
+    parking.slot_of[:] = [2, 0, 1]
+    points = np.array([[1.488, 1.488, 1.299], [-0.535, -0.318, -0.425]])
+    velocity = parking.drive(points, np.ones(3, dtype=bool), np.zeros((2, 3)), v_max_mps=0.2)
+    assert parking.slot_of.tolist() == [0, 2, 1]
+    assert velocity[1, 0] < 0.0 < velocity[1, 1]  # the outer two now move apart, opening the way
+
+
+def test_trades_reach_the_least_total_distance_and_spare_robots_in_their_slots() -> None:
+    """Random slots and robots against every permutation of the slots held by robots on their way (the oracle);
+    robots already in their slots keep them; a trade that saves less than TRADE_M is not made."""
+    rng = np.random.default_rng(7)
+    for _ in range(60):
+        n = int(rng.integers(2, 6))
+        slots = rng.uniform(-1.0, 1.0, (2, n))
+        parking = Parking(slots, n, np.zeros(n), np.zeros(n))
+        parking.slot_of[:] = rng.permutation(n)
+        points = rng.uniform(-1.0, 1.0, (2, n))
+        settled = rng.random(n) < 0.3
+        points[:, settled] = slots[:, parking.slot_of[settled]] + 0.3 * PARKED_WITHIN_M
+        before = parking.slot_of.copy()
+        parking.drive(points, np.ones(n, dtype=bool), np.zeros((2, n)), v_max_mps=0.2)
+        assert np.array_equal(parking.slot_of[settled], before[settled])
+        assert sorted(parking.slot_of.tolist()) == list(range(n))
+
+        def total(assignment: np.ndarray) -> float:
+            return float(np.hypot(*(slots[:, assignment] - points)).sum())
+
+        away = np.flatnonzero(~settled)
+        best = before.copy()
+        for order in itertools.permutations(before[away]):
+            candidate = before.copy()
+            candidate[away] = order
+            best = candidate if total(candidate) < total(best) else best
+        if total(best) < total(before) - TRADE_M:
+            assert total(parking.slot_of) == pytest.approx(total(best), abs=1e-9)
+        else:
+            assert np.array_equal(parking.slot_of, before)
