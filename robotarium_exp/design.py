@@ -6,7 +6,8 @@ value with its reason (``vtube scene show`` prints them):
 
 - the start formation: rows across the tube ``ic_spacing_m`` (0.4 m) apart, as many columns as fit the entrance
   with `WALL_CLEARANCE_M` to each wall, the back row at the first cross-section inside the box the testbed
-  initializes robots in, robots 0 and 1 where V2's initializer cannot leave them stuck;
+  initializes robots in, robots 0 and 1 where V2's initializer cannot leave them stuck; where those rows reach the
+  first narrowing, the entry queue behind the entrance, or staggered rows;
 - r_s (the law's barrier keeps 2 r_s, the safety filter's distance) and r_a = spacing - r_s, so that the formation
   rests at the edge of the interaction band, r_s + r_a = the spacing: not compressed, not loose;
 - rho0 = rho_d: the formation's density under the package's measure, so the swarm starts on its plan and cruises
@@ -62,8 +63,9 @@ with five, twelve robots on the straight sweep tubes had no room beyond the exit
 
 @dataclass(frozen=True)
 class Formation:
-    """The start formation: poses (3, N) in robot order, its rows and columns, the arc lengths of its back and
-    front rows, why it could not be built (None: it could), and whether it is the entry queue (`entry_queue`)."""
+    """The start formation: poses (3, N) in robot order, its rows and columns (the widest row), the arc lengths of
+    its back and front rows, why it could not be built (None: it could), whether it is the entry queue
+    (`entry_queue`) and whether its rows are staggered (`staggered_rows`)."""
 
     poses: FloatArray
     rows: int
@@ -72,6 +74,7 @@ class Formation:
     l_front_m: float
     problem: str | None = None
     queue: bool = False
+    staggered: bool = False
 
     @property
     def length_m(self) -> float:
@@ -108,39 +111,105 @@ def start_formation(tube: VirtualTube, n_robots: int) -> Formation:
 
     Rows and columns start ``ROBOTARIUM.ic_spacing_m`` apart along and across the tube; on a bend the inner side
     converges, so the row spacing grows (by 2 % steps) until every pair keeps it. The back row stands at the first
-    cross-section inside the box; when the rows would then reach into the first narrowing and the box has room
-    behind, the formation is the entry queue instead (`entry_queue`).
+    cross-section inside the box. When the rows would then reach into the first narrowing, the formation is the entry
+    queue (`entry_queue`) where the box has room behind the entrance, else staggered rows (`staggered_rows`) where
+    they end before it, else the staggered queue; what is left is the plain rows, for the fit verdict to refuse.
+    """
+    l_back = first_inside_box(tube)
+    narrowing = first_narrowing(tube)
+    rows: Formation | None = None
+    for staggered in (False, True):
+        if l_back is not None:
+            room = 2.0 * (float(tube.half_width(l_back)) - WALL_CLEARANCE_M)
+            if room < 0.0:
+                why = f'the entrance is too narrow for a robot {WALL_CLEARANCE_M} m from each wall'
+                return _no_formation(n_robots, why)
+            formation = _rows(tube, n_robots, room, l_back, staggered)
+            rows = rows or formation
+            if formation.rows and (narrowing is None or formation.l_front_m <= narrowing.start_m):
+                return formation
+        queue = entry_queue(tube, n_robots, staggered)
+        if queue is not None:
+            return queue
+    return rows or _no_formation(
+        n_robots, 'no cross-section of the tube lies inside the box the testbed initializes robots in'
+    )
+
+
+def _rows(tube: VirtualTube, n_robots: int, room: float, l_back: float, staggered: bool) -> Formation:
+    """The formation across ``room`` (m, between the wall clearances) whose back row stands at ``l_back``, ordered for
+    V2's initializer: plain rows, or the staggered rows (`staggered_rows`) that end soonest (an empty formation, no
+    rows, where there are none)."""
+    spacing = ROBOTARIUM.ic_spacing_m
+    if staggered:
+        layouts = [_placed(tube, lateral, l_back, pitch) for lateral, pitch in staggered_rows(room, n_robots)]
+        if not layouts:
+            return Formation(np.zeros((3, 0)), 0, 0, l_back, l_back)
+        poses, lateral, l_front = min(layouts, key=lambda layout: layout[2])
+    else:
+        columns = min(n_robots, math.floor(room / spacing + 1e-9) + 1)  # 0.4 / 0.4 is 0.99999...
+        sizes = [min(columns, n_robots - first) for first in range(0, n_robots, columns)]
+        lateral = [np.asarray((np.arange(size) - 0.5 * (size - 1)) * spacing, dtype=float) for size in sizes]
+        for row_spacing in spacing * (1.0 + 0.02 * np.arange(50)):
+            poses = _grid(tube, lateral, np.full(len(lateral), l_back) + row_spacing * np.arange(len(lateral))[::-1])
+            gaps = np.hypot(*(poses[:2, :, None] - poses[:2, None, :]))[np.triu_indices(n_robots, 1)]
+            if gaps.size == 0 or gaps.min() >= spacing - 1e-12:
+                break
+        l_front = l_back + float(row_spacing) * (len(lateral) - 1)
+    ordered: FloatArray = poses[:, order_for_v2_initializer(poses)]
+    return Formation(ordered, len(lateral), max(row.size for row in lateral), l_back, l_front, staggered=staggered)
+
+
+def staggered_rows(room: float, n_robots: int) -> list[tuple[list[FloatArray], float]]:
+    """Staggered rows across ``room``: for each c from 2 to the plain rows' columns, rows alternating c robots spread
+    over the whole room and c - 1 in their gaps, at the least pitch that keeps the spacing between neighbouring
+    rows on a straight tube; each as lateral offsets per row (front first, the back row the offsets of its kind
+    nearest the axis) and that pitch; none for a single row.
+
+    A tube 0.9 m wide (room 0.7 m) holds plain rows of two, 0.4 m apart (5 robots a metre), and staggered rows of two
+    at the walls' clearance and one on the axis 0.2 m apart (7.5 a metre: Oler's bound on a 0.7 m strip is 7.55); a
+    tube 1.0 m wide, plain rows of three (7.5 a metre) or rows of three 0.4 m apart and two between, 0.35 m apart
+    (7.2 a metre), which still end sooner on a short stretch (eight robots in 0.69 m instead of 0.8 m).
     """
     spacing = ROBOTARIUM.ic_spacing_m
-    l_back = first_inside_box(tube)
-    if l_back is None:
-        queue = entry_queue(tube, n_robots)
-        return queue or _no_formation(
-            n_robots, 'no cross-section of the tube lies inside the box the testbed initializes robots in'
-        )
-    room = 2.0 * (float(tube.half_width(l_back)) - WALL_CLEARANCE_M)
-    if room < 0.0:
-        why = f'the entrance is too narrow for a robot {WALL_CLEARANCE_M} m from each wall'
-        return _no_formation(n_robots, why)
-    columns = min(n_robots, math.floor(room / spacing + 1e-9) + 1)  # 0.4 / 0.4 is 0.99999...
-    formation = _rows(tube, n_robots, columns, l_back)
-    narrowing = first_narrowing(tube)
-    if narrowing is None or formation.l_front_m <= narrowing.start_m:
-        return formation
-    return entry_queue(tube, n_robots) or formation
+    layouts = []
+    for wide in range(2, min(math.floor(room / spacing + 1e-9) + 1, n_robots - 1) + 1):
+        gap = room / (wide - 1)
+        pitch = max(math.sqrt(max(spacing**2 - 0.25 * gap**2, 0.0)), 0.5 * spacing)
+        kinds = [(np.arange(wide) - 0.5 * (wide - 1)) * gap, (np.arange(wide - 1) - 0.5 * (wide - 2)) * gap]
+        lateral: list[FloatArray] = []
+        placed = 0
+        while placed < n_robots:
+            kind = kinds[len(lateral) % 2]
+            take = min(kind.size, n_robots - placed)
+            lateral.append(np.sort(kind[np.argsort(np.abs(kind), kind='stable')[:take]]))
+            placed += take
+        layouts.append((lateral, pitch))
+    return layouts
 
 
-def _rows(tube: VirtualTube, n_robots: int, columns: int, l_back: float) -> Formation:
-    """The formation of ``columns`` columns whose back row stands at ``l_back``, ordered for V2's initializer."""
+PLACE_STEP = 0.01
+"""A staggered row moves forward by this share of the pitch until it keeps the spacing (`_placed`)."""
+
+
+def _placed(
+    tube: VirtualTube, lateral: list[FloatArray], l_back: float, pitch: float
+) -> tuple[FloatArray, list[FloatArray], float]:
+    """Rows at ``lateral`` offsets (front first) placed from the back row at ``l_back`` forwards, each the least
+    multiple of `PLACE_STEP` pitch beyond ``pitch`` from the one behind it that keeps the spacing to every robot placed
+    (on a bend only the rows on it move apart): the poses, the offsets and the front row's arc length."""
     spacing = ROBOTARIUM.ic_spacing_m
-    rows = math.ceil(n_robots / columns)
-    for row_spacing in spacing * (1.0 + 0.02 * np.arange(50)):
-        poses = _grid(tube, n_robots, columns, l_back, float(row_spacing))
-        gaps = np.hypot(*(poses[:2, :, None] - poses[:2, None, :]))[np.triu_indices(n_robots, 1)]
-        if gaps.size == 0 or gaps.min() >= spacing - 1e-12:
-            break
-    ordered: FloatArray = poses[:, order_for_v2_initializer(poses)]
-    return Formation(ordered, rows, columns, l_back, l_back + float(row_spacing) * (rows - 1))
+    l_rows = [l_back]
+    for row in range(len(lateral) - 2, -1, -1):
+        behind = _grid(tube, lateral[row + 1 :], np.array(l_rows[::-1]))
+        l_k = l_rows[-1] + pitch
+        while (
+            np.hypot(*(_grid(tube, [lateral[row]], np.array([l_k]))[:2, :, None] - behind[:2, None, :])).min()
+            < spacing - 1e-12
+        ):
+            l_k += PLACE_STEP * pitch
+        l_rows.append(l_k)
+    return _grid(tube, lateral, np.array(l_rows[::-1])), lateral, l_rows[-1]
 
 
 QUEUE_BEFORE_NARROWING_M = 0.01
@@ -152,7 +221,7 @@ QUEUE_BOX_MARGIN_M = 0.01
 """The queue's back row stands this far inside the box (past the first sampled arc length whose row is inside)."""
 
 
-def entry_queue(tube: VirtualTube, n_robots: int) -> Formation | None:
+def entry_queue(tube: VirtualTube, n_robots: int, staggered: bool = False) -> Formation | None:
     """The entry phase's start: the formation's back row at the first arc length, behind the entrance too, where a
     row of it stands inside the box the testbed initializes robots in; the rows behind l = 0 queue on the tube's
     straight extension (``docs/theory.md`` §12). None when the tube does not narrow, or the front row would reach
@@ -164,39 +233,41 @@ def entry_queue(tube: VirtualTube, n_robots: int) -> Formation | None:
     safety filter's wall rows take over at l = 0. The back row stands as far back as the box allows, as the start
     formation's does, so that the swarm has the most room to thin out before the narrowing (*measured* with the
     front row placed at the narrowing instead, twenty robots' trapezoid at N = 10 and 12: the dip's density error
-    37 % and 36 %, and 78 robot-steps with a body on a wall at N = 12).
+    37 % and 36 %, and 78 robot-steps with a body on a wall at N = 12). ``staggered``: in staggered rows
+    (`staggered_rows`; None where they are not denser).
     """
     narrowing = first_narrowing(tube)
     room = 2.0 * (float(tube.half_width(0.0)) - WALL_CLEARANCE_M)
     if narrowing is None or room < 0.0:
         return None
     columns = min(n_robots, math.floor(room / ROBOTARIUM.ic_spacing_m + 1e-9) + 1)
-    l_back = _first_row_in_box(tube, columns, narrowing.start_m)
+    half_span = 0.5 * room if staggered else 0.5 * (columns - 1) * ROBOTARIUM.ic_spacing_m
+    l_back = _first_row_in_box(tube, half_span, narrowing.start_m)
     if l_back is None:
         return None
-    queue = _rows(tube, n_robots, columns, l_back)
+    queue = _rows(tube, n_robots, room, l_back, staggered)
+    if not queue.rows:
+        return None
     inside = np.all(np.abs(queue.poses[:2].T) <= np.array(ROBOTARIUM.ic_box_m), axis=1)
     fits = bool(inside.all()) and queue.l_front_m <= narrowing.start_m - QUEUE_BEFORE_NARROWING_M
     return replace(queue, queue=True) if fits else None
 
 
-def _first_row_in_box(tube: VirtualTube, columns: int, l_end_m: float) -> float | None:
-    """The smallest arc length from `QUEUE_BEHIND_M` behind the entrance to ``l_end_m`` at which a full row of
-    ``columns`` robots lies inside the box, plus `QUEUE_BOX_MARGIN_M`; None if there is none."""
+def _first_row_in_box(tube: VirtualTube, half_span: float, l_end_m: float) -> float | None:
+    """The smallest arc length from `QUEUE_BEHIND_M` behind the entrance to ``l_end_m`` at which a full row, its
+    outer robots ``half_span`` off the axis, lies inside the box, plus `QUEUE_BOX_MARGIN_M`; None if there is none."""
     l_m = np.linspace(-QUEUE_BEHIND_M, l_end_m, 2001)
-    across = (np.arange(columns) - 0.5 * (columns - 1)) * ROBOTARIUM.ic_spacing_m
+    across = np.array([-half_span, half_span])
     points = tube.center_at(l_m)[:, None, :] + across[None, :, None] * tube.normal(l_m)[:, None, :]
     inside = np.all(np.abs(points) <= np.array(ROBOTARIUM.ic_box_m), axis=(1, 2))
     return float(l_m[np.argmax(inside)]) + QUEUE_BOX_MARGIN_M if inside.any() else None
 
 
-def _grid(tube: VirtualTube, n: int, columns: int, l_back: float, row_spacing: float) -> FloatArray:
-    """Poses (3, n) of rows ``row_spacing`` apart from ``l_back`` on, the front row first."""
-    rows = math.ceil(n / columns)
-    row, col = np.divmod(np.arange(n), columns)
-    in_row = np.minimum(columns, n - row * columns)
-    l_k = l_back + row_spacing * (rows - 1 - row)
-    y = (col - 0.5 * (in_row - 1)) * ROBOTARIUM.ic_spacing_m
+def _grid(tube: VirtualTube, lateral: list[FloatArray], l_rows: FloatArray) -> FloatArray:
+    """Poses (3, n) of rows at arc lengths ``l_rows``, robots at their rows' ``lateral`` offsets, headings along the
+    tube."""
+    l_k = np.concatenate([np.full(y.size, l_row) for l_row, y in zip(l_rows, lateral, strict=True)])
+    y = np.concatenate(lateral)
     points = tube.center_at(l_k) + y[:, None] * tube.normal(l_k)
     tangent = tube.tangent(l_k)
     grid: FloatArray = np.array([points[:, 0], points[:, 1], np.arctan2(tangent[:, 1], tangent[:, 0])])
@@ -252,37 +323,69 @@ def parking(tube: VirtualTube, n_robots: int) -> FloatArray:
     """Slots (2, N) beyond the exit, filled farthest first: the most lanes (at most `PARKING_LANES_MAX`)
     whose slots all keep `PARKING_WALL_M` from the arena's edge with the nearest row at least
     `PARKING_NEAREST_M` beyond the exit, the farthest row at most `PARKING_DEPTH_M` beyond it or where
-    the arena ends sooner; when no layout does, the one that comes closest (the fit verdict then refuses it)."""
+    the arena ends sooner. Lanes centred on the exit first; where none fit, lanes moved across (`_moved_across`:
+    the curve's exit lies 0.3 m off the arena's middle, where four lanes fit centred and six moved to the middle);
+    when no layout does, the centred one that comes closest (the fit verdict then refuses it)."""
     end, tangent = tube.center_at(tube.length_m), tube.tangent(tube.length_m)
+    lane_counts = range(min(n_robots, PARKING_LANES_MAX), 0, -1)
     layouts = []
-    for lanes in range(min(n_robots, PARKING_LANES_MAX), 0, -1):
+    for lanes in lane_counts:
         rows_behind = PARKING_SPACING_M * ((n_robots - 1) // lanes)  # from the farthest row to the nearest
         depth = min(PARKING_DEPTH_M, _deepest(slots_in_lanes(end, tangent, n_robots, lanes, 0.0), tangent))
         if depth - rows_behind >= PARKING_NEAREST_M - 1e-9:
             return slots_in_lanes(end, tangent, n_robots, lanes, depth)
         layouts.append((depth - rows_behind, lanes))
+    for lanes in lane_counts:
+        moved = _moved_across(end, tangent, n_robots, lanes)
+        if moved is not None:
+            return moved
     nearest, lanes = max(layouts)
     depth = nearest + PARKING_SPACING_M * ((n_robots - 1) // lanes) if math.isfinite(nearest) else 0.0
     return slots_in_lanes(end, tangent, n_robots, lanes, depth)
 
 
+PARKING_SCAN_M = 1e-3
+"""The depths `_moved_across` tries, this far apart."""
+
+
+def _moved_across(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int) -> FloatArray | None:
+    """``lanes`` lanes moved across the exit (along its normal) the least that lets some depth keep the parking rules
+    (`parking`), at the deepest such depth (to `PARKING_SCAN_M`); None where no move does."""
+    normal = np.array([-tangent[1], tangent[0]])
+    nearest = PARKING_SPACING_M * ((n_robots - 1) // lanes) + PARKING_NEAREST_M
+    best: tuple[float, float] | None = None
+    for depth in np.arange(PARKING_DEPTH_M, nearest - 1e-9, -PARKING_SCAN_M):
+        lower, upper = _moves(slots_in_lanes(end, tangent, n_robots, lanes, float(depth)), normal)
+        move = min(max(0.0, lower), upper)
+        if lower <= upper and (best is None or abs(move) < abs(best[0]) - 1e-12):
+            best = (move, float(depth))
+    return None if best is None else slots_in_lanes(end + best[0] * normal, tangent, n_robots, lanes, best[1])
+
+
 def _deepest(slots: FloatArray, tangent: FloatArray) -> float:
     """How far slots (2, N) can move along the tangent with every one keeping `PARKING_WALL_M` from the
     arena's edge (negative: they must move back; -inf: no move keeps them all inside)."""
+    lower, upper = _moves(slots, tangent)
+    return upper if upper >= lower else -math.inf
+
+
+def _moves(slots: FloatArray, direction: FloatArray) -> tuple[float, float]:
+    """The moves of slots (2, N) along a unit ``direction`` that keep every one `PARKING_WALL_M` from the arena's
+    edge, as an interval (lower > upper: none does)."""
     x0, x1, y0, y1 = ROBOTARIUM.arena_m
     w = PARKING_WALL_M
     upper, lower = math.inf, -math.inf
-    for values, direction, low, high in (
-        (slots[0], tangent[0], x0 + w, x1 - w),
-        (slots[1], tangent[1], y0 + w, y1 - w),
+    for values, step, low, high in (
+        (slots[0], direction[0], x0 + w, x1 - w),
+        (slots[1], direction[1], y0 + w, y1 - w),
     ):
-        if abs(direction) < 1e-12:
+        if abs(step) < 1e-12:
             if values.min() < low or values.max() > high:
-                return -math.inf
+                return math.inf, -math.inf
             continue
-        ends = sorted(((low - values.min()) / direction, (high - values.max()) / direction))
+        ends = sorted(((low - values.min()) / step, (high - values.max()) / step))
         lower, upper = max(lower, ends[0]), min(upper, ends[1])
-    return upper if upper >= lower else -math.inf
+    return lower, upper
 
 
 def slots_in_lanes(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int, depth_m: float) -> FloatArray:

@@ -27,6 +27,7 @@ from robotarium_exp.flight_data import FlightData
 from robotarium_exp.safety import WALL_KEEP_M
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.scene import Scene
+from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import first_narrowing
 from vtube_planning.onboard import SampledTube
 
@@ -74,7 +75,10 @@ def robotarium_fit(scene: Scene) -> Fit:
     a map file is told in the map file's keys (`for_map_file`)."""
     formation = start_formation(scene.tube, scene.swarm.n_robots)
     if formation.problem is None:
-        fit = fit_of_flight(flight_data(scene, None, ExperimentConfig(planning=False)))
+        data = flight_data(scene, None, ExperimentConfig(planning=False))
+        fit = fit_of_flight(data)
+        if any(misfit.kind == 'narrowing' for misfit in fit.misfits):
+            fit = fit_of_flight(data, robots_before_narrowing(scene.tube, scene.swarm.n_robots))
     else:
         left, right = scene.tube.boundaries(np.linspace(0.0, scene.tube.length_m, TUBE_EDGE_POINTS))
         fit = Fit(
@@ -120,8 +124,20 @@ def for_map_file(misfit: Misfit, scene: Scene) -> Misfit:
     return Misfit(misfit.what, fixes.get(misfit.kind, misfit.fix), misfit.kind, misfit.metres, misfit.robots)
 
 
-def fit_of_flight(data: FlightData) -> Fit:
-    """The verdict on the data a flight carries."""
+def robots_before_narrowing(tube: VirtualTube, n_robots: int) -> int:
+    """The most robots, fewer than ``n_robots``, whose start formation (`robotarium_exp.design.start_formation`:
+    plain rows, the queue, staggered rows) ends before the tube's first narrowing; 0 when none does."""
+    narrowing = first_narrowing(*tube.width.knots)
+    for k in range(n_robots - 1, 0, -1):
+        formation = start_formation(tube, k)
+        if formation.problem is None and (narrowing is None or formation.l_front_m <= narrowing.start_m + 1e-6):
+            return k
+    return 0
+
+
+def fit_of_flight(data: FlightData, fitting: int | None = None) -> Fit:
+    """The verdict on the data a flight carries; ``fitting``: how many robots would start before the narrowing
+    (`robots_before_narrowing`; None: counted from the data's own rows)."""
     misfits = [
         *_robots(data.n_robots),
         *_tube_inside(data.tube_edges_m),
@@ -129,7 +145,7 @@ def fit_of_flight(data: FlightData) -> Fit:
         *_formation_inside(data.initial_conditions),
         *_formation_spacing(data.initial_conditions),
         *_initializer_order(data.initial_conditions),
-        *_formation_before_narrowing(data),
+        *_formation_before_narrowing(data, fitting),
         *_parking_inside(data),
     ]
     return Fit(tuple(misfits))
@@ -224,7 +240,7 @@ def _initializer_order(ic: FloatArray) -> list[Misfit]:
     ]
 
 
-def _formation_before_narrowing(data: FlightData) -> list[Misfit]:
+def _formation_before_narrowing(data: FlightData, fitting: int | None) -> list[Misfit]:
     """The start formation's front row lies before the tube first narrows: a swarm that starts inside the narrowing
     is squeezed before it has started (a narrowing inside a bend, eight robots: 219 robot-steps with bodies up to
     0.2 m over the walls). *Measured*: the stricter rule this replaced, the formation's centre a look-ahead
@@ -250,8 +266,10 @@ def _formation_before_narrowing(data: FlightData) -> list[Misfit]:
     row_sizes = np.diff(np.flatnonzero(np.r_[True, np.diff(ordered) > 0.5 * ROBOTARIUM.ic_spacing_m, True]))
     rows, columns = row_sizes.size, int(row_sizes.max())
     pitch = max(ROBOTARIUM.ic_spacing_m, (front - back) / max(rows - 1, 1))  # a bend spreads the rows
-    fitting = int((start - back + 1e-6) // pitch) + 1 if start >= back else 0
-    fewer = f', or use at most {fitting * columns} robots' if 0 < fitting < rows else ''
+    if fitting is None:
+        rows_fitting = int((start - back + 1e-6) // pitch) + 1 if start >= back else 0
+        fitting = rows_fitting * columns if 0 < rows_fitting < rows else 0
+    fewer = f', or use at most {fitting} robots' if fitting else ''
     return [
         Misfit(
             f'the start formation ({rows} row(s) of up to {columns}) reaches l = {front:.2f} m, past the start of the '
@@ -259,7 +277,7 @@ def _formation_before_narrowing(data: FlightData) -> list[Misfit]:
             f'lengthen the wide part before the narrowing by {front - start:.2f} m{fewer}',
             'narrowing',
             front - start,
-            fitting * columns if 0 < fitting < rows else 0,
+            fitting,
         )
     ]
 

@@ -25,6 +25,7 @@ from robotarium_exp.design import (
     order_for_v2_initializer,
     parking,
     slots_in_lanes,
+    staggered_rows,
     start_formation,
 )
 from robotarium_exp.scene import load_scene
@@ -126,6 +127,8 @@ def test_rows_and_columns_fill_the_entrance(name: str, formations) -> None:
     t = TUBES[name]
     for n in SWEEP:
         f = formations[name, n]
+        if f.staggered:  # test_staggered_rows_*
+            continue
         room = t.half_width(f.l_back_m) - WALL_CLEARANCE_M  # from the centre line to a robot's furthest place
         assert f.rows == math.ceil(n / f.columns) and f.columns <= n
         assert 0.5 * SPACING * (f.columns - 1) <= room + 1e-12  # the widest row fits between the walls ...
@@ -138,6 +141,53 @@ def test_rows_and_columns_fill_the_entrance(name: str, formations) -> None:
         assert np.isclose(where.l_m, f.l_back_m, atol=1e-6).sum() == n - (f.rows - 1) * f.columns or f.rows == 1
         if name in ('straight', 'wide', 'single_file', 'trapezoid'):  # straight: rows exactly the spacing apart
             assert f.length_m == pytest.approx(SPACING * (f.rows - 1), abs=1e-12)
+
+
+@pytest.mark.parametrize('name', sorted(TUBES))
+def test_staggered_rows_are_taken_only_where_plain_rows_reach_the_narrowing_and_end_sooner(
+    name: str, formations
+) -> None:
+    """Rows alternate the widest row (its outer robots at the walls' clearance) and one robot fewer in its gaps, the
+    front row the widest; taken only where the plain rows would reach into the narrowing, and then ending before
+    it."""
+    t = TUBES[name]
+    narrowing = first_narrowing(t)
+    for n in SWEEP:
+        f = formations[name, n]
+        if not f.staggered:
+            continue
+        assert narrowing is not None and f.l_front_m <= narrowing.start_m, (name, n)
+        where = t.project(f.poses[:2])
+        row_of = np.unique(np.round(where.l_m, 6), return_inverse=True)[1]
+        sizes = np.bincount(row_of)[::-1]  # front row first
+        wide = int(sizes[0])
+        assert wide == f.columns >= 2 and np.all(sizes[1::2] <= wide - 1) and np.all(sizes[2::2] <= wide), (name, n)
+        front = np.abs(where.y_m[row_of == row_of.max()])
+        assert front.max() == pytest.approx(t.half_width(f.l_front_m) - WALL_CLEARANCE_M, abs=1e-9), (name, n)
+
+
+def test_staggered_rows_on_a_strip_are_the_analytic_packing() -> None:
+    """0.7 m of room (a tube 0.9 m wide): two at the clearances and one on the axis, 0.2 m apart (three robots per
+    0.4 m where plain rows hold two); 0.8 m: also rows of three 0.4 m apart with two between at sqrt(0.4^2 - 0.2^2)."""
+    ((lateral, pitch),) = staggered_rows(0.7, 5)
+    assert pitch == pytest.approx(0.5 * SPACING)
+    assert [row.tolist() for row in lateral] == [[-0.35, 0.35], [0.0], [-0.35, 0.35]]
+    assert staggered_rows(0.7, 2) == []  # one row: nothing to stagger
+    two, three = staggered_rows(0.8, 8)
+    assert two[1] == pytest.approx(0.5 * SPACING) and three[1] == pytest.approx(math.sqrt(SPACING**2 - 0.2**2))
+    assert [row.size for row in three[0]] == [3, 2, 3]
+    np.testing.assert_allclose(three[0][1], [-0.2, 0.2])
+
+
+def test_a_straight_tube_too_short_for_plain_rows_starts_staggered() -> None:
+    """A 0.9 m wide straight tube narrowing at l = 1.0 m: eight robots in plain rows of two reach l = 1.22 m; staggered
+    (2, 1, 2, 1, 2) they end at 0.02 + 4 x 0.2 m, every pair 0.4 m apart or more."""
+    t = tube((ArcPiece(2.45),), (-1.45, 0.0), 0.0, (0.45, (WidthPart('constant', 1.0), WidthPart('smooth', 0.5, 0.3))))
+    f = start_formation(t, 8)
+    assert f.staggered and f.rows == 5 and f.columns == 2
+    assert f.l_front_m - f.l_back_m == pytest.approx(4 * 0.5 * SPACING, abs=1e-9)
+    assert gaps(f.poses).min() >= SPACING - 1e-12
+    assert start_formation(TUBES['curve'], 10).staggered  # the shipped curve's ten: rows of 3 and 2 on its bend
 
 
 def test_the_column_count_follows_the_entrance_width(formations) -> None:
@@ -267,22 +317,46 @@ def scanned_layout(t: VirtualTube, n: int) -> tuple[int, float] | None:
     return None
 
 
+def scanned_moved_lanes(t: VirtualTube, n: int) -> int | None:
+    """The most lanes that keep the wall with the nearest row at least 0.08 m beyond the exit when the lanes may
+    also move across (along the exit's normal), by scanning moves and depths every 5 mm; None when none do."""
+    end, tangent = t.center_at(t.length_m), t.tangent(t.length_m)
+    normal = np.array([-tangent[1], tangent[0]])
+    moves = np.arange(-2.0, 2.0, 5e-3)
+    for lanes in range(min(n, PARKING_LANES_MAX), 0, -1):
+        behind = PARKING_SPACING_M * ((n - 1) // lanes)
+        depths = np.arange(PARKING_DEPTH_M, PARKING_NEAREST_M + behind - 1e-9, -5e-3)
+        at_exit = slots_in_lanes(end, tangent, n, lanes, depths[:, None, None])  # (depths, 2, N)
+        slots = at_exit[None] + moves[:, None, None, None] * normal[None, None, :, None]  # (moves, depths, 2, N)
+        outside = ROBOTARIUM.outside_arena(np.moveaxis(slots, 2, 0), PARKING_WALL_M).any(axis=-1)
+        if not outside.all():
+            return lanes
+    return None
+
+
 def assert_parking_rules(slots: np.ndarray, t: VirtualTube) -> None:
     """0.3 m apart, the farthest first; the layout of the most lanes that keeps the wall with the farthest row
-    deepest (at most 0.45 m, at least on the exit line), by an independent scan; when none does, the slots do not
-    keep it either (the verdict refuses them)."""
+    deepest (at most 0.45 m, at least on the exit line), by an independent scan; when none does, lanes moved across
+    as many as a scan of moves finds, keeping the wall and 0.08 m beyond the exit; when none do either, the slots do
+    not keep the wall or lie too near the exit (the verdict refuses them)."""
     n = slots.shape[1]
     assert n == 1 or gaps(slots).min() >= PARKING_SPACING_M - 1e-12
     end, tangent = t.center_at(t.length_m), t.tangent(t.length_m)
     beyond = tangent @ (slots - end[:, None])
     assert np.all(np.diff(beyond) <= 1e-12)
     found = scanned_layout(t, n)
-    if found is None:  # the fallback: the fit refuses it (a slot on the wall or behind the exit)
+    if found is not None:
+        lanes, depth = found
+        assert keeps_the_wall(slots) and beyond[0] == pytest.approx(depth, abs=6e-4)
+        np.testing.assert_allclose(slots, slots_in_lanes(end, tangent, n, lanes, beyond[0]), atol=1e-9)
+        return
+    moved = scanned_moved_lanes(t, n)
+    if moved is None:  # the fallback: the fit refuses it (a slot on the wall or behind the exit)
         assert not keeps_the_wall(slots) or beyond.min() < PARKING_NEAREST_M - 1e-9
         return
-    lanes, depth = found
-    assert keeps_the_wall(slots) and beyond[0] == pytest.approx(depth, abs=6e-4)
-    np.testing.assert_allclose(slots, slots_in_lanes(end, tangent, n, lanes, beyond[0]), atol=1e-9)
+    assert keeps_the_wall(slots) and beyond.min() >= PARKING_NEAREST_M - 1e-9
+    across = np.array([-tangent[1], tangent[0]]) @ (slots - end[:, None])
+    assert np.unique(np.round(across, 6)).size == min(moved, n)  # as many lanes as the scan found
 
 
 @pytest.mark.parametrize(
@@ -325,10 +399,23 @@ def test_parking_moves_in_where_the_arena_ends_sooner_and_narrows_near_a_side() 
 
 
 def test_when_no_slots_fit_the_widest_are_returned_for_the_verdict_to_refuse() -> None:
-    edge = straight(0.02, 2.45, (-1.45, 0.97))  # exit at y = 0.97, beyond the margin whatever the lanes
+    edge = straight(0.02, 3.0, (-1.45, 0.0))  # exit at x = 1.55: no slot 0.08 m beyond it keeps the wall
     slots = parking(edge, 7)
-    assert ROBOTARIUM.outside_arena(slots, ROBOTARIUM.arena_margin_m).any()
-    assert scanned_layout(edge, 7) is None and not keeps_the_wall(slots)
+    assert scanned_layout(edge, 7) is None and scanned_moved_lanes(edge, 7) is None
+    beyond = np.array([1.0, 0.0]) @ (slots - edge.center_at(edge.length_m)[:, None])
+    assert not keeps_the_wall(slots) or beyond.min() < PARKING_NEAREST_M
+
+
+def test_lanes_move_across_only_where_none_fit_on_the_exit() -> None:
+    """The shipped curve's exit lies at y = 0.3: six robots park in four lanes centred on it (as before), ten in six
+    lanes moved to the arena's middle, which four centred lanes cannot hold (three rows: the nearest behind the
+    exit)."""
+    curve = TUBES['curve']
+    six = parking(curve, 6)
+    np.testing.assert_allclose(np.unique(np.round(six[1], 2)), 0.3 + np.array([-0.45, -0.15, 0.15, 0.45]), atol=2e-3)
+    ten = parking(curve, 10)
+    assert scanned_layout(curve, 10) is None and np.unique(np.round(ten[1], 2)).size == 6
+    assert_parking_rules(ten, curve)
 
 
 @pytest.mark.parametrize('name', ['straight', 'wide', 'single_file', 'trapezoid'])
