@@ -349,17 +349,16 @@ PARKING_SCAN_M = 1e-3
 
 
 def _moved_across(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int) -> FloatArray | None:
-    """``lanes`` lanes moved across the exit (along its normal) the least that lets some depth keep the parking rules
-    (`parking`), at the deepest such depth (to `PARKING_SCAN_M`); None where no move does."""
+    """``lanes`` lanes moved across the exit (along its normal) at the deepest depth (to `PARKING_SCAN_M`) at which
+    some move keeps the parking rules (`parking`), moved the least there; None where no move does."""
     normal = np.array([-tangent[1], tangent[0]])
     nearest = PARKING_SPACING_M * ((n_robots - 1) // lanes) + PARKING_NEAREST_M
-    best: tuple[float, float] | None = None
     for depth in np.arange(PARKING_DEPTH_M, nearest - 1e-9, -PARKING_SCAN_M):
         lower, upper = _moves(slots_in_lanes(end, tangent, n_robots, lanes, float(depth)), normal)
-        move = min(max(0.0, lower), upper)
-        if lower <= upper and (best is None or abs(move) < abs(best[0]) - 1e-12):
-            best = (move, float(depth))
-    return None if best is None else slots_in_lanes(end + best[0] * normal, tangent, n_robots, lanes, best[1])
+        if lower <= upper:
+            move = min(max(0.0, lower), upper)
+            return slots_in_lanes(end + move * normal, tangent, n_robots, lanes, float(depth))
+    return None
 
 
 def _deepest(slots: FloatArray, tangent: FloatArray) -> float:
