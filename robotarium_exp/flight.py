@@ -97,8 +97,9 @@ class Flight:
         """The commands for robots at ``poses`` (3, N); advances the swarm's state by ``dt_s``.
 
         Flying robots whose band held go through the speed-constrained map (v in [v_min, v_max]; the filter's
-        rows keep it exact); parked robots, and every robot in a step where safety won, through the exact map,
-        then uniform wheel scaling.
+        rows keep it exact); parked robots, and every robot in a step where safety won, through the exact map;
+        then every robot through uniform wheel scaling (the filter's wheel rows hold a wheel at its limit, which the
+        scaling keeps a hair below).
         """
         points = uni_to_si_states(poses, self.d)
         step = self.stepper(points, dt_s)
@@ -108,10 +109,7 @@ class Flight:
             slope = self.stepper.tube.half_width_slope(step.projection.l_m)
             safe, held = self.safety(step.velocity, poses, points, flying, walls(step.projection, flying, slope))
             self.stepper.sent(safe)  # a delay compensation predicts from what the robots are sent
-        w = self.wheels
-        dxu, _ = scale_to_wheel_limits(
-            si_to_uni(safe, poses, self.d), w.base_length_m, w.wheel_radius_m, w.max_wheel_speed_radps
-        )
+        dxu = si_to_uni(safe, poses, self.d)
         p = self.stepper.params
         if held and self.safety is not None and flying.any():
             turn = p.v_max_mps * self.safety.lateral_max / self.d  # never binds: the filter bounds |omega| below
@@ -119,6 +117,8 @@ class Flight:
                 safe[:, flying], poses[:, flying], self.d, v_min=p.v_min_mps, v_max=p.v_max_mps, a_n=turn
             )
             dxu[:, flying] = banded
+        w = self.wheels
+        dxu, _ = scale_to_wheel_limits(dxu, w.base_length_m, w.wheel_radius_m, w.max_wheel_speed_radps)
         return Period(poses, points, step, safe, dxu, flying, held)
 
 

@@ -12,6 +12,12 @@ from unicycle_mapping.errors import as_columns, positive
 FloatArray = NDArray[np.float64]
 
 
+WHEEL_LIMIT_SHARE = 1.0 - 1e-9
+"""Commands are scaled to this share of the wheel limit, not to the limit itself: a wheel scaled to the limit
+exactly is recomputed by the testbed's verifier (the same formula) up to 2e-15 rad/s over it, and counted (one step
+of a twenty-robot run on the curve, ``docs/howto/submitting.md``)."""
+
+
 def wheel_speeds(dxu: ArrayLike, axle_length_m: float, wheel_radius_m: float) -> FloatArray:
     """Left and right wheel speeds (2v -/+ L omega) / (2 r) in rad/s, (2, N), for commands [v; omega] (2, N)."""
     dxu = as_columns(dxu, 2, 'unicycle commands dxu')
@@ -26,7 +32,8 @@ def scale_to_wheel_limits(
     """Scale each robot's [v; omega] uniformly so both wheels stay within the limit.
 
     Unlike the testbed's per-wheel clipping, a common factor keeps the curvature omega / v, so the robot still
-    drives along the intended arc, only slower.
+    drives along the intended arc, only slower. A scaled robot's faster wheel turns at `WHEEL_LIMIT_SHARE` of the
+    limit, so that no rounding puts it over.
 
     Returns
     -------
@@ -36,7 +43,7 @@ def scale_to_wheel_limits(
         The factor applied to each robot, in (0, 1], (N,).
     """
     dxu = as_columns(dxu, 2, 'unicycle commands dxu')
-    limit = positive(max_wheel_speed_radps, 'max_wheel_speed_radps')
+    limit = positive(max_wheel_speed_radps, 'max_wheel_speed_radps') * WHEEL_LIMIT_SHARE
     largest = np.abs(wheel_speeds(dxu, axle_length_m, wheel_radius_m)).max(axis=0)
     scale = np.where(largest > limit, limit / np.where(largest > 0, largest, 1.0), 1.0)
     return dxu * scale, scale

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from unicycle_mapping.mapping import si_to_uni
-from unicycle_mapping.wheels import max_realisable_si_speed, scale_to_wheel_limits, wheel_speeds
+from unicycle_mapping.wheels import WHEEL_LIMIT_SHARE, max_realisable_si_speed, scale_to_wheel_limits, wheel_speeds
 
 
 @pytest.mark.parametrize('seed', range(5))
@@ -44,3 +44,26 @@ def test_realisable_speed_matches_the_robotarium_table_and_is_tight(d: float, le
         u = speed * np.vstack([np.cos(alpha), np.sin(alpha)])
         worst = np.abs(wheel_speeds(si_to_uni(u, np.zeros((3, alpha.size)), d), length, R_WHEEL)).max()
         assert bool(worst <= PHI_MAX * (1 + 1e-9)) == ok
+
+
+def test_no_scaled_wheel_rounds_over_the_limit_in_the_testbeds_own_formula() -> None:
+    """The verifier recomputes wheel speeds as 1 / (2 r) (2 v -/+ L omega) and counts any over the limit: scaled to
+    the limit itself, one command in a few thousand came out 1e-15 rad/s over it (a twenty-robot run counted one
+    step); scaled to WHEEL_LIMIT_SHARE of it, none does, and the scaled wheel sits that close to the limit."""
+    radius, length, limit = 0.016, 0.11, 12.5
+    rng = np.random.default_rng(3)
+    dxu = rng.uniform(-1.0, 1.0, (2, 200_000)) * np.array([[0.4], [8.0]])
+
+    def testbed_wheels(commands: np.ndarray) -> np.ndarray:
+        return (
+            1
+            / (2 * radius)
+            * np.vstack([2 * commands[0] - length * commands[1], 2 * commands[0] + length * commands[1]])
+        )
+
+    scaled, scale = scale_to_wheel_limits(dxu, length, radius, limit)
+    fastest = np.abs(testbed_wheels(scaled)).max(axis=0)
+    assert not np.any(fastest > limit)
+    np.testing.assert_allclose(fastest[scale < 1.0], limit * WHEEL_LIMIT_SHARE, rtol=1e-14)
+    at_limit = dxu * np.where(scale < 1.0, limit / np.abs(wheel_speeds(dxu, length, radius)).max(axis=0), 1.0)
+    assert np.any(np.abs(testbed_wheels(at_limit)).max(axis=0) > limit)  # the rounding this guards against
