@@ -2,6 +2,8 @@
 
     python -m benchmarks.sweep_packing_bound SCENE [SCENE ...]
 
+A SCENE may be a map file (``docs/maps/robotarium_gate.toml``): its tube is generated first, as the sweep does.
+
 A start formation's robots stand at least the initializer's spacing d = 0.4 m apart, `WALL_CLEARANCE_M` from the
 walls (or from their lines continued behind the entrance, where the entry queue stands), inside the box the
 testbed initializes robots in, and before the tube's first narrowing (``docs/theory.md`` §12). Every such centre
@@ -18,6 +20,8 @@ from __future__ import annotations
 
 import argparse
 import math
+import tempfile
+from pathlib import Path
 
 import numpy as np
 from scipy.spatial import ConvexHull
@@ -25,6 +29,7 @@ from scipy.spatial import ConvexHull
 from robotarium_exp.design import WALL_CLEARANCE_M, first_narrowing
 from robotarium_exp.scene import load_scene
 from robotarium_exp.spec import ROBOTARIUM
+from submission.sweep import flown_scene
 
 BEHIND_M = 3.0
 """How far behind the entrance the region is sampled (the box is 2.75 m long)."""
@@ -49,9 +54,10 @@ def packing_bound(scene_name: str) -> tuple[float, float, float, int]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument('scenes', nargs='+', help='shipped names or .toml files')
+    parser.add_argument('scenes', nargs='+', help='shipped names, .toml files or map files')
     for name in parser.parse_args().scenes:
-        end, area, perimeter, bound = packing_bound(name)
+        with tempfile.TemporaryDirectory(prefix='vtube-packing-') as folder:
+            end, area, perimeter, bound = packing_bound(flown_scene(name, Path(folder)))
         print(
             f'{name}: region up to l = {end:.2f} m, hull {area:.2f} m^2, perimeter {perimeter:.2f} m: at most {bound} '
             'robots can start'
