@@ -38,7 +38,10 @@ INLINED_FUNCTIONS = (
     ('unicycle_mapping.mapping', ('si_to_uni', 'si_to_uni_constrained', 'uni_to_si_states')),
     ('unicycle_mapping.wheels', ('wheel_speeds', 'scale_to_wheel_limits')),
 )
-INLINED_CONSTANTS = (('vtube_planning.log', ('LOG_FORMAT', 'LOG_VERSION')),)
+INLINED_CONSTANTS = (
+    ('vtube_planning.log', ('LOG_FORMAT', 'LOG_VERSION')),
+    ('unicycle_mapping.wheels', ('WHEEL_LIMIT_SHARE',)),
+)
 # ---- runtime ----
 import json
 import os
