@@ -78,6 +78,11 @@ def test_robots_with_swapped_slots_trade_them() -> None:
     assert velocity[1, 0] < 0.0 < velocity[1, 1]  # the outer two now move apart, opening the way
 
 
+def total(slots: np.ndarray, points: np.ndarray, assignment: np.ndarray) -> float:
+    """The robots' ways to their slots (``assignment``: each robot's slot), summed."""
+    return float(np.hypot(*(slots[:, assignment] - points)).sum())
+
+
 def test_trades_reach_the_least_total_distance_and_spare_robots_in_their_slots() -> None:
     """Random slots and robots against every permutation of the slots held by robots on their way (the oracle);
     robots already in their slots keep them; a trade that saves less than TRADE_M is not made."""
@@ -95,16 +100,13 @@ def test_trades_reach_the_least_total_distance_and_spare_robots_in_their_slots()
         assert np.array_equal(parking.slot_of[settled], before[settled])
         assert sorted(parking.slot_of.tolist()) == list(range(n))
 
-        def total(assignment: np.ndarray) -> float:
-            return float(np.hypot(*(slots[:, assignment] - points)).sum())
-
         away = np.flatnonzero(~settled)
         best = before.copy()
         for order in itertools.permutations(before[away]):
             candidate = before.copy()
             candidate[away] = order
-            best = candidate if total(candidate) < total(best) else best
-        if total(best) < total(before) - TRADE_M:
-            assert total(parking.slot_of) == pytest.approx(total(best), abs=1e-9)
+            best = candidate if total(slots, points, candidate) < total(slots, points, best) else best
+        if total(slots, points, best) < total(slots, points, before) - TRADE_M:
+            assert total(slots, points, parking.slot_of) == pytest.approx(total(slots, points, best), abs=1e-9)
         else:
             assert np.array_equal(parking.slot_of, before)
