@@ -1,4 +1,4 @@
-"""A Robotarium experiment derived from its intent: the start formation, the parking slots and the swarm's values.
+"""A Robotarium experiment derived from its intent: the start formation and the swarm's values.
 
 A Robotarium scene declares a tube and a number of robots (``[robotarium] n_robots``); everything the paper's
 Robotarium scenes set by hand is derived here from the tube, N and `ROBOTARIUM`, each
@@ -15,8 +15,7 @@ value with its reason (``vtube scene show`` prints them):
 - the look-ahead (`look_ahead`): the first narrowing's length plus the formation's length plus two
   interaction bands, so that the density change (p7) asks for before the narrowing is one the rows can make (the
   fit verdict checks that the formation starts before the narrowing);
-- the parking slots beyond the exit: lanes `PARKING_SPACING_M` apart, as many lanes and as deep as the arena
-  allows (which robot takes which slot is `vtube_planning.onboard.parking`'s).
+(the parking slots beyond the exit are `robotarium_exp.parking_slots`').
 
 Whether the result fits the testbed is `robotarium_exp.fit`'s one verdict; nothing here refuses.
 """
@@ -41,24 +40,9 @@ WALL_CLEARANCE_M = 0.1
 """Between a robot of the start formation and a wall: the body's radius (0.055 m) and 0.045 m to move."""
 R_S_M = 0.10
 """r_s: the law's barrier keeps 2 r_s = 0.2 m between control points, as much as the safety filter does."""
-PARKING_SPACING_M = 0.3
-"""Between parking lanes and rows: the safety filter keeps 0.2 m between control points, and a robot must pass
-between parked ones (at 0.25 m, eight robots on the trapezoid deadlocked short of their slots)."""
-PARKING_WALL_M = 0.2
-"""Between a parking slot and the arena's edge: the barrier keeps control points 0.1 m (R / 2) from the edge, and
-a robot turning into its slot needs another 0.1 m."""
-PARKING_DEPTH_M = 1.0
-"""The farthest parking row lies at most this far beyond the exit (less where the arena ends sooner)."""
-PARKING_NEAREST_M = 0.08
-"""The nearest parking row lies at least this far beyond the exit (a body, 0.055 m, with 2.5 cm to spare): a robot
-parked behind the exit line stands on the tube's walls and in the way of the robots still passing (12 robots in a
-0.6 m tube: 2130 robot-steps with a body on a wall)."""
 INITIALIZER_APART_M = 0.55
 """Robots 0 and 1 start more than this far apart: every traced stall of V2's initializer had their slots 0.40-0.50
 m apart (``docs/robotarium.md`` §2.6); the diagonal of a 2 x 2 grid at the spacing (0.57 m) is just beyond."""
-PARKING_LANES_MAX = 6
-"""At most this many parking lanes side by side (1.5 m across: the arena's 2 m less 0.2 m at each edge holds six;
-with five, twelve robots on the straight sweep tubes had no room beyond the exit)."""
 
 
 @dataclass(frozen=True)
@@ -142,10 +126,12 @@ def _rows(tube: VirtualTube, n_robots: int, room: float, l_back: float, staggere
     rows, where there are none)."""
     spacing = ROBOTARIUM.ic_spacing_m
     if staggered:
-        layouts = [_placed(tube, lateral, l_back, pitch) for lateral, pitch in staggered_rows(room, n_robots)]
+        layouts = [
+            (lateral, *_placed(tube, lateral, l_back, pitch)) for lateral, pitch in staggered_rows(room, n_robots)
+        ]
         if not layouts:
             return Formation(np.zeros((3, 0)), 0, 0, l_back, l_back)
-        poses, lateral, l_front = min(layouts, key=lambda layout: layout[2])
+        lateral, poses, l_front = min(layouts, key=lambda layout: layout[2])
     else:
         columns = min(n_robots, math.floor(room / spacing + 1e-9) + 1)  # 0.4 / 0.4 is 0.99999...
         sizes = [min(columns, n_robots - first) for first in range(0, n_robots, columns)]
@@ -192,12 +178,10 @@ PLACE_STEP = 0.01
 """A staggered row moves forward by this share of the pitch until it keeps the spacing (`_placed`)."""
 
 
-def _placed(
-    tube: VirtualTube, lateral: list[FloatArray], l_back: float, pitch: float
-) -> tuple[FloatArray, list[FloatArray], float]:
+def _placed(tube: VirtualTube, lateral: list[FloatArray], l_back: float, pitch: float) -> tuple[FloatArray, float]:
     """Rows at ``lateral`` offsets (front first) placed from the back row at ``l_back`` forwards, each the least
     multiple of `PLACE_STEP` pitch beyond ``pitch`` from the one behind it that keeps the spacing to every robot placed
-    (on a bend only the rows on it move apart): the poses, the offsets and the front row's arc length."""
+    (on a bend only the rows on it move apart): the poses and the front row's arc length."""
     spacing = ROBOTARIUM.ic_spacing_m
     l_rows = [l_back]
     for row in range(len(lateral) - 2, -1, -1):
@@ -209,7 +193,7 @@ def _placed(
         ):
             l_k += PLACE_STEP * pitch
         l_rows.append(l_k)
-    return _grid(tube, lateral, np.array(l_rows[::-1])), lateral, l_rows[-1]
+    return _grid(tube, lateral, np.array(l_rows[::-1])), l_rows[-1]
 
 
 QUEUE_BEFORE_NARROWING_M = 0.01
@@ -317,85 +301,6 @@ def neighbour_counts(ic: FloatArray) -> NDArray[np.int_]:
     gaps = np.hypot(*(ic[:2, :, None] - ic[:2, None, :]))
     counts: NDArray[np.int_] = np.asarray((gaps < 1.25 * ROBOTARIUM.ic_spacing_m).sum(axis=0) - 1)
     return counts
-
-
-def parking(tube: VirtualTube, n_robots: int) -> FloatArray:
-    """Slots (2, N) beyond the exit, filled farthest first: the most lanes (at most `PARKING_LANES_MAX`)
-    whose slots all keep `PARKING_WALL_M` from the arena's edge with the nearest row at least
-    `PARKING_NEAREST_M` beyond the exit, the farthest row at most `PARKING_DEPTH_M` beyond it or where
-    the arena ends sooner. Lanes centred on the exit first; where none fit, lanes moved across (`_moved_across`:
-    the curve's exit lies 0.3 m off the arena's middle, where four lanes fit centred and six moved to the middle);
-    when no layout does, the centred one that comes closest (the fit verdict then refuses it)."""
-    end, tangent = tube.center_at(tube.length_m), tube.tangent(tube.length_m)
-    lane_counts = range(min(n_robots, PARKING_LANES_MAX), 0, -1)
-    layouts = []
-    for lanes in lane_counts:
-        rows_behind = PARKING_SPACING_M * ((n_robots - 1) // lanes)  # from the farthest row to the nearest
-        depth = min(PARKING_DEPTH_M, _deepest(slots_in_lanes(end, tangent, n_robots, lanes, 0.0), tangent))
-        if depth - rows_behind >= PARKING_NEAREST_M - 1e-9:
-            return slots_in_lanes(end, tangent, n_robots, lanes, depth)
-        layouts.append((depth - rows_behind, lanes))
-    for lanes in lane_counts:
-        moved = _moved_across(end, tangent, n_robots, lanes)
-        if moved is not None:
-            return moved
-    nearest, lanes = max(layouts)
-    depth = nearest + PARKING_SPACING_M * ((n_robots - 1) // lanes) if math.isfinite(nearest) else 0.0
-    return slots_in_lanes(end, tangent, n_robots, lanes, depth)
-
-
-PARKING_SCAN_M = 1e-3
-"""The depths `_moved_across` tries, this far apart."""
-
-
-def _moved_across(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int) -> FloatArray | None:
-    """``lanes`` lanes moved across the exit (along its normal) at the deepest depth (to `PARKING_SCAN_M`) at which
-    some move keeps the parking rules (`parking`), moved the least there; None where no move does."""
-    normal = np.array([-tangent[1], tangent[0]])
-    nearest = PARKING_SPACING_M * ((n_robots - 1) // lanes) + PARKING_NEAREST_M
-    for depth in np.arange(PARKING_DEPTH_M, nearest - 1e-9, -PARKING_SCAN_M):
-        lower, upper = _moves(slots_in_lanes(end, tangent, n_robots, lanes, float(depth)), normal)
-        if lower <= upper:
-            move = min(max(0.0, lower), upper)
-            return slots_in_lanes(end + move * normal, tangent, n_robots, lanes, float(depth))
-    return None
-
-
-def _deepest(slots: FloatArray, tangent: FloatArray) -> float:
-    """How far slots (2, N) can move along the tangent with every one keeping `PARKING_WALL_M` from the
-    arena's edge (negative: they must move back; -inf: no move keeps them all inside)."""
-    lower, upper = _moves(slots, tangent)
-    return upper if upper >= lower else -math.inf
-
-
-def _moves(slots: FloatArray, direction: FloatArray) -> tuple[float, float]:
-    """The moves of slots (2, N) along a unit ``direction`` that keep every one `PARKING_WALL_M` from the arena's
-    edge, as an interval (lower > upper: none does)."""
-    x0, x1, y0, y1 = ROBOTARIUM.arena_m
-    w = PARKING_WALL_M
-    upper, lower = math.inf, -math.inf
-    for values, step, low, high in (
-        (slots[0], direction[0], x0 + w, x1 - w),
-        (slots[1], direction[1], y0 + w, y1 - w),
-    ):
-        if abs(step) < 1e-12:
-            if values.min() < low or values.max() > high:
-                return math.inf, -math.inf
-            continue
-        ends = sorted(((low - values.min()) / step, (high - values.max()) / step))
-        lower, upper = max(lower, ends[0]), min(upper, ends[1])
-    return lower, upper
-
-
-def slots_in_lanes(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int, depth_m: float) -> FloatArray:
-    """Slots (2, N) in ``lanes`` lanes and rows `PARKING_SPACING_M` apart, from ``depth_m`` beyond the exit
-    backwards."""
-    normal = np.array([-tangent[1], tangent[0]])
-    depth, lane = np.divmod(np.arange(n_robots), lanes)
-    along = depth_m - PARKING_SPACING_M * depth
-    across = (lane - 0.5 * (lanes - 1)) * PARKING_SPACING_M
-    slots: FloatArray = end[:, None] + along * tangent[:, None] + across * normal[:, None]
-    return slots
 
 
 def formation_density(tube: VirtualTube, formation: Formation, r_a_m: float) -> float:

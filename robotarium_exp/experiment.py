@@ -20,10 +20,11 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.design import parking, start_formation
+from robotarium_exp.design import start_formation
 from robotarium_exp.errors import ExperimentError
 from robotarium_exp.flight import Period, RobotariumLike, build_flight, flight_start, fly
 from robotarium_exp.flight_data import FlightData, SafetyData, TubeSamples, Wheels
+from robotarium_exp.parking_slots import parking
 from robotarium_exp.spec import ROBOTARIUM
 from robotarium_exp.tracking import FilterSummary, filter_summary
 from robotarium_exp.verifier import VerifierCounts, restart_shared_counters

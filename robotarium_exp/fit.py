@@ -13,17 +13,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from robotarium_exp.design import (
-    INITIALIZER_APART_M,
-    PARKING_LANES_MAX,
-    PARKING_NEAREST_M,
-    PARKING_SPACING_M,
-    PARKING_WALL_M,
-    start_formation,
-)
+from robotarium_exp.design import INITIALIZER_APART_M, start_formation
 from robotarium_exp.errors import ExperimentError
 from robotarium_exp.experiment import TUBE_EDGE_POINTS, ExperimentConfig, flight_data
 from robotarium_exp.flight_data import FlightData
+from robotarium_exp.parking_slots import PARKING_LANES_MAX, PARKING_NEAREST_M, PARKING_SPACING_M, PARKING_WALL_M
 from robotarium_exp.safety import WALL_KEEP_M
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.scene import Scene
@@ -295,7 +289,7 @@ def _no_queue(entrance: FloatArray) -> str:
 
 def _parking_inside(data: FlightData) -> list[Misfit]:
     """The parking slots keep the design's wall (less the data's rounding) from the arena's edge, and lie beyond the
-    exit (`robotarium_exp.design.parking`)."""
+    exit (`robotarium_exp.parking_slots.parking`)."""
     slots, end = data.parking_slots, data.tube.xy_m[:, -1]
     tangent = data.tube.xy_m[:, -1] - data.tube.xy_m[:, -2]
     beyond = (tangent / np.hypot(*tangent)) @ (slots - end[:, None])

@@ -190,7 +190,8 @@ def scene_figure(scene: Scene, fit: Fit) -> Figure:
     initializes robots in, and the fit verdict in the title."""
     from matplotlib.patches import Circle, Rectangle
 
-    from robotarium_exp.design import parking, start_formation
+    from robotarium_exp.design import start_formation
+    from robotarium_exp.parking_slots import parking
     from vtube_planning.plots import scene_figure as tube_figure
 
     fig = tube_figure(scene)

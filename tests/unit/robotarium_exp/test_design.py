@@ -9,11 +9,6 @@ import numpy as np
 import pytest
 
 from robotarium_exp.design import (
-    PARKING_DEPTH_M,
-    PARKING_LANES_MAX,
-    PARKING_NEAREST_M,
-    PARKING_SPACING_M,
-    PARKING_WALL_M,
     QUEUE_BEFORE_NARROWING_M,
     WALL_CLEARANCE_M,
     Formation,
@@ -23,10 +18,17 @@ from robotarium_exp.design import (
     first_narrowing,
     formation_density,
     order_for_v2_initializer,
-    parking,
-    slots_in_lanes,
     staggered_rows,
     start_formation,
+)
+from robotarium_exp.parking_slots import (
+    PARKING_DEPTH_M,
+    PARKING_LANES_MAX,
+    PARKING_NEAREST_M,
+    PARKING_SPACING_M,
+    PARKING_WALL_M,
+    parking,
+    slots_in_lanes,
 )
 from robotarium_exp.scene import load_scene
 from robotarium_exp.spec import ROBOTARIUM

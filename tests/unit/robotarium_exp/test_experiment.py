@@ -7,10 +7,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from robotarium_exp.design import order_for_v2_initializer, parking
+from robotarium_exp.design import order_for_v2_initializer
 from robotarium_exp.errors import ExperimentError
 from robotarium_exp.experiment import ExperimentConfig, flight_data, initial_conditions, run_experiment
 from robotarium_exp.fit import fit_of_flight
+from robotarium_exp.parking_slots import parking
 from robotarium_exp.rps.robotarium import Robotarium
 from robotarium_exp.scene import load_scene
 

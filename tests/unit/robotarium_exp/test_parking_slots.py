@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from robotarium_exp.design import slots_in_lanes
+from robotarium_exp.parking_slots import slots_in_lanes
 
 
 def test_slots_lie_in_lanes_beyond_the_exit_filled_farthest_first() -> None:

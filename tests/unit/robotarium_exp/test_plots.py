@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 from matplotlib.patches import Circle, Rectangle
 
-from robotarium_exp.design import parking, start_formation
+from robotarium_exp.design import start_formation
 from robotarium_exp.fit import robotarium_fit
+from robotarium_exp.parking_slots import parking
 from robotarium_exp.plots import experiment_figure, scene_figure
 from robotarium_exp.scene import load_scene
 from robotarium_exp.spec import ROBOTARIUM

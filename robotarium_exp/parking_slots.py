@@ -1,0 +1,114 @@
+"""The parking slots of a Robotarium experiment: where the robots past the exit stand until the run ends.
+
+Lanes and rows `PARKING_SPACING_M` apart beyond the tube's exit, as many lanes and as deep as the arena allows,
+centred on the exit or, where only that fits them in the arena, moved across it (`parking`). Which robot takes
+which slot, and trading them on the way, is `vtube_planning.onboard.parking`'s; whether the slots fit the testbed
+is `robotarium_exp.fit`'s verdict.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from robotarium_exp.spec import ROBOTARIUM
+from vtube_planning.geometry.tube import VirtualTube
+
+FloatArray = NDArray[np.float64]
+
+PARKING_SPACING_M = 0.3
+"""Between parking lanes and rows: the safety filter keeps 0.2 m between control points, and a robot must pass
+between parked ones (at 0.25 m, eight robots on the trapezoid deadlocked short of their slots)."""
+PARKING_WALL_M = 0.2
+"""Between a parking slot and the arena's edge: the barrier keeps control points 0.1 m (R / 2) from the edge, and
+a robot turning into its slot needs another 0.1 m."""
+PARKING_DEPTH_M = 1.0
+"""The farthest parking row lies at most this far beyond the exit (less where the arena ends sooner)."""
+PARKING_NEAREST_M = 0.08
+"""The nearest parking row lies at least this far beyond the exit (a body, 0.055 m, with 2.5 cm to spare): a robot
+parked behind the exit line stands on the tube's walls and in the way of the robots still passing (12 robots in a
+0.6 m tube: 2130 robot-steps with a body on a wall)."""
+PARKING_LANES_MAX = 6
+"""At most this many parking lanes side by side (1.5 m across: the arena's 2 m less 0.2 m at each edge holds six;
+with five, twelve robots on the straight sweep tubes had no room beyond the exit)."""
+
+
+def parking(tube: VirtualTube, n_robots: int) -> FloatArray:
+    """Slots (2, N) beyond the exit, filled farthest first: the most lanes (at most `PARKING_LANES_MAX`)
+    whose slots all keep `PARKING_WALL_M` from the arena's edge with the nearest row at least
+    `PARKING_NEAREST_M` beyond the exit, the farthest row at most `PARKING_DEPTH_M` beyond it or where
+    the arena ends sooner. Lanes centred on the exit first; where none fit, lanes moved across (`_moved_across`:
+    the curve's exit lies 0.3 m off the arena's middle, where four lanes fit centred and six moved to the middle);
+    when no layout does, the centred one that comes closest (the fit verdict then refuses it)."""
+    end, tangent = tube.center_at(tube.length_m), tube.tangent(tube.length_m)
+    lane_counts = range(min(n_robots, PARKING_LANES_MAX), 0, -1)
+    layouts = []
+    for lanes in lane_counts:
+        rows_behind = PARKING_SPACING_M * ((n_robots - 1) // lanes)  # from the farthest row to the nearest
+        depth = min(PARKING_DEPTH_M, _deepest(slots_in_lanes(end, tangent, n_robots, lanes, 0.0), tangent))
+        if depth - rows_behind >= PARKING_NEAREST_M - 1e-9:
+            return slots_in_lanes(end, tangent, n_robots, lanes, depth)
+        layouts.append((depth - rows_behind, lanes))
+    for lanes in lane_counts:
+        moved = _moved_across(end, tangent, n_robots, lanes)
+        if moved is not None:
+            return moved
+    nearest, lanes = max(layouts)
+    depth = nearest + PARKING_SPACING_M * ((n_robots - 1) // lanes) if math.isfinite(nearest) else 0.0
+    return slots_in_lanes(end, tangent, n_robots, lanes, depth)
+
+
+PARKING_SCAN_M = 1e-3
+"""The depths `_moved_across` tries, this far apart."""
+
+
+def _moved_across(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int) -> FloatArray | None:
+    """``lanes`` lanes moved across the exit (along its normal) at the deepest depth (to `PARKING_SCAN_M`) at which
+    some move keeps the parking rules (`parking`), moved the least there; None where no move does."""
+    normal = np.array([-tangent[1], tangent[0]])
+    nearest = PARKING_SPACING_M * ((n_robots - 1) // lanes) + PARKING_NEAREST_M
+    for depth in np.arange(PARKING_DEPTH_M, nearest - 1e-9, -PARKING_SCAN_M):
+        lower, upper = _moves(slots_in_lanes(end, tangent, n_robots, lanes, float(depth)), normal)
+        if lower <= upper:
+            move = min(max(0.0, lower), upper)
+            return slots_in_lanes(end + move * normal, tangent, n_robots, lanes, float(depth))
+    return None
+
+
+def _deepest(slots: FloatArray, tangent: FloatArray) -> float:
+    """How far slots (2, N) can move along the tangent with every one keeping `PARKING_WALL_M` from the
+    arena's edge (negative: they must move back; -inf: no move keeps them all inside)."""
+    lower, upper = _moves(slots, tangent)
+    return upper if upper >= lower else -math.inf
+
+
+def _moves(slots: FloatArray, direction: FloatArray) -> tuple[float, float]:
+    """The moves of slots (2, N) along a unit ``direction`` that keep every one `PARKING_WALL_M` from the arena's
+    edge, as an interval (lower > upper: none does)."""
+    x0, x1, y0, y1 = ROBOTARIUM.arena_m
+    w = PARKING_WALL_M
+    upper, lower = math.inf, -math.inf
+    for values, step, low, high in (
+        (slots[0], direction[0], x0 + w, x1 - w),
+        (slots[1], direction[1], y0 + w, y1 - w),
+    ):
+        if abs(step) < 1e-12:
+            if values.min() < low or values.max() > high:
+                return math.inf, -math.inf
+            continue
+        ends = sorted(((low - values.min()) / step, (high - values.max()) / step))
+        lower, upper = max(lower, ends[0]), min(upper, ends[1])
+    return lower, upper
+
+
+def slots_in_lanes(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int, depth_m: float) -> FloatArray:
+    """Slots (2, N) in ``lanes`` lanes and rows `PARKING_SPACING_M` apart, from ``depth_m`` beyond the exit
+    backwards."""
+    normal = np.array([-tangent[1], tangent[0]])
+    depth, lane = np.divmod(np.arange(n_robots), lanes)
+    along = depth_m - PARKING_SPACING_M * depth
+    across = (lane - 0.5 * (lanes - 1)) * PARKING_SPACING_M
+    slots: FloatArray = end[:, None] + along * tangent[:, None] + across * normal[:, None]
+    return slots
