@@ -22,13 +22,15 @@ tube. Every period, for every robot:
 
 Every prediction follows the robot's response under (3), (4) (`vtube_planning.swarm.dynamics.respond`, the
 simulator's own physics). Predicted points are located on the tube through its tables
-(`vtube_planning.swarm.tube_tables`), by Newton steps from the arc length the path predicts.
+(`vtube_planning.swarm.tube_tables`), by Newton steps from the arc length the path predicts. The predictions are
+flown and checked compiled (`vtube_planning.swarm.foresight_kernel`); this module decides.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -37,12 +39,9 @@ from scipy.spatial import cKDTree
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import ControlParams, SwarmParams
 from vtube_planning.swarm.dynamics import respond
-from vtube_planning.swarm.tube_tables import TubeTables
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
-Flight = tuple[FloatArray, ...]
-"""One step of predicted flights: x, y, arc length l and offset y_tube, each (R, K)."""
 
 LANES = np.array([-1.0, -0.5, 0.0, 0.5, 1.0])
 """The backups' lanes eta (besides the robot's present one), each at every speed of `SPEED_FRACTIONS`."""
@@ -106,14 +105,18 @@ def merge_window(swarm: SwarmParams) -> float:
 
 @dataclass(frozen=True)
 class _Robots:
-    """The robots now: positions (2, N), speeds, headings, arc lengths, offsets and lanes (N,)."""
+    """The robots now: positions (2, N), speeds, headings, arc lengths and lanes (N,)."""
 
     positions: FloatArray
     speed: FloatArray
     heading: FloatArray
     l_m: FloatArray
-    offset_m: FloatArray
     lane: FloatArray
+
+    @cached_property
+    def packed(self) -> FloatArray:
+        """(5, N): x, y, speed, heading and arc length, as `foresight_kernel.flights` reads them."""
+        return np.vstack([self.positions, self.speed, self.heading, self.l_m])
 
 
 @dataclass(frozen=True)
@@ -135,6 +138,9 @@ class Foresight:
     """
 
     def __init__(self, tube: VirtualTube, swarm: SwarmParams, *, horizon_s: float, acceleration_limits: bool) -> None:
+        # numba (the compiled tables and predictions) is imported here, where a foresight flies: it takes 0.4 s
+        from vtube_planning.swarm.tube_tables import TubeTables
+
         self.swarm = swarm
         self.horizon_s = float(horizon_s)
         self.a_v = swarm.a_v_mps2 if acceleration_limits else math.inf
@@ -142,6 +148,8 @@ class Foresight:
         window = merge_window(swarm) if acceleration_limits else 0.0
         self.tables = TubeTables.of(tube, swarm.v_max_mps * self.horizon_s + 2.0 * swarm.r_a_m, window)
         self._tree = cKDTree(self.tables.stacked[:2].T)
+        r_s = swarm.r_s_m
+        self._limits = np.array([self.a_v, self.a_n, r_s, LANE_LOOKAHEAD_S, PREDICTION_LOCATE_STEPS], dtype=float)
         self.announced: tuple[FloatArray, FloatArray] | None = None  # every robot's lane and speed
         self.overridden = 0  # robot-periods where the law's command was replaced
         self._held: FloatArray | float = 0.0  # per robot, how much longer it flies a backup before the law again
@@ -170,7 +178,7 @@ class Foresight:
         l_guess = self.tables.l_m[self._tree.query(positions.T)[1]]
         l_m, offset = self.tables.locate(positions[0], positions[1], l_guess)
         lane = self.tables.lane_of(l_m, offset, self.swarm.r_s_m)
-        robots = _Robots(positions, speed, heading, l_m, offset, lane)
+        robots = _Robots(positions, speed, heading, l_m, lane)
         announced = self.announced if self.announced is not None else (lane, speed)
         rows, free = np.arange(speed.size), np.full(speed.size, np.nan)
         both = _Backups(  # column 0: the backup each announced (its neighbours' view), 1: its law's command
@@ -181,9 +189,9 @@ class Foresight:
             np.column_stack([free, law_heading]),
         )
         flights = self._flights(robots, both, dt_s)
-        others = [(x[:, :1], y[:, :1]) for x, y, _, _ in flights]
+        others = np.ascontiguousarray(flights[:2, :, :, :1])
         neighbours = self._neighbours(positions)
-        law = [tuple(a[:, 1:] for a in flight) for flight in flights]
+        law = np.ascontiguousarray(flights[:, :, :, 1:])
         first = self._foresee(robots, rows, law, others, neighbours, dt_s, LAW_MARGIN_M)[0][:, 0]
         target_speed, target_heading = law_speed.copy(), law_heading.copy()
         announced_lane, announced_speed = lane.copy(), law_speed.copy()
@@ -213,47 +221,26 @@ class Foresight:
         rest = max(self.horizon_s - dt_s, dt_s)
         return np.concatenate([[dt_s], np.full(SUB_STEPS, rest / SUB_STEPS)])
 
-    def _flights(self, robots: _Robots, backups: _Backups, dt_s: float) -> list[Flight]:
-        """Each step's (x, y, l, y_tube) of robots ``backups.rows`` flying their backups (R, K). Over the first step,
-        one period, a robot moves at its new velocity, as the simulator moves it; over a longer step its velocity
-        changes linearly while (3), (4) let it (`_changing`), then holds (moved at the new velocity over a long step
-        instead, a robot braking at a_v would fall short by a_v step^2 / 2: 9 cm in 0.43 s at 1 m/s^2)."""
-        rows, shape = backups.rows, backups.lane.shape
-        speed = np.broadcast_to(robots.speed[rows, None], shape)
-        heading = np.broadcast_to(robots.heading[rows, None], shape)
-        vx, vy = speed * np.cos(heading), speed * np.sin(heading)
-        x, y = robots.positions[0, rows, None], robots.positions[1, rows, None]
-        l_m = np.broadcast_to(robots.l_m[rows, None], shape)
-        offset = np.broadcast_to(robots.offset_m[rows, None], shape)
-        out: list[Flight] = []
-        for index, step in enumerate(self._times(dt_s)):
-            target = self._steer(x, y, l_m, backups.lane, speed)
-            target_speed = backups.speed
-            if index == 0:
-                given = np.isfinite(backups.first_heading)
-                target = np.where(given, backups.first_heading, target)
-                target_speed = np.where(given, backups.first_speed, target_speed)
-            new_speed, new_heading = respond(speed, heading, target_speed, target, self.a_v, self.a_n, step)
-            ux, uy = new_speed * np.cos(new_heading), new_speed * np.sin(new_heading)
-            if index == 0:
-                dx, dy = step * ux, step * uy
-            else:
-                changing = self._changing(speed, heading, new_speed, new_heading, step)
-                dx, dy = step * ux - 0.5 * changing * (ux - vx), step * uy - 0.5 * changing * (uy - vy)
-            speed, heading, vx, vy = new_speed, new_heading, ux, uy
-            x, y = x + dx, y + dy
-            l_m, offset = self.tables.locate(x, y, l_m + np.hypot(dx, dy), PREDICTION_LOCATE_STEPS)
-            out.append((x, y, l_m, offset))
-        return out
+    def _flights(self, robots: _Robots, backups: _Backups, dt_s: float) -> FloatArray:
+        """(4, S, R, K): x, y, arc length l and offset y_tube at the end of each step of robots ``backups.rows``
+        flying their backups (R, K) (`foresight_kernel.flights`). Over the first step, one period, a robot moves at
+        its new velocity, as the simulator moves it; over a longer step its velocity changes linearly while (3), (4)
+        let it (`foresight_kernel.changing`), then holds (moved at the new velocity over a long step instead, a
+        robot braking at a_v would fall short by a_v step^2 / 2: 9 cm in 0.43 s at 1 m/s^2)."""
+        from vtube_planning.swarm.foresight_kernel import flights  # numba: see __init__
 
-    def _changing(
-        self, speed: FloatArray, heading: FloatArray, new_speed: FloatArray, new_heading: FloatArray, step: float
-    ) -> FloatArray:
-        """How long, within ``step``, a robot's velocity changes from (``speed``, ``heading``) to the new one under
-        (3), (4): its speed at a_v, its heading at a_n / new speed (`respond` turns by at most that, unwrapped)."""
-        turning = np.abs(new_heading - heading) * new_speed / self.a_n
-        changing: FloatArray = np.minimum(np.maximum(np.abs(new_speed - speed) / self.a_v, turning), step)
-        return changing
+        first = np.stack([backups.first_speed, backups.first_heading])
+        flown: FloatArray = flights(
+            robots.packed,
+            backups.rows,
+            np.ascontiguousarray(backups.lane, dtype=float),
+            np.ascontiguousarray(backups.speed, dtype=float),
+            first,
+            self._times(dt_s),
+            self.tables.compiled,
+            self._limits,
+        )
+        return flown
 
     def _neighbours(self, positions: FloatArray) -> IntArray:
         """(N, M) indices of the robots each robot checks (itself as padding where it has fewer)."""
@@ -267,39 +254,37 @@ class Foresight:
         self,
         robots: _Robots,
         rows: IntArray,
-        flights: list[Flight],
-        others: list[tuple[FloatArray, FloatArray]],
+        flights: FloatArray,
+        others: FloatArray,
         neighbours: IntArray,
         dt_s: float,
         margin_m: float = 0.0,
         seen: IntArray | None = None,
-    ) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """(R, K) for robots ``rows`` flying ``flights`` (`_flights`): the time of the first step closer than r_s to a
-        wall or 2 r_s to a neighbour (inf: none), the time of the first contact (a centre outside the tube, or
-        bodies closer than 2 r_p), and how far short they fall over the horizon, the integral over time of
-        (r_s - clearance)+ and (2 r_s - the nearest neighbour's distance)+ (m s)."""
-        shape, r_s = flights[0][0].shape, self.swarm.r_s_m
-        near = neighbours[rows]  # (R, M)
-        view = np.zeros_like(near) if seen is None else seen  # which flight of ``others`` each neighbour is seen in
-        seen_at = near * others[0][0].shape[1] + view  # the flat index of that flight's point
-        itself = np.where(near == rows[:, None], np.inf, 0.0)[:, None, :]  # a robot is not its own neighbour
-        shortfall, first, contact = np.zeros(shape), np.full(shape, np.inf), np.full(shape, np.inf)
-        elapsed = 0.0
-        dx0 = robots.positions[0, rows, None, None] - robots.positions[0, near][:, None, :]
-        dy0 = robots.positions[1, rows, None, None] - robots.positions[1, near][:, None, :]
-        for step, (x, y, l_m, offset), (ox, oy) in zip(self._times(dt_s), flights, others):
-            elapsed += step
-            clearance = self.tables.clearance(l_m, offset)
-            ox, oy = np.take(ox, seen_at), np.take(oy, seen_at)
-            dx1, dy1 = x[:, :, None] - ox[:, None, :], y[:, :, None] - oy[:, None, :]
-            squared = _closest_squared(dx0, dy0, dx1, dy1)
-            nearest = np.sqrt(np.add(squared, itself, out=squared).min(axis=2))
-            dx0, dy0 = dx1, dy1
-            short = np.maximum(r_s + margin_m - clearance, 0.0) + np.maximum(2.0 * r_s + margin_m - nearest, 0.0)
-            shortfall += step * short
-            first[(short > 0.0) & np.isinf(first)] = elapsed
-            contact[((clearance < 0.0) | (nearest < 2.0 * self.swarm.r_p_m)) & np.isinf(contact)] = elapsed
-        return first, contact, shortfall
+    ) -> FloatArray:
+        """(3, R, K) for robots ``rows`` flying ``flights`` (`_flights`) among their neighbours flying ``others``
+        (2, S, N, C), each neighbour seen in its flight ``seen`` (R, M; default the first): the time of the first
+        step closer than r_s to a wall or 2 r_s to a neighbour (inf: none), the time of the first contact (a centre
+        outside the tube, or bodies closer than 2 r_p), and how far short they fall over the horizon, the integral
+        over time of (r_s - clearance)+ and (2 r_s - the nearest neighbour's distance)+ (m s); ``margin_m`` added to
+        r_s and 2 r_s (`foresight_kernel.foresee`)."""
+        near = np.ascontiguousarray(neighbours[rows])
+        view = np.zeros_like(near) if seen is None else np.ascontiguousarray(seen, dtype=np.intp)
+        swarm = self.swarm
+        bounds = np.array([swarm.r_s_m, swarm.r_p_m, margin_m, self.tables.length_m], dtype=float)
+        from vtube_planning.swarm.foresight_kernel import foresee  # numba: see __init__
+
+        found: FloatArray = foresee(
+            flights,
+            others,
+            robots.packed,
+            rows,
+            near,
+            view,
+            self._times(dt_s),
+            self.tables.compiled,
+            bounds,
+        )
+        return found
 
     def _choose(
         self,
@@ -308,7 +293,7 @@ class Foresight:
         law_speed: FloatArray,
         law_heading: FloatArray,
         announced: tuple[FloatArray, FloatArray],
-        others: list[tuple[FloatArray, FloatArray]],
+        others: FloatArray,
         neighbours: IntArray,
         dt_s: float,
     ) -> tuple[FloatArray, FloatArray]:
@@ -333,11 +318,9 @@ class Foresight:
         best = self._best(robots, risky, flights, others, neighbours, dt_s, None, deviation)
         ahead = (robots.l_m[neighbours[risky]] > robots.l_m[risky, None]).astype(np.intp)  # (R, M): 1 ahead
         for _ in range(PASSES - 1):
-            views = []  # column 0: every robot's announcement; 1: the same with the risky robots' fresh choices
-            for (ox, oy), (fx, fy, _, _) in zip(others, flights):
-                nx, ny = ox.copy(), oy.copy()
-                nx[risky, 0], ny[risky, 0] = fx[picked, best], fy[picked, best]
-                views.append((np.hstack([ox, nx]), np.hstack([oy, ny])))
+            fresh = others.copy()  # every robot's announcement, with the risky robots' fresh choices
+            fresh[:, :, risky, 0] = flights[:2, :, picked, best]
+            views = np.concatenate([others, fresh], axis=3)  # seen: 0 the announcement, 1 the fresh choice
             best = self._best(robots, risky, flights, views, neighbours, dt_s, ahead, deviation)
         return lane[picked, best], speed[picked, best]
 
@@ -345,8 +328,8 @@ class Foresight:
         self,
         robots: _Robots,
         risky: IntArray,
-        flights: list[Flight],
-        others: list[tuple[FloatArray, FloatArray]],
+        flights: FloatArray,
+        others: FloatArray,
         neighbours: IntArray,
         dt_s: float,
         seen: IntArray | None,
@@ -368,24 +351,3 @@ class Foresight:
 def _free(like: FloatArray) -> tuple[FloatArray, FloatArray]:
     """No given first target: the backup steers for its lane from the first period on."""
     return np.full(like.shape, np.nan), np.full(like.shape, np.nan)
-
-
-def _closest_squared(dx0: FloatArray, dy0: FloatArray, dx1: FloatArray, dy1: FloatArray) -> FloatArray:
-    """The square of the closest two robots come over a step whose start and end separations are (dx0, dy0) and
-    (dx1, dy1), both moving straight at constant speed over it: a crossing between two predicted points is not
-    missed."""
-    ex, ey = dx1 - dx0, dy1 - dy0  # written in place from here on: the same operations, fewer arrays
-    t, work = dx0 * ex, dy0 * ey
-    t += work
-    np.negative(t, out=t)
-    squared: FloatArray = np.multiply(ex, ex)
-    squared += np.multiply(ey, ey, out=work)
-    t /= np.maximum(squared, 1e-300, out=squared)
-    t = np.minimum(np.maximum(t, 0.0, out=t), 1.0, out=t)
-    cx = np.multiply(t, ex, out=ex)
-    cx += dx0
-    cy = np.multiply(t, ey, out=ey)
-    cy += dy0
-    np.multiply(cx, cx, out=squared)
-    squared += np.multiply(cy, cy, out=work)
-    return squared

@@ -16,7 +16,10 @@ from vtube_planning.geometry.width import WidthPart, WidthProfile
 from vtube_planning.params import SwarmParams
 from vtube_planning.swarm import foresight as foresight_module
 from vtube_planning.swarm.dynamics import dynamics_violations, limit_acceleration, respond
-from vtube_planning.swarm.foresight import Foresight, _Backups, _closest_squared, _free, _Robots
+from vtube_planning.swarm.foresight import Foresight, _Backups, _free, _Robots
+from vtube_planning.swarm.foresight_kernel import changing, closest_squared
+
+_closest_squared = np.vectorize(closest_squared)
 
 SWARM = SwarmParams(n_robots=2)
 STRAIGHT = VirtualTube(ArcPath((ArcPiece(40.0),)), WidthProfile(3.0, (WidthPart('constant', 40.0),)))
@@ -90,13 +93,11 @@ def test_a_predicted_flight_is_where_the_simulator_takes_the_robot(start: float,
     # centre lane of a straight tube: the prediction's long steps land where the periods do (moving at the end
     # velocity of each long step instead would leave a braking robot 0.6 m short after 3 s)
     foresight = Foresight(STRAIGHT, SwarmParams(n_robots=1), horizon_s=0.02 + 7 * 0.42, acceleration_limits=True)
-    robots = _Robots(
-        np.array([[5.0], [0.0]]), np.array([start]), np.zeros(1), np.array([5.0]), np.zeros(1), np.zeros(1)
-    )
+    robots = _Robots(np.array([[5.0], [0.0]]), np.array([start]), np.zeros(1), np.array([5.0]), np.zeros(1))
     speed = np.array([[target]])
     flights = foresight._flights(robots, _Backups(np.arange(1), np.zeros((1, 1)), speed, *_free(speed)), 0.02)
     x, v, elapsed = 5.0, start, 0.0
-    for step, (px, py, _, _) in zip(foresight._times(0.02), flights, strict=True):
+    for step, px, py in zip(foresight._times(0.02), flights[0], flights[1], strict=True):
         for _ in range(round(step / 0.02)):
             v = float(respond(np.array(v), np.array(0.0), np.array(target), np.array(0.0), 1.0, 1.0, 0.02)[0])
             x += 0.02 * v
@@ -108,13 +109,12 @@ def test_a_predicted_flight_is_where_the_simulator_takes_the_robot(start: float,
 def test_a_velocity_changes_for_as_long_as_the_limits_make_it_take() -> None:
     # analytic: a speed change takes |dv| / a_v, a turn |dtheta| v / a_n (v the new speed), the longer of the two,
     # at most the step; in the paper's model (no a_v, a_n) a velocity changes at once
-    limited = Foresight(STRAIGHT, SWARM, horizon_s=3.0, acceleration_limits=True)
+    during = np.vectorize(changing)
     speed, heading = np.array([3.0, 3.0, 3.0, 3.0]), np.array([0.0, 0.0, 0.5, 0.0])
     new_speed, new_heading = np.array([3.3, 3.2, 3.0, 3.6]), np.array([0.0, 0.1, 0.4, 0.2])
-    changing = limited._changing(speed, heading, new_speed, new_heading, 0.43)
-    np.testing.assert_allclose(changing, [0.3, max(0.2, 0.1 * 3.2), 0.1 * 3.0, 0.43], rtol=1e-12)  # 0.43: capped
-    instant = Foresight(STRAIGHT, SWARM, horizon_s=3.0, acceleration_limits=False)
-    assert (instant._changing(speed, heading, new_speed, new_heading, 0.43) == 0.0).all()
+    limited = during(speed, heading, new_speed, new_heading, 0.43, 1.0, 1.0)
+    np.testing.assert_allclose(limited, [0.3, max(0.2, 0.1 * 3.2), 0.1 * 3.0, 0.43], rtol=1e-12)  # 0.43: capped
+    assert (during(speed, heading, new_speed, new_heading, 0.43, math.inf, math.inf) == 0.0).all()
 
 
 def test_a_robot_whose_backups_all_fall_short_keeps_the_one_it_announced() -> None:
