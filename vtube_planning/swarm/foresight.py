@@ -34,7 +34,6 @@ from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.spatial import cKDTree
 
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.params import ControlParams, SwarmParams
@@ -147,7 +146,6 @@ class Foresight:
         self.a_n = swarm.a_n_mps2 if acceleration_limits else math.inf
         window = merge_window(swarm) if acceleration_limits else 0.0
         self.tables = TubeTables.of(tube, swarm.v_max_mps * self.horizon_s + 2.0 * swarm.r_a_m, window)
-        self._tree = cKDTree(self.tables.stacked[:2].T)
         r_s = swarm.r_s_m
         self._limits = np.array([self.a_v, self.a_n, r_s, LANE_LOOKAHEAD_S, PREDICTION_LOCATE_STEPS], dtype=float)
         self.announced: tuple[FloatArray, FloatArray] | None = None  # every robot's lane and speed
@@ -175,8 +173,7 @@ class Foresight:
     ) -> tuple[FloatArray, FloatArray]:
         """Each robot's law checked as one period of its command then its lane, the backups of the robots whose law
         is unsafe (or held) chosen and announced; the targets (speeds, headings)."""
-        l_guess = self.tables.l_m[self._tree.query(positions.T)[1]]
-        l_m, offset = self.tables.locate(positions[0], positions[1], l_guess)
+        l_m, offset = self.tables.locate(positions[0], positions[1], self.tables.nearest_l(positions))
         lane = self.tables.lane_of(l_m, offset, self.swarm.r_s_m)
         robots = _Robots(positions, speed, heading, l_m, lane)
         announced = self.announced if self.announced is not None else (lane, speed)
@@ -247,8 +244,11 @@ class Foresight:
         n = positions.shape[1]
         if n <= ALL_PAIRS_UP_TO:
             return np.tile(np.arange(n), (n, 1))
-        tree = cKDTree(positions.T, balanced_tree=False, compact_nodes=False)  # built every period: built fast
-        return np.asarray(tree.query(positions.T, k=min(n, NEIGHBOURS + 1))[1], dtype=np.intp)
+        from vtube_planning.swarm.nearest import nearest  # numba: see __init__
+
+        x, y = np.ascontiguousarray(positions, dtype=float)
+        found: IntArray = nearest(x, y, x, y, min(n, NEIGHBOURS + 1))
+        return found
 
     def _foresee(
         self,

@@ -129,9 +129,9 @@ def foresee(
     wall_short, body_short, touching = r_s + margin_m, 2.0 * r_s + margin_m, 2.0 * r_p
     count, width = near.shape[1], flown.shape[3]
     out = np.empty((3, rows.size, width))
-    dx0, dy0 = np.empty(count), np.empty(count)
     for r in range(rows.size):
         robot = rows[r]
+        dx0, dy0 = np.empty(count), np.empty(count)
         for k in range(width):
             for m in range(count):
                 dx0[m] = robots[0, robot] - robots[0, near[r, m]]

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning.geometry.tube import VirtualTube
+from vtube_planning.swarm.nearest import Cells, cells, nearest_in
 
 FloatArray = NDArray[np.float64]
 Grid = tuple[FloatArray, FloatArray, FloatArray]
@@ -26,6 +27,9 @@ LOCATE_STEPS = 3
 """Newton steps of `TubeTables.locate` (from a guess a metre off, the offset is then within a millimetre)."""
 TABLE_STEP_M = 0.05
 """Spacing of the tube's tables (m)."""
+POINTS_PER_CELL = 20.0
+"""`nearest_l`'s grid holds about this many of the tables' points a cell: a metre of a straight tube's centre, so
+that a robot metres off it finds the nearest point a few cells away."""
 
 
 @dataclass(frozen=True)
@@ -40,6 +44,8 @@ class TubeTables:
     """Each row's change from one grid point to the next (0 after the last)."""
     grid: FloatArray
     """The grid: its first arc length, grid steps per metre (as `at` scales) and its last index, (3,)."""
+    points: Cells
+    """The tables' centre points in cells, for `nearest_l`."""
 
     @classmethod
     def of(cls, tube: VirtualTube, margin_m: float, window_m: float = 0.0) -> TubeTables:
@@ -58,7 +64,7 @@ class TubeTables:
         slopes = np.diff(stacked, axis=1, append=stacked[:, -1:])
         last = count - 1
         grid = np.array([l_m[0], last / (l_m[-1] - l_m[0]), last], dtype=float)
-        return cls(l_m, stacked, tube.length_m, slopes, grid)
+        return cls(l_m, stacked, tube.length_m, slopes, grid, cells(stacked[0], stacked[1], POINTS_PER_CELL))
 
     def at(self, l_m: FloatArray, rows: slice) -> FloatArray:
         """Rows ``rows`` of the stacked tables (x, y, angle, curvature, half-width), linearly interpolated at arc
@@ -106,10 +112,15 @@ class TubeTables:
         return heading
 
     def lane_of(self, l_m: FloatArray, offset_m: FloatArray, r_s_m: float) -> FloatArray:
-        """The lane eta a robot at (l, y) flies in now, in [-1, 1]."""
-        room = np.maximum(self.at(l_m, slice(4, 5))[0] - r_s_m, 1e-9)
-        lane: FloatArray = np.clip(offset_m / room, -1.0, 1.0)
+        """The lane eta robots at arc lengths and offsets (l, y) (N,) fly in now, in [-1, 1]: y over the room
+        lambda(l) - r_s (at least 1e-9)."""
+        lane: FloatArray = _lanes(np.ascontiguousarray(l_m), np.ascontiguousarray(offset_m), r_s_m, self.compiled)
         return lane
+
+    def nearest_l(self, positions: FloatArray) -> FloatArray:
+        """The arc length of the tables' point nearest to each position (2, N): where `locate` starts."""
+        x, y = np.ascontiguousarray(positions, dtype=float)
+        return self.l_m[nearest_in(self.points, x, y, self.stacked[0], self.stacked[1], 1)[:, 0]]
 
 
 @numba.njit(cache=True, inline='always')
@@ -167,6 +178,16 @@ def _locate_points(
     for i in range(x.size):
         l_m[i], offset[i] = locate_point(x[i], y[i], l_guess[i], steps, tables)
     return l_m, offset
+
+
+@numba.njit(cache=True)
+def _lanes(l_m: FloatArray, offset_m: FloatArray, r_s_m: float, tables: Grid) -> FloatArray:
+    """`TubeTables.lane_of`, point by point."""
+    out = np.empty(l_m.size)
+    for i in range(l_m.size):
+        room = maximum(table_row(l_m[i], 4, tables) - r_s_m, 1e-9)
+        out[i] = minimum(maximum(offset_m[i] / room, -1.0), 1.0)
+    return out
 
 
 @numba.njit(cache=True)

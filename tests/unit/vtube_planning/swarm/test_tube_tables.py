@@ -32,3 +32,14 @@ def test_the_tables_interpolate_as_np_interp_does_and_hold_the_ends() -> None:
     at = tables.at(l_m, slice(0, 5))
     for row in range(5):
         np.testing.assert_allclose(at[row], np.interp(l_m, tables.l_m, tables.stacked[row]), rtol=0, atol=1e-12)
+
+
+def test_the_guess_is_the_nearest_table_point_and_a_lane_is_the_offset_over_the_room() -> None:
+    tables = TubeTables.of(BENT, 5.0, window_m=2.0)
+    rng = np.random.default_rng(6)
+    positions = np.vstack([rng.uniform(-10.0, 40.0, 300), rng.uniform(-15.0, 25.0, 300)])
+    squared = ((positions[:, :, None] - tables.stacked[:2, None, :]) ** 2).sum(axis=0)  # brute force
+    np.testing.assert_array_equal(tables.nearest_l(positions), tables.l_m[squared.argmin(axis=1)])
+    l_m, offset = rng.uniform(-3.0, BENT.length_m + 3.0, 300), rng.uniform(-3.0, 3.0, 300)
+    room = np.maximum(tables.at(l_m, slice(4, 5))[0] - 0.4, 1e-9)
+    np.testing.assert_array_equal(tables.lane_of(l_m, offset, 0.4), np.clip(offset / room, -1.0, 1.0))
