@@ -24,6 +24,17 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
 
 
+APART_SLACK_M = 1e-6
+"""A neighbour is left out of a step's check when one coordinate of the separation stays beyond the distances that
+count (2 r_s + margin, 2 r_p) by this much over the step (`_apart`): far beyond what rounding moves."""
+
+
+@numba.njit(cache=True, inline='always')
+def _apart(start: float, end: float, beyond: float) -> bool:
+    """Whether a separation coordinate moving linearly from ``start`` to ``end`` stays at least ``beyond`` from 0."""
+    return (start >= beyond and end >= beyond) or (start <= -beyond and end <= -beyond)
+
+
 @numba.njit(cache=True)
 def closest_squared(dx0: float, dy0: float, dx1: float, dy1: float) -> float:
     """The square of the closest two robots come over a step whose start and end separations are (dx0, dy0) and
@@ -124,9 +135,12 @@ def foresee(
     integral over time of (r_s + margin - clearance)+ and (2 r_s + margin - the nearest neighbour's distance)+
     (m s). ``robots`` holds their positions (rows 0, 1), ``tables`` as in `flights`, ``bounds`` r_s, r_p, the
     margin and the tube's length (`clearance_at`). Two robots are checked at the closest they come between two predicted points
-    (`closest_squared`); a robot is not its own neighbour; no wall is measured outside 0 <= l <= L."""
+    (`closest_squared`); a robot is not its own neighbour; no wall is measured outside 0 <= l <= L. Only a nearest
+    distance below 2 r_s + margin or 2 r_p counts: a neighbour whose separation stays beyond both along one axis
+    over a step (`_apart`) is not computed there, and the results are those of computing it."""
     r_s, r_p, margin_m, length_m = bounds[0], bounds[1], bounds[2], bounds[3]
     wall_short, body_short, touching = r_s + margin_m, 2.0 * r_s + margin_m, 2.0 * r_p
+    apart = max(body_short, touching) + APART_SLACK_M
     count, width = near.shape[1], flown.shape[3]
     out = np.empty((3, rows.size, width))
     for r in range(rows.size):
@@ -147,9 +161,8 @@ def foresee(
                     other = near[r, m]
                     dx1 = x - others[0, index, other, seen[r, m]]
                     dy1 = y - others[1, index, other, seen[r, m]]
-                    squared = closest_squared(dx0[m], dy0[m], dx1, dy1)
-                    if other != robot and squared < least:
-                        least = squared
+                    if other != robot and not (_apart(dx0[m], dx1, apart) or _apart(dy0[m], dy1, apart)):
+                        least = minimum(least, closest_squared(dx0[m], dy0[m], dx1, dy1))
                     dx0[m], dy0[m] = dx1, dy1
                 nearest = math.sqrt(least)
                 short = maximum(wall_short - clearance, 0.0) + maximum(body_short - nearest, 0.0)
