@@ -16,6 +16,7 @@ from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from contextvars import ContextVar
 from datetime import datetime, timezone
+from itertools import pairwise
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -93,6 +94,17 @@ def made_text(record: dict[str, Any]) -> str:
         f'made by `{record.get("command", "?")}` (vtube {record.get("vtube_version", "?")}, commit {commit}, '
         f'{record.get("utc", "?")})'
     )
+
+
+def made_counts(made: list[dict[str, Any]], finished: int) -> list[str]:
+    """How many runs each record of a campaign's ``provenance.json`` made: the runs done before the next record
+    (or the ``finished`` runs now, after the last) less those done before it. Where a record says nothing of the
+    runs done before it (written before they were recorded): the runs each record was to make."""
+    before = [entry['done_before'] for entry in made if isinstance(entry.get('done_before'), int)]
+    if len(before) < len(made):
+        return [str(entry.get('to_run', '?')) for entry in made]
+    before.append(finished)
+    return [str(max(after - now, 0)) for now, after in pairwise(before)]
 
 
 def copy_scene(scene: Scene, folder: Path) -> Path:

@@ -10,13 +10,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from itertools import pairwise
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from vtube_planning.provenance import made_text
+from vtube_planning.provenance import made_counts, made_text
 from vtube_planning.studies.judging import POOLED, Family, Judging, confirmed, detectable_text, families_text, judge
 from vtube_planning.studies.seeds import seeds_text
 from vtube_planning.studies.stats import (
@@ -315,21 +314,10 @@ def report_text(
     if missing:
         head += f' ({missing} of the grid missing or failed: the tables are partial; rerun the campaign to finish)'
     lines = [f'{head}.', '']
-    lines += [f'- {count} runs {made_text(entry)}' for count, entry in zip(_made_counts(made, len(rows)), made)]
+    lines += [f'- {count} runs {made_text(entry)}' for count, entry in zip(made_counts(made, len(rows)), made)]
     if made:
         lines.append('')
     return '\n'.join([*lines, grid_markdown(rows, judging)])
-
-
-def _made_counts(made: list[dict[str, Any]], finished: int) -> list[str]:
-    """How many runs each entry of ``provenance.json`` made: the runs done before the next entry (or the
-    ``finished`` runs now, after the last) less those done before it. Where an entry says nothing of the runs done
-    before it (written before they were recorded): the runs each entry was to make."""
-    before = [entry['done_before'] for entry in made if isinstance(entry.get('done_before'), int)]
-    if len(before) < len(made):
-        return [str(entry.get('to_run', '?')) for entry in made]
-    before.append(finished)
-    return [str(max(after - now, 0)) for now, after in pairwise(before)]
 
 
 def _test_text(test: dict[str, Any]) -> str:

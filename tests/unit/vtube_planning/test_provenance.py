@@ -9,7 +9,7 @@ from datetime import datetime, timezone
 
 from vtube_planning import __version__
 from vtube_planning.geometry.scene import load_scene
-from vtube_planning.provenance import command_line, copy_scene, provenance, sha256_of
+from vtube_planning.provenance import command_line, copy_scene, made_counts, provenance, sha256_of
 
 
 def test_sha256_of_text_is_that_of_its_utf8_bytes() -> None:
@@ -80,3 +80,11 @@ def test_the_source_commit_of_a_checkout_and_of_a_copy(tmp_path, monkeypatch) ->
     assert module.source_commit() == head  # results rewritten: the code is still that commit's
     (tmp_path / 'vtube_planning' / 'provenance.py').write_text('y\n', encoding='utf-8')
     assert module.source_commit() == head + '-dirty'
+
+
+def test_each_session_is_credited_with_the_runs_it_made_not_those_it_was_to_make() -> None:
+    # three sessions of a 10-run campaign: the first stopped after 4 runs, the second at once, the third made 5
+    # (one run still missing); each entry records the runs done before it and those it was to make
+    made = [{'done_before': 0, 'to_run': 10}, {'done_before': 4, 'to_run': 6}, {'done_before': 4, 'to_run': 6}]
+    assert made_counts(made, 9) == ['4', '0', '5']
+    assert made_counts([{'to_run': 7}], 7) == ['7']  # a folder from before the runs done were recorded

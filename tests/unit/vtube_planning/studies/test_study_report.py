@@ -174,13 +174,3 @@ def test_every_table_names_its_physics() -> None:
     text = mode_summary(rows)
     assert text.startswith('Physics: every mode flies the robot model of its setting')
     assert 'planning (relaxed): a plan from v_max, (p3) and (p4) left out' in text
-
-
-def test_each_session_is_credited_with_the_runs_it_made_not_those_it_was_to_make() -> None:
-    from vtube_planning.studies.study_report import _made_counts
-
-    # three sessions of a 10-run campaign: the first stopped after 4 runs, the second at once, the third made 5
-    # (one run still missing); each entry records the runs done before it and those it was to make
-    made = [{'done_before': 0, 'to_run': 10}, {'done_before': 4, 'to_run': 6}, {'done_before': 4, 'to_run': 6}]
-    assert _made_counts(made, 9) == ['4', '0', '5']
-    assert _made_counts([{'to_run': 7}], 7) == ['7']  # a folder from before the runs done were recorded
