@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import operator
+import os
 
 import pytest
 
@@ -14,6 +15,13 @@ def test_local_processes_return_every_result_with_its_index() -> None:
     items = [0.0, 1.0, 4.0, 9.0, 16.0]
     results = dict(map_unordered(math.sqrt, items, workers=2))
     assert results == {0: 0.0, 1: 1.0, 2: 2.0, 3: 3.0, 4: 4.0}
+
+
+def test_local_workers_compute_on_one_thread_each() -> None:
+    # the workers share the cores already: a large swarm's foresight must not start numba's threads in each
+    here = os.getenv('NUMBA_NUM_THREADS')
+    assert dict(map_unordered(os.getenv, ['NUMBA_NUM_THREADS'] * 2, workers=2)) == {0: '1', 1: '1'}
+    assert os.getenv('NUMBA_NUM_THREADS') == here  # set in the workers, not here
 
 
 def test_an_error_in_a_local_process_propagates() -> None:

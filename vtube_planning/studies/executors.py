@@ -49,7 +49,9 @@ WATCH_PARENT_S = 0.5
 
 def die_with_parent(parent_pid: int) -> None:
     """Initializer of every local worker: a daemon thread ends the worker as soon as ``parent_pid`` is no longer
-    its parent (the campaign was killed, ``kill -9`` included: nobody would store what it computes)."""
+    its parent (the campaign was killed, ``kill -9`` included: nobody would store what it computes). The worker
+    computes on one thread (numba's, for the foresight of a large swarm): the workers already share the cores."""
+    os.environ['NUMBA_NUM_THREADS'] = '1'
 
     def watch() -> None:
         while True:

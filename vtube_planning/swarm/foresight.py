@@ -70,6 +70,9 @@ KEEP_MPS = 0.5
 the law's (m/s): the nearest to the law changes with the speed, and two backups taken in turn are neither flown."""
 ALL_PAIRS_UP_TO = 64
 """Swarms of up to this many robots check every neighbour; larger ones the nearest `NEIGHBOURS`."""
+ALL_CORES_FROM = 5000
+"""Swarms of this many robots and more are predicted on all cores (numba's threads; the same bits): below it a
+period's predictions are too short to share (a thread waits for its turn on a busy core longer than it works)."""
 NEIGHBOURS = 20
 """How many nearest neighbours a robot of a larger swarm checks: with 10, three of five planned runs of 80 robots
 in scene C collided (a robot closing in from beyond the ten nearest of a dense crowd is not seen); with 20 those
@@ -151,6 +154,8 @@ class Foresight:
         self.announced: tuple[FloatArray, FloatArray] | None = None  # every robot's lane and speed
         self.overridden = 0  # robot-periods where the law's command was replaced
         self._held: FloatArray | float = 0.0  # per robot, how much longer it flies a backup before the law again
+        self._steps: tuple[float, FloatArray] = (math.nan, np.empty(0))  # the last period's `_times`
+        self._all_pairs: IntArray = np.empty((0, 0), dtype=np.intp)  # the last swarm's `_neighbours`, all pairs
 
     def __call__(self, positions: FloatArray, velocity: FloatArray, command: FloatArray, dt_s: float) -> FloatArray:
         """The commands (2, N) for robots at ``positions`` flying ``velocity`` whose law commands ``command``."""
@@ -173,17 +178,18 @@ class Foresight:
     ) -> tuple[FloatArray, FloatArray]:
         """Each robot's law checked as one period of its command then its lane, the backups of the robots whose law
         is unsafe (or held) chosen and announced; the targets (speeds, headings)."""
-        l_m, offset = self.tables.locate(positions[0], positions[1], self.tables.nearest_l(positions))
+        guess = self.tables.nearest_l(positions, all_cores=speed.size >= ALL_CORES_FROM)
+        l_m, offset = self.tables.locate(positions[0], positions[1], guess)
         lane = self.tables.lane_of(l_m, offset, self.swarm.r_s_m)
         robots = _Robots(positions, speed, heading, l_m, lane)
         announced = self.announced if self.announced is not None else (lane, speed)
         rows, free = np.arange(speed.size), np.full(speed.size, np.nan)
         both = _Backups(  # column 0: the backup each announced (its neighbours' view), 1: its law's command
             rows,
-            np.column_stack([announced[0], lane]),
-            np.column_stack([announced[1], law_speed]),
-            np.column_stack([free, law_speed]),
-            np.column_stack([free, law_heading]),
+            _columns(announced[0], lane),
+            _columns(announced[1], law_speed),
+            _columns(free, law_speed),
+            _columns(free, law_heading),
         )
         flights = self._flights(robots, both, dt_s)
         others = np.ascontiguousarray(flights[:2, :, :, :1])
@@ -215,8 +221,10 @@ class Foresight:
 
     def _times(self, dt_s: float) -> FloatArray:
         """The step lengths of a prediction: one period, then `SUB_STEPS` equal steps to the horizon."""
-        rest = max(self.horizon_s - dt_s, dt_s)
-        return np.concatenate([[dt_s], np.full(SUB_STEPS, rest / SUB_STEPS)])
+        if self._steps[0] != dt_s:
+            rest = max(self.horizon_s - dt_s, dt_s)
+            self._steps = (dt_s, np.concatenate([[dt_s], np.full(SUB_STEPS, rest / SUB_STEPS)]))
+        return self._steps[1]
 
     def _flights(self, robots: _Robots, backups: _Backups, dt_s: float) -> FloatArray:
         """(4, S, R, K): x, y, arc length l and offset y_tube at the end of each step of robots ``backups.rows``
@@ -224,10 +232,11 @@ class Foresight:
         its new velocity, as the simulator moves it; over a longer step its velocity changes linearly while (3), (4)
         let it (`foresight_kernel.changing`), then holds (moved at the new velocity over a long step instead, a
         robot braking at a_v would fall short by a_v step^2 / 2: 9 cm in 0.43 s at 1 m/s^2)."""
-        from vtube_planning.swarm.foresight_kernel import flights  # numba: see __init__
+        from vtube_planning.swarm.foresight_kernel import flights, parallel_flights  # numba: see __init__
 
         first = np.stack([backups.first_speed, backups.first_heading])
-        flown: FloatArray = flights(
+        fly = parallel_flights if robots.speed.size >= ALL_CORES_FROM else flights
+        flown: FloatArray = fly(
             robots.packed,
             backups.rows,
             np.ascontiguousarray(backups.lane, dtype=float),
@@ -243,12 +252,13 @@ class Foresight:
         """(N, M) indices of the robots each robot checks (itself as padding where it has fewer)."""
         n = positions.shape[1]
         if n <= ALL_PAIRS_UP_TO:
-            return np.tile(np.arange(n), (n, 1))
+            if self._all_pairs.shape[0] != n:
+                self._all_pairs = np.tile(np.arange(n), (n, 1))
+            return self._all_pairs
         from vtube_planning.swarm.nearest import nearest  # numba: see __init__
 
         x, y = np.ascontiguousarray(positions, dtype=float)
-        found: IntArray = nearest(x, y, x, y, min(n, NEIGHBOURS + 1))
-        return found
+        return nearest(x, y, x, y, min(n, NEIGHBOURS + 1), all_cores=n >= ALL_CORES_FROM)
 
     def _foresee(
         self,
@@ -271,9 +281,10 @@ class Foresight:
         view = np.zeros_like(near) if seen is None else np.ascontiguousarray(seen, dtype=np.intp)
         swarm = self.swarm
         bounds = np.array([swarm.r_s_m, swarm.r_p_m, margin_m, self.tables.length_m], dtype=float)
-        from vtube_planning.swarm.foresight_kernel import foresee  # numba: see __init__
+        from vtube_planning.swarm.foresight_kernel import foresee, parallel_foresee  # numba: see __init__
 
-        found: FloatArray = foresee(
+        check = parallel_foresee if robots.speed.size >= ALL_CORES_FROM else foresee
+        found: FloatArray = check(
             flights,
             others,
             robots.packed,
@@ -346,6 +357,13 @@ class Foresight:
         score[:, -1] -= np.where(later[:, -1] > 0.0, 1e2 * KEEP_M_S, KEEP_MPS)
         best: IntArray = np.argmin(score, axis=1)
         return best
+
+
+def _columns(first: FloatArray, second: FloatArray) -> FloatArray:
+    """(N, 2): two (N,) arrays side by side (np.column_stack, with less to do)."""
+    both = np.empty((first.size, 2))
+    both[:, 0], both[:, 1] = first, second
+    return both
 
 
 def _free(like: FloatArray) -> tuple[FloatArray, FloatArray]:

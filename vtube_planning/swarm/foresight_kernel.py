@@ -78,7 +78,7 @@ def flights(
     (`changing`), then holds."""
     a_v, a_n, r_s, lookahead_s, locate_steps = limits[0], limits[1], limits[2], limits[3], int(limits[4])
     out = np.empty((4, times.size, lane.shape[0], lane.shape[1]))
-    for r in range(lane.shape[0]):
+    for r in numba.prange(lane.shape[0]):
         robot = rows[r]
         for k in range(lane.shape[1]):
             x, y, speed, heading = robots[0, robot], robots[1, robot], robots[2, robot], robots[3, robot]
@@ -143,7 +143,7 @@ def foresee(
     apart = max(body_short, touching) + APART_SLACK_M
     count, width = near.shape[1], flown.shape[3]
     out = np.empty((3, rows.size, width))
-    for r in range(rows.size):
+    for r in numba.prange(rows.size):
         robot = rows[r]
         dx0, dy0 = np.empty(count), np.empty(count)
         for k in range(width):
@@ -173,3 +173,11 @@ def foresee(
                     contact = elapsed
             out[0, r, k], out[1, r, k], out[2, r, k] = first, contact, shortfall
     return out
+
+
+parallel_flights = numba.njit(parallel=True)(flights.py_func)
+"""`flights` on all cores (numba's threads, one robot's backups each): the same bits, for large swarms
+(`vtube_planning.swarm.foresight.ALL_CORES_FROM`); compiled on first use (not cached: a cache of the same
+function's serial build would be read back for it)."""
+parallel_foresee = numba.njit(parallel=True)(foresee.py_func)
+"""`foresee` on all cores, as `parallel_flights`."""

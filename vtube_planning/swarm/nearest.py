@@ -50,11 +50,15 @@ def cells(x: FloatArray, y: FloatArray, per_cell: float) -> Cells:
     return low_x, low_y, side, columns, rows, starts, order
 
 
-@numba.njit(cache=True)
-def nearest(query_x: FloatArray, query_y: FloatArray, x: FloatArray, y: FloatArray, k: int) -> IntArray:
+def nearest(
+    query_x: FloatArray, query_y: FloatArray, x: FloatArray, y: FloatArray, k: int, *, all_cores: bool = False
+) -> IntArray:
     """(Q, k) the indices of the k points (``x``, ``y``) nearest to each query point, nearest first (k at most the
-    number of points). A query that is one of the points finds itself first."""
-    return nearest_in(cells(x, y, PER_CELL * k), query_x, query_y, x, y, k)
+    number of points), on one core or on all (`parallel_nearest_in`). A query that is one of the points finds
+    itself first."""
+    search = parallel_nearest_in if all_cores else nearest_in
+    found: IntArray = search(cells(x, y, PER_CELL * k), query_x, query_y, x, y, k)
+    return found
 
 
 @numba.njit(cache=True)
@@ -62,8 +66,8 @@ def nearest_in(grid: Cells, query_x: FloatArray, query_y: FloatArray, x: FloatAr
     """`nearest`, in a grid of the points made before (`cells`)."""
     low_x, low_y, side, columns, rows, starts, order = grid
     found = np.empty((query_x.size, k), dtype=np.intp)
-    best, index = np.empty(k), np.empty(k, dtype=np.intp)
-    for i in range(query_x.size):
+    for i in numba.prange(query_x.size):
+        best, index = np.empty(k), np.empty(k, dtype=np.intp)
         qx, qy, count = query_x[i], query_y[i], 0
         column = min(max(math.floor((qx - low_x) / side), 0), columns - 1)
         row = min(max(math.floor((qy - low_y) / side), 0), rows - 1)
@@ -98,3 +102,8 @@ def nearest_in(grid: Cells, query_x: FloatArray, query_y: FloatArray, x: FloatAr
             ring += 1
         found[i] = index
     return found
+
+
+parallel_nearest_in = numba.njit(parallel=True)(nearest_in.py_func)
+"""`nearest_in` on all cores (numba's threads, one query each): the same points, for large swarms; compiled on
+first use (not cached: a cache of the same function's serial build would be read back for it)."""

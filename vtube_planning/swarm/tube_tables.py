@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vtube_planning.geometry.tube import VirtualTube
-from vtube_planning.swarm.nearest import Cells, cells, nearest_in
+from vtube_planning.swarm.nearest import Cells, cells, nearest_in, parallel_nearest_in
 
 FloatArray = NDArray[np.float64]
 Grid = tuple[FloatArray, FloatArray, FloatArray]
@@ -117,10 +117,12 @@ class TubeTables:
         lane: FloatArray = _lanes(np.ascontiguousarray(l_m), np.ascontiguousarray(offset_m), r_s_m, self.compiled)
         return lane
 
-    def nearest_l(self, positions: FloatArray) -> FloatArray:
-        """The arc length of the tables' point nearest to each position (2, N): where `locate` starts."""
+    def nearest_l(self, positions: FloatArray, *, all_cores: bool = False) -> FloatArray:
+        """The arc length of the tables' point nearest to each position (2, N): where `locate` starts (searched on
+        all cores or on one: `vtube_planning.swarm.nearest`)."""
         x, y = np.ascontiguousarray(positions, dtype=float)
-        return self.l_m[nearest_in(self.points, x, y, self.stacked[0], self.stacked[1], 1)[:, 0]]
+        search = parallel_nearest_in if all_cores else nearest_in
+        return self.l_m[search(self.points, x, y, self.stacked[0], self.stacked[1], 1)[:, 0]]
 
 
 @numba.njit(cache=True, inline='always')
