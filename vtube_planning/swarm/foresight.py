@@ -149,8 +149,8 @@ class Foresight:
         self.a_n = swarm.a_n_mps2 if acceleration_limits else math.inf
         window = merge_window(swarm) if acceleration_limits else 0.0
         self.tables = TubeTables.of(tube, swarm.v_max_mps * self.horizon_s + 2.0 * swarm.r_a_m, window)
-        r_s = swarm.r_s_m
-        self._limits = np.array([self.a_v, self.a_n, r_s, LANE_LOOKAHEAD_S, PREDICTION_LOCATE_STEPS], dtype=float)
+        limits = [self.a_v, self.a_n, swarm.r_s_m, LANE_LOOKAHEAD_S, PREDICTION_LOCATE_STEPS]
+        self._limits = np.array(limits, dtype=float)  # as `foresight_kernel.flights` reads them
         self.announced: tuple[FloatArray, FloatArray] | None = None  # every robot's lane and speed
         self.overridden = 0  # robot-periods where the law's command was replaced
         self._held: FloatArray | float = 0.0  # per robot, how much longer it flies a backup before the law again
@@ -277,12 +277,12 @@ class Foresight:
         outside the tube, or bodies closer than 2 r_p), and how far short they fall over the horizon, the integral
         over time of (r_s - clearance)+ and (2 r_s - the nearest neighbour's distance)+ (m s); ``margin_m`` added to
         r_s and 2 r_s (`foresight_kernel.foresee`)."""
+        from vtube_planning.swarm.foresight_kernel import foresee, parallel_foresee  # numba: see __init__
+
         near = np.ascontiguousarray(neighbours[rows])
         view = np.zeros_like(near) if seen is None else np.ascontiguousarray(seen, dtype=np.intp)
         swarm = self.swarm
         bounds = np.array([swarm.r_s_m, swarm.r_p_m, margin_m, self.tables.length_m], dtype=float)
-        from vtube_planning.swarm.foresight_kernel import foresee, parallel_foresee  # numba: see __init__
-
         check = parallel_foresee if robots.speed.size >= ALL_CORES_FROM else foresee
         found: FloatArray = check(
             flights,

@@ -7,7 +7,8 @@ computed point by point with the same floating-point operations, in the same ord
 `vtube_planning.swarm.dynamics.respond` does), so a flight is the same to the last bit wherever numpy's own
 functions are the C library's (``docs/theory.md`` §11, "Compiled"); ``tests/unit/vtube_planning/swarm/
 test_foresight_kernel.py`` checks it against the array formulas. Only +, -, *, /, sqrt and the C library's cos, sin,
-atan2, hypot are used, none reordered or fused (numba's default: no fast-math).
+atan2, hypot are used (a complex exponential is a cos and a sin), none reordered or fused (numba's default: no
+fast-math).
 """
 
 from __future__ import annotations
@@ -134,10 +135,11 @@ def foresee(
     (a centre outside the tube, or bodies closer than 2 r_p), and how far short they fall over the horizon, the
     integral over time of (r_s + margin - clearance)+ and (2 r_s + margin - the nearest neighbour's distance)+
     (m s). ``robots`` holds their positions (rows 0, 1), ``tables`` as in `flights`, ``bounds`` r_s, r_p, the
-    margin and the tube's length (`clearance_at`). Two robots are checked at the closest they come between two predicted points
-    (`closest_squared`); a robot is not its own neighbour; no wall is measured outside 0 <= l <= L. Only a nearest
-    distance below 2 r_s + margin or 2 r_p counts: a neighbour whose separation stays beyond both along one axis
-    over a step (`_apart`) is not computed there, and the results are those of computing it."""
+    margin and the tube's length (`clearance_at`). Two robots are checked at the closest they come between two
+    predicted points (`closest_squared`); a robot is not its own neighbour; no wall is measured outside
+    0 <= l <= L. Only a nearest distance below 2 r_s + margin or 2 r_p counts: a neighbour whose separation stays
+    beyond both along one axis over a step (`_apart`) is not computed there, and the results are those of
+    computing it."""
     r_s, r_p, margin_m, length_m = bounds[0], bounds[1], bounds[2], bounds[3]
     wall_short, body_short, touching = r_s + margin_m, 2.0 * r_s + margin_m, 2.0 * r_p
     apart = max(body_short, touching) + APART_SLACK_M

@@ -34,7 +34,7 @@ def cells(x: FloatArray, y: FloatArray, per_cell: float) -> Cells:
     side = max(spread, max(span_x, span_y) * per_cell / x.size, 1e-9)
     columns = min(int(span_x / side) + 1, 4 * x.size)
     rows = min(int(span_y / side) + 1, 4 * x.size)
-    side = max(side, span_x / columns, span_y / rows)  # at most 16 cells a point however thin the box
+    side = max(side, span_x / columns, span_y / rows)  # about N / per_cell cells, however thin the box
     cell = np.empty(x.size, dtype=np.intp)
     starts = np.zeros(columns * rows + 1, dtype=np.intp)
     for i in range(x.size):
