@@ -13,7 +13,7 @@ from vtube_planning.geometry.centerline import ArcPath, ArcPiece
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import WidthPart, WidthProfile
 from vtube_planning.swarm.dynamics import respond
-from vtube_planning.swarm.foresight_kernel import flights, foresee
+from vtube_planning.swarm.foresight_kernel import APART_SLACK_M, flights, foresee
 from vtube_planning.swarm.tube_tables import TubeTables, table_row
 
 BENT = VirtualTube(
@@ -81,7 +81,7 @@ def _reference_flights(tables: TubeTables, robots, rows, lane, speed_to, first, 
     return np.array(out).transpose(1, 0, 2, 3)
 
 
-def _reference_foresee(tables: TubeTables, flown, others, robots, rows, near, seen, margin):
+def _reference_foresee(tables: TubeTables, flown, others, robots, rows, near, seen, margin, length_m=BENT.length_m):
     itself = np.where(near == rows[:, None], np.inf, 0.0)[:, None, :]
     dx0 = (robots[0, rows, None] - robots[0, near])[:, None, :]
     dy0 = (robots[1, rows, None] - robots[1, near])[:, None, :]
@@ -90,7 +90,7 @@ def _reference_foresee(tables: TubeTables, flown, others, robots, rows, near, se
     for index, step in enumerate(TIMES):
         elapsed += step
         x, y, l_m, offset = flown[:, index]
-        inside = (l_m >= 0.0) & (l_m <= BENT.length_m)
+        inside = (l_m >= 0.0) & (l_m <= length_m)
         clearance = np.where(inside, tables.at(l_m, slice(4, 5))[0] - np.abs(offset), np.inf)
         dx1 = x[:, :, None] - others[0, index][near, seen][:, None, :]
         dy1 = y[:, :, None] - others[1, index][near, seen][:, None, :]
@@ -165,3 +165,43 @@ def test_a_table_look_up_is_the_array_interpolation() -> None:
     for row in range(5):
         looked_up = np.array([table_row(value, row, tables.compiled) for value in l_m])
         np.testing.assert_array_equal(looked_up, tables.at(l_m, slice(row, row + 1))[0])  # + - * only: exact
+
+
+def test_neighbours_left_out_at_the_threshold_change_nothing() -> None:
+    # pairs of robots in a wide straight tube (no wall near) flying side by side along x, their separation along x
+    # within micrometres of 2 r_s + margin (+ the slack) at the start and at every predicted point: the check leaves
+    # out those beyond the slack and computes the others; the results must be the array formula's, which computes
+    # them all, and some robots fall micrometres short (the threshold straddled)
+    wide = VirtualTube(ArcPath((ArcPiece(80.0),)), WidthProfile(20.0, (WidthPart('constant', 80.0),)))
+    tables = TubeTables.of(wide, 20.0)
+    rng = np.random.default_rng(14)
+    threshold = 2.0 * R_S + 0.1 + APART_SLACK_M
+    pairs = 20
+    x = np.concatenate([np.linspace(5.0, 60.0, pairs), np.zeros(pairs)])
+    gap = threshold + rng.choice([-2e-6, -1e-6, 0.0, 1e-6, 2e-6], pairs)  # the second of a pair behind the first
+    x[pairs:] = x[:pairs] - gap
+    y = np.concatenate([np.linspace(-8.0, 8.0, pairs)] * 2)
+    robots = np.vstack([x, y, np.full(2 * pairs, 3.0), np.zeros(2 * pairs), x])
+    rows = np.arange(2 * pairs)
+    flown = flights(
+        robots,
+        rows,
+        np.zeros((2 * pairs, 1)),
+        np.full((2 * pairs, 1), 3.0),
+        np.full((2, 2 * pairs, 1), np.nan),
+        TIMES,
+        tables.compiled,
+        np.array([1.0, 1.0, R_S, LOOKAHEAD_S, LOCATE]),
+    )
+    partner = np.concatenate([rows[pairs:], rows[:pairs]])
+    near = np.column_stack([rows, partner])  # itself, then its partner
+    others = np.ascontiguousarray(np.repeat(flown[:2], 2, axis=3))
+    for r, other in zip(rows, partner):  # its partner seen (view 1) exactly the gap away along x at every point
+        others[0, :, other, 1] = flown[0, :, r, 0] + (gap[r - pairs] if r >= pairs else -gap[r])
+        others[1, :, other, 1] = flown[1, :, r, 0]
+    seen = np.column_stack([np.zeros(2 * pairs, dtype=np.intp), np.ones(2 * pairs, dtype=np.intp)])
+    bounds = np.array([R_S, R_P, 0.1, wide.length_m])
+    found = foresee(flown, others, robots, rows, near, seen, TIMES, tables.compiled, bounds)
+    _same(found, _reference_foresee(tables, flown, others, robots, rows, near, seen, 0.1, wide.length_m))
+    short = found[2, :, 0]
+    assert (short == 0.0).any() and ((short > 0.0) & (short < 1e-4)).any()  # both sides of the threshold
