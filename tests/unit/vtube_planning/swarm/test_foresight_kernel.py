@@ -1,6 +1,6 @@
 """The compiled predictions against the array formulas they compute (an independent re-computation with numpy: the
-tables through `TubeTables.at`, the response through `respond`): the same to the last bit where numpy's cos, sin,
-atan2 and hypot are the C library's (on a machine whose numpy uses its own SIMD versions, within 1e-9)."""
+tables through `TubeTables.at`, the response through `respond`): the same to the last bit where numpy's cos, sin
+and atan2 are the C library's, as its hypot is (on a machine whose numpy uses its own SIMD versions, within 1e-9)."""
 
 from __future__ import annotations
 
