@@ -25,10 +25,10 @@ from vtube_planning.studies.campaign_verify import verify
 ROOT = Path(__file__).resolve().parents[2]
 DOCS = ROOT / 'docs'
 VERIFIED = ('maps_study', 'maps_study_limits', 'ablation', 'replanning', 'faults', 'foresight', 'equal_freedom')
-VERIFIED += ('crossover_reduced',)
+VERIFIED += ('crossover_reduced', 'crossover')
 """The committed campaign folders made at a commit whose code gives them (docs/delay predates the verdict rules)."""
-MADE_IN_KIND = ('foresight', 'crossover_reduced')
-"""The folders made (crossover_reduced: its foresight rows) in the machine kind `KIND` (on an AVX-512 machine:
+MADE_IN_KIND = ('foresight', 'crossover_reduced', 'crossover')
+"""The folders made (the crossovers: their foresight rows) in the machine kind `KIND` (on an AVX-512 machine:
 `kind_settings`' variables)."""
 KIND = {'numpy_simd': 'X86_V2 X86_V3', 'openblas_core': 'Haswell'}
 """numpy's loops up to X86_V3 and OpenBLAS's Haswell kernels."""
