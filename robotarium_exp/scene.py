@@ -65,7 +65,11 @@ ROBOTARIUM_VALUES: Values = {
         'k_ra_m3ps': (0.02, 'r_a moves 0.02 m/s per robot/m^2 of density above the plan'),
         'r_a_max_m': (0.5, "the band can reach the narrowing's density in the wide part"),
         'feedforward': (True, "the plan's dip raises r_a ahead of the density error"),
-        'plan_at': ('center', "the plan is made for the swarm's centre (documentation: Theory, A16)"),
+        'plan_at': (
+            'robot',
+            "each robot reads the plan at its own arc length, as the paper does: a queued rear holds v_min while the "
+            'front runs into the dip (documentation: Theory, A16)',
+        ),
         'compensate_delay_steps': (
             0.5 * (FITTED.delay_v_steps + FITTED.delay_omega_steps),
             (
