@@ -7,7 +7,8 @@ value with its reason (``vtube scene show`` prints them):
 - the start formation: rows across the tube ``ic_spacing_m`` (0.4 m) apart, as many columns as fit the entrance
   with `WALL_CLEARANCE_M` to each wall, the back row at the first cross-section inside the box the testbed
   initializes robots in, robots 0 and 1 where V2's initializer cannot leave them stuck; where those rows reach the
-  first narrowing, the entry queue behind the entrance, or staggered rows;
+  first narrowing, the entry queue behind the entrance, staggered rows, or a packing in no rows
+  (`robotarium_exp.packing`);
 - r_s (the law's barrier keeps 2 r_s, the safety filter's distance) and r_a = spacing - r_s, so that the formation
   rests at the edge of the interaction band, r_s + r_a = the spacing: not compressed, not loose;
 - rho0 = rho_d: the formation's density under the package's measure, so the swarm starts on its plan and cruises
@@ -28,6 +29,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from robotarium_exp.packing import QUEUE_BEFORE_NARROWING_M, QUEUE_BEHIND_M, WALL_CLEARANCE_M, packed_poses
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.tube import VirtualTube
 from vtube_planning.geometry.width import Narrowing
@@ -36,8 +38,6 @@ from vtube_planning.onboard.density import swarm_density
 
 FloatArray = NDArray[np.float64]
 
-WALL_CLEARANCE_M = 0.1
-"""Between a robot of the start formation and a wall: the body's radius (0.055 m) and 0.045 m to move."""
 R_S_M = 0.10
 """r_s: the law's barrier keeps 2 r_s = 0.2 m between control points, as much as the safety filter does."""
 INITIALIZER_APART_M = 0.55
@@ -49,7 +49,8 @@ m apart (``docs/robotarium.md`` §2.6); the diagonal of a 2 x 2 grid at the spac
 class Formation:
     """The start formation: poses (3, N) in robot order, its rows and columns (the widest row), the arc lengths of
     its back and front rows, why it could not be built (None: it could), whether it is the entry queue
-    (`entry_queue`) and whether its rows are staggered (`staggered_rows`)."""
+    (`entry_queue`), whether its rows are staggered (`staggered_rows`) and whether it is packed in no rows
+    (`robotarium_exp.packing.packed_poses`: each robot counts as a row of one)."""
 
     poses: FloatArray
     rows: int
@@ -59,6 +60,7 @@ class Formation:
     problem: str | None = None
     queue: bool = False
     staggered: bool = False
+    packed: bool = False
 
     @property
     def length_m(self) -> float:
@@ -97,7 +99,8 @@ def start_formation(tube: VirtualTube, n_robots: int) -> Formation:
     converges, so the row spacing grows (by 2 % steps) until every pair keeps it. The back row stands at the first
     cross-section inside the box. When the rows would then reach into the first narrowing, the formation is the entry
     queue (`entry_queue`) where the box has room behind the entrance, else staggered rows (`staggered_rows`) where
-    they end before it, else the staggered queue; what is left is the plain rows, for the fit verdict to refuse.
+    they end before it, else the staggered queue, else a packing in no rows (`robotarium_exp.packing`); what is
+    left is the plain rows, for the fit verdict to refuse.
     """
     l_back = first_inside_box(tube)
     narrowing = first_narrowing(tube)
@@ -115,6 +118,11 @@ def start_formation(tube: VirtualTube, n_robots: int) -> Formation:
         queue = entry_queue(tube, n_robots, staggered)
         if queue is not None:
             return queue
+    packed = packed_poses(tube, n_robots) if rows is not None else None
+    if packed is not None:
+        l_m = tube.project(packed[:2]).l_m
+        ordered: FloatArray = packed[:, order_for_v2_initializer(packed)]
+        return Formation(ordered, n_robots, 1, float(l_m.min()), float(l_m.max()), packed=True)
     return rows or _no_formation(
         n_robots, 'no cross-section of the tube lies inside the box the testbed initializes robots in'
     )
@@ -196,11 +204,6 @@ def _placed(tube: VirtualTube, lateral: list[FloatArray], l_back: float, pitch: 
     return _grid(tube, lateral, np.array(l_rows[::-1])), l_rows[-1]
 
 
-QUEUE_BEFORE_NARROWING_M = 0.01
-"""The entry queue's front row stands at least this far before the narrowing's start (the fit verdict's rule, with
-room for the flight data's rounding)."""
-QUEUE_BEHIND_M = 3.0
-"""How far behind the entrance a queue's back row may stand (the box is 2.75 m long)."""
 QUEUE_BOX_MARGIN_M = 0.01
 """The queue's back row stands this far inside the box (past the first sampled arc length whose row is inside)."""
 

@@ -65,10 +65,13 @@ ROBOTARIUM_VALUES: Values = {
         'k_ra_m3ps': (0.02, 'r_a moves 0.02 m/s per robot/m^2 of density above the plan'),
         'r_a_max_m': (0.5, "the band can reach the narrowing's density in the wide part"),
         'feedforward': (True, "the plan's dip raises r_a ahead of the density error"),
-        'plan_at': (
-            'robot',
-            "each robot reads the plan at its own arc length, as the paper does: a queued rear holds v_min while the "
-            'front runs into the dip (documentation: Theory, A16)',
+        'plan_at': ('center', "the plan is made for the swarm's centre (documentation: Theory, A16)"),
+        'stretch_gain_mps': (
+            0.3,
+            (
+                'the swarm lengthens or shortens along the tube as its density is above or below the plan: the rows '
+                'thin out where the plan dips (documentation: Theory, §2.9)'
+            ),
         ),
         'compensate_delay_steps': (
             0.5 * (FITTED.delay_v_steps + FITTED.delay_omega_steps),
@@ -172,6 +175,8 @@ def derived_values(tube: VirtualTube, n_robots: int) -> Values:
     if formation.problem is None:
         rho = round(formation_density(tube, formation, r_a), 2)
         where = f'{formation.rows} row(s) of up to {formation.columns}, {formation.length_m:.2f} m long'
+        if formation.packed:
+            where = f'packed in no rows, {formation.length_m:.2f} m long (robotarium_exp.packing)'
         if formation.queue:
             queued = int(np.count_nonzero(tube.project(formation.poses[:2]).l_m < 0.0))
             where += f', the entry queue: {queued} behind the entrance (documentation: Theory §12)'

@@ -247,6 +247,11 @@ class ControlParams:
         Read the plan at each robot's arc length (``'robot'``, the paper) or at the swarm centre's (``'center'``,
         ``docs/theory.md`` A16): with ``'robot'`` a planned slow-down reaches the front first and compresses the
         swarm just where the plan lowers its density.
+    stretch_gain_mps
+        Density tracking along the tube, m/s, >= 0 (not in the paper; ``docs/theory.md`` §2.9): a robot ahead of
+        the swarm's centre goes faster by up to this, one behind it slower, in proportion to the swarm's relative
+        density error, so that a swarm denser than the plan lengthens and a sparser one closes up. 0 (the default):
+        off, the paper's law.
     kdtree_above
         Use a k-d tree for neighbours above this many robots, all pairs below (default: the measured crossover
         `KDTREE_ABOVE`; both give the same law).
@@ -271,6 +276,7 @@ class ControlParams:
     saturation: Saturation = 'radial'
     density_padding: DensityPadding = 'initial'
     plan_at: PlanAt = 'robot'
+    stretch_gain_mps: float = 0.0
     kdtree_above: int = KDTREE_ABOVE
     compensate_delay_steps: float = 0.0
     compensate_lag_s: float = 0.0
@@ -285,6 +291,9 @@ class ControlParams:
             if not is_real(value) or value < 0:
                 msg = f'control {name} must be a finite number >= 0 (0: nothing to compensate); got {value!r}.'
                 raise ParamsError(msg)
+        if not is_real(self.stretch_gain_mps) or self.stretch_gain_mps < 0:
+            msg = f'control stretch_gain_mps must be a finite number >= 0 (0: off); got {self.stretch_gain_mps!r}.'
+            raise ParamsError(msg)
         for name in ('avoidance_gain', 'keeping_gain'):
             if not is_positive(getattr(self, name)):
                 msg = f'control {name} must be a finite number > 0; got {getattr(self, name)!r}.'
@@ -344,6 +353,7 @@ class ControlParams:
             k_ra_m3ps=self.k_ra_m3ps,
             feedforward=self.feedforward,
             plan_at=self.plan_at,
+            stretch_gain_mps=float(self.stretch_gain_mps),
             kdtree_above=self.kdtree_above,
             compensate_delay_steps=float(self.compensate_delay_steps),
             compensate_lag_s=float(self.compensate_lag_s),

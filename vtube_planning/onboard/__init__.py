@@ -36,6 +36,7 @@ MODULES = (
     'vtube_planning.onboard.neighbours',
     'vtube_planning.onboard.law',
     'vtube_planning.onboard.radius',
+    'vtube_planning.onboard.stretch',
     'vtube_planning.onboard.parking',
     'vtube_planning.onboard.delay',
     'vtube_planning.onboard.stepper',

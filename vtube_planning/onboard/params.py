@@ -56,6 +56,9 @@ class StepParams:
     plan_at
         ``'robot'``: every robot reads v* and rho* at its own arc length (the paper); ``'center'``: at the mean arc
         length of the swarm's robots, for which the plan is made (A16); :data:`PlanAt`.
+    stretch_gain_mps
+        Density tracking along the tube (``docs/theory.md`` §2.9): forward speeds spread by up to this much over the
+        swarm's length, by its relative density error; 0: off (the paper's law).
     kdtree_above
         Find neighbours with a k-d tree above this many robots, all pairs below.
     compensate_delay_steps, compensate_lag_s
@@ -76,6 +79,7 @@ class StepParams:
     k_ra_m3ps: float = 5.0
     feedforward: bool = False
     plan_at: PlanAt = 'robot'
+    stretch_gain_mps: float = 0.0
     kdtree_above: int = KDTREE_ABOVE
     compensate_delay_steps: float = 0.0
     compensate_lag_s: float = 0.0

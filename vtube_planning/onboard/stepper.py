@@ -23,6 +23,7 @@ from vtube_planning.onboard.parking import Parking
 from vtube_planning.onboard.profile import PlanProfile
 from vtube_planning.onboard.projection import Projection
 from vtube_planning.onboard.radius import next_radius
+from vtube_planning.onboard.stretch import stretched_speed
 from vtube_planning.onboard.tube import StepTube
 
 FloatArray = NDArray[np.float64]
@@ -154,6 +155,12 @@ class SwarmStep:
         l_plan = np.full(l_m.size, swarm_l.mean()) if p.plan_at == 'center' else l_m
         if self.plan is not None:
             forward_speed = self.plan.speed(l_plan)
+            if p.stretch_gain_mps:
+                rho_center = float(self.plan.density(np.array([swarm_l.mean()]))[0])
+                band = (p.v_min_mps, p.v_max_mps)
+                forward_speed = stretched_speed(
+                    forward_speed, l_m, swarm_l, density, rho_center, p.stretch_gain_mps, band
+                )
         else:
             forward_speed = np.full(l_m.size, self.constant_speed_mps)
         r_a = self.r_a

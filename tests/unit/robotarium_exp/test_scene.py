@@ -76,9 +76,10 @@ def test_the_shipped_declarations_give_the_former_files_values(name: str) -> Non
     assert scene.planning.lookahead_m == pytest.approx(LOOKAHEAD_M)  # to 5 cm: the curve's rows spread a little
     former = replace(scene.planning, lookahead_m=FORMER_LOOKAHEAD_M)
     assert former == PlanningOptions(**FORMER_PLANNING, rho0_per_m2=rho, grid_step_m=FORMER_GRID[name])
-    # the former files' control values, the fitted testbed's delay and lag compensated (issue 32), and the plan read
-    # at each robot's own arc length, as the paper does (issue 50: the queued twenty-robot swarms track the dip)
-    assert scene.control == replace(FORMER_CONTROL, compensate_delay_steps=5.0, compensate_lag_s=0.19, plan_at='robot')
+    # the former files' control values, the fitted testbed's delay and lag compensated (issue 32), and the density
+    # tracked along the tube (issue 50)
+    former = replace(FORMER_CONTROL, compensate_delay_steps=5.0, compensate_lag_s=0.19, stretch_gain_mps=0.3)
+    assert scene.control == former
     assert scene.testbed == 'robotarium' and scene.source == f'<shipped>/{name}.toml'
     # the arena; the former files kept 0.1 m to its edge, the declaration the spec's margin (both tubes keep 0.1 m)
     assert scene.workspace == Workspace(*ROBOTARIUM.arena_m, margin_m=ROBOTARIUM.arena_margin_m)

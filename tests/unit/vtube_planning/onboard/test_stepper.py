@@ -63,6 +63,8 @@ def test_bad_controller_input_raises() -> None:
         ControlParams(compensate_delay_steps=-1.0)
     with pytest.raises(ParamsError, match='compensate_lag_s must be a finite number >= 0'):
         ControlParams(compensate_lag_s=float('nan'))
+    with pytest.raises(ParamsError, match='stretch_gain_mps must be a finite number >= 0'):
+        ControlParams(stretch_gain_mps=-0.1)
 
 
 def test_every_control_option_reaches_the_step() -> None:
@@ -80,6 +82,7 @@ def test_every_control_option_reaches_the_step() -> None:
         'saturation': 'forward',
         'density_padding': 'current',
         'plan_at': 'center',
+        'stretch_gain_mps': 0.05,
         'kdtree_above': 7,
         'compensate_delay_steps': 2.0,
         'compensate_lag_s': 0.1,
@@ -104,6 +107,22 @@ def test_the_plan_read_at_the_swarm_centre_is_the_same_for_every_robot() -> None
         speeds[where] = step(positions, 0.02).forward_speed_mps
     np.testing.assert_allclose(speeds['robot'], plan.speed(positions[0]))
     np.testing.assert_allclose(speeds['center'], np.full(3, float(plan.speed(20.0))))
+
+
+def test_a_swarm_denser_than_its_plan_spreads_its_speeds_along_the_tube() -> None:
+    """The plan at the centre, stretched (`vtube_planning.onboard.stretch`): three robots 4 m apart on a straight
+    tube 20 m wide measure 3 / (20 (8 + 1.6)) robots/m^2; against a plan of half that (e = 1, clipped) the front robot
+    goes g faster and the rear one g slower than v*(l_c), the centre one v*(l_c); gain 0 is the law alone."""
+    tube = wide_tube()
+    measured = 3 / (20 * (8.0 + 2 * 0.8))
+    plan = PlanProfile(np.array([0.0, 50.0]), np.full(2, 1.0 / 3.0), np.full(2, 0.5 * measured))
+    positions = np.array([[10.0, 14.0, 18.0], [0.0, 3.0, -3.0]])
+    speeds = {}
+    for gain in (0.0, 0.5):
+        params = ControlParams(plan_at='center', stretch_gain_mps=gain).step_params(SWARM)
+        speeds[gain] = SwarmStep(tube, params, 3, plan=plan)(positions, 0.02).forward_speed_mps
+    np.testing.assert_allclose(speeds[0.0], [3.0, 3.0, 3.0])
+    np.testing.assert_allclose(speeds[0.5], [2.5, 3.0, 3.5])
 
 
 def test_the_density_footprint_is_padded_by_the_initial_or_the_current_radius() -> None:
