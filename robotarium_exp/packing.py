@@ -160,7 +160,7 @@ def _search(tube: VirtualTube, n_robots: int) -> Packing | None:
         room = np.maximum(np.asarray(tube.half_width(np.maximum(l_m, 0.0)), dtype=float) - WALL_CLEARANCE_M, 0.0)
         points = tube.center_at(l_m) + (across * room)[:, None] * tube.normal(l_m)  # exact, not the tables
         gaps = np.hypot(*(points[:, None, :] - points[None, :, :]).transpose(2, 0, 1))[pairs]
-        if gaps.min() >= spacing and region.inside_box(points).all():
+        if (gaps.size == 0 or gaps.min() >= spacing) and region.inside_box(points).all():
             order = np.argsort(-l_m, kind='stable')  # front first
             return tuple(float(v) for v in l_m[order]), tuple((float(x), float(y)) for x, y in points[order])
     return None

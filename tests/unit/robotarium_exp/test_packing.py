@@ -49,9 +49,12 @@ def test_the_bound_on_a_rectangle_is_olers_formula() -> None:
 
 def test_a_square_holds_its_four_corners_and_not_five() -> None:
     """A 0.45 m square region: four robots at its corners, 0.45 m apart; Oler's bound is 4, so five are refused
-    without a search."""
+    without a search; one robot anywhere in it."""
     t = straight(0.325, 0.525)
     assert packing_bound(t) == 4 == oler(0.45, 0.45)
+    one = packed_poses(t, 1)
+    assert one is not None
+    assert_in_the_start_region(t, one)
     poses = packed_poses(t, 4)
     assert poses is not None
     assert gaps(poses).min() >= SPACING
