@@ -82,14 +82,26 @@ def start_region(tube: VirtualTube) -> StartRegion:
     narrowing = first_narrowing(*tube.width.knots)
     end = narrowing.start_m - QUEUE_BEFORE_NARROWING_M if narrowing is not None else tube.length_m
     l_m = np.linspace(-QUEUE_BEHIND_M, end, REGION_SAMPLES)
-    room = np.maximum(np.asarray(tube.half_width(np.maximum(l_m, 0.0)), dtype=float) - WALL_CLEARANCE_M, 0.0)
-    return StartRegion(l_m, tube.center_at(l_m), tube.normal(l_m), room)
+    return StartRegion(l_m, tube.center_at(l_m), tube.normal(l_m), _room(tube, l_m))
+
+
+def _room(tube: VirtualTube, l_m: FloatArray) -> FloatArray:
+    """The half room a robot has either side of the centre line at arc lengths ``l_m`` (behind the entrance, the
+    entrance's)."""
+    room: FloatArray = np.maximum(
+        np.asarray(tube.half_width(np.maximum(l_m, 0.0)), dtype=float) - WALL_CLEARANCE_M, 0.0
+    )
+    return room
 
 
 def packing_bound(tube: VirtualTube) -> int:
     """Oler's bound (module doc) on how many robots can start in ``tube``'s start region; 0 where no point of it
     lies inside the box."""
-    region = start_region(tube)
+    return _oler_bound(start_region(tube))
+
+
+def _oler_bound(region: StartRegion) -> int:
+    """`packing_bound` of a sampled start region."""
     across = np.linspace(-1.0, 1.0, 81)
     points = (
         region.center_m[:, None, :] + across[None, :, None] * region.room_m[:, None, None] * region.normal[:, None, :]
@@ -129,9 +141,9 @@ def _packed(tube: VirtualTube, n_robots: int) -> Packing | None:
 
 def _search(tube: VirtualTube, n_robots: int) -> Packing | None:
     """`PACK_RESTARTS` seeded starts of the penalty optimisation, the first exact packing (None: none)."""
-    if n_robots < 1 or n_robots > packing_bound(tube):
-        return None
     region = start_region(tube)
+    if n_robots < 1 or n_robots > _oler_bound(region):
+        return None
     usable = region.room_m > 0.0
     inside = region.inside_box(region.center_m) & usable
     if not inside.any():
@@ -157,8 +169,7 @@ def _search(tube: VirtualTube, n_robots: int) -> Packing | None:
         start = np.concatenate([rng.uniform(low, high, n_robots), rng.uniform(-1.0, 1.0, n_robots)])
         result = minimize(cost, start, jac=True, method='L-BFGS-B', bounds=bounds, options={'maxiter': 2000})
         l_m, across = result.x[:n_robots], result.x[n_robots:]
-        room = np.maximum(np.asarray(tube.half_width(np.maximum(l_m, 0.0)), dtype=float) - WALL_CLEARANCE_M, 0.0)
-        points = tube.center_at(l_m) + (across * room)[:, None] * tube.normal(l_m)  # exact, not the tables
+        points = tube.center_at(l_m) + (across * _room(tube, l_m))[:, None] * tube.normal(l_m)  # exact, not tables
         gaps = np.hypot(*(points[:, None, :] - points[None, :, :]).transpose(2, 0, 1))[pairs]
         if (gaps.size == 0 or gaps.min() >= spacing) and region.inside_box(points).all():
             order = np.argsort(-l_m, kind='stable')  # front first

@@ -174,9 +174,11 @@ def derived_values(tube: VirtualTube, n_robots: int) -> Values:
     rho_max = round(1.0 / (2.0 * math.pi * R_S_M**2), 2)
     if formation.problem is None:
         rho = round(formation_density(tube, formation, r_a), 2)
-        where = f'{formation.rows} row(s) of up to {formation.columns}, {formation.length_m:.2f} m long'
-        if formation.packed:
-            where = f'packed in no rows, {formation.length_m:.2f} m long (robotarium_exp.packing)'
+        where = (
+            f'packed in no rows, {formation.length_m:.2f} m long (robotarium_exp.packing)'
+            if formation.packed
+            else f'{formation.rows} row(s) of up to {formation.columns}, {formation.length_m:.2f} m long'
+        )
         if formation.queue:
             queued = int(np.count_nonzero(tube.project(formation.poses[:2]).l_m < 0.0))
             where += f', the entry queue: {queued} behind the entrance (documentation: Theory §12)'

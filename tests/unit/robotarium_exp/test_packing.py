@@ -103,8 +103,8 @@ def test_packing_is_the_last_resort(monkeypatch: pytest.MonkeyPatch) -> None:
     cases = [(load_scene(path, n_robots=2).tube, n) for path in sorted(SWEEP_TUBES.glob('*.toml')) for n in (8, 10)]
     with_packing = [design.start_formation(t, n) for t, n in cases]
     monkeypatch.setattr(design, 'packed_poses', lambda *_: None)
-    for (t, _), formation in zip(cases, with_packing, strict=True):
-        without = design.start_formation(t, _)
+    for (t, n), formation in zip(cases, with_packing, strict=True):
+        without = design.start_formation(t, n)
         narrowing = first_narrowing(*t.width.knots)
         if formation.packed:
             assert narrowing is not None and without.l_front_m > narrowing.start_m
