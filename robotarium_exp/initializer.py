@@ -9,11 +9,10 @@ from __future__ import annotations
 
 import contextlib
 import io
-import multiprocessing
 import os
 from collections.abc import Callable, Iterable
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 from numpy.typing import NDArray
@@ -21,6 +20,7 @@ from numpy.typing import NDArray
 import robotarium_exp.rps.robotarium as simulator
 from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps_alias import seed_rps
+from vtube_planning.studies.executors import map_unordered
 
 INITIALIZATION_LIMIT = 15_000
 """Steps after which an initialization counts as stuck."""
@@ -54,22 +54,16 @@ def initializer_durations(
     seeds = list(seeds)
     workers = max(1, min(workers or os.cpu_count() or 1, len(seeds)))
     done_one = seed_done or (lambda: None)
-    results = []
-    if workers == 1:
-        for seed in seeds:
-            results.append(_one_seed(ic, seed, limit))
-            done_one()
-    else:
-        with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context('spawn')) as pool:
-            for duration in pool.map(_one_seed, [ic] * len(seeds), seeds, [limit] * len(seeds)):
-                results.append(duration)
-                done_one()
+    results: list[float | None] = [None] * len(seeds)
+    for k, duration in map_unordered(partial(_one_seed, ic, limit=limit), seeds, workers=workers):
+        results[k] = duration
+        done_one()
     done = tuple(duration for duration in results if duration is not None)
     stuck = tuple(seed for seed, duration in zip(seeds, results) if duration is None)
     return InitializerSample(done, stuck)
 
 
-def _one_seed(ic: NDArray[np.float64], seed: int, limit: int) -> float | None:
+def _one_seed(ic: NDArray[np.float64], seed: int, *, limit: int) -> float | None:
     """One initialization's duration (s), or None when it does not finish within ``limit`` steps."""
     saved = simulator.INITIALIZATION_STEP_LIMIT
     simulator.INITIALIZATION_STEP_LIMIT = limit

@@ -37,6 +37,14 @@ if __name__ == '__main__':
         pass
 """
 
+INITIALIZER = """
+import numpy as np
+from robotarium_exp.initializer import initializer_durations
+if __name__ == '__main__':  # twenty robots: each seed's initialization takes far longer than the test waits
+    ic = np.array([[-1.2 + 0.4 * (k % 6), -0.6 + 0.4 * (k // 6), 0.0] for k in range(20)]).T
+    initializer_durations(ic, range(8), workers=2)
+"""
+
 
 def _stat(pid: int | str) -> list[str] | None:
     """The fields of /proc/PID/stat after the command's name (state first, then the parent's pid), or None."""
@@ -48,9 +56,10 @@ def _stat(pid: int | str) -> list[str] | None:
         return None
 
 
-def test_workers_end_when_their_campaign_is_killed(tmp_path) -> None:
-    """Issue 49: `kill -9` of `campaign run` left its workers running (still alive 20 s later). Each worker ends
-    itself once its parent is gone."""
+@pytest.mark.parametrize('program', [SLEEPER, INITIALIZER], ids=['campaign', 'submission build initializer'])
+def test_workers_end_when_their_parent_is_killed(tmp_path, program: str) -> None:
+    """Issue 49: `kill -9` of `campaign run` left its workers running (still alive 20 s later); issue 50: so did
+    `submission build`'s initializer seeds. Each worker ends itself once its parent is gone."""
     import os
     import signal
     import subprocess
@@ -58,7 +67,7 @@ def test_workers_end_when_their_campaign_is_killed(tmp_path) -> None:
     import time
 
     script = tmp_path / 'sleeper.py'
-    script.write_text(SLEEPER, encoding='utf-8')
+    script.write_text(program, encoding='utf-8')
     parent = subprocess.Popen([sys.executable, str(script)])
 
     def children() -> list[int]:
