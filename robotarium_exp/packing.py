@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import minimize
-from scipy.spatial import ConvexHull
+from scipy.spatial import ConvexHull, QhullError
 
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.tube import VirtualTube
@@ -106,12 +106,20 @@ def _oler_bound(region: StartRegion) -> int:
     points = (
         region.center_m[:, None, :] + across[None, :, None] * region.room_m[:, None, None] * region.normal[:, None, :]
     ).reshape(-1, 2)
-    points = points[region.inside_box(points)]
-    if points.shape[0] < 3:
-        return 0 if points.shape[0] == 0 else 1
-    hull = ConvexHull(points)
-    d = ROBOTARIUM.ic_spacing_m
-    return math.floor(2.0 / math.sqrt(3.0) * float(hull.volume) / d**2 + float(hull.area) / (2.0 * d) + 1.0)
+    return oler_bound(points[region.inside_box(points)], ROBOTARIUM.ic_spacing_m)
+
+
+def oler_bound(points_m: FloatArray, spacing_m: float) -> int:
+    """Oler's bound (module doc) on how many points ``spacing_m`` apart fit in the convex hull of ``points_m``
+    (n, 2): 0 for no point; on a segment (the hull has no area), its length over the spacing, plus one."""
+    if points_m.shape[0] == 0:
+        return 0
+    try:
+        hull = ConvexHull(points_m)
+    except QhullError:
+        return math.floor(float(np.hypot(*np.ptp(points_m, axis=0))) / spacing_m + 1.0)  # collinear: a segment
+    area, perimeter = float(hull.volume), float(hull.area)
+    return math.floor(2.0 / math.sqrt(3.0) * area / spacing_m**2 + perimeter / (2.0 * spacing_m) + 1.0)
 
 
 def packed_poses(tube: VirtualTube, n_robots: int) -> FloatArray | None:

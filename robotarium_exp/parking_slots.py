@@ -1,9 +1,11 @@
 """The parking slots of a Robotarium experiment: where the robots past the exit stand until the run ends.
 
 Lanes and rows `PARKING_SPACING_M` apart beyond the tube's exit, as many lanes and as deep as the arena allows,
-centred on the exit or, where only that fits them in the arena, moved across it (`parking`). Which robot takes
-which slot, and trading them on the way, is `vtube_planning.onboard.parking`'s; whether the slots fit the testbed
-is `robotarium_exp.fit`'s verdict.
+centred on the exit or, where only that fits them in the arena, moved across it; where no lanes hold the swarm,
+staggered rows nearer together, each shifted half a pitch from the next, every slot still the spacing from every
+other (`parking`). How many robots the room beyond the exit holds at most, in any layout, is `parking_bound`'s
+(Oler's bound, `robotarium_exp.packing`). Which robot takes which slot, and trading them on the way, is
+`vtube_planning.onboard.parking`'s; whether the slots fit the testbed is `robotarium_exp.fit`'s verdict.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from robotarium_exp.packing import oler_bound
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.tube import VirtualTube
 
@@ -41,7 +44,8 @@ def parking(tube: VirtualTube, n_robots: int) -> FloatArray:
     `PARKING_NEAREST_M` beyond the exit, the farthest row at most `PARKING_DEPTH_M` beyond it or where
     the arena ends sooner. Lanes centred on the exit first; where none fit, lanes moved across (`_moved_across`:
     the curve's exit lies 0.3 m off the arena's middle, where four lanes fit centred and six moved to the middle);
-    when no layout does, the centred one that comes closest (the fit verdict then refuses it)."""
+    where no lanes do, staggered rows (`_staggered`); when no layout does, the centred lanes that come closest (the
+    fit verdict then refuses them)."""
     end, tangent = tube.center_at(tube.length_m), tube.tangent(tube.length_m)
     lane_counts = range(min(n_robots, PARKING_LANES_MAX), 0, -1)
     layouts = []
@@ -55,6 +59,9 @@ def parking(tube: VirtualTube, n_robots: int) -> FloatArray:
         moved = _moved_across(end, tangent, n_robots, lanes)
         if moved is not None:
             return moved
+    staggered = _staggered(end, tangent, n_robots)
+    if staggered is not None:
+        return staggered
     nearest, lanes = max(layouts)
     depth = nearest + PARKING_SPACING_M * ((n_robots - 1) // lanes) if math.isfinite(nearest) else 0.0
     return slots_in_lanes(end, tangent, n_robots, lanes, depth)
@@ -75,6 +82,77 @@ def _moved_across(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: in
             move = min(max(0.0, lower), upper)
             return slots_in_lanes(end + move * normal, tangent, n_robots, lanes, float(depth))
     return None
+
+
+def parking_bound(tube: VirtualTube) -> int:
+    """Oler's bound (`robotarium_exp.packing.oler_bound`) on how many slots `PARKING_SPACING_M` apart the room
+    beyond ``tube``'s exit holds: from `PARKING_NEAREST_M` to `PARKING_DEPTH_M` beyond it, `PARKING_WALL_M` from
+    the arena's edge (a convex region: the bound holds for every layout)."""
+    end, tangent = tube.center_at(tube.length_m), tube.tangent(tube.length_m)
+    return oler_bound(_room_beyond(end, tangent), PARKING_SPACING_M)
+
+
+def _room_beyond(end: FloatArray, tangent: FloatArray) -> FloatArray:
+    """Points (n, 2) whose convex hull is the room beyond the exit (`parking_bound`): the ends of its cross-sections
+    every `PARKING_SCAN_M` in depth."""
+    normal = np.array([-tangent[1], tangent[0]])
+    ends = []
+    for depth in np.arange(PARKING_NEAREST_M, PARKING_DEPTH_M + 1e-9, PARKING_SCAN_M):
+        point = end + depth * tangent
+        lower, upper = _moves(point[:, None], normal)
+        if lower <= upper:
+            ends += [point + lower * normal, point + upper * normal]
+    return np.array(ends).reshape(-1, 2)
+
+
+def _staggered(end: FloatArray, tangent: FloatArray, n_robots: int) -> FloatArray | None:
+    """Slots (2, N) in the fewest rows that hold them, spread evenly from the deepest depth a slot can have (at
+    most `PARKING_DEPTH_M`) to `PARKING_NEAREST_M`, each row shifted half a pitch across from the next; rows
+    nearer than the spacing get the wider pitch that keeps neighbours in the next row the spacing apart (rows two
+    apart stand in the same lanes, so at least the spacing apart); every slot `PARKING_WALL_M` from the edge. The
+    farthest rows are filled first, the nearest row's outermost slots (the exit's front stays free). None: no rows
+    hold N."""
+    room = _room_beyond(end, tangent)
+    if room.shape[0] == 0:
+        return None
+    far, spacing = float(np.max((room - end) @ tangent)), PARKING_SPACING_M
+    for rows in range(2, n_robots + 1):
+        step = min(spacing, (far - PARKING_NEAREST_M) / (rows - 1))
+        if rows > 2 and 2.0 * step < spacing:
+            return None
+        pitch = max(spacing, 2.0 * math.sqrt(max(spacing**2 - step**2, 0.0))) + 1e-9
+        depths: FloatArray = far - step * np.arange(rows, dtype=float)
+        found = _rows_across(end, tangent, depths, pitch, n_robots)
+        if found is not None:
+            return found
+    return None
+
+
+def _rows_across(
+    end: FloatArray, tangent: FloatArray, depths: FloatArray, pitch: float, n_robots: int
+) -> FloatArray | None:
+    """`_staggered`'s slots for rows at ``depths`` (farthest first) with lanes ``pitch`` apart, odd rows shifted
+    half a pitch: the shift of the lanes across (scanned every `PARKING_SCAN_M`) that holds the most slots, the
+    one nearest the exit's axis among those; None when it holds fewer than N."""
+    normal = np.array([-tangent[1], tangent[0]])
+    bounds = np.array([_moves((end + t * tangent)[:, None], normal) for t in depths])  # (rows, 2): lower, upper
+    lanes = np.arange(-math.ceil(4.0 / pitch), math.ceil(4.0 / pitch) + 1)  # the arena's diagonal is 3.8 m
+    best: tuple[int, float, list[FloatArray]] | None = None
+    for shift in np.arange(0.0, pitch, PARKING_SCAN_M):
+        across = [shift + pitch * (lanes + 0.5 * (r % 2)) for r in range(depths.size)]
+        kept = [a[(a >= low - 1e-12) & (a <= high + 1e-12)] for a, (low, high) in zip(across, bounds)]
+        count = sum(k.size for k in kept)
+        centre = abs(float(np.mean(np.concatenate(kept)))) if count else math.inf
+        if best is None or (count, -centre) > (best[0], -best[1]):
+            best = (count, centre, kept)
+    if best is None or best[0] < n_robots:
+        return None
+    chosen: list[FloatArray] = []
+    for depth, offsets in zip(depths, best[2]):
+        take = offsets[np.argsort(-np.abs(offsets), kind='stable')][: n_robots - len(chosen)]
+        chosen += [end + depth * tangent + a * normal for a in np.sort(take)]
+    slots: FloatArray = np.array(chosen).T
+    return slots
 
 
 def _deepest(slots: FloatArray, tangent: FloatArray) -> float:

@@ -28,6 +28,7 @@ from robotarium_exp.parking_slots import (
     PARKING_SPACING_M,
     PARKING_WALL_M,
     parking,
+    parking_bound,
     slots_in_lanes,
 )
 from robotarium_exp.scene import load_scene
@@ -319,6 +320,39 @@ def scanned_layout(t: VirtualTube, n: int) -> tuple[int, float] | None:
     return None
 
 
+def staggered_capacity(t: VirtualTube) -> int:
+    """The most slots staggered rows hold: R rows evenly from the deepest depth any slot keeps the wall at (scanned
+    every 0.5 mm) to 0.08 m beyond the exit, lanes the least pitch apart that keeps 0.3 m to the next row, odd rows
+    half a pitch across; every shift of the lanes across scanned every 2 mm."""
+    end, tangent = t.center_at(t.length_m), t.tangent(t.length_m)
+    normal = np.array([-tangent[1], tangent[0]])
+    across = np.arange(-2.0, 2.0, 5e-4)
+    depths = np.arange(PARKING_DEPTH_M, PARKING_NEAREST_M - 1e-9, -5e-4)
+    inside = [
+        not ROBOTARIUM.outside_arena(
+            end[:, None] + d * tangent[:, None] + np.outer(normal, across), PARKING_WALL_M
+        ).all()
+        for d in depths
+    ]
+    if not any(inside):
+        return 0
+    far, best = float(depths[int(np.argmax(inside))]), 0
+    for rows in range(2, 9):
+        step = min(PARKING_SPACING_M, (far - PARKING_NEAREST_M) / (rows - 1))
+        if rows > 2 and 2 * step < PARKING_SPACING_M:
+            break
+        pitch = max(PARKING_SPACING_M, 2 * math.sqrt(max(PARKING_SPACING_M**2 - step**2, 0.0))) + 1e-9
+        lanes = np.arange(-14, 15) * pitch  # 4 m either side: the arena's diagonal is 3.8 m
+        for shift in np.arange(0.0, pitch, 2e-3):
+            count = 0
+            for r in range(rows):
+                offsets = shift + lanes + 0.5 * pitch * (r % 2)
+                points = end[:, None] + (far - r * step) * tangent[:, None] + np.outer(normal, offsets)
+                count += int((~ROBOTARIUM.outside_arena(points, PARKING_WALL_M)).sum())
+            best = max(best, count)
+    return best
+
+
 def scanned_moved_lanes(t: VirtualTube, n: int) -> int | None:
     """The most lanes that keep the wall with the nearest row at least 0.08 m beyond the exit when the lanes may
     also move across (along the exit's normal), by scanning moves and depths every 5 mm; None when none do."""
@@ -353,8 +387,12 @@ def assert_parking_rules(slots: np.ndarray, t: VirtualTube) -> None:
         np.testing.assert_allclose(slots, slots_in_lanes(end, tangent, n, lanes, beyond[0]), atol=1e-9)
         return
     moved = scanned_moved_lanes(t, n)
-    if moved is None:  # the fallback: the fit refuses it (a slot on the wall or behind the exit)
-        assert not keeps_the_wall(slots) or beyond.min() < PARKING_NEAREST_M - 1e-9
+    if moved is None:  # staggered rows, or where none hold N the fallback the fit refuses
+        kept = keeps_the_wall(slots) and beyond.min() >= PARKING_NEAREST_M - 1e-9
+        assert kept == (n <= staggered_capacity(t)) and (not kept or n <= parking_bound(t))
+        if kept:  # rows evenly apart, each shifted across from the next
+            rows = np.unique(np.round(beyond, 6))
+            assert rows.size >= 2 and np.ptp(np.diff(rows)) < 1e-5
         return
     assert keeps_the_wall(slots) and beyond.min() >= PARKING_NEAREST_M - 1e-9
     across = np.array([-tangent[1], tangent[0]]) @ (slots - end[:, None])
@@ -398,6 +436,23 @@ def test_parking_moves_in_where_the_arena_ends_sooner_and_narrows_near_a_side() 
     slots = parking(high, 6)
     assert_parking_rules(slots, high)
     np.testing.assert_allclose(np.unique(slots[1]), 0.4 + np.array([-0.3, 0.0, 0.3]), atol=1e-12)
+
+
+def test_staggered_rows_park_where_lanes_cannot() -> None:
+    """Exit (1.1, 0) facing +x: the room beyond is 0.22 m deep (1.18 to 1.4 m) and 1.6 m across, one row of six
+    lanes. Two rows 0.22 m apart keep 0.3 m between neighbours when their lanes stand 2 sqrt(0.3^2 - 0.22^2) =
+    0.408 m apart, the second row shifted half of that: four in each (0.204 + 3 x 0.408 = 1.43 <= 1.6), eight in
+    all; nine are not parked (Oler's bound on the room: floor(11.58) = 11)."""
+    gate = straight(0.3, 2.55)
+    eight = parking(gate, 8)
+    assert_parking_rules(eight, gate)
+    np.testing.assert_allclose(np.unique(np.round(eight[0], 3)), [1.18, 1.4], atol=1.5e-3)
+    for row in (eight[1][eight[0] > 1.3], eight[1][eight[0] < 1.3]):
+        np.testing.assert_allclose(np.diff(np.sort(row)), 2 * math.sqrt(0.3**2 - 0.22**2), atol=2e-3)
+    assert gaps(eight).min() >= PARKING_SPACING_M
+    nine = parking(gate, 9)
+    assert not keeps_the_wall(nine) or (nine[0] - 1.1).min() < PARKING_NEAREST_M
+    assert parking_bound(gate) == 11
 
 
 def test_when_no_slots_fit_the_widest_are_returned_for_the_verdict_to_refuse() -> None:

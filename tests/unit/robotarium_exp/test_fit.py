@@ -14,6 +14,7 @@ from robotarium_exp.design import first_narrowing, neighbour_counts, start_forma
 from robotarium_exp.experiment import ExperimentConfig, flight_data
 from robotarium_exp.fit import Fit, Misfit, fit_of_flight, robotarium_fit
 from robotarium_exp.flight_data import FlightData
+from robotarium_exp.parking_slots import PARKING_SPACING_M, parking, parking_bound
 from robotarium_exp.safety import WALL_KEEP_M
 from robotarium_exp.scene import load_scene, shipped_scene_text
 from robotarium_exp.spec import ROBOTARIUM
@@ -228,20 +229,25 @@ def thirty_five_degree_bend(tmp_path: Path) -> Path:
     return bend_scene(tmp_path, '[-1.4, -0.3]', f'{line(0.5)}, {arc}, {line(0.9)}', 1.3, 0.3)
 
 
-def test_a_35_degree_bend_with_the_narrowing_inside_fits_up_to_eight(tmp_path: Path) -> None:
+def test_a_35_degree_bend_with_the_narrowing_inside_fits_up_to_eleven(tmp_path: Path) -> None:
     """Its formations are built exactly 0.4 m apart on the bend, which the flight data's six significant digits
     carry as 0.399997 m: that must not read as 'closer than 0.4 m'. Up to nine robots stand in three rows that end
     before the narrowing at 1.3 m, ten in staggered rows (3, 2, 3, 2), eleven in a packing, twelve in none (of
-    twelve seeded tries; Oler's bound is 13); beyond the exit, heading
-    35 degrees towards the top edge, the slots (0.08 m beyond the exit at least, 0.2 m from the edge) hold four
-    robots in lanes centred on the exit and eight in lanes moved across: nine to eleven are refused for their
-    parking, naming the exit, and twelve for their formation too."""
+    twelve seeded tries; Oler's bound is 13); beyond the exit, heading 35 degrees towards the top edge, the slots
+    (0.08 m beyond the exit at least, 0.2 m from the edge) hold four robots in lanes centred on the exit, eight in
+    lanes moved across, and nine to eleven in staggered parking rows nearer than 0.3 m (each slot still 0.3 m from
+    every other): twelve are refused for their formation alone."""
     path = thirty_five_degree_bend(tmp_path)
     fits = {n: robotarium_fit(load_scene(path, n_robots=n)) for n in range(1, 13)}
-    assert [n for n, fit in fits.items() if fit.fits] == list(range(1, 9))
+    assert [n for n, fit in fits.items() if fit.fits] == list(range(1, 12))
     for n in (9, 10, 11):
-        assert [m.what.split()[0] for m in fits[n].misfits] == ['parking'] and 'move the tube exit' in fits[n].reason
-    assert [m.what.split()[1] for m in fits[12].misfits] == ['start', 'slot']
+        scene = load_scene(path, n_robots=n)
+        slots = parking(scene.tube, n)
+        beyond = scene.tube.tangent(scene.tube.length_m) @ (slots - scene.tube.center_at(scene.tube.length_m)[:, None])
+        rows = np.unique(np.round(beyond, 6))
+        assert rows.size >= 2 and np.diff(rows).min() < PARKING_SPACING_M  # staggered: rows nearer than the spacing
+        assert np.hypot(*(slots[:, :, None] - slots[:, None, :]))[np.triu_indices(n, 1)].min() >= PARKING_SPACING_M
+    assert [m.what.split()[1] for m in fits[12].misfits] == ['start']
 
 
 def test_on_a_35_degree_bend_the_fix_names_the_k_that_fits(tmp_path: Path) -> None:
@@ -307,3 +313,15 @@ def test_a_generated_tube_is_told_in_the_map_file_s_keys_and_never_beyond_the_ar
     assert for_map_file(Misfit('x', 'y', 'other'), scene).fix == 'y'  # a rule without a map-file fix keeps its own
     narrow = for_map_file(Misfit('x', 'widen it to at least 0.18 m there', 'width'), scene).fix
     assert narrow == 'in the map file, raise half_width_min_m to at least 0.09 m'  # the generator's narrowest
+
+
+def test_parking_refused_above_olers_bound_is_said_physical() -> None:
+    """The sweep's wide tube ends at (1, 0) facing +x: the room beyond its exit is 0.32 m deep (0.08 m beyond it to
+    0.2 m from the edge) and 1.6 m across, where Oler's bound allows (2 / sqrt 3) 0.512 / 0.09 + 3.84 / 0.6 + 1 = 13.97
+    robots 0.3 m apart: fourteen are refused as physical, thirteen (lanes hold twelve) are refused without it."""
+    path = Path(__file__).parents[3] / 'docs' / 'sweep' / 'tubes' / 'wide.toml'
+    thirteen, fourteen = (robotarium_fit(load_scene(path, n_robots=n)) for n in (13, 14))
+    assert parking_bound(load_scene(path).tube) == 13
+    assert [m.kind for m in thirteen.misfits] == ['parking'] and 'physically' not in thirteen.reason
+    assert [m.kind for m in fourteen.misfits] == ['parking']
+    assert 'physically: at most 13 robots park 0.3 m apart beyond the exit, in any layout' in fourteen.reason

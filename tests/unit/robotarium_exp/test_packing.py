@@ -14,6 +14,7 @@ from robotarium_exp.packing import (
     _PACKINGS,
     QUEUE_BEFORE_NARROWING_M,
     WALL_CLEARANCE_M,
+    oler_bound,
     packed_poses,
     packing_bound,
 )
@@ -45,6 +46,18 @@ def test_the_bound_on_a_rectangle_is_olers_formula() -> None:
     for half_width, length in ((0.3, 1.1), (0.45, 1.6), (0.5, 2.0)):
         a, b = length - 0.075, 2.0 * (half_width - WALL_CLEARANCE_M)
         assert packing_bound(straight(half_width, length)) == oler(a, b), (half_width, length)
+
+
+def test_the_bound_of_a_point_set_without_area_counts_along_its_segment() -> None:
+    """No point: none; one: one; collinear points (a diagonal 1 m long, any direction): floor(1 / 0.4) + 1 = 3,
+    as many as stand 0.4 m apart on it; a 0.45 m square: Oler's 4."""
+    assert oler_bound(np.zeros((0, 2)), SPACING) == 0
+    assert oler_bound(np.array([[0.3, -0.2]]), SPACING) == 1
+    for angle in (0.0, 0.6, math.pi / 2):
+        segment = np.outer(np.linspace(0.0, 1.0, 7), [math.cos(angle), math.sin(angle)])
+        assert oler_bound(segment, SPACING) == 3
+    square = np.array([[0.0, 0.0], [0.45, 0.0], [0.45, 0.45], [0.0, 0.45], [0.2, 0.2]])
+    assert oler_bound(square, SPACING) == oler(0.45, 0.45) == 4
 
 
 def test_a_square_holds_its_four_corners_and_not_five() -> None:
