@@ -6,8 +6,9 @@ controller or anything else the file flies. So a rebuild after a change of contr
 built before, or the other scene of the same formation, takes them from a cache instead of running them again.
 
 The key is the sha256 of everything they depend on: the initial conditions' float64 bytes, the step limit, the
-source of every module of ``robotarium_exp`` but the tube experiment's own (`EXPERIMENT_SIDE`: the simulator, its
-barrier QP and V2's draws are in it) and the versions of Python, numpy, scipy and cvxopt. One JSON file per key maps
+source of every module of ``robotarium_exp`` the initializer imports, directly or through another (`initializer_sources`:
+the simulator, its barrier QP and V2's draws; not the tube experiment's design, formation, parking or flight, so
+that a change there keeps the cached durations) and the versions of Python, numpy, scipy and cvxopt. One JSON file per key maps
 each seed run so far to its duration (``null``: stuck); the seeds asked for that it lacks are run
 (`robotarium_exp.initializer.initializer_durations`) and added. The folder is ``$VTUBE_CACHE_DIR`` when set, else
 ``$XDG_CACHE_HOME/vtube``, else ``~/.cache/vtube``: never the repository. A file that does not read back as such a
@@ -16,6 +17,7 @@ map is ignored (run again and replaced).
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import json
 import os
@@ -34,13 +36,8 @@ from vtube_planning.files import write_atomically
 CACHE_ENV = 'VTUBE_CACHE_DIR'
 FOLDER = 'initializer'
 VERSIONED = ('numpy', 'scipy', 'cvxopt')
-EXPERIMENT_SIDE = frozenset(
-    ('analysis', 'compare.py', 'design.py', 'experiment.py', 'fit.py', 'flight.py', 'flight_data.py', 'plots.py')
-    + ('safety.py', 'scene.py', 'tracking.py', 'verdict.py', 'verifier.py')
-)
-"""The tube experiment's modules (its controller, safety filter, design, verdicts and analysis), which V2's
-initializer never runs (a test runs it and looks): a change to them keeps the cached durations. Every other module
-of ``robotarium_exp`` (the simulators, their QPs, V2's draws, and any new one) is in the key."""
+ROOT_MODULE = 'robotarium_exp.initializer'
+"""Where the initializer's imports are followed from."""
 
 
 def cache_folder() -> Path:
@@ -66,15 +63,38 @@ def initializer_key(ic: NDArray[np.float64], limit: int) -> str:
 
 
 def initializer_sources() -> list[tuple[str, bytes]]:
-    """The sources the initializer's runs may depend on, (path in ``robotarium_exp``, bytes) in order: every module
-    of the package but the tube experiment's own (`EXPERIMENT_SIDE`)."""
+    """The sources the initializer's runs may depend on, (path in ``robotarium_exp``, bytes) in order: `ROOT_MODULE`
+    and every module of ``robotarium_exp`` it imports, directly or through another, anywhere in a module (in functions
+    too; not under ``if TYPE_CHECKING``), with the packages' ``__init__`` files on the way."""
     root = Path(robotarium_exp.__file__).parent
-    found = []
-    for path in sorted(root.rglob('*.py')):
-        name = path.relative_to(root).as_posix()
-        if name.split('/')[0] not in EXPERIMENT_SIDE:
-            found.append((name, path.read_bytes()))
-    return found
+    todo, found = [ROOT_MODULE], set()
+    while todo:
+        name = todo.pop()
+        parts = name.split('.')[1:]
+        for path in (root.joinpath(*parts).with_suffix('.py'), root.joinpath(*parts, '__init__.py')):
+            if path.is_file() and path not in found:
+                found.add(path)
+                todo += [module for module in _imported(path) if module.split('.')[0] == 'robotarium_exp']
+        todo += ['.'.join(['robotarium_exp', *parts[:k]]) for k in range(len(parts))]  # the packages on the way
+    return [(path.relative_to(root).as_posix(), path.read_bytes()) for path in sorted(found)]
+
+
+def _imported(path: Path) -> set[str]:
+    """The modules a source file imports, and for ``from M import a``, also ``M.a`` (it may be a module)."""
+    tree = ast.parse(path.read_bytes())
+    typing_only = {
+        id(inner)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.If) and isinstance(node.test, ast.Name) and node.test.id == 'TYPE_CHECKING'
+        for inner in ast.walk(node)
+    }
+    names: set[str] = set()
+    for node in (node for node in ast.walk(tree) if id(node) not in typing_only):
+        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            names |= {node.module} | {f'{node.module}.{alias.name}' for alias in node.names}
+        elif isinstance(node, ast.Import):
+            names |= {alias.name for alias in node.names}
+    return names
 
 
 def cached_initializer_durations(
