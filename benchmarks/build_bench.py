@@ -1,5 +1,6 @@
 """Where `vtube submission build` spends its time, before and after the runs went to every core and the
-initializer's durations were reused, side by side in one run; and the rebuild after a change of control parameters.
+initializer's durations and the runs' initialized states were reused, side by side in one run; and the rebuild after
+a change of control parameters.
 
     python -m benchmarks.build_bench [--scene robotarium_curve] [--seeds 3] [--initializer-seeds 200]
 
@@ -7,10 +8,12 @@ Each case is what `vtube submission build SCENE` does (the plan, the file, its p
 testbed model of the check, the PyPI simulator's run when it is installed, V2's initializer alone over the initializer
 seeds) in this process, with a cache folder of its own (`submission.reuse`, through ``VTUBE_CACHE_DIR``):
 
-- **before**: the runs one after another (``workers=1``), the cache empty: the build as it was;
-- **after**: the runs ``os.cpu_count()`` at a time, the cache empty: a first build;
+- **before**: the runs one after another (``workers=1``), nothing reused (``reuse=False``): the build as it was;
+- **after**: the runs ``os.cpu_count()`` at a time, the cache empty: a first build (a seed's runs under the
+  testbed models after the first take its initialized state from that one);
 - **rebuild**: after, then the same scene with one control gain changed (``[control] keeping_gain`` x 1.1): the
-  plan is made and the file run again, the initializer's durations are the first build's (same formation).
+  plan is made and the file run again, the initializer's durations and the runs' initialized states are the first
+  build's (same formation).
 
 Per case: the wall time of each stage (plan and file, the runs, the initializer) and in all, the CPU time of this
 process and its children, and the load average (1 min) at its end. The files of before and after must be the
@@ -60,7 +63,7 @@ def cache(folder: Path) -> Iterator[None]:
 
 
 def one_build(
-    scene_ref: str | Path, out: Path, workers: int | None, seeds: tuple[int, int]
+    scene_ref: str | Path, out: Path, workers: int | None, seeds: tuple[int, int], *, reuse: bool = True
 ) -> tuple[dict[str, float], str]:
     """Wall seconds per stage, in all, CPU and load of one build; and the file's source."""
     marks: list[tuple[str, float]] = []
@@ -73,7 +76,14 @@ def one_build(
 
     scene = load_scene(scene_ref)
     submission, report, _ = build_declared(
-        scene, plan_for(scene), out, seeds=seeds[0], initializer_seeds=seeds[1], progress=progress, workers=workers
+        scene,
+        plan_for(scene),
+        out,
+        seeds=seeds[0],
+        initializer_seeds=seeds[1],
+        progress=progress,
+        workers=workers,
+        reuse=reuse,
     )
     end = time.perf_counter()
     if not report.passed:
@@ -98,7 +108,7 @@ def main() -> None:
         changed = root / f'{args.scene}_gain.toml'
         changed.write_text(load_scene(args.scene).text + CONTROL_CHANGE, encoding='utf-8')
         cases: list[tuple[str, Callable[[], tuple[dict[str, float], str]]]] = [
-            ('before', lambda: one_build(args.scene, root / 'before.py', 1, seeds)),
+            ('before', lambda: one_build(args.scene, root / 'before.py', 1, seeds, reuse=False)),
             ('after', lambda: one_build(args.scene, root / 'after.py', None, seeds)),
             ('rebuild', lambda: one_build(changed, root / 'rebuild.py', None, seeds)),
         ]

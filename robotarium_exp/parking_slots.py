@@ -95,14 +95,31 @@ def parking_bound(tube: VirtualTube) -> int:
 def _room_beyond(end: FloatArray, tangent: FloatArray) -> FloatArray:
     """Points (n, 2) whose convex hull is the room beyond the exit (`parking_bound`): the ends of its cross-sections
     every `PARKING_SCAN_M` in depth."""
+    depths = np.arange(PARKING_NEAREST_M, PARKING_DEPTH_M + 1e-9, PARKING_SCAN_M)
+    lower, upper = _cross_sections(end, tangent, depths)
+    kept = lower <= upper
+    centres = end[None, :] + depths[kept, None] * tangent[None, :]
     normal = np.array([-tangent[1], tangent[0]])
-    ends = []
-    for depth in np.arange(PARKING_NEAREST_M, PARKING_DEPTH_M + 1e-9, PARKING_SCAN_M):
-        point = end + depth * tangent
-        lower, upper = _moves(point[:, None], normal)
-        if lower <= upper:
-            ends += [point + lower * normal, point + upper * normal]
-    return np.array(ends).reshape(-1, 2)
+    ends: FloatArray = np.concatenate([centres + lower[kept, None] * normal, centres + upper[kept, None] * normal])
+    return ends
+
+
+def _cross_sections(end: FloatArray, tangent: FloatArray, depths: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """For each of ``depths`` beyond the exit, the moves along the exit's normal that keep a point there
+    `PARKING_WALL_M` from the arena's edge, as lower and upper ends (lower > upper: none does)."""
+    normal = np.array([-tangent[1], tangent[0]])
+    points = end[:, None] + depths[None, :] * tangent[:, None]
+    x0, x1, y0, y1 = ROBOTARIUM.arena_m
+    w = PARKING_WALL_M
+    lower, upper = np.full(depths.size, -math.inf), np.full(depths.size, math.inf)
+    for values, step, low, high in ((points[0], normal[0], x0 + w, x1 - w), (points[1], normal[1], y0 + w, y1 - w)):
+        if abs(step) < 1e-12:
+            outside = (values < low) | (values > high)
+            lower, upper = np.where(outside, math.inf, lower), np.where(outside, -math.inf, upper)
+            continue
+        a, b = (low - values) / step, (high - values) / step
+        lower, upper = np.maximum(lower, np.minimum(a, b)), np.minimum(upper, np.maximum(a, b))
+    return lower, upper
 
 
 def _staggered(end: FloatArray, tangent: FloatArray, n_robots: int) -> FloatArray | None:
@@ -135,21 +152,21 @@ def _rows_across(
     half a pitch: the shift of the lanes across (scanned every `PARKING_SCAN_M`) that holds the most slots, the
     one nearest the exit's axis among those; None when it holds fewer than N."""
     normal = np.array([-tangent[1], tangent[0]])
-    bounds = np.array([_moves((end + t * tangent)[:, None], normal) for t in depths])  # (rows, 2): lower, upper
+    lower, upper = _cross_sections(end, tangent, depths)
     lanes = np.arange(-math.ceil(4.0 / pitch), math.ceil(4.0 / pitch) + 1)  # the arena's diagonal is 3.8 m
-    best: tuple[int, float, list[FloatArray]] | None = None
-    for shift in np.arange(0.0, pitch, PARKING_SCAN_M):
-        across = [shift + pitch * (lanes + 0.5 * (r % 2)) for r in range(depths.size)]
-        kept = [a[(a >= low - 1e-12) & (a <= high + 1e-12)] for a, (low, high) in zip(across, bounds)]
-        count = sum(k.size for k in kept)
-        centre = abs(float(np.mean(np.concatenate(kept)))) if count else math.inf
-        if best is None or (count, -centre) > (best[0], -best[1]):
-            best = (count, centre, kept)
-    if best is None or best[0] < n_robots:
+    shifts = np.arange(0.0, pitch, PARKING_SCAN_M)
+    halves = 0.5 * (np.arange(depths.size) % 2)
+    across = shifts[:, None, None] + pitch * (lanes[None, None, :] + halves[None, :, None])  # (shifts, rows, lanes)
+    inside = (across >= lower[None, :, None] - 1e-12) & (across <= upper[None, :, None] + 1e-12)
+    count = inside.sum(axis=(1, 2))
+    centre = np.abs(np.where(inside, across, 0.0).sum(axis=(1, 2)) / np.maximum(count, 1))
+    best = int(np.lexsort((centre, -count))[0])  # the most slots, then the nearest the exit's axis
+    if count[best] < n_robots:
         return None
     chosen: list[FloatArray] = []
-    for depth, offsets in zip(depths, best[2]):
-        take = offsets[np.argsort(-np.abs(offsets), kind='stable')][: n_robots - len(chosen)]
+    for depth, offsets, kept in zip(depths, across[best], inside[best]):
+        row = offsets[kept]
+        take = row[np.argsort(-np.abs(row), kind='stable')][: n_robots - len(chosen)]
         chosen += [end + depth * tangent + a * normal for a in np.sort(take)]
     slots: FloatArray = np.array(chosen).T
     return slots

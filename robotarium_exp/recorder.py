@@ -50,6 +50,12 @@ def counters(robotarium: object) -> tuple[dict[str, int], int]:
     return counts, 0
 
 
+def initialization_steps(robot: Any) -> int:
+    """The steps the initialization took: those the recorder counted, or the bundled simulator's own count where
+    that is more (an initialization recalled from `robotarium_exp.rps.initialization_memo` takes no step)."""
+    return max(int(robot.vtube_initialization_steps), int(getattr(robot, 'initialization_steps', 0)))
+
+
 class Recorder:
     """The Robotarium objects of one script and the log of the first one's steps (module doc).
 
@@ -101,7 +107,7 @@ class Recorder:
             'dt_s': time_step_s(r),
             'errors': errors,
             'iterations': iterations,
-            'initialization_steps': 0 if r is None else r.vtube_initialization_steps,
+            'initialization_steps': 0 if r is None else initialization_steps(r),
             'robotariums': len(self.robots),
             'end_of_script': r is not None and r.vtube_end_of_script,
             'finished': True,

@@ -161,6 +161,7 @@ def build_declared(
     plan_file: Path | None = None,
     workers: int | None = None,
     margin_seeds: Sequence[int] = (),
+    reuse: bool = True,
 ) -> tuple[Submission, CheckReport, Path]:
     """Build the submission and check it ([`submission.check.check`][submission.check.check], options as there) in a
     private folder; when it passes, stamp the declaration the check derived into the header of the file checked and
@@ -180,6 +181,7 @@ def build_declared(
             testbed_models=testbed_models,
             workers=workers,
             margin_seeds=margin_seeds,
+            reuse=reuse,
         )
     if report.passed and report.declaration is not None:
         submission = submission.declared(report.declaration)

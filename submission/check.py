@@ -34,7 +34,7 @@ from typing import Literal
 
 from robotarium_exp.fit import fit_of_flight
 from robotarium_exp.flight_data import FlightData
-from robotarium_exp.initializer import InitializerSample
+from robotarium_exp.initializer import InitializerSample, initializer_durations
 from robotarium_exp.spec import ROBOTARIUM
 from robotarium_exp.verdict import run_failures
 from robotarium_exp.verifier import VerifierCounts, closest_centres_m, recount
@@ -224,14 +224,17 @@ def run_file(
     data: FlightData,
     timeout_s: float = RUN_TIMEOUT_S,
     testbed_model: str = 'ideal',
+    *,
+    reuse: bool = True,
 ) -> RunReport:
-    """Run the submission in a fresh process and folder on 'bundled' (V2 initialization; under ``testbed_model``)
-    or 'pypi', recording the simulator (`submission.recording`); a run that does not finish within
-    ``timeout_s`` is stopped."""
+    """Run the submission in a fresh process and folder on 'bundled' (V2 initialization, recalled with ``reuse``:
+    `submission.reuse`; under ``testbed_model``) or 'pypi', recording the simulator (`submission.recording`); a
+    run that does not finish within ``timeout_s`` is stopped."""
     with tempfile.TemporaryDirectory() as folder:
         env = dict(os.environ, VTUBE_HEADLESS='1', MPLBACKEND='Agg')
         record_path = Path(folder) / RECORD_FILE
         command = [sys.executable, '-m', 'submission.recording', '--simulator', backend, '--record', str(record_path)]
+        command += ['--reuse-initialization'] if reuse and backend == 'bundled' else []
         command += ['--seed', str(seed)] if seed is not None else []
         command += ['--testbed-model', testbed_model] if testbed_model != 'ideal' else []
         try:
@@ -279,13 +282,14 @@ def check(
     testbed_models: tuple[str, ...] = CHECKED_MODELS,
     workers: int | None = None,
     margin_seeds: Sequence[int] = (),
+    reuse: bool = True,
 ) -> CheckReport:
     """Run the whole preflight on a submission file: a run per seed of ``seeds`` (a count n: seeds 0..n-1) under
     each of ``testbed_models``; the initializer alone over ``initializer_seeds`` seeds; each run of the file stopped
     after ``run_timeout_s``; ``progress`` is told what starts, ``seed_done`` each initializer seed that ends; the runs
-    share ``workers`` processes (default: one per core; `submission.schedule`), the initializer's seeds come from
-    `submission.reuse`. With ``margin_seeds`` (at least 10), once every verdict run is fine, the delay margin over
-    those seeds (`submission.delay_margin`, reusing the runs already flown)."""
+    share ``workers`` processes (default: one per core; `submission.schedule`); the initializer's durations and the
+    runs' initialized states come from `submission.reuse` with ``reuse``. With ``margin_seeds`` (at least 10), once
+    every verdict run is fine, the delay margin over those seeds (`submission.delay_margin`, reusing the runs flown)."""
     path = Path(path).resolve()
     run_seeds = tuple(range(seeds)) if isinstance(seeds, int) else tuple(seeds)
     source = _read_source(path, len(run_seeds), len(margin_seeds))
@@ -301,11 +305,10 @@ def check(
     fit = fit_of_flight(data)  # the scene's commands judged the same data: a misfit is a fail before any run
     if not fit.fits:
         return CheckReport(str(path), misfits=tuple(map(str, fit.misfits)))
-    tell = progress or (lambda text: None)
-    starts = _teller(tell, run_timeout_s)
+    starts = _teller(tell := progress or (lambda text: None), run_timeout_s)
 
     def run(job: Job) -> RunReport:
-        return run_file(path, job[0], job[1], data, run_timeout_s, job[2])
+        return run_file(path, job[0], job[1], data, run_timeout_s, job[2], reuse=reuse)
 
     pypi = importlib.util.find_spec('rps') is not None
     by_model, pypi_runs = flights(run, run_seeds, testbed_models, pypi=pypi, starts=starts, workers=workers)
@@ -314,7 +317,8 @@ def check(
     found = search(lambda jobs: batch(run, jobs, starts, workers), margin_seeds, by_model) if fine else (None, [])
     tell(f"V2's initializer alone for the file's initial conditions, {initializer_seeds} seeds")
     robots = {run.record.poses.shape[2] for run in runs if run.record is not None and run.record.robotariums}
-    initializer = cached_initializer_durations(data.initial_conditions, range(initializer_seeds), seed_done=seed_done)
+    durations = cached_initializer_durations if reuse else initializer_durations
+    initializer = durations(data.initial_conditions, range(initializer_seeds), seed_done=seed_done)
     report = CheckReport(
         str(path),
         runs=tuple(runs),
@@ -335,9 +339,8 @@ def _teller(tell: Callable[[str], None], run_timeout_s: float) -> Callable[[Job]
     def starts(job: Job) -> None:
         backend, seed, model = job
         under = f'bundled simulator, seed {seed}' + (f', {model}' if model != 'ideal' else '')
-        tell(
-            f'running the file on the {under if backend == "bundled" else "PyPI simulator"} (at most {run_timeout_s:g} s)'
-        )
+        where = under if backend == 'bundled' else 'PyPI simulator'
+        tell(f'running the file on the {where} (at most {run_timeout_s:g} s)')
 
     return starts
 

@@ -1,10 +1,13 @@
 """Run a script on a Robotarium simulator and record what the simulator itself held, for the preflight to verify.
 
-    python -m submission.recording --simulator bundled|pypi [--seed N] [--testbed-model NAME] --record FILE.npz SCRIPT
+    python -m submission.recording --simulator bundled|pypi [--seed N] [--testbed-model NAME] [--reuse-initialization]
+        --record FILE.npz SCRIPT
 
 ``bundled`` resolves ``import rps`` to the bundled V2 simulator (`robotarium_exp.rps_alias`, seeded like it,
 under the testbed model ``NAME``: `robotarium_exp.rps.testbed_model`),
-``pypi`` to the installed PyPI simulator. Either way the script's ``Robotarium`` class is the one recorder's
+``pypi`` to the installed PyPI simulator; with ``--reuse-initialization`` the bundled simulator takes the state V2's
+initialization leaves from the user's cache where an earlier run of the same start left it (`submission.reuse`:
+bit for bit what the initialization would leave), and stores it there otherwise. Either way the script's ``Robotarium`` class is the one recorder's
 subclass (`robotarium_exp.recorder`: at every ``step()`` after the initialization, the poses and the commands the
 simulator is about to validate), and when the script ends, however it ends, the record is written with the
 simulator's own counters (its error counts, its iteration count) and whether the script called the end-of-script
@@ -27,7 +30,9 @@ from numpy.typing import NDArray
 
 from robotarium_exp import rps_alias
 from robotarium_exp.recorder import Recorder, recorded
+from robotarium_exp.rps import initialization_memo
 from submission.errors import CheckError
+from submission.reuse import InitializedStates
 from vtube_planning.errors import LogError
 from vtube_planning.log import read_log
 
@@ -98,11 +103,14 @@ def recorder_for(path: str | Path, simulator: Simulator) -> Recorder:
     return Recorder(path, {'kind': KIND, 'simulator': simulator})
 
 
-def install(simulator: Simulator, seed: int | None, recorder: Recorder, testbed_model: str = 'ideal') -> None:
+def install(
+    simulator: Simulator, seed: int | None, recorder: Recorder, testbed_model: str = 'ideal', *, reuse: bool = False
+) -> None:
     """Make ``import rps.robotarium`` give the chosen simulator with the recording ``Robotarium`` (the bundled one
-    under ``testbed_model``)."""
+    under ``testbed_model``, with the initialized states of `submission.reuse` when ``reuse``)."""
     if simulator == 'bundled':
         rps_alias.install(seed=seed, testbed_model=None if testbed_model == 'ideal' else testbed_model)
+        initialization_memo.memo = InitializedStates() if reuse else None
     elif seed is not None:
         rps_alias.seed_rps(seed)
     module = importlib.import_module('rps.robotarium')
@@ -114,11 +122,14 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument('--simulator', choices=('bundled', 'pypi'), required=True)
     parser.add_argument('--seed', type=int, default=None, help='seed random and np.random (default: none)')
     parser.add_argument('--testbed-model', default='ideal', help='the bundled simulator under this testbed model')
+    parser.add_argument(
+        '--reuse-initialization', action='store_true', help="the bundled simulator's initialized states from the cache"
+    )
     parser.add_argument('--record', type=Path, required=True, metavar='FILE.npz', help='where to write the record')
     parser.add_argument('script', type=Path, help='the script to run')
     args = parser.parse_args(argv)
     recorder = recorder_for(args.record, args.simulator)
-    install(args.simulator, args.seed, recorder, args.testbed_model)
+    install(args.simulator, args.seed, recorder, args.testbed_model, reuse=args.reuse_initialization)
     sys.argv = [str(args.script)]
     try:
         runpy.run_path(str(args.script), run_name='__main__')

@@ -1,4 +1,5 @@
-"""What a check reuses from an earlier one: V2's initializer durations for a formation, keyed by a content hash.
+"""What a check reuses from an earlier one, keyed by a content hash: V2's initializer durations for a formation,
+and the state V2's initialization leaves in a run.
 
 The 200 runs of V2's initializer alone (`robotarium_exp.initializer`) that the duration to declare rests on depend
 only on the file's initial conditions, the seeds, the step limit and the bundled simulator; not on the plan, the
@@ -13,6 +14,11 @@ each seed run so far to its duration (``null``: stuck); the seeds asked for that
 (`robotarium_exp.initializer.initializer_durations`) and added. The folder is ``$VTUBE_CACHE_DIR`` when set, else
 ``$XDG_CACHE_HOME/vtube``, else ``~/.cache/vtube``: never the repository. A file that does not read back as such a
 map is ignored (run again and replaced).
+
+A check's runs of the file start with V2's initialization, the same for a seed under every testbed model and after
+any change of the file's control (`robotarium_exp.rps.initialization_memo`): `InitializedStates` keeps the state it
+leaves, one ``.npz`` per key (arrays only, read without pickle, checked field by field before use), under
+``initialized/`` beside the durations, salted with the same sources and versions.
 """
 
 from __future__ import annotations
@@ -25,16 +31,19 @@ import platform
 from collections.abc import Callable, Iterable
 from importlib import metadata
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 import robotarium_exp
 from robotarium_exp.initializer import INITIALIZATION_LIMIT, InitializerSample, initializer_durations
+from robotarium_exp.rps.initialization_memo import State
 from vtube_planning.files import write_atomically
 
 CACHE_ENV = 'VTUBE_CACHE_DIR'
 FOLDER = 'initializer'
+STATES_FOLDER = 'initialized'
 VERSIONED = ('numpy', 'scipy', 'cvxopt')
 ROOT_MODULE = 'robotarium_exp.initializer'
 """Where the initializer's imports are followed from."""
@@ -51,15 +60,46 @@ def cache_folder() -> Path:
 
 def initializer_key(ic: NDArray[np.float64], limit: int) -> str:
     """The content hash the durations of ``ic`` (3xN) under ``limit`` steps are stored by."""
-    digest = hashlib.sha256()
+    digest = hashlib.sha256(simulator_salt())
     ic = np.ascontiguousarray(ic, dtype=np.float64)
-    digest.update(f'{ic.shape} {limit} {platform.python_version()}'.encode())
+    digest.update(f'{ic.shape} {limit}'.encode())
+    digest.update(ic.tobytes())
+    return digest.hexdigest()
+
+
+def simulator_salt() -> bytes:
+    """What V2's initialization depends on beyond its inputs: the versions of Python and the libraries, and the
+    sources of `initializer_sources`."""
+    digest = hashlib.sha256(platform.python_version().encode())
     for name in VERSIONED:
         digest.update(f' {name} {metadata.version(name)}'.encode())
-    digest.update(ic.tobytes())
     for name, source in initializer_sources():
         digest.update(name.encode() + b'\0' + source)
-    return digest.hexdigest()
+    return digest.digest()
+
+
+class InitializedStates:
+    """The states V2's initialization left, one ``.npz`` per key in ``folder`` (module doc); a
+    `robotarium_exp.rps.initialization_memo.InitializationMemo`."""
+
+    def __init__(self, folder: Path | None = None) -> None:
+        self.folder = (folder or cache_folder()) / STATES_FOLDER
+        self.salt = simulator_salt()
+
+    def recall(self, key: str) -> State | None:
+        try:
+            with np.load(self.folder / f'{key}.npz', allow_pickle=False) as stored:
+                return {name: stored[name] for name in stored.files}
+        except (OSError, ValueError, EOFError):
+            return None
+
+    def keep(self, key: str, state: State) -> None:
+        """Store ``state``; a cache that cannot be written only costs the next run its initialization."""
+        arrays: dict[str, Any] = dict(state)
+        try:
+            write_atomically(self.folder / f'{key}.npz', lambda handle: np.savez(handle, **arrays))
+        except OSError:
+            return
 
 
 def initializer_sources() -> list[tuple[str, bytes]]:

@@ -13,6 +13,7 @@
   ``random`` and are driven to the initial conditions by V2's hybrid pose controller under a unicycle barrier
   certificate, with V2's deadlock escapes (random waypoints from ``np.random``). Those steps count towards the
   duration but are not validated. With the same ``random.seed`` and ``np.random.seed`` the draws are V2's draws.
+  A host that runs the same start many times recalls the state it leaves (`robotarium_exp.rps.initialization_memo`).
 * ``testbed_model`` (a name or a `TestbedModel`): what the real robots
   do to the commands and the poses. ``'ideal'`` (the default) is the simulator above, bit for bit and without an
   extra draw; with another model (``'fitted'``, ``'fitted:2'``) the clipped command drives the robots through the
@@ -34,6 +35,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from robotarium_exp.rps import initialization_memo as memo_state
 from robotarium_exp.rps.errors import RobotariumError
 from robotarium_exp.rps.robotarium_abc import ARobotarium
 from robotarium_exp.rps.testbed_model import Testbed, TestbedModel
@@ -119,7 +121,7 @@ class Robotarium(ARobotarium):
         if skip_initialization:
             self._poses = self.initial_conditions.copy()
         else:
-            self.initialize(self.initial_conditions)
+            memo_state.initialize_or_recall(self, INITIALIZATION_STEP_LIMIT)
             self.initialization_steps = self._iteration
         self.initializing = False
         self._testbed = None if model.is_ideal else Testbed(model, number_of_robots, self.TIME_STEP)

@@ -102,3 +102,57 @@ def test_a_submission_that_never_ends_or_prints_nothing_is_reported_so(tmp_path,
     assert main(['submission', 'check', str(files['plain']), *limits]) == 2
     refused = capsys.readouterr().err
     assert refused.startswith('error: ') and 'no DATA with flight data' in refused  # before any run
+
+
+TWO_ROBOTS = """
+import numpy as np
+import rps.robotarium as robotarium
+ic = np.array([[0.3, -0.4], [0.2, -0.3], [2.5, 0.0]])
+r = robotarium.Robotarium(number_of_robots=2, initial_conditions=ic, show_figure=False, sim_in_real_time=False)
+for k in range(60):
+    r.get_poses()
+    r.set_velocities(np.arange(2), np.array([[0.05, 0.05], [0.3 * np.sin(0.1 * k)] * 2]))
+    r.step()
+r.debug()
+"""
+
+
+def test_a_run_from_a_reused_initialization_records_what_a_run_from_v2s_records(tmp_path, monkeypatch) -> None:
+    """The preflight's runs take V2's initialized state from the cache (`submission.reuse.InitializedStates`):
+    the record of a run without it, of the run that stores it and of the run that takes it are the same, under
+    the fitted testbed model (whose draws follow the initialization's); the second stores the state, the third
+    takes it (a fourth, after the stored step count was raised by 1000, counts 1000 steps more)."""
+    import subprocess
+    import sys
+
+    import numpy as np
+
+    from submission.recording import read_record
+
+    monkeypatch.setenv('VTUBE_CACHE_DIR', str(tmp_path / 'cache'))
+    script = tmp_path / 'two.py'
+    script.write_text(TWO_ROBOTS, encoding='utf-8')
+    records = []
+    for k, reuse in enumerate((False, True, True, True)):
+        if k == 3:
+            (path,) = (tmp_path / 'cache' / 'initialized').glob('*.npz')
+            with np.load(path) as stored:
+                state = dict(stored)
+            np.savez(path, **(state | {'_iteration': state['_iteration'] + 1000}))
+        command = [sys.executable, '-m', 'submission.recording', '--simulator', 'bundled', '--seed', '3']
+        command += ['--testbed-model', 'fitted', '--record', str(tmp_path / f'{k}.npz')]
+        command += ['--reuse-initialization'] if reuse else []
+        subprocess.run([*command, str(script)], check=True, capture_output=True, text=True, cwd=tmp_path)
+        records.append(read_record(tmp_path / f'{k}.npz'))
+        stored = sorted((tmp_path / 'cache' / 'initialized').glob('*.npz'))
+        assert len(stored) == (0 if k == 0 else 1)
+    first = records[0]
+    assert first.initialization_steps > 0 and first.poses.shape == (60, 3, 2)
+    assert records[3].iterations == first.iterations + 1000
+    for other in records[1:3]:
+        assert np.array_equal(other.poses, first.poses) and np.array_equal(other.commands, first.commands)
+        assert (other.iterations, other.initialization_steps, other.errors) == (
+            first.iterations,
+            first.initialization_steps,
+            first.errors,
+        )

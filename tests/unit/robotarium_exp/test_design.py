@@ -3,6 +3,7 @@ against their geometric definitions on the shipped tubes and on tubes built here
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -320,6 +321,7 @@ def scanned_layout(t: VirtualTube, n: int) -> tuple[int, float] | None:
     return None
 
 
+@functools.cache
 def staggered_capacity(t: VirtualTube) -> int:
     """The most slots staggered rows hold: R rows evenly from the deepest depth any slot keeps the wall at (scanned
     every 0.5 mm) to 0.08 m beyond the exit, lanes the least pitch apart that keeps 0.3 m to the next row, odd rows

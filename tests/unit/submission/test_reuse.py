@@ -102,3 +102,25 @@ def test_the_folder_is_the_users_cache_never_the_repository(monkeypatch, tmp_pat
     monkeypatch.delenv('XDG_CACHE_HOME')
     monkeypatch.setenv('HOME', str(tmp_path / 'home'))
     assert reuse.cache_folder() == tmp_path / 'home' / '.cache' / 'vtube'
+
+
+def test_initialized_states_read_back_as_kept_and_a_bad_file_reads_as_none(tmp_path) -> None:
+    states = reuse.InitializedStates(tmp_path)
+    state = {'_poses': np.arange(6.0).reshape(3, 2), '_iteration': np.array(7), '_called_step_already': np.array(True)}
+    states.keep('k', state)
+    back = states.recall('k')
+    assert back is not None and set(back) == set(state)
+    assert all(np.array_equal(back[name], value) and back[name].dtype == value.dtype for name, value in state.items())
+    assert states.recall('missing') is None
+    (tmp_path / reuse.STATES_FOLDER / 'bad.npz').write_bytes(b'not an npz')
+    assert states.recall('bad') is None
+    (tmp_path / reuse.STATES_FOLDER / 'pickled.npz').write_bytes(b'')
+    np.savez(tmp_path / reuse.STATES_FOLDER / 'pickled.npz', x=np.array([{'a': 1}], dtype=object))
+    assert states.recall('pickled') is None  # object arrays need pickle: refused, never unpickled
+    assert states.salt == reuse.InitializedStates(tmp_path).salt == reuse.simulator_salt()
+
+
+def test_initialized_states_that_cannot_be_written_cost_only_the_initialization(tmp_path) -> None:
+    (tmp_path / reuse.STATES_FOLDER).write_text('a file where the folder should be', encoding='utf-8')
+    reuse.InitializedStates(tmp_path).keep('k', {'_iteration': np.array(1)})
+    assert reuse.InitializedStates(tmp_path).recall('k') is None
