@@ -107,19 +107,8 @@ def _room_beyond(end: FloatArray, tangent: FloatArray) -> FloatArray:
 def _cross_sections(end: FloatArray, tangent: FloatArray, depths: FloatArray) -> tuple[FloatArray, FloatArray]:
     """For each of ``depths`` beyond the exit, the moves along the exit's normal that keep a point there
     `PARKING_WALL_M` from the arena's edge, as lower and upper ends (lower > upper: none does)."""
-    normal = np.array([-tangent[1], tangent[0]])
     points = end[:, None] + depths[None, :] * tangent[:, None]
-    x0, x1, y0, y1 = ROBOTARIUM.arena_m
-    w = PARKING_WALL_M
-    lower, upper = np.full(depths.size, -math.inf), np.full(depths.size, math.inf)
-    for values, step, low, high in ((points[0], normal[0], x0 + w, x1 - w), (points[1], normal[1], y0 + w, y1 - w)):
-        if abs(step) < 1e-12:
-            outside = (values < low) | (values > high)
-            lower, upper = np.where(outside, math.inf, lower), np.where(outside, -math.inf, upper)
-            continue
-        a, b = (low - values) / step, (high - values) / step
-        lower, upper = np.maximum(lower, np.minimum(a, b)), np.minimum(upper, np.maximum(a, b))
-    return lower, upper
+    return _moves_each(points, points, np.array([-tangent[1], tangent[0]]))
 
 
 def _staggered(end: FloatArray, tangent: FloatArray, n_robots: int) -> FloatArray | None:
@@ -182,19 +171,25 @@ def _deepest(slots: FloatArray, tangent: FloatArray) -> float:
 def _moves(slots: FloatArray, direction: FloatArray) -> tuple[float, float]:
     """The moves of slots (2, N) along a unit ``direction`` that keep every one `PARKING_WALL_M` from the arena's
     edge, as an interval (lower > upper: none does)."""
+    lower, upper = _moves_each(slots.min(axis=1, keepdims=True), slots.max(axis=1, keepdims=True), direction)
+    return float(lower[0]), float(upper[0])
+
+
+def _moves_each(lows: FloatArray, highs: FloatArray, direction: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """For each column k, the moves along a unit ``direction`` that keep the box from ``lows[:, k]`` to
+    ``highs[:, k]`` (a point: the two alike) `PARKING_WALL_M` from the arena's edge, as lower and upper ends (lower >
+    upper: none does)."""
     x0, x1, y0, y1 = ROBOTARIUM.arena_m
     w = PARKING_WALL_M
-    upper, lower = math.inf, -math.inf
-    for values, step, low, high in (
-        (slots[0], direction[0], x0 + w, x1 - w),
-        (slots[1], direction[1], y0 + w, y1 - w),
-    ):
+    lower, upper = np.full(lows.shape[1], -math.inf), np.full(lows.shape[1], math.inf)
+    for axis, (low, high) in enumerate(((x0 + w, x1 - w), (y0 + w, y1 - w))):
+        step = direction[axis]
         if abs(step) < 1e-12:
-            if values.min() < low or values.max() > high:
-                return math.inf, -math.inf
+            outside = (lows[axis] < low) | (highs[axis] > high)
+            lower, upper = np.where(outside, math.inf, lower), np.where(outside, -math.inf, upper)
             continue
-        ends = sorted(((low - values.min()) / step, (high - values.max()) / step))
-        lower, upper = max(lower, ends[0]), min(upper, ends[1])
+        a, b = (low - lows[axis]) / step, (high - highs[axis]) / step
+        lower, upper = np.maximum(lower, np.minimum(a, b)), np.minimum(upper, np.maximum(a, b))
     return lower, upper
 
 
