@@ -7,10 +7,10 @@ controller or anything else the file flies. So a rebuild after a change of contr
 built before, or the other scene of the same formation, takes them from a cache instead of running them again.
 
 The key is the sha256 of everything they depend on: the initial conditions' float64 bytes, the step limit, the
-source of every module of ``robotarium_exp`` the initializer imports, directly or through another (`initializer_sources`:
-the simulator, its barrier QP and V2's draws; not the tube experiment's design, formation, parking or flight, so
-that a change there keeps the cached durations) and the versions of Python, numpy, scipy and cvxopt. One JSON file per key maps
-each seed run so far to its duration (``null``: stuck); the seeds asked for that it lacks are run
+source of every module of ``robotarium_exp`` the initializer imports, directly or through another
+(`initializer_sources`: the simulator, its barrier QP and V2's draws; not the tube experiment's design, formation,
+parking or flight, so that a change there keeps the cached durations) and the versions of Python, numpy, scipy and
+cvxopt. One JSON file per key maps each seed run so far to its duration (``null``: stuck); the seeds asked for that it lacks are run
 (`robotarium_exp.initializer.initializer_durations`) and added. The folder is ``$VTUBE_CACHE_DIR`` when set, else
 ``$XDG_CACHE_HOME/vtube``, else ``~/.cache/vtube``: never the repository. A file that does not read back as such a
 map is ignored (run again and replaced).

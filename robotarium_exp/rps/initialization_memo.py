@@ -5,11 +5,11 @@ the initial conditions, the poses on the chargers (Python's ``random`` drew them
 from ``np.random``), the state of ``np.random`` at its start, the distance sensors and obstacles, the QP solver and
 cvxopt's options, and the simulator's code. Whatever runs after it (the script's loop, under any testbed model:
 the initialization stays ideal) starts from what it leaves: the poses, the sensors, the counters and the state of
-``np.random``. A host that runs the same start many times (the
-preflight: each seed under several testbed models, and again after a change of the script's control) sets `memo`;
-the simulator then takes that state from it where it holds the same inputs (`key`), bit for bit what the
-initialization would have left, and gives it the state otherwise (`initialize_or_recall`). The host adds to the
-key what the simulator cannot see (its sources, the libraries' versions).
+``np.random``. A host that runs the same start many times (the preflight: each seed under several testbed models,
+and again after a change of the script's control) sets `memo`; the simulator then takes that state from it where
+it holds the same inputs (`key`), bit for bit what the initialization would have left, and gives it the state
+otherwise (`initialize_or_recall`). The host adds to the key what the simulator cannot see (its sources, the
+libraries' versions).
 """
 
 from __future__ import annotations
