@@ -51,7 +51,10 @@ def parking(tube: VirtualTube, n_robots: int) -> FloatArray:
     layouts = []
     for lanes in lane_counts:
         rows_behind = PARKING_SPACING_M * ((n_robots - 1) // lanes)  # from the farthest row to the nearest
-        depth = min(PARKING_DEPTH_M, _deepest(slots_in_lanes(end, tangent, n_robots, lanes, 0.0), tangent))
+        lower, upper = _moves(slots_in_lanes(end, tangent, n_robots, lanes, 0.0), tangent)
+        depth = min(PARKING_DEPTH_M, upper)  # the deepest the arena and the depth rule allow
+        if depth < lower:  # none: the slots keep the edge only deeper than the rule allows, or nowhere
+            depth = -math.inf
         if depth - rows_behind >= PARKING_NEAREST_M - 1e-9:
             return slots_in_lanes(end, tangent, n_robots, lanes, depth)
         layouts.append((depth - rows_behind, lanes))
@@ -161,13 +164,6 @@ def _rows_across(
     return slots
 
 
-def _deepest(slots: FloatArray, tangent: FloatArray) -> float:
-    """How far slots (2, N) can move along the tangent with every one keeping `PARKING_WALL_M` from the
-    arena's edge (negative: they must move back; -inf: no move keeps them all inside)."""
-    lower, upper = _moves(slots, tangent)
-    return upper if upper >= lower else -math.inf
-
-
 def _moves(slots: FloatArray, direction: FloatArray) -> tuple[float, float]:
     """The moves of slots (2, N) along a unit ``direction`` that keep every one `PARKING_WALL_M` from the arena's
     edge, as an interval (lower > upper: none does)."""
@@ -188,8 +184,9 @@ def _moves_each(lows: FloatArray, highs: FloatArray, direction: FloatArray) -> t
             outside = (lows[axis] < low) | (highs[axis] > high)
             lower, upper = np.where(outside, math.inf, lower), np.where(outside, -math.inf, upper)
             continue
-        a, b = (low - lows[axis]) / step, (high - highs[axis]) / step
-        lower, upper = np.maximum(lower, np.minimum(a, b)), np.minimum(upper, np.maximum(a, b))
+        a, b = (low - lows[axis]) / step, (high - highs[axis]) / step  # the moves that bring the ends to the edges
+        first, last = (a, b) if step > 0 else (b, a)  # not sorted: a set wider than the room has no move (first > last)
+        lower, upper = np.maximum(lower, first), np.minimum(upper, last)
     return lower, upper
 
 

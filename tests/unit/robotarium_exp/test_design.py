@@ -440,6 +440,19 @@ def test_parking_moves_in_where_the_arena_ends_sooner_and_narrows_near_a_side() 
     np.testing.assert_allclose(np.unique(slots[1]), 0.4 + np.array([-0.3, 0.0, 0.3]), atol=1e-12)
 
 
+def test_parking_at_random_exits_keeps_every_rule_or_is_refused() -> None:
+    """Property over 40 straight tubes ending anywhere in the arena, heading anywhere, N from 1 to 20: the slots
+    keep 0.3 m between them always; where they also keep the wall and lie 0.08 m beyond the exit, there are no more
+    of them than Oler's bound on the room beyond it allows, and the independent scans agree on which layout it is."""
+    rng = np.random.default_rng(50)
+    for _ in range(40):
+        heading = rng.uniform(-180.0, 180.0)
+        end = np.array([rng.uniform(-1.3, 1.3), rng.uniform(-0.7, 0.7)])
+        direction = np.array([math.cos(math.radians(heading)), math.sin(math.radians(heading))])
+        t = tube((ArcPiece(0.5),), tuple(end - 0.5 * direction), heading, 0.2)
+        assert_parking_rules(parking(t, int(rng.integers(1, 21))), t)
+
+
 def test_staggered_rows_park_where_lanes_cannot() -> None:
     """Exit (1.1, 0) facing +x: the room beyond is 0.22 m deep (1.18 to 1.4 m) and 1.6 m across, one row of six
     lanes. Two rows 0.22 m apart keep 0.3 m between neighbours when their lanes stand 2 sqrt(0.3^2 - 0.22^2) =
