@@ -7,12 +7,12 @@
 under the testbed model ``NAME``: `robotarium_exp.rps.testbed_model`),
 ``pypi`` to the installed PyPI simulator; with ``--reuse-initialization`` the bundled simulator takes the state V2's
 initialization leaves from the user's cache where an earlier run of the same start left it (`submission.reuse`:
-bit for bit what the initialization would leave), and stores it there otherwise. Either way the script's ``Robotarium`` class is the one recorder's
-subclass (`robotarium_exp.recorder`: at every ``step()`` after the initialization, the poses and the commands the
-simulator is about to validate), and when the script ends, however it ends, the record is written with the
-simulator's own counters (its error counts, its iteration count) and whether the script called the end-of-script
-function, as a vtube trajectory log (`vtube_planning.log`: ``t_s``, ``positions_m``, ``headings_rad``,
-``commands`` [v; omega]). Nothing the script prints or saves is read.
+bit for bit what the initialization would leave), and stores it there otherwise. Either way the script's
+``Robotarium`` class is the one recorder's subclass (`robotarium_exp.recorder`: at every ``step()`` after the
+initialization, the poses and the commands the simulator is about to validate), and when the script ends, however
+it ends, the record is written with the simulator's own counters (its error counts, its iteration count) and
+whether the script called the end-of-script function, as a vtube trajectory log (`vtube_planning.log`: ``t_s``,
+``positions_m``, ``headings_rad``, ``commands`` [v; omega]). Nothing the script prints or saves is read.
 """
 
 from __future__ import annotations
