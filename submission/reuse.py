@@ -10,10 +10,10 @@ The key is the sha256 of everything they depend on: the initial conditions' floa
 source of every module of ``robotarium_exp`` the initializer imports, directly or through another
 (`initializer_sources`: the simulator, its barrier QP and V2's draws; not the tube experiment's design, formation,
 parking or flight, so that a change there keeps the cached durations) and the versions of Python, numpy, scipy and
-cvxopt. One JSON file per key maps each seed run so far to its duration (``null``: stuck); the seeds asked for that it lacks are run
-(`robotarium_exp.initializer.initializer_durations`) and added. The folder is ``$VTUBE_CACHE_DIR`` when set, else
-``$XDG_CACHE_HOME/vtube``, else ``~/.cache/vtube``: never the repository. A file that does not read back as such a
-map is ignored (run again and replaced).
+cvxopt. One JSON file per key maps each seed run so far to its duration (``null``: stuck); the seeds asked for that
+it lacks are run (`robotarium_exp.initializer.initializer_durations`) and added. The folder is ``$VTUBE_CACHE_DIR``
+when set, else ``$XDG_CACHE_HOME/vtube``, else ``~/.cache/vtube``: never the repository. A file that does not read
+back as such a map is ignored (run again and replaced).
 
 A check's runs of the file start with V2's initialization, the same for a seed under every testbed model and after
 any change of the file's control (`robotarium_exp.rps.initialization_memo`): `InitializedStates` keeps the state it
