@@ -114,26 +114,35 @@ def _cross_sections(end: FloatArray, tangent: FloatArray, depths: FloatArray) ->
     return _moves_each(points, points, np.array([-tangent[1], tangent[0]]))
 
 
+STAGGER_FAR_STEP_M = 0.01
+"""The depths of the farthest staggered row `_staggered` tries, this far apart from the deepest down."""
+STAGGER_FAR_SPAN_M = 0.3
+"""How far below the deepest depth the farthest staggered row may stand (a room that narrows to a point, an exit
+heading into a corner, holds a slot at its tip only in a sliver)."""
+
+
 def _staggered(end: FloatArray, tangent: FloatArray, n_robots: int) -> FloatArray | None:
-    """Slots (2, N) in the fewest rows that hold them, spread evenly from the deepest depth a slot can have (at
-    most `PARKING_DEPTH_M`) to `PARKING_NEAREST_M`, each row shifted half a pitch across from the next; rows
-    nearer than the spacing get the wider pitch that keeps neighbours in the next row the spacing apart (rows two
-    apart stand in the same lanes, so at least the spacing apart); every slot `PARKING_WALL_M` from the edge. The
-    farthest rows are filled first, the nearest row's outermost slots (the exit's front stays free). None: no rows
-    hold N."""
+    """Slots (2, N) in the fewest rows that hold them, spread evenly from the farthest row's depth (the deepest a
+    slot can have, at most `PARKING_DEPTH_M`; where no rows from there hold them, the deepest up to
+    `STAGGER_FAR_SPAN_M` less that does) to `PARKING_NEAREST_M`, each row shifted half a pitch across from the next; rows nearer than the spacing get the
+    wider pitch that keeps neighbours in the next row the spacing apart (rows two apart stand in the same lanes, so
+    at least the spacing apart); every slot `PARKING_WALL_M` from the edge. The farthest rows are filled first, the
+    nearest row's outermost slots (the exit's front stays free). None: no rows hold N."""
     room = _room_beyond(end, tangent)
     if room.shape[0] == 0:
         return None
-    far, spacing = float(np.max((room - end) @ tangent)), PARKING_SPACING_M
-    for rows in range(2, n_robots + 1):
-        step = min(spacing, (far - PARKING_NEAREST_M) / (rows - 1))
-        if rows > 2 and 2.0 * step < spacing:
-            return None
-        pitch = max(spacing, 2.0 * math.sqrt(max(spacing**2 - step**2, 0.0))) + 1e-9
-        depths: FloatArray = far - step * np.arange(rows, dtype=float)
-        found = _rows_across(end, tangent, depths, pitch, n_robots)
-        if found is not None:
-            return found
+    deepest, spacing = float(np.max((room - end) @ tangent)), PARKING_SPACING_M
+    fars = deepest - np.arange(0.0, STAGGER_FAR_SPAN_M + 1e-9, STAGGER_FAR_STEP_M)
+    for far in fars[fars > PARKING_NEAREST_M]:
+        for rows in range(2, n_robots + 1):
+            step = min(spacing, (far - PARKING_NEAREST_M) / (rows - 1))
+            if rows > 2 and 2.0 * step < spacing:
+                break  # more rows would stand nearer than half the spacing
+            pitch = max(spacing, 2.0 * math.sqrt(max(spacing**2 - step**2, 0.0))) + 1e-9
+            depths: FloatArray = far - step * np.arange(rows, dtype=float)
+            found = _rows_across(end, tangent, depths, pitch, n_robots)
+            if found is not None:
+                return found
     return None
 
 
