@@ -79,12 +79,15 @@ def _moved_across(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: in
     some move keeps the parking rules (`parking`), moved the least there; None where no move does."""
     normal = np.array([-tangent[1], tangent[0]])
     nearest = PARKING_SPACING_M * ((n_robots - 1) // lanes) + PARKING_NEAREST_M
-    for depth in np.arange(PARKING_DEPTH_M, nearest - 1e-9, -PARKING_SCAN_M):
-        lower, upper = _moves(slots_in_lanes(end, tangent, n_robots, lanes, float(depth)), normal)
-        if lower <= upper:
-            move = min(max(0.0, lower), upper)
-            return slots_in_lanes(end + move * normal, tangent, n_robots, lanes, float(depth))
-    return None
+    depths = np.arange(PARKING_DEPTH_M, nearest - 1e-9, -PARKING_SCAN_M)
+    slots = slots_in_lanes(end, tangent, n_robots, lanes, depths[:, None, None])  # (depths, 2, N): every depth at once
+    lower, upper = _moves_each(slots.min(axis=2).T, slots.max(axis=2).T, normal)
+    found = np.flatnonzero(lower <= upper)
+    if found.size == 0:
+        return None
+    k = int(found[0])  # the deepest
+    move = min(max(0.0, float(lower[k])), float(upper[k]))
+    return slots_in_lanes(end + move * normal, tangent, n_robots, lanes, float(depths[k]))
 
 
 def parking_bound(tube: VirtualTube) -> int:
@@ -124,10 +127,11 @@ heading into a corner, holds a slot at its tip only in a sliver)."""
 def _staggered(end: FloatArray, tangent: FloatArray, n_robots: int) -> FloatArray | None:
     """Slots (2, N) in the fewest rows that hold them, spread evenly from the farthest row's depth (the deepest a
     slot can have, at most `PARKING_DEPTH_M`; where no rows from there hold them, the deepest up to
-    `STAGGER_FAR_SPAN_M` less that does) to `PARKING_NEAREST_M`, each row shifted half a pitch across from the next; rows nearer than the spacing get the
-    wider pitch that keeps neighbours in the next row the spacing apart (rows two apart stand in the same lanes, so
-    at least the spacing apart); every slot `PARKING_WALL_M` from the edge. The farthest rows are filled first, the
-    nearest row's outermost slots (the exit's front stays free). None: no rows hold N."""
+    `STAGGER_FAR_SPAN_M` less that does) to `PARKING_NEAREST_M`, each row shifted half a pitch across from the
+    next; rows nearer than the spacing get the wider pitch that keeps neighbours in the next row the spacing apart
+    (rows two apart stand in the same lanes, so at least the spacing apart); every slot `PARKING_WALL_M` from the
+    edge. The farthest rows are filled first, the nearest row's outermost slots (the exit's front stays free).
+    None: no rows hold N."""
     room = _room_beyond(end, tangent)
     if room.shape[0] == 0:
         return None
@@ -199,9 +203,11 @@ def _moves_each(lows: FloatArray, highs: FloatArray, direction: FloatArray) -> t
     return lower, upper
 
 
-def slots_in_lanes(end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int, depth_m: float) -> FloatArray:
+def slots_in_lanes(
+    end: FloatArray, tangent: FloatArray, n_robots: int, lanes: int, depth_m: float | FloatArray
+) -> FloatArray:
     """Slots (2, N) in ``lanes`` lanes and rows `PARKING_SPACING_M` apart, from ``depth_m`` beyond the exit
-    backwards."""
+    backwards (depths shaped (D, 1, 1): every depth's slots at once, (D, 2, N))."""
     normal = np.array([-tangent[1], tangent[0]])
     depth, lane = np.divmod(np.arange(n_robots), lanes)
     along = depth_m - PARKING_SPACING_M * depth
