@@ -17,8 +17,11 @@ from __future__ import annotations
 import hashlib
 from typing import Any, Protocol
 
+import cvxopt
 import numpy as np
 from numpy.typing import NDArray
+
+from robotarium_exp.rps.utilities.barrier_certificates import qp_solver
 
 State = dict[str, NDArray[Any]]
 
@@ -74,10 +77,6 @@ def initialize_or_recall(robot: Any, step_limit: int) -> None:
 def key(robot: Any, initial_conditions: NDArray[np.float64], salt: bytes, step_limit: int) -> str:
     """The sha256 of everything the initialization of ``robot`` (constructed, its poses on the chargers) to
     ``initial_conditions`` within ``step_limit`` steps depends on that the simulator sees, and ``salt``."""
-    import cvxopt
-
-    from robotarium_exp.rps.utilities.barrier_certificates import qp_solver
-
     digest = hashlib.sha256(salt)
     name, keys, position, has_gauss, cached = np.random.get_state(legacy=True)
     digest.update(
