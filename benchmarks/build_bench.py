@@ -1,6 +1,7 @@
 """Where `vtube submission build` spends its time, before and after the runs went to every core and the
-initializer's durations and the runs' initialized states were reused, side by side in one run; and the rebuild after
-a change of control parameters.
+initializer's durations and the runs' initialized states were reused, side by side in one run; the first build of a
+shipped scene, whose formation's durations ship with the package; and the rebuild after a change of control
+parameters.
 
     python -m benchmarks.build_bench [--scene robotarium_curve] [--seeds 3] [--initializer-seeds 200]
 
@@ -9,15 +10,18 @@ testbed model of the check, the PyPI simulator's run when it is installed, V2's 
 seeds) in this process, with a cache folder of its own (`submission.reuse`, through ``VTUBE_CACHE_DIR``):
 
 - **before**: the runs one after another (``workers=1``), nothing reused (``reuse=False``): the build as it was;
-- **after**: the runs ``os.cpu_count()`` at a time, the cache empty: a first build (a seed's runs under the
-  testbed models after the first take its initialized state from that one);
-- **rebuild**: after, then the same scene with one control gain changed (``[control] keeping_gain`` x 1.1): the
+- **after**: the runs ``os.cpu_count()`` at a time, the cache empty and the shipped durations
+  (`submission.reuse.SHIPPED`) set aside: the first build of an own formation (a seed's runs under the testbed
+  models after the first take its initialized state from that one);
+- **shipped**: as after, in a cache of its own, with the shipped durations: the first build of a shipped scene on a
+  fresh machine (the initializer's 200 seeds are the table's, made by `submission.shipped`);
+- **rebuild**: shipped, then the same scene with one control gain changed (``[control] keeping_gain`` x 1.1): the
   plan is made and the file run again, the initializer's durations and the runs' initialized states are the first
   build's (same formation).
 
 Per case: the wall time of each stage (plan and file, the runs, the initializer) and in all, the CPU time of this
-process and its children, and the load average (1 min) at its end. The files of before and after must be the
-same but for their build stamp (the benchmark exits 1 otherwise).
+process and its children, and the load average (1 min) at its end. The files of before, after and shipped must
+be the same but for their build stamp (the benchmark exits 1 otherwise).
 """
 
 from __future__ import annotations
@@ -34,6 +38,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from robotarium_exp.scene import load_scene
+from submission import reuse
 from submission.builder import BUILD_STAMP, build_declared
 from submission.reuse import CACHE_ENV
 from vtube.pipeline import plan_for
@@ -60,6 +65,17 @@ def cache(folder: Path) -> Iterator[None]:
             del os.environ[CACHE_ENV]
         else:
             os.environ[CACHE_ENV] = saved
+
+
+@contextmanager
+def shipped_aside(folder: Path) -> Iterator[None]:
+    """The shipped durations out of reach (a path in ``folder`` that does not exist) while the block runs."""
+    saved = reuse.SHIPPED
+    reuse.SHIPPED = folder / 'no_shipped_durations.json'
+    try:
+        yield
+    finally:
+        reuse.SHIPPED = saved
 
 
 def one_build(
@@ -110,12 +126,17 @@ def main() -> None:
         cases: list[tuple[str, Callable[[], tuple[dict[str, float], str]]]] = [
             ('before', lambda: one_build(args.scene, root / 'before.py', 1, seeds, reuse=False)),
             ('after', lambda: one_build(args.scene, root / 'after.py', None, seeds)),
+            ('shipped', lambda: one_build(args.scene, root / 'shipped.py', None, seeds)),
             ('rebuild', lambda: one_build(changed, root / 'rebuild.py', None, seeds)),
         ]
         rows, sources = {}, {}
         for name, run in cases:
-            with cache(root / ('cache-before' if name == 'before' else 'cache')):
-                rows[name], sources[name] = run()
+            with cache(root / f'cache-{"shipped" if name == "rebuild" else name}'):
+                if name == 'after':
+                    with shipped_aside(root):
+                        rows[name], sources[name] = run()
+                else:
+                    rows[name], sources[name] = run()
     print(
         f'{args.scene}: {args.seeds} seeds per model, {args.initializer_seeds} initializer seeds, {os.cpu_count()} cores'
     )
@@ -123,8 +144,8 @@ def main() -> None:
     for key in (*STAGES, 'wall', 'cpu', 'load'):
         unit = '' if key == 'load' else ' [s]'
         print(f'{key + unit:<16}' + ''.join(f'{row.get(key, 0.0):>10.1f}' for row in rows.values()))
-    same = unstamped(sources['before']) == unstamped(sources['after'])
-    print(f'before and after build the same file (but the build stamp): {"yes" if same else "NO"}')
+    same = unstamped(sources['before']) == unstamped(sources['after']) == unstamped(sources['shipped'])
+    print(f'before, after and shipped build the same file (but the build stamp): {"yes" if same else "NO"}')
     if not same:
         raise SystemExit(1)
 

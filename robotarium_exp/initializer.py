@@ -45,11 +45,13 @@ def initializer_durations(
     *,
     workers: int | None = None,
     seed_done: Callable[[], None] | None = None,
+    ran: Callable[[int, float | None], None] | None = None,
 ) -> InitializerSample:
     """Run V2's initializer for ``ic`` (3xN) once per seed; a run over ``limit`` steps counts as stuck.
 
     The seeds are shared among ``workers`` processes (default: one per core); the result does not depend on how
-    many. ``seed_done`` is called as each seed's run ends (a progress bar).
+    many. ``seed_done`` is called as each seed's run ends (a progress bar), ``ran`` with the seed and its duration
+    (None: stuck), so that what ran is kept however the rest ends.
     """
     seeds = list(seeds)
     workers = max(1, min(workers or os.cpu_count() or 1, len(seeds)))
@@ -57,6 +59,8 @@ def initializer_durations(
     results: list[float | None] = [None] * len(seeds)
     for k, duration in map_unordered(partial(_one_seed, ic, limit=limit), seeds, workers=workers):
         results[k] = duration
+        if ran is not None:
+            ran(seeds[k], duration)
         done_one()
     done = tuple(duration for duration in results if duration is not None)
     stuck = tuple(seed for seed, duration in zip(seeds, results) if duration is None)

@@ -1,21 +1,19 @@
 """Preflight of a submission file (``vtube submission check``): will the testbed accept it and run it well?
 
-1. It compiles as Python 3.10 and imports only the standard library, ``rps`` and the server's packages
-   (``server_libraries.txt``, parsed from its AST); it carries vtube flight data (``DATA``, read without running
-   the file).
-2. It runs on the bundled simulator with V2's initialization phase for several seeds under each testbed model of
-   `submission.robustness.CHECKED_MODELS` (the real robots' delay, lag and noise), and on the PyPI
-   ``robotarium-python-simulator`` when that is installed, each in a fresh process and folder, through
-   `submission.recording`: what the simulator itself held (the poses and commands it validated each step,
-   its error counters and step count) is recorded. Nothing the file prints or saves is read.
-3. The verdict of a run: it ends normally after the end-of-script call; the simulator counted no robots too
-   close, none outside the arena and no actuator-limit steps, and neither do the verifier's rules
-   (`robotarium_exp.verifier.recount`) applied to its recorded poses and commands; every robot ends past
-   the tube's exit (completion). The robot count to declare is the simulator's. Runs under the stress models
-   (``fitted:2``) are reported with their margins (`submission.robustness`) but do not decide the verdict.
-4. The duration to declare (`submission.declaration`): V2's initializer alone for the file's initial
-   conditions over many seeds, plus the longest experiment of the verdict's runs. Every run must fit
-   the verifier's ``duration_factor`` times the declaration (the header's, when it records one).
+1. It compiles as Python 3.10, imports only the standard library, ``rps`` and the server's packages
+   (``server_libraries.txt``, parsed from its AST) and carries vtube flight data (``DATA``, read, not run).
+2. It runs, each time in a fresh process and folder, on the bundled simulator with V2's initialization for several
+   seeds under each testbed model of `submission.robustness.CHECKED_MODELS` (the real robots' delay, lag and noise),
+   and on the PyPI ``robotarium-python-simulator`` when it is installed: `submission.recording` records what the
+   simulator held (each step's validated poses and commands, its counters); nothing the file prints or saves is read.
+3. The verdict of a run: it ends normally after the end-of-script call; the simulator counted no robots too close,
+   none outside the arena and no actuator-limit steps, and neither do the verifier's rules
+   (`robotarium_exp.verifier.recount`) applied to its recorded poses and commands; every robot ends past the tube's
+   exit (completion). The robot count to declare is the simulator's. Runs under the stress models (``fitted:2``)
+   are reported with their margins (`submission.robustness`) but do not decide the verdict.
+4. The duration to declare (`submission.declaration`): V2's initializer alone for the file's initial conditions
+   over many seeds, plus the longest experiment of the verdict's runs. Every run must fit the verifier's
+   ``duration_factor`` times the declaration (the header's, when it records one).
 """
 
 from __future__ import annotations
@@ -42,7 +40,7 @@ from submission.declaration import Declaration, declare
 from submission.delay_margin import MIN_SEEDS, DelayMargin, search
 from submission.errors import CheckError
 from submission.recording import SimulatorRecord, read_record
-from submission.reuse import cached_initializer_durations
+from submission.reuse import cached_initializer_durations, simulator_salt
 from submission.robustness import CHECKED_MODELS, VERDICT_MODELS, Margins, margins, record_passage
 from submission.schedule import Job, batch, flights
 from vtube_planning.onboard import SampledTube
@@ -168,9 +166,8 @@ class CheckReport:
     @property
     def problems(self) -> list[str]:
         """Every reason the check fails, one line each (the runs' prefixed with the run's name)."""
-        found = [f'imports missing on the Robotarium server: {", ".join(self.disallowed_imports)}'] * bool(
-            self.disallowed_imports
-        )
+        missing = ', '.join(self.disallowed_imports)
+        found = [f'imports missing on the Robotarium server: {missing}'] * bool(missing)
         found += [f'does not fit the Robotarium: {misfit}' for misfit in self.misfits]
         found += [f'{run.label}: {problem}' for run in self.runs for problem in run.problems]
         return found + [self.declaration_problem] * bool(self.declaration_problem)
@@ -226,15 +223,17 @@ def run_file(
     testbed_model: str = 'ideal',
     *,
     reuse: bool = True,
+    salt: bytes | None = None,
 ) -> RunReport:
     """Run the submission in a fresh process and folder on 'bundled' (V2 initialization, recalled with ``reuse``:
-    `submission.reuse`; under ``testbed_model``) or 'pypi', recording the simulator (`submission.recording`); a
-    run that does not finish within ``timeout_s`` is stopped."""
+    `submission.reuse`, under ``salt`` when given; under ``testbed_model``) or 'pypi', recording the simulator
+    (`submission.recording`); a run that does not finish within ``timeout_s`` is stopped."""
     with tempfile.TemporaryDirectory() as folder:
         env = dict(os.environ, VTUBE_HEADLESS='1', MPLBACKEND='Agg')
         record_path = Path(folder) / RECORD_FILE
         command = [sys.executable, '-m', 'submission.recording', '--simulator', backend, '--record', str(record_path)]
-        command += ['--reuse-initialization'] if reuse and backend == 'bundled' else []
+        if reuse and backend == 'bundled':
+            command += ['--reuse-initialization', *(['--salt', salt.hex()] if salt else [])]
         command += ['--seed', str(seed)] if seed is not None else []
         command += ['--testbed-model', testbed_model] if testbed_model != 'ideal' else []
         try:
@@ -307,8 +306,10 @@ def check(
         return CheckReport(str(path), misfits=tuple(map(str, fit.misfits)))
     starts = _teller(tell := progress or (lambda text: None), run_timeout_s)
 
+    salt = simulator_salt() if reuse else None  # once, for every run
+
     def run(job: Job) -> RunReport:
-        return run_file(path, job[0], job[1], data, run_timeout_s, job[2], reuse=reuse)
+        return run_file(path, job[0], job[1], data, run_timeout_s, job[2], reuse=reuse, salt=salt)
 
     pypi = importlib.util.find_spec('rps') is not None
     by_model, pypi_runs = flights(run, run_seeds, testbed_models, pypi=pypi, starts=starts, workers=workers)

@@ -1,7 +1,7 @@
 """Run a script on a Robotarium simulator and record what the simulator itself held, for the preflight to verify.
 
     python -m submission.recording --simulator bundled|pypi [--seed N] [--testbed-model NAME] [--reuse-initialization]
-        --record FILE.npz SCRIPT
+        [--salt HEX] --record FILE.npz SCRIPT
 
 ``bundled`` resolves ``import rps`` to the bundled V2 simulator (`robotarium_exp.rps_alias`, seeded like it,
 under the testbed model ``NAME``: `robotarium_exp.rps.testbed_model`),
@@ -104,13 +104,20 @@ def recorder_for(path: str | Path, simulator: Simulator) -> Recorder:
 
 
 def install(
-    simulator: Simulator, seed: int | None, recorder: Recorder, testbed_model: str = 'ideal', *, reuse: bool = False
+    simulator: Simulator,
+    seed: int | None,
+    recorder: Recorder,
+    testbed_model: str = 'ideal',
+    *,
+    reuse: bool = False,
+    salt: bytes | None = None,
 ) -> None:
     """Make ``import rps.robotarium`` give the chosen simulator with the recording ``Robotarium`` (the bundled one
-    under ``testbed_model``, with the initialized states of `submission.reuse` when ``reuse``)."""
+    under ``testbed_model``, with the initialized states of `submission.reuse` when ``reuse``, under ``salt``: default
+    `submission.reuse.simulator_salt`)."""
     if simulator == 'bundled':
         rps_alias.install(seed=seed, testbed_model=None if testbed_model == 'ideal' else testbed_model)
-        initialization_memo.memo = InitializedStates() if reuse else None
+        initialization_memo.memo = InitializedStates(salt=salt) if reuse else None
     elif seed is not None:
         rps_alias.seed_rps(seed)
     module = importlib.import_module('rps.robotarium')
@@ -125,11 +132,18 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument(
         '--reuse-initialization', action='store_true', help="the bundled simulator's initialized states from the cache"
     )
+    parser.add_argument(
+        '--salt',
+        type=bytes.fromhex,
+        default=None,
+        metavar='HEX',
+        help='the salt of the initialized states, as the check computed it once (default: computed here)',
+    )
     parser.add_argument('--record', type=Path, required=True, metavar='FILE.npz', help='where to write the record')
     parser.add_argument('script', type=Path, help='the script to run')
     args = parser.parse_args(argv)
     recorder = recorder_for(args.record, args.simulator)
-    install(args.simulator, args.seed, recorder, args.testbed_model, reuse=args.reuse_initialization)
+    install(args.simulator, args.seed, recorder, args.testbed_model, reuse=args.reuse_initialization, salt=args.salt)
     sys.argv = [str(args.script)]
     try:
         runpy.run_path(str(args.script), run_name='__main__')

@@ -13,7 +13,9 @@ parking or flight, so that a change there keeps the cached durations) and the ve
 cvxopt. One JSON file per key maps each seed run so far to its duration (``null``: stuck); the seeds asked for that
 it lacks are run (`robotarium_exp.initializer.initializer_durations`) and added. The folder is ``$VTUBE_CACHE_DIR``
 when set, else ``$XDG_CACHE_HOME/vtube``, else ``~/.cache/vtube``: never the repository. A file that does not read
-back as such a map is ignored (run again and replaced).
+back as such a map is ignored (run again and replaced). Each seed's duration is stored as its run ends, so an
+interrupted check keeps the seeds it ran. The shipped scenes' formations come with their durations
+(`SHIPPED`, made by `submission.shipped`): a first build of a shipped scene finds them there.
 
 A check's runs of the file start with V2's initialization, the same for a seed under every testbed model and after
 any change of the file's control (`robotarium_exp.rps.initialization_memo`): `InitializedStates` keeps the state it
@@ -47,6 +49,8 @@ STATES_FOLDER = 'initialized'
 VERSIONED = ('numpy', 'scipy', 'cvxopt')
 ROOT_MODULE = 'robotarium_exp.initializer'
 """Where the initializer's imports are followed from."""
+SHIPPED = Path(__file__).with_name('shipped_initializer_durations.json')
+"""The durations of the shipped scenes' formations, by the same keys (`submission.shipped`), read only."""
 
 
 def cache_folder() -> Path:
@@ -82,9 +86,9 @@ class InitializedStates:
     """The states V2's initialization left, one ``.npz`` per key in ``folder`` (module doc); a
     `robotarium_exp.rps.initialization_memo.InitializationMemo`."""
 
-    def __init__(self, folder: Path | None = None) -> None:
+    def __init__(self, folder: Path | None = None, salt: bytes | None = None) -> None:
         self.folder = (folder or cache_folder()) / STATES_FOLDER
-        self.salt = simulator_salt()
+        self.salt = simulator_salt() if salt is None else salt
 
     def recall(self, key: str) -> State | None:
         try:
@@ -146,30 +150,46 @@ def cached_initializer_durations(
     folder: Path | None = None,
 ) -> InitializerSample:
     """`robotarium_exp.initializer.initializer_durations` of ``ic`` over ``seeds``, the seeds run before for the
-    same key taken from the cache in ``folder`` (default `cache_folder`), the others run and added to it."""
+    same key taken from the cache in ``folder`` (default `cache_folder`) or, for a shipped scene's formation, from
+    `SHIPPED`; the others run and added to the cache as each ends (an interrupted check keeps them)."""
     seeds = list(seeds)
-    path = (folder or cache_folder()) / FOLDER / f'{initializer_key(ic, limit)}.json'
-    known = _read(path)
+    key = initializer_key(ic, limit)
+    path = (folder or cache_folder()) / FOLDER / f'{key}.json'
+    known = {**shipped_durations().get(key, {}), **_read(path)}
     missing = [seed for seed in dict.fromkeys(seeds) if seed not in known]
     for _ in range(len(seeds) - len(missing)):
         (seed_done or (lambda: None))()
     if missing:
-        ran = initializer_durations(ic, missing, limit, seed_done=seed_done)
-        durations = iter(ran.durations_s)
-        known.update({seed: None if seed in ran.stuck_seeds else next(durations) for seed in missing})
-        _write(path, known)
+
+        def keep(seed: int, duration: float | None) -> None:
+            known[seed] = duration
+            _write(path, known)
+
+        initializer_durations(ic, missing, limit, seed_done=seed_done, ran=keep)
     done = tuple(d for d in (known[seed] for seed in seeds) if d is not None)
     return InitializerSample(done, tuple(seed for seed in seeds if known[seed] is None))
+
+
+def shipped_durations() -> dict[str, dict[int, float | None]]:
+    """The durations `SHIPPED` holds, by key ({} when it is absent or not such a file)."""
+    try:
+        stored = json.loads(SHIPPED.read_text(encoding='utf-8'))
+        return {entry['key']: _durations(entry) for entry in stored['formations']}
+    except (OSError, ValueError, TypeError, KeyError, AttributeError):
+        return {}
 
 
 def _read(path: Path) -> dict[int, float | None]:
     """The seeds' durations stored at ``path`` ({} when there is none, or it is not such a map)."""
     try:
-        stored = json.loads(path.read_text(encoding='utf-8'))
-        found = {int(seed): None if d is None else float(d) for seed, d in stored['durations_s'].items()}
+        return _durations(json.loads(path.read_text(encoding='utf-8')))
     except (OSError, ValueError, TypeError, KeyError, AttributeError):
         return {}
-    return found
+
+
+def _durations(stored: dict[str, Any]) -> dict[int, float | None]:
+    """A stored map's seeds and durations (null: stuck)."""
+    return {int(seed): None if d is None else float(d) for seed, d in stored['durations_s'].items()}
 
 
 def _write(path: Path, known: dict[int, float | None]) -> None:

@@ -121,19 +121,21 @@ def test_a_run_from_a_reused_initialization_records_what_a_run_from_v2s_records(
     """The preflight's runs take V2's initialized state from the cache (`submission.reuse.InitializedStates`):
     the record of a run without it, of the run that stores it and of the run that takes it are the same, under
     the fitted testbed model (whose draws follow the initialization's); the second stores the state, the third
-    takes it (a fourth, after the stored step count was raised by 1000, counts 1000 steps more)."""
+    takes it, given the salt as the check gives it (a fourth, after the stored step count was raised by 1000, counts
+    1000 steps more; a fifth, under another salt, does not find it)."""
     import subprocess
     import sys
 
     import numpy as np
 
     from submission.recording import read_record
+    from submission.reuse import simulator_salt
 
     monkeypatch.setenv('VTUBE_CACHE_DIR', str(tmp_path / 'cache'))
     script = tmp_path / 'two.py'
     script.write_text(TWO_ROBOTS, encoding='utf-8')
     records = []
-    for k, reuse in enumerate((False, True, True, True)):
+    for k, reuse in enumerate((False, True, True, True, True)):
         if k == 3:
             (path,) = (tmp_path / 'cache' / 'initialized').glob('*.npz')
             with np.load(path) as stored:
@@ -142,14 +144,15 @@ def test_a_run_from_a_reused_initialization_records_what_a_run_from_v2s_records(
         command = [sys.executable, '-m', 'submission.recording', '--simulator', 'bundled', '--seed', '3']
         command += ['--testbed-model', 'fitted', '--record', str(tmp_path / f'{k}.npz')]
         command += ['--reuse-initialization'] if reuse else []
+        command += {2: ['--salt', simulator_salt().hex()], 4: ['--salt', '00' * 32]}.get(k, [])
         subprocess.run([*command, str(script)], check=True, capture_output=True, text=True, cwd=tmp_path)
         records.append(read_record(tmp_path / f'{k}.npz'))
         stored = sorted((tmp_path / 'cache' / 'initialized').glob('*.npz'))
-        assert len(stored) == (0 if k == 0 else 1)
+        assert len(stored) == [0, 1, 1, 1, 2][k]
     first = records[0]
     assert first.initialization_steps > 0 and first.poses.shape == (60, 3, 2)
     assert records[3].iterations == first.iterations + 1000
-    for other in records[1:3]:
+    for other in [*records[1:3], records[4]]:
         assert np.array_equal(other.poses, first.poses) and np.array_equal(other.commands, first.commands)
         assert (other.iterations, other.initialization_steps, other.errors) == (
             first.iterations,

@@ -150,7 +150,7 @@ def fake_runs(monkeypatch):
     """``run_file`` and the initializer stubbed: each run a clean record of `FAKE_STEPS` steps; the calls in order."""
     calls: list[object] = []
 
-    def run_file(path, backend, seed, data, timeout_s, model='ideal', *, reuse=True):
+    def run_file(path, backend, seed, data, timeout_s, model='ideal', *, reuse=True, salt=None):
         calls.append((backend, seed, timeout_s) + ((model,) if model != 'ideal' else ()))
         return RunReport(backend, seed, 0, record=record(FAKE_STEPS), completed=True, model=model)
 
@@ -274,7 +274,7 @@ def _stub_runs(monkeypatch, bad, bad_gap_m: float) -> list[tuple[int | None, str
     other 0.5 m; the initializer sample stubbed too. The (seed, model) of the bundled runs flown, as they fly."""
     flown: list[tuple[int | None, str]] = []
 
-    def run_file(path, backend, seed, data, timeout_s, model='ideal', *, reuse=True):
+    def run_file(path, backend, seed, data, timeout_s, model='ideal', *, reuse=True, salt=None):
         if backend == 'bundled':
             flown.append((seed, model))
         failed = bad(seed, model)

@@ -24,9 +24,9 @@ def ran(monkeypatch):
     """The seeds each call of the initializer ran (in this process: one worker)."""
     calls: list[list[int]] = []
 
-    def counted(ic, seeds, limit, seed_done=None):
+    def counted(ic, seeds, limit, seed_done=None, ran=None):
         calls.append(list(seeds))
-        return initializer_durations(ic, seeds, limit, workers=1, seed_done=seed_done)
+        return initializer_durations(ic, seeds, limit, workers=1, seed_done=seed_done, ran=ran)
 
     monkeypatch.setattr(reuse, 'initializer_durations', counted)
     return calls
@@ -42,6 +42,49 @@ def test_seeds_run_once_then_come_from_the_cache_as_the_initializer_gives_them(t
     assert ran == [[1, 0], [2]] and len(done) == 6  # only seed 2 is new; progress counts every seed asked for
     other_limit = reuse.cached_initializer_durations(IC, [1], 600, folder=tmp_path)
     assert other_limit.durations_s == pytest.approx((512 * 0.033,)) and ran[-1] == [1]
+
+
+def test_each_seed_is_kept_as_it_ends_so_an_interrupted_check_keeps_what_ran(tmp_path, monkeypatch) -> None:
+    def interrupted(ic, seeds, limit, seed_done=None, ran=None):
+        real = initializer_durations(ic, seeds[:1], limit, workers=1)
+        ran(seeds[0], real.durations_s[0])
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(reuse, 'initializer_durations', interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        reuse.cached_initializer_durations(IC, [0, 1, 2], 400, folder=tmp_path)
+    path = tmp_path / reuse.FOLDER / f'{reuse.initializer_key(IC, 400)}.json'
+    assert json.loads(path.read_text(encoding='utf-8'))['durations_s'] == {'0': pytest.approx(352 * 0.033)}
+
+
+def shipped(tmp_path, monkeypatch, formations: object) -> None:
+    table = tmp_path / 'shipped.json'
+    table.write_text(json.dumps({'formations': formations}), encoding='utf-8')
+    monkeypatch.setattr(reuse, 'SHIPPED', table)
+
+
+def test_a_shipped_formations_durations_are_taken_for_its_key_only(tmp_path, monkeypatch, ran) -> None:
+    """A shipped table's seeds for the same key are used without a run (durations made up to tell them apart:
+    the real seed 0 takes 352 steps); the user's cache comes first; another key runs its seeds."""
+    entry = {'key': reuse.initializer_key(IC, 400), 'durations_s': {'0': 1.5, '1': None, '2': 2.5}}
+    shipped(tmp_path, monkeypatch, [entry])
+    sample = reuse.cached_initializer_durations(IC, [0, 1, 2], 400, folder=tmp_path / 'cache')
+    assert sample.durations_s == (1.5, 2.5) and sample.stuck_seeds == (1,) and ran == []
+    both = reuse.cached_initializer_durations(IC, [0, 3], 400, folder=tmp_path / 'cache')
+    assert both.durations_s == (1.5, *initializer_durations(IC, [3], 400, workers=1).durations_s) and ran == [[3]]
+    cached = tmp_path / 'cache' / reuse.FOLDER / f'{entry["key"]}.json'
+    cached.write_text(json.dumps({'durations_s': {'0': 9.0}}), encoding='utf-8')
+    assert reuse.cached_initializer_durations(IC, [0], 400, folder=tmp_path / 'cache').durations_s == (9.0,)
+    other = reuse.cached_initializer_durations(IC, [0], 600, folder=tmp_path / 'cache')
+    assert other.durations_s == pytest.approx((352 * 0.033,)) and ran[-1] == [0]
+
+
+@pytest.mark.parametrize(
+    'formations', ['not a list', [{'key': 'k'}], [{'durations_s': {}}], [{'key': 1, 'durations_s': {'x': 1}}]]
+)
+def test_a_shipped_table_that_is_not_such_a_table_is_ignored(tmp_path, monkeypatch, formations) -> None:
+    shipped(tmp_path, monkeypatch, formations)
+    assert reuse.shipped_durations() == {}
 
 
 def test_the_key_is_what_the_durations_depend_on() -> None:
