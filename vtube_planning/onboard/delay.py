@@ -11,14 +11,12 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from itertools import pairwise
 
 import numpy as np
 from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
-
-SUBSTEPS = 8
-"""Integration steps per control period: a delay of half a period (the testbed's 4.5) falls on a step boundary."""
 
 
 def lag_response(command: FloatArray, velocity: FloatArray, h_s: float, lag_s: float) -> tuple[FloatArray, FloatArray]:
@@ -63,33 +61,43 @@ class CommandPredictor:
         start = np.zeros((2, n_robots)) if velocity is None else np.array(velocity, dtype=float)
         self._sent = deque([start] * (math.ceil(self.delay_steps) + 1), maxlen=math.ceil(self.delay_steps) + 1)
         self._velocity = start.copy()  # the model's velocity at the start of this period
+        self._ahead = self._pieces(self.delay_steps + self.lag_s / self.dt_s)  # where a command's response centres
+        self._period = self._pieces(1.0)
 
     def predict(self, points: FloatArray) -> FloatArray:
         """Where the robots at ``points`` (2, N) will be a delay and a lag from now, if no new command changed it."""
-        moved, _ = self._integrate(self.delay_steps + self.lag_s / self.dt_s, None)
+        moved, _ = self._integrate(self._ahead, None)
         predicted: FloatArray = points + moved
         return predicted
 
     def sent(self, command: FloatArray) -> None:
         """Record the command (2, N) sent this period and advance the model's velocity to the next period."""
         command = np.array(command, dtype=float)
-        _, self._velocity = self._integrate(1.0, command)
+        _, self._velocity = self._integrate(self._period, command)
         self._sent.append(command)
 
-    def _integrate(self, periods: float, current: FloatArray | None) -> tuple[FloatArray, FloatArray]:
-        """The displacement and the final velocity of the model over ``periods`` control periods from the start of
-        this one, the command sent now being ``current`` (None: not yet known, the last one held)."""
+    def _pieces(self, periods: float) -> list[tuple[float, int]]:
+        """The spans of the next ``periods`` control periods over which one command acts: (length in periods, which
+        command: 0 the one sent now, -1 the one sent last period, and so on back to the oldest kept)."""
+        first = math.floor(-self.delay_steps) + 1  # commands switch where delay + k is a whole number of periods
+        switches = (self.delay_steps + k for k in range(first, math.ceil(periods - self.delay_steps)))
+        bounds = [0.0, *(t for t in switches if 0.0 < t < periods), periods]
+        pieces: list[tuple[float, int]] = []
+        for a, b in pairwise(bounds):
+            age = min(max(math.floor(0.5 * (a + b) - self.delay_steps), -len(self._sent)), 0)
+            if pieces and pieces[-1][1] == age:  # one command over consecutive spans: one piece
+                pieces[-1] = (pieces[-1][0] + b - a, age)
+            elif b > a:
+                pieces.append((b - a, age))
+        return pieces
+
+    def _integrate(self, pieces: list[tuple[float, int]], current: FloatArray | None) -> tuple[FloatArray, FloatArray]:
+        """The displacement and the final velocity of the model over ``pieces`` (`_pieces`) from the start of this
+        period, the command sent now being ``current`` (None: not yet known, the last one held). Each piece is one
+        closed-form lag response: exact for the piecewise-constant commands."""
         velocity, moved = self._velocity, np.zeros_like(self._velocity)
-        whole = math.floor(periods * SUBSTEPS + 1e-9)
-        steps = [1.0 / SUBSTEPS] * whole + ([periods - whole / SUBSTEPS] if periods * SUBSTEPS - whole > 1e-9 else [])
-        start = 0.0
-        for length in steps:
-            age = math.floor(start + 0.5 * length - self.delay_steps)  # periods since the acting command was sent
-            if age >= 0:
-                command = current if current is not None else self._sent[-1]
-            else:
-                command = self._sent[max(age, -len(self._sent))]
+        for length, age in pieces:
+            command = self._sent[age] if age < 0 else (current if current is not None else self._sent[-1])
             mean, velocity = lag_response(command, velocity, length * self.dt_s, self.lag_s)
             moved = moved + length * self.dt_s * mean
-            start += length
         return moved, velocity

@@ -60,11 +60,13 @@ def fine_plant(commands: np.ndarray, v0: np.ndarray, delay: float, lag: float, t
     return p
 
 
-def test_a_fractional_delay_with_a_lag_is_predicted_by_the_plant() -> None:
-    """The testbed's delay (4.5 periods) and lag (0.19 s): after 12 periods of random commands, then the last one
-    held, the prediction is where the finely integrated plant is a delay and a lag later."""
+@pytest.mark.parametrize('delay', [4.5, 4.37, 0.3, 2.0])
+def test_a_fractional_delay_with_a_lag_is_predicted_by_the_plant(delay: float) -> None:
+    """The testbed's delay (4.5 periods), delays off any grid (4.37, under a period) and a whole one, with the lag
+    (0.19 s): after 12 periods of random commands, then the last one held, the prediction is where the finely
+    integrated plant is a delay and a lag later; the commands switch where the plant switches them."""
     rng = np.random.default_rng(7)
-    n, delay, lag = 3, 4.5, 0.19
+    n, lag = 3, 0.19
     v0 = rng.normal(size=(2, n))
     commands = rng.normal(size=(12, 2, n))
     predictor = CommandPredictor(n, delay, lag, DT, v0)
