@@ -283,12 +283,10 @@ def check(
     margin_seeds: Sequence[int] = (),
     reuse: bool = True,
 ) -> CheckReport:
-    """Run the whole preflight on a submission file: a run per seed of ``seeds`` (a count n: seeds 0..n-1) under
-    each of ``testbed_models``; the initializer alone over ``initializer_seeds`` seeds; each run of the file stopped
-    after ``run_timeout_s``; ``progress`` is told what starts, ``seed_done`` each initializer seed that ends; the runs
-    share ``workers`` processes (default: one per core; `submission.schedule`); the initializer's durations and the
-    runs' initialized states come from `submission.reuse` with ``reuse``. With ``margin_seeds`` (at least 10), once
-    every verdict run is fine, the delay margin over those seeds (`submission.delay_margin`, reusing the runs flown)."""
+    """Run the whole preflight on a file: a run per seed of ``seeds`` (n: 0..n-1) under each of ``testbed_models``,
+    each stopped after ``run_timeout_s``, on ``workers`` processes (`submission.schedule`); V2's initializer over
+    ``initializer_seeds`` seeds (``progress``: what starts, ``seed_done``: each seed done); `submission.reuse` with
+    ``reuse``; with ``margin_seeds`` (10 or more), the delay margin (`submission.delay_margin`)."""
     path = Path(path).resolve()
     run_seeds = tuple(range(seeds)) if isinstance(seeds, int) else tuple(seeds)
     source = _read_source(path, len(run_seeds), len(margin_seeds))
