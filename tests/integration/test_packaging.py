@@ -62,6 +62,8 @@ def test_the_wheel_ships_the_five_packages_and_not_the_generated_files(tmp_path:
     assert {f'vtube/examples/{n}.toml' for n in ('faults', 'delay', 'replanning')} <= names
     # and these `vtube tube example`
     assert {f'vtube/maps/robotarium_{n}.toml' for n in ('discs', 'gate', 'staggered')} <= names
+    # a first build of a shipped scene takes its formation's initializer durations from here (submission.shipped)
+    assert 'submission/shipped_initializer_durations.json' in names
 
     target = tmp_path / 'installed'
     subprocess.run([*pip, 'install', '--no-deps', '--target', str(target), str(wheel)], check=True, timeout=600)
