@@ -34,7 +34,7 @@ import sys
 import tempfile
 import time
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from pathlib import Path
 
 from robotarium_exp.scene import load_scene
@@ -131,12 +131,9 @@ def main() -> None:
         ]
         rows, sources = {}, {}
         for name, run in cases:
-            with cache(root / f'cache-{"shipped" if name == "rebuild" else name}'):
-                if name == 'after':
-                    with shipped_aside(root):
-                        rows[name], sources[name] = run()
-                else:
-                    rows[name], sources[name] = run()
+            aside = shipped_aside(root) if name == 'after' else nullcontext()
+            with cache(root / f'cache-{"shipped" if name == "rebuild" else name}'), aside:
+                rows[name], sources[name] = run()
     print(
         f'{args.scene}: {args.seeds} seeds per model, {args.initializer_seeds} initializer seeds, {os.cpu_count()} cores'
     )

@@ -1,7 +1,7 @@
 """The initializer's durations for the formations of the shipped Robotarium scenes, shipped with the package.
 
 A full build runs V2's initializer alone over 200 seeds for the file's initial conditions (`submission.declaration`):
-about 5 CPU minutes for six robots, 100 for twenty, most of it in cvxopt's barrier QP, which stays (the testbed's
+about 9 CPU minutes for six robots, 100 for twenty, most of it in cvxopt's barrier QP, which stays (the testbed's
 answers, ``docs/robotarium.md`` §2.6). The shipped scenes' formations are the same for every researcher, so their
 durations ship in `submission.reuse.SHIPPED`, under the same key as the user's cache (`submission.reuse.initializer_key`:
 the initial conditions as the file embeds them, the step limit, the initializer's sources and the versions of Python,
