@@ -18,6 +18,7 @@ from robotarium_exp.errors import ExperimentError
 from robotarium_exp.experiment import TUBE_EDGE_POINTS, ExperimentConfig, flight_data
 from robotarium_exp.flight_data import FlightData
 from robotarium_exp.packing import packing_bound
+from robotarium_exp.packing_proof import refuted
 from robotarium_exp.parking_slots import (
     PARKING_LANES_MAX,
     PARKING_NEAREST_M,
@@ -71,16 +72,17 @@ class Fit:
         return 'fits the Robotarium' if self.fits else f'does not fit the Robotarium: {self.misfits[0]}'
 
 
-def robotarium_fit(scene: Scene) -> Fit:
+def robotarium_fit(scene: Scene, *, prove: bool = False) -> Fit:
     """The verdict on a scene flown on the Robotarium (its formation, tube and parking slots); a tube generated from
-    a map file is told in the map file's keys (`for_map_file`)."""
+    a map file is told in the map file's keys (`for_map_file`). With ``prove``, a start formation refused where
+    Oler's bound allows the robots is also tried by `robotarium_exp.packing_proof.refuted` (a minute or two)."""
     formation = start_formation(scene.tube, scene.swarm.n_robots)
     if formation.problem is None:
         data = flight_data(scene, None, ExperimentConfig(planning=False))
         fit = fit_of_flight(data)
         if any(misfit.kind == 'narrowing' for misfit in fit.misfits):
             fit = fit_of_flight(data, robots_before_narrowing(scene.tube, scene.swarm.n_robots))
-        fit = _said_physical(fit, scene.tube, scene.swarm.n_robots)
+        fit = _said_physical(fit, scene.tube, scene.swarm.n_robots, prove)
     else:
         left, right = scene.tube.boundaries(np.linspace(0.0, scene.tube.length_m, TUBE_EDGE_POINTS))
         fit = Fit(
@@ -97,9 +99,10 @@ def robotarium_fit(scene: Scene) -> Fit:
     return Fit(tuple(for_map_file(misfit, scene) for misfit in fit.misfits))
 
 
-def _said_physical(fit: Fit, tube: VirtualTube, n_robots: int) -> Fit:
+def _said_physical(fit: Fit, tube: VirtualTube, n_robots: int, prove: bool) -> Fit:
     """``fit`` with its refusals said physical where no layout holds the robots: the start formation's (robots
-    outside the box or past the narrowing) above `robotarium_exp.packing.packing_bound`, the parking slots' above
+    outside the box or past the narrowing) above `robotarium_exp.packing.packing_bound` or, with ``prove``, where
+    `robotarium_exp.packing_proof.refuted` proves it; the parking slots' above
     `robotarium_exp.parking_slots.parking_bound`."""
     said = {
         ('box', 'narrowing'): (packing_bound, f'fit {ROBOTARIUM.ic_spacing_m} m apart in the start region', 'packing'),
@@ -109,11 +112,11 @@ def _said_physical(fit: Fit, tube: VirtualTube, n_robots: int) -> Fit:
     for kinds, (bound_of, where, module) in said.items():
         if not any(misfit.kind in kinds for misfit in misfits):
             continue
-        bound = bound_of(tube)
+        bound, how = bound_of(tube), f"Oler's bound, robotarium_exp.{module}"
+        if prove and module == 'packing' and n_robots <= bound and refuted(tube, n_robots):
+            bound, how = n_robots - 1, 'proved window by window, robotarium_exp.packing_proof'
         if n_robots > bound:
-            physical = (
-                f" (physically: at most {bound} robots {where}, in any layout; Oler's bound, robotarium_exp.{module})"
-            )
+            physical = f' (physically: at most {bound} robots {where}, in any layout; {how})'
             misfits = [replace(m, what=m.what + physical) if m.kind in kinds else m for m in misfits]
     return Fit(tuple(misfits))
 

@@ -82,10 +82,10 @@ def start_region(tube: VirtualTube) -> StartRegion:
     narrowing = first_narrowing(*tube.width.knots)
     end = narrowing.start_m - QUEUE_BEFORE_NARROWING_M if narrowing is not None else tube.length_m
     l_m = np.linspace(-QUEUE_BEHIND_M, end, REGION_SAMPLES)
-    return StartRegion(l_m, tube.center_at(l_m), tube.normal(l_m), _room(tube, l_m))
+    return StartRegion(l_m, tube.center_at(l_m), tube.normal(l_m), room_at(tube, l_m))
 
 
-def _room(tube: VirtualTube, l_m: FloatArray) -> FloatArray:
+def room_at(tube: VirtualTube, l_m: FloatArray) -> FloatArray:
     """The half room a robot has either side of the centre line at arc lengths ``l_m`` (behind the entrance, the
     entrance's)."""
     room: FloatArray = np.maximum(
@@ -147,13 +147,24 @@ def _packed(tube: VirtualTube, n_robots: int) -> Packing | None:
     return _PACKINGS[key]
 
 
-def _search(tube: VirtualTube, n_robots: int) -> Packing | None:
-    """`PACK_RESTARTS` seeded starts of the penalty optimisation, the first exact packing (None: none)."""
+def packed_in_window(tube: VirtualTube, n_robots: int, first_m: float, last_m: float, restarts: int) -> bool:
+    """Whether `_search`'s first ``restarts`` starts place ``n_robots`` between arc lengths ``first_m`` and
+    ``last_m`` of the start region (a witness for `robotarium_exp.packing_proof`)."""
+    return _search(tube, n_robots, (first_m, last_m), restarts) is not None
+
+
+def _search(
+    tube: VirtualTube, n_robots: int, window: tuple[float, float] | None = None, restarts: int = PACK_RESTARTS
+) -> Packing | None:
+    """``restarts`` seeded starts of the penalty optimisation (between the arc lengths of ``window``, if given),
+    the first exact packing (None: none)."""
     region = start_region(tube)
     if n_robots < 1 or n_robots > _oler_bound(region):
         return None
     usable = region.room_m > 0.0
     inside = region.inside_box(region.center_m) & usable
+    if window is not None:
+        inside &= (region.l_m >= window[0]) & (region.l_m <= window[1])
     if not inside.any():
         return None
     low, high = float(region.l_m[inside].min()), float(region.l_m[inside].max())
@@ -173,11 +184,11 @@ def _search(tube: VirtualTube, n_robots: int) -> Packing | None:
         return value, np.concatenate([np.sum(grad * along, axis=1), np.sum(grad * across, axis=1)])
 
     bounds = [(low, high)] * n_robots + [(-1.0, 1.0)] * n_robots
-    for _ in range(PACK_RESTARTS):
+    for _ in range(restarts):
         start = np.concatenate([rng.uniform(low, high, n_robots), rng.uniform(-1.0, 1.0, n_robots)])
         result = minimize(cost, start, jac=True, method='L-BFGS-B', bounds=bounds, options={'maxiter': 2000})
         l_m, across = result.x[:n_robots], result.x[n_robots:]
-        points = tube.center_at(l_m) + (across * _room(tube, l_m))[:, None] * tube.normal(l_m)  # exact, not tables
+        points = tube.center_at(l_m) + (across * room_at(tube, l_m))[:, None] * tube.normal(l_m)  # exact, not tables
         gaps = np.hypot(*(points[:, None, :] - points[None, :, :]).transpose(2, 0, 1))[pairs]
         if (gaps.size == 0 or gaps.min() >= spacing) and region.inside_box(points).all():
             order = np.argsort(-l_m, kind='stable')  # front first

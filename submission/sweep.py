@@ -161,7 +161,7 @@ def judge(runs: Sequence[RunMeasures]) -> tuple[str, str]:
 def case_row(case: Case) -> dict[str, Any]:
     """The row of one case (module docstring); raised errors other than the build's refusal propagate."""
     scene = load_scene(case.scene, n_robots=case.n_robots)
-    fit = robotarium_fit(scene)
+    fit = robotarium_fit(scene, prove=True)
     if not fit.fits:
         return {'status': 'refused', 'reason': fit.reason}
     try:

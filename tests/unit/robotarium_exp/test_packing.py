@@ -160,7 +160,7 @@ def test_every_packing_found_keeps_the_rules_and_the_bound() -> None:
 
 def test_a_refusal_above_the_bound_is_said_physical() -> None:
     """bend35 at N = 15 (bound 12): the refusal says no layout holds them; at N = 12 (within the bound, no packing
-    found) it does not."""
+    found) it does not, unless the proof is asked for (the sweep's, `robotarium_exp.packing_proof`)."""
     path = SWEEP_TUBES / 'bend35.toml'
     above = robotarium_fit(load_scene(path, n_robots=15))
     assert not above.fits and f'physically: at most {packing_bound(load_scene(path).tube)} robots' in above.reason

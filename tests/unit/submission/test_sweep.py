@@ -266,9 +266,11 @@ def test_the_table_puts_scenes_in_rows_and_n_in_columns() -> None:
 
 def test_a_case_the_verdict_refuses_is_a_refusal_with_its_reason_and_nothing_is_planned(tmp_path, monkeypatch) -> None:
     misfit = Misfit('the formation leaves the box', 'use N <= 8')
-    monkeypatch.setattr(sweep_module, 'robotarium_fit', lambda scene: Fit((misfit,)))
+    proved: list[bool] = []
+    monkeypatch.setattr(sweep_module, 'robotarium_fit', lambda scene, prove: proved.append(prove) or Fit((misfit,)))
     monkeypatch.setattr(sweep_module, 'plan_convex', lambda *a, **k: pytest.fail('planned a refused case'))
     row = case_row(Case('robotarium_trapezoid', 20, (0,), tmp_path))
+    assert proved == [True]  # the sweep asks the verdict to try the proof a refusal may need
     assert row == {'status': 'refused', 'reason': Fit((misfit,)).reason}
 
 
