@@ -92,8 +92,9 @@ def _range_table(values: FloatArray) -> FloatArray:
 def proof_region(tube: VirtualTube) -> ProofRegion | None:
     """``tube``'s start region for the proof (None where no point of it lies inside the box). Its points inside
     the box lie between ``first_m`` and ``last_m``: beyond them, every point of a cross-section lies within
-    ``slack`` of a point sampled `EDGE_SAMPLES` apart along and across, and every such point lies farther than
-    ``slack`` outside the box."""
+    ``slack`` of a point sampled (`TABLE_SAMPLES` along, `EDGE_SAMPLES` across: half an across step, an along step
+    stretched, and the room's most change over one), and every such point lies farther than ``slack`` outside the
+    box."""
     l_m = np.linspace(-QUEUE_BEHIND_M, start_region(tube).l_m[-1], TABLE_SAMPLES)
     room = room_at(tube, l_m) + 1e-9
     kappa = np.abs(np.asarray(tube.curvature(l_m), dtype=float)) * 1.001 + 1e-9
@@ -102,7 +103,7 @@ def proof_region(tube: VirtualTube) -> ProofRegion | None:
     points = (
         tube.center_at(l_m)[:, None, :] + (across[None, :, None] * room[:, None, None]) * tube.normal(l_m)[:, None, :]
     )
-    slack = room.max() / (EDGE_SAMPLES - 1) + step * (1.0 + kappa.max() * room.max())
+    slack = room.max() / (EDGE_SAMPLES - 1) + step * (1.0 + kappa.max() * room.max()) + np.abs(np.diff(room)).max()
     near = np.any(np.max(np.abs(points) - np.array(ROBOTARIUM.ic_box_m), axis=2) <= slack, axis=1) & (room > 1e-9)
     if not near.any():
         return None

@@ -1,8 +1,8 @@
 """The acceptance sweep of one's own Robotarium experiments (``vtube robotarium sweep``): scenes x robot counts.
 
 For each scene and robot count N (a *case*), the scene is loaded with N robots and asked whether it fits the
-Robotarium (`robotarium_exp.fit.robotarium_fit`): a scene that does not is a *refused* row with the
-verdict's one-line reason. Otherwise it is planned (an uncertified plan is a FAIL row), built without the declaration
+Robotarium (`robotarium_exp.fit.robotarium_fit`, asked to prove a start formation's refusal physical where Oler's
+bound does not): a scene that does not is a *refused* row with the verdict's one-line reason. Otherwise it is planned (an uncertified plan is a FAIL row), built without the declaration
 step ([`submission.builder.build`][submission.builder.build]), and the file is run on the bundled simulator with V2's
 initialization for the seeds asked (0..seeds-1 for a count) exactly as the preflight runs it
 (`submission.check.run_file`). Each run is measured from the poses and commands the simulator itself validated
