@@ -105,16 +105,21 @@ def _said_physical(fit: Fit, tube: VirtualTube, n_robots: int, prove: bool) -> F
     outside the box or past the narrowing) above `robotarium_exp.packing.packing_bound` or, with ``prove``, where
     `robotarium_exp.packing_proof.refuted` proves it; the parking slots' above
     `robotarium_exp.parking_slots.parking_bound`."""
-    said = {
-        ('box', 'narrowing'): (packing_bound, f'fit {ROBOTARIUM.ic_spacing_m} m apart in the start region', 'packing'),
-        ('parking',): (parking_bound, f'park {PARKING_SPACING_M} m apart beyond the exit', 'parking_slots'),
+    said = {  # the misfits' kinds: the bound, where, its module, and the proof within it (if any)
+        ('box', 'narrowing'): (
+            packing_bound,
+            f'fit {ROBOTARIUM.ic_spacing_m} m apart in the start region',
+            'packing',
+            refuted,
+        ),
+        ('parking',): (parking_bound, f'park {PARKING_SPACING_M} m apart beyond the exit', 'parking_slots', None),
     }
     misfits = list(fit.misfits)
-    for kinds, (bound_of, where, module) in said.items():
+    for kinds, (bound_of, where, module, proof) in said.items():
         if not any(misfit.kind in kinds for misfit in misfits):
             continue
         bound, how = bound_of(tube), f"Oler's bound, robotarium_exp.{module}"
-        if prove and module == 'packing' and n_robots <= bound and refuted(tube, n_robots):
+        if prove and proof is not None and n_robots <= bound and proof(tube, n_robots):
             bound, how = n_robots - 1, 'proved window by window, robotarium_exp.packing_proof'
         if n_robots > bound:
             physical = f' (physically: at most {bound} robots {where}, in any layout; {how})'

@@ -138,37 +138,39 @@ def _holds(region: ProofRegion, k: int, first_m: float, last_m: float, nodes: in
             continue
         kappa = region.most(region.curvature, boxes[..., 0].ravel(), boxes[..., 1].ravel()).reshape(boxes.shape[:2])
         l_mid, n_mid = boxes[..., 0:2].mean(axis=2), boxes[..., 2:4].mean(axis=2)
-        stretch = 1.0 + kappa * np.abs(boxes[..., 2:4]).max(axis=2)
+        n_most = np.abs(boxes[..., 2:4]).max(axis=2)
+        stretch = 1.0 + kappa * n_most
         radius = np.hypot(stretch * (boxes[..., 1] - boxes[..., 0]), boxes[..., 3] - boxes[..., 2]) / 2.0
         centre = region.tube.center_at(l_mid.ravel()) + n_mid.ravel()[:, None] * region.tube.normal(l_mid.ravel())
         centre = centre.reshape(boxes.shape[:2] + (2,))
         gap = np.hypot(*(centre[:, pairs[0]] - centre[:, pairs[1]]).transpose(2, 0, 1))
         outside = np.max(np.abs(centre) - box, axis=2)
         keep = np.all(
-            np.minimum(gap + radius[:, pairs[0]] + radius[:, pairs[1]], _farthest(region, boxes, pairs)) >= spacing,
+            np.minimum(gap + radius[:, pairs[0]] + radius[:, pairs[1]], _farthest(region, boxes, n_most, pairs))
+            >= spacing,
             axis=1,
         )
         keep &= np.all(outside <= radius + PROOF_TOLERANCE_M, axis=1)
-        if np.any(
-            keep
-            & np.all(gap >= ROBOTARIUM.ic_spacing_m, axis=1)
-            & np.all(outside <= 0.0, axis=1)
-            & np.all(np.abs(n_mid) <= room_at(region.tube, l_mid.ravel()).reshape(l_mid.shape), axis=1)
-        ):
-            return True
+        witness = keep & np.all(gap >= ROBOTARIUM.ic_spacing_m, axis=1) & np.all(outside <= 0.0, axis=1)
+        if witness.any():  # the centres keep the spacing and the box; in the room too?
+            l_at, n_at = l_mid[witness], n_mid[witness]
+            if np.any(np.all(np.abs(n_at) <= room_at(region.tube, l_at.ravel()).reshape(l_at.shape), axis=1)):
+                return True
         boxes, radius = boxes[keep], radius[keep]
         if boxes.size:
             stack.extend(np.array_split(_split(boxes, radius), max(1, 2 * boxes.shape[0] // _BATCH)))
     return False
 
 
-def _farthest(region: ProofRegion, boxes: FloatArray, pairs: tuple[NDArray[np.intp], NDArray[np.intp]]) -> FloatArray:
-    """A bound on the farthest two points of each pair of boxes can be (m, pairs): along the straight path between
-    them in (l, n), |d point| <= sqrt((s dl)^2 + dn^2), s = 1 + max|kappa| max|n| over both boxes and between."""
+def _farthest(
+    region: ProofRegion, boxes: FloatArray, n_most: FloatArray, pairs: tuple[NDArray[np.intp], NDArray[np.intp]]
+) -> FloatArray:
+    """A bound on the farthest two points of each pair of boxes can be (m, pairs), given each box's most |n|
+    ``n_most`` (m, k): along the straight path between them in (l, n), |d point| <= sqrt((s dl)^2 + dn^2),
+    s = 1 + max|kappa| max|n| over both boxes and between."""
     one, two = boxes[:, pairs[0]], boxes[:, pairs[1]]
     low, high = np.minimum(one[..., 0], two[..., 0]), np.maximum(one[..., 1], two[..., 1])
     kappa = region.most(region.curvature, low.ravel(), high.ravel()).reshape(low.shape)
-    n_most = np.abs(boxes[..., 2:4]).max(axis=2)
     along = (high - low) * (1.0 + kappa * np.maximum(n_most[:, pairs[0]], n_most[:, pairs[1]]))
     across = np.maximum(one[..., 3], two[..., 3]) - np.minimum(one[..., 2], two[..., 2])
     farthest: FloatArray = np.hypot(along, across)
