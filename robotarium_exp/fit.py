@@ -104,7 +104,8 @@ def _said_physical(fit: Fit, tube: VirtualTube, n_robots: int, prove: bool) -> F
     """``fit`` with its refusals said physical where no layout holds the robots: the start formation's (robots
     outside the box or past the narrowing) above `robotarium_exp.packing.packing_bound` or, with ``prove``, where
     `robotarium_exp.packing_proof.refuted` proves it; the parking slots' above
-    `robotarium_exp.parking_slots.parking_bound`."""
+    `robotarium_exp.parking_slots.parking_bound`. Any other such refusal says it is not shown to be physical, and
+    how many robots the bound lets stand (and, with ``prove``, that the proof does not rule them out)."""
     said = {  # the misfits' kinds: the bound, where, its module, and the proof within it (if any)
         ('box', 'narrowing'): (
             packing_bound,
@@ -119,11 +120,15 @@ def _said_physical(fit: Fit, tube: VirtualTube, n_robots: int, prove: bool) -> F
         if not any(misfit.kind in kinds for misfit in misfits):
             continue
         bound, how = bound_of(tube), f"Oler's bound, robotarium_exp.{module}"
-        if prove and proof is not None and n_robots <= bound and proof(tube, n_robots):
+        asked = proof if prove and n_robots <= bound else None  # the proof, where it is asked for
+        if asked is not None and asked(tube, n_robots):
             bound, how = n_robots - 1, 'proved window by window, robotarium_exp.packing_proof'
         if n_robots > bound:
-            physical = f' (physically: at most {bound} robots {where}, in any layout; {how})'
-            misfits = [replace(m, what=m.what + physical) if m.kind in kinds else m for m in misfits]
+            note = f' (physically: at most {bound} robots {where}, in any layout; {how})'
+        else:
+            not_out = f'; robotarium_exp.packing_proof does not rule {n_robots} out' if asked else ''
+            note = f" (not shown to be physical: Oler's bound lets up to {bound} robots {where}{not_out})"
+        misfits = [replace(m, what=m.what + note) if m.kind in kinds else m for m in misfits]
     return Fit(tuple(misfits))
 
 

@@ -318,10 +318,11 @@ def test_a_generated_tube_is_told_in_the_map_file_s_keys_and_never_beyond_the_ar
 def test_parking_refused_above_olers_bound_is_said_physical() -> None:
     """The sweep's wide tube ends at (1, 0) facing +x: the room beyond its exit is 0.32 m deep (0.08 m beyond it to
     0.2 m from the edge) and 1.6 m across, where Oler's bound allows (2 / sqrt 3) 0.512 / 0.09 + 3.84 / 0.6 + 1 = 13.97
-    robots 0.3 m apart: fourteen are refused as physical, thirteen (lanes hold twelve) are refused without it."""
+    robots 0.3 m apart: fourteen are refused as physical, thirteen (lanes hold twelve) are refused as not shown to be."""
     path = Path(__file__).parents[3] / 'docs' / 'sweep' / 'tubes' / 'wide.toml'
     thirteen, fourteen = (robotarium_fit(load_scene(path, n_robots=n)) for n in (13, 14))
     assert parking_bound(load_scene(path).tube) == 13
     assert [m.kind for m in thirteen.misfits] == ['parking'] and 'physically' not in thirteen.reason
+    assert "(not shown to be physical: Oler's bound lets up to 13 robots park 0.3 m apart" in thirteen.reason
     assert [m.kind for m in fourteen.misfits] == ['parking']
     assert 'physically: at most 13 robots park 0.3 m apart beyond the exit, in any layout' in fourteen.reason

@@ -160,9 +160,12 @@ def test_every_packing_found_keeps_the_rules_and_the_bound() -> None:
 
 def test_a_refusal_above_the_bound_is_said_physical() -> None:
     """bend35 at N = 15 (bound 12): the refusal says no layout holds them; at N = 12 (within the bound, no packing
-    found) it does not, unless the proof is asked for (the sweep's, `robotarium_exp.packing_proof`)."""
+    found) it says it is not shown to be physical, unless the proof is asked for (the sweep's,
+    `robotarium_exp.packing_proof`)."""
     path = SWEEP_TUBES / 'bend35.toml'
     above = robotarium_fit(load_scene(path, n_robots=15))
     assert not above.fits and f'physically: at most {packing_bound(load_scene(path).tube)} robots' in above.reason
     within = robotarium_fit(load_scene(path, n_robots=12))
     assert not within.fits and 'physically' not in within.reason
+    said = "not shown to be physical: Oler's bound lets up to 12 robots fit 0.4 m apart in the start region)"
+    assert said in within.reason  # the proof not asked for, not said

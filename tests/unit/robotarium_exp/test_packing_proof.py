@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from robotarium_exp import packing_proof
+from robotarium_exp import fit, packing_proof
 from robotarium_exp.fit import robotarium_fit
 from robotarium_exp.packing import packed_in_window, packing_bound, start_region
 from robotarium_exp.packing_proof import proof_region, refuted
@@ -116,6 +116,24 @@ def test_a_refusal_the_proof_holds_is_said_physical(tmp_path: Path) -> None:
     scene = load_scene(short_region(tmp_path), n_robots=4)
     plain, proved = robotarium_fit(scene), robotarium_fit(scene, prove=True)
     assert not plain.fits and 'physically' not in plain.reason
-    assert not proved.fits
+    assert "(not shown to be physical: Oler's bound lets up to 5 robots fit 0.4 m apart" in plain.reason
+    assert not proved.fits and 'not shown' not in proved.reason
     assert 'physically: at most 3 robots fit 0.4 m apart in the start region' in proved.reason
     assert 'robotarium_exp.packing_proof' in proved.reason
+
+
+def test_a_refusal_the_proof_does_not_hold_says_so(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where the proof is asked for and does not rule the robots out (here a stand-in that cannot), the refusal
+    says it is not shown to be physical and that the proof was tried; the proof is asked once, for these robots."""
+    scene = load_scene(short_region(tmp_path), n_robots=4)
+    asked: list[int] = []
+
+    def cannot(tube: VirtualTube, n_robots: int) -> bool:
+        asked.append(n_robots)
+        return False
+
+    monkeypatch.setattr(fit, 'refuted', cannot)
+    verdict = robotarium_fit(scene, prove=True)
+    assert asked == [4] and not verdict.fits and 'physically' not in verdict.reason
+    assert "not shown to be physical: Oler's bound lets up to 5 robots" in verdict.reason
+    assert 'robotarium_exp.packing_proof does not rule 4 out)' in verdict.reason
