@@ -75,8 +75,8 @@ class Fit:
 def robotarium_fit(scene: Scene, *, prove: bool = False) -> Fit:
     """The verdict on a scene flown on the Robotarium (its formation, tube and parking slots); a tube generated from
     a map file is told in the map file's keys (`for_map_file`). With ``prove``, a start formation refused where
-    Oler's bound allows the robots is also tried by `robotarium_exp.packing_proof.refuted` (1 to 9 minutes on the
-    sweep's tubes)."""
+    Oler's bound allows the robots is also tried by `robotarium_exp.packing_proof.refuted` (16 s to 7 minutes on
+    the sweep's tubes)."""
     formation = start_formation(scene.tube, scene.swarm.n_robots)
     if formation.problem is None:
         data = flight_data(scene, None, ExperimentConfig(planning=False))
@@ -122,7 +122,7 @@ def _said_physical(fit: Fit, tube: VirtualTube, n_robots: int, prove: bool) -> F
         bound, how = bound_of(tube), f"Oler's bound, robotarium_exp.{module}"
         asked = proof if prove and n_robots <= bound else None  # the proof, where it is asked for
         if asked is not None and asked(tube, n_robots):
-            bound, how = n_robots - 1, 'proved window by window, robotarium_exp.packing_proof'
+            bound, how = n_robots - 1, 'proved by branch and bound, robotarium_exp.packing_proof'
         if n_robots > bound:
             note = f' (physically: at most {bound} robots {where}, in any layout; {how})'
         else:
