@@ -9,7 +9,7 @@ The bound is `robotarium_exp.packing.packing_bound`: Oler's inequality on the co
 initializes robots in, before the first narrowing). A refusal at N above it is a physical impossibility under these
 rules, whatever the layout (the fit verdict says so); at or below it, `robotarium_exp.packing.packed_poses` tries a
 packing in no rows, and the command prints the most robots it packs, and the fewest robots above them that
-`robotarium_exp.packing_proof.refuted` proves do not fit (16 s to 7 minutes each; the sweep's verdict asks the same).
+`robotarium_exp.packing_proof.refuted` proves do not fit (15 s to 6 minutes each; the sweep's verdict asks the same).
 """
 
 from __future__ import annotations

@@ -75,7 +75,7 @@ class Fit:
 def robotarium_fit(scene: Scene, *, prove: bool = False) -> Fit:
     """The verdict on a scene flown on the Robotarium (its formation, tube and parking slots); a tube generated from
     a map file is told in the map file's keys (`for_map_file`). With ``prove``, a start formation refused where
-    Oler's bound allows the robots is also tried by `robotarium_exp.packing_proof.refuted` (16 s to 7 minutes on
+    Oler's bound allows the robots is also tried by `robotarium_exp.packing_proof.refuted` (15 s to 6 minutes on
     the sweep's tubes)."""
     formation = start_formation(scene.tube, scene.swarm.n_robots)
     if formation.problem is None:
