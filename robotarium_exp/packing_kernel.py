@@ -2,7 +2,7 @@
 
 A node is one box per robot, ``B[i] = (l from, l to, n from, n to)``: robot i stands at P(l, n) = gamma(l) + n nu(l)
 for some (l, n) in its box, the robots sorted by l. The geometry ``geo`` is a tuple of tables sampled along the
-centre line (`robotarium_exp.packing_proof.kernel_tables`): ``grid`` (origin, step), the centre and unit normal at
+centre line (`robotarium_exp.packing_proof.proof_region`): ``grid`` (origin, step), the centre and unit normal at
 each sample, and range-maximum tables (`robotarium_exp.packing_proof.range_table`) of the half room, of kappa and
 of -kappa; ``limits`` = (the spacing less the tolerance, the box's half sizes, the tolerance). Every bound is an
 upper bound on a distance, so every pruned box is one where no layout lies:
@@ -36,7 +36,7 @@ ROUNDS = 4
 """Rounds of ordering and shaving a node gets before it is split."""
 _CAP = 50_000
 """Nodes the depth-first stack holds."""
-FINEST_M = 1e-7
+LEAST_SIDE_M = 1e-7
 """A box side `search` splits no further: a node left open below it is undecided."""
 
 
@@ -159,12 +159,10 @@ def _narrowed(geo: Geo, boxes: FloatArray, centres: FloatArray) -> bool:
 
 @numba.njit(cache=True)
 def _judged(geo: Geo, boxes: FloatArray) -> int:
-    """A node, narrowed in place (`_narrowed`): 0 no layout in it, 1 undecided, 2 its box centres may keep the spacing
-    and the box within the tolerance (read at the nearest samples, less their error e: a layout within the
-    tolerance and the sampling's tenth of a millimetre; a search that meets one stops, and the caller checks it on
-    the tube). Not
-    asking more (the exact spacing) keeps a depth-first search out of the slivers where layouts touch the
-    spacing, which no pruning closes."""
+    """A node, narrowed in place (`_narrowed`): 0 no layout in it, 1 undecided, 2 its box centres may be a layout
+    within the tolerance (read at the nearest samples, less their error e, a tenth of a millimetre): a search that
+    meets one stops, undecided. Not asking more (the exact spacing) keeps a depth-first search out of the slivers
+    where layouts touch the spacing, which no pruning closes."""
     k, limits = boxes.shape[0], geo[6]
     centres = np.empty((k, 4))
     if not _narrowed(geo, boxes, centres):
@@ -197,10 +195,10 @@ def _widest(geo: Geo, boxes: FloatArray, first: int, last: int) -> tuple[int, in
 
 
 @numba.njit(cache=True)
-def search(geo: Geo, start: FloatArray, first: int, last: int, nodes: int) -> tuple[int, int, FloatArray]:
+def search(geo: Geo, start: FloatArray, first: int, last: int, nodes: int) -> tuple[int, int]:
     """Depth first from the boxes ``start`` (k, 4), splitting only robots first..last: (0 no layout, 1 undecided:
-    out of ``nodes``, or a node left open with its boxes below `FINEST_M`, 2 a witness (its boxes returned), the
-    nodes looked at, boxes)."""
+    out of ``nodes`` or a node left open with its boxes below `LEAST_SIDE_M`, 2 a layout within the tolerance
+    (`_judged`); the nodes looked at)."""
     stack = np.empty((_CAP, start.shape[0], 4))
     stack[0] = start
     top, seen, verdict_at_end = 1, 0, 0
@@ -209,14 +207,14 @@ def search(geo: Geo, start: FloatArray, first: int, last: int, nodes: int) -> tu
         boxes = stack[top].copy()
         seen += 1
         if seen > nodes or top + 2 >= _CAP:
-            return 1, seen, boxes
+            return 1, seen
         verdict = _judged(geo, boxes)
         if verdict == 2:
-            return 2, seen, boxes
+            return 2, seen
         if verdict == 0:
             continue
         robot, side, length = _widest(geo, boxes, first, last)
-        if length < FINEST_M:  # within the tolerance of a layout, or nothing to split: open
+        if length < LEAST_SIDE_M:  # within the tolerance of a layout, or nothing to split: open
             verdict_at_end = 1
             continue
         middle = (boxes[robot, side] + boxes[robot, side + 1]) / 2.0
@@ -224,7 +222,7 @@ def search(geo: Geo, start: FloatArray, first: int, last: int, nodes: int) -> tu
         stack[top + 1] = boxes
         stack[top, robot, side + 1], stack[top + 1, robot, side] = middle, middle
         top += 2
-    return verdict_at_end, seen, start
+    return verdict_at_end, seen
 
 
 @numba.njit(cache=True)
@@ -256,13 +254,13 @@ def frontier_search(
             return 1, seen
         if verdict == 0:
             continue
-        before = search(geo, boxes[: last + 1].copy(), 0, first - 1, min(inner, nodes - seen))
-        seen += before[1]
-        if before[0] == 0:
+        verdict, looked = search(geo, boxes[: last + 1].copy(), 0, first - 1, min(inner, nodes - seen))
+        seen += looked
+        if verdict == 0:
             continue
-        after = search(geo, boxes[first:].copy(), last - first + 1, k - first - 1, min(inner, nodes - seen))
-        seen += after[1]
-        if after[0] == 0:
+        verdict, looked = search(geo, boxes[first:].copy(), last - first + 1, k - first - 1, min(inner, nodes - seen))
+        seen += looked
+        if verdict == 0:
             continue
         robot, side, length = _widest(geo, boxes, first, last)
         if length < finest:
