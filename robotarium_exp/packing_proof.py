@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robotarium_exp.packing import QUEUE_BEHIND_M, room_at, start_region
-from robotarium_exp.packing_kernel import frontier_search
+from robotarium_exp.packing_kernel import Geo, frontier_search
 from robotarium_exp.spec import ROBOTARIUM
 from vtube_planning.geometry.tube import VirtualTube
 
@@ -61,7 +61,7 @@ class ProofRegion:
     tube: VirtualTube
     first_m: float
     last_m: float
-    geo: tuple[FloatArray, ...]
+    geo: Geo
 
 
 def range_table(values: FloatArray) -> FloatArray:
