@@ -35,7 +35,7 @@ SHAVE_PARTS = 8
 ROUNDS = 4
 """Rounds of ordering and shaving a node gets before it is split."""
 _CAP = 50_000
-"""Nodes the depth-first stack holds."""
+"""Nodes the depth-first stack holds at most (a search's budget sizes it below that)."""
 LEAST_SIDE_M = 1e-7
 """A box side `search` splits no further: a node left open below it is undecided."""
 
@@ -195,18 +195,29 @@ def _widest(geo: Geo, boxes: FloatArray, first: int, last: int) -> tuple[int, in
 
 
 @numba.njit(cache=True)
+def _halved(stack: FloatArray, top: int, boxes: FloatArray, robot: int, side: int) -> int:
+    """Push the node ``boxes`` onto ``stack`` at ``top`` twice, robot's box halved across ``side`` (0: l, 2: n):
+    the new top."""
+    middle = (boxes[robot, side] + boxes[robot, side + 1]) / 2.0
+    stack[top] = boxes
+    stack[top + 1] = boxes
+    stack[top, robot, side + 1], stack[top + 1, robot, side] = middle, middle
+    return top + 2
+
+
+@numba.njit(cache=True)
 def search(geo: Geo, start: FloatArray, first: int, last: int, nodes: int) -> tuple[int, int]:
     """Depth first from the boxes ``start`` (k, 4), splitting only robots first..last: (0 no layout, 1 undecided:
     out of ``nodes`` or a node left open with its boxes below `LEAST_SIDE_M`, 2 a layout within the tolerance
     (`_judged`); the nodes looked at)."""
-    stack = np.empty((_CAP, start.shape[0], 4))
+    stack = np.empty((min(_CAP, max(nodes, 0) + 2), start.shape[0], 4))  # a node adds one at most: none needs more
     stack[0] = start
     top, seen, verdict_at_end = 1, 0, 0
     while top > 0:
         top -= 1
         boxes = stack[top].copy()
         seen += 1
-        if seen > nodes or top + 2 >= _CAP:
+        if seen > nodes or top + 2 >= stack.shape[0]:
             return 1, seen
         verdict = _judged(geo, boxes)
         if verdict == 2:
@@ -217,11 +228,7 @@ def search(geo: Geo, start: FloatArray, first: int, last: int, nodes: int) -> tu
         if length < LEAST_SIDE_M:  # within the tolerance of a layout, or nothing to split: open
             verdict_at_end = 1
             continue
-        middle = (boxes[robot, side] + boxes[robot, side + 1]) / 2.0
-        stack[top] = boxes
-        stack[top + 1] = boxes
-        stack[top, robot, side + 1], stack[top + 1, robot, side] = middle, middle
-        top += 2
+        top = _halved(stack, top, boxes, robot, side)
     return verdict_at_end, seen
 
 
@@ -240,14 +247,14 @@ def frontier_search(
     each): each is a part of the whole problem, so neither has a layout of all. (0 no layout, 1 undecided: out of
     ``nodes`` in all, a frontier box below ``finest`` metres still open, or a layout of all within the tolerance;
     the nodes looked at, the halves' too.)"""
-    stack = np.empty((_CAP, start.shape[0], 4))
+    stack = np.empty((min(_CAP, max(nodes, 0) + 2), start.shape[0], 4))  # a node adds one at most: none needs more
     stack[0] = start
     top, seen, k = 1, 0, start.shape[0]
     while top > 0:
         top -= 1
         boxes = stack[top].copy()
         seen += 1
-        if seen > nodes or top + 2 >= _CAP:
+        if seen > nodes or top + 2 >= stack.shape[0]:
             return 1, seen
         verdict = _judged(geo, boxes)
         if verdict == 2:  # a layout of all, within the tolerance
@@ -265,9 +272,5 @@ def frontier_search(
         robot, side, length = _widest(geo, boxes, first, last)
         if length < finest:
             return 1, seen
-        middle = (boxes[robot, side] + boxes[robot, side + 1]) / 2.0
-        stack[top] = boxes
-        stack[top + 1] = boxes
-        stack[top, robot, side + 1], stack[top + 1, robot, side] = middle, middle
-        top += 2
+        top = _halved(stack, top, boxes, robot, side)
     return 0, seen
